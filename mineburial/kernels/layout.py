@@ -125,3 +125,7 @@ SUMMARY_INDEX = {name: i for i, name in enumerate(SUMMARY_NAMES)}
  S_HEIGHT_PROUD, S_FINAL_PITCH, S_FINAL_ROLL, S_FINAL_HEADING, S_FINAL_X, S_FINAL_Y,
  S_IMPACT_SPEED, S_IMPACT_PITCH, S_IMPACT_ANGLE, S_IMPACT_TIME, S_ENTRY_TIME,
  S_TOTAL_TIME, S_MAX_DECEL, S_N_STEPS) = range(N_SUMMARY)
+
+# sediment model codes (kernels.sediment)
+RESISTANCE_NAMES = ("delta", "friction", "bearing")
+RATE_LAW_NAMES = ("impact35", "semilog", "none")
