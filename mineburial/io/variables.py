@@ -1,0 +1,517 @@
+"""The one registry of every variable that mineburial writes to its output.
+
+Each output variable is declared exactly once, as a :class:`Variable` (name,
+dimensions, dtype, UDUNITS units, CF ``standard_name`` where the CF Standard
+Name Table has one, ``long_name``, a description written to the CF ``comment``
+attribute, and any further CF attributes such as ``flag_values``). That
+declaration
+
+* builds the :class:`xarray.DataArray` objects of the Dataset
+  (:meth:`Variable.data_array`), including the CF attributes and the netCDF
+  encoding (``_FillValue``),
+* is what :func:`mineburial.io.netcdf.write_netcdf` consults for fill values, and
+* renders the Markdown tables of ``docs/notes/output.md``
+  (:func:`variables_markdown`).
+
+Three families of variables exist:
+
+* **per-drop** variables along the CF ``realization`` dimension: every column
+  of :data:`mineburial.kernels.layout.SUMMARY_NAMES`, ``status`` and
+  ``burial_class``; the sampled inputs are declared on the fly from their
+  scenario path by :func:`input_variable` (``mine.mass`` -> ``input_mine_mass``).
+* **statistics** of each summary output ``X``, expanded from templates:
+  ``X_mean``, ``X_std``, ``X_stderr``, ``X_quantile``, ``X_bin`` (+ ``X_bin_bounds``),
+  ``X_histogram``, ``X_level``, ``X_exceedance``.
+* **ensemble-wide** statistics: burial-class probabilities with Wilson
+  intervals and the count of every status code.
+
+Only ``realization`` carries a CF standard name: the CF Standard Name Table
+(v93) has no names for burial depths, burial percentages or mine attitude at
+rest (``platform_pitch`` and friends describe observation platforms, not the
+observed object), so those variables carry a ``long_name`` only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import re
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from mineburial.kernels import layout
+from mineburial.kernels import status as status_codes
+
+__all__ = [
+    "Variable",
+    "VARIABLES",
+    "SUMMARY_OUTPUTS",
+    "BURIAL_OUTPUTS",
+    "PERCENT_OUTPUTS",
+    "DEPTH_OUTPUTS",
+    "BURIAL_CLASS_NAMES",
+    "BURIAL_CLASS_MEANINGS",
+    "BURIAL_CLASS_EDGES",
+    "BURIAL_CLASS_BASES",
+    "UNCLASSIFIED",
+    "variable",
+    "input_variable",
+    "input_variable_name",
+    "statistic_names",
+    "variables_markdown",
+]
+
+# ---------------------------------------------------------------------------
+# per-drop summary outputs (columns of layout.SUMMARY_NAMES)
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Output:
+    units: str
+    long_name: str
+    description: str
+    kind: str  # "percent", "depth" or "other": selects default histogram bins / exceedance levels
+
+
+SUMMARY_OUTPUTS: dict[str, _Output] = {
+    "penetration_depth": _Output(
+        "m", "penetration depth of the lowest point of the mine",
+        "Depth of the lowest point of the mine below the seabed when it came to rest "
+        "(0 when it rests on the seabed without penetrating).", "depth"),
+    "com_depth": _Output(
+        "m", "depth of the centre of mass below the seabed",
+        "Depth of the centre of mass below the seabed at rest; negative when the centre of "
+        "mass lies above the seabed.", "depth"),
+    "burial_volume": _Output(
+        "percent", "percentage of the mine volume below the seabed",
+        "Burial by volume: percentage of the mine volume lying below the seabed plane at rest.",
+        "percent"),
+    "burial_height": _Output(
+        "percent", "percentage of the vertical extent of the mine below the seabed",
+        "Burial by height: percentage of the vertical extent (lowest to highest point) of the "
+        "mine lying below the seabed at rest.", "percent"),
+    "burial_area": _Output(
+        "percent", "percentage of the mine surface area below the seabed",
+        "Burial by area: percentage of the outer surface area of the mine lying below the "
+        "seabed at rest (100 minus the percentage of surface area proud).", "percent"),
+    "height_proud": _Output(
+        "m", "height of the highest point of the mine above the seabed",
+        "Height of the highest point of the mine above the seabed at rest (0 when fully "
+        "buried).", "depth"),
+    "final_pitch": _Output(
+        "degree", "dip of the mine axis below the horizontal at rest",
+        "Pitch angle psi2 at rest: dip of the nose below the horizontal (+90 is nose-down "
+        "vertical); docs/design.md.", "other"),
+    "final_roll": _Output(
+        "degree", "roll angle of the mine about its axis at rest",
+        "Roll angle psi1 about the main axis at rest (Z-Y-X angles, docs/design.md).", "other"),
+    "final_heading": _Output(
+        "degree", "heading of the mine nose at rest",
+        "Heading psi3 of the nose at rest, counter-clockwise from the E-frame x axis. Its "
+        "statistics are linear (not circular) statistics.", "other"),
+    "final_x": _Output(
+        "m", "x position of the centre of mass at rest",
+        "E-frame x coordinate of the centre of mass at rest (same origin as the release "
+        "position).", "other"),
+    "final_y": _Output(
+        "m", "y position of the centre of mass at rest",
+        "E-frame y coordinate of the centre of mass at rest (same origin as the release "
+        "position).", "other"),
+    "impact_speed": _Output(
+        "m s-1", "speed of the centre of mass at first contact with the seabed",
+        "Speed of the centre of mass at the first contact of the mine with the seabed.", "other"),
+    "impact_pitch": _Output(
+        "degree", "dip of the mine axis below the horizontal at first seabed contact",
+        "Pitch angle psi2 at the first contact with the seabed.", "other"),
+    "impact_angle": _Output(
+        "degree", "angle of the velocity below the horizontal at first seabed contact",
+        "Angle of the centre-of-mass velocity below the horizontal at the first contact with "
+        "the seabed (90 is a vertical fall).", "other"),
+    "impact_time": _Output(
+        "s", "time of first contact with the seabed",
+        "Time from release to the first contact of the mine with the seabed.", "other"),
+    "water_entry_time": _Output(
+        "s", "time of first contact with the water surface",
+        "Time from release to the first contact of the mine with the water surface.", "other"),
+    "total_time": _Output(
+        "s", "time from release to rest",
+        "Simulated time from release to the end of the drop.", "other"),
+    "max_deceleration": _Output(
+        "m s-2", "largest deceleration in the sediment",
+        "Largest magnitude of the deceleration of the centre of mass while in contact with the "
+        "sediment.", "other"),
+    "n_steps": _Output(
+        "1", "number of time steps",
+        "Number of integrator time steps taken for the drop (stored as float64 like every "
+        "summary column).", "other"),
+}
+
+if tuple(SUMMARY_OUTPUTS) != tuple(layout.SUMMARY_NAMES):  # pragma: no cover - guards the layout
+    raise RuntimeError(
+        "mineburial.io.variables.SUMMARY_OUTPUTS is out of step with "
+        f"layout.SUMMARY_NAMES: {tuple(SUMMARY_OUTPUTS)} != {layout.SUMMARY_NAMES}")
+
+PERCENT_OUTPUTS = tuple(k for k, v in SUMMARY_OUTPUTS.items() if v.kind == "percent")
+DEPTH_OUTPUTS = tuple(k for k, v in SUMMARY_OUTPUTS.items() if v.kind == "depth")
+#: the burial outputs proper (percentages and depths)
+BURIAL_OUTPUTS = tuple(k for k in SUMMARY_OUTPUTS if k in PERCENT_OUTPUTS + DEPTH_OUTPUTS)
+
+# ---------------------------------------------------------------------------
+# impact-burial classes (naval symbology: 0 %, 0-10 %, 10-20 %, 20-75 %, > 75 %)
+# ---------------------------------------------------------------------------
+
+#: upper class edges in percent; class k (k >= 1) is the half-open interval
+#: (EDGES[k-1], EDGES[k]], class 0 is "exactly 0 %" (p <= 0) and class 4 is p > 75.
+BURIAL_CLASS_EDGES = (0.0, 10.0, 20.0, 75.0)
+BURIAL_CLASS_NAMES = ("0 %", "(0, 10] %", "(10, 20] %", "(20, 75] %", "(75, 100] %")
+BURIAL_CLASS_MEANINGS = ("not_buried", "buried_0_to_10_percent", "buried_10_to_20_percent",
+                         "buried_20_to_75_percent", "buried_more_than_75_percent")
+#: lower/upper percent bounds of each class (class 0 is the single point 0)
+BURIAL_CLASS_LOWER = (0.0, 0.0, 10.0, 20.0, 75.0)
+BURIAL_CLASS_UPPER = (0.0, 10.0, 20.0, 75.0, 100.0)
+#: summary columns a burial class may be based on
+BURIAL_CLASS_BASES = PERCENT_OUTPUTS
+#: code of a drop that has no burial class (not at rest, or non-finite basis value)
+UNCLASSIFIED = -1
+
+# ---------------------------------------------------------------------------
+# the Variable declaration
+# ---------------------------------------------------------------------------
+
+_NO_FILL = "none"  # sentinel: write no _FillValue
+
+
+@dataclass(frozen=True)
+class Variable:
+    """Declaration of one output variable.
+
+    ``fill_value``: the netCDF ``_FillValue``; ``None`` means xarray's default
+    (NaN for floats, none for integers), ``"none"`` means "write none" (used for
+    coordinates and bounds, which CF forbids to have missing values).
+    """
+
+    name: str
+    dims: tuple[str, ...]
+    dtype: str
+    units: str | None
+    long_name: str
+    description: str
+    standard_name: str | None = None
+    attrs: Mapping[str, Any] = field(default_factory=dict)
+    fill_value: Any = None
+    group: str = "per-drop"
+    #: a CF boundary variable (7.1): written with its units only, the rest of its
+    #: metadata is that of its parent coordinate
+    is_bounds: bool = False
+
+    def cf_attrs(self, **extra: Any) -> dict[str, Any]:
+        """CF attributes of the variable (``extra`` overrides or adds, ``None`` removes)."""
+        out: dict[str, Any] = {}
+        if self.is_bounds:
+            out = {"units": self.units} if self.units is not None else {}
+            out.update({k: v for k, v in extra.items() if v is not None})
+            return out
+        if self.standard_name:
+            out["standard_name"] = self.standard_name
+        out["long_name"] = self.long_name
+        if self.units is not None:
+            out["units"] = self.units
+        out.update(self.attrs)
+        out["comment"] = self.description
+        for k, v in extra.items():
+            if v is None:
+                out.pop(k, None)
+            else:
+                out[k] = v
+        return out
+
+    def encoding(self) -> dict[str, Any]:
+        """netCDF encoding entries implied by the declaration (``_FillValue``)."""
+        if self.fill_value is None:
+            return {}
+        if isinstance(self.fill_value, str) and self.fill_value == _NO_FILL:
+            return {"_FillValue": None}
+        return {"_FillValue": np.array(self.fill_value, dtype=self.dtype)[()]}
+
+    def data_array(self, data, coords=None, **extra_attrs: Any):
+        """An :class:`xarray.DataArray` holding ``data`` cast to the declared dtype.
+
+        The shape must have one axis per declared dimension.
+        """
+        import xarray as xr
+
+        arr = np.asarray(data)
+        if arr.ndim != len(self.dims):
+            raise ValueError(
+                f"variable {self.name!r} is declared with dims {self.dims} but got an array "
+                f"of shape {arr.shape}")
+        if arr.dtype != np.dtype(self.dtype):
+            arr = arr.astype(self.dtype)
+        da = xr.DataArray(arr, dims=self.dims, coords=coords, name=self.name,
+                          attrs=self.cf_attrs(**extra_attrs))
+        da.encoding.update(self.encoding())
+        return da
+
+
+def _flag_attrs(values, meanings) -> dict[str, Any]:
+    return {"flag_values": np.asarray(values, dtype=np.int8),
+            "flag_meanings": " ".join(meanings)}
+
+
+def _declare() -> dict[str, Variable]:
+    v: dict[str, Variable] = {}
+
+    def add(var: Variable) -> None:
+        if var.name in v:  # pragma: no cover - guards the registry itself
+            raise RuntimeError(f"output variable {var.name!r} declared twice")
+        v[var.name] = var
+
+    # --- per-drop -------------------------------------------------------------
+    add(Variable("realization", ("realization",), "int64", "1", "index of the drop in the ensemble",
+                 "Index i of the drop in the Monte Carlo ensemble; every random input of drop i is a "
+                 "pure function of (seed, i), so a single drop can be re-run from it.",
+                 standard_name="realization", fill_value=_NO_FILL))
+    for name, out in SUMMARY_OUTPUTS.items():
+        add(Variable(name, ("realization",), "float64", out.units, out.long_name,
+                     out.description + " Reported for every drop; only drops with status "
+                     "at_rest enter the statistics.",
+                     attrs={"coverage_content_type": "modelResult"}))
+    add(Variable("status", ("realization",), "int8", None, "termination status of the drop",
+                 "How the drop ended: " + "; ".join(
+                     f"{code} {name}: {desc}" for code, (name, desc) in
+                     enumerate(zip(status_codes.NAMES, status_codes.DESCRIPTIONS))) + ".",
+                 attrs={**_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+                        "coverage_content_type": "qualityInformation"}))
+    add(Variable("burial_class", ("realization",), "int8", None, "impact-burial class of the drop",
+                 "Impact-burial class on the basis named by the attribute burial_class_basis "
+                 "(burial_volume by default): 0 is exactly 0 %, class k = 1..3 the half-open interval "
+                 "(lower, upper] of 0-10, 10-20, 20-75 %, class 4 more than 75 %; -1 for drops that "
+                 "did not come to rest or whose basis value is not finite.",
+                 attrs={**_flag_attrs((UNCLASSIFIED,) + tuple(range(5)),
+                                      ("unclassified",) + BURIAL_CLASS_MEANINGS),
+                        "coverage_content_type": "modelResult"}))
+
+    # --- statistics shared coordinates ----------------------------------------
+    add(Variable("quantile", ("quantile",), "float64", "1", "probability level of the quantile",
+                 "Probability p of the quantiles X_quantile: P(X <= X_quantile) = p, linear "
+                 "interpolation between order statistics (Hyndman & Fan 1996 type 7, numpy "
+                 "method 'linear').", fill_value=_NO_FILL, group="statistics"))
+    add(Variable("impact_burial_class", ("impact_burial_class",), "int8", None,
+                 "impact-burial class",
+                 "Impact-burial classes of naval symbology: 0 is exactly 0 %, 1 is (0, 10] %, 2 is "
+                 "(10, 20] %, 3 is (20, 75] %, 4 is (75, 100] %.",
+                 attrs=_flag_attrs(range(5), BURIAL_CLASS_MEANINGS), fill_value=_NO_FILL,
+                 group="statistics"))
+    add(Variable("burial_class_lower_percent", ("impact_burial_class",), "float64", "percent",
+                 "lower bound of the impact-burial class",
+                 "Lower bound of the class (exclusive, except class 0 which is the point 0 %).",
+                 fill_value=_NO_FILL, group="statistics"))
+    add(Variable("burial_class_upper_percent", ("impact_burial_class",), "float64", "percent",
+                 "upper bound of the impact-burial class",
+                 "Upper bound of the class (inclusive).", fill_value=_NO_FILL, group="statistics"))
+    add(Variable("burial_class_count", ("impact_burial_class",), "int64", "1",
+                 "number of drops at rest in the impact-burial class",
+                 "Number of drops with status at_rest and a finite basis value in each class.",
+                 fill_value=_NO_FILL, group="statistics"))
+    add(Variable("burial_class_probability", ("impact_burial_class",), "float64", "1",
+                 "probability of the impact-burial class",
+                 "Fraction k/n of the drops at rest (with a finite basis value) falling in the class; "
+                 "NaN when n = 0.", group="statistics",
+                 attrs={"ancillary_variables": "burial_class_probability_lower "
+                        "burial_class_probability_upper burial_class_count"}))
+    add(Variable("burial_class_probability_lower", ("impact_burial_class",), "float64", "1",
+                 "lower confidence limit of the impact-burial class probability",
+                 "Lower limit of the Wilson score interval (Wilson 1927) at the confidence level "
+                 "given by the attribute confidence_level.", group="statistics"))
+    add(Variable("burial_class_probability_upper", ("impact_burial_class",), "float64", "1",
+                 "upper confidence limit of the impact-burial class probability",
+                 "Upper limit of the Wilson score interval (Wilson 1927) at the confidence level "
+                 "given by the attribute confidence_level.", group="statistics"))
+    add(Variable("status_code", ("status_code",), "int8", None, "termination status code",
+                 "Status codes of mineburial.kernels.status.",
+                 attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+                 fill_value=_NO_FILL, group="statistics"))
+    add(Variable("status_count", ("status_code",), "int64", "1", "number of drops with the status",
+                 "Number of drops of the ensemble that ended with each status code.",
+                 fill_value=_NO_FILL, group="statistics"))
+
+    # --- statistics of every summary output (templates) --------------------
+    for name, out in SUMMARY_OUTPUTS.items():
+        for var in _statistics_of(name, out):
+            add(var)
+
+    # ACDD-1.3 coverage_content_type of every variable that does not set its own
+    for name, var in v.items():
+        if var.is_bounds or "coverage_content_type" in var.attrs:
+            continue
+        if var.dims == (name,):
+            cct = "coordinate"
+        elif name.startswith("burial_class_") and name.endswith("_percent"):
+            cct = "referenceInformation"
+        elif name == "status_count":
+            cct = "qualityInformation"
+        else:
+            cct = "modelResult"
+        v[name] = dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
+    return v
+
+
+def _statistics_of(name: str, out: _Output) -> list[Variable]:
+    u, ln = out.units, out.long_name
+    basis = "over the drops with status at_rest and a finite value"
+    bin_, lev = f"{name}_bin", f"{name}_level"
+    return [
+        Variable(f"{name}_mean", (), "float64", u, f"mean of {ln}",
+                 f"Arithmetic mean of {name} {basis}.",
+                 attrs={"cell_methods": "realization: mean"}, group="statistics"),
+        Variable(f"{name}_std", (), "float64", u, f"standard deviation of {ln}",
+                 f"Sample standard deviation (ddof = 1) of {name} {basis}; NaN for fewer than 2 values.",
+                 attrs={"cell_methods": "realization: standard_deviation"}, group="statistics"),
+        Variable(f"{name}_stderr", (), "float64", u, f"standard error of the mean of {ln}",
+                 f"Standard error of the mean, std / sqrt(n), of {name} {basis}.", group="statistics"),
+        Variable(f"{name}_quantile", ("quantile",), "float64", u, f"quantiles of {ln}",
+                 f"Quantiles of {name} {basis}, computed exactly from the stored per-drop values "
+                 "(numpy method 'linear', Hyndman & Fan 1996 type 7).", group="statistics"),
+        Variable(bin_, (bin_,), "float64", u, f"centre of the histogram bin of {ln}",
+                 f"Centre of each histogram bin of {name}; the bin edges are in {name}_bin_bounds.",
+                 attrs={"bounds": f"{name}_bin_bounds"}, fill_value=_NO_FILL, group="statistics"),
+        Variable(f"{name}_bin_bounds", (bin_, "nv"), "float64", u,
+                 f"edges of the histogram bin of {ln}",
+                 "Lower and upper edge of each bin; bins are half-open [lower, upper) except the last, "
+                 "which is closed [lower, upper] (numpy.histogram).", fill_value=_NO_FILL,
+                 group="statistics", is_bounds=True),
+        Variable(f"{name}_histogram", (bin_,), "int64", "1", f"histogram of {ln}",
+                 f"Number of values of {name} {basis} in each bin; values outside the outer edges are "
+                 "not counted (their number is the attribute n_outside_range).",
+                 fill_value=_NO_FILL, group="statistics"),
+        Variable(lev, (lev,), "float64", u, f"threshold of {ln}",
+                 f"Threshold x of the exceedance probability P({name} >= x).",
+                 fill_value=_NO_FILL, group="statistics"),
+        Variable(f"{name}_exceedance", (lev,), "float64", "1",
+                 f"probability that {ln} reaches or exceeds the threshold",
+                 f"Exceedance probability P({name} >= {name}_level) {basis}: the fraction of values "
+                 "greater than or equal to the threshold; NaN when there is no value.",
+                 group="statistics"),
+    ]
+
+
+VARIABLES: dict[str, Variable] = _declare()
+
+_STATISTIC_SUFFIXES = ("mean", "std", "stderr", "quantile", "bin", "bin_bounds", "histogram",
+                       "level", "exceedance")
+
+
+def statistic_names(output: str) -> tuple[str, ...]:
+    """Names of the statistics variables of the summary output ``output``."""
+    if output not in SUMMARY_OUTPUTS:
+        raise KeyError(_unknown("summary output", output, SUMMARY_OUTPUTS))
+    return tuple(f"{output}_{s}" for s in _STATISTIC_SUFFIXES)
+
+
+# ---------------------------------------------------------------------------
+# sampled inputs
+# ---------------------------------------------------------------------------
+
+_NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+def input_variable_name(path: str) -> str:
+    """netCDF variable name of the sampled scenario field ``path`` ("mine.mass" -> "input_mine_mass")."""
+    name = "input_" + path.replace(".", "_")
+    if not _NAME_RE.match(name):
+        raise ValueError(f"scenario path {path!r} cannot be turned into a CF variable name "
+                         "(letters, digits, underscores and dots only)")
+    return name
+
+
+def input_variable(path: str, units: str | None, description: str | None = None) -> Variable:
+    """Declaration of the per-drop sampled input ``path`` (a dotted scenario path).
+
+    ``units`` must be a UDUNITS string (``"1"`` for dimensionless values and
+    integer-coded choices); ``None`` writes no ``units`` attribute and says so in
+    the comment.
+    """
+    name = input_variable_name(path)
+    desc = description or f"sampled value of the scenario field {path}"
+    if units is None:
+        desc += " (units not provided by the caller)"
+    return Variable(name, ("realization",), "float64", units,
+                    f"sampled {path}", f"Value of the scenario field {path} sampled for each drop: {desc}",
+                    attrs={"scenario_path": path, "coverage_content_type": "auxiliaryInformation"},
+                    group="input")
+
+
+# ---------------------------------------------------------------------------
+# look-up and documentation
+# ---------------------------------------------------------------------------
+
+
+def _unknown(what: str, name: str, known) -> str:
+    close = difflib.get_close_matches(name, list(known), n=3)
+    hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
+    return f"unknown {what} {name!r}{hint}"
+
+
+def variable(name: str) -> Variable:
+    """The declaration of the output variable ``name`` (``input_*`` names are not in the registry)."""
+    try:
+        return VARIABLES[name]
+    except KeyError:
+        raise KeyError(_unknown("output variable", name, VARIABLES)) from None
+
+
+def _md_escape(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def _md_row(var: Variable, name: str | None = None) -> str:
+    dims = ", ".join(var.dims) if var.dims else "(scalar)"
+    cf = var.standard_name or ""
+    extra = ""
+    if "flag_values" in var.attrs:
+        pairs = zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split())
+        extra = " Flags: " + ", ".join(f"{v} `{m}`" for v, m in pairs) + "."
+    return (f"| `{name or var.name}` | {dims} | {var.dtype} | {var.units or ''} | {cf} | "
+            f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |")
+
+
+_MD_HEADER = ("| name | dims | dtype | units | standard_name | long_name | description |\n"
+              "|---|---|---|---|---|---|---|")
+
+
+def variables_markdown(expand: bool = False) -> str:
+    """Markdown tables of every output variable.
+
+    With ``expand=False`` the statistics of the summary outputs are shown once
+    as templates with ``X`` standing for any summary output (using
+    ``penetration_depth`` for units); with ``expand=True`` every variable is listed.
+    """
+    per_drop = [_md_row(v) for v in VARIABLES.values() if v.group == "per-drop"]
+    per_drop.append(_md_row(input_variable("mine.mass", "kg", "mass of the mine"),
+                            "input_<path>"))
+    stat_vars = [v for v in VARIABLES.values() if v.group == "statistics"]
+    if expand:
+        stats = [_md_row(v) for v in stat_vars]
+    else:
+        template = set(statistic_names("penetration_depth"))
+        others = set().union(*(statistic_names(o) for o in SUMMARY_OUTPUTS))
+        stats = []
+        for v in stat_vars:
+            if v.name in template:
+                tv = dataclasses.replace(
+                    v, name=v.name.replace("penetration_depth", "X"),
+                    dims=tuple(d.replace("penetration_depth", "X") for d in v.dims),
+                    units="units of X" if v.units == "m" else v.units,
+                    long_name=v.long_name.replace(
+                        "penetration depth of the lowest point of the mine", "X"),
+                    description=v.description.replace("penetration_depth", "X"))
+                stats.append(_md_row(tv))
+            elif v.name not in others:
+                stats.append(_md_row(v))
+    return ("### Per-drop variables (dimension `realization`)\n\n" + _MD_HEADER + "\n"
+            + "\n".join(per_drop) + "\n\n### Statistics variables\n\n" + _MD_HEADER + "\n"
+            + "\n".join(stats) + "\n")
+

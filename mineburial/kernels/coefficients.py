@@ -1,0 +1,151 @@
+"""Drag and lift coefficient laws of a circular cylinder (numba kernels).
+
+* :func:`axial_drag_coefficient` -- seed 000 eq. (40), along the axis, vs aspect ratio.
+* :func:`cross_drag_coefficient` -- seed 000 eq. (44), across the axis, vs Re and aspect ratio.
+* :func:`lift_coefficient` -- seed 000 eq. (50), Magnus lift vs spin ratio.
+* :func:`normal_drag_coefficient_huston` -- seed 001 eq. (10), an alternative cross-flow law.
+
+The aspect ratio is ``delta = L / d`` (length over diameter) and the Reynolds
+number ``Re = |V2| d / nu`` (cross-flow speed, diameter, kinematic viscosity).
+The piecewise laws are implemented as printed, including their jumps at the
+breakpoints (listed in ``docs/notes/crossflow.md``); the only departures are the
+documented guards and corrections flagged ``DEVIATION`` below.
+"""
+
+import math
+
+from mineburial._numba import kernel
+
+#: Reynolds numbers below this are raised to it (guards the 1/Re terms).
+RE_MIN = 1e-6
+
+
+@kernel
+def axial_drag_coefficient(aspect):
+    """Axial drag coefficient C_d1(delta), seed 000 eq. (40), ``delta = L / d``.
+
+    1.0 for delta > 8; ``0.75 + delta/32.1934 + 0.09612/delta^2`` for
+    0.5 < delta <= 8; 1.15 for delta <= 0.5. (Continuous to 1e-4 at both
+    breakpoints.) NaN in, NaN out.
+    """
+    if aspect > 8.0:
+        return 1.0
+    if aspect > 0.5:
+        return 0.75 + aspect / 32.1934 + 0.09612 / (aspect * aspect)
+    if aspect <= 0.5:
+        return 1.15
+    return aspect  # NaN
+
+
+@kernel
+def cross_drag_coefficient(reynolds, aspect):
+    """Cross-flow drag coefficient C_d2(Re, delta), seed 000 eq. (44).
+
+    Branches as printed (``Re = |V2| d / nu``, ``delta = L / d``)::
+
+        Re <= 12               1.9276 + 8/Re
+        12 < Re <= 180         1.261 + 16/Re
+        180 < Re <= 2000       0.855 + 89/Re
+        2000 < Re <= 12000     0.84 + 0.00003 Re
+        12000 < Re <= 150000   1.2 - 4/delta        (delta >= 10)
+                               0.835 - 0.35/delta   (2 <= delta < 10)
+                               0.7 - 0.08/delta     (delta < 2)
+        150000 < Re <= 350000  1.875 - 0.0000045 Re
+        Re > 350000            1 / (641550/Re + 1.5)
+
+    The law jumps at Re = 12000 and Re = 150000 unless delta is infinite
+    (see ``docs/notes/crossflow.md``); it is not smoothed.
+
+    DEVIATION (guards): Re below ``RE_MIN`` = 1e-6 (including Re = 0) is raised
+    to 1e-6, so C_d2 <= 8e6 and the drag ``C_d2 V2^2`` tends to the Stokes-like
+    ``8 nu V2 / d`` instead of 0/0. In the 12000-150000 band the delta < 2 branch
+    ``0.7 - 0.08/delta`` turns negative below delta = 0.1143; it is floored at 0
+    (no thrust from drag). NaN in, NaN out.
+    """
+    if reynolds != reynolds or aspect != aspect:
+        return math.nan
+    re = reynolds
+    if re < RE_MIN:
+        re = RE_MIN
+    if re <= 12.0:
+        return 1.9276 + 8.0 / re
+    if re <= 180.0:
+        return 1.261 + 16.0 / re
+    if re <= 2000.0:
+        return 0.855 + 89.0 / re
+    if re <= 12000.0:
+        return 0.84 + 0.00003 * re
+    if re <= 150000.0:
+        if aspect >= 10.0:
+            return 1.2 - 4.0 / aspect
+        if aspect >= 2.0:
+            return 0.835 - 0.35 / aspect
+        if aspect <= 0.0:
+            return 0.0
+        return max(0.0, 0.7 - 0.08 / aspect)
+    if re <= 350000.0:
+        return 1.875 - 0.0000045 * re
+    return 1.0 / (641550.0 / re + 1.5)
+
+
+@kernel
+def lift_coefficient(spin_ratio):
+    """Magnus lift coefficient C_l(s), seed 000 eq. (50), ``s = omega1 R / V2``.
+
+    ``2 s`` for s <= 4 and ``8 + 0.24 (s - 4)`` for s > 4 (continuous at 4).
+
+    DEVIATION: the printed law is not odd for s < -4 (it would keep ``2 s``);
+    it is extended as an odd function, ``C_l(-s) = -C_l(s)``, so that reversing
+    the spin (or the cross-flow) reverses the lift: for s < -4,
+    ``C_l = -8 + 0.24 (s + 4)``. The caller must keep V2 != 0 (the lift force
+    ``C_l V2^2`` tends to ``0.24 omega1 R V2 -> 0`` as V2 -> 0). NaN in, NaN out.
+    """
+    s = abs(spin_ratio)
+    if s <= 4.0:
+        return 2.0 * spin_ratio
+    if s > 4.0:
+        return math.copysign(8.0 + 0.24 * (s - 4.0), spin_ratio)
+    return spin_ratio  # NaN
+
+
+@kernel
+def normal_drag_coefficient_huston(reynolds):
+    """Normal drag coefficient C_N(Re) of a cylinder, seed 001 eq. (10).
+
+    Huston & Kamman's curve fit (``log`` is log10: with ln the law would be
+    negative at Re = 1000; with log10 it joins 0.90 there)::
+
+        Re < 30               1.45 + 8.55 Re^-0.40
+        30 <= Re < 100        1.0 + 4 Re^-0.5
+        100 <= Re < 1000      2.25 - 0.45 log10(Re)
+        1000 <= Re < 4000     0.90
+        4000 <= Re < 15000    -1.05 + 0.54 log10(Re)     (printed "1.05 + ...")
+        15000 <= Re < 150000  1.21
+        Re >= 150000          0.3
+
+    DEVIATIONS: (i) the 4000-15000 branch is printed ``1.05 + 0.54 log(Re)``,
+    which is 3.0-3.3 between two branches at 0.90 and 1.21; with ``-1.05`` it
+    joins them (0.895 at 4000, 1.205 at 15000), so the minus sign was lost in
+    the scan. (ii) The law starts at Re = 1 in print; the first branch is
+    extended down to Re = 0 with the same guard as seed 000 eq. (44) (Re below
+    1e-6 is raised to 1e-6). The remaining jumps (largest: 3.64 -> 1.73 at
+    Re = 30) are kept as printed. NaN in, NaN out.
+    """
+    if reynolds != reynolds:
+        return math.nan
+    re = reynolds
+    if re < RE_MIN:
+        re = RE_MIN
+    if re < 30.0:
+        return 1.45 + 8.55 * re ** -0.40
+    if re < 100.0:
+        return 1.0 + 4.0 / math.sqrt(re)
+    if re < 1000.0:
+        return 2.25 - 0.45 * math.log10(re)
+    if re < 4000.0:
+        return 0.90
+    if re < 15000.0:
+        return -1.05 + 0.54 * math.log10(re)
+    if re < 150000.0:
+        return 1.21
+    return 0.3

@@ -1,0 +1,581 @@
+"""Equations of motion of the falling mine: forces, torques and the state derivative.
+
+One function, :func:`derivatives`, evaluates the right-hand side of the
+13 equations of motion (plus two work accumulators) for either physics model:
+
+``mineburial`` (default)
+    Kirchhoff/Fossen rigid-body equations in the body frame with a strip-theory
+    added-mass tensor (seed 001 eqs. (18)-(21), C_M = 1), the gyroscopic and
+    Munk terms kept (seed 000 eq. (20) without the eq. (22) simplification),
+    exact quadratic cross-flow drag along the rotating body (seed 001 eqs.
+    (31)-(47)), axial drag (seed 000 eqs. (38)-(40)), Magnus lift (eqs. (49)-(50))
+    and viscous roll damping (eq. (53)).
+``impact35``
+    The printed model of seed 000 with its typos fixed: linearised drag and lift
+    integrals (eqs. (42)-(58)) in the F-frame, no added mass (the ratios f_i of
+    eqs. (39)-(58) are never given numbers) and no gyroscopic torque (eq. (22)).
+
+Both share the buoyancy of the equivalent cylinder at the interfaces (seed 000
+eqs. (25)-(36), exact cut-cylinder volumes) and the sediment tractions of
+:mod:`mineburial.kernels.sediment` (seed 000 section 6).
+
+Extended state (length :data:`N_EXT`): the 13 physical states of
+:mod:`layout`, then the work done on the mine by fluid forces (buoyancy,
+drag, lift, added-mass reaction) and by sediment forces, integrated with the
+same scheme so that energy bookkeeping closes to the integration error.
+"""
+
+import math
+
+import numpy as np
+
+from mineburial._numba import kernel
+from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_coefficient,
+                                             lift_coefficient)
+from mineburial.kernels.crossflow import quadratic_drag_integrals
+from mineburial.kernels.environment import current_velocity
+from mineburial.kernels.geometry import cut_cylinder, vertical_extent
+from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
+                                       P_LENGTH, P_MASS, P_MODEL, P_NU_AIR, P_NU_WATER, P_RHO_AIR,
+                                       P_RHO_WATER)
+from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
+from mineburial.kernels.sediment import sediment_force_torque
+
+N_EXT = 15          # 13 physical states + work of fluid forces + work of sediment forces
+I_WORK_FLUID = 13
+I_WORK_SEDIMENT = 14
+N_WORK = 48         # size of the per-drop scratch array used by derivatives()
+N_DIAG = 16         # diagnostics written by derivatives()
+
+# phases of the mine with respect to the interfaces (output variable "phase")
+PHASE_AIR = 0
+PHASE_SURFACE = 1      # crossing the air-water interface
+PHASE_WATER = 2
+PHASE_SEABED = 3       # crossing the water-sediment interface
+PHASE_EMBEDDED = 4     # entirely below the seabed
+
+C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
+
+
+@kernel
+def phase_of(z_lo, z_hi, depth):
+    if z_lo >= 0.0:
+        return PHASE_AIR
+    if z_hi > 0.0:
+        return PHASE_SURFACE
+    if z_lo >= -depth:
+        return PHASE_WATER
+    if z_hi > -depth:
+        return PHASE_SEABED
+    return PHASE_EMBEDDED
+
+
+@kernel
+def equivalent_interval(volume, x_c, R, x_tail, x_nose):
+    """Axial interval of the equivalent cylinder of seed 000 section 4.1.
+
+    Same volume (length l = volume / (pi R^2)) and the same axial position of the
+    partial centre of volume x_c; shifted (not shrunk) to stay inside the body.
+    """
+    l = volume / (math.pi * R * R)
+    if l > x_nose - x_tail:
+        l = x_nose - x_tail
+    a = x_c - 0.5 * l
+    b = x_c + 0.5 * l
+    if a < x_tail:
+        a = x_tail
+        b = x_tail + l
+    if b > x_nose:
+        b = x_nose
+        a = x_nose - l
+    return a, b
+
+
+@kernel
+def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
+    """Fluid force and torque (body frame, about the COM) on the axial strip [a, b].
+
+    ``(ur1, ur2, ur3)`` is the fluid velocity relative to the COM in the body frame.
+    The relative normal velocity at station x is v(x) = (ur2 - w3 x, ur3 + w2 x)
+    (seed 001 eq. (28)); the cross-flow drag per unit length is
+    0.5 rho C_d2 d |v| v (seed 000 eq. (42), exact integral of seed 001
+    eqs. (36)-(47)). Axial drag: seed 000 eqs. (38)-(40), scaled by the wetted
+    length fraction (b - a)/L. Magnus lift: seed 000 eqs. (49)-(50) with the
+    Kutta-Joukowski direction omega x v_body. Roll damping: seed 000 eq. (53).
+    """
+    if drag_on == 0 or rho <= 0.0 or b <= a:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    d = 2.0 * R
+    ell = b - a
+    aspect = L / d
+    # axial drag, eq. (38)-(40)
+    cd1 = axial_drag_coefficient(aspect)
+    f1 = 0.5 * rho * cd1 * math.pi * R * R * abs(ur1) * ur1 * (ell / L)
+    # cross-flow drag, exact integrals (seed 001)
+    iy, iz, jy, jz = quadratic_drag_integrals(a, b, ur2, ur3, -w3, w2)
+    # representative cross-flow speed: rms of |v| over the strip (closed form)
+    m1 = 0.5 * (a + b)
+    m2 = (a * a + a * b + b * b) / 3.0
+    v2sq = (ur2 * ur2 + ur3 * ur3) + 2.0 * m1 * (-ur2 * w3 + ur3 * w2) + m2 * (w3 * w3 + w2 * w2)
+    vrms = math.sqrt(max(v2sq, 0.0))
+    re = vrms * d / nu
+    cd2 = cross_drag_coefficient(re, aspect)
+    k = 0.5 * rho * cd2 * d
+    f2 = k * iy
+    f3 = k * iz
+    m2_ = -k * jz
+    m3_ = k * jy
+    # Magnus lift: f_L = -0.5 rho d C_l |v| (e1 x v), C_l odd in omega1 R / V2
+    if vrms > 1e-12:
+        cl = lift_coefficient(w1 * R / vrms)
+        kl = 0.5 * rho * d * cl
+        f2 += kl * iz
+        f3 -= kl * iy
+        m2_ += kl * jy
+        m3_ += kl * jz
+    # viscous roll damping, eq. (53): C_m1 = pi mu L d^2 (per wetted length)
+    m1_ = -math.pi * rho * nu * ell * d * d * w1
+    return f1, f2, f3, m1_, m2_, m3_
+
+
+@kernel
+def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
+    """Seed 000 printed drag/lift model on the strip [a, b] (body frame, about COM).
+
+    F-frame: i_F = i_M, j_F along the cross-flow V2 at the COM (eq. (12)),
+    k_F = i_F x j_F. The strip is the equivalent cylinder of length l = b - a
+    whose centre lies at -chi_e = (a + b)/2. Integrals of eqs. (42), (47), (49),
+    (54), (55), (57) evaluated exactly for the printed integrands (V2')^2 (not
+    |V2'| V2'), which fixes the typos of (56a) (factor 2 on V2 L chi^2) and (58)
+    (missing C_l in M_l). Added-mass ratios f_i = 0 (never given in seed 000).
+    """
+    if drag_on == 0 or rho <= 0.0 or b <= a:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    d = 2.0 * R
+    l = b - a
+    c = 0.5 * (a + b)           # centre of the strip = -chi of eq. (42)
+    aspect = L / d
+    cd1 = axial_drag_coefficient(aspect)
+    f1 = 0.5 * rho * cd1 * math.pi * R * R * abs(ur1) * ur1 * (l / L)     # eq. (39)
+    v2 = math.sqrt(ur2 * ur2 + ur3 * ur3)
+    if v2 > 1e-12:
+        jy = ur2 / v2
+        jz = ur3 / v2
+    else:  # fallback F-frame when the cross-flow vanishes (PHYSICS.md §2): j_F = j_M
+        jy = 1.0
+        jz = 0.0
+    ky = -jz                    # k_F = e1 x j_F
+    kz = jy
+    om2f = w2 * jy + w3 * jz    # eq. (18)
+    om3f = w2 * ky + w3 * kz
+    # moments of eta over the strip
+    s0 = l
+    s1 = c * l
+    s2 = l * l * l / 12.0 + c * c * l
+    s3 = c * l * l * l / 4.0 + c * c * c * l
+    re = v2 * d / nu
+    cd2 = cross_drag_coefficient(re, aspect)
+    k = cd2 * R * rho
+    # eq. (42)-(43): F_d2 = C_d2 R rho int (V2 - om3f eta)^2 d eta
+    fd2 = k * (v2 * v2 * s0 - 2.0 * v2 * om3f * s1 + om3f * om3f * s2)
+    # eq. (47)-(48): F_d3 = C_d2 R rho om2f|om2f| (int_0^+ eta^2 - int_-^0 eta^2)
+    ea = a
+    eb = b
+    pos = (max(eb, 0.0) ** 3 - max(ea, 0.0) ** 3) / 3.0
+    neg = (min(eb, 0.0) ** 3 - min(ea, 0.0) ** 3) / 3.0
+    fd3 = -k * om2f * abs(om2f) * (pos - neg)
+    # eq. (49)-(50): lift along -k_F (Kutta-Joukowski sense, see docs/physics.md)
+    fl = 0.0
+    ml2 = 0.0
+    if v2 > 1e-12:
+        cl = lift_coefficient(w1 * R / v2)
+        kl = cl * R * rho * v2
+        fl = -kl * (v2 * s0 - om3f * s1)
+        # eq. (57): torque of the lift about j_F: -int eta f_l d eta
+        ml2 = kl * (v2 * s1 - om3f * s2)
+    # eq. (54): M_d2 = -om2f|om2f| C_d2 R rho int eta^2 |eta|
+    e4 = (abs(eb) ** 3 * eb - abs(ea) ** 3 * ea) / 4.0
+    md2 = -k * om2f * abs(om2f) * e4
+    # eq. (55): M_d3 = C_d2 R rho int (V2 - om3f eta)^2 eta d eta
+    md3 = k * (v2 * v2 * s1 - 2.0 * v2 * om3f * s2 + om3f * om3f * s3)
+    # eq. (53): viscous roll damping
+    m1_ = -math.pi * rho * nu * l * d * d * w1
+    # back to body axes
+    f2 = fd2 * jy + (fd3 + fl) * ky
+    f3 = fd2 * jz + (fd3 + fl) * kz
+    mj = md2 + ml2
+    m2_ = mj * jy + md3 * ky
+    m3_ = mj * jz + md3 * kz
+    return f1, f2, f3, m1_, m2_, m3_
+
+
+@kernel
+def solve6(a, rhs, x):
+    """Solve the 6x6 symmetric positive definite system a x = rhs in place (Cholesky).
+
+    ``a`` is a flat 36-array (row-major) overwritten by its factor.
+    """
+    n = 6
+    for j in range(n):
+        s = a[j * n + j]
+        for k in range(j):
+            s -= a[j * n + k] * a[j * n + k]
+        s = math.sqrt(s)
+        a[j * n + j] = s
+        for i in range(j + 1, n):
+            t = a[i * n + j]
+            for k in range(j):
+                t -= a[i * n + k] * a[j * n + k]
+            a[i * n + j] = t / s
+    for i in range(n):
+        t = rhs[i]
+        for k in range(i):
+            t -= a[i * n + k] * x[k]
+        x[i] = t / a[i * n + i]
+    for i in range(n - 1, -1, -1):
+        t = x[i]
+        for k in range(i + 1, n):
+            t -= a[k * n + i] * x[k]
+        x[i] = t / a[i * n + i]
+
+
+@kernel
+def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
+    """Right-hand side dy/dt of the extended state ``y`` (length N_EXT).
+
+    ``work`` is a scratch array of N_WORK floats, ``diag`` receives N_DIAG
+    diagnostics: fluid force (E-frame, 3), sediment force (E-frame, 3), total
+    torque (body, 3), immersed volume, embedded volume, phase, z_lo, z_hi,
+    added mass (transverse, water), pore-pressure added mass.
+    Returns the phase code.
+    """
+    L = p[P_LENGTH]
+    R = 0.5 * p[P_DIAMETER]
+    m = p[P_MASS]
+    chi = p[P_CHI]
+    J1 = p[P_J1]
+    J2 = p[P_J2]
+    g = p[P_GRAVITY]
+    rho_w = p[P_RHO_WATER]
+    rho_a = p[P_RHO_AIR]
+    depth = p[P_DEPTH]
+    impact35 = int(p[P_MODEL]) == 1
+    drag_on = int(p[P_DRAG])
+
+    x = y[0]
+    yy = y[1]
+    z = y[2]
+    vx = y[3]
+    vy = y[4]
+    vz = y[5]
+    qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
+    q0 = y[6] / qn
+    q1 = y[7] / qn
+    q2 = y[8] / qn
+    q3 = y[9] / qn
+    w1 = y[10]
+    w2 = y[11]
+    w3 = y[12]
+    r = rotation_matrix(q0, q1, q2, q3)
+    # body components of a world vector: R^T v ; rows of R^T are columns of R
+    a_z = r[6]                       # i_M . k
+    kb1 = r[6]                       # k in body frame
+    kb2 = r[7]
+    kb3 = r[8]
+    u1 = r[0] * vx + r[3] * vy + r[6] * vz      # body-frame COM velocity
+    u2 = r[1] * vx + r[4] * vy + r[7] * vz
+    u3 = r[2] * vx + r[5] * vy + r[8] * vz
+
+    x_tail = -0.5 * L - chi
+    x_nose = 0.5 * L - chi
+    v_total = math.pi * R * R * L
+    z_lo, z_hi = vertical_extent(L, R, chi, a_z, z)
+    phase = phase_of(z_lo, z_hi, depth)
+
+    # ---- partition of the body by the two interfaces (seed 000 section 4) ----
+    # below the water surface (water and embedded parts together)
+    vs, xs, es, _, _, _ = cut_cylinder(L, R, chi, a_z, z, 0.0)
+    # below the seabed
+    vb = 0.0
+    xb = 0.0
+    eb = 0.0
+    if z_lo < -depth:
+        vb, xb, eb, _, _, _ = cut_cylinder(L, R, chi, a_z, z, -depth)
+    va = v_total - vs
+    if va < 0.0:
+        va = 0.0
+    vw = vs - vb
+    if vw < 0.0:
+        vw = 0.0
+    # unit vector e_down in the body frame: projection of -k normal to the axis
+    dn2 = -kb2
+    dn3 = -kb3
+    dnn = math.sqrt(dn2 * dn2 + dn3 * dn3)
+    if dnn > 1e-300:
+        dn2 /= dnn
+        dn3 /= dnn
+    else:
+        dn2 = 0.0
+        dn3 = 0.0
+
+    # ---- body-frame force and torque accumulators (about the COM) ----
+    fb1 = 0.0
+    fb2 = 0.0
+    fb3 = 0.0
+    mb1 = 0.0
+    mb2 = 0.0
+    mb3 = 0.0
+
+    # buoyancy (seed 000 eqs. (34)-(36)): water on everything below the surface,
+    # air on the part above it; each acts at its partial centre of volume.
+    if vs > 0.0:
+        fmag = rho_w * g * vs
+        c1 = xs
+        c2 = es * dn2
+        c3 = es * dn3
+        f1_ = fmag * kb1
+        f2_ = fmag * kb2
+        f3_ = fmag * kb3
+        fb1 += f1_
+        fb2 += f2_
+        fb3 += f3_
+        mb1 += c2 * f3_ - c3 * f2_
+        mb2 += c3 * f1_ - c1 * f3_
+        mb3 += c1 * f2_ - c2 * f1_
+    if va > 0.0 and rho_a > 0.0:
+        fmag = rho_a * g * va
+        # centroid of the part above the surface from the moment balance
+        c1 = (v_total * (-chi) - vs * xs) / va
+        ea = -(vs * es) / va
+        c2 = ea * dn2
+        c3 = ea * dn3
+        f1_ = fmag * kb1
+        f2_ = fmag * kb2
+        f3_ = fmag * kb3
+        fb1 += f1_
+        fb2 += f2_
+        fb3 += f3_
+        mb1 += c2 * f3_ - c3 * f2_
+        mb2 += c3 * f1_ - c1 * f3_
+        mb3 += c1 * f2_ - c2 * f1_
+
+    # ---- drag, lift and added mass of the water part and of the air part ----
+    # water part: below the surface and above the seabed, as an equivalent cylinder
+    wa = 0.0
+    wb = 0.0
+    if vw > 1e-15 * v_total:
+        xw = (vs * xs - vb * xb) / vw
+        wa, wb = equivalent_interval(vw, xw, R, x_tail, x_nose)
+        # current at the height of the water part's centre
+        zc_w = z + a_z * xw
+        cu, cv = current_velocity(zc_w, p, current_bank)
+        ur1 = r[0] * cu + r[3] * cv - u1
+        ur2 = r[1] * cu + r[4] * cv - u2
+        ur3 = r[2] * cu + r[5] * cv - u3
+        if impact35:
+            h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho_w, p[P_NU_WATER], R, L, wa, wb,
+                                                           ur1, ur2, ur3, w1, w2, w3, drag_on)
+        else:
+            h1, h2, h3, h4, h5, h6 = strip_forces(rho_w, p[P_NU_WATER], R, L, wa, wb,
+                                                  ur1, ur2, ur3, w1, w2, w3, drag_on)
+        fb1 += h1
+        fb2 += h2
+        fb3 += h3
+        mb1 += h4
+        mb2 += h5
+        mb3 += h6
+        cur1 = r[0] * cu + r[3] * cv
+        cur2 = r[1] * cu + r[4] * cv
+        cur3 = r[2] * cu + r[5] * cv
+    else:
+        cur1 = 0.0
+        cur2 = 0.0
+        cur3 = 0.0
+    aa = 0.0
+    ab = 0.0
+    if va > 1e-15 * v_total and rho_a > 0.0:
+        xa_c = (v_total * (-chi) - vs * xs) / va
+        aa, ab = equivalent_interval(va, xa_c, R, x_tail, x_nose)
+        if impact35:
+            h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho_a, p[P_NU_AIR], R, L, aa, ab,
+                                                           -u1, -u2, -u3, w1, w2, w3, drag_on)
+        else:
+            h1, h2, h3, h4, h5, h6 = strip_forces(rho_a, p[P_NU_AIR], R, L, aa, ab,
+                                                  -u1, -u2, -u3, w1, w2, w3, drag_on)
+        fb1 += h1
+        fb2 += h2
+        fb3 += h3
+        mb1 += h4
+        mb2 += h5
+        mb3 += h6
+
+    # ---- sediment tractions (seed 000 section 6) ----
+    sf1 = 0.0
+    sf2 = 0.0
+    sf3 = 0.0
+    sm1 = 0.0
+    sm2 = 0.0
+    sm3 = 0.0
+    added_pore = 0.0
+    if z_lo < -depth:
+        sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_force_torque(
+            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, rho_w, g, p,
+            sediment_bank)
+        fb1 += r[0] * sf1 + r[3] * sf2 + r[6] * sf3
+        fb2 += r[1] * sf1 + r[4] * sf2 + r[7] * sf3
+        fb3 += r[2] * sf1 + r[5] * sf2 + r[8] * sf3
+        mb1 += sm1
+        mb2 += sm2
+        mb3 += sm3
+
+    # gravity (E-frame -k), no torque about the COM
+    fb1 -= m * g * kb1
+    fb2 -= m * g * kb2
+    fb3 -= m * g * kb3
+
+    # ---- generalised mass matrix (body frame, order U1 U2 U3 W1 W2 W3) ----
+    mass = work[0:36]
+    rhs = work[36:42]
+    sol = work[42:48]
+    for i in range(36):
+        mass[i] = 0.0
+    # strip-theory added mass per unit length a = C_M rho pi R^2 (seed 001 eqs. (20)-(21))
+    a0 = 0.0
+    a1 = 0.0
+    a2 = 0.0
+    if not impact35:
+        if wb > wa:
+            aw = C_M * rho_w * math.pi * R * R
+            a0 += aw * (wb - wa)
+            a1 += aw * 0.5 * (wb * wb - wa * wa)
+            a2 += aw * (wb * wb * wb - wa * wa * wa) / 3.0
+        if ab > aa:
+            aair = C_M * rho_a * math.pi * R * R
+            a0 += aair * (ab - aa)
+            a1 += aair * 0.5 * (ab * ab - aa * aa)
+            a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
+    mass[0] = m
+    mass[7] = m + a0
+    mass[14] = m + a0
+    mass[21] = J1
+    mass[28] = J2 + a2
+    mass[35] = J2 + a2
+    mass[1 * 6 + 5] = a1
+    mass[5 * 6 + 1] = a1
+    mass[2 * 6 + 4] = -a1
+    mass[4 * 6 + 2] = -a1
+    if added_pore > 0.0:
+        kk = (kb1, kb2, kb3)
+        for i in range(3):
+            for j in range(3):
+                mass[i * 6 + j] += added_pore * kk[i] * kk[j]
+
+    # relative velocity for the added-mass terms (current assumed uniform in time)
+    vr1 = u1 - cur1
+    vr2 = u2 - cur2
+    vr3 = u3 - cur3
+    # added-mass momenta P_A, H_A = M_A nu_r
+    pa1 = 0.0
+    pa2 = a0 * vr2 + a1 * w3
+    pa3 = a0 * vr3 - a1 * w2
+    ha1 = 0.0
+    ha2 = -a1 * vr3 + a2 * w2
+    ha3 = a1 * vr2 + a2 * w3
+    # Kirchhoff terms  C_A(nu_r) nu_r = [w x P_A ; w x H_A + v_r x P_A]
+    ca1 = w2 * pa3 - w3 * pa2
+    ca2 = w3 * pa1 - w1 * pa3
+    ca3 = w1 * pa2 - w2 * pa1
+    ca4 = (w2 * ha3 - w3 * ha2) + (vr2 * pa3 - vr3 * pa2)
+    ca5 = (w3 * ha1 - w1 * ha3) + (vr3 * pa1 - vr1 * pa3)
+    ca6 = (w1 * ha2 - w2 * ha1) + (vr1 * pa2 - vr2 * pa1)
+    # d(nu_c)/dt in the body frame for a current steady in the E-frame: -w x U_c
+    dc1 = -(w2 * cur3 - w3 * cur2)
+    dc2 = -(w3 * cur1 - w1 * cur3)
+    dc3 = -(w1 * cur2 - w2 * cur1)
+    mdc1 = 0.0
+    mdc2 = a0 * dc2
+    mdc3 = a0 * dc3
+    mdc5 = -a1 * dc3
+    mdc6 = a1 * dc2
+    # rigid-body Coriolis/gyroscopic terms C_RB(nu) nu = [m w x U ; w x J w]
+    cr1 = m * (w2 * u3 - w3 * u2)
+    cr2 = m * (w3 * u1 - w1 * u3)
+    cr3 = m * (w1 * u2 - w2 * u1)
+    if impact35:
+        cr4 = 0.0   # apparent torque neglected, seed 000 eq. (22)
+        cr5 = 0.0
+        cr6 = 0.0
+    else:
+        cr4 = w2 * (J2 * w3) - w3 * (J2 * w2)
+        cr5 = w3 * (J1 * w1) - w1 * (J2 * w3)
+        cr6 = w1 * (J2 * w2) - w2 * (J1 * w1)
+    rhs[0] = fb1 - cr1 - ca1 + mdc1
+    rhs[1] = fb2 - cr2 - ca2 + mdc2
+    rhs[2] = fb3 - cr3 - ca3 + mdc3
+    rhs[3] = mb1 - cr4 - ca4
+    rhs[4] = mb2 - cr5 - ca5 + mdc5
+    rhs[5] = mb3 - cr6 - ca6 + mdc6
+    solve6(mass, rhs, sol)
+    du1 = sol[0]
+    du2 = sol[1]
+    du3 = sol[2]
+    dw1 = sol[3]
+    dw2 = sol[4]
+    dw3 = sol[5]
+
+    # ---- assemble dy/dt ----
+    dy[0] = vx
+    dy[1] = vy
+    dy[2] = vz
+    # dV/dt = R (dU/dt + w x U)
+    ab1 = du1 + (w2 * u3 - w3 * u2)
+    ab2 = du2 + (w3 * u1 - w1 * u3)
+    ab3 = du3 + (w1 * u2 - w2 * u1)
+    dy[3] = r[0] * ab1 + r[1] * ab2 + r[2] * ab3
+    dy[4] = r[3] * ab1 + r[4] * ab2 + r[5] * ab3
+    dy[5] = r[6] * ab1 + r[7] * ab2 + r[8] * ab3
+    dq0, dq1, dq2, dq3 = quaternion_rate(q0, q1, q2, q3, w1, w2, w3)
+    dy[6] = dq0
+    dy[7] = dq1
+    dy[8] = dq2
+    dy[9] = dq3
+    dy[10] = dw1
+    dy[11] = dw2
+    dy[12] = dw3
+    # work rates: sediment force on the COM velocity plus its torque on omega
+    sed_t1 = r[0] * sf1 + r[3] * sf2 + r[6] * sf3
+    sed_t2 = r[1] * sf1 + r[4] * sf2 + r[7] * sf3
+    sed_t3 = r[2] * sf1 + r[5] * sf2 + r[8] * sf3
+    sed_power = sed_t1 * u1 + sed_t2 * u2 + sed_t3 * u3 + sm1 * w1 + sm2 * w2 + sm3 * w3
+    # everything that is neither gravity nor sediment, including the added-mass
+    # reaction (m dU/dt + C_RB - gravity - sediment), is the fluid's work
+    ft1 = m * du1 + cr1 + m * g * kb1 - sed_t1
+    ft2 = m * du2 + cr2 + m * g * kb2 - sed_t2
+    ft3 = m * du3 + cr3 + m * g * kb3 - sed_t3
+    mt1 = J1 * dw1 + cr4
+    mt2 = J2 * dw2 + cr5
+    mt3 = J2 * dw3 + cr6
+    mt1 -= sm1
+    mt2 -= sm2
+    mt3 -= sm3
+    dy[I_WORK_FLUID] = ft1 * u1 + ft2 * u2 + ft3 * u3 + mt1 * w1 + mt2 * w2 + mt3 * w3
+    dy[I_WORK_SEDIMENT] = sed_power
+
+    # diagnostics
+    diag[0] = r[0] * ft1 + r[1] * ft2 + r[2] * ft3
+    diag[1] = r[3] * ft1 + r[4] * ft2 + r[5] * ft3
+    diag[2] = r[6] * ft1 + r[7] * ft2 + r[8] * ft3
+    diag[3] = sf1
+    diag[4] = sf2
+    diag[5] = sf3
+    diag[6] = mb1
+    diag[7] = mb2
+    diag[8] = mb3
+    diag[9] = vs
+    diag[10] = vb
+    diag[11] = phase
+    diag[12] = z_lo
+    diag[13] = z_hi
+    diag[14] = a0
+    diag[15] = added_pore
+    return phase

@@ -1,0 +1,421 @@
+"""Geometry of a right circular cylinder cut by a horizontal plane.
+
+A mine is a solid cylinder of length ``L`` and radius ``R``. In its body frame
+(M-frame, ``docs/design.md``) the axis is ``x`` (unit vector ``i_M``, pointing to
+the nose), the origin is the centre of mass, and the body spans
+``x in [-L/2 - chi, L/2 - chi]`` (seed 000 eq. (42); ``chi`` = COM offset).
+The axis has E-frame vertical component ``a_z = i_M . k = -sin(psi2)``; the COM
+is at height ``z_c``; the horizontal plane ``z = level`` is the water surface
+(``level = 0``) or the seabed (``level = -H``).
+
+The kernels here give the part of the body *below* the plane (and, by
+reflection, the part above): volume, centroid, wetted lateral and end-cap
+areas, the vertical extent of the body, the burial measures of the results
+table and the equivalent cylinder of seed 000 section 4.1.
+
+Derivation (re-derived from seed 000 section 4, eqs. (25)-(33); see
+``docs/notes/geometry.md`` for the full summary and the printed typos):
+
+* ``e_down`` is the unit vector normal to ``i_M`` that points most steeply
+  down, ``e_down = (a_z i_M - k)/b`` with ``b = sqrt(1 - a_z^2)``; then
+  ``k = a_z i_M - b e_down``. A body point ``x i_M + s e_down + t e_perp``
+  (``s^2 + t^2 <= R^2``) is at height ``z_c + a_z x - b s``.
+* The axis point of section ``x`` is ``d(x) = z_c - level + a_z x`` above the
+  plane. The section is full (entirely below) when ``d <= -bR``, empty when
+  ``d >= bR``, and otherwise cut along the chord ``s = kappa R`` with
+  ``kappa(x) = d(x)/(bR)``, linear in ``x`` (seed 000 eq. (25b):
+  ``kappa = 1 - h/R`` with ``h`` the segment depth, eq. (27a)).
+* With ``kappa = cos(theta)`` (``theta`` = half-angle of the wetted arc) the
+  circular segment below the plane has (``R = 1``)
+  area ``A = theta - sin(theta) cos(theta)`` (eq. (25a)),
+  first moment along ``e_down`` ``m = (2/3) sin^3(theta)``,
+  wetted arc length ``2 theta``.
+* Along the cut part ``dx = dkappa / g`` with ``g = a_z/(bR)``, so every
+  integral over ``x`` is an integral over ``kappa`` with the exact
+  antiderivatives (``sigma = sin(theta) = sqrt(1 - kappa^2)``)
+
+  ``F0 = kappa theta - sigma + sigma^3/3``                 (int A dkappa, eq. (27b))
+  ``F1 = (kappa^2/2 - 1/8) theta - kappa sigma (1 + 2 kappa^2)/8``  (int kappa A)
+  ``Fm = (kappa (5 - 2 kappa^2) sigma - 3 theta)/12``      (int m dkappa, cf. eq. (32) mu_z)
+  ``Fa = 2 (kappa theta - sigma)``                        (int 2 theta dkappa)
+
+Degeneracies (no division by a tiny number anywhere):
+
+* ``a_z < 0`` is mapped onto ``a_z > 0`` by reversing the body axis
+  (``x -> -x``, ``chi -> -chi``, nose <-> tail); ``e_down`` is unchanged.
+* Full/partial/empty intervals are found from the signs of ``d +- bR`` at the
+  two ends, so the exactly vertical (``b = 0``: no partial sections) and
+  exactly horizontal (``a_z = 0``: ``kappa`` constant) bodies need no special
+  formula beyond that; their lengths are ``(-bR - d_tail)/a_z`` etc., which are
+  only formed when they lie inside ``[0, L]``.
+* When the cut part spans a small range of ``kappa`` (``|dkappa| < TAU``, nearly
+  horizontal axis) the antiderivative differences cancel, so the same
+  integrals are evaluated with an ``N_GL``-point Gauss-Legendre rule in
+  ``theta`` (the integrands ``A(theta) sin(theta)`` ... are entire functions
+  of ``theta`` and the interval is short, so the rule is exact to rounding);
+  the mapping between ``theta`` and ``x`` is written with half-angle products
+  so that it keeps full relative precision as ``dkappa -> 0``.
+"""
+
+import math
+
+import numpy as np
+
+from mineburial._numba import kernel
+
+PI = math.pi
+
+#: Below this range of kappa over the cut part the closed forms are replaced
+#: by Gauss-Legendre quadrature in theta (see module docstring).
+TAU = 0.25
+#: Number of Gauss-Legendre nodes of that rule.
+N_GL = 12
+_GL_T, _GL_W = np.polynomial.legendre.leggauss(N_GL)
+_GL_T = np.ascontiguousarray(_GL_T, dtype=np.float64)
+_GL_W = np.ascontiguousarray(_GL_W, dtype=np.float64)
+
+
+# ---------------------------------------------------------------------------
+# circular segment (unit radius), functions of the half-angle theta
+# ---------------------------------------------------------------------------
+@kernel
+def segment_area_unit(theta):
+    """Area ``theta - sin(theta) cos(theta)`` of the unit-circle segment of
+    half-angle ``theta`` (seed 000 eq. (25a) with ``R = 1``,
+    ``1 - h/R = cos(theta)``); series for small ``theta`` avoids cancellation."""
+    if theta < 0.35:
+        # (u - sin u)/2 with u = 2 theta: sum_{k>=1} (-1)^(k+1) u^(2k+1)/(2k+1)!
+        u = 2.0 * theta
+        u2 = u * u
+        term = u * u2 / 6.0
+        total = term
+        for k in range(2, 10):
+            term = -term * u2 / ((2.0 * k) * (2.0 * k + 1.0))
+            total += term
+        return 0.5 * total
+    return theta - math.sin(theta) * math.cos(theta)
+
+
+@kernel
+def _antiderivatives(kappa, theta, sigma):
+    """Exact antiderivatives over kappa (unit radius) of the segment area,
+    kappa * area, e_down moment and arc length: (F0, F1, Fm, Fa)."""
+    k2 = kappa * kappa
+    f0 = kappa * theta - sigma + sigma * sigma * sigma / 3.0
+    f1 = (0.5 * k2 - 0.125) * theta - kappa * sigma * (1.0 + 2.0 * k2) / 8.0
+    fm = (kappa * (5.0 - 2.0 * k2) * sigma - 3.0 * theta) / 12.0
+    fa = 2.0 * (kappa * theta - sigma)
+    return f0, f1, fm, fa
+
+
+@kernel
+def _cap_area(d, bR, R):
+    """Below-plane area of an end cap whose centre is ``d`` above the plane;
+    the cap's lowest point is ``bR`` below its centre. A cap lying in the
+    plane (``b = 0, d = 0``) counts as not below (strict inequality)."""
+    if d >= bR:
+        return 0.0
+    if d <= -bR:
+        return PI * R * R
+    kappa = d / bR
+    return R * R * segment_area_unit(math.acos(kappa))
+
+
+# ---------------------------------------------------------------------------
+# the part below the plane, raw moments, a_z >= 0
+# ---------------------------------------------------------------------------
+@kernel
+def _cut_raw_up(L, R, chi, a, c):
+    """Part below the plane for ``a = a_z >= 0``; ``c = z_c - level``.
+
+    Returns ``(V, Mx, Ms, lateral, nose_cap, tail_cap)``: volume, first
+    moments along ``i_M`` (about the COM) and along ``e_down``, wetted areas.
+    """
+    if a > 1.0:
+        a = 1.0
+    b = math.sqrt((1.0 - a) * (1.0 + a))
+    bR = b * R
+    xt = -0.5 * L - chi
+    xn = 0.5 * L - chi
+    dt = c + a * xt          # tail section centre above the plane
+    dn = c + a * xn          # nose section centre (dn >= dt since a >= 0)
+    cap_t = _cap_area(dt, bR, R)
+    cap_n = _cap_area(dn, bR, R)
+    area = PI * R * R
+
+    if dt >= bR:             # whole body above the plane
+        return 0.0, 0.0, 0.0, 0.0, cap_n, cap_t
+    if dn <= -bR:            # whole body below the plane
+        return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, cap_n, cap_t
+
+    # -- full sections: x in [xt, xt + full_len] (d <= -bR) --------------
+    tang1 = dt < -bR         # partial part starts at a tangency (kappa = -1)
+    tang2 = dn > bR          # partial part ends at a tangency (kappa = +1)
+    full_len = 0.0
+    if tang1:
+        full_len = -(bR + dt) / a      # a > 0 here since dn > -bR > dt
+        if full_len > L:
+            full_len = L
+    V = area * full_len
+    Mx = V * (xt + 0.5 * full_len)
+    Ms = 0.0
+    lat = 2.0 * PI * R * full_len
+
+    # -- partial sections: kappa from k1 to k2, x from p1 to p1 + w ---------
+    if bR <= 0.0:
+        return V, Mx, Ms, lat, cap_n, cap_t
+    p1 = xt + full_len
+    if tang1:
+        k1 = -1.0
+    else:
+        k1 = dt / bR
+    if tang2:
+        k2 = 1.0
+    else:
+        k2 = dn / bR
+    if k1 < -1.0:
+        k1 = -1.0
+    if k2 > 1.0:
+        k2 = 1.0
+    if tang1 and tang2:
+        w = 2.0 * bR / a
+    elif tang1:
+        # the rest of the body: keeps full_len + w = L exactly (computing
+        # (dn + bR)/a instead would lose ~eps R/a of length when a_z is tiny)
+        w = L - full_len
+    elif tang2:
+        w = (bR - dt) / a
+    else:
+        w = L
+    if w > xn - p1:
+        w = xn - p1
+    if w <= 0.0:
+        return V, Mx, Ms, lat, cap_n, cap_t
+    pm = p1 + 0.5 * w
+    if tang1 or tang2:
+        dk = k2 - k1
+    else:
+        dk = a * L / bR
+
+    if dk >= TAU:
+        # closed forms: int over x = (w/dk) int over kappa
+        th1 = PI if tang1 else math.acos(k1)
+        th2 = 0.0 if tang2 else math.acos(k2)
+        s1 = math.sqrt((1.0 - k1) * (1.0 + k1))
+        s2 = math.sqrt((1.0 - k2) * (1.0 + k2))
+        a1, b1, m1, l1 = _antiderivatives(k1, th1, s1)
+        a2, b2, m2, l2 = _antiderivatives(k2, th2, s2)
+        jx = w / dk                      # dx/dkappa = bR/a
+        d0 = a2 - a1
+        km = 0.5 * (k1 + k2)
+        vp = R * R * jx * d0
+        V += vp
+        Mx += pm * vp + R * R * jx * jx * ((b2 - b1) - km * d0)
+        Ms += R * R * R * jx * (m2 - m1)
+        lat += R * jx * (l2 - l1)
+        return V, Mx, Ms, lat, cap_n, cap_t
+
+    # Gauss-Legendre in theta, theta from th1 (x = p1) down to th2 (x = p1 + w)
+    if tang1:
+        dth = math.acos(-k2)             # pi - acos(k2) without cancellation
+        thm = PI - 0.5 * dth
+    elif tang2:
+        dth = math.acos(k1)
+        thm = 0.5 * dth
+    else:
+        th1 = math.acos(k1)
+        th2 = math.acos(k2)
+        thm = 0.5 * (th1 + th2)
+        sm = math.sin(thm)
+        if sm > 0.0:
+            r = dk / (2.0 * sm)
+            if r > 1.0:
+                r = 1.0
+            dth = 2.0 * math.asin(r)     # cos th2 - cos th1 = 2 sin(thm) sin(dth/2)
+        else:
+            dth = th1 - th2
+    sm = math.sin(thm)
+    den = sm * math.sin(0.5 * dth)       # = (k2 - k1)/2
+    degenerate = not (den > 1e-280)
+    sv = 0.0
+    sx = 0.0
+    ss = 0.0
+    sl = 0.0
+    for i in range(N_GL):
+        t = _GL_T[i]
+        thk = thm - 0.5 * dth * t
+        if degenerate:
+            phi = 0.5 * (1.0 + t)
+            jac = 0.5
+        else:
+            # fraction along x: (cos th1 - cos thk)/(cos th1 - cos th2)
+            phi = (math.sin(thm + 0.25 * dth * (1.0 - t))
+                   * math.sin(0.25 * dth * (1.0 + t))) / den
+            # d(phi)/dt = sin(thk) (dth/2)/(cos th2 - cos th1)
+            jac = math.sin(thk) * 0.25 * dth / den
+        wk = _GL_W[i] * jac
+        ak = segment_area_unit(thk)
+        sk = math.sin(thk)
+        sv += wk * ak
+        sx += wk * ak * (phi - 0.5)
+        ss += wk * sk * sk * sk
+        sl += wk * thk
+    vp = R * R * w * sv
+    V += vp
+    Mx += pm * vp + R * R * w * w * sx
+    Ms += R * R * R * w * (2.0 / 3.0) * ss
+    lat += R * w * 2.0 * sl
+    return V, Mx, Ms, lat, cap_n, cap_t
+
+
+@kernel
+def _cut_raw(L, R, chi, a_z, c):
+    """Raw moments of the part below the plane for any ``a_z`` (axis reversal
+    for ``a_z < 0``): ``(V, Mx, Ms, lateral, nose_cap, tail_cap)``."""
+    if a_z < 0.0:
+        V, Mx, Ms, lat, cn, ct = _cut_raw_up(L, R, -chi, -a_z, c)
+        return V, -Mx, Ms, lat, ct, cn
+    return _cut_raw_up(L, R, chi, a_z, c)
+
+
+@kernel
+def _empty_x(L, chi, a_z):
+    """Axial position where the part below the plane appears first (its
+    centroid in the limit of vanishing volume): the tail end for a nose-up
+    axis, the nose end for a nose-down axis, the middle when horizontal."""
+    if a_z > 0.0:
+        return -0.5 * L - chi
+    if a_z < 0.0:
+        return 0.5 * L - chi
+    return -chi
+
+
+# ---------------------------------------------------------------------------
+# public kernels
+# ---------------------------------------------------------------------------
+@kernel
+def e_down_body(kx, ky, kz):
+    """Body-frame components of ``e_down`` given the E-frame vertical ``k``
+    in body components ``(kx, ky, kz)`` (``kx = a_z``): ``e_down = (a_z i_M -
+    k)/|...| = (0, -ky, -kz)/sqrt(ky^2 + kz^2)``. Returns ``(0, 0, 0)`` for a
+    vertical axis, where every ``eta`` is 0 anyway."""
+    n = math.sqrt(ky * ky + kz * kz)
+    if n > 0.0:
+        return 0.0, -ky / n, -kz / n
+    return 0.0, 0.0, 0.0
+
+
+@kernel
+def cut_cylinder(L, R, chi, a_z, z_c, level):
+    """Part of the cylinder below the plane ``z = level``.
+
+    Returns ``(volume, x_c, eta_c, lateral_area, nose_cap_area,
+    tail_cap_area)``; the centroid is ``x_c i_M + eta_c e_down`` relative to
+    the COM (seed 000 eqs. (25)-(33), re-derived; eta_c = 0 for an empty part
+    or a vertical axis; for an empty part x_c is the point that gets wet first).
+    """
+    V, Mx, Ms, lat, cn, ct = _cut_raw(L, R, chi, a_z, z_c - level)
+    if V > 0.0:
+        return V, Mx / V, Ms / V, lat, cn, ct
+    return 0.0, _empty_x(L, chi, a_z), 0.0, lat, cn, ct
+
+
+@kernel
+def cut_cylinder_above(L, R, chi, a_z, z_c, level):
+    """Part of the cylinder above the plane ``z = level``, same outputs as
+    :func:`cut_cylinder` (``eta_c`` still along ``e_down``, so it is <= 0).
+
+    Obtained by reflecting space through the plane (``a_z -> -a_z``,
+    ``z_c - level -> level - z_c``; ``e_down -> -e_down``), which is exact and
+    keeps full precision when the above part is small (no total-minus-below
+    cancellation).
+    """
+    V, Mx, Ms, lat, cn, ct = _cut_raw(L, R, chi, -a_z, level - z_c)
+    if V > 0.0:
+        return V, Mx / V, -Ms / V, lat, cn, ct
+    return 0.0, _empty_x(L, chi, -a_z), 0.0, lat, cn, ct
+
+
+@kernel
+def vertical_extent(L, R, chi, a_z, z_c):
+    """Lowest and highest heights ``(z_min, z_max)`` of the body: the end
+    sections are at ``z_c + a_z x`` and reach ``+- R sqrt(1 - a_z^2)``."""
+    a = a_z
+    if a > 1.0:
+        a = 1.0
+    elif a < -1.0:
+        a = -1.0
+    bR = R * math.sqrt((1.0 - a) * (1.0 + a))
+    zt = a * (-0.5 * L - chi)
+    zn = a * (0.5 * L - chi)
+    lo = zt if zt < zn else zn
+    hi = zn if zt < zn else zt
+    return z_c + lo - bR, z_c + hi + bR
+
+
+@kernel
+def burial_measures(L, R, chi, a_z, z_c, level):
+    """Burial of the body below the plane ``z = level``.
+
+    Returns ``(pct_volume, pct_height, pct_area, height_proud, penetration)``:
+    percent of volume, of vertical extent and of total surface area
+    (lateral + both caps) below the plane; ``height_proud = max(z_max -
+    level, 0)``; ``penetration = max(level - z_min, 0)``.
+    """
+    V, Mx, Ms, lat, cn, ct = _cut_raw(L, R, chi, a_z, z_c - level)
+    z_min, z_max = vertical_extent(L, R, chi, a_z, z_c)
+    v_tot = PI * R * R * L
+    s_tot = 2.0 * PI * R * (L + R)
+    below = level - z_min
+    ext = z_max - z_min
+    if below < 0.0:
+        below = 0.0
+    if below > ext:
+        below = ext
+    pct_v = 100.0 * V / v_tot
+    pct_h = 100.0 * below / ext
+    pct_a = 100.0 * (lat + cn + ct) / s_tot
+    proud = z_max - level
+    if proud < 0.0:
+        proud = 0.0
+    pen = level - z_min
+    if pen < 0.0:
+        pen = 0.0
+    return pct_v, pct_h, pct_a, proud, pen
+
+
+@kernel
+def _equivalent(L, R, chi, V, x_c, eta):
+    l = V / (PI * R * R)
+    if l > L:
+        l = L
+    xa = x_c - 0.5 * l
+    xb = x_c + 0.5 * l
+    xt = -0.5 * L - chi
+    xn = 0.5 * L - chi
+    if xa < xt:                # shift, not shrink, to stay inside the body
+        xa = xt
+        xb = xt + l
+    elif xb > xn:
+        xb = xn
+        xa = xn - l
+    return l, xa, xb, eta
+
+
+@kernel
+def equivalent_cylinder(L, R, chi, a_z, z_c, level):
+    """Equivalent cylinder of the part below the plane (seed 000 section 4.1,
+    eqs. (26)-(28)): ``(l, x_a, x_b, eta)`` with length ``l = volume/(pi R^2)``,
+    axial interval ``[x_a, x_b]`` centred on the partial centre of volume
+    (shifted, not shrunk, to stay inside the body) and transverse offset
+    ``eta`` along ``e_down``."""
+    V, x_c, eta, lat, cn, ct = cut_cylinder(L, R, chi, a_z, z_c, level)
+    return _equivalent(L, R, chi, V, x_c, eta)
+
+
+@kernel
+def equivalent_cylinder_above(L, R, chi, a_z, z_c, level):
+    """Equivalent cylinder of the part above the plane, as
+    :func:`equivalent_cylinder` (``eta`` along ``e_down``, <= 0)."""
+    V, x_c, eta, lat, cn, ct = cut_cylinder_above(L, R, chi, a_z, z_c, level)
+    return _equivalent(L, R, chi, V, x_c, eta)

@@ -1,0 +1,43 @@
+"""Shared helpers for the tests: build scenarios from small dict overrides."""
+
+import copy
+
+import pytest
+
+BASE = {
+    "mine": {"name": "test cylinder", "length": 1.0, "diameter": 0.25, "mass": 80.0,
+             "com_offset": 0.0},
+    "release": {"position": [0.0, 0.0, -5.0], "velocity": [0.0, 0.0, 0.0],
+                "pitch_deg": 0.0, "heading_deg": 0.0, "roll_deg": 0.0,
+                "angular_velocity": [0.0, 0.0, 0.0]},
+    "environment": {"water_depth": 1000.0, "water_density": 1025.0,
+                    "water_viscosity": 1.0e-6, "air_density": 1.225},
+    "sediment": {"class": "soft_clay"},
+    "numerics": {"dt": 1e-3, "t_max": 5.0},
+}
+
+
+def merge(base, over):
+    out = copy.deepcopy(base)
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = merge(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def scenario_dict(**sections):
+    """The BASE test scenario with sections overridden key by key."""
+    return merge(BASE, sections)
+
+
+def make_scenario(**sections):
+    from mineburial.config import Scenario
+
+    return Scenario.from_dict(scenario_dict(**sections))
+
+
+@pytest.fixture
+def scenario_factory():
+    return make_scenario
