@@ -219,6 +219,10 @@ _FIELD_LIST = [
           incl=_OPEN_LOW),
     _spec("numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed",
           1e-2, incl=_OPEN_LOW),
+    _spec("numerics.munk_factor", "1", 0, 1,
+          "fraction of the potential-flow Munk moment kept by the added-mass tensor "
+          "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
+          "theory); see docs/physics.md", 0.0),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.
@@ -734,13 +738,14 @@ class Numerics:
     rest_speed: float = 1e-3
     rest_spin: float = 1e-2
     drag: bool = True
+    munk_factor: float = 0.0
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
         if self.integrator is None:
             _set(self, "integrator", MODEL_DEFAULTS[self.model]["integrator"])
         _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
-        for f in ("dt", "t_max", "rest_speed", "rest_spin"):
+        for f in ("dt", "t_max", "rest_speed", "rest_spin", "munk_factor"):
             _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
         if not self.dt <= self.t_max:
             raise _range_error("numerics.dt", "numerics.dt", self.dt, FIELDS["numerics.dt"],
@@ -926,6 +931,7 @@ class Scenario:
             "numerics.integrator": layout.INTEGRATOR_NAMES.index(n.integrator),
             "numerics.dt": n.dt, "numerics.t_max": n.t_max, "numerics.rest_speed": n.rest_speed,
             "numerics.rest_spin": n.rest_spin, "numerics.drag": float(n.drag),
+            "numerics.munk_factor": n.munk_factor,
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)

@@ -38,7 +38,7 @@ def test_terminal_velocity_broadside():
     assert 12_000 < re <= 150_000          # the closed form is in the branch it assumes
     sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
                        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-                       numerics={"t_max": 15.0, "dt": 2e-3})
+                       numerics={"t_max": 40.0, "dt": 5e-3})
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
     assert abs(w_end - v_t) / v_t < 0.005
@@ -53,7 +53,7 @@ def test_terminal_velocity_axial():
     v_t = math.sqrt((MASS - RHO * VOL) * G / (0.5 * RHO * cd1 * area))
     sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
                        release={"position": [0, 0, -5.0], "pitch_deg": 90.0},
-                       numerics={"t_max": 15.0, "dt": 2e-3})
+                       numerics={"t_max": 40.0, "dt": 5e-3})
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
     assert abs(w_end - v_t) / v_t < 0.005
@@ -116,9 +116,8 @@ def test_rotation_about_vertical_rotates_trajectory():
     v0 = np.array([1.0, 0.5, -2.0])
     rot = np.array([[math.cos(alpha), -math.sin(alpha)], [math.sin(alpha), math.cos(alpha)]])
     pos = np.array([0.3, -0.2])
-    common = dict(mine={"com_offset": 0.05},
-                  environment={"water_depth": 8.0},
-                  numerics={"t_max": 8.0})
+    # air, water entry and the water column (the seabed at 1000 m is not reached)
+    common = dict(mine={"com_offset": 0.05}, numerics={"t_max": 6.0})
     a = make_scenario(release={"position": [pos[0], pos[1], 2.0], "velocity": list(v0),
                                "pitch_deg": 30.0, "heading_deg": 10.0,
                                "angular_velocity": [0.3, 0.5, -0.2]}, **common)
@@ -134,8 +133,9 @@ def test_rotation_about_vertical_rotates_trajectory():
     xy = rot @ np.vstack([da.x[:n], da.y[:n]])
     np.testing.assert_allclose(db.x[:n], xy[0], rtol=0, atol=1e-9)
     np.testing.assert_allclose(db.y[:n], xy[1], rtol=0, atol=1e-9)
-    for name in ("penetration_depth", "burial_volume", "final_pitch", "impact_speed"):
-        assert abs(float(db[name]) - float(da[name])) <= 1e-9 * max(1.0, abs(float(da[name]))), name
+    np.testing.assert_allclose(db.psi2[:n], da.psi2[:n], rtol=0, atol=1e-7)
+    dpsi3 = (db.psi3.values[:n] - da.psi3.values[:n] - 40.0 + 180.0) % 360.0 - 180.0
+    np.testing.assert_allclose(dpsi3, 0.0, rtol=0, atol=1e-7)
 
 
 # ---------------------------------------------------------------------------
@@ -178,13 +178,14 @@ def test_local_linearisation_converges_at_first_order(submerged_rotating):
 # ---------------------------------------------------------------------------
 # energy conservation with drag and lift off (buoyancy and added mass only)
 # ---------------------------------------------------------------------------
-def test_mechanical_energy_conserved_without_drag():
+@pytest.mark.parametrize("munk", [0.0, 0.5, 1.0])
+def test_mechanical_energy_conserved_without_drag(munk):
     m, chi = 60.0, 0.05
     sc = make_scenario(mine={"mass": m, "com_offset": chi},
                        environment={"gravity": G},
                        release={"position": [0, 0, -50.0], "velocity": [0.4, -0.2, 0.3],
                                 "pitch_deg": 30.0, "angular_velocity": [0.5, 1.0, -0.7]},
-                       numerics={"t_max": 2.0, "drag": False, "dt": 1e-3})
+                       numerics={"t_max": 2.0, "drag": False, "dt": 1e-3, "munk_factor": munk})
     ds = simulate_drop(sc, record_interval=0.05)
     r = D / 2
     j1 = 0.5 * m * r * r
@@ -193,6 +194,7 @@ def test_mechanical_energy_conserved_without_drag():
     # body's axial interval [-L/2 - chi, L/2 - chi]
     a = RHO * math.pi * r * r
     i0, i1, i2 = L, -chi * L, L ** 3 / 12.0 + chi ** 2 * L
+    a_axial = (1.0 - munk) * a * i0        # axial added mass (docs/physics.md, Munk factor)
     energies = []
     for k in range(ds.sizes["time"]):
         rot = _body_rotation([float(ds[c][k]) for c in ("q0", "q1", "q2", "q3")])
@@ -200,6 +202,7 @@ def test_mechanical_energy_conserved_without_drag():
         u = rot.T @ vel
         w = np.array([float(ds[c][k]) for c in ("omega1", "omega2", "omega3")])
         kin = 0.5 * (m * u @ u + j1 * w[0] ** 2 + j2 * (w[1] ** 2 + w[2] ** 2))
+        kin += 0.5 * a_axial * u[0] ** 2
         kin += 0.5 * a * (i0 * (u[1] ** 2 + u[2] ** 2) + 2 * i1 * (u[1] * w[2] - u[2] * w[1])
                           + i2 * (w[1] ** 2 + w[2] ** 2))
         z = float(ds.z[k])

@@ -203,17 +203,15 @@ class Variable:
     attrs: Mapping[str, Any] = field(default_factory=dict)
     fill_value: Any = None
     group: str = "per-drop"
-    #: a CF boundary variable (7.1): written with its units only, the rest of its
-    #: metadata is that of its parent coordinate
+    #: a CF boundary variable (7.1): written without attributes, its metadata
+    #: (units included) is that of its parent coordinate (xarray drops them anyway)
     is_bounds: bool = False
 
     def cf_attrs(self, **extra: Any) -> dict[str, Any]:
         """CF attributes of the variable (``extra`` overrides or adds, ``None`` removes)."""
         out: dict[str, Any] = {}
-        if self.is_bounds:
-            out = {"units": self.units} if self.units is not None else {}
-            out.update({k: v for k, v in extra.items() if v is not None})
-            return out
+        if self.is_bounds:  # CF 7.1: inherits units and the rest from its coordinate
+            return {k: v for k, v in extra.items() if v is not None}
         if self.standard_name:
             out["standard_name"] = self.standard_name
         out["long_name"] = self.long_name
@@ -469,12 +467,13 @@ def _md_escape(text: str) -> str:
 
 def _md_row(var: Variable, name: str | None = None) -> str:
     dims = ", ".join(var.dims) if var.dims else "(scalar)"
+    units = f"(from `{var.dims[0]}`)" if var.is_bounds else (var.units or "")
     cf = var.standard_name or ""
     extra = ""
     if "flag_values" in var.attrs:
         pairs = zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split())
         extra = " Flags: " + ", ".join(f"{v} `{m}`" for v, m in pairs) + "."
-    return (f"| `{name or var.name}` | {dims} | {var.dtype} | {var.units or ''} | {cf} | "
+    return (f"| `{name or var.name}` | {dims} | {var.dtype} | {units} | {cf} | "
             f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |")
 
 
@@ -490,8 +489,12 @@ def variables_markdown(expand: bool = False) -> str:
     ``penetration_depth`` for units); with ``expand=True`` every variable is listed.
     """
     per_drop = [_md_row(v) for v in VARIABLES.values() if v.group == "per-drop"]
-    per_drop.append(_md_row(input_variable("mine.mass", "kg", "mass of the mine"),
-                            "input_<path>"))
+    example = input_variable("mine.mass", "kg", "mass of the mine")
+    per_drop.append(_md_row(dataclasses.replace(
+        example, name="input_<path>", units="as given", long_name="sampled <path>",
+        description="Value of the scenario field <path> (dots become underscores: mine.mass -> "
+                    "input_mine_mass) sampled for each drop; attribute scenario_path holds the "
+                    "dotted path, units and description are those handed to build_dataset.")))
     stat_vars = [v for v in VARIABLES.values() if v.group == "statistics"]
     if expand:
         stats = [_md_row(v) for v in stat_vars]

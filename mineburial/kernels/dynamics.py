@@ -36,7 +36,7 @@ from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
 from mineburial.kernels.geometry import cut_cylinder, vertical_extent
 from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
-                                       P_LENGTH, P_MASS, P_MODEL, P_NU_AIR, P_NU_WATER, P_RHO_AIR,
+                                       P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER, P_RHO_AIR,
                                        P_RHO_WATER)
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.sediment import sediment_force_torque
@@ -454,7 +454,12 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
             a0 += aair * (ab - aa)
             a1 += aair * 0.5 * (ab * ab - aa * aa)
             a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
-    mass[0] = m
+    # axial added mass: the Munk moment of a body of transverse added mass a0 and
+    # axial added mass a11 is (a0 - a11) U1 U2; munk_factor = 1 keeps the
+    # slender-body value a11 = 0, munk_factor = 0 makes the translational added
+    # mass isotropic and removes it (docs/physics.md, "added mass").
+    a11 = (1.0 - p[P_MUNK]) * a0
+    mass[0] = m + a11
     mass[7] = m + a0
     mass[14] = m + a0
     mass[21] = J1
@@ -475,7 +480,7 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     vr2 = u2 - cur2
     vr3 = u3 - cur3
     # added-mass momenta P_A, H_A = M_A nu_r
-    pa1 = 0.0
+    pa1 = a11 * vr1
     pa2 = a0 * vr2 + a1 * w3
     pa3 = a0 * vr3 - a1 * w2
     ha1 = 0.0
@@ -492,7 +497,7 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     dc1 = -(w2 * cur3 - w3 * cur2)
     dc2 = -(w3 * cur1 - w1 * cur3)
     dc3 = -(w1 * cur2 - w2 * cur1)
-    mdc1 = 0.0
+    mdc1 = a11 * dc1
     mdc2 = a0 * dc2
     mdc3 = a0 * dc3
     mdc5 = -a1 * dc3

@@ -77,6 +77,7 @@ PARAM_NAMES = (
     "numerics.rest_speed",         # m s-1, eq. (89) speed criterion
     "numerics.rest_spin",          # rad s-1
     "numerics.drag",               # 1/0: fluid drag and lift on (0 for energy tests)
+    "numerics.munk_factor",        # fraction of the potential-flow Munk moment kept (docs/physics.md)
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -91,7 +92,8 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
  P_SED_PROFILE, P_SED_RHO, P_SED_RHO_GRAD, P_SED_S, P_SED_S_GRAD,
  P_SED_RESISTANCE, P_SED_RATE_LAW, P_SED_A, P_SED_VREST, P_SED_BETA, P_SED_RATE_REF,
  P_SED_MU, P_SED_NC, P_SED_PORE, P_SED_B, P_SED_KP, P_SED_EV,
- P_MODEL, P_INTEGRATOR, P_DT, P_TMAX, P_REST_SPEED, P_REST_SPIN, P_DRAG) = range(N_PARAMS)
+ P_MODEL, P_INTEGRATOR, P_DT, P_TMAX, P_REST_SPEED, P_REST_SPIN, P_DRAG,
+ P_MUNK) = range(N_PARAMS)
 
 # model and integrator codes
 MODEL_NAMES = ("mineburial", "impact35")

@@ -91,6 +91,12 @@ N_PHI = 6
 N_RHO = 4
 #: Largest angular width of one panel (rad); wider panels are split evenly.
 MAX_PANEL = 0.5 * math.pi
+#: Geometric grading towards a near-singularity at distance eps beyond a panel end:
+#: sub-panel widths eps, 3 eps, 9 eps, ... (at most MAX_GRADE of them), applied when
+#: eps < GRADE_TRIGGER * panel width.
+GRADE_RATIO = 3.0
+GRADE_TRIGGER = 0.5
+MAX_GRADE = 14
 #: Samples of a degree-2 trigonometric polynomial when bracketing its roots.
 N_SAMPLE = 32
 
@@ -336,7 +342,7 @@ def _crossing_roots(f, g, xa, xb):
             hi = _SAMPLE_T[j + 1]
             flo = prev
             t = lo + (hi - lo) * prev / (prev - cur)
-            for _ in range(6):
+            for _ in range(8):
                 val, der = _trig2(h0, h1, h2, h3, h4, t)
                 if val == 0.0:
                     break
@@ -348,7 +354,7 @@ def _crossing_roots(f, g, xa, xb):
                 tn = t - val / der if der != 0.0 else 0.5 * (lo + hi)
                 if not (tn > lo and tn < hi):
                     tn = 0.5 * (lo + hi)
-                if abs(tn - t) < 1e-13:
+                if abs(tn - t) < 1e-14:
                     t = tn
                     break
                 t = tn
@@ -381,13 +387,61 @@ def _end_roots(f, xe):
 
 
 @kernel
-def _next_break(bps, cur):
+def _fam(f, c, s):
+    """Coefficients (F0, F1) of F = F0 + F1 x at angle (c, s) and their theta-derivatives."""
+    return (f[0] + f[1] * c + f[2] * s, f[3] + f[4] * c + f[5] * s,
+            -f[1] * s + f[2] * c, -f[4] * s + f[5] * c)
+
+
+@kernel
+def _adist(t, poles):
+    """Angular distance from t to the nearer of two angles (inf when both are NaN)."""
+    best = math.inf
+    for k in range(2):
+        q = poles[k]
+        if q == q:
+            d = abs(t - q) % _TWO_PI
+            d = min(d, _TWO_PI - d)
+            best = min(best, d)
+    return best
+
+
+@kernel
+def _curve(f, c, s):
+    """x-position and slope dx/dtheta of the switch line x_F(theta) = -F0/F1."""
+    f0, f1, d0, d1 = _fam(f, c, s)
+    if f1 == 0.0:
+        return _NAN, 0.0
+    return -f0 / f1, -(d0 * f1 - f0 * d1) / (f1 * f1)
+
+
+@kernel
+def _front_eps(t, x, slope, ft, R, v1, w2, w3):
+    """Angular width of the slip-reversal front (v_theta = 0) where it meets the curve
+    x(theta) of slope ``slope`` at (x, t): |v_tau| ~ sqrt(v_x^2 + V_REG^2) there."""
+    c = math.cos(t)
+    s = math.sin(t)
+    vx = v1 - w3 * R * c + w2 * R * s
+    t0, t1, dt0, dt1 = _fam(ft, c, s)
+    rate = abs(dt0 + dt1 * x + t1 * slope)
+    if not (rate > 0.0):
+        return math.inf
+    return math.sqrt(vx * vx + V_REG * V_REG) / rate
+
+
+@kernel
+def _next_break(bps, eps, cur):
+    """Smallest breakpoint above cur (2 pi when none) and the smallest scale attached to it."""
     nxt = _TWO_PI
+    e = math.inf
     for k in range(len(bps)):
         b = bps[k]
         if b > cur and b < nxt:
             nxt = b
-    return nxt
+            e = eps[k]
+        elif b == nxt and eps[k] < e:
+            e = eps[k]
+    return nxt, e
 
 
 # =============================================================================
@@ -420,35 +474,235 @@ def _generator_interval(c, s, xa, xb, fe, fd):
 
 
 @kernel
+def _lateral_panel(ta, tb, geo, fe, fd, ft, law, bank, tangential, nt, nxg):
+    """Lateral-surface contribution of the theta-panel [ta, tb] (no switch inside)."""
+    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    hw = 0.5 * (tb - ta)
+    tmid = 0.5 * (ta + tb)
+    lo, hi, e0, e1 = _generator_interval(math.cos(tmid), math.sin(tmid), xa, xb, fe, fd)
+    if not (hi > lo):
+        return f1, f2, f3, m1, m2, m3
+    for i in range(nt):
+        t = tmid + hw * _GL_NODES[nt, i]
+        c = math.cos(t)
+        s = math.sin(t)
+        lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
+        if not (hi > lo):
+            continue
+        wt = hw * _GL_WEIGHTS[nt, i] * R
+        y = R * c
+        z = R * s
+        # split at the reversal of the circumferential slip v_theta = T0 + T1 x, where the
+        # slip direction turns over the length eps = sqrt(v_x^2 + V_REG^2)/|T1|: on each
+        # side x = x_T +- eps sinh(u) (sinh transformation, Johnston & Elliott 2005)
+        xs = hi
+        eps = 0.0
+        if tangential:
+            t1 = ft[4] * c + ft[5] * s
+            if t1 != 0.0:
+                xq = -(ft[0] + ft[1] * c + ft[2] * s) / t1
+                if xq > lo and xq < hi:
+                    xs = xq
+                    vx = v1 - w3 * R * c + w2 * R * s
+                    eps = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
+        for part in range(2):
+            if part == 0:
+                a = lo
+                b = xs
+            else:
+                if not (xs < hi):
+                    break
+                a = xs
+                b = hi
+            if eps > 0.0:
+                umax = math.asinh((b - a) / eps)
+                hu = 0.5 * umax
+            else:
+                hu = 0.5 * (b - a)
+            for j in range(nxg):
+                u = hu * (1.0 + _GL_NODES[nxg, j])
+                if eps > 0.0:
+                    sh = eps * math.sinh(u)
+                    jac = eps * math.cosh(u)
+                    x = b - sh if part == 0 else a + sh
+                else:
+                    x = a + u
+                    jac = 1.0
+                zeta = e0 + e1 * x
+                q1, q2, q3 = _traction(x, y, z, 0.0, c, s, zeta, v1, v2, v3, w1, w2, w3, law,
+                                       bank)
+                wgt = wt * hu * _GL_WEIGHTS[nxg, j] * jac
+                f1 += wgt * q1
+                f2 += wgt * q2
+                f3 += wgt * q3
+                m1 += wgt * (y * q3 - z * q2)
+                m2 += wgt * (z * q1 - x * q3)
+                m3 += wgt * (x * q2 - y * q1)
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, nt, nxg):
+    """Panel [t_from, t_to] (either order) graded geometrically towards t_from, where the
+    integrand has a near-singularity at distance ~eps (first sub-panel width eps, ratio
+    GRADE_RATIO), so that every sub-panel is as far from it as it is wide."""
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    total = abs(t_to - t_from)
+    sgn = 1.0 if t_to > t_from else -1.0
+    pos = 0.0
+    width = eps
+    for k in range(MAX_GRADE):
+        nxt = pos + width
+        if nxt > total or k == MAX_GRADE - 1 or total - nxt < 0.5 * width:
+            nxt = total
+        ta = t_from + sgn * pos
+        tb = t_from + sgn * nxt
+        if tb < ta:
+            ta, tb = tb, ta
+        nsub = int(math.ceil((tb - ta) / MAX_PANEL - 1e-9))
+        if nsub < 1:
+            nsub = 1
+        dw = (tb - ta) / nsub
+        for isub in range(nsub):
+            g1, g2, g3, h1, h2, h3 = _lateral_panel(ta + isub * dw, ta + (isub + 1) * dw, geo,
+                                                    fe, fd, ft, law, bank, tangential, nt, nxg)
+            f1 += g1
+            f2 += g2
+            f3 += g3
+            m1 += h1
+            m2 += h2
+            m3 += h3
+        if nxt >= total:
+            break
+        pos = nxt
+        width *= GRADE_RATIO
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
 def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangential, nt, nxg):
     """Force and torque (body frame, about the COM) on the lateral surface.
 
     Families (k0, kc, ks, l0, lc, ls) of linear-in-x switch functions along a
     generator at angle t (point (x, R cos t, R sin t), normal (0, cos t, sin t)):
     fe: depth zeta; fd: normal velocity v.n; ft: circumferential slip v_theta.
+    Theta-panels end where a switch line reaches a body end, where two switch
+    lines cross, and where the axial slip v_x vanishes; each breakpoint carries the
+    distance eps to the nearest near-singularity of the theta-integrand (the pole
+    of a switch line x_F = -F0/F1 at F1 = 0, or the width of the slip-reversal
+    front), and panels are graded geometrically towards breakpoints with small eps.
     """
-    # breakpoints in theta: switch lines reaching the ends, crossing each other,
-    # and the zeros of the axial slip v_x = v1 - w3 R cos t + w2 R sin t.
+    geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
+    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
+    inf = math.inf
+    # seabed line reaching the ends: x_E has no pole (E1 = -c20 is constant)
     e_a = _end_roots(fe, xa)
     e_b = _end_roots(fe, xb)
+    # delta line reaching the ends, crossing the seabed line
     d_a = _end_roots(fd, xa)
     d_b = _end_roots(fd, xb)
     ed = _crossing_roots(fe, fd, xa, xb)
     if tangential:
+        pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
         t_a = _end_roots(ft, xa)
         t_b = _end_roots(ft, xb)
         x_0 = _roots_lin(v1, -w3 * R, w2 * R)
         et = _crossing_roots(fe, ft, xa, xb)
         dt = _crossing_roots(fd, ft, xa, xb)
     else:
+        pt = (_NAN, _NAN)
         t_a = (_NAN, _NAN)
         t_b = (_NAN, _NAN)
         x_0 = (_NAN, _NAN)
         et = (_NAN, _NAN, _NAN, _NAN)
         dt = (_NAN, _NAN, _NAN, _NAN)
+
+    # scales of the near-singularities attached to each breakpoint
+    ed_eps = (_adist(ed[0], pd), _adist(ed[1], pd), _adist(ed[2], pd), _adist(ed[3], pd))
+    ta_eps = (inf, inf)
+    tb_eps = (inf, inf)
+    x0_eps = (inf, inf)
+    et_eps = (inf, inf, inf, inf)
+    dt_eps = (inf, inf, inf, inf)
+    if tangential:
+        ta_eps = (min(_adist(t_a[0], pt), _front_eps(t_a[0], xa, 0.0, ft, R, v1, w2, w3)),
+                  min(_adist(t_a[1], pt), _front_eps(t_a[1], xa, 0.0, ft, R, v1, w2, w3)))
+        tb_eps = (min(_adist(t_b[0], pt), _front_eps(t_b[0], xb, 0.0, ft, R, v1, w2, w3)),
+                  min(_adist(t_b[1], pt), _front_eps(t_b[1], xb, 0.0, ft, R, v1, w2, w3)))
+        e_list = (inf, inf, inf, inf)
+        for k in range(4):
+            t = et[k]
+            if t == t:
+                x, sl = _curve(fe, math.cos(t), math.sin(t))
+                if not (x == x):
+                    x = _curve(ft, math.cos(t), math.sin(t))[0]
+                    sl = 0.0
+                e = min(_adist(t, pt), _front_eps(t, x, sl, ft, R, v1, w2, w3))
+                if k == 0:
+                    e_list = (e, e_list[1], e_list[2], e_list[3])
+                elif k == 1:
+                    e_list = (e_list[0], e, e_list[2], e_list[3])
+                elif k == 2:
+                    e_list = (e_list[0], e_list[1], e, e_list[3])
+                else:
+                    e_list = (e_list[0], e_list[1], e_list[2], e)
+        et_eps = e_list
+        e_list = (inf, inf, inf, inf)
+        for k in range(4):
+            t = dt[k]
+            if t == t:
+                x, sl = _curve(fd, math.cos(t), math.sin(t))
+                if not (x == x):
+                    x = _curve(ft, math.cos(t), math.sin(t))[0]
+                    sl = 0.0
+                e = min(min(_adist(t, pt), _adist(t, pd)),
+                        _front_eps(t, x, sl, ft, R, v1, w2, w3))
+                if k == 0:
+                    e_list = (e, e_list[1], e_list[2], e_list[3])
+                elif k == 1:
+                    e_list = (e_list[0], e, e_list[2], e_list[3])
+                elif k == 2:
+                    e_list = (e_list[0], e_list[1], e, e_list[3])
+                else:
+                    e_list = (e_list[0], e_list[1], e_list[2], e)
+        dt_eps = e_list
+        # zeros of the axial slip: sharp where the circumferential slip is small too
+        x0_eps = (inf, inf)
+        for k in range(2):
+            t = x_0[k]
+            if t == t:
+                c = math.cos(t)
+                s = math.sin(t)
+                t0, t1, dt0, dt1 = _fam(ft, c, s)
+                va = t0 + t1 * xa
+                vb = t0 + t1 * xb
+                vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
+                rate = abs(w3 * R * s + w2 * R * c)
+                e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate if rate > 0.0 else inf
+                if k == 0:
+                    x0_eps = (e, x0_eps[1])
+                else:
+                    x0_eps = (x0_eps[0], e)
+
     bps = (e_a[0], e_a[1], e_b[0], e_b[1], d_a[0], d_a[1], d_b[0], d_b[1],
            ed[0], ed[1], ed[2], ed[3], t_a[0], t_a[1], t_b[0], t_b[1], x_0[0], x_0[1],
            et[0], et[1], et[2], et[3], dt[0], dt[1], dt[2], dt[3])
+    eps = (inf, inf, inf, inf, _adist(d_a[0], pd), _adist(d_a[1], pd), _adist(d_b[0], pd),
+           _adist(d_b[1], pd), ed_eps[0], ed_eps[1], ed_eps[2], ed_eps[3],
+           ta_eps[0], ta_eps[1], tb_eps[0], tb_eps[1], x0_eps[0], x0_eps[1],
+           et_eps[0], et_eps[1], et_eps[2], et_eps[3], dt_eps[0], dt_eps[1], dt_eps[2],
+           dt_eps[3])
 
     f1 = 0.0
     f2 = 0.0
@@ -457,59 +711,41 @@ def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangentia
     m2 = 0.0
     m3 = 0.0
     cur = 0.0
+    e_cur = inf
     while cur < _TWO_PI:
-        nxt = _next_break(bps, cur)
+        nxt, e_nxt = _next_break(bps, eps, cur)
         width = nxt - cur
-        nsub = int(math.ceil(width / MAX_PANEL - 1e-9))
-        if nsub < 1:
-            nsub = 1
-        hw = 0.5 * width / nsub
-        for isub in range(nsub):
-            tmid = cur + (2 * isub + 1) * hw
-            lo, hi, e0, e1 = _generator_interval(math.cos(tmid), math.sin(tmid), xa, xb, fe, fd)
-            if not (hi > lo):
-                continue
-            for i in range(nt):
-                t = tmid + hw * _GL_NODES[nt, i]
-                c = math.cos(t)
-                s = math.sin(t)
-                lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
-                if not (hi > lo):
-                    continue
-                wt = hw * _GL_WEIGHTS[nt, i] * R
-                y = R * c
-                z = R * s
-                # split at the reversal of the circumferential slip v_theta = T0 + T1 x
-                xs = hi
-                if tangential:
-                    t1 = ft[4] * c + ft[5] * s
-                    if t1 != 0.0:
-                        xq = -(ft[0] + ft[1] * c + ft[2] * s) / t1
-                        if xq > lo and xq < hi:
-                            xs = xq
-                a = lo
-                b = xs
-                for part in range(2):
-                    if part == 1:
-                        if xs >= hi:
-                            break
-                        a = xs
-                        b = hi
-                    hx = 0.5 * (b - a)
-                    mx = 0.5 * (b + a)
-                    for j in range(nxg):
-                        x = mx + hx * _GL_NODES[nxg, j]
-                        zeta = e0 + e1 * x
-                        q1, q2, q3 = _traction(x, y, z, 0.0, c, s, zeta, v1, v2, v3,
-                                               w1, w2, w3, law, bank)
-                        wgt = wt * hx * _GL_WEIGHTS[nxg, j]
-                        f1 += wgt * q1
-                        f2 += wgt * q2
-                        f3 += wgt * q3
-                        m1 += wgt * (y * q3 - z * q2)
-                        m2 += wgt * (z * q1 - x * q3)
-                        m3 += wgt * (x * q2 - y * q1)
+        grade_a = e_cur < GRADE_TRIGGER * width
+        grade_b = e_nxt < GRADE_TRIGGER * width
+        if grade_a and grade_b:
+            mid = 0.5 * (cur + nxt)
+            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, mid, e_cur, geo, fe, fd, ft, law,
+                                                     bank, tangential, nt, nxg)
+            k1, k2, k3, l1, l2, l3 = _lateral_graded(nxt, mid, e_nxt, geo, fe, fd, ft, law,
+                                                     bank, tangential, nt, nxg)
+            g1 += k1
+            g2 += k2
+            g3 += k3
+            h1 += l1
+            h2 += l2
+            h3 += l3
+        elif grade_a:
+            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, e_cur, geo, fe, fd, ft, law,
+                                                     bank, tangential, nt, nxg)
+        elif grade_b:
+            g1, g2, g3, h1, h2, h3 = _lateral_graded(nxt, cur, e_nxt, geo, fe, fd, ft, law,
+                                                     bank, tangential, nt, nxg)
+        else:
+            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, width, geo, fe, fd, ft, law,
+                                                     bank, tangential, nt, nxg)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
         cur = nxt
+        e_cur = e_nxt
     return f1, f2, f3, m1, m2, m3
 
 
@@ -517,22 +753,25 @@ def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangentia
 # end caps
 # =============================================================================
 @kernel
-def _ray_interval(ca, sa, oy, oz, o2, R, e0, ey, ez, q0, qy, qz):
-    """rho-interval of the ray O + rho (ca, sa) inside disk, zeta > 0 and delta = 1."""
+def _ray_interval(ca, sa, cg):
+    """rho-interval of the ray O + rho (ca, sa) inside the disk, with zeta > 0 and delta = 1."""
+    oy = cg[3]
+    oz = cg[4]
     od = oy * ca + oz * sa
-    hi = -od + math.sqrt(max(od * od + R * R - o2, 0.0))
+    hi = -od + math.sqrt(max(od * od + cg[2] * cg[2] - cg[5], 0.0))
     lo = 0.0
     # zeta = (e0 + e.O) + rho (e.d) > 0
-    a0 = e0 + ey * oy + ez * oz
-    a1 = ey * ca + ez * sa
+    a0 = cg[6] + cg[7] * oy + cg[8] * oz
+    a1 = cg[7] * ca + cg[8] * sa
     if a1 > 0.0:
         lo = max(lo, -a0 / a1)
     elif a1 < 0.0:
         hi = min(hi, -a0 / a1)
     elif not (a0 > 0.0):
         return 1.0, 0.0
-    b0 = q0 + qy * oy + qz * oz
-    b1 = qy * ca + qz * sa
+    # delta: (q0 + q.O) + rho (q.d) >= 0
+    b0 = cg[9] + cg[10] * oy + cg[11] * oz
+    b1 = cg[10] * ca + cg[11] * sa
     if b1 > 0.0:
         lo = max(lo, -b0 / b1)
     elif b1 < 0.0:
@@ -544,27 +783,127 @@ def _ray_interval(ca, sa, oy, oz, o2, R, e0, ey, ez, q0, qy, qz):
 
 @kernel
 def _chord_corners(k, a, b, R, oy, oz):
-    """Directions (about O) of the points where the line k + a y + b z = 0 meets the rim."""
+    """Directions (about O) of the points where the line k + a y + b z = 0 meets the rim,
+    and the angular distance of each from the nearer pole of the line's rho-bound
+    (the directions parallel to the line)."""
     r0, r1 = _roots_lin(k, a * R, b * R)
     d0 = _NAN
     d1 = _NAN
+    e0 = math.inf
+    e1 = math.inf
     if r0 == r0:
         d0 = _wrap(math.atan2(R * math.sin(r0) - oz, R * math.cos(r0) - oy))
         d1 = _wrap(math.atan2(R * math.sin(r1) - oz, R * math.cos(r1) - oy))
-    return d0, d1
+        par = math.atan2(b, a) + 0.5 * math.pi
+        poles = (_wrap(par), _wrap(par + math.pi))
+        e0 = _adist(d0, poles)
+        e1 = _adist(d1, poles)
+    return d0, d1, e0, e1
+
+
+@kernel
+def _cap_panel(ta, tb, cg, vel, law, bank, nph, nr):
+    """End-cap contribution of the phi-panel [ta, tb] (polar about O)."""
+    xc = cg[0]
+    sgn = cg[1]
+    oy = cg[3]
+    oz = cg[4]
+    v1, v2, v3, w1, w2, w3 = vel
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    hw = 0.5 * (tb - ta)
+    tmid = 0.5 * (ta + tb)
+    lo, hi = _ray_interval(math.cos(tmid), math.sin(tmid), cg)
+    if not (hi > lo):
+        return f1, f2, f3, m1, m2, m3
+    for i in range(nph):
+        t = tmid + hw * _GL_NODES[nph, i]
+        ca = math.cos(t)
+        sa = math.sin(t)
+        lo, hi = _ray_interval(ca, sa, cg)
+        if not (hi > lo):
+            continue
+        wt = hw * _GL_WEIGHTS[nph, i]
+        hr = 0.5 * (hi - lo)
+        mr = 0.5 * (hi + lo)
+        for j in range(nr):
+            rho = mr + hr * _GL_NODES[nr, j]
+            y = oy + rho * ca
+            z = oz + rho * sa
+            zeta = cg[6] + cg[7] * y + cg[8] * z
+            q1, q2, q3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law,
+                                   bank)
+            wgt = wt * hr * _GL_WEIGHTS[nr, j] * rho
+            f1 += wgt * q1
+            f2 += wgt * q2
+            f3 += wgt * q3
+            m1 += wgt * (y * q3 - z * q2)
+            m2 += wgt * (z * q1 - xc * q3)
+            m3 += wgt * (xc * q2 - y * q1)
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, nph, nr):
+    """Cap panel graded geometrically towards t_from (see _lateral_graded)."""
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    total = abs(t_to - t_from)
+    sgn = 1.0 if t_to > t_from else -1.0
+    pos = 0.0
+    width = eps
+    for k in range(MAX_GRADE):
+        nxt = pos + width
+        if nxt > total or k == MAX_GRADE - 1 or total - nxt < 0.5 * width:
+            nxt = total
+        ta = t_from + sgn * pos
+        tb = t_from + sgn * nxt
+        if tb < ta:
+            ta, tb = tb, ta
+        nsub = int(math.ceil((tb - ta) / MAX_PANEL - 1e-9))
+        if nsub < 1:
+            nsub = 1
+        dw = (tb - ta) / nsub
+        for isub in range(nsub):
+            g1, g2, g3, h1, h2, h3 = _cap_panel(ta + isub * dw, ta + (isub + 1) * dw, cg, vel,
+                                                law, bank, nph, nr)
+            f1 += g1
+            f2 += g2
+            f3 += g3
+            m1 += h1
+            m2 += h2
+            m3 += h3
+        if nxt >= total:
+            break
+        pos = nxt
+        width *= GRADE_RATIO
+    return f1, f2, f3, m1, m2, m3
 
 
 @kernel
 def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tangential, nph, nr):
-    """Force and torque (body frame) on the end cap x = xc with outward normal sgn * i_M."""
-    # zeta = e0 + ey y + ez z; delta: q0 + qy y + qz z >= 0 (v.n = sgn (v_x))
+    """Force and torque (body frame) on the end cap x = xc with outward normal sgn * i_M.
+
+    Polar coordinates (rho, phi) about O, the stagnation point of the in-plane slip
+    when it lies on the cap (there the slip direction turns round a point), else the
+    centre. Both switches are straight chords on the cap: zeta = e0 + ey y + ez z > 0
+    and v.n = sgn (v1 + w2 z - w3 y) >= 0; phi-panels end at the directions of the
+    chord/rim corners and of the chord/chord intersection.
+    """
     e0 = D0 - c20 * xc
     ey = -c21
     ez = -c22
     q0 = sgn * v1
     qy = -sgn * w3
     qz = sgn * w2
-    # polar origin: the stagnation point of the in-plane slip, when it is on the cap
     oy = 0.0
     oz = 0.0
     if tangential and w1 != 0.0:
@@ -574,17 +913,25 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
             oy = sy
             oz = sz
     o2 = oy * oy + oz * oz
-    ce0, ce1 = _chord_corners(e0, ey, ez, R, oy, oz)
-    cd0, cd1 = _chord_corners(q0, qy, qz, R, oy, oz)
-    # intersection of the two chord lines
+    cg = (xc, sgn, R, oy, oz, o2, e0, ey, ez, q0, qy, qz)
+    vel = (v1, v2, v3, w1, w2, w3)
+    ce = _chord_corners(e0, ey, ez, R, oy, oz)
+    cd = _chord_corners(q0, qy, qz, R, oy, oz)
+    # intersection of the two chord lines, when inside the disk
     cx = _NAN
+    ex = math.inf
     det = ey * qz - ez * qy
     if det != 0.0:
         py = (-e0 * qz + ez * q0) / det
         pz = (-ey * q0 + e0 * qy) / det
         if py * py + pz * pz < R * R:
             cx = _wrap(math.atan2(pz - oz, py - oy))
-    bps = (ce0, ce1, cd0, cd1, cx)
+            pe = math.atan2(ez, ey) + 0.5 * math.pi
+            pq = math.atan2(qz, qy) + 0.5 * math.pi
+            ex = min(_adist(cx, (_wrap(pe), _wrap(pe + math.pi))),
+                     _adist(cx, (_wrap(pq), _wrap(pq + math.pi))))
+    bps = (ce[0], ce[1], cd[0], cd[1], cx)
+    eps = (ce[2], ce[3], cd[2], cd[3], ex)
 
     f1 = 0.0
     f2 = 0.0
@@ -593,44 +940,36 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
     m2 = 0.0
     m3 = 0.0
     cur = 0.0
+    e_cur = math.inf
     while cur < _TWO_PI:
-        nxt = _next_break(bps, cur)
+        nxt, e_nxt = _next_break(bps, eps, cur)
         width = nxt - cur
-        nsub = int(math.ceil(width / MAX_PANEL - 1e-9))
-        if nsub < 1:
-            nsub = 1
-        hw = 0.5 * width / nsub
-        for isub in range(nsub):
-            tmid = cur + (2 * isub + 1) * hw
-            lo, hi = _ray_interval(math.cos(tmid), math.sin(tmid), oy, oz, o2, R,
-                                   e0, ey, ez, q0, qy, qz)
-            if not (hi > lo):
-                continue
-            for i in range(nph):
-                t = tmid + hw * _GL_NODES[nph, i]
-                ca = math.cos(t)
-                sa = math.sin(t)
-                lo, hi = _ray_interval(ca, sa, oy, oz, o2, R, e0, ey, ez, q0, qy, qz)
-                if not (hi > lo):
-                    continue
-                wt = hw * _GL_WEIGHTS[nph, i]
-                hr = 0.5 * (hi - lo)
-                mr = 0.5 * (hi + lo)
-                for j in range(nr):
-                    rho = mr + hr * _GL_NODES[nr, j]
-                    y = oy + rho * ca
-                    z = oz + rho * sa
-                    zeta = e0 + ey * y + ez * z
-                    q1, q2, q3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3,
-                                           w1, w2, w3, law, bank)
-                    wgt = wt * hr * _GL_WEIGHTS[nr, j] * rho
-                    f1 += wgt * q1
-                    f2 += wgt * q2
-                    f3 += wgt * q3
-                    m1 += wgt * (y * q3 - z * q2)
-                    m2 += wgt * (z * q1 - xc * q3)
-                    m3 += wgt * (xc * q2 - y * q1)
+        grade_a = e_cur < GRADE_TRIGGER * width
+        grade_b = e_nxt < GRADE_TRIGGER * width
+        if grade_a and grade_b:
+            mid = 0.5 * (cur + nxt)
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, mid, e_cur, cg, vel, law, bank, nph, nr)
+            k1, k2, k3, l1, l2, l3 = _cap_graded(nxt, mid, e_nxt, cg, vel, law, bank, nph, nr)
+            g1 += k1
+            g2 += k2
+            g3 += k3
+            h1 += l1
+            h2 += l2
+            h3 += l3
+        elif grade_a:
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, e_cur, cg, vel, law, bank, nph, nr)
+        elif grade_b:
+            g1, g2, g3, h1, h2, h3 = _cap_graded(nxt, cur, e_nxt, cg, vel, law, bank, nph, nr)
+        else:
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, width, cg, vel, law, bank, nph, nr)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
         cur = nxt
+        e_cur = e_nxt
     return f1, f2, f3, m1, m2, m3
 
 
