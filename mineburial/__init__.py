@@ -20,4 +20,12 @@ def simulate_drop(*args, **kwargs):
 
 simulate_drop.__doc__ = "Simulate one drop; see :func:`mineburial.drop.simulate_drop`."
 
-__all__ = ["simulate_drop", "__version__"]
+def run_ensemble(*args, **kwargs):
+    from mineburial.ensembles.engine import run_ensemble as _run_ensemble
+
+    return _run_ensemble(*args, **kwargs)
+
+
+run_ensemble.__doc__ = "Run a Monte Carlo ensemble; see :func:`mineburial.ensembles.engine.run_ensemble`."
+
+__all__ = ["simulate_drop", "run_ensemble", "__version__"]

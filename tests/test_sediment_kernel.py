@@ -145,114 +145,140 @@ def ref_traction(r, n, zeta, vb, om, p, bank, diameter):
     return -pn * n - k * vt
 
 
-def _accumulate(r, t, w):
-    f = (t * w).reshape(3, -1).sum(axis=1)
-    m = (np.cross(r, t, axis=0) * w).reshape(3, -1).sum(axis=1)
-    absf = np.sum(np.sqrt(np.sum(t * t, axis=0)) * w)
-    absm = np.sum(np.sqrt(np.sum(r * r, axis=0)) * np.sqrt(np.sum(t * t, axis=0)) * w)
-    return f, m, absf, absm
+def _moments(r, t, w):
+    """Sum over the last axis of weighted force, torque, |t| and |r||t| (per outer point)."""
+    tn = np.sqrt(np.sum(t * t, axis=0))
+    rn = np.sqrt(np.sum(r * r, axis=0))
+    return np.concatenate([np.sum(t * w, axis=-1), np.sum(np.cross(r, t, axis=0) * w, axis=-1),
+                           np.sum(tn * w, axis=-1)[None], np.sum(rn * tn * w, axis=-1)[None]])
 
 
-def reference_force_torque(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK, n_outer=3000,
-                           n_inner=16, surfaces=("lateral", "nose", "tail")):
-    """Fine uniform outer rule, exact inner limits: force (E), torque (body), scales."""
-    xa, xb = -0.5 * L - chi, 0.5 * L - chi
-    d0 = SEABED - com[2]
-    c20, c21, c22 = C[2]
-    vb = C.T @ np.asarray(vel, float)
-    om = np.asarray(omega, float)
-    gx, gw = np.polynomial.legendre.leggauss(n_inner)
-    diameter = 2 * R
-    tan_on = p[lay.P_SED_MU] != 0.0
-    F = np.zeros(3)
-    M = np.zeros(3)
-    sf = sm = 0.0
+def _split_pieces(lo, hi, xt):
+    """The two inner pieces [lo, xt], [xt, hi] (xt clipped; an empty piece has length 0)."""
+    hi = np.maximum(hi, lo)
+    xt = np.clip(xt, lo, hi)
+    return ((lo, xt), (xt, hi))
 
-    # lateral surface: theta midpoint, x exact limits
-    pieces = ()
-    th = (np.arange(n_outer) + 0.5) * 2 * np.pi / n_outer
+
+def _lateral_integrand(th, geo, p, bank, gx, gw):
+    """Integral over x of the lateral-surface moments on generators th (array): (8, n)."""
+    R, xa, xb, d0, k, vb, om = geo
     c, s = np.cos(th), np.sin(th)
-    lo = np.full(n_outer, xa)
-    hi = np.full(n_outer, xb)
-    e0 = d0 - R * (c21 * c + c22 * s)          # zeta = e0 - c20 x
-    if c20 > 0:
-        hi = np.minimum(hi, e0 / c20)
-    elif c20 < 0:
-        lo = np.maximum(lo, e0 / c20)
+    lo = np.full(th.shape, xa)
+    hi = np.full(th.shape, xb)
+    e0 = d0 - R * (k[1] * c + k[2] * s)          # zeta = e0 - k0 x
+    if k[0] > 0:
+        hi = np.minimum(hi, e0 / k[0])
+    elif k[0] < 0:
+        lo = np.maximum(lo, e0 / k[0])
     else:
         hi = np.where(e0 > 0, hi, lo)
-    a0 = vb[1] * c + vb[2] * s                 # v.n = a0 + a1 x
+    a0 = vb[1] * c + vb[2] * s                   # v.n = a0 + a1 x
     a1 = om[2] * c - om[1] * s
     with np.errstate(divide="ignore", invalid="ignore"):
         xd = -a0 / a1
         lo = np.where(a1 > 0, np.maximum(lo, xd), lo)
         hi = np.where(a1 < 0, np.minimum(hi, xd), hi)
         hi = np.where((a1 == 0) & (a0 < 0), lo, hi)
-        t0 = om[0] * R + vb[2] * c - vb[1] * s  # circumferential slip = t0 + t1 x
+        t0 = om[0] * R + vb[2] * c - vb[1] * s   # circumferential slip = t0 + t1 x
         t1 = -(om[1] * c + om[2] * s)
-        xt = np.where(tan_on & (t1 != 0), -t0 / t1, hi)
-    hi = np.maximum(hi, lo)
-    xt = np.clip(xt, lo, hi)
-    if "lateral" in surfaces:
-        pieces = ((lo, xt), (xt, hi))
-    for a, b in pieces:
+        xt = np.where((p[lay.P_SED_MU] != 0) & (t1 != 0), -t0 / t1, hi)
+    out = np.zeros((8, th.size))
+    for a, b in _split_pieces(lo, hi, xt):
         x = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx[None, :]
-        w = (0.5 * (b - a))[:, None] * gw[None, :] * (2 * np.pi / n_outer) * R
+        w = (0.5 * (b - a))[:, None] * gw[None, :] * R
         r = np.stack([x, np.broadcast_to(R * c[:, None], x.shape),
                       np.broadcast_to(R * s[:, None], x.shape)])
         n = np.stack([np.zeros_like(x), np.broadcast_to(c[:, None], x.shape),
                       np.broadcast_to(s[:, None], x.shape)])
-        zeta = e0[:, None] - c20 * x
-        t = ref_traction(r, n, zeta, vb, om, p, bank, diameter)
-        f, m, af, am = _accumulate(r, t, w)
-        F += f
-        M += m
-        sf += af
-        sm += am
+        t = ref_traction(r, n, e0[:, None] - k[0] * x, vb, om, p, bank, 2 * R)
+        out += _moments(r, t, w)
+    return out
 
-    # caps: y = R sin u (midpoint in u), z exact limits
-    u = -0.5 * np.pi + (np.arange(n_outer) + 0.5) * np.pi / n_outer
+
+def _cap_integrand(u, geo, xc, sgn, p, bank, gx, gw):
+    """Integral over z of the cap moments on the lines y = R sin(u) (times dy/du): (8, n)."""
+    R, xa, xb, d0, k, vb, om = geo
     y = R * np.sin(u)
-    dy = R * np.cos(u) * np.pi / n_outer
+    dydu = R * np.cos(u)
+    zlo = -R * np.cos(u)
+    zhi = R * np.cos(u)
+    ec = d0 - k[0] * xc - k[1] * y               # zeta = ec - k2 z
+    if k[2] > 0:
+        zhi = np.minimum(zhi, ec / k[2])
+    elif k[2] < 0:
+        zlo = np.maximum(zlo, ec / k[2])
+    else:
+        zhi = np.where(ec > 0, zhi, zlo)
+    q0 = sgn * (vb[0] - om[2] * y)               # v.n = q0 + q1 z
+    q1 = sgn * om[1]
+    if q1 > 0:
+        zlo = np.maximum(zlo, -q0 / q1)
+    elif q1 < 0:
+        zhi = np.minimum(zhi, -q0 / q1)
+    else:
+        zhi = np.where(q0 >= 0, zhi, zlo)
+    if p[lay.P_SED_MU] != 0 and om[0] != 0:      # stagnation point of the in-plane slip
+        zs = np.full_like(y, (vb[1] + om[2] * xc) / om[0])
+    else:
+        zs = zhi
+    out = np.zeros((8, u.size))
+    for a, b in _split_pieces(zlo, zhi, zs):
+        z = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx[None, :]
+        w = (0.5 * (b - a) * dydu)[:, None] * gw[None, :]
+        r = np.stack([np.full_like(z, xc), np.broadcast_to(y[:, None], z.shape), z])
+        n = np.stack([np.full_like(z, sgn), np.zeros_like(z), np.zeros_like(z)])
+        t = ref_traction(r, n, ec[:, None] - k[2] * z, vb, om, p, bank, 2 * R)
+        out += _moments(r, t, w)
+    return out
+
+
+def refined_midpoint(fun, a, b, n0, nsub=64, frac=0.02):
+    """Midpoint rule on n0 cells; the cells where the integrand jumps or kinks (large
+    second differences: about frac of the cells) are re-integrated with nsub sub-cells."""
+    h = (b - a) / n0
+    mids = a + (np.arange(n0) + 0.5) * h
+    vals = fun(mids)
+    total = vals.sum(axis=1) * h
+    d2 = np.abs(np.roll(vals, 1, axis=1) - 2 * vals + np.roll(vals, -1, axis=1))
+    d2 = np.max(d2 / (np.max(np.abs(vals), axis=1, keepdims=True) + 1e-300), axis=0)
+    flag = d2 > np.quantile(d2, 1.0 - frac)
+    flag = flag | np.roll(flag, 1) | np.roll(flag, -1)
+    idx = np.nonzero(flag)[0]
+    if idx.size:
+        sub = (mids[idx, None] - 0.5 * h + (np.arange(nsub)[None, :] + 0.5) * h / nsub).ravel()
+        fine = fun(sub).reshape(8, idx.size, nsub).sum(axis=2) * (h / nsub)
+        total += fine.sum(axis=1) - vals[:, idx].sum(axis=1) * h
+    return total
+
+
+def reference_force_torque(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK, n_outer=2048,
+                           n_inner=16, surfaces=("lateral", "nose", "tail")):
+    """Force (E-frame), torque (body, about the COM) and the scales int|t| dA, int |r||t| dA.
+
+    Outer variable (theta on the lateral surface, u with y = R sin u on the caps):
+    midpoint rule with local refinement at jumps and kinks; inner variable: exact
+    limits from the linear switch conditions, split at the slip reversal, Gauss-Legendre.
+    """
+    xa, xb = -0.5 * L - chi, 0.5 * L - chi
+    geo = (R, xa, xb, SEABED - com[2], C[2], C.T @ np.asarray(vel, float),
+           np.asarray(omega, float))
+    gx, gw = np.polynomial.legendre.leggauss(n_inner)
+    tot = np.zeros(8)
+    if "lateral" in surfaces:
+        tot += refined_midpoint(lambda th: _lateral_integrand(th, geo, p, bank, gx, gw),
+                                0.0, 2 * np.pi, n_outer)
     for xc, sgn, name in ((xb, 1.0, "nose"), (xa, -1.0, "tail")):
-        if name not in surfaces:
-            continue
-        zlo = -R * np.cos(u)
-        zhi = R * np.cos(u)
-        ec = d0 - c20 * xc - c21 * y           # zeta = ec - c22 z
-        if c22 > 0:
-            zhi = np.minimum(zhi, ec / c22)
-        elif c22 < 0:
-            zlo = np.maximum(zlo, ec / c22)
-        else:
-            zhi = np.where(ec > 0, zhi, zlo)
-        q0 = sgn * (vb[0] - om[2] * y)         # v.n = q0 + q1 z
-        q1 = sgn * om[1]
-        if q1 > 0:
-            zlo = np.maximum(zlo, -q0 / q1)
-        elif q1 < 0:
-            zhi = np.minimum(zhi, -q0 / q1)
-        else:
-            zhi = np.where(q0 >= 0, zhi, zlo)
-        zhi = np.maximum(zhi, zlo)
-        if tan_on and om[0] != 0:
-            zs = np.full_like(y, (vb[1] + om[2] * xc) / om[0])  # stagnation of in-plane slip
-        else:
-            zs = zhi
-        zs = np.clip(zs, zlo, zhi)
-        for a, b in ((zlo, zs), (zs, zhi)):
-            z = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx[None, :]
-            w = (0.5 * (b - a))[:, None] * gw[None, :] * dy[:, None]
-            r = np.stack([np.full_like(z, xc), np.broadcast_to(y[:, None], z.shape), z])
-            n = np.stack([np.full_like(z, sgn), np.zeros_like(z), np.zeros_like(z)])
-            zeta = ec[:, None] - c22 * z
-            t = ref_traction(r, n, zeta, vb, om, p, bank, diameter)
-            f, m, af, am = _accumulate(r, t, w)
-            F += f
-            M += m
-            sf += af
-            sm += am
-    return C @ F, M, sf, sm
+        if name in surfaces:
+            tot += refined_midpoint(lambda u: _cap_integrand(u, geo, xc, sgn, p, bank, gx, gw),
+                                    -0.5 * np.pi, 0.5 * np.pi, n_outer)
+    return C @ tot[:3], tot[3:6], tot[6], tot[7]
+
+
+def _accumulate(r, t, w):
+    f = (t * w).reshape(3, -1).sum(axis=1)
+    m = (np.cross(r, t, axis=0) * w).reshape(3, -1).sum(axis=1)
+    return f, m, 0.0, 0.0
 
 
 def midpoint_force_torque(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK, n=1000):
