@@ -83,22 +83,23 @@ V_REG = 1.0e-3
 DEPTH_FACTOR = 0.4
 
 # --- quadrature constants -----------------------------------------------------
-#: Gauss-Legendre points per theta-panel of the lateral surface / per x-interval.
-N_THETA = 6
-N_X = 4
-#: Gauss-Legendre points per phi-panel / per rho-interval of an end cap.
-N_PHI = 6
-N_RHO = 4
-#: Largest angular width of one panel (rad); wider panels are split evenly.
-MAX_PANEL = 0.5 * math.pi
-#: Geometric grading towards a near-singularity at distance eps beyond a panel end:
-#: sub-panel widths eps, 3 eps, 9 eps, ... (at most MAX_GRADE of them), applied when
-#: eps < GRADE_TRIGGER * panel width.
-GRADE_RATIO = 3.0
-GRADE_TRIGGER = 0.5
+#: Lateral surface, per theta-panel: Gauss-Legendre points = ceil(width * NODES_PER_RAD)
+#: clipped to [N_MIN, N_MAX] (wider panels are split); N_GRADED points on each
+#: sub-panel of a panel graded geometrically (ratio GRADE_RATIO) towards a breakpoint
+#: whose near-singularity scale eps is below GRADE_TRIGGER * panel width; along a
+#: generator N_X points per piece, N_X_MAPPED on a sinh-mapped piece.
+#: Tuple layout: (NODES_PER_RAD, N_MIN, N_MAX, N_GRADED, GRADE_RATIO, GRADE_TRIGGER,
+#: N_X, N_X_MAPPED).
+LATERAL_RULE = (2.0, 2, 6, 4, 3.0, 0.5, 4, 6)
+#: End caps, the same layout with (N_RHO, N_RHO_MAPPED) in the last two slots.
+CAP_RULE = (2.0, 2, 6, 4, 3.0, 0.5, 4, 6)
+#: At most this many sub-panels when grading towards one breakpoint.
 MAX_GRADE = 14
 #: Samples of a degree-2 trigonometric polynomial when bracketing its roots.
 N_SAMPLE = 32
+#: The speed dip of the impact35 rate law (G falls from A to 1 over |v| ~ V_rest) is
+#: resolved where the local minimum speed is below DIP_SPEEDS * V_rest.
+DIP_SPEEDS = 7.0
 
 _GL_MAX = 12
 _GL_NODES = np.zeros((_GL_MAX + 1, _GL_MAX))
@@ -430,6 +431,18 @@ def _front_eps(t, x, slope, ft, R, v1, w2, w3):
 
 
 @kernel
+def _set4(tup, k, val):
+    """Copy of a 4-tuple with entry k replaced."""
+    if k == 0:
+        return (val, tup[1], tup[2], tup[3])
+    if k == 1:
+        return (tup[0], val, tup[2], tup[3])
+    if k == 2:
+        return (tup[0], tup[1], val, tup[3])
+    return (tup[0], tup[1], tup[2], val)
+
+
+@kernel
 def _next_break(bps, eps, cur):
     """Smallest breakpoint above cur (2 pi when none) and the smallest scale attached to it."""
     nxt = _TWO_PI
@@ -474,9 +487,129 @@ def _generator_interval(c, s, xa, xb, fe, fd):
 
 
 @kernel
-def _lateral_panel(ta, tb, geo, fe, fd, ft, law, bank, tangential, nt, nxg):
-    """Lateral-surface contribution of the theta-panel [ta, tb] (no switch inside)."""
+def _segment(a, b, eps, side, c, s, e0, e1, geo, law, bank, n):
+    """Moments of the tractions on [a, b] of generator (c, s), per unit theta and R.
+
+    With eps > 0 the piece is mapped x = a + eps sinh(u) (side > 0) or b - eps sinh(u)
+    (side < 0): the sinh transformation (Johnston & Elliott 2005, Int. J. Numer. Meth.
+    Eng. 62:564) that resolves a near-singularity at distance eps from that end.
+    """
     R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
+    y = R * c
+    z = R * s
+    if eps > 0.0:
+        hu = 0.5 * math.asinh((b - a) / eps)
+    else:
+        hu = 0.5 * (b - a)
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    for j in range(n):
+        u = hu * (1.0 + _GL_NODES[n, j])
+        if eps > 0.0:
+            jac = eps * math.cosh(u)
+            x = a + eps * math.sinh(u) if side > 0 else b - eps * math.sinh(u)
+        else:
+            jac = 1.0
+            x = a + u
+        q1, q2, q3 = _traction(x, y, z, 0.0, c, s, e0 + e1 * x, v1, v2, v3, w1, w2, w3, law,
+                               bank)
+        wgt = hu * _GL_WEIGHTS[n, j] * jac
+        f1 += wgt * q1
+        f2 += wgt * q2
+        f3 += wgt * q3
+        m1 += wgt * (y * q3 - z * q2)
+        m2 += wgt * (z * q1 - x * q3)
+        m3 += wgt * (x * q2 - y * q1)
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _piece(a, b, ea, eb, c, s, e0, e1, geo, law, bank, n, nm):
+    """[a, b] with near-singularity scales ea, eb (0: none) at its ends."""
+    if not (b > a):
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    if ea >= b - a:
+        ea = 0.0
+    if eb >= b - a:
+        eb = 0.0
+    if ea > 0.0 and eb > 0.0:
+        mid = 0.5 * (a + b)
+        g1, g2, g3, h1, h2, h3 = _segment(a, mid, ea, 1, c, s, e0, e1, geo, law, bank, nm)
+        k1, k2, k3, l1, l2, l3 = _segment(mid, b, eb, -1, c, s, e0, e1, geo, law, bank, nm)
+        return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
+    if ea > 0.0:
+        return _segment(a, b, ea, 1, c, s, e0, e1, geo, law, bank, nm)
+    if eb > 0.0:
+        return _segment(a, b, eb, -1, c, s, e0, e1, geo, law, bank, nm)
+    return _segment(a, b, 0.0, 0, c, s, e0, e1, geo, law, bank, n)
+
+
+@kernel
+def _generator(c, s, lo, hi, e0, e1, geo, fd, ft, law, bank, tangential, dip, n, nm):
+    """Moments on the generator (c, s) over [lo, hi], split where the circumferential slip
+    reverses (v_theta = T0 + T1 x = 0: the slip direction turns over the length
+    sqrt(v_x^2 + V_REG^2)/|T1|) and where the speed is smallest (the rate factor dips
+    there over ~ max(v_min, floor)/|dv/dx|); sinh maps towards both."""
+    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
+    vx = v1 - w3 * R * c + w2 * R * s
+    t0 = ft[0] + ft[1] * c + ft[2] * s
+    t1 = ft[4] * c + ft[5] * s
+    p1 = _NAN
+    q1 = 0.0
+    p2 = _NAN
+    q2 = 0.0
+    if tangential and t1 != 0.0:
+        xq = -t0 / t1
+        if xq > lo and xq < hi:
+            p1 = xq
+            q1 = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
+    if dip[0] > 0:
+        d0 = fd[1] * c + fd[2] * s
+        d1 = fd[4] * c + fd[5] * s
+        a2 = d1 * d1 + t1 * t1
+        if a2 > 0.0:
+            xm = -(d0 * d1 + t0 * t1) / a2
+            if xm > lo and xm < hi:
+                cr = d0 * t1 - t0 * d1
+                vmin = math.sqrt(vx * vx + cr * cr / a2)
+                if vmin < dip[2]:
+                    p2 = xm
+                    q2 = max(vmin, dip[1]) / math.sqrt(a2)
+    if not (p1 == p1):
+        if not (p2 == p2):
+            return _piece(lo, hi, 0.0, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
+        p1 = p2
+        q1 = q2
+        p2 = _NAN
+    elif p2 == p2 and p2 < p1:
+        p1, p2 = p2, p1
+        q1, q2 = q2, q1
+    if not (p2 == p2):
+        g1, g2, g3, h1, h2, h3 = _piece(lo, p1, 0.0, q1, c, s, e0, e1, geo, law, bank, n, nm)
+        k1, k2, k3, l1, l2, l3 = _piece(p1, hi, q1, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
+        return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
+    g1, g2, g3, h1, h2, h3 = _piece(lo, p1, 0.0, q1, c, s, e0, e1, geo, law, bank, n, nm)
+    k1, k2, k3, l1, l2, l3 = _piece(p1, p2, q1, q2, c, s, e0, e1, geo, law, bank, n, nm)
+    g1 += k1
+    g2 += k2
+    g3 += k3
+    h1 += l1
+    h2 += l2
+    h3 += l3
+    k1, k2, k3, l1, l2, l3 = _piece(p2, hi, q2, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
+    return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
+
+
+@kernel
+def _lateral_panel(ta, tb, n, geo, fe, fd, ft, law, bank, tangential, dip, rule):
+    """Lateral-surface moments of the theta-panel [ta, tb] with an n-point rule."""
+    R = geo[0]
+    xa = geo[1]
+    xb = geo[2]
     f1 = 0.0
     f2 = 0.0
     f3 = 0.0
@@ -488,70 +621,44 @@ def _lateral_panel(ta, tb, geo, fe, fd, ft, law, bank, tangential, nt, nxg):
     lo, hi, e0, e1 = _generator_interval(math.cos(tmid), math.sin(tmid), xa, xb, fe, fd)
     if not (hi > lo):
         return f1, f2, f3, m1, m2, m3
-    for i in range(nt):
-        t = tmid + hw * _GL_NODES[nt, i]
+    for i in range(n):
+        t = tmid + hw * _GL_NODES[n, i]
         c = math.cos(t)
         s = math.sin(t)
         lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
         if not (hi > lo):
             continue
-        wt = hw * _GL_WEIGHTS[nt, i] * R
-        y = R * c
-        z = R * s
-        # split at the reversal of the circumferential slip v_theta = T0 + T1 x, where the
-        # slip direction turns over the length eps = sqrt(v_x^2 + V_REG^2)/|T1|: on each
-        # side x = x_T +- eps sinh(u) (sinh transformation, Johnston & Elliott 2005)
-        xs = hi
-        eps = 0.0
-        if tangential:
-            t1 = ft[4] * c + ft[5] * s
-            if t1 != 0.0:
-                xq = -(ft[0] + ft[1] * c + ft[2] * s) / t1
-                if xq > lo and xq < hi:
-                    xs = xq
-                    vx = v1 - w3 * R * c + w2 * R * s
-                    eps = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
-        for part in range(2):
-            if part == 0:
-                a = lo
-                b = xs
-            else:
-                if not (xs < hi):
-                    break
-                a = xs
-                b = hi
-            if eps > 0.0:
-                umax = math.asinh((b - a) / eps)
-                hu = 0.5 * umax
-            else:
-                hu = 0.5 * (b - a)
-            for j in range(nxg):
-                u = hu * (1.0 + _GL_NODES[nxg, j])
-                if eps > 0.0:
-                    sh = eps * math.sinh(u)
-                    jac = eps * math.cosh(u)
-                    x = b - sh if part == 0 else a + sh
-                else:
-                    x = a + u
-                    jac = 1.0
-                zeta = e0 + e1 * x
-                q1, q2, q3 = _traction(x, y, z, 0.0, c, s, zeta, v1, v2, v3, w1, w2, w3, law,
-                                       bank)
-                wgt = wt * hu * _GL_WEIGHTS[nxg, j] * jac
-                f1 += wgt * q1
-                f2 += wgt * q2
-                f3 += wgt * q3
-                m1 += wgt * (y * q3 - z * q2)
-                m2 += wgt * (z * q1 - x * q3)
-                m3 += wgt * (x * q2 - y * q1)
+        g1, g2, g3, h1, h2, h3 = _generator(c, s, lo, hi, e0, e1, geo, fd, ft, law, bank,
+                                            tangential, dip, rule[6], rule[7])
+        wt = hw * _GL_WEIGHTS[n, i] * R
+        f1 += wt * g1
+        f2 += wt * g2
+        f3 += wt * g3
+        m1 += wt * h1
+        m2 += wt * h2
+        m3 += wt * h3
     return f1, f2, f3, m1, m2, m3
 
 
 @kernel
-def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, nt, nxg):
-    """Panel [t_from, t_to] (either order) graded geometrically towards t_from, where the
-    integrand has a near-singularity at distance ~eps (first sub-panel width eps, ratio
-    GRADE_RATIO), so that every sub-panel is as far from it as it is wide."""
+def _plain_count(width, rule):
+    """(number of equal sub-panels, points per sub-panel) for an ungraded panel."""
+    want = int(math.ceil(width * rule[0] - 1e-9))
+    k = 1
+    if want > rule[2]:
+        k = (want + rule[2] - 1) // rule[2]
+        want = rule[2]
+    if want < rule[1]:
+        want = rule[1]
+    return k, want
+
+
+@kernel
+def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, dip, rule):
+    """Panel [t_from, t_to] (either order), graded geometrically towards t_from where the
+    integrand has a near-singularity at distance ~eps: sub-panel widths eps, r eps,
+    r^2 eps, ... (r = rule[4]), each about as far from it as it is wide, with rule[3]
+    points each. eps <= 0: one ordinary panel."""
     f1 = 0.0
     f2 = 0.0
     f3 = 0.0
@@ -559,6 +666,21 @@ def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, n
     m2 = 0.0
     m3 = 0.0
     total = abs(t_to - t_from)
+    if not (eps > 0.0):
+        ta = min(t_from, t_to)
+        k, n = _plain_count(total, rule)
+        dw = total / k
+        for isub in range(k):
+            g1, g2, g3, h1, h2, h3 = _lateral_panel(ta + isub * dw, ta + (isub + 1) * dw, n,
+                                                    geo, fe, fd, ft, law, bank, tangential,
+                                                    dip, rule)
+            f1 += g1
+            f2 += g2
+            f3 += g3
+            m1 += h1
+            m2 += h2
+            m3 += h3
+        return f1, f2, f3, m1, m2, m3
     sgn = 1.0 if t_to > t_from else -1.0
     pos = 0.0
     width = eps
@@ -570,139 +692,243 @@ def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, n
         tb = t_from + sgn * nxt
         if tb < ta:
             ta, tb = tb, ta
-        nsub = int(math.ceil((tb - ta) / MAX_PANEL - 1e-9))
-        if nsub < 1:
-            nsub = 1
-        dw = (tb - ta) / nsub
-        for isub in range(nsub):
-            g1, g2, g3, h1, h2, h3 = _lateral_panel(ta + isub * dw, ta + (isub + 1) * dw, geo,
-                                                    fe, fd, ft, law, bank, tangential, nt, nxg)
-            f1 += g1
-            f2 += g2
-            f3 += g3
-            m1 += h1
-            m2 += h2
-            m3 += h3
+        g1, g2, g3, h1, h2, h3 = _lateral_panel(ta, tb, rule[3], geo, fe, fd, ft, law, bank,
+                                                tangential, dip, rule)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
         if nxt >= total:
             break
         pos = nxt
-        width *= GRADE_RATIO
+        width *= rule[4]
     return f1, f2, f3, m1, m2, m3
 
 
 @kernel
-def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangential, nt, nxg):
+def _domain_gap(x, c, s, xa, xb, fe, fd):
+    """How far (x, theta) is outside the integration domain: max of the violations of
+    xa <= x <= xb, zeta >= 0 and v.n >= 0, each made dimensionless."""
+    e = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
+    d = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
+    return e, d, max(xa - x, x - xb)
+
+
+@kernel
+def _lateral(geo, fe, fd, ft, law, bank, tangential, dip, rule):
     """Force and torque (body frame, about the COM) on the lateral surface.
 
     Families (k0, kc, ks, l0, lc, ls) of linear-in-x switch functions along a
     generator at angle t (point (x, R cos t, R sin t), normal (0, cos t, sin t)):
     fe: depth zeta; fd: normal velocity v.n; ft: circumferential slip v_theta.
     Theta-panels end where a switch line reaches a body end, where two switch
-    lines cross, and where the axial slip v_x vanishes; each breakpoint carries the
-    distance eps to the nearest near-singularity of the theta-integrand (the pole
-    of a switch line x_F = -F0/F1 at F1 = 0, or the width of the slip-reversal
-    front), and panels are graded geometrically towards breakpoints with small eps.
+    lines cross, where the axial slip vanishes and where the screw axis of the
+    motion meets the surface; only breakpoints on the integration domain are kept.
+    Each carries the distance eps to the nearest near-singularity of the
+    theta-integrand (the pole of a switch line x_F = -F0/F1 at F1 = 0, the width
+    of the slip-reversal front, the width of the speed dip), and panels are graded
+    geometrically towards breakpoints with small eps.
     """
-    geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
-    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
+    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
     inf = math.inf
-    # seabed line reaching the ends: x_E has no pole (E1 = -c20 is constant)
+    vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(
+        w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
+    ztol = 1e-9 * (xb - xa + R)
+    vtol = 1e-9 * vscale
+    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
+    # seabed line reaching the ends (x_E has no pole: E1 = -c20 is constant); kept
+    # where delta = 1 there
     e_a = _end_roots(fe, xa)
     e_b = _end_roots(fe, xb)
-    # delta line reaching the ends, crossing the seabed line
+    ea0 = e_a[0]
+    ea1 = e_a[1]
+    eb0 = e_b[0]
+    eb1 = e_b[1]
+    if ea0 == ea0:
+        if _domain_gap(xa, math.cos(ea0), math.sin(ea0), xa, xb, fe, fd)[1] < -vtol:
+            ea0 = _NAN
+        if _domain_gap(xa, math.cos(ea1), math.sin(ea1), xa, xb, fe, fd)[1] < -vtol:
+            ea1 = _NAN
+    if eb0 == eb0:
+        if _domain_gap(xb, math.cos(eb0), math.sin(eb0), xa, xb, fe, fd)[1] < -vtol:
+            eb0 = _NAN
+        if _domain_gap(xb, math.cos(eb1), math.sin(eb1), xa, xb, fe, fd)[1] < -vtol:
+            eb1 = _NAN
+    # delta line reaching the ends (kept where embedded), crossing the seabed line
     d_a = _end_roots(fd, xa)
     d_b = _end_roots(fd, xb)
+    da0 = d_a[0]
+    da1 = d_a[1]
+    db0 = d_b[0]
+    db1 = d_b[1]
+    if da0 == da0:
+        if _domain_gap(xa, math.cos(da0), math.sin(da0), xa, xb, fe, fd)[0] < -ztol:
+            da0 = _NAN
+        if _domain_gap(xa, math.cos(da1), math.sin(da1), xa, xb, fe, fd)[0] < -ztol:
+            da1 = _NAN
+    if db0 == db0:
+        if _domain_gap(xb, math.cos(db0), math.sin(db0), xa, xb, fe, fd)[0] < -ztol:
+            db0 = _NAN
+        if _domain_gap(xb, math.cos(db1), math.sin(db1), xa, xb, fe, fd)[0] < -ztol:
+            db1 = _NAN
     ed = _crossing_roots(fe, fd, xa, xb)
-    if tangential:
-        pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
-        t_a = _end_roots(ft, xa)
-        t_b = _end_roots(ft, xb)
-        x_0 = _roots_lin(v1, -w3 * R, w2 * R)
-        et = _crossing_roots(fe, ft, xa, xb)
-        dt = _crossing_roots(fd, ft, xa, xb)
-    else:
-        pt = (_NAN, _NAN)
-        t_a = (_NAN, _NAN)
-        t_b = (_NAN, _NAN)
-        x_0 = (_NAN, _NAN)
-        et = (_NAN, _NAN, _NAN, _NAN)
-        dt = (_NAN, _NAN, _NAN, _NAN)
 
-    # scales of the near-singularities attached to each breakpoint
-    ed_eps = (_adist(ed[0], pd), _adist(ed[1], pd), _adist(ed[2], pd), _adist(ed[3], pd))
+    ta0 = _NAN
+    ta1 = _NAN
+    tb0 = _NAN
+    tb1 = _NAN
+    xr0 = _NAN
+    xr1 = _NAN
+    et = (_NAN, _NAN, _NAN, _NAN)
+    dt = (_NAN, _NAN, _NAN, _NAN)
     ta_eps = (inf, inf)
     tb_eps = (inf, inf)
     x0_eps = (inf, inf)
     et_eps = (inf, inf, inf, inf)
     dt_eps = (inf, inf, inf, inf)
     if tangential:
-        ta_eps = (min(_adist(t_a[0], pt), _front_eps(t_a[0], xa, 0.0, ft, R, v1, w2, w3)),
-                  min(_adist(t_a[1], pt), _front_eps(t_a[1], xa, 0.0, ft, R, v1, w2, w3)))
-        tb_eps = (min(_adist(t_b[0], pt), _front_eps(t_b[0], xb, 0.0, ft, R, v1, w2, w3)),
-                  min(_adist(t_b[1], pt), _front_eps(t_b[1], xb, 0.0, ft, R, v1, w2, w3)))
-        e_list = (inf, inf, inf, inf)
+        pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
+        # slip-reversal line reaching the ends, kept on the domain
+        t_a = _end_roots(ft, xa)
+        t_b = _end_roots(ft, xb)
+        ta0 = t_a[0]
+        ta1 = t_a[1]
+        tb0 = t_b[0]
+        tb1 = t_b[1]
+        if ta0 == ta0:
+            g = _domain_gap(xa, math.cos(ta0), math.sin(ta0), xa, xb, fe, fd)
+            if g[0] < -ztol or g[1] < -vtol:
+                ta0 = _NAN
+            g = _domain_gap(xa, math.cos(ta1), math.sin(ta1), xa, xb, fe, fd)
+            if g[0] < -ztol or g[1] < -vtol:
+                ta1 = _NAN
+        if tb0 == tb0:
+            g = _domain_gap(xb, math.cos(tb0), math.sin(tb0), xa, xb, fe, fd)
+            if g[0] < -ztol or g[1] < -vtol:
+                tb0 = _NAN
+            g = _domain_gap(xb, math.cos(tb1), math.sin(tb1), xa, xb, fe, fd)
+            if g[0] < -ztol or g[1] < -vtol:
+                tb1 = _NAN
+        ta_eps = (min(_adist(ta0, pt), _front_eps(ta0, xa, 0.0, ft, R, v1, w2, w3)),
+                  min(_adist(ta1, pt), _front_eps(ta1, xa, 0.0, ft, R, v1, w2, w3)))
+        tb_eps = (min(_adist(tb0, pt), _front_eps(tb0, xb, 0.0, ft, R, v1, w2, w3)),
+                  min(_adist(tb1, pt), _front_eps(tb1, xb, 0.0, ft, R, v1, w2, w3)))
+        # slip-reversal line crossing the seabed line (kept where delta = 1) and the
+        # delta line (kept where embedded)
+        etr = _crossing_roots(fe, ft, xa, xb)
+        dtr = _crossing_roots(fd, ft, xa, xb)
         for k in range(4):
-            t = et[k]
+            t = etr[k]
             if t == t:
-                x, sl = _curve(fe, math.cos(t), math.sin(t))
+                c = math.cos(t)
+                s = math.sin(t)
+                x, sl = _curve(fe, c, s)
                 if not (x == x):
-                    x = _curve(ft, math.cos(t), math.sin(t))[0]
+                    x = _curve(ft, c, s)[0]
                     sl = 0.0
+                if _domain_gap(x, c, s, xa, xb, fe, fd)[1] < -vtol:
+                    t = _NAN
                 e = min(_adist(t, pt), _front_eps(t, x, sl, ft, R, v1, w2, w3))
-                if k == 0:
-                    e_list = (e, e_list[1], e_list[2], e_list[3])
-                elif k == 1:
-                    e_list = (e_list[0], e, e_list[2], e_list[3])
-                elif k == 2:
-                    e_list = (e_list[0], e_list[1], e, e_list[3])
-                else:
-                    e_list = (e_list[0], e_list[1], e_list[2], e)
-        et_eps = e_list
-        e_list = (inf, inf, inf, inf)
-        for k in range(4):
-            t = dt[k]
+                et = _set4(et, k, t)
+                et_eps = _set4(et_eps, k, e)
+            t = dtr[k]
             if t == t:
-                x, sl = _curve(fd, math.cos(t), math.sin(t))
+                c = math.cos(t)
+                s = math.sin(t)
+                x, sl = _curve(fd, c, s)
                 if not (x == x):
-                    x = _curve(ft, math.cos(t), math.sin(t))[0]
+                    x = _curve(ft, c, s)[0]
                     sl = 0.0
+                if _domain_gap(x, c, s, xa, xb, fe, fd)[0] < -ztol:
+                    t = _NAN
                 e = min(min(_adist(t, pt), _adist(t, pd)),
                         _front_eps(t, x, sl, ft, R, v1, w2, w3))
-                if k == 0:
-                    e_list = (e, e_list[1], e_list[2], e_list[3])
-                elif k == 1:
-                    e_list = (e_list[0], e, e_list[2], e_list[3])
-                elif k == 2:
-                    e_list = (e_list[0], e_list[1], e, e_list[3])
-                else:
-                    e_list = (e_list[0], e_list[1], e_list[2], e)
-        dt_eps = e_list
-        # zeros of the axial slip: sharp where the circumferential slip is small too
-        x0_eps = (inf, inf)
+                dt = _set4(dt, k, t)
+                dt_eps = _set4(dt_eps, k, e)
+        # zeros of the axial slip v_x = v1 - w3 R cos t + w2 R sin t: the slip direction
+        # turns fast there if the circumferential slip is small too
+        x_0 = _roots_lin(v1, -w3 * R, w2 * R)
         for k in range(2):
             t = x_0[k]
             if t == t:
                 c = math.cos(t)
                 s = math.sin(t)
-                t0, t1, dt0, dt1 = _fam(ft, c, s)
-                va = t0 + t1 * xa
-                vb = t0 + t1 * xb
-                vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
-                rate = abs(w3 * R * s + w2 * R * c)
-                e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate if rate > 0.0 else inf
-                if k == 0:
-                    x0_eps = (e, x0_eps[1])
-                else:
-                    x0_eps = (x0_eps[0], e)
+                lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
+                if hi > lo:
+                    t0 = ft[0] + ft[1] * c + ft[2] * s
+                    t1 = ft[4] * c + ft[5] * s
+                    va = t0 + t1 * lo
+                    vb = t0 + t1 * hi
+                    vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
+                    rate = abs(w3 * R * s + w2 * R * c)
+                    e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate if rate > 0.0 else inf
+                    if k == 0:
+                        xr0 = t
+                        x0_eps = (e, x0_eps[1])
+                    else:
+                        xr1 = t
+                        x0_eps = (x0_eps[0], e)
 
-    bps = (e_a[0], e_a[1], e_b[0], e_b[1], d_a[0], d_a[1], d_b[0], d_b[1],
-           ed[0], ed[1], ed[2], ed[3], t_a[0], t_a[1], t_b[0], t_b[1], x_0[0], x_0[1],
-           et[0], et[1], et[2], et[3], dt[0], dt[1], dt[2], dt[3])
-    eps = (inf, inf, inf, inf, _adist(d_a[0], pd), _adist(d_a[1], pd), _adist(d_b[0], pd),
-           _adist(d_b[1], pd), ed_eps[0], ed_eps[1], ed_eps[2], ed_eps[3],
-           ta_eps[0], ta_eps[1], tb_eps[0], tb_eps[1], x0_eps[0], x0_eps[1],
-           et_eps[0], et_eps[1], et_eps[2], et_eps[3], dt_eps[0], dt_eps[1], dt_eps[2],
-           dt_eps[3])
+    # speed dip of the rate factor: where the screw axis of the motion meets (or passes
+    # closest to) the lateral surface
+    sd0 = _NAN
+    sd1 = _NAN
+    sd_eps = (inf, inf)
+    wn2 = w1 * w1 + w2 * w2 + w3 * w3
+    if dip[0] > 0 and wn2 > 0.0:
+        wn = math.sqrt(wn2)
+        u1 = w1 / wn
+        u2 = w2 / wn
+        u3 = w3 / wn
+        pitch = abs(v1 * u1 + v2 * u2 + v3 * u3)
+        # a point of the axis: (omega x V)/|omega|^2
+        p1 = (w2 * v3 - w3 * v2) / wn2
+        p2 = (w3 * v1 - w1 * v3) / wn2
+        p3 = (w1 * v2 - w2 * v1) / wn2
+        qa = u2 * u2 + u3 * u3
+        qb = p2 * u2 + p3 * u3
+        qc = p2 * p2 + p3 * p3 - R * R
+        if qa > 1e-12:
+            disc = qb * qb - qa * qc
+            nroot = 2
+            if disc >= 0.0:
+                sq = math.sqrt(disc)
+                lam0 = (-qb - sq) / qa
+                lam1 = (-qb + sq) / qa
+                vmin = pitch
+            else:
+                lam0 = -qb / qa
+                lam1 = lam0
+                nroot = 1
+                dist = math.sqrt(max(qc - qb * qb / qa + R * R, 0.0))
+                vmin = math.sqrt(pitch * pitch + wn2 * (dist - R) * (dist - R))
+            for k in range(nroot):
+                lam = lam0 if k == 0 else lam1
+                x = p1 + lam * u1
+                t = _wrap(math.atan2(p3 + lam * u3, p2 + lam * u2))
+                c = math.cos(t)
+                s = math.sin(t)
+                g = _domain_gap(x, c, s, xa, xb, fe, fd)
+                if vmin < dip[2] and g[0] >= -ztol and g[1] >= -vtol and g[2] <= ztol:
+                    rate = R * math.sqrt((w2 * c + w3 * s) ** 2 + w1 * w1)
+                    e = max(vmin, dip[1]) / rate if rate > 0.0 else inf
+                    if k == 0:
+                        sd0 = t
+                        sd_eps = (e, sd_eps[1])
+                    else:
+                        sd1 = t
+                        sd_eps = (sd_eps[0], e)
+
+    bps = (ea0, ea1, eb0, eb1, da0, da1, db0, db1, ed[0], ed[1], ed[2], ed[3],
+           ta0, ta1, tb0, tb1, xr0, xr1, et[0], et[1], et[2], et[3], dt[0], dt[1], dt[2],
+           dt[3], sd0, sd1)
+    eps = (inf, inf, inf, inf, _adist(da0, pd), _adist(da1, pd), _adist(db0, pd),
+           _adist(db1, pd), _adist(ed[0], pd), _adist(ed[1], pd), _adist(ed[2], pd),
+           _adist(ed[3], pd), ta_eps[0], ta_eps[1], tb_eps[0], tb_eps[1], x0_eps[0],
+           x0_eps[1], et_eps[0], et_eps[1], et_eps[2], et_eps[3], dt_eps[0], dt_eps[1],
+           dt_eps[2], dt_eps[3], sd_eps[0], sd_eps[1])
 
     f1 = 0.0
     f2 = 0.0
@@ -712,17 +938,18 @@ def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangentia
     m3 = 0.0
     cur = 0.0
     e_cur = inf
+    trig = rule[5]
     while cur < _TWO_PI:
         nxt, e_nxt = _next_break(bps, eps, cur)
         width = nxt - cur
-        grade_a = e_cur < GRADE_TRIGGER * width
-        grade_b = e_nxt < GRADE_TRIGGER * width
+        grade_a = e_cur < trig * width
+        grade_b = e_nxt < trig * width
         if grade_a and grade_b:
             mid = 0.5 * (cur + nxt)
             g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, mid, e_cur, geo, fe, fd, ft, law,
-                                                     bank, tangential, nt, nxg)
+                                                     bank, tangential, dip, rule)
             k1, k2, k3, l1, l2, l3 = _lateral_graded(nxt, mid, e_nxt, geo, fe, fd, ft, law,
-                                                     bank, tangential, nt, nxg)
+                                                     bank, tangential, dip, rule)
             g1 += k1
             g2 += k2
             g3 += k3
@@ -731,13 +958,13 @@ def _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law, bank, tangentia
             h3 += l3
         elif grade_a:
             g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, e_cur, geo, fe, fd, ft, law,
-                                                     bank, tangential, nt, nxg)
+                                                     bank, tangential, dip, rule)
         elif grade_b:
             g1, g2, g3, h1, h2, h3 = _lateral_graded(nxt, cur, e_nxt, geo, fe, fd, ft, law,
-                                                     bank, tangential, nt, nxg)
+                                                     bank, tangential, dip, rule)
         else:
-            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, width, geo, fe, fd, ft, law,
-                                                     bank, tangential, nt, nxg)
+            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, 0.0, geo, fe, fd, ft, law,
+                                                     bank, tangential, dip, rule)
         f1 += g1
         f2 += g2
         f3 += g3
@@ -802,12 +1029,14 @@ def _chord_corners(k, a, b, R, oy, oz):
 
 
 @kernel
-def _cap_panel(ta, tb, cg, vel, law, bank, nph, nr):
-    """End-cap contribution of the phi-panel [ta, tb] (polar about O)."""
+def _cap_panel(ta, tb, n, cg, vel, law, bank, rule):
+    """End-cap moments of the phi-panel [ta, tb] (polar about O) with an n-point rule;
+    when cg[12] > 0 the radius is mapped rho = eps sinh(u) (speed dip at O)."""
     xc = cg[0]
     sgn = cg[1]
     oy = cg[3]
     oz = cg[4]
+    eps = cg[12]
     v1, v2, v3, w1, w2, w3 = vel
     f1 = 0.0
     f2 = 0.0
@@ -820,24 +1049,37 @@ def _cap_panel(ta, tb, cg, vel, law, bank, nph, nr):
     lo, hi = _ray_interval(math.cos(tmid), math.sin(tmid), cg)
     if not (hi > lo):
         return f1, f2, f3, m1, m2, m3
-    for i in range(nph):
-        t = tmid + hw * _GL_NODES[nph, i]
+    nr = rule[6] if eps <= 0.0 else rule[7]
+    for i in range(n):
+        t = tmid + hw * _GL_NODES[n, i]
         ca = math.cos(t)
         sa = math.sin(t)
         lo, hi = _ray_interval(ca, sa, cg)
         if not (hi > lo):
             continue
-        wt = hw * _GL_WEIGHTS[nph, i]
-        hr = 0.5 * (hi - lo)
-        mr = 0.5 * (hi + lo)
+        wt = hw * _GL_WEIGHTS[n, i]
+        if eps > 0.0:
+            ua = math.asinh(lo / eps)
+            ub = math.asinh(hi / eps)
+        else:
+            ua = lo
+            ub = hi
+        hr = 0.5 * (ub - ua)
+        mr = 0.5 * (ub + ua)
         for j in range(nr):
-            rho = mr + hr * _GL_NODES[nr, j]
+            u = mr + hr * _GL_NODES[nr, j]
+            if eps > 0.0:
+                rho = eps * math.sinh(u)
+                jac = eps * math.cosh(u)
+            else:
+                rho = u
+                jac = 1.0
             y = oy + rho * ca
             z = oz + rho * sa
             zeta = cg[6] + cg[7] * y + cg[8] * z
             q1, q2, q3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law,
                                    bank)
-            wgt = wt * hr * _GL_WEIGHTS[nr, j] * rho
+            wgt = wt * hr * _GL_WEIGHTS[nr, j] * rho * jac
             f1 += wgt * q1
             f2 += wgt * q2
             f3 += wgt * q3
@@ -848,8 +1090,8 @@ def _cap_panel(ta, tb, cg, vel, law, bank, nph, nr):
 
 
 @kernel
-def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, nph, nr):
-    """Cap panel graded geometrically towards t_from (see _lateral_graded)."""
+def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, rule):
+    """Cap panel, graded geometrically towards t_from (see _lateral_graded)."""
     f1 = 0.0
     f2 = 0.0
     f3 = 0.0
@@ -857,6 +1099,20 @@ def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, nph, nr):
     m2 = 0.0
     m3 = 0.0
     total = abs(t_to - t_from)
+    if not (eps > 0.0):
+        ta = min(t_from, t_to)
+        k, n = _plain_count(total, rule)
+        dw = total / k
+        for isub in range(k):
+            g1, g2, g3, h1, h2, h3 = _cap_panel(ta + isub * dw, ta + (isub + 1) * dw, n, cg,
+                                                vel, law, bank, rule)
+            f1 += g1
+            f2 += g2
+            f3 += g3
+            m1 += h1
+            m2 += h2
+            m3 += h3
+        return f1, f2, f3, m1, m2, m3
     sgn = 1.0 if t_to > t_from else -1.0
     pos = 0.0
     width = eps
@@ -868,37 +1124,34 @@ def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, nph, nr):
         tb = t_from + sgn * nxt
         if tb < ta:
             ta, tb = tb, ta
-        nsub = int(math.ceil((tb - ta) / MAX_PANEL - 1e-9))
-        if nsub < 1:
-            nsub = 1
-        dw = (tb - ta) / nsub
-        for isub in range(nsub):
-            g1, g2, g3, h1, h2, h3 = _cap_panel(ta + isub * dw, ta + (isub + 1) * dw, cg, vel,
-                                                law, bank, nph, nr)
-            f1 += g1
-            f2 += g2
-            f3 += g3
-            m1 += h1
-            m2 += h2
-            m3 += h3
+        g1, g2, g3, h1, h2, h3 = _cap_panel(ta, tb, rule[3], cg, vel, law, bank, rule)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
         if nxt >= total:
             break
         pos = nxt
-        width *= GRADE_RATIO
+        width *= rule[4]
     return f1, f2, f3, m1, m2, m3
 
 
 @kernel
-def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tangential, nph, nr):
+def _cap(xc, sgn, R, d0, c20, c21, c22, vel, law, bank, tangential, dip, rule):
     """Force and torque (body frame) on the end cap x = xc with outward normal sgn * i_M.
 
-    Polar coordinates (rho, phi) about O, the stagnation point of the in-plane slip
-    when it lies on the cap (there the slip direction turns round a point), else the
-    centre. Both switches are straight chords on the cap: zeta = e0 + ey y + ez z > 0
-    and v.n = sgn (v1 + w2 z - w3 y) >= 0; phi-panels end at the directions of the
-    chord/rim corners and of the chord/chord intersection.
+    Both switches are straight chords of the cap: zeta = e0 + ey y + ez z > 0 and
+    v.n = sgn (v1 + w2 z - w3 y) >= 0. Polar coordinates (rho, phi) about O: the
+    point of least speed when the rate factor dips there (then rho is sinh-mapped),
+    else the stagnation point of the in-plane slip (where the slip direction turns
+    round a point) when it lies on the cap, else the centre. phi-panels end at the
+    directions of the chord/rim corners and of the chord/chord intersection, graded
+    towards them by the angular distance to the nearer direction parallel to the chord.
     """
-    e0 = D0 - c20 * xc
+    v1, v2, v3, w1, w2, w3 = vel
+    e0 = d0 - c20 * xc
     ey = -c21
     ez = -c22
     q0 = sgn * v1
@@ -906,15 +1159,44 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
     qz = sgn * w2
     oy = 0.0
     oz = 0.0
-    if tangential and w1 != 0.0:
+    eps_r = 0.0
+    placed = False
+    if dip[0] > 0 and w1 != 0.0:
+        # least speed on the cap plane: v_x = v1 + g.r with g = (-w3, w2); in-plane slip
+        # u0 + w1 (-z, y) with u0 = (v2 + w3 xc, v3 - w2 xc):
+        # (g g^T + w1^2 I) r = -v1 g - w1 (u0z, -u0y)
+        gy = -w3
+        gz = w2
+        u0y = v2 + w3 * xc
+        u0z = v3 - w2 * xc
+        by = -v1 * gy - w1 * u0z
+        bz = -v1 * gz + w1 * u0y
+        a11 = gy * gy + w1 * w1
+        a12 = gy * gz
+        a22 = gz * gz + w1 * w1
+        det = a11 * a22 - a12 * a12
+        py = (a22 * by - a12 * bz) / det
+        pz = (a11 * bz - a12 * by) / det
+        if py * py + pz * pz < 0.81 * R * R:
+            vx = v1 + gy * py + gz * pz
+            sy = u0y - w1 * pz
+            sz = u0z + w1 * py
+            vmin = math.sqrt(vx * vx + sy * sy + sz * sz)
+            if vmin < dip[2]:
+                oy = py
+                oz = pz
+                placed = True
+                eps_r = max(vmin, dip[1]) / math.sqrt(w1 * w1 + 0.5 * (gy * gy + gz * gz))
+    if not placed and tangential and w1 != 0.0:
         sy = -(v3 - w2 * xc) / w1
         sz = (v2 + w3 * xc) / w1
         if sy * sy + sz * sz < 0.81 * R * R:
             oy = sy
             oz = sz
+    if eps_r >= R:
+        eps_r = 0.0
     o2 = oy * oy + oz * oz
-    cg = (xc, sgn, R, oy, oz, o2, e0, ey, ez, q0, qy, qz)
-    vel = (v1, v2, v3, w1, w2, w3)
+    cg = (xc, sgn, R, oy, oz, o2, e0, ey, ez, q0, qy, qz, eps_r)
     ce = _chord_corners(e0, ey, ez, R, oy, oz)
     cd = _chord_corners(q0, qy, qz, R, oy, oz)
     # intersection of the two chord lines, when inside the disk
@@ -941,15 +1223,16 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
     m3 = 0.0
     cur = 0.0
     e_cur = math.inf
+    trig = rule[5]
     while cur < _TWO_PI:
         nxt, e_nxt = _next_break(bps, eps, cur)
         width = nxt - cur
-        grade_a = e_cur < GRADE_TRIGGER * width
-        grade_b = e_nxt < GRADE_TRIGGER * width
+        grade_a = e_cur < trig * width
+        grade_b = e_nxt < trig * width
         if grade_a and grade_b:
             mid = 0.5 * (cur + nxt)
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, mid, e_cur, cg, vel, law, bank, nph, nr)
-            k1, k2, k3, l1, l2, l3 = _cap_graded(nxt, mid, e_nxt, cg, vel, law, bank, nph, nr)
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, mid, e_cur, cg, vel, law, bank, rule)
+            k1, k2, k3, l1, l2, l3 = _cap_graded(nxt, mid, e_nxt, cg, vel, law, bank, rule)
             g1 += k1
             g2 += k2
             g3 += k3
@@ -957,11 +1240,11 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
             h2 += l2
             h3 += l3
         elif grade_a:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, e_cur, cg, vel, law, bank, nph, nr)
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, e_cur, cg, vel, law, bank, rule)
         elif grade_b:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(nxt, cur, e_nxt, cg, vel, law, bank, nph, nr)
+            g1, g2, g3, h1, h2, h3 = _cap_graded(nxt, cur, e_nxt, cg, vel, law, bank, rule)
         else:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, width, cg, vel, law, bank, nph, nr)
+            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, 0.0, cg, vel, law, bank, rule)
         f1 += g1
         f2 += g2
         f3 += g3
@@ -970,6 +1253,68 @@ def _cap(xc, sgn, R, D0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law, bank, tange
         m3 += h3
         cur = nxt
         e_cur = e_nxt
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _law(p, diameter, water_density, gravity):
+    """Tuple of the traction-law constants used by _traction (see its docstring)."""
+    model = int(p[P_SED_RESISTANCE])
+    if model < 0 or model > 2:
+        model = RES_DELTA
+    n0 = p[P_SED_NC]
+    if not (n0 > 0.0):
+        n0 = math.pi + 2.0  # Prandtl (1920)
+    return (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
+            p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, water_density, gravity,
+            p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
+            int(p[P_SED_PROFILE]))
+
+
+@kernel
+def _dip_params(law, L, R, w1, w2, w3):
+    """(mode, floor, limit) of the speed dip of the rate factor: mode 0 none; 1 impact35
+    (G falls from A to 1 over |v| ~ V_rest: resolved where v_min < DIP_SPEEDS V_rest,
+    down to |v| ~ V_rest/4); 2 semilog (log singularity at |v| -> 0, clipped at
+    |v| = d rate_ref; resolved where v_min is below 5 % of the rotation speed scale)."""
+    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
+        return 1, 0.25 * law[3], DIP_SPEEDS * law[3]
+    if law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
+        wn = math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
+        return 2, law[8] * law[5], 0.05 * wn * (L + R)
+    return 0, 0.0, 0.0
+
+
+@kernel
+def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law, bank,
+                      lateral_rule, cap_rule):
+    """Force and torque (body frame, about the COM) of the tractions on the embedded,
+    advancing part of the lateral surface and of the two end caps."""
+    xa = -0.5 * L - chi
+    xb = 0.5 * L - chi
+    rperp = math.sqrt(c21 * c21 + c22 * c22)
+    tangential = law[6] != 0.0
+    dip = _dip_params(law, L, R, w1, w2, w3)
+    geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
+    vel = (v1, v2, v3, w1, w2, w3)
+    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator
+    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
+    fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
+    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
+    f1, f2, f3, m1, m2, m3 = _lateral(geo, fe, fd, ft, law, bank, tangential, dip,
+                                      lateral_rule)
+    # end caps (embedded when their lowest rim point is below the seabed)
+    for k in range(2):
+        xc = xb if k == 0 else xa
+        if d0 - c20 * xc + R * rperp > 0.0:
+            g1, g2, g3, h1, h2, h3 = _cap(xc, 1.0 if k == 0 else -1.0, R, d0, c20, c21, c22,
+                                          vel, law, bank, tangential, dip, cap_rule)
+            f1 += g1
+            f2 += g2
+            f3 += g3
+            m1 += h1
+            m2 += h2
+            m3 += h3
     return f1, f2, f3, m1, m2, m3
 
 
@@ -1007,48 +1352,11 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
     v1 = rot[0] * vel[0] + rot[3] * vel[1] + rot[6] * vel[2]
     v2 = rot[1] * vel[0] + rot[4] * vel[1] + rot[7] * vel[2]
     v3 = rot[2] * vel[0] + rot[5] * vel[1] + rot[8] * vel[2]
-    w1 = omega[0]
-    w2 = omega[1]
-    w3 = omega[2]
     diameter = 2.0 * R
-
-    model = int(p[P_SED_RESISTANCE])
-    if model < 0 or model > 2:
-        model = RES_DELTA
-    n0 = p[P_SED_NC]
-    if not (n0 > 0.0):
-        n0 = math.pi + 2.0  # Prandtl (1920)
-    mu = p[P_SED_MU]
-    law = (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-           p[P_SED_RATE_REF], mu, n0, diameter, water_density, gravity,
-           p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD], int(p[P_SED_PROFILE]))
-    tangential = mu != 0.0
-
-    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator
-    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
-    fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
-    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
-    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, fe, fd, ft, v1, v2, v3, w1, w2, w3, law,
-                                      sediment_bank, tangential, N_THETA, N_X)
-    # end caps (embedded when their lowest rim point is below the seabed)
-    if d0 - c20 * xb + R * rperp > 0.0:
-        g1, g2, g3, h1, h2, h3 = _cap(xb, 1.0, R, d0, c20, c21, c22, v1, v2, v3, w1, w2, w3, law,
-                                      sediment_bank, tangential, N_PHI, N_RHO)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-    if d0 - c20 * xa + R * rperp > 0.0:
-        g1, g2, g3, h1, h2, h3 = _cap(xa, -1.0, R, d0, c20, c21, c22, v1, v2, v3, w1, w2, w3,
-                                      law, sediment_bank, tangential, N_PHI, N_RHO)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
+    law = _law(p, diameter, water_density, gravity)
+    f1, f2, f3, m1, m2, m3 = _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3,
+                                               omega[0], omega[1], omega[2], law,
+                                               sediment_bank, LATERAL_RULE, CAP_RULE)
 
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
