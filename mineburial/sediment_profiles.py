@@ -50,6 +50,11 @@ class ScenarioError(ValueError):
     the allowed range with units."""
 
 
+def _rebuild_profile(depth, density, strength, name, description, source):
+    return SedimentProfile(depth, density, strength, name=name, description=description,
+                           source=source)
+
+
 def unknown_name_message(what: str, name: str, allowed: Iterable[str]) -> str:
     """``unknown <what> 'name': did you mean 'x'? Allowed: a, b, c`` (difflib suggestion)."""
     allowed = sorted(allowed)
@@ -137,6 +142,11 @@ class SedimentProfile:
         set_(self, "name", str(name))
         set_(self, "description", str(description))
         set_(self, "source", str(source))
+
+    def __reduce__(self):
+        # picklable (dask workers) despite __slots__ and the read-only __setattr__
+        return (_rebuild_profile, (self.depth.copy(), self.density.copy(), self.strength.copy(),
+                                   self.name, self.description, self.source))
 
     # -- immutability / value semantics ------------------------------------
     def __setattr__(self, key, value):

@@ -102,11 +102,12 @@ def ref_profile(zeta, p, bank):
     d, r, st = d[ok], r[ok], st[ok]
     rho = np.interp(zeta, d, r)
     s = np.interp(zeta, d, st)
-    zmax = max(float(np.max(zeta)) if np.size(zeta) else 0.0, d[-1]) + 1.0
-    fine = np.concatenate([np.linspace(0.0, zmax, 40001), d])
-    fine.sort()
+    # sigma' on a fine grid (cumulative trapezoid of the interpolated density) down to
+    # the last tabulated depth, constant density below it
+    fine = np.unique(np.concatenate([np.linspace(0.0, d[-1], 40001), d]))
     cum = integrate.cumulative_trapezoid(np.interp(fine, d, r) - RHO_W, fine, initial=0.0)
-    sig = G * np.interp(zeta, fine, cum)
+    sig = G * np.where(zeta <= d[-1], np.interp(zeta, fine, cum),
+                       cum[-1] + (r[-1] - RHO_W) * (zeta - d[-1]))
     return rho, s, sig
 
 

@@ -16,7 +16,7 @@ from mineburial.kernels import status as st
 from mineburial.kernels.layout import N_SUMMARY
 from mineburial.kernels.stepper import N_TRAJ, run_drop
 
-CHUNK_SIZE = 4  # drops handed to a thread at a time
+CHUNK_SIZE = 1  # drops handed to a thread at a time (drops are long: balance, not overhead)
 
 
 @parallel_kernel

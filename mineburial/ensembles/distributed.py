@@ -7,15 +7,16 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
 
 * Each chunk is one dask task (:func:`chunk_task`), submitted with
   ``pure=False`` and ``retries=2`` under a key that names the chunk
-  (``mineburial-chunk-<start>-<stop>-...``). The worker runs
-  :func:`~mineburial.ensembles.engine.compute_chunk` and, when a parts folder is
-  given, writes the chunk file itself, atomically
-  (:func:`~mineburial.ensembles.engine.save_chunk`). Resume therefore needs the
-  parts folder on a filesystem that the client and the workers share (the
-  workers of one machine always do; on a cluster use the shared home/scratch
-  filesystem). Without a shared filesystem the results still come back through
-  the scheduler and the run completes; only resuming an interrupted run loses
-  the chunks that the client never received.
+  (``mineburial-chunk-[<cell>-]<start>-<stop>-<run>-<k>``; ``client.map`` is
+  ``client.submit`` for many tasks at once). The worker runs
+  :func:`~mineburial.ensembles.engine.compute_chunk` and, when the run's parts
+  folder is on a filesystem it shares with the client (it sees the folder's
+  ``manifest.json``), writes the chunk file itself, atomically
+  (:func:`~mineburial.ensembles.engine.save_chunk`). The workers of one machine
+  always share it; on a cluster put the output on the shared home/scratch
+  filesystem. Without a shared filesystem the results still come back through
+  the scheduler, and the client saves each chunk file as its result arrives, so
+  resuming still works from the client's copy.
 * The numba kernels are compiled (or loaded from numba's on-disk cache) once
   per worker before the first chunk: ``client.run(warm_up)`` runs one tiny drop
   on every worker. The cache lives beside the sources, so the worker processes of
@@ -56,38 +57,6 @@ RETRIES = 2
 _LOCK = threading.Lock()   # serialises parallel launches under numba's workqueue layer
 
 
-# ---------------------------------------------------------------------------
-# pickling of SedimentProfile
-# ---------------------------------------------------------------------------
-# SedimentProfile is immutable through __slots__ + a raising __setattr__, which the
-# default pickle protocol cannot restore ("SedimentProfile is immutable"), so an
-# EnsembleSpec holding a tabulated profile (catalogue class, core file) could not be
-# sent to a worker. A reducer registered with copyreg (honoured by pickle and
-# cloudpickle) rebuilds it through its constructor.
-def _rebuild_profile(depth, density, strength, name, description, source):
-    from mineburial.sediment_profiles import SedimentProfile
-
-    return SedimentProfile(depth, density, strength, name=name, description=description,
-                           source=source)
-
-
-def _reduce_profile(p):
-    return _rebuild_profile, (p.depth.copy(), p.density.copy(), p.strength.copy(), p.name,
-                              p.description, p.source)
-
-
-def _register_pickling() -> None:
-    import copyreg
-
-    from mineburial.sediment_profiles import SedimentProfile
-
-    if "__reduce__" not in SedimentProfile.__dict__ and "__reduce_ex__" not in SedimentProfile.__dict__:
-        copyreg.pickle(SedimentProfile, _reduce_profile)
-
-
-_register_pickling()
-
-
 def _available_cores() -> int:
     try:
         return len(os.sched_getaffinity(0))
@@ -98,10 +67,8 @@ def _available_cores() -> int:
 def _warm_up_spec():
     """A one-drop ensemble that ends after one time step (the embedded default scenario,
     whose random inputs exercise every sampler, with ``numerics.t_max = numerics.dt``)."""
-    import tomllib
-
     with open(engine.DEFAULT_SCENARIO, "rb") as fh:
-        raw = tomllib.load(fh)
+        raw = engine.tomllib.load(fh)
     numerics = raw.setdefault("numerics", {})
     numerics["t_max"] = float(numerics.get("dt", 1e-3))
     return engine.load_ensemble(raw, n=1, chunk_size=1)
@@ -132,17 +99,23 @@ async def _warm_up_on_worker(dask_worker=None):
 
 
 def chunk_task(spec, start: int, stop: int, parts, numba_threads: int | None = None) -> dict:
-    """The dask task of one chunk: compute drops ``[start, stop)`` of ``spec`` and, if
-    ``parts`` (a folder path on a shared filesystem) is given, save the chunk file
-    atomically. A chunk file that already exists there is read instead of recomputed
-    (it was written by an earlier attempt; chunk results do not depend on where they
-    ran)."""
+    """The dask task of one chunk: compute drops ``[start, stop)`` of ``spec``.
+
+    ``parts`` is the chunk folder of the run (or None). When this worker sees the run's
+    ``manifest.json`` there, the folder is on a filesystem shared with the client: a
+    chunk file already present (written by an earlier attempt) is read instead of
+    recomputed, and the new chunk file is saved atomically by the worker. Otherwise
+    (no shared filesystem) the worker writes nothing and the client saves the chunk
+    when the result arrives (:func:`run_tasks_distributed`).
+    """
     import numba
 
+    shared = False
     if parts is not None:
         parts = pathlib.Path(parts)
+        shared = (parts / "manifest.json").exists()
         path = engine._chunk_path(parts, start, stop)
-        if path.exists():
+        if shared and path.exists():
             return engine.load_chunk(path)
     if numba_threads is not None:
         numba.set_num_threads(max(1, min(int(numba_threads), numba.config.NUMBA_NUM_THREADS)))
@@ -151,8 +124,7 @@ def chunk_task(spec, start: int, stop: int, parts, numba_threads: int | None = N
             res = engine.compute_chunk(spec, start, stop)
     else:
         res = engine.compute_chunk(spec, start, stop)
-    if parts is not None:
-        parts.mkdir(parents=True, exist_ok=True)
+    if shared:
         engine.save_chunk(parts, res)
     return res
 
@@ -207,13 +179,14 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
     if numba_threads is None:
         numba_threads = numba_threads_per_task(client)
     run_id = uuid.uuid4().hex[:8]
-    keys, labels = [], {}
+    keys, labels, folders_of = [], {}, {}
     specs, starts, stops, folders = [], [], [], []
     for k, (tag, spec, start, stop, parts) in enumerate(items):
         tag_txt = "" if tag is None else f"{tag}-"
         key = f"mineburial-chunk-{tag_txt}{int(start)}-{int(stop)}-{run_id}-{k}"
         keys.append(key)
         labels[key] = (tag, (int(start), int(stop)))
+        folders_of[key] = parts
         specs.append(spec)
         starts.append(int(start))
         stops.append(int(stop))
@@ -235,6 +208,9 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
                     f"after {RETRIES} retries: {exc!r}") from exc
             fut.release()
+            parts = folders_of.pop(fut.key)
+            if parts is not None and not engine._chunk_path(pathlib.Path(parts), *bounds).exists():
+                engine.save_chunk(pathlib.Path(parts), res)   # no filesystem shared with workers
             yield tag, bounds, res
     finally:
         if pending:

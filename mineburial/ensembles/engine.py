@@ -486,9 +486,14 @@ def run_ensemble_cli(args) -> int:
 
         client = Client(args.scheduler)
     t0 = time.monotonic()
-    ds = run_ensemble(args.scenario, n=args.drops, seed=args.seed, sampling=args.sampling,
-                      chunk_size=args.chunk_size, output=args.output, per_drop=args.per_drop,
-                      threads=args.threads, progress=not args.quiet, client=client)
+    try:
+        ds = run_ensemble(args.scenario, n=args.drops, seed=args.seed, sampling=args.sampling,
+                          chunk_size=args.chunk_size, output=args.output,
+                          per_drop=args.per_drop, threads=args.threads,
+                          progress=not args.quiet, client=client)
+    finally:
+        if client is not None:
+            client.close()
     elapsed = time.monotonic() - t0
     print(summarize(ds, elapsed, args.output))
     return 0

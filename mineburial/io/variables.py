@@ -417,8 +417,9 @@ _NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
 def input_variable_name(path: str) -> str:
-    """netCDF variable name of the sampled scenario field ``path`` ("mine.mass" -> "input_mine_mass")."""
-    name = "input_" + path.replace(".", "_")
+    """netCDF variable name of the sampled scenario field ``path`` ("mine.mass" ->
+    "input_mine_mass", "release.velocity[0]" -> "input_release_velocity_0")."""
+    name = "input_" + path.replace(".", "_").replace("[", "_").replace("]", "")
     if not _NAME_RE.match(name):
         raise ValueError(f"scenario path {path!r} cannot be turned into a CF variable name "
                          "(letters, digits, underscores and dots only)")

@@ -36,10 +36,11 @@ from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
 from mineburial.kernels.geometry import cut_cylinder, vertical_extent
 from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
-                                       P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER, P_RHO_AIR,
-                                       P_RHO_WATER)
+                                       P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER,
+                                       P_RHO_AIR, P_RHO_WATER, P_SED_RESISTANCE)
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
-from mineburial.kernels.sediment import sediment_force_torque
+from mineburial.kernels.overburden import overburden_force
+from mineburial.kernels.sediment import RES_DELTA, sediment_force_torque
 
 N_EXT = 15          # 13 physical states + work of fluid forces + work of sediment forces
 I_WORK_FLUID = 13
@@ -421,6 +422,18 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
         sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_force_torque(
             L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, rho_w, g, p,
             sediment_bank)
+        if int(p[P_SED_RESISTANCE]) != RES_DELTA:
+            # geostatic effective overburden on every embedded element (closed form)
+            fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p,
+                                            sediment_bank)
+            sf3 += fo
+            # torque (fox i_M + foe e_down) x k_body
+            ro1 = fox
+            ro2 = foe * dn2
+            ro3 = foe * dn3
+            sm1 += ro2 * kb3 - ro3 * kb2
+            sm2 += ro3 * kb1 - ro1 * kb3
+            sm3 += ro1 * kb2 - ro2 * kb1
         fb1 += r[0] * sf1 + r[3] * sf2 + r[6] * sf3
         fb2 += r[1] * sf1 + r[4] * sf2 + r[7] * sf3
         fb3 += r[2] * sf1 + r[5] * sf2 + r[8] * sf3
@@ -584,3 +597,44 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     diag[14] = a0
     diag[15] = added_pore
     return phase
+
+
+PROBE_SPEED = 0.01   # m/s: virtual speed at which the sediment's resistance is probed
+
+
+@kernel
+def held_by_sediment(y, p, sediment_bank, tolerance):
+    """Can the sediment hold the mine where it is (the rest test of the stepper)?
+
+    The position-only forces (gravity, buoyancy, geostatic overburden) give a net
+    load F. The sediment's rate-independent strength can resist it when a virtual
+    motion along F at PROBE_SPEED meets a resistance R with -R.F_hat >= |F| - tolerance
+    (rigid-plastic contact; the resistance is probed, not assumed). A mine at a
+    turning point of an oscillation (net load but no strength) fails the test.
+    """
+    L = p[P_LENGTH]
+    R = 0.5 * p[P_DIAMETER]
+    chi = p[P_CHI]
+    g = p[P_GRAVITY]
+    rho_w = p[P_RHO_WATER]
+    depth = p[P_DEPTH]
+    m = p[P_MASS]
+    qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
+    r = rotation_matrix(y[6] / qn, y[7] / qn, y[8] / qn, y[9] / qn)
+    a_z = r[6]
+    z = y[2]
+    z_lo, z_hi = vertical_extent(L, R, chi, a_z, z)
+    if z_lo >= -depth:
+        return False
+    vs, _, _, _, _, _ = cut_cylinder(L, R, chi, a_z, z, 0.0)
+    load = rho_w * g * vs - m * g
+    if int(p[P_SED_RESISTANCE]) != RES_DELTA:
+        fo, _, _ = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank)
+        load += fo
+    if abs(load) <= tolerance:
+        return True
+    sgn = 1.0 if load > 0.0 else -1.0
+    f1, f2, f3, _, _, _, _ = sediment_force_torque(
+        L, R, chi, r, (y[0], y[1], z), (0.0, 0.0, sgn * PROBE_SPEED), (0.0, 0.0, 0.0),
+        -depth, rho_w, g, p, sediment_bank)
+    return -sgn * f3 >= abs(load) - tolerance

@@ -90,9 +90,11 @@ DEPTH_FACTOR = 0.4
 #: generator N_X points per piece, N_X_MAPPED on a sinh-mapped piece.
 #: Tuple layout: (NODES_PER_RAD, N_MIN, N_MAX, N_GRADED, GRADE_RATIO, GRADE_TRIGGER,
 #: N_X, N_X_MAPPED).
-LATERAL_RULE = (2.0, 2, 6, 4, 3.0, 0.5, 4, 6)
+LATERAL_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
 #: End caps, the same layout with (N_RHO, N_RHO_MAPPED) in the last two slots.
-CAP_RULE = (2.0, 2, 6, 4, 3.0, 0.5, 4, 6)
+CAP_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
+#: Least number of points on each part of a generator piece split at tabulated depths.
+LEVEL_POINTS = 3
 #: At most this many sub-panels when grading towards one breakpoint.
 MAX_GRADE = 14
 #: Samples of a degree-2 trigonometric polynomial when bracketing its roots.
@@ -277,6 +279,9 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 # =============================================================================
 @kernel
 def _wrap(t):
+    """t mapped into [0, 2 pi) (NaN stays NaN)."""
+    if not (t == t):
+        return t
     return t - _TWO_PI * math.floor(t / _TWO_PI)
 
 
@@ -292,22 +297,6 @@ def _roots_lin(k, a, b):
 
 
 @kernel
-def _prod(a0, a1, a2, b0, b1, b2):
-    """(a0 + a1 c + a2 s)(b0 + b1 c + b2 s) as h0 + h1 c + h2 s + h3 cos2t + h4 sin2t."""
-    return (a0 * b0 + 0.5 * (a1 * b1 + a2 * b2), a0 * b1 + a1 * b0, a0 * b2 + a2 * b0,
-            0.5 * (a1 * b1 - a2 * b2), 0.5 * (a1 * b2 + a2 * b1))
-
-
-@kernel
-def _trig2(h0, h1, h2, h3, h4, t):
-    c = math.cos(t)
-    s = math.sin(t)
-    val = h0 + h1 * c + h2 * s + h3 * (c * c - s * s) + 2.0 * h4 * s * c
-    der = -h1 * s + h2 * c - 2.0 * h3 * (2.0 * s * c) + 2.0 * h4 * (c * c - s * s)
-    return val, der
-
-
-@kernel
 def _crossing_roots(f, g, xa, xb):
     """Angles where the switch lines of two families cross inside the body.
 
@@ -318,13 +307,15 @@ def _crossing_roots(f, g, xa, xb):
     bracketed on N_SAMPLE samples and polished by safeguarded Newton steps.
     Up to four roots (NaN when absent), kept only if the crossing lies in (xa, xb).
     """
-    p1 = _prod(f[0], f[1], f[2], g[3], g[4], g[5])
-    p2 = _prod(g[0], g[1], g[2], f[3], f[4], f[5])
-    h0 = p1[0] - p2[0]
-    h1 = p1[1] - p2[1]
-    h2 = p1[2] - p2[2]
-    h3 = p1[3] - p2[3]
-    h4 = p1[4] - p2[4]
+    # (a0 + a1 c + a2 s)(b0 + b1 c + b2 s) = a0 b0 + (a1 b1 + a2 b2)/2 + (a0 b1 + a1 b0) c
+    #   + (a0 b2 + a2 b0) s + (a1 b1 - a2 b2)/2 cos 2t + (a1 b2 + a2 b1)/2 sin 2t
+    a0, a1, a2, b0, b1, b2 = f[0], f[1], f[2], g[3], g[4], g[5]
+    k0, k1, k2, l0, l1, l2 = g[0], g[1], g[2], f[3], f[4], f[5]
+    h0 = a0 * b0 + 0.5 * (a1 * b1 + a2 * b2) - k0 * l0 - 0.5 * (k1 * l1 + k2 * l2)
+    h1 = a0 * b1 + a1 * b0 - k0 * l1 - k1 * l0
+    h2 = a0 * b2 + a2 * b0 - k0 * l2 - k2 * l0
+    h3 = 0.5 * (a1 * b1 - a2 * b2) - 0.5 * (k1 * l1 - k2 * l2)
+    h4 = 0.5 * (a1 * b2 + a2 * b1) - 0.5 * (k1 * l2 + k2 * l1)
     scale = ((abs(f[0]) + abs(f[1]) + abs(f[2])) * (abs(g[3]) + abs(g[4]) + abs(g[5]))
              + (abs(g[0]) + abs(g[1]) + abs(g[2])) * (abs(f[3]) + abs(f[4]) + abs(f[5])))
     r0 = _NAN
@@ -344,7 +335,12 @@ def _crossing_roots(f, g, xa, xb):
             flo = prev
             t = lo + (hi - lo) * prev / (prev - cur)
             for _ in range(8):
-                val, der = _trig2(h0, h1, h2, h3, h4, t)
+                c = math.cos(t)
+                s = math.sin(t)
+                c2 = c * c - s * s
+                s2 = 2.0 * s * c
+                val = h0 + h1 * c + h2 * s + h3 * c2 + h4 * s2
+                der = -h1 * s + h2 * c - 2.0 * h3 * s2 + 2.0 * h4 * c2
                 if val == 0.0:
                     break
                 if (val < 0.0) == (flo < 0.0):
@@ -382,19 +378,6 @@ def _crossing_roots(f, g, xa, xb):
 
 
 @kernel
-def _end_roots(f, xe):
-    """Angles where the switch line of family f reaches the body end x = xe."""
-    return _roots_lin(f[0] + f[3] * xe, f[1] + f[4] * xe, f[2] + f[5] * xe)
-
-
-@kernel
-def _fam(f, c, s):
-    """Coefficients (F0, F1) of F = F0 + F1 x at angle (c, s) and their theta-derivatives."""
-    return (f[0] + f[1] * c + f[2] * s, f[3] + f[4] * c + f[5] * s,
-            -f[1] * s + f[2] * c, -f[4] * s + f[5] * c)
-
-
-@kernel
 def _adist(t, poles):
     """Angular distance from t to the nearer of two angles (inf when both are NaN)."""
     best = math.inf
@@ -405,41 +388,6 @@ def _adist(t, poles):
             d = min(d, _TWO_PI - d)
             best = min(best, d)
     return best
-
-
-@kernel
-def _curve(f, c, s):
-    """x-position and slope dx/dtheta of the switch line x_F(theta) = -F0/F1."""
-    f0, f1, d0, d1 = _fam(f, c, s)
-    if f1 == 0.0:
-        return _NAN, 0.0
-    return -f0 / f1, -(d0 * f1 - f0 * d1) / (f1 * f1)
-
-
-@kernel
-def _front_eps(t, x, slope, ft, R, v1, w2, w3):
-    """Angular width of the slip-reversal front (v_theta = 0) where it meets the curve
-    x(theta) of slope ``slope`` at (x, t): |v_tau| ~ sqrt(v_x^2 + V_REG^2) there."""
-    c = math.cos(t)
-    s = math.sin(t)
-    vx = v1 - w3 * R * c + w2 * R * s
-    t0, t1, dt0, dt1 = _fam(ft, c, s)
-    rate = abs(dt0 + dt1 * x + t1 * slope)
-    if not (rate > 0.0):
-        return math.inf
-    return math.sqrt(vx * vx + V_REG * V_REG) / rate
-
-
-@kernel
-def _set4(tup, k, val):
-    """Copy of a 4-tuple with entry k replaced."""
-    if k == 0:
-        return (val, tup[1], tup[2], tup[3])
-    if k == 1:
-        return (tup[0], val, tup[2], tup[3])
-    if k == 2:
-        return (tup[0], tup[1], val, tup[3])
-    return (tup[0], tup[1], tup[2], val)
 
 
 @kernel
@@ -458,547 +406,47 @@ def _next_break(bps, eps, cur):
 
 
 # =============================================================================
-# lateral surface
+# one line of the surface: a generator (lateral surface) or a ray (end cap)
 # =============================================================================
-@kernel
-def _generator_interval(c, s, xa, xb, fe, fd):
-    """Embedded (zeta > 0) and advancing (v.n >= 0) x-interval of generator (c, s)."""
-    lo = xa
-    hi = xb
-    # seabed: zeta = E0 + E1 x > 0
-    e0 = fe[0] + fe[1] * c + fe[2] * s
-    e1 = fe[3]
-    if e1 > 0.0:
-        lo = max(lo, -e0 / e1)
-    elif e1 < 0.0:
-        hi = min(hi, -e0 / e1)
-    elif not (e0 > 0.0):
-        return 1.0, 0.0, e0, e1
-    # delta: v.n = D0 + D1 x >= 0
-    d0 = fd[1] * c + fd[2] * s
-    d1 = fd[4] * c + fd[5] * s
-    if d1 > 0.0:
-        lo = max(lo, -d0 / d1)
-    elif d1 < 0.0:
-        hi = min(hi, -d0 / d1)
-    elif d0 < 0.0:
-        return 1.0, 0.0, e0, e1
-    return lo, hi, e0, e1
+# The surface geometry tuple ``sg`` (13 floats) of a surface "kind":
+#   kind 0, lateral surface: (R, xa, xb, 0, ...);
+#   kind 1, end cap: (xc, sgn, R, oy, oz, |O|^2, e0, ey, ez, q0, qy, qz, eps_r) with the
+#   cap at x = xc, outward normal sgn i_M, polar origin O = (oy, oz), depth
+#   zeta = e0 + ey y + ez z, delta switch q0 + qy y + qz z >= 0, radial sinh scale eps_r.
+# A line tuple ``ln`` (12 floats): point P + r D, normal N, depth z0 + z1 r, polar flag:
+#   (Px, Py, Pz, Dx, Dy, Dz, Nx, Ny, Nz, z0, z1, polar).
 
 
 @kernel
-def _segment(a, b, eps, side, c, s, e0, e1, geo, law, bank, n):
-    """Moments of the tractions on [a, b] of generator (c, s), per unit theta and R.
-
-    With eps > 0 the piece is mapped x = a + eps sinh(u) (side > 0) or b - eps sinh(u)
-    (side < 0): the sinh transformation (Johnston & Elliott 2005, Int. J. Numer. Meth.
-    Eng. 62:564) that resolves a near-singularity at distance eps from that end.
-    """
-    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
-    y = R * c
-    z = R * s
-    if eps > 0.0:
-        hu = 0.5 * math.asinh((b - a) / eps)
+def _line_interval(kind, c, s, sg, fe, fd):
+    """Part of the line at angle (c, s) that is embedded (zeta > 0) and advancing
+    (v.n >= 0): an x-interval of the generator (kind 0) or a rho-interval of the ray
+    from O (kind 1); empty when hi <= lo."""
+    if kind == 0:
+        lo = sg[1]
+        hi = sg[2]
+        # seabed: zeta = E0 + E1 x > 0
+        a0 = fe[0] + fe[1] * c + fe[2] * s
+        a1 = fe[3]
+        # delta: v.n = D0 + D1 x >= 0
+        b0 = fd[1] * c + fd[2] * s
+        b1 = fd[4] * c + fd[5] * s
     else:
-        hu = 0.5 * (b - a)
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    for j in range(n):
-        u = hu * (1.0 + _GL_NODES[n, j])
-        if eps > 0.0:
-            jac = eps * math.cosh(u)
-            x = a + eps * math.sinh(u) if side > 0 else b - eps * math.sinh(u)
-        else:
-            jac = 1.0
-            x = a + u
-        q1, q2, q3 = _traction(x, y, z, 0.0, c, s, e0 + e1 * x, v1, v2, v3, w1, w2, w3, law,
-                               bank)
-        wgt = hu * _GL_WEIGHTS[n, j] * jac
-        f1 += wgt * q1
-        f2 += wgt * q2
-        f3 += wgt * q3
-        m1 += wgt * (y * q3 - z * q2)
-        m2 += wgt * (z * q1 - x * q3)
-        m3 += wgt * (x * q2 - y * q1)
-    return f1, f2, f3, m1, m2, m3
-
-
-@kernel
-def _piece(a, b, ea, eb, c, s, e0, e1, geo, law, bank, n, nm):
-    """[a, b] with near-singularity scales ea, eb (0: none) at its ends."""
-    if not (b > a):
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    if ea >= b - a:
-        ea = 0.0
-    if eb >= b - a:
-        eb = 0.0
-    if ea > 0.0 and eb > 0.0:
-        mid = 0.5 * (a + b)
-        g1, g2, g3, h1, h2, h3 = _segment(a, mid, ea, 1, c, s, e0, e1, geo, law, bank, nm)
-        k1, k2, k3, l1, l2, l3 = _segment(mid, b, eb, -1, c, s, e0, e1, geo, law, bank, nm)
-        return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
-    if ea > 0.0:
-        return _segment(a, b, ea, 1, c, s, e0, e1, geo, law, bank, nm)
-    if eb > 0.0:
-        return _segment(a, b, eb, -1, c, s, e0, e1, geo, law, bank, nm)
-    return _segment(a, b, 0.0, 0, c, s, e0, e1, geo, law, bank, n)
-
-
-@kernel
-def _generator(c, s, lo, hi, e0, e1, geo, fd, ft, law, bank, tangential, dip, n, nm):
-    """Moments on the generator (c, s) over [lo, hi], split where the circumferential slip
-    reverses (v_theta = T0 + T1 x = 0: the slip direction turns over the length
-    sqrt(v_x^2 + V_REG^2)/|T1|) and where the speed is smallest (the rate factor dips
-    there over ~ max(v_min, floor)/|dv/dx|); sinh maps towards both."""
-    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
-    vx = v1 - w3 * R * c + w2 * R * s
-    t0 = ft[0] + ft[1] * c + ft[2] * s
-    t1 = ft[4] * c + ft[5] * s
-    p1 = _NAN
-    q1 = 0.0
-    p2 = _NAN
-    q2 = 0.0
-    if tangential and t1 != 0.0:
-        xq = -t0 / t1
-        if xq > lo and xq < hi:
-            p1 = xq
-            q1 = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
-    if dip[0] > 0:
-        d0 = fd[1] * c + fd[2] * s
-        d1 = fd[4] * c + fd[5] * s
-        a2 = d1 * d1 + t1 * t1
-        if a2 > 0.0:
-            xm = -(d0 * d1 + t0 * t1) / a2
-            if xm > lo and xm < hi:
-                cr = d0 * t1 - t0 * d1
-                vmin = math.sqrt(vx * vx + cr * cr / a2)
-                if vmin < dip[2]:
-                    p2 = xm
-                    q2 = max(vmin, dip[1]) / math.sqrt(a2)
-    if not (p1 == p1):
-        if not (p2 == p2):
-            return _piece(lo, hi, 0.0, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
-        p1 = p2
-        q1 = q2
-        p2 = _NAN
-    elif p2 == p2 and p2 < p1:
-        p1, p2 = p2, p1
-        q1, q2 = q2, q1
-    if not (p2 == p2):
-        g1, g2, g3, h1, h2, h3 = _piece(lo, p1, 0.0, q1, c, s, e0, e1, geo, law, bank, n, nm)
-        k1, k2, k3, l1, l2, l3 = _piece(p1, hi, q1, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
-        return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
-    g1, g2, g3, h1, h2, h3 = _piece(lo, p1, 0.0, q1, c, s, e0, e1, geo, law, bank, n, nm)
-    k1, k2, k3, l1, l2, l3 = _piece(p1, p2, q1, q2, c, s, e0, e1, geo, law, bank, n, nm)
-    g1 += k1
-    g2 += k2
-    g3 += k3
-    h1 += l1
-    h2 += l2
-    h3 += l3
-    k1, k2, k3, l1, l2, l3 = _piece(p2, hi, q2, 0.0, c, s, e0, e1, geo, law, bank, n, nm)
-    return g1 + k1, g2 + k2, g3 + k3, h1 + l1, h2 + l2, h3 + l3
-
-
-@kernel
-def _lateral_panel(ta, tb, n, geo, fe, fd, ft, law, bank, tangential, dip, rule):
-    """Lateral-surface moments of the theta-panel [ta, tb] with an n-point rule."""
-    R = geo[0]
-    xa = geo[1]
-    xb = geo[2]
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    hw = 0.5 * (tb - ta)
-    tmid = 0.5 * (ta + tb)
-    lo, hi, e0, e1 = _generator_interval(math.cos(tmid), math.sin(tmid), xa, xb, fe, fd)
-    if not (hi > lo):
-        return f1, f2, f3, m1, m2, m3
-    for i in range(n):
-        t = tmid + hw * _GL_NODES[n, i]
-        c = math.cos(t)
-        s = math.sin(t)
-        lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
-        if not (hi > lo):
-            continue
-        g1, g2, g3, h1, h2, h3 = _generator(c, s, lo, hi, e0, e1, geo, fd, ft, law, bank,
-                                            tangential, dip, rule[6], rule[7])
-        wt = hw * _GL_WEIGHTS[n, i] * R
-        f1 += wt * g1
-        f2 += wt * g2
-        f3 += wt * g3
-        m1 += wt * h1
-        m2 += wt * h2
-        m3 += wt * h3
-    return f1, f2, f3, m1, m2, m3
-
-
-@kernel
-def _plain_count(width, rule):
-    """(number of equal sub-panels, points per sub-panel) for an ungraded panel."""
-    want = int(math.ceil(width * rule[0] - 1e-9))
-    k = 1
-    if want > rule[2]:
-        k = (want + rule[2] - 1) // rule[2]
-        want = rule[2]
-    if want < rule[1]:
-        want = rule[1]
-    return k, want
-
-
-@kernel
-def _lateral_graded(t_from, t_to, eps, geo, fe, fd, ft, law, bank, tangential, dip, rule):
-    """Panel [t_from, t_to] (either order), graded geometrically towards t_from where the
-    integrand has a near-singularity at distance ~eps: sub-panel widths eps, r eps,
-    r^2 eps, ... (r = rule[4]), each about as far from it as it is wide, with rule[3]
-    points each. eps <= 0: one ordinary panel."""
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    total = abs(t_to - t_from)
-    if not (eps > 0.0):
-        ta = min(t_from, t_to)
-        k, n = _plain_count(total, rule)
-        dw = total / k
-        for isub in range(k):
-            g1, g2, g3, h1, h2, h3 = _lateral_panel(ta + isub * dw, ta + (isub + 1) * dw, n,
-                                                    geo, fe, fd, ft, law, bank, tangential,
-                                                    dip, rule)
-            f1 += g1
-            f2 += g2
-            f3 += g3
-            m1 += h1
-            m2 += h2
-            m3 += h3
-        return f1, f2, f3, m1, m2, m3
-    sgn = 1.0 if t_to > t_from else -1.0
-    pos = 0.0
-    width = eps
-    for k in range(MAX_GRADE):
-        nxt = pos + width
-        if nxt > total or k == MAX_GRADE - 1 or total - nxt < 0.5 * width:
-            nxt = total
-        ta = t_from + sgn * pos
-        tb = t_from + sgn * nxt
-        if tb < ta:
-            ta, tb = tb, ta
-        g1, g2, g3, h1, h2, h3 = _lateral_panel(ta, tb, rule[3], geo, fe, fd, ft, law, bank,
-                                                tangential, dip, rule)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-        if nxt >= total:
-            break
-        pos = nxt
-        width *= rule[4]
-    return f1, f2, f3, m1, m2, m3
-
-
-@kernel
-def _domain_gap(x, c, s, xa, xb, fe, fd):
-    """How far (x, theta) is outside the integration domain: max of the violations of
-    xa <= x <= xb, zeta >= 0 and v.n >= 0, each made dimensionless."""
-    e = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
-    d = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
-    return e, d, max(xa - x, x - xb)
-
-
-@kernel
-def _lateral(geo, fe, fd, ft, law, bank, tangential, dip, rule):
-    """Force and torque (body frame, about the COM) on the lateral surface.
-
-    Families (k0, kc, ks, l0, lc, ls) of linear-in-x switch functions along a
-    generator at angle t (point (x, R cos t, R sin t), normal (0, cos t, sin t)):
-    fe: depth zeta; fd: normal velocity v.n; ft: circumferential slip v_theta.
-    Theta-panels end where a switch line reaches a body end, where two switch
-    lines cross, where the axial slip vanishes and where the screw axis of the
-    motion meets the surface; only breakpoints on the integration domain are kept.
-    Each carries the distance eps to the nearest near-singularity of the
-    theta-integrand (the pole of a switch line x_F = -F0/F1 at F1 = 0, the width
-    of the slip-reversal front, the width of the speed dip), and panels are graded
-    geometrically towards breakpoints with small eps.
-    """
-    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
-    inf = math.inf
-    vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(
-        w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
-    ztol = 1e-9 * (xb - xa + R)
-    vtol = 1e-9 * vscale
-    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
-    # seabed line reaching the ends (x_E has no pole: E1 = -c20 is constant); kept
-    # where delta = 1 there
-    e_a = _end_roots(fe, xa)
-    e_b = _end_roots(fe, xb)
-    ea0 = e_a[0]
-    ea1 = e_a[1]
-    eb0 = e_b[0]
-    eb1 = e_b[1]
-    if ea0 == ea0:
-        if _domain_gap(xa, math.cos(ea0), math.sin(ea0), xa, xb, fe, fd)[1] < -vtol:
-            ea0 = _NAN
-        if _domain_gap(xa, math.cos(ea1), math.sin(ea1), xa, xb, fe, fd)[1] < -vtol:
-            ea1 = _NAN
-    if eb0 == eb0:
-        if _domain_gap(xb, math.cos(eb0), math.sin(eb0), xa, xb, fe, fd)[1] < -vtol:
-            eb0 = _NAN
-        if _domain_gap(xb, math.cos(eb1), math.sin(eb1), xa, xb, fe, fd)[1] < -vtol:
-            eb1 = _NAN
-    # delta line reaching the ends (kept where embedded), crossing the seabed line
-    d_a = _end_roots(fd, xa)
-    d_b = _end_roots(fd, xb)
-    da0 = d_a[0]
-    da1 = d_a[1]
-    db0 = d_b[0]
-    db1 = d_b[1]
-    if da0 == da0:
-        if _domain_gap(xa, math.cos(da0), math.sin(da0), xa, xb, fe, fd)[0] < -ztol:
-            da0 = _NAN
-        if _domain_gap(xa, math.cos(da1), math.sin(da1), xa, xb, fe, fd)[0] < -ztol:
-            da1 = _NAN
-    if db0 == db0:
-        if _domain_gap(xb, math.cos(db0), math.sin(db0), xa, xb, fe, fd)[0] < -ztol:
-            db0 = _NAN
-        if _domain_gap(xb, math.cos(db1), math.sin(db1), xa, xb, fe, fd)[0] < -ztol:
-            db1 = _NAN
-    ed = _crossing_roots(fe, fd, xa, xb)
-
-    ta0 = _NAN
-    ta1 = _NAN
-    tb0 = _NAN
-    tb1 = _NAN
-    xr0 = _NAN
-    xr1 = _NAN
-    et = (_NAN, _NAN, _NAN, _NAN)
-    dt = (_NAN, _NAN, _NAN, _NAN)
-    ta_eps = (inf, inf)
-    tb_eps = (inf, inf)
-    x0_eps = (inf, inf)
-    et_eps = (inf, inf, inf, inf)
-    dt_eps = (inf, inf, inf, inf)
-    if tangential:
-        pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
-        # slip-reversal line reaching the ends, kept on the domain
-        t_a = _end_roots(ft, xa)
-        t_b = _end_roots(ft, xb)
-        ta0 = t_a[0]
-        ta1 = t_a[1]
-        tb0 = t_b[0]
-        tb1 = t_b[1]
-        if ta0 == ta0:
-            g = _domain_gap(xa, math.cos(ta0), math.sin(ta0), xa, xb, fe, fd)
-            if g[0] < -ztol or g[1] < -vtol:
-                ta0 = _NAN
-            g = _domain_gap(xa, math.cos(ta1), math.sin(ta1), xa, xb, fe, fd)
-            if g[0] < -ztol or g[1] < -vtol:
-                ta1 = _NAN
-        if tb0 == tb0:
-            g = _domain_gap(xb, math.cos(tb0), math.sin(tb0), xa, xb, fe, fd)
-            if g[0] < -ztol or g[1] < -vtol:
-                tb0 = _NAN
-            g = _domain_gap(xb, math.cos(tb1), math.sin(tb1), xa, xb, fe, fd)
-            if g[0] < -ztol or g[1] < -vtol:
-                tb1 = _NAN
-        ta_eps = (min(_adist(ta0, pt), _front_eps(ta0, xa, 0.0, ft, R, v1, w2, w3)),
-                  min(_adist(ta1, pt), _front_eps(ta1, xa, 0.0, ft, R, v1, w2, w3)))
-        tb_eps = (min(_adist(tb0, pt), _front_eps(tb0, xb, 0.0, ft, R, v1, w2, w3)),
-                  min(_adist(tb1, pt), _front_eps(tb1, xb, 0.0, ft, R, v1, w2, w3)))
-        # slip-reversal line crossing the seabed line (kept where delta = 1) and the
-        # delta line (kept where embedded)
-        etr = _crossing_roots(fe, ft, xa, xb)
-        dtr = _crossing_roots(fd, ft, xa, xb)
-        for k in range(4):
-            t = etr[k]
-            if t == t:
-                c = math.cos(t)
-                s = math.sin(t)
-                x, sl = _curve(fe, c, s)
-                if not (x == x):
-                    x = _curve(ft, c, s)[0]
-                    sl = 0.0
-                if _domain_gap(x, c, s, xa, xb, fe, fd)[1] < -vtol:
-                    t = _NAN
-                e = min(_adist(t, pt), _front_eps(t, x, sl, ft, R, v1, w2, w3))
-                et = _set4(et, k, t)
-                et_eps = _set4(et_eps, k, e)
-            t = dtr[k]
-            if t == t:
-                c = math.cos(t)
-                s = math.sin(t)
-                x, sl = _curve(fd, c, s)
-                if not (x == x):
-                    x = _curve(ft, c, s)[0]
-                    sl = 0.0
-                if _domain_gap(x, c, s, xa, xb, fe, fd)[0] < -ztol:
-                    t = _NAN
-                e = min(min(_adist(t, pt), _adist(t, pd)),
-                        _front_eps(t, x, sl, ft, R, v1, w2, w3))
-                dt = _set4(dt, k, t)
-                dt_eps = _set4(dt_eps, k, e)
-        # zeros of the axial slip v_x = v1 - w3 R cos t + w2 R sin t: the slip direction
-        # turns fast there if the circumferential slip is small too
-        x_0 = _roots_lin(v1, -w3 * R, w2 * R)
-        for k in range(2):
-            t = x_0[k]
-            if t == t:
-                c = math.cos(t)
-                s = math.sin(t)
-                lo, hi, e0, e1 = _generator_interval(c, s, xa, xb, fe, fd)
-                if hi > lo:
-                    t0 = ft[0] + ft[1] * c + ft[2] * s
-                    t1 = ft[4] * c + ft[5] * s
-                    va = t0 + t1 * lo
-                    vb = t0 + t1 * hi
-                    vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
-                    rate = abs(w3 * R * s + w2 * R * c)
-                    e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate if rate > 0.0 else inf
-                    if k == 0:
-                        xr0 = t
-                        x0_eps = (e, x0_eps[1])
-                    else:
-                        xr1 = t
-                        x0_eps = (x0_eps[0], e)
-
-    # speed dip of the rate factor: where the screw axis of the motion meets (or passes
-    # closest to) the lateral surface
-    sd0 = _NAN
-    sd1 = _NAN
-    sd_eps = (inf, inf)
-    wn2 = w1 * w1 + w2 * w2 + w3 * w3
-    if dip[0] > 0 and wn2 > 0.0:
-        wn = math.sqrt(wn2)
-        u1 = w1 / wn
-        u2 = w2 / wn
-        u3 = w3 / wn
-        pitch = abs(v1 * u1 + v2 * u2 + v3 * u3)
-        # a point of the axis: (omega x V)/|omega|^2
-        p1 = (w2 * v3 - w3 * v2) / wn2
-        p2 = (w3 * v1 - w1 * v3) / wn2
-        p3 = (w1 * v2 - w2 * v1) / wn2
-        qa = u2 * u2 + u3 * u3
-        qb = p2 * u2 + p3 * u3
-        qc = p2 * p2 + p3 * p3 - R * R
-        if qa > 1e-12:
-            disc = qb * qb - qa * qc
-            nroot = 2
-            if disc >= 0.0:
-                sq = math.sqrt(disc)
-                lam0 = (-qb - sq) / qa
-                lam1 = (-qb + sq) / qa
-                vmin = pitch
-            else:
-                lam0 = -qb / qa
-                lam1 = lam0
-                nroot = 1
-                dist = math.sqrt(max(qc - qb * qb / qa + R * R, 0.0))
-                vmin = math.sqrt(pitch * pitch + wn2 * (dist - R) * (dist - R))
-            for k in range(nroot):
-                lam = lam0 if k == 0 else lam1
-                x = p1 + lam * u1
-                t = _wrap(math.atan2(p3 + lam * u3, p2 + lam * u2))
-                c = math.cos(t)
-                s = math.sin(t)
-                g = _domain_gap(x, c, s, xa, xb, fe, fd)
-                if vmin < dip[2] and g[0] >= -ztol and g[1] >= -vtol and g[2] <= ztol:
-                    rate = R * math.sqrt((w2 * c + w3 * s) ** 2 + w1 * w1)
-                    e = max(vmin, dip[1]) / rate if rate > 0.0 else inf
-                    if k == 0:
-                        sd0 = t
-                        sd_eps = (e, sd_eps[1])
-                    else:
-                        sd1 = t
-                        sd_eps = (sd_eps[0], e)
-
-    bps = (ea0, ea1, eb0, eb1, da0, da1, db0, db1, ed[0], ed[1], ed[2], ed[3],
-           ta0, ta1, tb0, tb1, xr0, xr1, et[0], et[1], et[2], et[3], dt[0], dt[1], dt[2],
-           dt[3], sd0, sd1)
-    eps = (inf, inf, inf, inf, _adist(da0, pd), _adist(da1, pd), _adist(db0, pd),
-           _adist(db1, pd), _adist(ed[0], pd), _adist(ed[1], pd), _adist(ed[2], pd),
-           _adist(ed[3], pd), ta_eps[0], ta_eps[1], tb_eps[0], tb_eps[1], x0_eps[0],
-           x0_eps[1], et_eps[0], et_eps[1], et_eps[2], et_eps[3], dt_eps[0], dt_eps[1],
-           dt_eps[2], dt_eps[3], sd_eps[0], sd_eps[1])
-
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    cur = 0.0
-    e_cur = inf
-    trig = rule[5]
-    while cur < _TWO_PI:
-        nxt, e_nxt = _next_break(bps, eps, cur)
-        width = nxt - cur
-        grade_a = e_cur < trig * width
-        grade_b = e_nxt < trig * width
-        if grade_a and grade_b:
-            mid = 0.5 * (cur + nxt)
-            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, mid, e_cur, geo, fe, fd, ft, law,
-                                                     bank, tangential, dip, rule)
-            k1, k2, k3, l1, l2, l3 = _lateral_graded(nxt, mid, e_nxt, geo, fe, fd, ft, law,
-                                                     bank, tangential, dip, rule)
-            g1 += k1
-            g2 += k2
-            g3 += k3
-            h1 += l1
-            h2 += l2
-            h3 += l3
-        elif grade_a:
-            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, e_cur, geo, fe, fd, ft, law,
-                                                     bank, tangential, dip, rule)
-        elif grade_b:
-            g1, g2, g3, h1, h2, h3 = _lateral_graded(nxt, cur, e_nxt, geo, fe, fd, ft, law,
-                                                     bank, tangential, dip, rule)
-        else:
-            g1, g2, g3, h1, h2, h3 = _lateral_graded(cur, nxt, 0.0, geo, fe, fd, ft, law,
-                                                     bank, tangential, dip, rule)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-        cur = nxt
-        e_cur = e_nxt
-    return f1, f2, f3, m1, m2, m3
-
-
-# =============================================================================
-# end caps
-# =============================================================================
-@kernel
-def _ray_interval(ca, sa, cg):
-    """rho-interval of the ray O + rho (ca, sa) inside the disk, with zeta > 0 and delta = 1."""
-    oy = cg[3]
-    oz = cg[4]
-    od = oy * ca + oz * sa
-    hi = -od + math.sqrt(max(od * od + cg[2] * cg[2] - cg[5], 0.0))
-    lo = 0.0
-    # zeta = (e0 + e.O) + rho (e.d) > 0
-    a0 = cg[6] + cg[7] * oy + cg[8] * oz
-    a1 = cg[7] * ca + cg[8] * sa
+        oy = sg[3]
+        oz = sg[4]
+        od = oy * c + oz * s
+        lo = 0.0
+        hi = -od + math.sqrt(max(od * od + sg[2] * sg[2] - sg[5], 0.0))
+        a0 = sg[6] + sg[7] * oy + sg[8] * oz
+        a1 = sg[7] * c + sg[8] * s
+        b0 = sg[9] + sg[10] * oy + sg[11] * oz
+        b1 = sg[10] * c + sg[11] * s
     if a1 > 0.0:
         lo = max(lo, -a0 / a1)
     elif a1 < 0.0:
         hi = min(hi, -a0 / a1)
     elif not (a0 > 0.0):
         return 1.0, 0.0
-    # delta: (q0 + q.O) + rho (q.d) >= 0
-    b0 = cg[9] + cg[10] * oy + cg[11] * oz
-    b1 = cg[10] * ca + cg[11] * sa
     if b1 > 0.0:
         lo = max(lo, -b0 / b1)
     elif b1 < 0.0:
@@ -1008,6 +456,536 @@ def _ray_interval(ca, sa, cg):
     return lo, hi
 
 
+@kernel
+def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, n, nm):
+    """Moments of the tractions along the line at angle (c, s) for r in [lo, hi].
+
+    The line is a generator (kind 0: point (x, R c, R s), normal (0, c, s), r = x) or a
+    ray of an end cap (kind 1: point (xc, O + rho (c, s)), normal (sgn, 0, 0), r = rho,
+    weight rho). It is cut into parts, each integrated by Gauss-Legendre in u with
+    r = anchor + side eps sinh(u) (the sinh transformation of Johnston & Elliott 2005,
+    Int. J. Numer. Meth. Eng. 62:564, resolving a near-singularity at distance eps from
+    r = anchor) or r = u:
+
+    * generator: split where the circumferential slip reverses (v_theta = T0 + T1 x = 0,
+      where the slip direction turns over the length sqrt(v_x^2 + V_REG^2)/|T1|) and
+      where the speed is least (the rate factor dips over ~max(v_min, floor)/|dv/dx|),
+      mapped towards both (nm points on a mapped part, n otherwise; a part with a
+      feature at each end is halved);
+    * ray: one part, mapped from O when sg[12] > 0 (speed dip at O);
+    * with a tabulated profile each part is also split in u where it crosses a
+      tabulated depth (a kink of the profile), each piece getting a share of the
+      points proportional to its length, at least LEVEL_POINTS.
+    """
+    v1, v2, v3, w1, w2, w3 = vel
+    p1 = _NAN
+    q1 = 0.0
+    p2 = _NAN
+    q2 = 0.0
+    if kind == 0:
+        R = sg[0]
+        # point P + r D, normal N, depth z0 + z1 r
+        px, py, pz, dx, dy, dz = 0.0, R * c, R * s, 1.0, 0.0, 0.0
+        nx, ny, nz = 0.0, c, s
+        z0 = fe[0] + fe[1] * c + fe[2] * s
+        z1 = fe[3]
+        polar = False
+        vx = v1 - w3 * R * c + w2 * R * s
+        t0 = ft[0] + ft[1] * c + ft[2] * s
+        t1 = ft[4] * c + ft[5] * s
+        if tangential and t1 != 0.0:
+            xq = -t0 / t1
+            if xq > lo and xq < hi:
+                p1 = xq
+                q1 = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
+        if dip[0] > 0:
+            d0 = fd[1] * c + fd[2] * s
+            d1 = fd[4] * c + fd[5] * s
+            a2 = d1 * d1 + t1 * t1
+            if a2 > 0.0:
+                xm = -(d0 * d1 + t0 * t1) / a2
+                if xm > lo and xm < hi:
+                    cr = d0 * t1 - t0 * d1
+                    vmin = math.sqrt(vx * vx + cr * cr / a2)
+                    if vmin < dip[2]:
+                        p2 = xm
+                        q2 = max(vmin, dip[1]) / math.sqrt(a2)
+        if not (p1 == p1):
+            p1 = p2
+            q1 = q2
+            p2 = _NAN
+        elif p2 == p2 and p2 < p1:
+            p1, p2 = p2, p1
+            q1, q2 = q2, q1
+    else:
+        px, py, pz, dx, dy, dz = sg[0], sg[3], sg[4], 0.0, c, s
+        nx, ny, nz = sg[1], 0.0, 0.0
+        z0 = sg[6] + sg[7] * sg[3] + sg[8] * sg[4]
+        z1 = sg[7] * c + sg[8] * s
+        polar = True
+    row = law[15]
+    nlev = bank.shape[2] if (row >= 0 and z1 != 0.0) else 0
+    npiece = 1 + (1 if p1 == p1 else 0) + (1 if p2 == p2 else 0)
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    for k in range(npiece):
+        a = lo if k == 0 else (p1 if k == 1 else p2)
+        ea = 0.0 if k == 0 else (q1 if k == 1 else q2)
+        b = hi if k == npiece - 1 else (p1 if k == 0 else p2)
+        eb = 0.0 if k == npiece - 1 else (q1 if k == 0 else q2)
+        if not (b > a):
+            continue
+        if ea >= b - a:
+            ea = 0.0
+        if eb >= b - a:
+            eb = 0.0
+        nh = 2 if (ea > 0.0 and eb > 0.0) else 1
+        mid = 0.5 * (a + b)
+        for h in range(nh):
+            # one part [sa, sb]: map r = anchor + side eps sinh(u)
+            sa = a
+            sb = b
+            anchor = a
+            eps = 0.0
+            side = 0.0
+            npts = n
+            if kind == 1:
+                anchor = 0.0
+                eps = sg[12]
+                if eps > 0.0:
+                    side = 1.0
+                    npts = nm
+            elif nh == 2:
+                npts = nm
+                if h == 0:
+                    sb = mid
+                    eps = ea
+                    side = 1.0
+                else:
+                    sa = mid
+                    anchor = b
+                    eps = eb
+                    side = -1.0
+            elif ea > 0.0:
+                eps = ea
+                side = 1.0
+                npts = nm
+            elif eb > 0.0:
+                anchor = b
+                eps = eb
+                side = -1.0
+                npts = nm
+            if eps > 0.0:
+                ua = math.asinh(side * (sa - anchor) / eps)
+                ub = math.asinh(side * (sb - anchor) / eps)
+                if ua > ub:
+                    ua, ub = ub, ua
+            else:
+                ua = sa
+                ub = sb
+            za = z0 + z1 * sa
+            zb = z0 + z1 * sb
+            zlo = min(za, zb)
+            zhi = max(za, zb)
+            up = (z1 > 0.0) == (side >= 0.0)   # depth increases with u
+            total = ub - ua
+            u0 = ua
+            for jj in range(nlev + 1):
+                u1 = ub
+                kk = npts
+                if jj < nlev:
+                    j = jj if up else nlev - 1 - jj
+                    dep = bank[row, 0, j]
+                    if not (dep > zlo and dep < zhi):
+                        continue
+                    rl = (dep - z0) / z1
+                    u1 = math.asinh(side * (rl - anchor) / eps) if eps > 0.0 else rl
+                    if not (u1 > u0 and u1 < ub):
+                        continue
+                if nlev > 0:
+                    kk = min(npts, max(LEVEL_POINTS, int(npts * (u1 - u0) / total + 0.999)))
+                # kk-point Gauss-Legendre rule on [u0, u1]
+                hu = 0.5 * (u1 - u0)
+                mu = 0.5 * (u1 + u0)
+                for i in range(kk):
+                    u = mu + hu * _GL_NODES[kk, i]
+                    if eps > 0.0:
+                        r = anchor + side * eps * math.sinh(u)
+                        jac = eps * math.cosh(u)
+                    else:
+                        r = u
+                        jac = 1.0
+                    x = px + r * dx
+                    y = py + r * dy
+                    z = pz + r * dz
+                    g1, g2, g3 = _traction(x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1,
+                                           w2, w3, law, bank)
+                    wgt = hu * _GL_WEIGHTS[kk, i] * jac
+                    if polar:
+                        wgt *= r
+                    f1 += wgt * g1
+                    f2 += wgt * g2
+                    f3 += wgt * g3
+                    m1 += wgt * (y * g3 - z * g2)
+                    m2 += wgt * (z * g1 - x * g3)
+                    m3 += wgt * (x * g2 - y * g1)
+                u0 = u1
+    return f1, f2, f3, m1, m2, m3
+
+
+# =============================================================================
+# panels in the angle (theta on the lateral surface, phi on a cap)
+# =============================================================================
+@kernel
+def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, vtol):
+    """Moments over one surface (kind 0 lateral, 1 end cap), integrated in the angle.
+
+    Panels run between consecutive breakpoints (and, on the lateral surface with a
+    tabulated profile, where a tabulated depth line reaches a body end on the advancing
+    side). A panel next to a breakpoint whose near-singularity scale e is below
+    rule[5] times its width is graded geometrically towards it (both ends: halved):
+    sub-panel widths e, r e, r^2 e, ... (r = rule[4]), each about as far from the
+    near-singularity as it is wide, with rule[3] points. Other panels get
+    ceil(width rule[0]) points within [rule[1], rule[2]] (wider ones are split).
+    At each angle node the embedded advancing part of the line is integrated by _inner.
+    """
+    inf = math.inf
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    cur = 0.0
+    e_cur = inf
+    trig = rule[5]
+    row = law[15] if kind == 0 else -1
+    xa = sg[1]
+    xb = sg[2]
+    zmax = fe[0] + max(fe[3] * xa, fe[3] * xb) + math.sqrt(fe[1] * fe[1] + fe[2] * fe[2])
+    scale = sg[0] if kind == 0 else 1.0      # R dtheta on the lateral surface
+    nr = rule[6] if (kind == 0 or sg[12] <= 0.0) else rule[7]
+    while cur < _TWO_PI:
+        nxt, e_nxt = _next_break(bps, eps, cur)
+        if row >= 0:
+            # tabulated depth d reaching x = xe: (E0 - d) + E1 xe = 0
+            for j in range(bank.shape[2]):
+                d = bank[row, 0, j]
+                if not (d < zmax):
+                    break
+                if not (d > 0.0):
+                    continue
+                for k in range(4):
+                    xe = xa if k < 2 else xb
+                    rr = _roots_lin(fe[0] - d + fe[3] * xe, fe[1], fe[2])
+                    t = rr[k % 2]
+                    if t > cur and t < nxt:
+                        c = math.cos(t)
+                        s = math.sin(t)
+                        if fd[1] * c + fd[2] * s + xe * (fd[4] * c + fd[5] * s) >= -vtol:
+                            nxt = t
+                            e_nxt = inf
+        width = nxt - cur
+        grade_a = e_cur < trig * width
+        grade_b = e_nxt < trig * width
+        nh = 2 if (grade_a and grade_b) else 1
+        mid = 0.5 * (cur + nxt)
+        for h in range(nh):
+            if nh == 2:
+                tf = cur if h == 0 else nxt
+                tt = mid
+                e = e_cur if h == 0 else e_nxt
+            elif grade_a:
+                tf = cur
+                tt = nxt
+                e = e_cur
+            elif grade_b:
+                tf = nxt
+                tt = cur
+                e = e_nxt
+            else:
+                tf = cur
+                tt = nxt
+                e = 0.0
+            # sub-panels of [tf, tt]
+            total = abs(tt - tf)
+            sgn = 1.0 if tt > tf else -1.0
+            graded = e > 0.0
+            nplain = int(math.ceil(total * rule[0] - 1e-9))
+            kplain = 1
+            if nplain > rule[2]:
+                kplain = (nplain + rule[2] - 1) // rule[2]
+                nplain = rule[2]
+            if nplain < rule[1]:
+                nplain = rule[1]
+            n = rule[3] if graded else nplain
+            pos = 0.0
+            wsub = e
+            for ksub in range(MAX_GRADE + kplain):
+                if graded:
+                    pnext = pos + wsub
+                    last = pnext > total or ksub == MAX_GRADE - 1 or total - pnext < 0.5 * wsub
+                    if last:
+                        pnext = total
+                else:
+                    pnext = total * (ksub + 1) / kplain
+                    last = ksub == kplain - 1
+                ta = tf + sgn * pos
+                tb = tf + sgn * pnext
+                if tb < ta:
+                    ta, tb = tb, ta
+                # n-point rule in the angle on [ta, tb]
+                hw = 0.5 * (tb - ta)
+                tmid = 0.5 * (ta + tb)
+                lo, hi = _line_interval(kind, math.cos(tmid), math.sin(tmid), sg, fe, fd)
+                if hi > lo:
+                    for i in range(n):
+                        t = tmid + hw * _GL_NODES[n, i]
+                        c = math.cos(t)
+                        s = math.sin(t)
+                        lo, hi = _line_interval(kind, c, s, sg, fe, fd)
+                        if not (hi > lo):
+                            continue
+                        g1, g2, g3, h1, h2, h3 = _inner(kind, c, s, lo, hi, sg, fe, fd, ft,
+                                                        vel, law, bank, tangential, dip, nr,
+                                                        rule[7])
+                        wt = hw * _GL_WEIGHTS[n, i] * scale
+                        f1 += wt * g1
+                        f2 += wt * g2
+                        f3 += wt * g3
+                        m1 += wt * h1
+                        m2 += wt * h2
+                        m3 += wt * h3
+                if last:
+                    break
+                pos = pnext
+                wsub *= rule[4]
+        cur = nxt
+        e_cur = e_nxt
+    return f1, f2, f3, m1, m2, m3
+
+
+# =============================================================================
+# breakpoints of the lateral surface
+# =============================================================================
+@kernel
+def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
+    """Breakpoints in theta of the lateral surface and their near-singularity scales.
+
+    Returned as two 28-tuples (NaN: no breakpoint; inf: no near-singularity), seven
+    groups of four:
+    0, 1, 2: the seabed line (zeta = 0), the delta line (v.n = 0), the slip-reversal
+    line (v_theta = 0) reaching the body ends (two angles per end);
+    3, 4, 5: crossings seabed/delta, seabed/slip, delta/slip inside the body (roots of
+    a degree-2 trigonometric polynomial, _crossing_roots);
+    6: zeros of the axial slip v_x (where the slip direction turns fast if v_theta is
+    small too) and where the screw axis of the motion meets (or passes closest to)
+    the surface (speed dip of the rate factor).
+    A breakpoint is kept only on the integration domain (the seabed line where
+    delta = 1, the delta line where embedded, the others where both hold). Scales:
+    angular distance to the pole of a switch line x_F = -F0/F1 (F1 = 0); width of the
+    slip-reversal front sqrt(v_x^2 + V_REG^2)/|dv_theta/dtheta| along the crossing
+    curve; sqrt(v_theta_min^2 + V_REG^2)/|dv_x/dtheta| at a zero of v_x; angular width
+    max(v_min, floor)/(R |omega x e_theta|) of the speed dip.
+    """
+    R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
+    inf = math.inf
+    vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(
+        w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
+    ztol = 1e-9 * (xb - xa + R)
+    vtol = 1e-9 * vscale
+    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
+    pt = _roots_lin(ft[3], ft[4], ft[5])     # poles of x_T
+    no4 = (_NAN, _NAN, _NAN, _NAN)
+    inf4 = (inf, inf, inf, inf)
+    g0 = no4
+    g1 = no4
+    g2 = no4
+    g3 = no4
+    g4 = no4
+    g5 = no4
+    g6 = no4
+    h0 = inf4
+    h1 = inf4
+    h2 = inf4
+    h3 = inf4
+    h4 = inf4
+    h5 = inf4
+    h6 = inf4
+    # screw axis of the motion (speed dip), group 6
+    wn2 = w1 * w1 + w2 * w2 + w3 * w3
+    for group in range(7):
+        if not tangential and (group == 2 or group == 4 or group == 5):
+            continue
+        f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or
+                                                                      group == 5) else ft)
+        g = fd if group == 3 else ft
+        # candidate angles r and, per candidate, the x where the condition is checked
+        r = no4
+        rx = (xa, xa, xb, xb)
+        vmin_dip = inf
+        if group < 3:
+            for k in range(2):
+                xe = xa if k == 0 else xb
+                q = _roots_lin(f[0] + f[3] * xe, f[1] + f[4] * xe, f[2] + f[5] * xe)
+                if k == 0:
+                    r = (q[0], q[1], r[2], r[3])
+                else:
+                    r = (r[0], r[1], q[0], q[1])
+        elif group < 6:
+            r = _crossing_roots(f, g, xa, xb)
+        else:
+            if tangential:
+                q = _roots_lin(v1, -w3 * R, w2 * R)
+                r = (q[0], q[1], r[2], r[3])
+            if dip[0] > 0 and wn2 > 0.0:
+                wn = math.sqrt(wn2)
+                u1 = w1 / wn
+                u2 = w2 / wn
+                u3 = w3 / wn
+                pitch = abs(v1 * u1 + v2 * u2 + v3 * u3)
+                # a point of the axis, (omega x V)/|omega|^2, and its direction u
+                p1 = (w2 * v3 - w3 * v2) / wn2
+                p2 = (w3 * v1 - w1 * v3) / wn2
+                p3 = (w1 * v2 - w2 * v1) / wn2
+                qa = u2 * u2 + u3 * u3
+                qb = p2 * u2 + p3 * u3
+                qc = p2 * p2 + p3 * p3 - R * R
+                if qa > 1e-12:
+                    disc = qb * qb - qa * qc
+                    if disc >= 0.0:
+                        sq = math.sqrt(disc)
+                        lam0 = (-qb - sq) / qa
+                        lam1 = (-qb + sq) / qa
+                        vmin_dip = pitch
+                    else:
+                        lam0 = -qb / qa
+                        lam1 = _NAN
+                        dist = math.sqrt(max(qc - qb * qb / qa + R * R, 0.0))
+                        vmin_dip = math.sqrt(pitch * pitch + wn2 * (dist - R) * (dist - R))
+                    if vmin_dip < dip[2]:
+                        ta = _wrap(math.atan2(p3 + lam0 * u3, p2 + lam0 * u2))
+                        tb = _wrap(math.atan2(p3 + lam1 * u3, p2 + lam1 * u2))
+                        r = (r[0], r[1], ta, tb)
+                        rx = (xa, xa, p1 + lam0 * u1, p1 + lam1 * u1)
+        t0 = _NAN
+        t1 = _NAN
+        t2 = _NAN
+        t3 = _NAN
+        o0 = inf
+        o1 = inf
+        o2 = inf
+        o3 = inf
+        for k in range(4):
+            t = r[k]
+            if not (t == t):
+                continue
+            c = math.cos(t)
+            s = math.sin(t)
+            sl = 0.0
+            x = rx[k]
+            if group >= 3 and group < 6:
+                # position and slope dx/dtheta of the switch line x_F = -F0/F1 (or x_G)
+                x = _NAN
+                for which in range(2):
+                    hh = f if which == 0 else g
+                    a0 = hh[0] + hh[1] * c + hh[2] * s
+                    a1 = hh[3] + hh[4] * c + hh[5] * s
+                    if a1 != 0.0:
+                        x = -a0 / a1
+                        if which == 0:
+                            sl = -((-hh[1] * s + hh[2] * c) * a1
+                                   - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
+                        break
+            e = inf
+            if group == 6 and k < 2:
+                # zero of the axial slip on a generator that meets the domain
+                lo, hi = _line_interval(0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                                                  0.0, 0.0, 0.0, 0.0), fe, fd)
+                if not (hi > lo):
+                    continue
+                a0 = ft[0] + ft[1] * c + ft[2] * s
+                a1 = ft[4] * c + ft[5] * s
+                va = a0 + a1 * lo
+                vb = a0 + a1 * hi
+                vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
+                rate = abs(w3 * R * s + w2 * R * c)
+                if rate > 0.0:
+                    e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate
+            else:
+                zeta = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
+                vn = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
+                need_e = not (group == 0 or group == 3 or group == 4)
+                need_d = not (group == 1 or group == 3 or group == 5)
+                if (need_e and zeta < -ztol) or (need_d and vn < -vtol):
+                    continue
+                if group == 6:
+                    if x < xa - ztol or x > xb + ztol:
+                        continue
+                    rate = R * math.sqrt((w2 * c + w3 * s) ** 2 + w1 * w1)
+                    if rate > 0.0:
+                        e = max(vmin_dip, dip[1]) / rate
+                if group == 1 or group == 3 or group == 5:
+                    e = _adist(t, pd)
+                if group == 2 or group == 4 or group == 5:
+                    # slip-reversal front crossing the curve x(theta) of slope sl:
+                    # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
+                    vx = v1 - w3 * R * c + w2 * R * s
+                    a1 = ft[3] + ft[4] * c + ft[5] * s
+                    rate = abs((-ft[1] * s + ft[2] * c) + (-ft[4] * s + ft[5] * c) * x + a1 * sl)
+                    front = math.sqrt(vx * vx + V_REG * V_REG) / rate if rate > 0.0 else inf
+                    e = min(e, min(_adist(t, pt), front))
+            if k == 0:
+                t0 = t
+                o0 = e
+            elif k == 1:
+                t1 = t
+                o1 = e
+            elif k == 2:
+                t2 = t
+                o2 = e
+            else:
+                t3 = t
+                o3 = e
+        tt = (t0, t1, t2, t3)
+        ee = (o0, o1, o2, o3)
+        if group == 0:
+            g0 = tt
+            h0 = ee
+        elif group == 1:
+            g1 = tt
+            h1 = ee
+        elif group == 2:
+            g2 = tt
+            h2 = ee
+        elif group == 3:
+            g3 = tt
+            h3 = ee
+        elif group == 4:
+            g4 = tt
+            h4 = ee
+        elif group == 5:
+            g5 = tt
+            h5 = ee
+        else:
+            g6 = tt
+            h6 = ee
+    bps = (g0[0], g0[1], g0[2], g0[3], g1[0], g1[1], g1[2], g1[3], g2[0], g2[1], g2[2], g2[3],
+           g3[0], g3[1], g3[2], g3[3], g4[0], g4[1], g4[2], g4[3], g5[0], g5[1], g5[2], g5[3],
+           g6[0], g6[1], g6[2], g6[3])
+    eps = (h0[0], h0[1], h0[2], h0[3], h1[0], h1[1], h1[2], h1[3], h2[0], h2[1], h2[2], h2[3],
+           h3[0], h3[1], h3[2], h3[3], h4[0], h4[1], h4[2], h4[3], h5[0], h5[1], h5[2], h5[3],
+           h6[0], h6[1], h6[2], h6[3])
+    return bps, eps, vtol
+
+
+# =============================================================================
+# end caps
+# =============================================================================
 @kernel
 def _chord_corners(k, a, b, R, oy, oz):
     """Directions (about O) of the points where the line k + a y + b z = 0 meets the rim,
@@ -1029,128 +1007,20 @@ def _chord_corners(k, a, b, R, oy, oz):
 
 
 @kernel
-def _cap_panel(ta, tb, n, cg, vel, law, bank, rule):
-    """End-cap moments of the phi-panel [ta, tb] (polar about O) with an n-point rule;
-    when cg[12] > 0 the radius is mapped rho = eps sinh(u) (speed dip at O)."""
-    xc = cg[0]
-    sgn = cg[1]
-    oy = cg[3]
-    oz = cg[4]
-    eps = cg[12]
-    v1, v2, v3, w1, w2, w3 = vel
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    hw = 0.5 * (tb - ta)
-    tmid = 0.5 * (ta + tb)
-    lo, hi = _ray_interval(math.cos(tmid), math.sin(tmid), cg)
-    if not (hi > lo):
-        return f1, f2, f3, m1, m2, m3
-    nr = rule[6] if eps <= 0.0 else rule[7]
-    for i in range(n):
-        t = tmid + hw * _GL_NODES[n, i]
-        ca = math.cos(t)
-        sa = math.sin(t)
-        lo, hi = _ray_interval(ca, sa, cg)
-        if not (hi > lo):
-            continue
-        wt = hw * _GL_WEIGHTS[n, i]
-        if eps > 0.0:
-            ua = math.asinh(lo / eps)
-            ub = math.asinh(hi / eps)
-        else:
-            ua = lo
-            ub = hi
-        hr = 0.5 * (ub - ua)
-        mr = 0.5 * (ub + ua)
-        for j in range(nr):
-            u = mr + hr * _GL_NODES[nr, j]
-            if eps > 0.0:
-                rho = eps * math.sinh(u)
-                jac = eps * math.cosh(u)
-            else:
-                rho = u
-                jac = 1.0
-            y = oy + rho * ca
-            z = oz + rho * sa
-            zeta = cg[6] + cg[7] * y + cg[8] * z
-            q1, q2, q3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law,
-                                   bank)
-            wgt = wt * hr * _GL_WEIGHTS[nr, j] * rho * jac
-            f1 += wgt * q1
-            f2 += wgt * q2
-            f3 += wgt * q3
-            m1 += wgt * (y * q3 - z * q2)
-            m2 += wgt * (z * q1 - xc * q3)
-            m3 += wgt * (xc * q2 - y * q1)
-    return f1, f2, f3, m1, m2, m3
-
-
-@kernel
-def _cap_graded(t_from, t_to, eps, cg, vel, law, bank, rule):
-    """Cap panel, graded geometrically towards t_from (see _lateral_graded)."""
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    total = abs(t_to - t_from)
-    if not (eps > 0.0):
-        ta = min(t_from, t_to)
-        k, n = _plain_count(total, rule)
-        dw = total / k
-        for isub in range(k):
-            g1, g2, g3, h1, h2, h3 = _cap_panel(ta + isub * dw, ta + (isub + 1) * dw, n, cg,
-                                                vel, law, bank, rule)
-            f1 += g1
-            f2 += g2
-            f3 += g3
-            m1 += h1
-            m2 += h2
-            m3 += h3
-        return f1, f2, f3, m1, m2, m3
-    sgn = 1.0 if t_to > t_from else -1.0
-    pos = 0.0
-    width = eps
-    for k in range(MAX_GRADE):
-        nxt = pos + width
-        if nxt > total or k == MAX_GRADE - 1 or total - nxt < 0.5 * width:
-            nxt = total
-        ta = t_from + sgn * pos
-        tb = t_from + sgn * nxt
-        if tb < ta:
-            ta, tb = tb, ta
-        g1, g2, g3, h1, h2, h3 = _cap_panel(ta, tb, rule[3], cg, vel, law, bank, rule)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-        if nxt >= total:
-            break
-        pos = nxt
-        width *= rule[4]
-    return f1, f2, f3, m1, m2, m3
-
-
-@kernel
-def _cap(xc, sgn, R, d0, c20, c21, c22, vel, law, bank, tangential, dip, rule):
-    """Force and torque (body frame) on the end cap x = xc with outward normal sgn * i_M.
+def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
+    """Geometry tuple and breakpoints (padded to 28) of the end cap x = xc, outward
+    normal sgn i_M.
 
     Both switches are straight chords of the cap: zeta = e0 + ey y + ez z > 0 and
-    v.n = sgn (v1 + w2 z - w3 y) >= 0. Polar coordinates (rho, phi) about O: the
-    point of least speed when the rate factor dips there (then rho is sinh-mapped),
-    else the stagnation point of the in-plane slip (where the slip direction turns
-    round a point) when it lies on the cap, else the centre. phi-panels end at the
-    directions of the chord/rim corners and of the chord/chord intersection, graded
-    towards them by the angular distance to the nearer direction parallel to the chord.
+    v.n = sgn (v1 + w2 z - w3 y) >= 0. Polar origin O: the point of least speed when
+    the rate factor dips there (then rho is sinh-mapped), else the stagnation point of
+    the in-plane slip (where the slip direction turns round a point) when it lies on the
+    cap, else the centre. Breakpoints: directions of the chord/rim corners and of the
+    chord/chord intersection, with the angular distance to the nearer direction
+    parallel to the chord (pole of the rho-bound) as scale.
     """
     v1, v2, v3, w1, w2, w3 = vel
+    inf = math.inf
     e0 = d0 - c20 * xc
     ey = -c21
     ez = -c22
@@ -1195,13 +1065,11 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vel, law, bank, tangential, dip, rule):
             oz = sz
     if eps_r >= R:
         eps_r = 0.0
-    o2 = oy * oy + oz * oz
-    cg = (xc, sgn, R, oy, oz, o2, e0, ey, ez, q0, qy, qz, eps_r)
+    sg = (xc, sgn, R, oy, oz, oy * oy + oz * oz, e0, ey, ez, q0, qy, qz, eps_r)
     ce = _chord_corners(e0, ey, ez, R, oy, oz)
     cd = _chord_corners(q0, qy, qz, R, oy, oz)
-    # intersection of the two chord lines, when inside the disk
     cx = _NAN
-    ex = math.inf
+    ex = inf
     det = ey * qz - ez * qy
     if det != 0.0:
         py = (-e0 * qz + ez * q0) / det
@@ -1212,79 +1080,17 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vel, law, bank, tangential, dip, rule):
             pq = math.atan2(qz, qy) + 0.5 * math.pi
             ex = min(_adist(cx, (_wrap(pe), _wrap(pe + math.pi))),
                      _adist(cx, (_wrap(pq), _wrap(pq + math.pi))))
-    bps = (ce[0], ce[1], cd[0], cd[1], cx)
-    eps = (ce[2], ce[3], cd[2], cd[3], ex)
-
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    cur = 0.0
-    e_cur = math.inf
-    trig = rule[5]
-    while cur < _TWO_PI:
-        nxt, e_nxt = _next_break(bps, eps, cur)
-        width = nxt - cur
-        grade_a = e_cur < trig * width
-        grade_b = e_nxt < trig * width
-        if grade_a and grade_b:
-            mid = 0.5 * (cur + nxt)
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, mid, e_cur, cg, vel, law, bank, rule)
-            k1, k2, k3, l1, l2, l3 = _cap_graded(nxt, mid, e_nxt, cg, vel, law, bank, rule)
-            g1 += k1
-            g2 += k2
-            g3 += k3
-            h1 += l1
-            h2 += l2
-            h3 += l3
-        elif grade_a:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, e_cur, cg, vel, law, bank, rule)
-        elif grade_b:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(nxt, cur, e_nxt, cg, vel, law, bank, rule)
-        else:
-            g1, g2, g3, h1, h2, h3 = _cap_graded(cur, nxt, 0.0, cg, vel, law, bank, rule)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-        cur = nxt
-        e_cur = e_nxt
-    return f1, f2, f3, m1, m2, m3
+    n = _NAN
+    bps = (ce[0], ce[1], cd[0], cd[1], cx, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n,
+           n, n, n, n, n, n)
+    eps = (ce[2], ce[3], cd[2], cd[3], ex, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf,
+           inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
+    return sg, bps, eps
 
 
-@kernel
-def _law(p, diameter, water_density, gravity):
-    """Tuple of the traction-law constants used by _traction (see its docstring)."""
-    model = int(p[P_SED_RESISTANCE])
-    if model < 0 or model > 2:
-        model = RES_DELTA
-    n0 = p[P_SED_NC]
-    if not (n0 > 0.0):
-        n0 = math.pi + 2.0  # Prandtl (1920)
-    return (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-            p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, water_density, gravity,
-            p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
-            int(p[P_SED_PROFILE]))
-
-
-@kernel
-def _dip_params(law, L, R, w1, w2, w3):
-    """(mode, floor, limit) of the speed dip of the rate factor: mode 0 none; 1 impact35
-    (G falls from A to 1 over |v| ~ V_rest: resolved where v_min < DIP_SPEEDS V_rest,
-    down to |v| ~ V_rest/4); 2 semilog (log singularity at |v| -> 0, clipped at
-    |v| = d rate_ref; resolved where v_min is below 5 % of the rotation speed scale)."""
-    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
-        return 1, 0.25 * law[3], DIP_SPEEDS * law[3]
-    if law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
-        wn = math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
-        return 2, law[8] * law[5], 0.05 * wn * (L + R)
-    return 0, 0.0, 0.0
-
-
+# =============================================================================
+# whole surface
+# =============================================================================
 @kernel
 def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law, bank,
                       lateral_rule, cap_rule):
@@ -1294,27 +1100,50 @@ def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law,
     xb = 0.5 * L - chi
     rperp = math.sqrt(c21 * c21 + c22 * c22)
     tangential = law[6] != 0.0
-    dip = _dip_params(law, L, R, w1, w2, w3)
+    # speed dip of the rate factor: (mode, floor, limit). impact35: G falls from A to 1
+    # over |v| ~ V_rest, resolved where v_min < DIP_SPEEDS V_rest, down to V_rest/4;
+    # semilog: log singularity at |v| -> 0 (clipped at d rate_ref), resolved where v_min
+    # is below 5 % of the rotation speed scale.
+    dip = (0, 0.0, 0.0)
+    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
+        dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
+    elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
+        dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
     geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
     vel = (v1, v2, v3, w1, w2, w3)
-    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator
+    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
     fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
     fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
     ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
-    f1, f2, f3, m1, m2, m3 = _lateral(geo, fe, fd, ft, law, bank, tangential, dip,
-                                      lateral_rule)
-    # end caps (embedded when their lowest rim point is below the seabed)
-    for k in range(2):
-        xc = xb if k == 0 else xa
-        if d0 - c20 * xc + R * rperp > 0.0:
-            g1, g2, g3, h1, h2, h3 = _cap(xc, 1.0 if k == 0 else -1.0, R, d0, c20, c21, c22,
-                                          vel, law, bank, tangential, dip, cap_rule)
-            f1 += g1
-            f2 += g2
-            f3 += g3
-            m1 += h1
-            m2 += h2
-            m3 += h3
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    for surf in range(3):
+        if surf == 0:
+            bps, eps, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
+            sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            kind = 0
+            rule = lateral_rule
+        else:
+            # end caps, when their lowest rim point is below the seabed
+            xc = xb if surf == 1 else xa
+            if not (d0 - c20 * xc + R * rperp > 0.0):
+                continue
+            sg, bps, eps = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21, c22,
+                                       vel, tangential, dip)
+            kind = 1
+            rule = cap_rule
+        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential,
+                                          dip, rule, bps, eps, vtol)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
     return f1, f2, f3, m1, m2, m3
 
 
@@ -1353,7 +1182,17 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
     v2 = rot[1] * vel[0] + rot[4] * vel[1] + rot[7] * vel[2]
     v3 = rot[2] * vel[0] + rot[5] * vel[1] + rot[8] * vel[2]
     diameter = 2.0 * R
-    law = _law(p, diameter, water_density, gravity)
+    model = int(p[P_SED_RESISTANCE])
+    if model < 0 or model > 2:
+        model = RES_DELTA
+    n0 = p[P_SED_NC]
+    if not (n0 > 0.0):
+        n0 = math.pi + 2.0  # Prandtl (1920)
+    # constants of the traction law (see _traction)
+    law = (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
+           p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, water_density, gravity,
+           p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
+           int(p[P_SED_PROFILE]))
     f1, f2, f3, m1, m2, m3 = _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3,
                                                omega[0], omega[1], omega[2], law,
                                                sediment_bank, LATERAL_RULE, CAP_RULE)

@@ -27,9 +27,9 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels import status as st
 from mineburial.kernels.dynamics import (I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG, N_EXT, N_WORK,
-                                         derivatives)
+                                         derivatives, held_by_sediment)
 from mineburial.kernels.geometry import burial_measures, vertical_extent
-from mineburial.kernels.layout import (N_SUMMARY, P_CHI, P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR,
+from mineburial.kernels.layout import (N_SUMMARY, P_CHI, P_MASS, P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR,
                                        P_LENGTH, P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
                                        P_REST_SPEED, P_REST_SPIN, P_TMAX, P_U0, P_V0, P_W0, P_X0,
                                        P_Y0, P_Z0, S_BURIAL_AREA, S_BURIAL_HEIGHT, S_BURIAL_VOLUME,
@@ -52,6 +52,7 @@ N_EVENTS = 4
 MAX_STEPS = 50_000_000
 EVENT_TIME_TOLERANCE = 1e-9   # s: crossing times are located to this accuracy
 DOMAIN_RADIUS = 1e5           # m: a drop that drifts further has left the domain
+REST_TIME = 0.1               # s: force tolerance of the rest test is mass * rest_speed / REST_TIME
 
 
 @kernel
@@ -300,9 +301,13 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
                 max_decel = acc
             speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
             spin = math.sqrt(y[10] * y[10] + y[11] * y[11] + y[12] * y[12])
+            # seed 000 eq. (89) as a speed criterion, plus a test that the sediment can
+            # hold the mine there: one at a turning point of an oscillation is
+            # momentarily slow but not at rest
             if speed < rest_speed and spin < rest_spin:
-                status = st.AT_REST
-                break
+                if held_by_sediment(y, p, sed_bank, p[P_MASS] * rest_speed / REST_TIME):
+                    status = st.AT_REST
+                    break
         if y[2] > z_release + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:
             status = st.LEFT_DOMAIN
             break

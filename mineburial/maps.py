@@ -1,0 +1,906 @@
+"""Operational burial-probability maps: one ensemble per cell of an environment grid.
+
+An *environment grid* (NetCDF, format in docs/maps.md) gives per cell the water depth,
+the seabed sediment (a catalogue class or linear-profile values) and optionally the
+current. For every water cell, the ensemble scenario with that cell's environment
+overriding the corresponding fields is run with ``n`` drops and a seed derived from
+the map seed and the cell index (:func:`cell_seed`); the per-cell statistics
+(:func:`mineburial.ensembles.statistics.burial_statistics`) are gathered into one
+CF-1.11 map (:func:`run_map`), optionally drawn for a planner (:func:`plot_map`).
+
+A cell's statistics are exactly those of ``run_ensemble(cell scenario, n, seed=cell
+seed)``: the map only decides which scenario and seed each cell gets. Chunks of all
+cells are spread over a dask cluster as one flat list of tasks
+(:func:`mineburial.ensembles.distributed.run_tasks_distributed`), and with an output
+path the finished chunks are kept in ``MAP.nc.parts/cell-<index>.parts/`` (the engine's
+chunk files) so an interrupted map resumes.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import hashlib
+import json
+import math
+import pathlib
+import shutil
+import time
+from typing import Mapping
+
+import numpy as np
+import xarray as xr
+
+from mineburial import config as cfg
+from mineburial.ensembles import engine
+from mineburial.sediment_profiles import class_names, unknown_name_message
+
+__all__ = ["MapError", "EnvironmentGrid", "read_environment", "cell_seed", "cell_scenario",
+           "run_map", "plot_map", "run_map_cli", "MAP_OUTPUTS", "CELL_STATUS_MEANINGS"]
+
+#: summary outputs whose mean, standard deviation and quantiles go into the map
+MAP_OUTPUTS = ("burial_volume", "penetration_depth")
+#: statistics variables copied per cell (plus the class dimension and status ones)
+_CELL_VARIABLES = ("burial_class_count", "burial_class_probability",
+                   "burial_class_probability_lower", "burial_class_probability_upper",
+                   "status_count") + tuple(f"{o}_{s}" for o in MAP_OUTPUTS
+                                           for s in ("mean", "std", "quantile"))
+#: codes of the per-cell variable ``cell_status``
+CELL_COMPUTED, CELL_LAND, CELL_NO_SEDIMENT = 0, 1, 2
+CELL_STATUS_MEANINGS = ("computed", "land_or_no_water_depth", "no_sediment_data")
+
+_SEDIMENT_PARAMS = {"sediment_density": "density", "sediment_density_gradient": "density_gradient",
+                    "sediment_strength": "strength",
+                    "sediment_strength_gradient": "strength_gradient"}
+_SEDIMENT_KEYS = ("class", "profile", "file", "density", "density_gradient", "strength",
+                  "strength_gradient")
+_METRE = {"m", "meter", "meters", "metre", "metres"}
+_SPEED = {"m s-1", "m/s", "m s^-1", "m.s-1", "meter second-1", "m s**-1"}
+_DEGREE = {"degree", "degrees", "degree_true", "degrees_true", "deg"}
+_SEED_TAG = "mineburial-map-cell"
+
+
+class MapError(cfg.ScenarioError):
+    """A problem with an environment grid or a map run (message names variable/cell)."""
+
+
+# ---------------------------------------------------------------------------
+# environment grid
+# ---------------------------------------------------------------------------
+@dataclasses.dataclass
+class EnvironmentGrid:
+    """An environment grid read by :func:`read_environment` (arrays of shape (ny, nx))."""
+    ds: xr.Dataset                 # the grid as read (2-D variables, squeezed)
+    ydim: str
+    xdim: str
+    geographic: bool               # latitude/longitude axes (else projected y/x)
+    grid_mapping: str | None       # name of the grid-mapping variable, if any
+    water_depth: np.ndarray        # m, NaN on land
+    sediment_class: np.ndarray | None   # object array of class names (None: missing)
+    sediment_params: dict | None   # scenario key ('density', ...) -> array
+    current_u: np.ndarray | None   # m s-1 towards the east (scenario x)
+    current_v: np.ndarray | None   # m s-1 towards the north (scenario y)
+    source: str = ""
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.water_depth.shape
+
+    def cell_status(self) -> np.ndarray:
+        """int8 (ny, nx): 0 computed, 1 land / no water depth, 2 no sediment data."""
+        st = np.full(self.shape, CELL_COMPUTED, dtype=np.int8)
+        land = ~(np.isfinite(self.water_depth) & (self.water_depth > 0))
+        if self.sediment_class is not None:
+            nosed = np.vectorize(lambda v: v is None, otypes=[bool])(self.sediment_class)
+        else:
+            nosed = np.zeros(self.shape, dtype=bool)
+            for arr in self.sediment_params.values():
+                nosed |= ~np.isfinite(arr)
+        st[nosed] = CELL_NO_SEDIMENT
+        st[land] = CELL_LAND
+        return st
+
+
+def _units(da) -> str:
+    return " ".join(str(da.attrs.get("units", "")).split()).lower()
+
+
+def _is_axis(da, kind: str) -> bool:
+    """Whether coordinate ``da`` is a latitude ('lat'), longitude ('lon'), projected y or x."""
+    sn = str(da.attrs.get("standard_name", "")).lower()
+    u = _units(da)
+    name = str(da.name).lower()
+    if kind == "lat":
+        return sn == "latitude" or u in ("degrees_north", "degree_north", "degree_n",
+                                         "degrees_n") or name in ("lat", "latitude")
+    if kind == "lon":
+        return sn == "longitude" or u in ("degrees_east", "degree_east", "degree_e",
+                                          "degrees_e") or name in ("lon", "longitude")
+    if kind == "y":
+        return sn == "projection_y_coordinate" or str(da.attrs.get("axis", "")).upper() == "Y" \
+            or name == "y"
+    return sn == "projection_x_coordinate" or str(da.attrs.get("axis", "")).upper() == "X" \
+        or name == "x"
+
+
+def _field(ds, name, dims):
+    if name not in ds:
+        return None
+    da = ds[name]
+    extra = [d for d in da.dims if d not in dims]
+    for d in extra:
+        if da.sizes[d] != 1:
+            raise MapError(f"environment variable '{name}' has the extra dimension '{d}' of "
+                           f"size {da.sizes[d]}; give one 2-D field over {dims}")
+        da = da.isel({d: 0})
+    if set(da.dims) != set(dims):
+        raise MapError(f"environment variable '{name}' has dimensions {da.dims}; expected {dims}")
+    return da.transpose(*dims)
+
+
+def _check_units(da, allowed, want, name):
+    u = _units(da)
+    if u not in allowed:
+        raise MapError(f"environment variable '{name}' has units '{da.attrs.get('units', '')}'; "
+                       f"expected {want}")
+
+
+def read_environment(source) -> EnvironmentGrid:
+    """Read and check an environment grid (path or :class:`xarray.Dataset`); docs/maps.md.
+
+    Horizontal axes: 1-D ``latitude``/``longitude`` (CF attributes) or projected ``y``/``x``
+    (``standard_name`` ``projection_*_coordinate``) with a ``grid_mapping`` variable.
+    Variables: ``water_depth`` (m, NaN or <= 0 on land); ``sediment_class`` (integer codes
+    named by ``flag_values``/``flag_meanings``, or indexes into a ``labels`` attribute,
+    naming catalogue classes) or ``sediment_density``, ``sediment_strength``,
+    ``sediment_strength_gradient`` (+ optional ``sediment_density_gradient``); optional
+    ``current_u``/``current_v`` (eastward/northward, m s-1) or ``current_speed`` (m s-1)
+    with ``current_direction`` (degrees clockwise from north, direction *towards* which the
+    water flows, as CF ``direction_of_sea_water_velocity``).
+    """
+    label = ""
+    if isinstance(source, xr.Dataset):
+        ds = source
+    else:
+        path = pathlib.Path(source)
+        if not path.exists():
+            raise FileNotFoundError(f"environment grid '{path}' does not exist")
+        try:
+            with xr.open_dataset(path) as opened:
+                ds = opened.load()
+        except (OSError, ValueError) as exc:
+            raise MapError(f"cannot read environment grid '{path}' as NetCDF: {exc}") from None
+        label = str(path)
+    if "water_depth" not in ds:
+        raise MapError("environment grid: the variable 'water_depth' (m) is required; found "
+                       + ", ".join(map(str, ds.data_vars)))
+    wd = ds["water_depth"]
+    dims = tuple(wd.dims)
+    if len(dims) > 2:   # drop size-1 extra dimensions (a single time, a single level)
+        dims = tuple(d for d in dims if wd.sizes[d] != 1 or (d in ds.coords and any(
+            _is_axis(ds[d], k) for k in ("lat", "lon", "y", "x"))))
+    if len(dims) != 2:
+        raise MapError(f"environment grid: 'water_depth' must be a 2-D field (y, x), got "
+                       f"dimensions {wd.dims} with sizes {tuple(wd.shape)}")
+    ydim, xdim = dims
+    for d in dims:
+        if d not in ds.coords:
+            raise MapError(f"environment grid: dimension '{d}' has no coordinate variable")
+    yc, xc = ds[ydim], ds[xdim]
+    if _is_axis(yc, "lon") and _is_axis(xc, "lat"):   # (longitude, latitude) order
+        ydim, xdim = xdim, ydim
+        yc, xc = xc, yc
+    geographic = _is_axis(yc, "lat") and _is_axis(xc, "lon")
+    if not geographic and not (_is_axis(yc, "y") and _is_axis(xc, "x")):
+        raise MapError(f"environment grid: axes '{ydim}', '{xdim}' are neither latitude/longitude "
+                       f"(units degrees_north/degrees_east) nor projected y/x (standard_name "
+                       f"projection_y_coordinate/projection_x_coordinate)")
+    gm = wd.attrs.get("grid_mapping") or wd.encoding.get("grid_mapping")
+    if gm is not None and gm not in ds.variables:
+        raise MapError(f"environment grid: water_depth names the grid_mapping '{gm}', which is "
+                       f"not in the file")
+    if not geographic and gm is None:
+        raise MapError("environment grid: a projected y/x grid needs a grid_mapping variable "
+                       "(CF 5.6) named by the grid_mapping attribute of water_depth")
+    dims = (ydim, xdim)
+    depth_da = _field(ds, "water_depth", dims)
+    _check_units(depth_da, _METRE, "m", "water_depth")
+    depth = np.asarray(depth_da.values, dtype=np.float64)
+
+    sed_class = sed_params = None
+    if "sediment_class" in ds:
+        sed_class = _read_classes(_field(ds, "sediment_class", dims))
+    else:
+        needed = ("sediment_density", "sediment_strength", "sediment_strength_gradient")
+        missing = [k for k in needed if k not in ds]
+        if missing:
+            raise MapError("environment grid: give 'sediment_class' (catalogue class codes) or "
+                           "the linear-profile fields sediment_density (kg m-3), sediment_strength "
+                           "(Pa), sediment_strength_gradient (Pa m-1) [, sediment_density_gradient "
+                           f"(kg m-4)]; missing {', '.join(missing)}")
+        sed_params = {}
+        want = {"sediment_density": ("kg m-3", {"kg m-3", "kg/m3", "kg m^-3", "kg m**-3"}),
+                "sediment_density_gradient": ("kg m-4", {"kg m-4", "kg/m4", "kg m^-4",
+                                                         "kg m**-4"}),
+                "sediment_strength": ("Pa", {"pa"}),
+                "sediment_strength_gradient": ("Pa m-1", {"pa m-1", "pa/m", "pa m^-1",
+                                                          "pa m**-1"})}
+        for name, key in _SEDIMENT_PARAMS.items():
+            if name in ds:
+                da = _field(ds, name, dims)
+                _check_units(da, want[name][1], want[name][0], name)
+                sed_params[key] = np.asarray(da.values, dtype=np.float64)
+
+    cu = cv = None
+    if "current_u" in ds or "current_v" in ds:
+        if not ("current_u" in ds and "current_v" in ds):
+            raise MapError("environment grid: give both current_u and current_v")
+        ua, va = _field(ds, "current_u", dims), _field(ds, "current_v", dims)
+        for da, name in ((ua, "current_u"), (va, "current_v")):
+            _check_units(da, _SPEED, "m s-1", name)
+        cu, cv = np.asarray(ua.values, np.float64), np.asarray(va.values, np.float64)
+    elif "current_speed" in ds or "current_direction" in ds:
+        if not ("current_speed" in ds and "current_direction" in ds):
+            raise MapError("environment grid: give both current_speed and current_direction")
+        sp, di = _field(ds, "current_speed", dims), _field(ds, "current_direction", dims)
+        _check_units(sp, _SPEED, "m s-1", "current_speed")
+        _check_units(di, _DEGREE, "degree (clockwise from north, towards)", "current_direction")
+        speed = np.asarray(sp.values, np.float64)
+        rad = np.radians(np.asarray(di.values, np.float64))
+        cu, cv = speed * np.sin(rad), speed * np.cos(rad)   # towards-direction, clockwise from N
+    return EnvironmentGrid(ds=ds, ydim=ydim, xdim=xdim, geographic=geographic, grid_mapping=gm,
+                           water_depth=depth, sediment_class=sed_class, sediment_params=sed_params,
+                           current_u=cu, current_v=cv, source=label)
+
+
+def _read_classes(da) -> np.ndarray:
+    """Names of the catalogue classes of an integer-coded sediment_class field (None: no data)."""
+    known = class_names()
+    meanings = da.attrs.get("flag_meanings")
+    if meanings is not None:
+        names = str(meanings).split()
+        values = da.attrs.get("flag_values")
+        values = (list(range(len(names))) if values is None
+                  else [int(v) for v in np.atleast_1d(values)])
+        if len(values) != len(names):
+            raise MapError(f"environment grid: sediment_class has {len(values)} flag_values but "
+                           f"{len(names)} flag_meanings")
+        table = dict(zip(values, names))
+    else:
+        labels = da.attrs.get("labels", da.attrs.get("class_names"))
+        if labels is None:
+            raise MapError("environment grid: sediment_class needs flag_values/flag_meanings "
+                           "(CF flags) or a 'labels' attribute naming the catalogue class of each "
+                           f"code; classes: {', '.join(known)}")
+        names = [s.strip() for s in str(labels).replace(",", " ").split()]
+        table = dict(enumerate(names))
+    for name in table.values():
+        if name not in known:
+            raise MapError("environment grid: sediment_class: " + unknown_name_message(
+                "sediment class", name, known))
+    vals = np.asarray(da.values, dtype=np.float64)
+    out = np.full(vals.shape, None, dtype=object)
+    fill = da.attrs.get("_FillValue", da.encoding.get("_FillValue"))
+    for idx in np.ndindex(vals.shape):
+        v = vals[idx]
+        if not np.isfinite(v) or (fill is not None and v == float(fill)):
+            continue
+        name = table.get(int(v))
+        if name is None or v != int(v):
+            raise MapError(f"environment grid: sediment_class value {v:g} at cell {idx} is not "
+                           f"one of the codes {sorted(table)}")
+        out[idx] = name
+    return out
+
+
+# ---------------------------------------------------------------------------
+# per-cell scenario and seed
+# ---------------------------------------------------------------------------
+def cell_seed(seed: int, index: int) -> int:
+    """Seed of cell ``index`` (row-major flat index ``j * nx + i``) of a map with seed
+    ``seed``: the first 8 bytes, little-endian, of SHA-256 of the ASCII text
+    ``"mineburial-map-cell:<seed>:<index>"`` (decimal integers), an integer in [0, 2**64).
+
+    Deterministic, platform independent, and different cells get unrelated streams.
+    """
+    digest = hashlib.sha256(f"{_SEED_TAG}:{int(seed)}:{int(index)}".encode("ascii")).digest()
+    return int.from_bytes(digest[:8], "little")
+
+
+def cell_scenario(raw: Mapping, grid: EnvironmentGrid, j: int, i: int) -> dict:
+    """The scenario dict of cell (j, i): ``raw`` with the cell's environment overriding
+    ``environment.water_depth``, the sediment profile (``sediment.class`` or the linear
+    ``density``/``density_gradient``/``strength``/``strength_gradient``; the resistance
+    options are kept) and, when the grid has a current, the current (``velocity`` of a
+    ``none``/``uniform`` current, ``surface_velocity`` of a ``power_law`` one).
+
+    Overridden fields lose any distribution they had in ``raw``. The sediment density
+    gradient comes from ``sediment_density_gradient`` when the grid has it, else from a
+    fixed linear ``density_gradient`` of the scenario, else 0.
+    """
+    d = copy.deepcopy(dict(raw))
+    d.pop("ensemble", None)
+    env = d.setdefault("environment", {})
+    env["water_depth"] = float(grid.water_depth[j, i])
+    sed = d.setdefault("sediment", {})
+    old_gradient = sed.get("density_gradient")
+    for key in _SEDIMENT_KEYS:
+        sed.pop(key, None)
+    if grid.sediment_class is not None:
+        sed["class"] = str(grid.sediment_class[j, i])
+    else:
+        p = grid.sediment_params
+        for key in ("density", "strength", "strength_gradient"):
+            sed[key] = float(p[key][j, i])
+        if "density_gradient" in p:
+            sed["density_gradient"] = float(p["density_gradient"][j, i])
+        elif isinstance(old_gradient, (int, float)) and not isinstance(old_gradient, bool):
+            sed["density_gradient"] = float(old_gradient)
+        else:
+            sed["density_gradient"] = 0.0
+    if grid.current_u is not None:
+        u, v = float(grid.current_u[j, i]), float(grid.current_v[j, i])
+        if math.isfinite(u) and math.isfinite(v):
+            cur = env.get("current", {"kind": "none"}) or {"kind": "none"}
+            kind = cur.get("kind", "none")
+            if kind == "power_law":
+                new = {"kind": "power_law", "surface_velocity": [u, v]}
+                if "exponent" in cur:
+                    new["exponent"] = cur["exponent"]
+            elif kind in ("none", "uniform"):
+                new = {"kind": "uniform", "velocity": [u, v]}
+            else:
+                raise MapError(f"the environment grid gives a current but the scenario's "
+                               f"current is of kind '{kind}', which a cell value cannot replace; "
+                               f"use kind 'uniform' or 'power_law' (or remove the current from "
+                               f"the grid)")
+            env["current"] = new
+    return d
+
+
+def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
+    y = float(grid.ds[grid.ydim].values[j])
+    x = float(grid.ds[grid.xdim].values[i])
+    if grid.geographic:
+        return f"cell ({j}, {i}) at latitude {y:.5f}, longitude {x:.5f}"
+    return f"cell ({j}, {i}) at {grid.ydim} = {y:g}, {grid.xdim} = {x:g}"
+
+
+# ---------------------------------------------------------------------------
+# the map
+# ---------------------------------------------------------------------------
+def _cell_statistics(spec, results):
+    """Statistics of one cell from its chunk results {(start, stop): dict}."""
+    from mineburial.ensembles.statistics import burial_statistics
+
+    bounds = engine.chunk_bounds(spec.n, spec.chunk_size)
+    summary = np.concatenate([results[b]["summary"] for b in bounds])
+    status = np.concatenate([results[b]["status"] for b in bounds])
+    return burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+
+
+def run_map(scenario, environment, n: int | None = None, seed: int | None = None, *,
+            client=None, output=None, progress: bool = False,
+            chunk_size: int | None = None) -> xr.Dataset:
+    """Burial-probability map: one ensemble of ``n`` drops per water cell of ``environment``.
+
+    Parameters
+    ----------
+    scenario : ensemble scenario (path, dict, Scenario or None for the embedded default).
+    environment : environment grid (path or :class:`xarray.Dataset`, docs/maps.md).
+    n : drops per cell (default: the scenario's ``[ensemble] n``).
+    seed : map seed (default: the scenario's); cell ``k`` (row-major index) runs with
+        :func:`cell_seed` ``(seed, k)``.
+    client : dask.distributed.Client, optional: all (cell, chunk) tasks go to its cluster.
+    output : path, optional: write the map there (NetCDF, atomically); finished chunks
+        are kept in ``OUTPUT.parts/`` until then, so an interrupted map resumes.
+    progress : print rate-limited progress lines (drops over all cells) to stderr.
+    chunk_size : drops per chunk (default: the scenario's ``[ensemble] chunk_size``).
+
+    Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
+    """
+    from mineburial import __version__
+    from mineburial.ensembles.sampling import check_drop_count
+
+    base_dir = None
+    if isinstance(scenario, (str, pathlib.Path)):
+        base_dir = pathlib.Path(scenario).resolve().parent
+    base = engine.load_ensemble(scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False,
+                                base_dir=base_dir)
+    if base.sampling == "sobol":
+        check_drop_count(base.n, "sobol")
+    grid = read_environment(environment)
+    status = grid.cell_status()
+    ny, nx = grid.shape
+    raw = copy.deepcopy(base.raw)
+
+    specs: dict[int, engine.EnsembleSpec] = {}
+    for j in range(ny):
+        for i in range(nx):
+            if status[j, i] != CELL_COMPUTED:
+                continue
+            k = j * nx + i
+            try:
+                specs[k] = engine.load_ensemble(
+                    cell_scenario(raw, grid, j, i), n=base.n, seed=cell_seed(base.seed, k),
+                    sampling=base.sampling, chunk_size=base.chunk_size, per_drop=False,
+                    class_basis=base.class_basis, base_dir=base_dir)
+            except cfg.ScenarioError as exc:
+                raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
+
+    # --- resume: per-cell chunk files ------------------------------------------------
+    root = None
+    parts: dict[int, pathlib.Path | None] = {k: None for k in specs}
+    results: dict[int, dict] = {k: {} for k in specs}
+    if output is not None:
+        out = pathlib.Path(output)
+        root = out.with_name(out.name + ".parts")
+        root.mkdir(parents=True, exist_ok=True)
+        for k, spec in specs.items():
+            parts[k] = engine._prepare_parts(spec, root / f"cell-{k:09d}")
+            for s, e in engine.chunk_bounds(spec.n, spec.chunk_size):
+                path = engine._chunk_path(parts[k], s, e)
+                if path.exists():
+                    results[k][(s, e)] = engine.load_chunk(path)
+
+    # --- output arrays ------------------------------------------------------------------
+    template = _cell_statistics_template(base)
+    arrays = {}
+    for name in _CELL_VARIABLES:
+        da = template[name]
+        fill = 0 if da.dtype.kind in "iu" else np.nan
+        arrays[name] = np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
+
+    def reduce(k):
+        st = _cell_statistics(specs[k], results.pop(k))
+        j, i = divmod(k, nx)
+        for name in _CELL_VARIABLES:
+            arrays[name][..., j, i] = st[name].values
+
+    n_chunks = {k: len(engine.chunk_bounds(s.n, s.chunk_size)) for k, s in specs.items()}
+    total = base.n * len(specs)
+    done = sum(int(e - s) for r in results.values() for s, e in r)
+    bar = engine.Progress(total, enabled=progress)
+    bar.update(done)
+    todo = [(k, specs[k], s, e, parts[k]) for k in specs
+            for s, e in engine.chunk_bounds(specs[k].n, specs[k].chunk_size)
+            if (s, e) not in results[k]]
+    for k in list(specs):
+        if len(results[k]) == n_chunks[k]:
+            reduce(k)
+    if client is not None:
+        from mineburial.ensembles.distributed import run_tasks_distributed
+
+        stream = ((k, b, r) for k, b, r in run_tasks_distributed(client, todo))
+    else:
+        stream = _run_local(todo)
+    for k, bounds, res in stream:
+        results[k][bounds] = res
+        done += bounds[1] - bounds[0]
+        bar.update(done)
+        if len(results[k]) == n_chunks[k]:
+            reduce(k)
+    bar.update(done, final=True)
+
+    if isinstance(scenario, (str, pathlib.Path)):
+        scenario_name = pathlib.Path(scenario).stem
+    else:
+        scenario_name = base.base.mine.name
+    ds = _assemble(grid, status, arrays, template, base, __version__)
+    ds.attrs["scenario_name"] = scenario_name
+    if output is not None:
+        from mineburial.io.netcdf import write_netcdf
+
+        write_netcdf(ds, output)
+        shutil.rmtree(root, ignore_errors=True)
+    return ds
+
+
+def _run_local(todo):
+    for k, spec, s, e, parts in todo:
+        res = engine.compute_chunk(spec, s, e)
+        if parts is not None:
+            engine.save_chunk(parts, res)
+        yield k, (s, e), res
+
+
+def _cell_statistics_template(spec) -> xr.Dataset:
+    """Statistics of an empty cell: the shapes, coordinates and attributes of the map
+    variables (every value NaN / 0)."""
+    from mineburial.ensembles.statistics import burial_statistics
+    from mineburial.kernels import layout
+
+    return burial_statistics(np.empty((0, layout.N_SUMMARY)), np.empty(0, dtype=np.int8),
+                             class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+
+
+def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
+    """Coordinate DataArrays of the map and the names of auxiliary lat/lon coordinates."""
+    ds = grid.ds
+    coords: dict[str, xr.DataArray] = {}
+    for dim in (grid.ydim, grid.xdim):
+        c = ds[dim]
+        attrs = {k: v for k, v in c.attrs.items() if k not in ("_FillValue",)}
+        coords[dim] = xr.DataArray(np.asarray(c.values), dims=(dim,), attrs=attrs)
+    if grid.geographic:
+        coords[grid.ydim].attrs.setdefault("standard_name", "latitude")
+        coords[grid.ydim].attrs.setdefault("units", "degrees_north")
+        coords[grid.ydim].attrs.setdefault("axis", "Y")
+        coords[grid.xdim].attrs.setdefault("standard_name", "longitude")
+        coords[grid.xdim].attrs.setdefault("units", "degrees_east")
+        coords[grid.xdim].attrs.setdefault("axis", "X")
+        return coords, []
+    aux = []
+    lat = lon = None
+    for name in ds.coords:
+        c = ds[name]
+        if c.ndim == 2 and set(c.dims) == {grid.ydim, grid.xdim}:
+            if _is_axis(c, "lat"):
+                lat = c.transpose(grid.ydim, grid.xdim)
+            elif _is_axis(c, "lon"):
+                lon = c.transpose(grid.ydim, grid.xdim)
+    if lat is None or lon is None:
+        lat, lon = _latlon_from_projection(grid)
+    if lat is not None:
+        lat, lon = np.asarray(getattr(lat, "values", lat)), np.asarray(getattr(lon, "values", lon))
+        coords["latitude"] = xr.DataArray(lat, dims=(grid.ydim, grid.xdim), attrs={
+            "standard_name": "latitude", "long_name": "latitude", "units": "degrees_north"})
+        coords["longitude"] = xr.DataArray(lon, dims=(grid.ydim, grid.xdim), attrs={
+            "standard_name": "longitude", "long_name": "longitude", "units": "degrees_east"})
+        aux = ["latitude", "longitude"]
+    return coords, aux
+
+
+def _latlon_from_projection(grid: EnvironmentGrid):
+    """2-D latitude/longitude of a projected grid from its grid mapping (needs pyproj)."""
+    try:
+        import pyproj
+    except ImportError:
+        return None, None
+    try:
+        crs = pyproj.CRS.from_cf(dict(grid.ds[grid.grid_mapping].attrs))
+        tr = pyproj.Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
+    except Exception:   # pragma: no cover - an exotic mapping pyproj cannot read
+        return None, None
+    y = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
+    x = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
+    xx, yy = np.meshgrid(x, y)
+    lon, lat = tr.transform(xx, yy)
+    return np.asarray(lat), np.asarray(lon)
+
+
+def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
+    from mineburial.io import netcdf as ncio
+    from mineburial.io import variables as V
+
+    ny, nx = grid.shape
+    hdims = (grid.ydim, grid.xdim)
+    coords, aux = _horizontal_coords(grid)
+    extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
+    data: dict[str, xr.DataArray] = {}
+    for name in _CELL_VARIABLES:
+        t = template[name]
+        attrs = {k: v for k, v in t.attrs.items() if k != "sample_size"}
+        attrs.update(extra)
+        attrs["coverage_content_type"] = ("qualityInformation" if name == "status_count"
+                                          else "modelResult")
+        if name.endswith(("_mean", "_std", "_quantile")):
+            attrs["comment"] = attrs.get("comment", "") + (
+                " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
+                "where no drop came to rest, or (std) where fewer than 2 did.")
+        da = xr.DataArray(arrays[name], dims=t.dims + hdims, attrs=attrs)
+        da.encoding.update(t.encoding)
+        data[name] = da
+    for name in ("burial_class_lower_percent", "burial_class_upper_percent"):
+        data[name] = template[name].copy()
+
+    # most likely class, and the per-cell status
+    prob = arrays["burial_class_probability"]
+    finite = np.isfinite(prob).all(axis=0)
+    likely = np.where(finite, np.argmax(np.where(np.isfinite(prob), prob, -1.0), axis=0), -1)
+    data["most_likely_burial_class"] = xr.DataArray(
+        likely.astype(np.int8), dims=hdims, attrs={
+            "long_name": "most likely impact-burial class",
+            "flag_values": np.arange(-1, 5, dtype=np.int8),
+            "flag_meanings": "no_data " + " ".join(V.BURIAL_CLASS_MEANINGS),
+            "comment": "Class with the highest burial_class_probability in the cell (the lower "
+                       "class on ties); -1 where the cell was not computed or no drop came to "
+                       "rest.", "coverage_content_type": "modelResult", **extra})
+    data["cell_status"] = xr.DataArray(
+        status, dims=hdims, attrs={
+            "long_name": "status of the map cell",
+            "flag_values": np.arange(3, dtype=np.int8),
+            "flag_meanings": " ".join(CELL_STATUS_MEANINGS),
+            "comment": "0: an ensemble was run; 1: land (water depth missing or <= 0), skipped; "
+                       "2: no sediment data, skipped.",
+            "coverage_content_type": "qualityInformation", **extra})
+    seeds = np.zeros((ny, nx), dtype=np.uint64)
+    for j in range(ny):
+        for i in range(nx):
+            if status[j, i] == CELL_COMPUTED:
+                seeds[j, i] = cell_seed(base.seed, j * nx + i)
+    data["cell_seed"] = xr.DataArray(seeds, dims=hdims, attrs={
+        "long_name": "random seed of the cell's ensemble",
+        "comment": "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-cell:<seed>:<k>' "
+                   "with <seed> the global attribute random_seed and k = row * n_columns + column; "
+                   "rerun a cell with mineburial run --seed <cell_seed>. 0 for skipped cells.",
+        "coverage_content_type": "auxiliaryInformation", **extra})
+    depth = np.where(status == CELL_LAND, np.nan, grid.water_depth)
+    data["water_depth"] = xr.DataArray(depth, dims=hdims, attrs={
+        "standard_name": "sea_floor_depth_below_sea_surface", "long_name": "water depth",
+        "units": "m", "comment": "Water depth of the cell used by its ensemble (from the "
+        "environment grid).", "coverage_content_type": "referenceInformation", **extra})
+    if grid.sediment_class is not None:
+        names = class_names()
+        codes = np.full((ny, nx), -1, dtype=np.int8)
+        for (j, i), v in np.ndenumerate(grid.sediment_class):
+            if v is not None:
+                codes[j, i] = names.index(v)
+        da = xr.DataArray(codes, dims=hdims, attrs={
+            "long_name": "seabed sediment class", "flag_values": np.arange(len(names),
+                                                                           dtype=np.int8),
+            "flag_meanings": " ".join(names),
+            "comment": "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
+            "coverage_content_type": "referenceInformation", **extra})
+        da.encoding["_FillValue"] = np.int8(-1)
+        data["sediment_class"] = da
+    else:
+        units = {"density": "kg m-3", "density_gradient": "kg m-4", "strength": "Pa",
+                 "strength_gradient": "Pa m-1"}
+        for key, arr in grid.sediment_params.items():
+            data[f"sediment_{key}"] = xr.DataArray(arr, dims=hdims, attrs={
+                "long_name": f"seabed sediment {key.replace('_', ' ')} at the seabed"
+                if key in ("density", "strength") else f"seabed sediment {key.replace('_', ' ')}",
+                "units": units[key], "coverage_content_type": "referenceInformation", **extra})
+    if grid.current_u is not None:
+        for name, arr, sn in (("current_u", grid.current_u, "eastward_sea_water_velocity"),
+                              ("current_v", grid.current_v, "northward_sea_water_velocity")):
+            data[name] = xr.DataArray(arr, dims=hdims, attrs={
+                "standard_name": sn, "units": "m s-1",
+                "long_name": f"{sn.split('_')[0]} current",
+                "comment": "Current used by the cell's ensemble (E-frame x = east, y = north).",
+                "coverage_content_type": "referenceInformation", **extra})
+    if grid.grid_mapping:
+        g = grid.ds[grid.grid_mapping]
+        data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
+    ds = xr.Dataset(data, coords={**{c: template[c] for c in ("quantile", "impact_burial_class",
+                                                                "status_code")}, **coords})
+    for name, da in data.items():
+        ds[name].encoding.update(da.encoding)
+    for c in ("quantile", "impact_burial_class", "status_code"):
+        ds[c].encoding.update(template[c].encoding)
+    ds.attrs = _global_attrs(grid, status, base, version, ncio)
+    return ds
+
+
+def _global_attrs(grid, status, base, version, ncio) -> dict:
+    created = ncio._utc_now()
+    resolved = base.resolved()
+    overridden = ["environment.water_depth",
+                  "sediment.class" if grid.sediment_class is not None else
+                  "sediment.density, sediment.density_gradient, sediment.strength, "
+                  "sediment.strength_gradient"]
+    if grid.current_u is not None:
+        overridden.append("environment.current")
+    resolved["map"] = {
+        "environment": grid.source or "xarray.Dataset",
+        "environment_title": str(grid.ds.attrs.get("title", "")),
+        "overridden_per_cell": overridden,
+        "drops_per_cell": base.n,
+        "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
+                           "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
+    }
+    scen = ncio.scenario_json(resolved)
+    n_cells = int(status.size)
+    n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
+    ident = json.dumps([scen, str(base.seed), base.n, version, grid.source])
+    name = base.base.mine.name
+    line = (f"{created} mineburial {version}: burial map over {grid.source or 'a grid'}, "
+            f"{base.n} drops in each of {n_comp} cells, seed {base.seed}")
+    attrs = {
+        "Conventions": ncio.CONVENTIONS,
+        "title": f"mineburial impact-burial probability map: {name}",
+        "summary": ("Map of the Monte Carlo prediction of naval mine impact burial: for every "
+                    "water cell of an environment grid (water depth, seabed sediment, current) an "
+                    f"ensemble of {base.n} drops of the scenario with the cell's environment was "
+                    "computed with mineburial (numba-compiled rigid-body impact-burial model after "
+                    "Chu and Fan 2006, IMPACT35). Per cell: probabilities of the impact-burial "
+                    "classes 0 %, 0-10 %, 10-20 %, 20-75 %, > 75 % with Wilson 95 % intervals, the "
+                    "most likely class, mean, standard deviation and quantiles of burial by volume "
+                    "and penetration depth, and the count of every drop status."),
+        "keywords": ncio.KEYWORDS + ", map, grid",
+        "id": "mineburial-map-" + hashlib.sha256(ident.encode()).hexdigest()[:16],
+        "history": line,
+        "date_created": created,
+        "product_version": str(version),
+        "source": f"mineburial {version} (numba-compiled Monte Carlo impact-burial model)",
+        "processing_level": "model output: Monte Carlo ensemble statistics per grid cell",
+        "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
+        "references": ncio.REFERENCES,
+        "comment": ("Statistics use only drops with status at_rest; status_count gives the number "
+                    "of drops with every status code per cell. Skipped cells (cell_status != 0) "
+                    "hold NaN and zero counts. Format: docs/maps.md of the mineburial sources."),
+        "cdm_data_type": "Grid",
+        "scenario": scen,
+        "random_seed": ncio._seed_attr(base.seed),
+        "seed_derivation": resolved["map"]["seed_derivation"],
+        "sampling_method": base.sampling,
+        "mineburial_version": str(version),
+        "n_drops_per_cell": np.int64(base.n),
+        "n_cells": np.int64(n_cells),
+        "n_cells_computed": np.int64(n_comp),
+        "n_cells_land": np.int64(np.count_nonzero(status == CELL_LAND)),
+        "n_cells_no_sediment": np.int64(np.count_nonzero(status == CELL_NO_SEDIMENT)),
+        "burial_class_basis": base.class_basis,
+        "environment_source": grid.source or "xarray.Dataset",
+    }
+    if grid.geographic:
+        lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
+        lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
+        attrs.update(geospatial_lat_min=float(lat.min()), geospatial_lat_max=float(lat.max()),
+                     geospatial_lon_min=float(lon.min()), geospatial_lon_max=float(lon.max()),
+                     geospatial_lat_units="degrees_north", geospatial_lon_units="degrees_east")
+    return ncio._clean_attrs(attrs)
+
+
+# ---------------------------------------------------------------------------
+# plot
+# ---------------------------------------------------------------------------
+#: colours of the impact-burial classes 0..4 (ColorBrewer YlOrRd, 5 classes: colour-blind
+#: safe, darker = deeper burial)
+CLASS_COLOURS = ("#ffffb2", "#fecc5c", "#fd8d3c", "#f03b20", "#bd0026")
+_CLASS_LABELS = ("0 % (not buried)", "0-10 %", "10-20 %", "20-75 %", "> 75 %")
+_LAND_COLOUR = "#c8b48c"
+_NODATA_COLOUR = "#d9d9d9"
+
+
+def _import_matplotlib():
+    """matplotlib's Figure class (no pyplot: the caller's backend and state are untouched)."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise MapError("drawing the map needs matplotlib, an optional dependency: "
+                       "pip install 'mineburial[plot]' (or pip install matplotlib)") from None
+    return Figure
+
+
+def _cell_edges(c: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """Cell edges from cell centres (midpoints; the end cells mirrored). A single centre
+    gets the spacing of the other axis (or 1)."""
+    if c.size > 1:
+        mid = 0.5 * (c[:-1] + c[1:])
+        return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
+    step = float(np.abs(np.diff(other)).mean()) if other.size > 1 else 1.0
+    return np.array([c[0] - 0.5 * step, c[0] + 0.5 * step])
+
+
+def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
+    """Draw a map produced by :func:`run_map` to a PNG for a planner.
+
+    Left: the most likely impact-burial class per cell in class colours (legend), with
+    its probability written in each cell of small grids; right: P(burial > 75 %) as a
+    colour map with a colour bar. Land is drawn tan, water cells without a result grey.
+    Needs matplotlib (the optional extra ``plot``).
+    """
+    Figure = _import_matplotlib()
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    cs = ds["cell_status"]
+    ydim, xdim = cs.dims
+    y = np.asarray(ds[ydim].values, dtype=np.float64)
+    x = np.asarray(ds[xdim].values, dtype=np.float64)
+    ye, xe = _cell_edges(y, x), _cell_edges(x, y)
+    geographic = _is_axis(ds[ydim], "lat")
+    status = cs.values
+    likely = ds["most_likely_burial_class"].values.astype(float)
+    prob = ds["burial_class_probability"].values
+    p75 = prob[4]
+    likely_p = np.take_along_axis(np.where(np.isfinite(prob), prob, 0.0),
+                                  np.clip(likely, 0, 4).astype(int)[None], axis=0)[0]
+    land = (status == CELL_LAND).astype(float)
+    nodata = ((status != CELL_LAND) & (likely < 0)).astype(float)
+
+    def mesh(ax, values, **kw):
+        return ax.pcolormesh(xe, ye, values, shading="flat", **kw)
+
+    fig = Figure(figsize=(13.0, 6.8), layout="constrained")
+    gs = fig.add_gridspec(2, 2, height_ratios=(1.0, 0.16))
+    axes = (fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[0, 1]))
+    legend_ax = fig.add_subplot(gs[1, 0])
+    legend_ax.axis("off")
+    cbar_gs = gs[1, 1].subgridspec(2, 3, width_ratios=(0.1, 0.8, 0.1), height_ratios=(0.3, 0.7))
+    cax = fig.add_subplot(cbar_gs[0, 1])
+    if geographic:
+        xlabel, ylabel = "longitude (degrees east)", "latitude (degrees north)"
+    else:
+        xlabel = f"{ds[xdim].attrs.get('long_name', xdim)} ({ds[xdim].attrs.get('units', '')})"
+        ylabel = f"{ds[ydim].attrs.get('long_name', ydim)} ({ds[ydim].attrs.get('units', '')})"
+
+    def background(ax):
+        mesh(ax, np.ma.masked_where(land == 0, land), cmap=ListedColormap([_LAND_COLOUR]))
+        mesh(ax, np.ma.masked_where(nodata == 0, nodata), cmap=ListedColormap([_NODATA_COLOUR]),
+             edgecolors="white", linewidth=0.5)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        if geographic:   # equal ground distances in x and y
+            ax.set_aspect(1.0 / max(math.cos(math.radians(float(np.mean(y)))), 1e-3))
+        else:
+            ax.set_aspect("equal")
+            ax.tick_params(axis="x", labelrotation=30)     # long projected coordinates
+        ax.ticklabel_format(useOffset=False, style="plain")
+
+    basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
+    ax = axes[0]
+    background(ax)
+    cmap = ListedColormap(CLASS_COLOURS)
+    norm = BoundaryNorm(np.arange(-0.5, 5.5), cmap.N)
+    mesh(ax, np.ma.masked_where(likely < 0, likely), cmap=cmap, norm=norm, edgecolors="white",
+         linewidth=0.5)
+    ax.set_title(f"most likely impact-burial class (burial by {basis})\n"
+                 "in a cell: its probability, and n = drops at rest", fontsize=11)
+    handles = [Patch(facecolor=c, edgecolor="0.5", label=lbl)
+               for c, lbl in zip(CLASS_COLOURS, _CLASS_LABELS)]
+    handles.append(Patch(facecolor=_LAND_COLOUR, edgecolor="0.5", label="land (not computed)"))
+    handles.append(Patch(facecolor=_NODATA_COLOUR, edgecolor="0.5",
+                         label="no drop came to rest / no data"))
+    legend_ax.legend(handles=handles, title=f"impact-burial class (burial by {basis})",
+                     loc="upper center", ncol=4, fontsize=8, title_fontsize=9, frameon=False)
+    if status.size <= 400:   # small grids: the class probability and its sample size
+        n_cls = ds["burial_class_count"].values.sum(axis=0)
+        for (j, i), c in np.ndenumerate(likely):
+            if c >= 0:
+                ax.text(x[i], y[j], f"{likely_p[j, i]:.2f}\nn={int(n_cls[j, i])}", ha="center",
+                        va="center", fontsize=7, color="white" if c >= 3 else "black")
+
+    ax = axes[1]
+    background(ax)
+    p75_mesh = mesh(ax, np.ma.masked_invalid(np.where(status == CELL_COMPUTED, p75, np.nan)),
+                    cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5)
+    cb = fig.colorbar(p75_mesh, cax=cax, orientation="horizontal")
+    cb.set_label(f"P(burial by {basis} > 75 %), probability (0 to 1)")
+    ax.set_title(f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)",
+                 fontsize=11)
+
+    n = int(ds.attrs.get("n_drops_per_cell", 0))
+    name = ds.attrs.get("scenario_name") or ds.attrs.get("title", "").replace(
+        "mineburial impact-burial probability map: ", "")
+    seed = ds.attrs.get("random_seed", "")
+    fig.suptitle(f"Impact burial of {name}: {n} drops per cell, map seed {seed}", fontsize=13)
+    path = pathlib.Path(path)
+    fig.savefig(path, dpi=dpi)
+    return path
+
+
+# ---------------------------------------------------------------------------
+# CLI
+# ---------------------------------------------------------------------------
+def run_map_cli(args) -> int:
+    """``mineburial map SCENARIO --environment ENV.nc -o MAP.nc [--plot MAP.png]``."""
+    client = None
+    if args.plot:
+        _import_matplotlib()      # fail before hours of computing, not after
+    if args.scheduler:
+        from dask.distributed import Client
+
+        client = Client(args.scheduler)
+    t0 = time.monotonic()
+    try:
+        ds = run_map(args.scenario, args.environment, n=args.drops, seed=args.seed,
+                     client=client, output=args.output, progress=not args.quiet)
+    finally:
+        if client is not None:
+            client.close()
+    elapsed = time.monotonic() - t0
+    n_comp = int(ds.attrs["n_cells_computed"])
+    n = int(ds.attrs["n_drops_per_cell"])
+    print(f"{ds.attrs['title']}\n"
+          f"cells: {int(ds.attrs['n_cells'])} ({n_comp} computed, "
+          f"{int(ds.attrs['n_cells_land'])} land, {int(ds.attrs['n_cells_no_sediment'])} without "
+          f"sediment data), {n} drops per cell\n"
+          f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\n"
+          f"wrote {args.output}")
+    if args.plot:
+        plot_map(ds, args.plot)
+        print(f"wrote {args.plot}")
+    return 0
