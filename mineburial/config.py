@@ -215,10 +215,11 @@ _FIELD_LIST = [
     _spec("numerics.dt", "s", 0, 1, "time step; also dt <= t_max", 1e-3, incl=_OPEN_LOW),
     _spec("numerics.t_max", "s", 0, 1e6, "simulated time limit", 60.0, incl=_OPEN_LOW),
     _spec("numerics.rest_speed", "m s-1", 0, 10,
-          "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1)", 1e-3,
+          "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1); the sediment's "
+          "hold is probed at this speed", 1e-2,
           incl=_OPEN_LOW),
     _spec("numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed",
-          1e-2, incl=_OPEN_LOW),
+          5e-2, incl=_OPEN_LOW),
     _spec("numerics.munk_factor", "1", 0, 1,
           "fraction of the potential-flow Munk moment kept by the added-mass tensor "
           "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
@@ -735,8 +736,8 @@ class Numerics:
     integrator: str | None = None
     dt: float = 1e-3
     t_max: float = 60.0
-    rest_speed: float = 1e-3
-    rest_spin: float = 1e-2
+    rest_speed: float = 1e-2
+    rest_spin: float = 5e-2
     drag: bool = True
     munk_factor: float = 0.0
 

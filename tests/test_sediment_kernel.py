@@ -21,7 +21,7 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
-from mineburial.kernels.sediment import (V_REG, bearing_factor, rate_factor,
+from mineburial.kernels.sediment import (V_REG, V_REG_N, bearing_factor, rate_factor,
                                          sediment_force_torque, sediment_properties)
 
 G = 9.81
@@ -133,14 +133,15 @@ def ref_traction(r, n, zeta, vb, om, p, bank, diameter):
     gf = ref_rate(speed, p, diameter)
     mu = p[lay.P_SED_MU]
     model = int(p[lay.P_SED_RESISTANCE])
+    hn = np.where(vn > 0, vn / np.sqrt(vn * vn + V_REG_N ** 2), 0.0)   # regularised delta
     if model == 0:        # seed 000 eq. (74), effective overburden
-        pn, ft = sig, mu * gf * s
-    elif model == 1:      # normal from density and strength, Coulomb friction
-        pn = sig + p[lay.P_SED_NC] * s * gf
+        pn, ft = sig * hn, mu * gf * s
+    elif model == 1:      # strength part of the normal traction, Coulomb friction
+        pn = p[lay.P_SED_NC] * s * gf * hn
         ft = mu * pn
     else:                 # bearing: N_c(zeta) with Brinch Hansen depth factor, adhesion mu S G
         nc = p[lay.P_SED_NC] * (1.0 + 0.4 * np.arctan(zeta / diameter))
-        pn = sig + nc * s * gf
+        pn = nc * s * gf * hn
         ft = mu * s * gf
     k = ft / np.sqrt(np.sum(vt * vt, axis=0) + V_REG ** 2)
     return -pn * n - k * vt
@@ -234,16 +235,22 @@ def _cap_integrand(u, geo, xc, sgn, p, bank, gx, gw):
     return out
 
 
-def refined_midpoint(fun, a, b, n0, nsub=64, frac=0.02):
-    """Midpoint rule on n0 cells; the cells where the integrand jumps or kinks (large
-    second differences: about frac of the cells) are re-integrated with nsub sub-cells."""
+def refined_midpoint(fun, a, b, n0, nsub=64, max_frac=0.1):
+    """Midpoint rule on n0 cells; the cells where the integrand jumps or kinks (second
+    difference above 1e-5 of the largest force or torque value; at most max_frac of
+    the cells, largest first) and their neighbours are re-integrated with nsub
+    sub-cells."""
     h = (b - a) / n0
     mids = a + (np.arange(n0) + 0.5) * h
     vals = fun(mids)
     total = vals.sum(axis=1) * h
     d2 = np.abs(np.roll(vals, 1, axis=1) - 2 * vals + np.roll(vals, -1, axis=1))
-    d2 = np.max(d2 / (np.max(np.abs(vals), axis=1, keepdims=True) + 1e-300), axis=0)
-    flag = d2 > np.quantile(d2, 1.0 - frac)
+    fs = np.max(np.abs(vals[:3])) + 1e-300
+    ms = np.max(np.abs(vals[3:6])) + 1e-300
+    d2n = np.maximum(np.max(d2[:3], axis=0) / fs, np.max(d2[3:6], axis=0) / ms)
+    order = np.argsort(d2n)[::-1][:int(max_frac * n0)]
+    flag = np.zeros(n0, bool)
+    flag[order[d2n[order] > 1e-5]] = True
     flag = flag | np.roll(flag, 1) | np.roll(flag, -1)
     idx = np.nonzero(flag)[0]
     if idx.size:

@@ -599,16 +599,13 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     return phase
 
 
-PROBE_SPEED = 0.01   # m/s: virtual speed at which the sediment's resistance is probed
-
-
 @kernel
-def held_by_sediment(y, p, sediment_bank, tolerance):
+def held_by_sediment(y, p, sediment_bank, tolerance, probe_speed):
     """Can the sediment hold the mine where it is (the rest test of the stepper)?
 
     The position-only forces (gravity, buoyancy, geostatic overburden) give a net
-    load F. The sediment's rate-independent strength can resist it when a virtual
-    motion along F at PROBE_SPEED meets a resistance R with -R.F_hat >= |F| - tolerance
+    load F. The sediment's strength can resist it when a virtual motion along F at
+    ``probe_speed`` meets a resistance R with -R.F_hat >= |F| - tolerance
     (rigid-plastic contact; the resistance is probed, not assumed). A mine at a
     turning point of an oscillation (net load but no strength) fails the test.
     """
@@ -635,6 +632,6 @@ def held_by_sediment(y, p, sediment_bank, tolerance):
         return True
     sgn = 1.0 if load > 0.0 else -1.0
     f1, f2, f3, _, _, _, _ = sediment_force_torque(
-        L, R, chi, r, (y[0], y[1], z), (0.0, 0.0, sgn * PROBE_SPEED), (0.0, 0.0, 0.0),
+        L, R, chi, r, (y[0], y[1], z), (0.0, 0.0, sgn * probe_speed), (0.0, 0.0, 0.0),
         -depth, rho_w, g, p, sediment_bank)
     return -sgn * f3 >= abs(load) - tolerance

@@ -79,6 +79,10 @@ RATE_NONE = 2
 #: stepper (numerics.rest_speed, seed 000 eq. (89)).
 V_REG = 1.0e-3
 
+#: Regularisation speed of the advancing switch delta (eq. (65)), m/s: the normal
+#: traction is scaled by v_n / sqrt(v_n^2 + V_REG_N^2) on advancing elements.
+V_REG_N = 1.0e-4
+
 #: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
 DEPTH_FACTOR = 0.4
 
@@ -93,6 +97,11 @@ DEPTH_FACTOR = 0.4
 LATERAL_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
 #: End caps, the same layout with (N_RHO, N_RHO_MAPPED) in the last two slots.
 CAP_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
+#: The ramp of the regularised switch (length V_REG_N/|dv_n/dr|) is resolved (sinh map)
+#: only when longer than RAMP_MIN times the line (thinner ramps weigh less than that
+#: fraction), and graded towards in the angle only when wider than RAMP_MIN_ANGLE rad.
+RAMP_MIN = 1e-2
+RAMP_MIN_ANGLE = 1e-2
 #: Least number of points on each part of a generator piece split at tabulated depths.
 LEVEL_POINTS = 3
 #: At most this many sub-panels when grading towards one breakpoint.
@@ -260,15 +269,24 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
                               law[9], law[10])
     gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
     mu = law[6]
+    # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
+    # full value over ~V_REG_N, so the force is continuous in the velocity (no
+    # chattering of the explicit integrator at rest; docs/notes/sediment.md). The form
+    # v_n / sqrt(v_n^2 + V_REG_N^2) has a short tail (1 - h ~ V_REG_N^2 / (2 v_n^2)), so
+    # the ramp is a thin layer along the delta line that the quadrature need not resolve
+    # (v_n / (v_n + V_REG_N) would lower the traction by 1 % up to v_n = 100 V_REG_N).
+    hn = vn / math.sqrt(vn * vn + V_REG_N * V_REG_N) if vn > 0.0 else 0.0
     if model == RES_DELTA:
-        pn = sig
+        pn = sig * hn
         ft = mu * gfac * s
     elif model == RES_FRICTION:
-        pn = sig + law[7] * s * gfac
+        # the geostatic overburden sig acts on every embedded element and is added in
+        # closed form by the stepper (kernels/overburden.py)
+        pn = law[7] * s * gfac * hn
         ft = mu * pn
     else:
         nc = law[7] * (1.0 + DEPTH_FACTOR * math.atan(zeta / law[8]))
-        pn = sig + nc * s * gfac
+        pn = nc * s * gfac * hn
         ft = mu * s * gfac
     k = ft / math.sqrt(vt2 + V_REG * V_REG)
     return -pn * nx - k * tx, -pn * ny - k * ty, -pn * nz - k * tz
@@ -482,6 +500,25 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
     q1 = 0.0
     p2 = _NAN
     q2 = 0.0
+    # an end set by the delta switch carries the ramp of the regularised switch,
+    # v_n/(v_n + V_REG_N), over the length V_REG_N/|dv_n/dr|
+    if kind == 0:
+        b0 = fd[1] * c + fd[2] * s
+        b1 = fd[4] * c + fd[5] * s
+    else:
+        b0 = sg[9] + sg[10] * sg[3] + sg[11] * sg[4]
+        b1 = sg[10] * c + sg[11] * s
+    elo = 0.0
+    ehi = 0.0
+    if b1 != 0.0:
+        rd = -b0 / b1
+        tol = 1e-12 * (abs(lo) + abs(hi)) + 1e-300
+        en = V_REG_N / abs(b1)
+        if en > RAMP_MIN * (hi - lo):
+            if abs(lo - rd) <= tol:
+                elo = en
+            elif abs(hi - rd) <= tol:
+                ehi = en
     if kind == 0:
         R = sg[0]
         # point P + r D, normal N, depth z0 + z1 r
@@ -534,9 +571,9 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
     m3 = 0.0
     for k in range(npiece):
         a = lo if k == 0 else (p1 if k == 1 else p2)
-        ea = 0.0 if k == 0 else (q1 if k == 1 else q2)
+        ea = elo if k == 0 else (q1 if k == 1 else q2)
         b = hi if k == npiece - 1 else (p1 if k == 0 else p2)
-        eb = 0.0 if k == npiece - 1 else (q1 if k == 0 else q2)
+        eb = ehi if k == npiece - 1 else (q1 if k == 0 else q2)
         if not (b > a):
             continue
         if ea >= b - a:
@@ -553,12 +590,12 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
             eps = 0.0
             side = 0.0
             npts = n
-            if kind == 1:
+            if kind == 1 and sg[12] > 0.0:
+                # speed dip at the polar origin: rho = eps_r sinh(u) on the whole ray
                 anchor = 0.0
                 eps = sg[12]
-                if eps > 0.0:
-                    side = 1.0
-                    npts = nm
+                side = 1.0
+                npts = nm
             elif nh == 2:
                 npts = nm
                 if h == 0:
@@ -931,6 +968,13 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
                         e = max(vmin_dip, dip[1]) / rate
                 if group == 1 or group == 3 or group == 5:
                     e = _adist(t, pd)
+                    # ramp of the regularised switch across the delta line, along the
+                    # body end (group 1), the seabed line (3) or at fixed x (5)
+                    dvn = (-fd[1] * s + fd[2] * c) + x * (-fd[4] * s + fd[5] * c)
+                    if group == 3:
+                        dvn += (fd[4] * c + fd[5] * s) * sl
+                    if dvn != 0.0 and V_REG_N / abs(dvn) > RAMP_MIN_ANGLE:
+                        e = min(e, V_REG_N / abs(dvn))
                 if group == 2 or group == 4 or group == 5:
                     # slip-reversal front crossing the curve x(theta) of slope sl:
                     # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
