@@ -53,7 +53,8 @@ def full() -> dict:
                      "pore_pressure": True, "rupture_length": 0.2, "permeability": 2e-4,
                      "void_ratio": 1.5},
         "numerics": {"model": "impact35", "integrator": "rk4", "dt": 5e-4, "t_max": 30.0,
-                     "rest_speed": 2e-3, "rest_spin": 3e-2, "drag": False},
+                     "rest_speed": 2e-3, "rest_spin": 3e-2, "drag": False,
+                     "munk_factor": 0.3},
     }
 
 

@@ -42,7 +42,8 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
-DEFAULT_SCENARIO = pathlib.Path(__file__).resolve().parent.parent / "data" / "default_ensemble.toml"
+DEFAULT_SCENARIO = (pathlib.Path(__file__).resolve().parent.parent / "data" / "ensembles"
+                    / "default_soft_mud.toml")
 
 ENSEMBLE_DEFAULTS = {"n": 1000, "seed": 0, "sampling": "mc", "chunk_size": 256,
                      "per_drop": False, "class_basis": "burial_volume"}
