@@ -97,11 +97,13 @@ DEPTH_FACTOR = 0.4
 LATERAL_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
 #: End caps, the same layout with (N_RHO, N_RHO_MAPPED) in the last two slots.
 CAP_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
-#: The ramp of the regularised switch (length V_REG_N/|dv_n/dr|) is resolved (sinh map)
-#: only when longer than RAMP_MIN times the line (thinner ramps weigh less than that
-#: fraction), and graded towards in the angle only when wider than RAMP_MIN_ANGLE rad.
-RAMP_MIN = 1e-2
-RAMP_MIN_ANGLE = 1e-2
+#: The ramp of the regularised switch across the delta line (width V_REG_N/|dv_n/dr|)
+#: is resolved (along a line, or by grading an angle panel) where it is wider than
+#: RAMP_MIN times the line or panel; thinner ramps weigh less than the quadrature error.
+RAMP_MIN = 1e-3
+#: Width of the sinh-mapped layer next to a near-singularity, in units of its scale eps
+#: (beyond it the integrand is smooth at the scale of its distance from it).
+LAYER_WIDTHS = 16.0
 #: Least number of points on each part of a generator piece split at tabulated depths.
 LEVEL_POINTS = 3
 #: At most this many sub-panels when grading towards one breakpoint.
@@ -409,30 +411,22 @@ def _adist(t, poles):
 
 
 @kernel
-def _next_break(bps, eps, cur):
-    """Smallest breakpoint above cur (2 pi when none) and the smallest scale attached to it."""
+def _next_break(bps, eps, epsr, cur):
+    """Smallest breakpoint above cur (2 pi when none) and the smallest near-singularity
+    scales attached to it (eps: poles, fronts, dips; epsr: ramp of the delta switch)."""
     nxt = _TWO_PI
     e = math.inf
+    er = math.inf
     for k in range(len(bps)):
         b = bps[k]
         if b > cur and b < nxt:
             nxt = b
             e = eps[k]
-        elif b == nxt and eps[k] < e:
-            e = eps[k]
-    return nxt, e
-
-
-# =============================================================================
-# one line of the surface: a generator (lateral surface) or a ray (end cap)
-# =============================================================================
-# The surface geometry tuple ``sg`` (13 floats) of a surface "kind":
-#   kind 0, lateral surface: (R, xa, xb, 0, ...);
-#   kind 1, end cap: (xc, sgn, R, oy, oz, |O|^2, e0, ey, ez, q0, qy, qz, eps_r) with the
-#   cap at x = xc, outward normal sgn i_M, polar origin O = (oy, oz), depth
-#   zeta = e0 + ey y + ez z, delta switch q0 + qy y + qz z >= 0, radial sinh scale eps_r.
-# A line tuple ``ln`` (12 floats): point P + r D, normal N, depth z0 + z1 r, polar flag:
-#   (Px, Py, Pz, Dx, Dy, Dz, Nx, Ny, Nz, z0, z1, polar).
+            er = epsr[k]
+        elif b == nxt:
+            e = min(e, eps[k])
+            er = min(er, epsr[k])
+    return nxt, e, er
 
 
 @kernel
@@ -500,8 +494,8 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
     q1 = 0.0
     p2 = _NAN
     q2 = 0.0
-    # an end set by the delta switch carries the ramp of the regularised switch,
-    # v_n/(v_n + V_REG_N), over the length V_REG_N/|dv_n/dr|
+    # an end set by the delta switch carries the ramp of the regularised switch
+    # v_n / sqrt(v_n^2 + V_REG_N^2), over the length V_REG_N/|dv_n/dr|
     if kind == 0:
         b0 = fd[1] * c + fd[2] * s
         b1 = fd[4] * c + fd[5] * s
@@ -616,61 +610,87 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
                 eps = eb
                 side = -1.0
                 npts = nm
+            # the near-singular layer within LAYER_WIDTHS eps of the anchor is sinh-mapped
+            # (u <= asinh(LAYER_WIDTHS)); the rest of the part is plain Gauss-Legendre
+            sa0 = sa
+            sb0 = sb
+            edge = 0.0
+            nsp = 1
             if eps > 0.0:
-                ua = math.asinh(side * (sa - anchor) / eps)
-                ub = math.asinh(side * (sb - anchor) / eps)
-                if ua > ub:
-                    ua, ub = ub, ua
-            else:
-                ua = sa
-                ub = sb
-            za = z0 + z1 * sa
-            zb = z0 + z1 * sb
-            zlo = min(za, zb)
-            zhi = max(za, zb)
-            up = (z1 > 0.0) == (side >= 0.0)   # depth increases with u
-            total = ub - ua
-            u0 = ua
-            for jj in range(nlev + 1):
-                u1 = ub
-                kk = npts
-                if jj < nlev:
-                    j = jj if up else nlev - 1 - jj
-                    dep = bank[row, 0, j]
-                    if not (dep > zlo and dep < zhi):
-                        continue
-                    rl = (dep - z0) / z1
-                    u1 = math.asinh(side * (rl - anchor) / eps) if eps > 0.0 else rl
-                    if not (u1 > u0 and u1 < ub):
-                        continue
-                if nlev > 0:
-                    kk = min(npts, max(LEVEL_POINTS, int(npts * (u1 - u0) / total + 0.999)))
-                # kk-point Gauss-Legendre rule on [u0, u1]
-                hu = 0.5 * (u1 - u0)
-                mu = 0.5 * (u1 + u0)
-                for i in range(kk):
-                    u = mu + hu * _GL_NODES[kk, i]
-                    if eps > 0.0:
-                        r = anchor + side * eps * math.sinh(u)
-                        jac = eps * math.cosh(u)
-                    else:
-                        r = u
-                        jac = 1.0
-                    x = px + r * dx
-                    y = py + r * dy
-                    z = pz + r * dz
-                    g1, g2, g3 = _traction(x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1,
-                                           w2, w3, law, bank)
-                    wgt = hu * _GL_WEIGHTS[kk, i] * jac
-                    if polar:
-                        wgt *= r
-                    f1 += wgt * g1
-                    f2 += wgt * g2
-                    f3 += wgt * g3
-                    m1 += wgt * (y * g3 - z * g2)
-                    m2 += wgt * (z * g1 - x * g3)
-                    m3 += wgt * (x * g2 - y * g1)
-                u0 = u1
+                edge = anchor + side * LAYER_WIDTHS * eps
+                if (side > 0.0 and edge <= sa0) or (side < 0.0 and edge >= sb0):
+                    eps = 0.0          # the layer lies outside the part
+                    side = 0.0
+                    npts = n
+                elif edge > sa0 and edge < sb0:
+                    nsp = 2
+            lay_side = side
+            for sp in range(nsp):
+                if nsp == 2:
+                    if sp == 0:        # the layer, mapped
+                        sa = sa0 if lay_side > 0.0 else edge
+                        sb = edge if lay_side > 0.0 else sb0
+                    else:              # the rest, plain
+                        sa = edge if lay_side > 0.0 else sa0
+                        sb = sb0 if lay_side > 0.0 else edge
+                        eps = 0.0
+                        side = 0.0
+                        npts = n
+                if eps > 0.0:
+                    ua = math.asinh(side * (sa - anchor) / eps)
+                    ub = math.asinh(side * (sb - anchor) / eps)
+                    if ua > ub:
+                        ua, ub = ub, ua
+                else:
+                    ua = sa
+                    ub = sb
+                za = z0 + z1 * sa
+                zb = z0 + z1 * sb
+                zlo = min(za, zb)
+                zhi = max(za, zb)
+                up = (z1 > 0.0) == (side >= 0.0)   # depth increases with u
+                total = ub - ua
+                u0 = ua
+                for jj in range(nlev + 1):
+                    u1 = ub
+                    kk = npts
+                    if jj < nlev:
+                        j = jj if up else nlev - 1 - jj
+                        dep = bank[row, 0, j]
+                        if not (dep > zlo and dep < zhi):
+                            continue
+                        rl = (dep - z0) / z1
+                        u1 = math.asinh(side * (rl - anchor) / eps) if eps > 0.0 else rl
+                        if not (u1 > u0 and u1 < ub):
+                            continue
+                    if nlev > 0:
+                        kk = min(npts, max(LEVEL_POINTS, int(npts * (u1 - u0) / total + 0.999)))
+                    # kk-point Gauss-Legendre rule on [u0, u1]
+                    hu = 0.5 * (u1 - u0)
+                    mu = 0.5 * (u1 + u0)
+                    for i in range(kk):
+                        u = mu + hu * _GL_NODES[kk, i]
+                        if eps > 0.0:
+                            r = anchor + side * eps * math.sinh(u)
+                            jac = eps * math.cosh(u)
+                        else:
+                            r = u
+                            jac = 1.0
+                        x = px + r * dx
+                        y = py + r * dy
+                        z = pz + r * dz
+                        g1, g2, g3 = _traction(x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1,
+                                               w2, w3, law, bank)
+                        wgt = hu * _GL_WEIGHTS[kk, i] * jac
+                        if polar:
+                            wgt *= r
+                        f1 += wgt * g1
+                        f2 += wgt * g2
+                        f3 += wgt * g3
+                        m1 += wgt * (y * g3 - z * g2)
+                        m2 += wgt * (z * g1 - x * g3)
+                        m3 += wgt * (x * g2 - y * g1)
+                    u0 = u1
     return f1, f2, f3, m1, m2, m3
 
 
@@ -678,7 +698,8 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
 # panels in the angle (theta on the lateral surface, phi on a cap)
 # =============================================================================
 @kernel
-def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, vtol):
+def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, epsr,
+             vtol):
     """Moments over one surface (kind 0 lateral, 1 end cap), integrated in the angle.
 
     Panels run between consecutive breakpoints (and, on the lateral surface with a
@@ -699,6 +720,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
     m3 = 0.0
     cur = 0.0
     e_cur = inf
+    er_cur = inf
     trig = rule[5]
     row = law[15] if kind == 0 else -1
     xa = sg[1]
@@ -707,7 +729,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
     scale = sg[0] if kind == 0 else 1.0      # R dtheta on the lateral surface
     nr = rule[6] if (kind == 0 or sg[12] <= 0.0) else rule[7]
     while cur < _TWO_PI:
-        nxt, e_nxt = _next_break(bps, eps, cur)
+        nxt, e_nxt, er_nxt = _next_break(bps, eps, epsr, cur)
         if row >= 0:
             # tabulated depth d reaching x = xe: (E0 - d) + E1 xe = 0
             for j in range(bank.shape[2]):
@@ -726,16 +748,23 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                         if fd[1] * c + fd[2] * s + xe * (fd[4] * c + fd[5] * s) >= -vtol:
                             nxt = t
                             e_nxt = inf
+                            er_nxt = inf
         width = nxt - cur
+        # the ramp of the delta switch counts where it is not negligibly thin
+        if er_cur > RAMP_MIN * width:
+            e_cur = min(e_cur, er_cur)
+        e_end = e_nxt
+        if er_nxt > RAMP_MIN * width:
+            e_end = min(e_end, er_nxt)
         grade_a = e_cur < trig * width
-        grade_b = e_nxt < trig * width
+        grade_b = e_end < trig * width
         nh = 2 if (grade_a and grade_b) else 1
         mid = 0.5 * (cur + nxt)
         for h in range(nh):
             if nh == 2:
                 tf = cur if h == 0 else nxt
                 tt = mid
-                e = e_cur if h == 0 else e_nxt
+                e = e_cur if h == 0 else e_end
             elif grade_a:
                 tf = cur
                 tt = nxt
@@ -743,7 +772,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
             elif grade_b:
                 tf = nxt
                 tt = cur
-                e = e_nxt
+                e = e_end
             else:
                 tf = cur
                 tt = nxt
@@ -803,6 +832,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                 wsub *= rule[4]
         cur = nxt
         e_cur = e_nxt
+        er_cur = er_nxt
     return f1, f2, f3, m1, m2, m3
 
 
@@ -853,6 +883,9 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
     h4 = inf4
     h5 = inf4
     h6 = inf4
+    r1 = inf4
+    r3 = inf4
+    r5 = inf4
     # screw axis of the motion (speed dip), group 6
     wn2 = w1 * w1 + w2 * w2 + w3 * w3
     for group in range(7):
@@ -917,6 +950,10 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
         o1 = inf
         o2 = inf
         o3 = inf
+        n0 = inf
+        n1 = inf
+        n2 = inf
+        n3 = inf
         for k in range(4):
             t = r[k]
             if not (t == t):
@@ -939,6 +976,7 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
                                    - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
                         break
             e = inf
+            er = inf
             if group == 6 and k < 2:
                 # zero of the axial slip on a generator that meets the domain
                 lo, hi = _line_interval(0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -973,8 +1011,8 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
                     dvn = (-fd[1] * s + fd[2] * c) + x * (-fd[4] * s + fd[5] * c)
                     if group == 3:
                         dvn += (fd[4] * c + fd[5] * s) * sl
-                    if dvn != 0.0 and V_REG_N / abs(dvn) > RAMP_MIN_ANGLE:
-                        e = min(e, V_REG_N / abs(dvn))
+                    if dvn != 0.0:
+                        er = V_REG_N / abs(dvn)
                 if group == 2 or group == 4 or group == 5:
                     # slip-reversal front crossing the curve x(theta) of slope sl:
                     # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
@@ -986,35 +1024,43 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
             if k == 0:
                 t0 = t
                 o0 = e
+                n0 = er
             elif k == 1:
                 t1 = t
                 o1 = e
+                n1 = er
             elif k == 2:
                 t2 = t
                 o2 = e
+                n2 = er
             else:
                 t3 = t
                 o3 = e
+                n3 = er
         tt = (t0, t1, t2, t3)
         ee = (o0, o1, o2, o3)
+        rr = (n0, n1, n2, n3)
         if group == 0:
             g0 = tt
             h0 = ee
         elif group == 1:
             g1 = tt
             h1 = ee
+            r1 = rr
         elif group == 2:
             g2 = tt
             h2 = ee
         elif group == 3:
             g3 = tt
             h3 = ee
+            r3 = rr
         elif group == 4:
             g4 = tt
             h4 = ee
         elif group == 5:
             g5 = tt
             h5 = ee
+            r5 = rr
         else:
             g6 = tt
             h6 = ee
@@ -1024,7 +1070,11 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
     eps = (h0[0], h0[1], h0[2], h0[3], h1[0], h1[1], h1[2], h1[3], h2[0], h2[1], h2[2], h2[3],
            h3[0], h3[1], h3[2], h3[3], h4[0], h4[1], h4[2], h4[3], h5[0], h5[1], h5[2], h5[3],
            h6[0], h6[1], h6[2], h6[3])
-    return bps, eps, vtol
+    inf = math.inf
+    epsr = (inf, inf, inf, inf, r1[0], r1[1], r1[2], r1[3], inf, inf, inf, inf,
+            r3[0], r3[1], r3[2], r3[3], inf, inf, inf, inf, r5[0], r5[1], r5[2], r5[3],
+            inf, inf, inf, inf)
+    return bps, eps, epsr, vtol
 
 
 # =============================================================================
@@ -1129,7 +1179,8 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
            n, n, n, n, n, n)
     eps = (ce[2], ce[3], cd[2], cd[3], ex, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf,
            inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
-    return sg, bps, eps
+    return sg, bps, eps, (inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf,
+                          inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
 
 
 # =============================================================================
@@ -1153,6 +1204,22 @@ def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law,
         dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
     elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
         dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    # velocity components at the rounding level of the others are zero (an axial motion
+    # stays exactly tangential to the lateral surface, so delta = 1 holds there)
+    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3)
+                     + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    if abs(v1) < vtiny:
+        v1 = 0.0
+    if abs(v2) < vtiny:
+        v2 = 0.0
+    if abs(v3) < vtiny:
+        v3 = 0.0
+    if abs(w1) * (L + R) < vtiny:
+        w1 = 0.0
+    if abs(w2) * (L + R) < vtiny:
+        w2 = 0.0
+    if abs(w3) * (L + R) < vtiny:
+        w3 = 0.0
     geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
     vel = (v1, v2, v3, w1, w2, w3)
     # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
@@ -1167,7 +1234,7 @@ def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law,
     m3 = 0.0
     for surf in range(3):
         if surf == 0:
-            bps, eps, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
+            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
             sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             kind = 0
             rule = lateral_rule
@@ -1176,12 +1243,12 @@ def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law,
             xc = xb if surf == 1 else xa
             if not (d0 - c20 * xc + R * rperp > 0.0):
                 continue
-            sg, bps, eps = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21, c22,
-                                       vel, tangential, dip)
+            sg, bps, eps, epsr = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21,
+                                             c22, vel, tangential, dip)
             kind = 1
             rule = cap_rule
         g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential,
-                                          dip, rule, bps, eps, vtol)
+                                          dip, rule, bps, eps, epsr, vtol)
         f1 += g1
         f2 += g2
         f3 += g3
