@@ -5,53 +5,59 @@ sediment on a penetrating cylinder as a surface integral over the part of the
 surface below the seabed, switched on only where the surface moves towards the
 sediment (the step function delta of eq. (65): delta = 1 when v.n >= 0, with
 v = V + omega x r the local velocity and n the outward normal), plus the
-pore-water pressure force of eq. (73). This module evaluates that integral for
-three traction laws and three strain-rate laws; ``docs/notes/sediment.md``
-gives the full derivation, the constants and their sources, and the measured
-error and cost of the quadrature.
+pore-water pressure force of eq. (73). :func:`sediment_force_torque` evaluates
+that integral for three traction laws and three strain-rate laws;
+``docs/notes/sediment.md`` gives the derivation, the constants and their
+sources, and the measured error and cost of the quadrature.
 
 Conventions (``docs/design.md``): body frame with the axis ``x`` towards the
 nose, origin at the centre of mass (COM); the body spans
 ``x in [-L/2 - chi, L/2 - chi]`` (seed 000 eq. (42)), radius ``R``; E-frame z up;
 ``zeta`` = depth below the seabed.
 
-Traction laws (code ``int(p[P_SED_RESISTANCE])``, ``layout.RESISTANCE_NAMES``).
-``sigma'(zeta) = int_0^zeta (rho_s - rho_w) g dzeta'`` is the *effective*
-(submerged) overburden; seed 000 eq. (68) uses the total one, but the stepper
-already applies the water pressure (Archimedes with rho_w) to the whole
-submerged volume, so using the total overburden would count the water twice.
-All three laws act only where delta = 1 (on the receding side a water-filled
-cavity opens, seed 000 section 6.1, so there is no contact there).
+Traction laws (code ``int(p[P_SED_RESISTANCE])``, ``layout.RESISTANCE_NAMES``), on
+advancing elements (v.n >= 0; on the receding side a water-filled cavity opens, seed
+000 section 6.1). ``sigma'(zeta) = int_0^zeta (rho_s - rho_w) g dzeta'`` is the
+*effective* (submerged) overburden: seed 000 eq. (68) uses the total one, but the
+stepper applies the water pressure (Archimedes with rho_w) to the whole submerged
+volume, so the total overburden would count the water twice. The normal traction
+is scaled by the regularised switch h_n = v_n / sqrt(v_n^2 + V_REG_N^2) so that it
+is continuous in the velocity.
 
-0 ``delta``    seed 000 eq. (74): normal pressure sigma', tangential traction
+0 ``delta``    seed 000 eq. (74): normal pressure sigma' h_n, tangential traction
                mu G S along tau = -v_tau/|v_tau| (eq. (67)).
-1 ``friction`` seed 000 section 10 item 4: normal pressure
-               q = sigma' + N S G with N = p[P_SED_NC] (default pi + 2, the
-               undrained bearing factor of Prandtl 1920), tangential mu q.
+1 ``friction`` seed 000 section 10 item 4: normal pressure N S G h_n with
+               N = p[P_SED_NC] (default pi + 2, the undrained bearing factor of
+               Prandtl 1920), tangential mu times the normal pressure.
 2 ``bearing``  in the spirit of Chu & Fan 2007 (IEEE J. Oceanic Eng. 32(1):34):
-               q = sigma' + N_c(zeta) S G with the depth factor of Brinch
-               Hansen (1970), N_c = p[P_SED_NC] (1 + 0.4 arctan(zeta/d)), i.e.
-               5.14 at the seabed and 8.4 deep (Skempton 1951: 7.5 strip,
-               9.0 circle); side adhesion alpha S G with alpha = p[P_SED_MU]
-               (True 1976; Aubeny & Shi 2006: alpha ~ 1/S_t).
+               normal pressure N_c(zeta) S G h_n with the depth factor of Brinch
+               Hansen (1970), N_c = p[P_SED_NC] (1 + 0.4 arctan(zeta/d)), i.e. 5.14 at
+               the seabed and 8.4 deep (Skempton 1951: 7.5 strip, 9.0 circle); side
+               adhesion alpha S G with alpha = p[P_SED_MU] (True 1976; Aubeny & Shi
+               2006: alpha ~ 1/S_t).
+For ``friction`` and ``bearing`` the geostatic part sigma' acts on every embedded
+element whatever its motion and is added by the stepper in closed form
+(:mod:`mineburial.kernels.overburden`: Archimedes with the sediment density).
 
-Rate laws G (code ``int(p[P_SED_RATE_LAW])``, ``layout.RATE_LAW_NAMES``), all
-evaluated with the LOCAL speed |v| of the surface element (which reduces to the
-seed's COM speed V for a pure translation):
+Rate laws G (code ``int(p[P_SED_RATE_LAW])``, ``layout.RATE_LAW_NAMES``), evaluated
+with the LOCAL speed |v| of the surface element (the seed's COM speed V for a pure
+translation):
 0 ``impact35`` seed 000 eq. (70): G = A [1 - (1 - 1/A) exp(-|v|/V_rest)].
 1 ``semilog``  G = 1 + beta log10(max(rate/rate_ref, 1)), rate = |v|/d
                (Biscontin & Pestana 2001; Aubeny & Shi 2006).
 2 ``none``     G = 1.
 
-Quadrature: the lateral surface is integrated generator by generator (outer
-variable theta, inner x); along a generator every switch (seabed, delta,
-reversal of the circumferential slip) is a linear function of x, so the inner
-limits are exact, and the outer theta-panels are split at every angle where the
-inner integrand changes its form (closed forms, plus the roots of degree-2
-trigonometric polynomials for crossings of two switch lines). End caps are
-integrated in polar coordinates about the centre (or about the stagnation
-point of the in-plane slip), split at the corners of the cut disk. Gauss-Legendre
-on every panel; no allocation.
+Quadrature (``docs/notes/sediment.md`` section 3): the lateral surface is integrated
+generator by generator (outer variable theta, inner x). Along a generator every
+switch (seabed, delta, reversal of the circumferential slip, least speed) is a
+linear or quadratic function of x, so the inner limits and split points are exact;
+the theta-panels end at every angle where the inner integrand changes its form
+(closed forms, plus the roots of degree-2 trigonometric polynomials where two switch
+lines cross), and are graded geometrically towards near-singularities (poles of a
+switch line, sharp fronts). End caps are integrated in polar coordinates about the
+centre, the stagnation point of the in-plane slip or the point of least speed, in
+panels between the corners of the cut disk. Gauss-Legendre on every part, sinh
+transformations at near-singular ends; no allocation.
 """
 
 import math
@@ -94,9 +100,9 @@ DEPTH_FACTOR = 0.4
 #: generator N_X points per piece, N_X_MAPPED on a sinh-mapped piece.
 #: Tuple layout: (NODES_PER_RAD, N_MIN, N_MAX, N_GRADED, GRADE_RATIO, GRADE_TRIGGER,
 #: N_X, N_X_MAPPED).
-LATERAL_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
+LATERAL_RULE = (3.0, 4, 8, 4, 4.0, 0.25, 4, 5)
 #: End caps, the same layout with (N_RHO, N_RHO_MAPPED) in the last two slots.
-CAP_RULE = (2.0, 4, 6, 4, 4.0, 0.25, 4, 5)
+CAP_RULE = (3.0, 4, 8, 4, 4.0, 0.25, 4, 5)
 #: The ramp of the regularised switch across the delta line (width V_REG_N/|dv_n/dr|)
 #: is resolved (along a line, or by grading an angle panel) where it is wider than
 #: RAMP_MIN times the line or panel; thinner ramps weigh less than the quadrature error.
@@ -267,8 +273,8 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    rho, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank,
-                              law[9], law[10])
+    _, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank,
+                            law[9], law[10])
     gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
     mu = law[6]
     # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
@@ -750,37 +756,41 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                             e_nxt = inf
                             er_nxt = inf
         width = nxt - cur
-        # the ramp of the delta switch counts where it is not negligibly thin
-        if er_cur > RAMP_MIN * width:
-            e_cur = min(e_cur, er_cur)
-        e_end = e_nxt
-        if er_nxt > RAMP_MIN * width:
-            e_end = min(e_end, er_nxt)
-        grade_a = e_cur < trig * width
-        grade_b = e_end < trig * width
-        nh = 2 if (grade_a and grade_b) else 1
+        # feature at each end: mode 1 = geometric grading (a pole-like near-singularity
+        # at distance e, or a front/dip of width e), mode 2 = sinh-mapped layer (the ramp
+        # of the delta switch, width er, counted where not negligibly thin), 0 = none
+        ra = er_cur if er_cur > RAMP_MIN * width else inf
+        rb = er_nxt if er_nxt > RAMP_MIN * width else inf
+        mode_a = 1 if e_cur < trig * width else (2 if ra < trig * width else 0)
+        mode_b = 1 if e_nxt < trig * width else (2 if rb < trig * width else 0)
+        sc_a = min(e_cur, ra) if mode_a == 1 else ra
+        sc_b = min(e_nxt, rb) if mode_b == 1 else rb
+        nh = 2 if (mode_a > 0 and mode_b > 0) else 1
         mid = 0.5 * (cur + nxt)
         for h in range(nh):
             if nh == 2:
                 tf = cur if h == 0 else nxt
                 tt = mid
-                e = e_cur if h == 0 else e_end
-            elif grade_a:
+                mode = mode_a if h == 0 else mode_b
+                e = sc_a if h == 0 else sc_b
+            elif mode_a > 0:
                 tf = cur
                 tt = nxt
-                e = e_cur
-            elif grade_b:
+                mode = mode_a
+                e = sc_a
+            elif mode_b > 0:
                 tf = nxt
                 tt = cur
-                e = e_end
+                mode = mode_b
+                e = sc_b
             else:
                 tf = cur
                 tt = nxt
+                mode = 0
                 e = 0.0
-            # sub-panels of [tf, tt]
+            # sub-panels of [tf, tt], measured from tf
             total = abs(tt - tf)
             sgn = 1.0 if tt > tf else -1.0
-            graded = e > 0.0
             nplain = int(math.ceil(total * rule[0] - 1e-9))
             kplain = 1
             if nplain > rule[2]:
@@ -788,29 +798,44 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                 nplain = rule[2]
             if nplain < rule[1]:
                 nplain = rule[1]
-            n = rule[3] if graded else nplain
             pos = 0.0
             wsub = e
             for ksub in range(MAX_GRADE + kplain):
-                if graded:
+                mapped = False
+                n = nplain
+                if mode == 1:
+                    n = rule[3]
                     pnext = pos + wsub
                     last = pnext > total or ksub == MAX_GRADE - 1 or total - pnext < 0.5 * wsub
                     if last:
                         pnext = total
+                elif mode == 2 and ksub == 0:
+                    # the layer within LAYER_WIDTHS er of tf, sinh-mapped
+                    n = rule[3]
+                    mapped = True
+                    pnext = min(total, LAYER_WIDTHS * e)
+                    last = pnext >= total
                 else:
-                    pnext = total * (ksub + 1) / kplain
-                    last = ksub == kplain - 1
-                ta = tf + sgn * pos
-                tb = tf + sgn * pnext
-                if tb < ta:
-                    ta, tb = tb, ta
-                # n-point rule in the angle on [ta, tb]
-                hw = 0.5 * (tb - ta)
-                tmid = 0.5 * (ta + tb)
-                lo, hi = _line_interval(kind, math.cos(tmid), math.sin(tmid), sg, fe, fd)
+                    k0 = 1 if mode == 2 else 0
+                    pnext = pos + (total - pos) / (kplain - (ksub - k0))
+                    last = ksub - k0 == kplain - 1
+                # n-point rule in the angle on [pos, pnext] (from tf)
+                if mapped:
+                    hw = 0.5 * math.asinh(pnext / e)
+                    qmid = hw
+                else:
+                    hw = 0.5 * (pnext - pos)
+                    qmid = 0.5 * (pnext + pos)
+                tm = tf + sgn * (e * math.sinh(qmid) if mapped else qmid)
+                lo, hi = _line_interval(kind, math.cos(tm), math.sin(tm), sg, fe, fd)
                 if hi > lo:
                     for i in range(n):
-                        t = tmid + hw * _GL_NODES[n, i]
+                        q = qmid + hw * _GL_NODES[n, i]
+                        jac = 1.0
+                        if mapped:
+                            jac = e * math.cosh(q)
+                            q = e * math.sinh(q)
+                        t = tf + sgn * q
                         c = math.cos(t)
                         s = math.sin(t)
                         lo, hi = _line_interval(kind, c, s, sg, fe, fd)
@@ -819,7 +844,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                         g1, g2, g3, h1, h2, h3 = _inner(kind, c, s, lo, hi, sg, fe, fd, ft,
                                                         vel, law, bank, tangential, dip, nr,
                                                         rule[7])
-                        wt = hw * _GL_WEIGHTS[n, i] * scale
+                        wt = hw * _GL_WEIGHTS[n, i] * scale * jac
                         f1 += wt * g1
                         f2 += wt * g2
                         f3 += wt * g3
@@ -1183,79 +1208,6 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
                           inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
 
 
-# =============================================================================
-# whole surface
-# =============================================================================
-@kernel
-def _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3, w1, w2, w3, law, bank,
-                      lateral_rule, cap_rule):
-    """Force and torque (body frame, about the COM) of the tractions on the embedded,
-    advancing part of the lateral surface and of the two end caps."""
-    xa = -0.5 * L - chi
-    xb = 0.5 * L - chi
-    rperp = math.sqrt(c21 * c21 + c22 * c22)
-    tangential = law[6] != 0.0
-    # speed dip of the rate factor: (mode, floor, limit). impact35: G falls from A to 1
-    # over |v| ~ V_rest, resolved where v_min < DIP_SPEEDS V_rest, down to V_rest/4;
-    # semilog: log singularity at |v| -> 0 (clipped at d rate_ref), resolved where v_min
-    # is below 5 % of the rotation speed scale.
-    dip = (0, 0.0, 0.0)
-    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
-        dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
-    elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
-        dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
-    # velocity components at the rounding level of the others are zero (an axial motion
-    # stays exactly tangential to the lateral surface, so delta = 1 holds there)
-    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3)
-                     + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
-    if abs(v1) < vtiny:
-        v1 = 0.0
-    if abs(v2) < vtiny:
-        v2 = 0.0
-    if abs(v3) < vtiny:
-        v3 = 0.0
-    if abs(w1) * (L + R) < vtiny:
-        w1 = 0.0
-    if abs(w2) * (L + R) < vtiny:
-        w2 = 0.0
-    if abs(w3) * (L + R) < vtiny:
-        w3 = 0.0
-    geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
-    vel = (v1, v2, v3, w1, w2, w3)
-    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
-    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
-    fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
-    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
-    for surf in range(3):
-        if surf == 0:
-            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
-            sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-            kind = 0
-            rule = lateral_rule
-        else:
-            # end caps, when their lowest rim point is below the seabed
-            xc = xb if surf == 1 else xa
-            if not (d0 - c20 * xc + R * rperp > 0.0):
-                continue
-            sg, bps, eps, epsr = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21,
-                                             c22, vel, tangential, dip)
-            kind = 1
-            rule = cap_rule
-        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential,
-                                          dip, rule, bps, eps, epsr, vtol)
-        f1 += g1
-        f2 += g2
-        f3 += g3
-        m1 += h1
-        m2 += h2
-        m3 += h3
-    return f1, f2, f3, m1, m2, m3
 
 
 # =============================================================================
@@ -1304,9 +1256,71 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
            p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, water_density, gravity,
            p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
            int(p[P_SED_PROFILE]))
-    f1, f2, f3, m1, m2, m3 = _surface_integral(L, R, chi, c20, c21, c22, d0, v1, v2, v3,
-                                               omega[0], omega[1], omega[2], law,
-                                               sediment_bank, LATERAL_RULE, CAP_RULE)
+    w1 = omega[0]
+    w2 = omega[1]
+    w3 = omega[2]
+    # ---- tractions on the embedded, advancing part of the lateral surface and caps ----
+    tangential = law[6] != 0.0
+    # speed dip of the rate factor: (mode, floor, limit). impact35: G falls from A to 1
+    # over |v| ~ V_rest, resolved where v_min < DIP_SPEEDS V_rest, down to V_rest/4;
+    # semilog: log singularity at |v| -> 0 (clipped at d rate_ref), resolved where v_min
+    # is below 5 % of the rotation speed scale.
+    dip = (0, 0.0, 0.0)
+    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
+        dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
+    elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
+        dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    # velocity components at the rounding level of the others are zero (an axial motion
+    # stays exactly tangential to the lateral surface, so delta = 1 holds there)
+    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3)
+                     + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    if abs(v1) < vtiny:
+        v1 = 0.0
+    if abs(v2) < vtiny:
+        v2 = 0.0
+    if abs(v3) < vtiny:
+        v3 = 0.0
+    if abs(w1) * (L + R) < vtiny:
+        w1 = 0.0
+    if abs(w2) * (L + R) < vtiny:
+        w2 = 0.0
+    if abs(w3) * (L + R) < vtiny:
+        w3 = 0.0
+    geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
+    vbody = (v1, v2, v3, w1, w2, w3)
+    # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
+    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
+    fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
+    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    for surf in range(3):
+        if surf == 0:
+            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
+            sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            kind = 0
+            rule = LATERAL_RULE
+        else:
+            # end caps, when their lowest rim point is below the seabed
+            xc = xb if surf == 1 else xa
+            if not (d0 - c20 * xc + R * rperp > 0.0):
+                continue
+            sg, bps, eps, epsr = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21,
+                                             c22, vbody, tangential, dip)
+            kind = 1
+            rule = CAP_RULE
+        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vbody, law, sediment_bank,
+                                          tangential, dip, rule, bps, eps, epsr, vtol)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
 
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
@@ -1318,10 +1332,9 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
         b = min(zeta_tip, diameter)
         if p[P_SED_B] > 0.0:
             b = min(b, p[P_SED_B])
-        rho_tip, s_tip, sig_tip = _properties(zeta_tip, p[P_SED_RHO], p[P_SED_RHO_GRAD],
-                                              p[P_SED_S], p[P_SED_S_GRAD],
-                                              int(p[P_SED_PROFILE]), sediment_bank,
-                                              water_density, gravity)
+        rho_tip, _, _ = _properties(zeta_tip, p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S],
+                                    p[P_SED_S_GRAD], int(p[P_SED_PROFILE]), sediment_bank,
+                                    water_density, gravity)
         coef = math.pi / 8.0 * rho_tip * b * b * b
         fpw = 0.0
         if p[P_SED_KP] > 0.0:
