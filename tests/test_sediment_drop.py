@@ -114,7 +114,7 @@ def test_vertical_penetration_matches_one_dimensional_solution():
         zeta, v = y
         emb = min(max(zeta, 0.0), L)
         nc = nc0 * (1.0 + 0.4 * math.atan(zeta / d))           # Brinch Hansen depth factor
-        h_reg = v / (v + 1e-4) if v > 0 else 0.0                 # regularised advancing switch
+        h_reg = v / math.sqrt(v * v + 1e-8) if v > 0 else 0.0    # regularised advancing switch
         gv = g_rate(v)
         bearing = nc * strength(zeta) * gv * area * h_reg
         overburden = (rho_s - RHO_W) * G * area * emb            # effective sediment buoyancy
