@@ -374,9 +374,9 @@ def test_equivalent_cylinder(a):
 
 def test_equivalent_interval_is_shifted_not_shrunk():
     L, R, chi = 1.0, 0.1, 0.0
-    l, xa, xb, eta = geo._equivalent(L, R, chi, math.pi * R * R * 0.6, -0.4, 0.0)
+    l, xa, xb, eta = geo.equivalent_of_part(L, R, chi, math.pi * R * R * 0.6, -0.4, 0.0)
     assert (l, xa, xb) == pytest.approx((0.6, -0.5, 0.1), rel=1e-14)
-    l, xa, xb, eta = geo._equivalent(L, R, chi, math.pi * R * R * 0.6, 0.45, 0.0)
+    l, xa, xb, eta = geo.equivalent_of_part(L, R, chi, math.pi * R * R * 0.6, 0.45, 0.0)
     assert (l, xa, xb) == pytest.approx((0.6, -0.1, 0.5), rel=1e-14)
 
 

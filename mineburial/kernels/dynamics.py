@@ -34,7 +34,7 @@ from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_
                                              lift_coefficient)
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
-from mineburial.kernels.geometry import cut_cylinder, vertical_extent
+from mineburial.kernels.geometry import cut_cylinder, equivalent_of_part, vertical_extent
 from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
                                        P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER,
                                        P_RHO_AIR, P_RHO_WATER, P_SED_RESISTANCE)
@@ -69,27 +69,6 @@ def phase_of(z_lo, z_hi, depth):
     if z_hi > -depth:
         return PHASE_SEABED
     return PHASE_EMBEDDED
-
-
-@kernel
-def equivalent_interval(volume, x_c, R, x_tail, x_nose):
-    """Axial interval of the equivalent cylinder of seed 000 section 4.1.
-
-    Same volume (length l = volume / (pi R^2)) and the same axial position of the
-    partial centre of volume x_c; shifted (not shrunk) to stay inside the body.
-    """
-    l = volume / (math.pi * R * R)
-    if l > x_nose - x_tail:
-        l = x_nose - x_tail
-    a = x_c - 0.5 * l
-    b = x_c + 0.5 * l
-    if a < x_tail:
-        a = x_tail
-        b = x_tail + l
-    if b > x_nose:
-        b = x_nose
-        a = x_nose - l
-    return a, b
 
 
 @kernel
@@ -287,8 +266,6 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     u2 = r[1] * vx + r[4] * vy + r[7] * vz
     u3 = r[2] * vx + r[5] * vy + r[8] * vz
 
-    x_tail = -0.5 * L - chi
-    x_nose = 0.5 * L - chi
     v_total = math.pi * R * R * L
     z_lo, z_hi = vertical_extent(L, R, chi, a_z, z)
     phase = phase_of(z_lo, z_hi, depth)
@@ -366,7 +343,7 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     wb = 0.0
     if vw > 1e-15 * v_total:
         xw = (vs * xs - vb * xb) / vw
-        wa, wb = equivalent_interval(vw, xw, R, x_tail, x_nose)
+        _, wa, wb, _ = equivalent_of_part(L, R, chi, vw, xw, 0.0)
         # current at the height of the water part's centre
         zc_w = z + a_z * xw
         cu, cv = current_velocity(zc_w, p, current_bank)
@@ -396,7 +373,7 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     ab = 0.0
     if va > 1e-15 * v_total and rho_a > 0.0:
         xa_c = (v_total * (-chi) - vs * xs) / va
-        aa, ab = equivalent_interval(va, xa_c, R, x_tail, x_nose)
+        _, aa, ab, _ = equivalent_of_part(L, R, chi, va, xa_c, 0.0)
         if impact35:
             h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho_a, p[P_NU_AIR], R, L, aa, ab,
                                                            -u1, -u2, -u3, w1, w2, w3, drag_on)

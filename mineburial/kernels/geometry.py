@@ -385,7 +385,9 @@ def burial_measures(L, R, chi, a_z, z_c, level):
 
 
 @kernel
-def _equivalent(L, R, chi, V, x_c, eta):
+def equivalent_of_part(L, R, chi, V, x_c, eta):
+    """Equivalent cylinder (seed 000 section 4.1) of a part of volume V whose partial
+    centre of volume lies at axial position x_c: ``(l, x_a, x_b, eta)``."""
     l = V / (PI * R * R)
     if l > L:
         l = L
@@ -410,7 +412,7 @@ def equivalent_cylinder(L, R, chi, a_z, z_c, level):
     (shifted, not shrunk, to stay inside the body) and transverse offset
     ``eta`` along ``e_down``."""
     V, x_c, eta, lat, cn, ct = cut_cylinder(L, R, chi, a_z, z_c, level)
-    return _equivalent(L, R, chi, V, x_c, eta)
+    return equivalent_of_part(L, R, chi, V, x_c, eta)
 
 
 @kernel
@@ -418,4 +420,4 @@ def equivalent_cylinder_above(L, R, chi, a_z, z_c, level):
     """Equivalent cylinder of the part above the plane, as
     :func:`equivalent_cylinder` (``eta`` along ``e_down``, <= 0)."""
     V, x_c, eta, lat, cn, ct = cut_cylinder_above(L, R, chi, a_z, z_c, level)
-    return _equivalent(L, R, chi, V, x_c, eta)
+    return equivalent_of_part(L, R, chi, V, x_c, eta)

@@ -18,6 +18,7 @@ for the torque when the density is uniform within the slice).
 import math
 
 from mineburial._numba import kernel
+from mineburial.kernels.environment import interpolate_row
 from mineburial.kernels.geometry import cut_cylinder
 from mineburial.kernels.layout import P_SED_PROFILE, P_SED_RHO, P_SED_RHO_GRAD
 
@@ -38,21 +39,7 @@ def _density(zeta, p, bank):
     row = int(p[P_SED_PROFILE])
     if row < 0:
         return p[P_SED_RHO] + p[P_SED_RHO_GRAD] * zeta
-    n = bank.shape[2]
-    last = 0
-    for k in range(n):
-        if math.isnan(bank[row, 0, k]):
-            break
-        last = k
-    if zeta <= bank[row, 0, 0]:
-        return bank[row, 1, 0]
-    if zeta >= bank[row, 0, last]:
-        return bank[row, 1, last]
-    for k in range(last):
-        if bank[row, 0, k + 1] >= zeta:
-            f = (zeta - bank[row, 0, k]) / (bank[row, 0, k + 1] - bank[row, 0, k])
-            return bank[row, 1, k] + f * (bank[row, 1, k + 1] - bank[row, 1, k])
-    return bank[row, 1, last]
+    return interpolate_row(bank, row, 1, zeta)
 
 
 @kernel
