@@ -34,7 +34,8 @@ from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_
                                              lift_coefficient)
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
-from mineburial.kernels.geometry import cut_cylinder, equivalent_of_part, vertical_extent
+from mineburial.kernels.geometry import (cut_cylinder, e_down_body, equivalent_of_part,
+                                         vertical_extent)
 from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
                                        P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER,
                                        P_RHO_AIR, P_RHO_WATER, P_SED_RESISTANCE)
@@ -56,6 +57,17 @@ PHASE_SEABED = 3       # crossing the water-sediment interface
 PHASE_EMBEDDED = 4     # entirely below the seabed
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
+
+
+@kernel
+def vertical_load(f, fx, fe, dn2, dn3, kb1, kb2, kb3):
+    """Body-frame force and torque about the COM of a vertical (E-frame +k) force f
+    whose first moments about the COM are fx = f x along i_M and fe = f eta along
+    e_down = (0, dn2, dn3); k in the body frame is (kb1, kb2, kb3)."""
+    r2 = fe * dn2
+    r3 = fe * dn3
+    return (f * kb1, f * kb2, f * kb3,
+            r2 * kb3 - r3 * kb2, r3 * kb1 - fx * kb3, fx * kb2 - r2 * kb1)
 
 
 @kernel
@@ -286,56 +298,18 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     if vw < 0.0:
         vw = 0.0
     # unit vector e_down in the body frame: projection of -k normal to the axis
-    dn2 = -kb2
-    dn3 = -kb3
-    dnn = math.sqrt(dn2 * dn2 + dn3 * dn3)
-    if dnn > 1e-300:
-        dn2 /= dnn
-        dn3 /= dnn
-    else:
-        dn2 = 0.0
-        dn3 = 0.0
+    _, dn2, dn3 = e_down_body(kb1, kb2, kb3)
 
-    # ---- body-frame force and torque accumulators (about the COM) ----
-    fb1 = 0.0
-    fb2 = 0.0
-    fb3 = 0.0
-    mb1 = 0.0
-    mb2 = 0.0
-    mb3 = 0.0
+    # ---- body-frame force and torque accumulators (about the COM), from buoyancy on ----
 
     # buoyancy (seed 000 eqs. (34)-(36)): water on everything below the surface,
-    # air on the part above it; each acts at its partial centre of volume.
-    if vs > 0.0:
-        fmag = rho_w * g * vs
-        c1 = xs
-        c2 = es * dn2
-        c3 = es * dn3
-        f1_ = fmag * kb1
-        f2_ = fmag * kb2
-        f3_ = fmag * kb3
-        fb1 += f1_
-        fb2 += f2_
-        fb3 += f3_
-        mb1 += c2 * f3_ - c3 * f2_
-        mb2 += c3 * f1_ - c1 * f3_
-        mb3 += c1 * f2_ - c2 * f1_
-    if va > 0.0 and rho_a > 0.0:
-        fmag = rho_a * g * va
-        # centroid of the part above the surface from the moment balance
-        c1 = (v_total * (-chi) - vs * xs) / va
-        ea = -(vs * es) / va
-        c2 = ea * dn2
-        c3 = ea * dn3
-        f1_ = fmag * kb1
-        f2_ = fmag * kb2
-        f3_ = fmag * kb3
-        fb1 += f1_
-        fb2 += f2_
-        fb3 += f3_
-        mb1 += c2 * f3_ - c3 * f2_
-        mb2 += c3 * f1_ - c1 * f3_
-        mb3 += c1 * f2_ - c2 * f1_
+    # air on the part above it; each acts at its partial centre of volume (the air
+    # part's first moments follow from the whole body's minus the immersed part's)
+    fw = rho_w * g * vs
+    fa = rho_a * g * va
+    fb1, fb2, fb3, mb1, mb2, mb3 = vertical_load(
+        fw + fa, fw * xs + rho_a * g * (v_total * (-chi) - vs * xs),
+        fw * es - rho_a * g * vs * es, dn2, dn3, kb1, kb2, kb3)
 
     # ---- drag, lift and added mass of the water part and of the air part ----
     # water part: below the surface and above the seabed, as an equivalent cylinder
@@ -404,13 +378,10 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
             fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p,
                                             sediment_bank)
             sf3 += fo
-            # torque (fox i_M + foe e_down) x k_body
-            ro1 = fox
-            ro2 = foe * dn2
-            ro3 = foe * dn3
-            sm1 += ro2 * kb3 - ro3 * kb2
-            sm2 += ro3 * kb1 - ro1 * kb3
-            sm3 += ro1 * kb2 - ro2 * kb1
+            _, _, _, t1, t2, t3 = vertical_load(fo, fox, foe, dn2, dn3, kb1, kb2, kb3)
+            sm1 += t1
+            sm2 += t2
+            sm3 += t3
         fb1 += r[0] * sf1 + r[3] * sf2 + r[6] * sf3
         fb2 += r[1] * sf1 + r[4] * sf2 + r[7] * sf3
         fb3 += r[2] * sf1 + r[5] * sf2 + r[8] * sf3
