@@ -202,6 +202,20 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
 
 
 @kernel
+def add_strip_forces(impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on,
+                     f1, f2, f3, m1, m2, m3):
+    """Add the fluid force and torque on the strip [a, b] of the selected model
+    (:func:`impact35_strip_forces` or :func:`strip_forces`) to the accumulators."""
+    if impact35:
+        h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3,
+                                                       w1, w2, w3, drag_on)
+    else:
+        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3,
+                                              drag_on)
+    return f1 + h1, f2 + h2, f3 + h3, m1 + h4, m2 + h5, m3 + h6
+
+
+@kernel
 def solve6(a, rhs, x):
     """Solve the 6x6 symmetric positive definite system a x = rhs in place (Cholesky).
 
@@ -324,18 +338,9 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
         ur1 = r[0] * cu + r[3] * cv - u1
         ur2 = r[1] * cu + r[4] * cv - u2
         ur3 = r[2] * cu + r[5] * cv - u3
-        if impact35:
-            h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho_w, p[P_NU_WATER], R, L, wa, wb,
-                                                           ur1, ur2, ur3, w1, w2, w3, drag_on)
-        else:
-            h1, h2, h3, h4, h5, h6 = strip_forces(rho_w, p[P_NU_WATER], R, L, wa, wb,
-                                                  ur1, ur2, ur3, w1, w2, w3, drag_on)
-        fb1 += h1
-        fb2 += h2
-        fb3 += h3
-        mb1 += h4
-        mb2 += h5
-        mb3 += h6
+        fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
+            impact35, rho_w, p[P_NU_WATER], R, L, wa, wb, ur1, ur2, ur3, w1, w2, w3, drag_on,
+            fb1, fb2, fb3, mb1, mb2, mb3)
         cur1 = r[0] * cu + r[3] * cv
         cur2 = r[1] * cu + r[4] * cv
         cur3 = r[2] * cu + r[5] * cv
@@ -348,18 +353,9 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     if va > 1e-15 * v_total and rho_a > 0.0:
         xa_c = (v_total * (-chi) - vs * xs) / va
         _, aa, ab, _ = equivalent_of_part(L, R, chi, va, xa_c, 0.0)
-        if impact35:
-            h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho_a, p[P_NU_AIR], R, L, aa, ab,
-                                                           -u1, -u2, -u3, w1, w2, w3, drag_on)
-        else:
-            h1, h2, h3, h4, h5, h6 = strip_forces(rho_a, p[P_NU_AIR], R, L, aa, ab,
-                                                  -u1, -u2, -u3, w1, w2, w3, drag_on)
-        fb1 += h1
-        fb2 += h2
-        fb3 += h3
-        mb1 += h4
-        mb2 += h5
-        mb3 += h6
+        fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
+            impact35, rho_a, p[P_NU_AIR], R, L, aa, ab, -u1, -u2, -u3, w1, w2, w3, drag_on,
+            fb1, fb2, fb3, mb1, mb2, mb3)
 
     # ---- sediment tractions (seed 000 section 6) ----
     sf1 = 0.0
