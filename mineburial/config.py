@@ -224,6 +224,12 @@ _FIELD_LIST = [
           "fraction of the potential-flow Munk moment kept by the added-mass tensor "
           "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
           "theory); see docs/physics.md", 0.0),
+    _spec("numerics.rtol", "1", 0, 0.1,
+          "relative tolerance of the adaptive integrator (dopri5), per step on position, "
+          "velocity, attitude and angular velocity", 1e-5, incl=_OPEN_LOW),
+    _spec("numerics.atol", "1", 0, 1.0,
+          "absolute tolerance of the adaptive integrator, in m, m s-1, 1 (quaternion) and "
+          "rad s-1", 1e-6, incl=_OPEN_LOW),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.
@@ -614,8 +620,8 @@ class Environment:
 #: (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34, lower bias and RMSE of burial volume
 #: on Baltic drops) with a semi-logarithmic rate law and RK4 (PHYSICS.md secs. 3-4).
 MODEL_DEFAULTS = {
-    "mineburial": {"resistance": "bearing", "rate_law": "semilog", "integrator": "rk4"},
-    "impact35": {"resistance": "delta", "rate_law": "impact35", "integrator": "local_linear"},
+    "mineburial": {"resistance": "bearing", "rate_law": "semilog", "integrator": "dopri5"},
+    "impact35": {"resistance": "delta", "rate_law": "impact35", "integrator": "dopri5"},
 }
 
 _SED_OPTIONS = ("impact_factor", "rest_speed", "rate_coefficient", "reference_rate",
@@ -730,7 +736,12 @@ class Numerics:
     """Model choice, integrator and stopping criteria.
 
     ``integrator`` left as ``None`` takes the default of ``model``
-    (:data:`MODEL_DEFAULTS`: rk4 for mineburial, local_linear for impact35).
+    (:data:`MODEL_DEFAULTS`: the adaptive ``dopri5`` for both models; the fixed-step
+    ``rk4`` at ``dt`` and the seed's ``local_linear`` stay selectable as references).
+    ``dt`` is the step of the fixed-step integrators and the first trial step of
+    ``dopri5``; ``rtol``/``atol`` are the tolerances of ``dopri5``.
+    ``sediment_quadrature``: ``fast`` (fixed-cost rule, default) or ``reference``
+    (the accurate adaptive quadrature).
     """
     model: str = "mineburial"
     integrator: str | None = None
@@ -740,13 +751,18 @@ class Numerics:
     rest_spin: float = 5e-2
     drag: bool = True
     munk_factor: float = 0.0
+    rtol: float = 1e-5
+    atol: float = 1e-6
+    sediment_quadrature: str = "fast"
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
         if self.integrator is None:
             _set(self, "integrator", MODEL_DEFAULTS[self.model]["integrator"])
         _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
-        for f in ("dt", "t_max", "rest_speed", "rest_spin", "munk_factor"):
+        _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES,
+                "numerics.sediment_quadrature")
+        for f in ("dt", "t_max", "rest_speed", "rest_spin", "munk_factor", "rtol", "atol"):
             _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
         if not self.dt <= self.t_max:
             raise _range_error("numerics.dt", "numerics.dt", self.dt, FIELDS["numerics.dt"],
@@ -932,7 +948,10 @@ class Scenario:
             "numerics.integrator": layout.INTEGRATOR_NAMES.index(n.integrator),
             "numerics.dt": n.dt, "numerics.t_max": n.t_max, "numerics.rest_speed": n.rest_speed,
             "numerics.rest_spin": n.rest_spin, "numerics.drag": float(n.drag),
-            "numerics.munk_factor": n.munk_factor,
+            "numerics.munk_factor": n.munk_factor, "numerics.rtol": n.rtol,
+            "numerics.atol": n.atol,
+            "numerics.sediment_quadrature":
+                layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)
@@ -1008,6 +1027,7 @@ _CODE_LIMITS = {
     "sediment.rate_law": len(layout.RATE_LAW_NAMES),
     "numerics.model": len(layout.MODEL_NAMES),
     "numerics.integrator": len(layout.INTEGRATOR_NAMES),
+    "numerics.sediment_quadrature": len(layout.SEDIMENT_QUADRATURE_NAMES),
     "sediment.pore_pressure": 2,
     "numerics.drag": 2,
 }

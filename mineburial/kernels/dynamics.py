@@ -41,7 +41,7 @@ from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRA
                                        P_RHO_AIR, P_RHO_WATER, P_SED_RESISTANCE)
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.overburden import overburden_force
-from mineburial.kernels.sediment import RES_DELTA, sediment_force_torque
+from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
 
 N_EXT = 15          # 13 physical states + work of fluid forces + work of sediment forces
 I_WORK_FLUID = 13
@@ -246,9 +246,10 @@ def solve6(a, rhs, x):
 
 
 @kernel
-def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
+def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     """Right-hand side dy/dt of the extended state ``y`` (length N_EXT).
 
+    ``law`` is the drop's sediment law, packed once (:func:`sediment.pack_law`).
     ``work`` is a scratch array of N_WORK floats, ``diag`` receives N_DIAG
     diagnostics: fluid force (E-frame, 3), sediment force (E-frame, 3), total
     torque (body, 3), immersed volume, embedded volume, phase, z_lo, z_hi,
@@ -366,9 +367,8 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
     sm3 = 0.0
     added_pore = 0.0
     if z_lo < -depth:
-        sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_force_torque(
-            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, rho_w, g, p,
-            sediment_bank)
+        sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_tractions(
+            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank)
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
             fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p,
@@ -544,7 +544,7 @@ def derivatives(y, p, sediment_bank, current_bank, work, dy, diag):
 
 
 @kernel
-def held_by_sediment(y, p, sediment_bank, tolerance, probe_speed):
+def held_by_sediment(y, p, law, sediment_bank, tolerance, probe_speed):
     """Can the sediment hold the mine where it is (the rest test of the stepper)?
 
     The position-only forces (gravity, buoyancy, geostatic overburden) give a net
@@ -575,7 +575,7 @@ def held_by_sediment(y, p, sediment_bank, tolerance, probe_speed):
     if abs(load) <= tolerance:
         return True
     sgn = 1.0 if load > 0.0 else -1.0
-    f1, f2, f3, _, _, _, _ = sediment_force_torque(
+    f1, f2, f3, _, _, _, _ = sediment_tractions(
         L, R, chi, r, (y[0], y[1], z), (0.0, 0.0, sgn * probe_speed), (0.0, 0.0, 0.0),
-        -depth, rho_w, g, p, sediment_bank)
+        -depth, law, sediment_bank)
     return -sgn * f3 >= abs(load) - tolerance

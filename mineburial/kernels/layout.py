@@ -71,13 +71,16 @@ PARAM_NAMES = (
     "sediment.void_ratio",         # e_v of eq. (73)
     # numerics
     "numerics.model",              # 0 mineburial (default), 1 impact35
-    "numerics.integrator",         # 0 rk4, 1 local_linear (seed 000 eqs. (83)-(87))
+    "numerics.integrator",         # 0 rk4, 1 local_linear (seed 000 eqs. (83)-(87)), 2 dopri5
     "numerics.dt",                 # s
     "numerics.t_max",              # s
     "numerics.rest_speed",         # m s-1, eq. (89) speed criterion
     "numerics.rest_spin",          # rad s-1
     "numerics.drag",               # 1/0: fluid drag and lift on (0 for energy tests)
     "numerics.munk_factor",        # fraction of the potential-flow Munk moment kept (docs/physics.md)
+    "numerics.rtol",               # relative tolerance of the adaptive integrator
+    "numerics.atol",               # absolute tolerance of the adaptive integrator (scaled units)
+    "numerics.sediment_quadrature",  # 0 fast (fixed-cost rule), 1 reference (adaptive quadrature)
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -93,11 +96,12 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
  P_SED_RESISTANCE, P_SED_RATE_LAW, P_SED_A, P_SED_VREST, P_SED_BETA, P_SED_RATE_REF,
  P_SED_MU, P_SED_NC, P_SED_PORE, P_SED_B, P_SED_KP, P_SED_EV,
  P_MODEL, P_INTEGRATOR, P_DT, P_TMAX, P_REST_SPEED, P_REST_SPIN, P_DRAG,
- P_MUNK) = range(N_PARAMS)
+ P_MUNK, P_RTOL, P_ATOL, P_SED_QUADRATURE) = range(N_PARAMS)
 
 # model and integrator codes
 MODEL_NAMES = ("mineburial", "impact35")
-INTEGRATOR_NAMES = ("rk4", "local_linear")
+INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5")
+SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
 
 # --- per-drop summary (results) -------------------------------------------

@@ -37,6 +37,7 @@ from mineburial.kernels.layout import (N_SUMMARY, P_CHI, P_MASS, P_DEPTH, P_DIAM
                                        S_FINAL_ROLL, S_FINAL_X, S_FINAL_Y, S_HEIGHT_PROUD,
                                        S_IMPACT_ANGLE, S_IMPACT_PITCH, S_IMPACT_SPEED, S_IMPACT_TIME,
                                        S_MAX_DECEL, S_N_STEPS, S_PENETRATION, S_TOTAL_TIME)
+from mineburial.kernels.sediment import pack_law
 from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, rotation_matrix,
                                          rotation_vector_quaternion, quaternion_multiply)
 
@@ -91,18 +92,18 @@ def event_values(y, p, g):
 
 
 @kernel
-def rk4_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out):
+def rk4_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out):
     """One classical Runge-Kutta step from y (k1 = f(y) must already be filled)."""
     n = y.shape[0]
     for i in range(n):
         ytmp[i] = y[i] + 0.5 * dt * k1[i]
-    derivatives(ytmp, p, sed_bank, cur_bank, work, k2, diag)
+    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k2, diag)
     for i in range(n):
         ytmp[i] = y[i] + 0.5 * dt * k2[i]
-    derivatives(ytmp, p, sed_bank, cur_bank, work, k3, diag)
+    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k3, diag)
     for i in range(n):
         ytmp[i] = y[i] + dt * k3[i]
-    derivatives(ytmp, p, sed_bank, cur_bank, work, k4, diag)
+    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k4, diag)
     for i in range(n):
         out[i] = y[i] + dt * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) / 6.0
     q0, q1, q2, q3 = normalize_quaternion(out[6], out[7], out[8], out[9])
@@ -127,7 +128,7 @@ def _exact_linear(v, d, beta, dt):
 
 
 @kernel
-def local_linear_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out):
+def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out):
     """Seed 000 local-linearisation step (eqs. (83)-(87)); k1 = f(y) pre-filled."""
     n = y.shape[0]
     # velocity slots: u v w (E-frame) and omega1..3 (body)
@@ -137,7 +138,7 @@ def local_linear_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag
         for j in range(n):
             ytmp[j] = y[j]
         ytmp[i] = y[i] + h
-        derivatives(ytmp, p, sed_bank, cur_bank, work, k2, diag)
+        derivatives(ytmp, p, law, sed_bank, cur_bank, work, k2, diag)
         d = -(k2[i] - k1[i]) / h
         if d < 0.0 or not math.isfinite(d):
             d = 0.0
@@ -160,11 +161,11 @@ def local_linear_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag
 
 
 @kernel
-def take_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out, integrator):
+def take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out, integrator):
     if integrator == 0:
-        rk4_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out)
+        rk4_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out)
     else:
-        local_linear_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out)
+        local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out)
 
 
 @kernel
@@ -201,9 +202,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     g0 = np.empty(N_EVENTS)
     g1 = np.empty(N_EVENTS)
     initial_state(p, y)
+    law = pack_law(p, p[P_DIAMETER])
     dt_nominal = p[P_DT]
     t_max = p[P_TMAX]
-    integrator = int(p[P_INTEGRATOR])
+    integrator = min(int(p[P_INTEGRATOR]), 1)
     rest_speed = p[P_REST_SPEED]
     rest_spin = p[P_REST_SPIN]
     depth = p[P_DEPTH]
@@ -217,7 +219,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     hit_seabed = False
     max_decel = 0.0
     n_steps = 0
-    phase = derivatives(y, p, sed_bank, cur_bank, work, k1, diag)
+    phase = derivatives(y, p, law, sed_bank, cur_bank, work, k1, diag)
     event_values(y, p, g0)
     if g0[0] < 0.0:
         entered_water = True
@@ -237,7 +239,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             status = st.TIME_LIMIT
             break
         dt = min(dt_nominal, t_max - t)
-        take_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
+        take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
                   integrator)
         event_values(ynew, p, g1)
         first = -1
@@ -254,7 +256,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
                 if (hi - lo) * dt <= EVENT_TIME_TOLERANCE:
                     break
                 theta = 0.5 * (lo + hi)
-                take_step(y, theta * dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp,
+                take_step(y, theta * dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp,
                           diag, ynew, integrator)
                 event_values(ynew, p, g1)
                 any_crossed = False
@@ -266,7 +268,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
                 else:
                     lo = theta
             dt = hi * dt
-            take_step(y, dt, p, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
+            take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
                       integrator)
             event_values(ynew, p, g1)
         # accept the step
@@ -290,7 +292,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             summary[S_IMPACT_ANGLE] = math.degrees(math.atan2(-y[5], math.sqrt(y[3] * y[3] + y[4] * y[4])))
         for e in range(N_EVENTS):
             g0[e] = g1[e]
-        phase = derivatives(y, p, sed_bank, cur_bank, work, k1, diag)
+        phase = derivatives(y, p, law, sed_bank, cur_bank, work, k1, diag)
         finite = True
         for i in range(N_EXT):
             if not math.isfinite(y[i]) or not math.isfinite(k1[i]):
@@ -311,7 +313,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             # within one step there (stick), which an explicit step cannot resolve.
             if (speed < max(rest_speed, 2.0 * dv_step)
                     and spin < max(rest_spin, 2.0 * dw_step)):
-                if held_by_sediment(y, p, sed_bank, p[P_MASS] * rest_speed / REST_TIME, rest_speed):
+                if held_by_sediment(y, p, law, sed_bank, p[P_MASS] * rest_speed / REST_TIME, rest_speed):
                     status = st.AT_REST
                     break
         if y[2] > z_release + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:

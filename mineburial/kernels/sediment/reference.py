@@ -1,63 +1,21 @@
-"""Sediment resistance: surface tractions on the embedded part of the mine.
+"""Reference quadrature of the sediment tractions over the embedded surface.
 
-Seed 000 section 6 (Chu & Fan 2006, eqs. (63)-(75)) writes the force of the
-sediment on a penetrating cylinder as a surface integral over the part of the
-surface below the seabed, switched on only where the surface moves towards the
-sediment (the step function delta of eq. (65): delta = 1 when v.n >= 0, with
-v = V + omega x r the local velocity and n the outward normal), plus the
-pore-water pressure force of eq. (73). :func:`sediment_force_torque` evaluates
-that integral for three traction laws and three strain-rate laws;
-``docs/notes/sediment.md`` gives the derivation, the constants and their
-sources, and the measured error and cost of the quadrature.
-
-Conventions (``docs/design.md``): body frame with the axis ``x`` towards the
-nose, origin at the centre of mass (COM); the body spans
-``x in [-L/2 - chi, L/2 - chi]`` (seed 000 eq. (42)), radius ``R``; E-frame z up;
-``zeta`` = depth below the seabed.
-
-Traction laws (code ``int(p[P_SED_RESISTANCE])``, ``layout.RESISTANCE_NAMES``), on
-advancing elements (v.n >= 0; on the receding side a water-filled cavity opens, seed
-000 section 6.1). ``sigma'(zeta) = int_0^zeta (rho_s - rho_w) g dzeta'`` is the
-*effective* (submerged) overburden: seed 000 eq. (68) uses the total one, but the
-stepper applies the water pressure (Archimedes with rho_w) to the whole submerged
-volume, so the total overburden would count the water twice. The normal traction
-is scaled by the regularised switch h_n = v_n / sqrt(v_n^2 + V_REG_N^2) so that it
-is continuous in the velocity.
-
-0 ``delta``    seed 000 eq. (74): normal pressure sigma' h_n, tangential traction
-               mu G S along tau = -v_tau/|v_tau| (eq. (67)).
-1 ``friction`` seed 000 section 10 item 4: normal pressure N S G h_n with
-               N = p[P_SED_NC] (default pi + 2, the undrained bearing factor of
-               Prandtl 1920), tangential mu times the normal pressure.
-2 ``bearing``  in the spirit of Chu & Fan 2007 (IEEE J. Oceanic Eng. 32(1):34):
-               normal pressure N_c(zeta) S G h_n with the depth factor of Brinch
-               Hansen (1970), N_c = p[P_SED_NC] (1 + 0.4 arctan(zeta/d)), i.e. 5.14 at
-               the seabed and 8.4 deep (Skempton 1951: 7.5 strip, 9.0 circle); side
-               adhesion alpha S G with alpha = p[P_SED_MU] (True 1976; Aubeny & Shi
-               2006: alpha ~ 1/S_t).
-For ``friction`` and ``bearing`` the geostatic part sigma' acts on every embedded
-element whatever its motion and is added by the stepper in closed form
-(:mod:`mineburial.kernels.overburden`: Archimedes with the sediment density).
-
-Rate laws G (code ``int(p[P_SED_RATE_LAW])``, ``layout.RATE_LAW_NAMES``), evaluated
-with the LOCAL speed |v| of the surface element (the seed's COM speed V for a pure
-translation):
-0 ``impact35`` seed 000 eq. (70): G = A [1 - (1 - 1/A) exp(-|v|/V_rest)].
-1 ``semilog``  G = 1 + beta log10(max(rate/rate_ref, 1)), rate = |v|/d
-               (Biscontin & Pestana 2001; Aubeny & Shi 2006).
-2 ``none``     G = 1.
-
-Quadrature (``docs/notes/sediment.md`` section 3): the lateral surface is integrated
-generator by generator (outer variable theta, inner x). Along a generator every
-switch (seabed, delta, reversal of the circumferential slip, least speed) is a
-linear or quadratic function of x, so the inner limits and split points are exact;
-the theta-panels end at every angle where the inner integrand changes its form
-(closed forms, plus the roots of degree-2 trigonometric polynomials where two switch
-lines cross), and are graded geometrically towards near-singularities (poles of a
-switch line, sharp fronts). End caps are integrated in polar coordinates about the
-centre, the stagnation point of the in-plane slip or the point of least speed, in
+The accurate rule (``numerics.sediment_quadrature = "reference"``): the lateral surface
+is integrated generator by generator (outer variable theta, inner x). Along a
+generator every switch (seabed, delta, reversal of the circumferential slip, least
+speed) is a linear or quadratic function of x, so the inner limits and split points
+are exact; the theta-panels end at every angle where the inner integrand changes its
+form (closed forms, plus the roots of degree-2 trigonometric polynomials where two
+switch lines cross), and are graded geometrically towards near-singularities (poles
+of a switch line, sharp fronts). End caps are integrated in polar coordinates about
+the centre, the stagnation point of the in-plane slip or the point of least speed, in
 panels between the corners of the cut disk. Gauss-Legendre on every part, sinh
-transformations at near-singular ends; no allocation.
+transformations at near-singular ends; no allocation (``docs/notes/sediment.md``
+section 3 gives the derivation and the measured error and cost).
+
+Its cost (60-350 us an evaluation) and its adaptivity (the number of panels and
+points changes with the state, so the force is rough on the scale of its error) make
+it the guard of the fast rule (:mod:`.fast`) in the tests, not the default.
 """
 
 import math
@@ -65,32 +23,8 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
-from mineburial.kernels.layout import (P_GRAVITY, P_RHO_WATER, P_SED_A, P_SED_B, P_SED_BETA,
-                                       P_SED_EV, P_SED_KP, P_SED_MU, P_SED_NC, P_SED_PORE,
-                                       P_SED_PROFILE, P_SED_RATE_LAW, P_SED_RATE_REF,
-                                       P_SED_RESISTANCE, P_SED_RHO, P_SED_RHO_GRAD, P_SED_S,
-                                       P_SED_S_GRAD, P_SED_VREST)
-
-# --- model codes (layout.RESISTANCE_NAMES, layout.RATE_LAW_NAMES) -----------
-RES_DELTA = 0
-RES_FRICTION = 1
-RES_BEARING = 2
-RATE_IMPACT35 = 0
-RATE_SEMILOG = 1
-RATE_NONE = 2
-
-#: Regularisation speed of the slip direction, m/s: tau = -v_tau / sqrt(|v_tau|^2 + V_REG^2).
-#: Makes the tangential traction continuous at rest (it grows linearly with the
-#: slip below ~V_REG); 1 mm/s is the default rest-speed criterion of the
-#: stepper (numerics.rest_speed, seed 000 eq. (89)).
-V_REG = 1.0e-3
-
-#: Regularisation speed of the advancing switch delta (eq. (65)), m/s: the normal
-#: traction is scaled by v_n / sqrt(v_n^2 + V_REG_N^2) on advancing elements.
-V_REG_N = 1.0e-4
-
-#: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
-DEPTH_FACTOR = 0.4
+from mineburial.kernels.sediment.laws import (RATE_IMPACT35, RATE_SEMILOG, V_REG, V_REG_N,
+                                              _traction)
 
 # --- quadrature constants -----------------------------------------------------
 #: Lateral surface, per theta-panel: Gauss-Legendre points = ceil(width * NODES_PER_RAD)
@@ -137,168 +71,6 @@ _SAMPLE_S2 = np.sin(2.0 * _SAMPLE_T)
 
 _TWO_PI = 2.0 * math.pi
 _NAN = math.nan
-
-
-# =============================================================================
-# sediment properties
-# =============================================================================
-@kernel
-def _bank_properties(zeta, bank, row, rho_w, g):
-    """Piecewise-linear profile of bank row ``row`` at depth ``zeta``.
-
-    Returns (rho_s, S, sigma'_eff) with sigma'_eff = int_0^zeta (rho_s - rho_w) g,
-    exact for the piecewise-linear density (trapezoids); constant values above
-    the first and below the last tabulated depth.
-    """
-    d_prev = bank[row, 0, 0]
-    r_prev = bank[row, 1, 0]
-    s_prev = bank[row, 2, 0]
-    if zeta <= d_prev:
-        return r_prev, s_prev, (r_prev - rho_w) * g * zeta
-    acc = (r_prev - rho_w) * d_prev
-    n = bank.shape[2]
-    for j in range(1, n):
-        d = bank[row, 0, j]
-        if not (d == d):  # NaN padding: end of this row
-            break
-        r = bank[row, 1, j]
-        s = bank[row, 2, j]
-        if zeta <= d:
-            h = d - d_prev
-            f = (zeta - d_prev) / h if h > 0.0 else 1.0
-            rz = r_prev + f * (r - r_prev)
-            sz = s_prev + f * (s - s_prev)
-            acc += (0.5 * (r_prev + rz) - rho_w) * (zeta - d_prev)
-            return rz, sz, acc * g
-        acc += (0.5 * (r_prev + r) - rho_w) * (d - d_prev)
-        d_prev = d
-        r_prev = r
-        s_prev = s
-    acc += (r_prev - rho_w) * (zeta - d_prev)
-    return r_prev, s_prev, acc * g
-
-
-@kernel
-def _properties(zeta, rho0, krho, s0, ks, row, bank, rho_w, g):
-    """(rho_s, S, sigma'_eff) at depth zeta: linear profile when row < 0, else bank row."""
-    if zeta < 0.0:
-        zeta = 0.0
-    if row < 0:
-        rho = rho0 + krho * zeta
-        s = s0 + ks * zeta
-        if s < 0.0:
-            s = 0.0
-        sig = g * zeta * ((rho0 - rho_w) + 0.5 * krho * zeta)
-        return rho, s, sig
-    return _bank_properties(zeta, bank, row, rho_w, g)
-
-
-@kernel
-def sediment_properties(zeta, p, bank):
-    """Sediment bulk density, undrained shear strength and effective overburden at depth zeta.
-
-    Returns ``(rho_s [kg m-3], S [Pa], sigma'_eff [Pa])`` with
-    ``sigma'_eff = int_0^zeta (rho_s - rho_w) g dzeta'`` (the submerged form of seed
-    000 eq. (68)). ``p[P_SED_PROFILE] < 0``: linear profile rho0 + k_rho zeta,
-    S0 + k_S zeta; otherwise piecewise-linear interpolation of that bank row.
-    """
-    return _properties(zeta, p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
-                       int(p[P_SED_PROFILE]), bank, p[P_RHO_WATER], p[P_GRAVITY])
-
-
-# =============================================================================
-# rate laws and bearing factor
-# =============================================================================
-@kernel
-def _rate(speed, law, a, vrest, beta, rate_ref, diameter):
-    if law == RATE_IMPACT35:
-        # seed 000 eq. (70), written A - (A - 1) exp(-V/V_rest) (no division by A)
-        if vrest > 0.0:
-            return a - (a - 1.0) * math.exp(-speed / vrest)
-        return a if speed > 0.0 else 1.0
-    if law == RATE_SEMILOG:
-        # Biscontin & Pestana (2001), Aubeny & Shi (2006): 1 + beta log10(rate/rate_ref)
-        if rate_ref > 0.0 and diameter > 0.0:
-            ratio = speed / (diameter * rate_ref)
-            if ratio > 1.0:
-                return 1.0 + beta * math.log10(ratio)
-        return 1.0
-    return 1.0
-
-
-@kernel
-def rate_factor(speed, diameter, p):
-    """Strain-rate factor G of the shear strength at local speed ``speed`` (m/s).
-
-    Law ``int(p[P_SED_RATE_LAW])``: 0 seed 000 eq. (70) (G(0) = 1, G(inf) = A, eq. (71));
-    1 semi-log law with strain rate speed/diameter; 2 G = 1.
-    """
-    return _rate(speed, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-                 p[P_SED_RATE_REF], diameter)
-
-
-@kernel
-def bearing_factor(zeta, diameter, p):
-    """Bearing factor N_c of the ``bearing`` law at depth zeta for a body of diameter d.
-
-    N_c = N_c0 (1 + 0.4 arctan(zeta/d)) with N_c0 = p[P_SED_NC] (pi + 2 = 5.14,
-    Prandtl 1920, when p[P_SED_NC] <= 0) and the depth factor of Brinch Hansen (1970).
-    """
-    nc0 = p[P_SED_NC]
-    if not (nc0 > 0.0):
-        nc0 = math.pi + 2.0
-    z = zeta if zeta > 0.0 else 0.0
-    return nc0 * (1.0 + DEPTH_FACTOR * math.atan(z / diameter))
-
-
-# =============================================================================
-# traction at one surface point
-# =============================================================================
-@kernel
-def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
-    """Traction (body frame) of the sediment on an advancing surface element.
-
-    (x, y, z): body-frame point; (nx, ny, nz): outward normal; (v1, v2, v3): COM
-    velocity in the body frame; (w1, w2, w3): angular velocity (body).
-    ``law`` = (model, rate_law, A, V_rest, beta, rate_ref, mu, N0, diameter,
-    rho_w, g, rho0, k_rho, S0, k_S, row).
-    """
-    model = law[0]
-    vx = v1 + w2 * z - w3 * y
-    vy = v2 + w3 * x - w1 * z
-    vz = v3 + w1 * y - w2 * x
-    vn = vx * nx + vy * ny + vz * nz
-    tx = vx - vn * nx
-    ty = vy - vn * ny
-    tz = vz - vn * nz
-    vt2 = tx * tx + ty * ty + tz * tz
-    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    _, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank,
-                            law[9], law[10])
-    gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
-    mu = law[6]
-    # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
-    # full value over ~V_REG_N, so the force is continuous in the velocity (no
-    # chattering of the explicit integrator at rest; docs/notes/sediment.md). The form
-    # v_n / sqrt(v_n^2 + V_REG_N^2) has a short tail (1 - h ~ V_REG_N^2 / (2 v_n^2)), so
-    # the ramp is a thin layer along the delta line that the quadrature need not resolve
-    # (v_n / (v_n + V_REG_N) would lower the traction by 1 % up to v_n = 100 V_REG_N).
-    hn = vn / math.sqrt(vn * vn + V_REG_N * V_REG_N) if vn > 0.0 else 0.0
-    if model == RES_DELTA:
-        pn = sig * hn
-        ft = mu * gfac * s
-    elif model == RES_FRICTION:
-        # the geostatic overburden sig acts on every embedded element and is added in
-        # closed form by the stepper (kernels/overburden.py)
-        pn = law[7] * s * gfac * hn
-        ft = mu * pn
-    else:
-        nc = law[7] * (1.0 + DEPTH_FACTOR * math.atan(zeta / law[8]))
-        pn = nc * s * gfac * hn
-        ft = mu * s * gfac
-    k = ft / math.sqrt(vt2 + V_REG * V_REG)
-    return -pn * nx - k * tx, -pn * ny - k * ty, -pn * nz - k * tz
-
 
 # =============================================================================
 # breakpoints
@@ -1211,55 +983,23 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
 
 
 # =============================================================================
-# public kernel
+
+
+# =============================================================================
+# the rule
 # =============================================================================
 @kernel
-def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_density, gravity, p,
-                          sediment_bank):
-    """Resistance of the sediment on the embedded part of the mine (seed 000 section 6).
+def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+    """Sediment force and torque (body frame, about the COM) by the reference quadrature.
 
-    L, R, chi: length, radius, COM offset (body spans x in [-L/2 - chi, L/2 - chi]);
-    rot: 9 floats, row-major rotation matrix body->earth; com, vel: COM position and
-    velocity (E-frame, z up); omega: angular velocity (body frame); seabed_z: height of
-    the seabed; water_density, gravity: rho_w and g; p: parameter vector
-    (``layout.P_SED_*``); sediment_bank: profile bank (``layout``).
-
-    Returns ``(Fx, Fy, Fz, Mx, My, Mz, added_mass_z)``: the force in the E-frame, the
-    torque about the COM in the body frame, and the vertical added mass (kg) of the
-    dw/dt term of the pore-pressure law eq. (73) (0 when pore pressure is off), which
-    the caller puts on the left-hand side: its force is -added_mass_z * dw/dt.
+    ``(c20, c21, c22)``: the E-frame vertical in the body frame; ``d0``: height of the
+    seabed above the COM; ``vbody`` = (v1, v2, v3, w1, w2, w3): COM velocity and angular
+    velocity in the body frame; ``law``: :func:`.laws.pack_law`.
     """
-    c20 = rot[6]
-    c21 = rot[7]
-    c22 = rot[8]
     xa = -0.5 * L - chi
     xb = 0.5 * L - chi
-    d0 = seabed_z - com[2]
     rperp = math.sqrt(c21 * c21 + c22 * c22)
-    zeta_tip = d0 - (min(c20 * xa, c20 * xb) - R * rperp)
-    if not (zeta_tip > 0.0):
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-
-    # COM velocity in the body frame (C^T vel)
-    v1 = rot[0] * vel[0] + rot[3] * vel[1] + rot[6] * vel[2]
-    v2 = rot[1] * vel[0] + rot[4] * vel[1] + rot[7] * vel[2]
-    v3 = rot[2] * vel[0] + rot[5] * vel[1] + rot[8] * vel[2]
-    diameter = 2.0 * R
-    model = int(p[P_SED_RESISTANCE])
-    if model < 0 or model > 2:
-        model = RES_DELTA
-    n0 = p[P_SED_NC]
-    if not (n0 > 0.0):
-        n0 = math.pi + 2.0  # Prandtl (1920)
-    # constants of the traction law (see _traction)
-    law = (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-           p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, water_density, gravity,
-           p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
-           int(p[P_SED_PROFILE]))
-    w1 = omega[0]
-    w2 = omega[1]
-    w3 = omega[2]
-    # ---- tractions on the embedded, advancing part of the lateral surface and caps ----
+    v1, v2, v3, w1, w2, w3 = vbody
     tangential = law[6] != 0.0
     # speed dip of the rate factor: (mode, floor, limit). impact35: G falls from A to 1
     # over |v| ~ V_rest, resolved where v_min < DIP_SPEEDS V_rest, down to V_rest/4;
@@ -1270,24 +1010,7 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
         dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
     elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
         dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
-    # velocity components at the rounding level of the others are zero (an axial motion
-    # stays exactly tangential to the lateral surface, so delta = 1 holds there)
-    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3)
-                     + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
-    if abs(v1) < vtiny:
-        v1 = 0.0
-    if abs(v2) < vtiny:
-        v2 = 0.0
-    if abs(v3) < vtiny:
-        v3 = 0.0
-    if abs(w1) * (L + R) < vtiny:
-        w1 = 0.0
-    if abs(w2) * (L + R) < vtiny:
-        w2 = 0.0
-    if abs(w3) * (L + R) < vtiny:
-        w3 = 0.0
     geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
-    vbody = (v1, v2, v3, w1, w2, w3)
     # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
     fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
     fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
@@ -1313,7 +1036,7 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
                                              c22, vbody, tangential, dip)
             kind = 1
             rule = CAP_RULE
-        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vbody, law, sediment_bank,
+        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vbody, law, bank,
                                           tangential, dip, rule, bps, eps, epsr, vtol)
         f1 += g1
         f2 += g2
@@ -1321,37 +1044,4 @@ def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_densi
         m1 += h1
         m2 += h2
         m3 += h3
-
-    fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
-    fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
-    fz = rot[6] * f1 + rot[7] * f2 + rot[8] * f3
-
-    # pore-water pressure, seed 000 eq. (73), sign fixed to oppose the vertical motion
-    added = 0.0
-    if p[P_SED_PORE] > 0.0:
-        b = min(zeta_tip, diameter)
-        if p[P_SED_B] > 0.0:
-            b = min(b, p[P_SED_B])
-        rho_tip, _, _ = _properties(zeta_tip, p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S],
-                                    p[P_SED_S_GRAD], int(p[P_SED_PROFILE]), sediment_bank,
-                                    water_density, gravity)
-        coef = math.pi / 8.0 * rho_tip * b * b * b
-        fpw = 0.0
-        if p[P_SED_KP] > 0.0:
-            fpw = -coef * gravity * vel[2] / p[P_SED_KP]
-        if p[P_SED_EV] > 0.0:
-            added = coef * (1.0 + p[P_SED_EV]) / p[P_SED_EV]
-        fz += fpw
-        # acting on the axis at the middle of its embedded length (r_pw of eq. (75))
-        lo = xa
-        hi = xb
-        top = d0 + R * rperp
-        if c20 > 0.0:
-            hi = min(hi, top / c20)
-        elif c20 < 0.0:
-            lo = max(lo, top / c20)
-        xm = 0.5 * (lo + hi)
-        # r_pw x (C^T k fpw) with r_pw = (xm, 0, 0)
-        m2 += -xm * fpw * c22
-        m3 += xm * fpw * c21
-    return fx, fy, fz, m1, m2, m3, added
+    return f1, f2, f3, m1, m2, m3
