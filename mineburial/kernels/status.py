@@ -2,7 +2,11 @@
 
 Kernels never raise: each drop ends with one of these codes, which the Python
 side records per drop (CF ``flag_values``/``flag_meanings``) and turns into
-explanatory messages.
+explanatory messages. How each status enters the ensemble statistics is stated in
+``IN_STATISTICS`` and docs/design.md: drops at rest and drops fully buried and still
+sinking at the time limit carry a burial (the latter as a lower bound of the
+penetration, 100 % burial); drops that floated never reached the seabed and are
+counted apart; the others are left out and counted.
 """
 
 AT_REST = 0
@@ -10,13 +14,22 @@ TIME_LIMIT = 1
 LEFT_DOMAIN = 2
 NUMERICAL_FAILURE = 3
 INVALID_INPUT = 4
+FLOATED = 5
+BURIED_SINKING = 6
 
-NAMES = ("at_rest", "time_limit", "left_domain", "numerical_failure", "invalid_input")
+NAMES = ("at_rest", "time_limit", "left_domain", "numerical_failure", "invalid_input",
+         "floated", "buried_sinking")
 
 DESCRIPTIONS = (
-    "the mine came to rest in or on the sediment (seed 000 eq. (89), speed criterion)",
-    "the mine was still moving when the time limit was reached",
+    "the mine came to rest in or on the sediment (seed 000 eq. (89) speed criterion and "
+    "the rigid-plastic hold test, kernels/rest.py)",
+    "the mine was still moving, not fully buried, when the time limit was reached",
     "the mine left the modelled domain",
-    "a non-finite value appeared in the state (numerical failure)",
+    "a non-finite value appeared in the state, or the step size underflowed (numerical failure)",
     "a sampled input was outside its physical range; the drop was not run",
+    "the mine is lighter than the water and rose back before reaching the seabed",
+    "the mine was fully buried and still sinking at the time limit (penetration is a lower bound)",
 )
+
+#: statuses whose burial enters the burial statistics
+IN_STATISTICS = (AT_REST, BURIED_SINKING)

@@ -1,11 +1,30 @@
-"""The per-drop stepper: integrate one drop from release to rest (seed 000 section 7).
+"""The per-drop driver: integrate one drop from release to its end (seed 000 section 7).
+
+The driver is built from parts that each live in one place:
+
+* the **right-hand side** of the falling mine, :func:`.dynamics.derivatives`;
+* the **integrator protocol** (:mod:`.integrators`): a step returns the new state, an
+  error estimate (``dopri5``) and a continuous extension over the step;
+* **events** as functions of the state (:func:`event_values`: the lowest and highest
+  points of the mine against the water surface and the seabed; :func:`rest_measure`:
+  speed and spin against the rest criteria), located by root finding on the
+  continuous extension, never by re-stepping; the step is cut at the first event and
+  the integration restarts there (the right-hand side is not smooth across an
+  interface);
+* the **end of the drop** (:mod:`.rest`): at rest when slow and held by the sediment
+  (forces and torques); floated; fully buried and still sinking at the time limit;
+* a **recorder** that samples the continuous extension at exact output times.
 
 Integrators (``numerics.integrator``):
 
-``rk4`` (default)
-    Classical fourth-order Runge-Kutta on the extended state (seed 004 uses
-    Runge-Kutta for its Kane equations; seed 000 section 10 asks for "a fully
-    numerical calculation"). Fourth order in dt.
+``dopri5`` (default)
+    Dormand-Prince 5(4) with error control on a mixed tolerance
+    (``numerics.rtol``, ``numerics.atol``) over position, velocity, attitude and
+    angular velocity, PI step-size controller and 4th-order dense output.
+``rk4``
+    Classical fourth-order Runge-Kutta at the fixed step ``numerics.dt`` (the
+    reference; seed 004 uses Runge-Kutta for its Kane equations; seed 000 section 10
+    asks for "a fully numerical calculation"), cubic Hermite continuous extension.
 ``local_linear``
     The recursive local-linearisation scheme of seed 000 eqs. (83)-(87): each
     velocity component obeys dv/dt = -d v + beta with d and beta frozen at t_n
@@ -14,10 +33,6 @@ Integrators (``numerics.integrator``):
     The diagonal damping d of eqs. (81)-(82) is the diagonal of the Jacobian of
     the acceleration with respect to the velocity, evaluated by a one-sided
     difference so that the same scheme serves both physics models. First order.
-
-Interface crossings (lowest/highest point of the mine through the water
-surface or the seabed) are located by bisection on the step fraction to
-``EVENT_TIME_TOLERANCE`` and the step is cut there, so no crossing is stepped over.
 """
 
 import math
@@ -26,20 +41,25 @@ import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels import status as st
-from mineburial.kernels.dynamics import (I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG, N_EXT, N_WORK,
-                                         derivatives, held_by_sediment)
+from mineburial.kernels.dynamics import I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG, N_EXT, N_WORK, derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
-from mineburial.kernels.layout import (N_SUMMARY, P_CHI, P_MASS, P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR,
-                                       P_LENGTH, P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
-                                       P_REST_SPEED, P_REST_SPIN, P_TMAX, P_U0, P_V0, P_W0, P_X0,
-                                       P_Y0, P_Z0, S_BURIAL_AREA, S_BURIAL_HEIGHT, S_BURIAL_VOLUME,
-                                       S_COM_DEPTH, S_ENTRY_TIME, S_FINAL_HEADING, S_FINAL_PITCH,
-                                       S_FINAL_ROLL, S_FINAL_X, S_FINAL_Y, S_HEIGHT_PROUD,
-                                       S_IMPACT_ANGLE, S_IMPACT_PITCH, S_IMPACT_SPEED, S_IMPACT_TIME,
-                                       S_MAX_DECEL, S_N_STEPS, S_PENETRATION, S_TOTAL_TIME)
+from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, dopri_solution,
+                                            dopri_stage_state, error_norm, hermite_dense,
+                                            illinois_next, illinois_update, next_step_size)
+from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_STATE, N_SUMMARY, P_ATOL, P_CHI,
+                                       P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
+                                       P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
+                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_SED_DT, P_TMAX,
+                                       P_U0, P_V0, P_W0, P_X0, P_Y0, P_Z0, S_BURIAL_AREA,
+                                       S_BURIAL_HEIGHT, S_BURIAL_VOLUME, S_COM_DEPTH,
+                                       S_ENTRY_TIME, S_FINAL_HEADING, S_FINAL_PITCH, S_FINAL_ROLL,
+                                       S_FINAL_X, S_FINAL_Y, S_HEIGHT_PROUD, S_IMPACT_ANGLE,
+                                       S_IMPACT_PITCH, S_IMPACT_SPEED, S_IMPACT_TIME, S_MAX_DECEL,
+                                       S_N_STEPS, S_PENETRATION, S_TOTAL_TIME)
+from mineburial.kernels.rest import held_by_sediment
+from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, quaternion_multiply,
+                                         rotation_matrix, rotation_vector_quaternion)
 from mineburial.kernels.sediment import pack_law
-from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, rotation_matrix,
-                                         rotation_vector_quaternion, quaternion_multiply)
 
 # columns of a recorded trajectory row
 TRAJ_COLUMNS = ("time", "x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
@@ -49,11 +69,18 @@ TRAJ_COLUMNS = ("time", "x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
                 "torque_1", "torque_2", "torque_3")
 N_TRAJ = len(TRAJ_COLUMNS)
 
-N_EVENTS = 4
+INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
+INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
+INTEGRATOR_DOPRI5 = INTEGRATOR_NAMES.index("dopri5")
+
+N_EVENTS = 5                  # 4 interfaces + the rest measure
+EVENT_REST = 4
 MAX_STEPS = 50_000_000
-EVENT_TIME_TOLERANCE = 1e-9   # s: crossing times are located to this accuracy
+EVENT_TOLERANCE = 1e-12       # fraction of a step: events are located to this accuracy
+MAX_EVENT_ITERATIONS = 60
 DOMAIN_RADIUS = 1e5           # m: a drop that drifts further has left the domain
-REST_TIME = 1.0               # s: force tolerance of the rest test is mass * rest_speed / REST_TIME
+MAX_STEP = 0.5                # s: largest adaptive step (events are detected per step)
+MIN_STEP = 1e-12              # s: an adaptive step below this is a numerical failure
 
 
 @kernel
@@ -77,8 +104,18 @@ def initial_state(p, y):
 
 
 @kernel
+def _normalize_attitude(y):
+    q0, q1, q2, q3 = normalize_quaternion(y[6], y[7], y[8], y[9])
+    y[6] = q0
+    y[7] = q1
+    y[8] = q2
+    y[9] = q3
+
+
+@kernel
 def event_values(y, p, g):
-    """Signed distances of the lowest/highest point to the surface and the seabed."""
+    """Event functions of the state: signed distances of the lowest/highest point to the
+    water surface (g0, g1) and to the seabed (g2, g3), and the rest measure (g4)."""
     L = p[P_LENGTH]
     R = 0.5 * p[P_DIAMETER]
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
@@ -89,6 +126,16 @@ def event_values(y, p, g):
     g[1] = hi
     g[2] = lo + depth
     g[3] = hi + depth
+    g[4] = rest_measure(y, p)
+
+
+@kernel
+def rest_measure(y, p):
+    """max(speed / rest_speed, spin / rest_spin) - 1: negative when the mine is slow
+    enough to be at rest by seed 000 eq. (89) (epsilon_1 on the speed, as a speed)."""
+    speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
+    spin = math.sqrt(y[10] * y[10] + y[11] * y[11] + y[12] * y[12])
+    return max(speed / p[P_REST_SPEED], spin / p[P_REST_SPIN]) - 1.0
 
 
 @kernel
@@ -161,11 +208,13 @@ def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp,
 
 
 @kernel
-def take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out, integrator):
-    if integrator == 0:
-        rk4_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out)
-    else:
-        local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out)
+def dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out, err):
+    """Stages 2-7 of a Dormand-Prince step (k[0] = f(y) pre-filled): fills ``out`` (5th
+    order), ``err`` and k[6] = f(out)."""
+    for s in range(1, N_STAGES):
+        dopri_stage_state(y, k, s, h, ytmp)
+        derivatives(ytmp, p, law, sed_bank, cur_bank, work, k[s], diag)
+    dopri_solution(y, k, h, out, err)
 
 
 @kernel
@@ -174,13 +223,43 @@ def _crossed(g0, g1):
 
 
 @kernel
-def _record(traj, row, t, y, phase, diag):
+def _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag):
+    """Recorder: one trajectory row at time t (forces evaluated at the recorded state)."""
+    phase = derivatives(y, p, law, sed_bank, cur_bank, work, dy, diag)
     traj[row, 0] = t
     for i in range(N_EXT):
         traj[row, 1 + i] = y[i]
+    q0, q1, q2, q3 = normalize_quaternion(y[6], y[7], y[8], y[9])
+    traj[row, 7] = q0
+    traj[row, 8] = q1
+    traj[row, 9] = q2
+    traj[row, 10] = q3
     traj[row, 16] = phase
     for i in range(9):
         traj[row, 17 + i] = diag[i]
+
+
+@kernel
+def _locate(r, p, e, gstart, gend, ytmp, gtmp):
+    """Fraction of the step at which event ``e`` changes sign, on the continuous
+    extension ``r`` (Illinois regula falsi), returned as the right end of the final
+    bracket so that the event has happened there."""
+    a = 0.0
+    ga = gstart
+    b = 1.0
+    gb = gend
+    side = 0
+    for _ in range(MAX_EVENT_ITERATIONS):
+        if b - a <= EVENT_TOLERANCE:
+            break
+        t = illinois_next(a, ga, b, gb)
+        dense_state(r, t, ytmp)
+        event_values(ytmp, p, gtmp)
+        gt = gtmp[e]
+        if gt == 0.0:
+            return t
+        a, ga, b, gb, side = illinois_update(a, ga, b, gb, t, gt, side)
+    return b
 
 
 @kernel
@@ -190,95 +269,131 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     """
     for i in range(N_SUMMARY):
         summary[i] = np.nan
+    law = pack_law(p, p[P_DIAMETER])
     y = np.empty(N_EXT)
     ynew = np.empty(N_EXT)
-    k1 = np.empty(N_EXT)
-    k2 = np.empty(N_EXT)
-    k3 = np.empty(N_EXT)
-    k4 = np.empty(N_EXT)
+    err = np.empty(N_EXT)
+    k = np.empty((N_STAGES, N_EXT))
     ytmp = np.empty(N_EXT)
+    dy = np.empty(N_EXT)
+    r = np.empty((5, N_EXT))
     work = np.empty(N_WORK)
     diag = np.zeros(N_DIAG)
     g0 = np.empty(N_EVENTS)
     g1 = np.empty(N_EVENTS)
+    gtmp = np.empty(N_EVENTS)
     initial_state(p, y)
-    law = pack_law(p, p[P_DIAMETER])
-    dt_nominal = p[P_DT]
+    integrator = int(p[P_INTEGRATOR])
+    adaptive = integrator == INTEGRATOR_DOPRI5
+    rtol = p[P_RTOL]
+    atol = p[P_ATOL]
     t_max = p[P_TMAX]
-    integrator = min(int(p[P_INTEGRATOR]), 1)
     rest_speed = p[P_REST_SPEED]
-    rest_spin = p[P_REST_SPIN]
     depth = p[P_DEPTH]
     z_release = p[P_Z0]
+    L = p[P_LENGTH]
+    R = 0.5 * p[P_DIAMETER]
+    chi = p[P_CHI]
+    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * L
     n_rows = traj.shape[0]
     row = 0
     t = 0.0
     next_record = 0.0
     status = st.TIME_LIMIT
-    entered_water = False
-    hit_seabed = False
+    h_adapt = p[P_DT]           # next trial step of dopri5 (its first: numerics.dt)
+    err_prev = 1e-4
+    accepted_before = True
     max_decel = 0.0
     n_steps = 0
-    phase = derivatives(y, p, law, sed_bank, cur_bank, work, k1, diag)
+    derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
     event_values(y, p, g0)
-    if g0[0] < 0.0:
-        entered_water = True
+    entered_water = g0[0] < 0.0
+    hit_seabed = g0[2] < 0.0
+    if entered_water:
         summary[S_ENTRY_TIME] = 0.0
-    if g0[2] < 0.0:
-        hit_seabed = True
+    if hit_seabed:
         summary[S_IMPACT_TIME] = 0.0
     while True:
-        if row < n_rows and t >= next_record - 1e-12:
-            _record(traj, row, t, y, phase, diag)
-            row += 1
-            next_record += record_dt
-        if t >= t_max - 1e-12:
-            status = st.TIME_LIMIT
+        if t >= t_max * (1.0 - 1e-15):
+            if g0[3] < 0.0:
+                status = st.BURIED_SINKING
             break
         if n_steps >= MAX_STEPS:
-            status = st.TIME_LIMIT
             break
-        dt = min(dt_nominal, t_max - t)
-        take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
-                  integrator)
-        event_values(ynew, p, g1)
-        first = -1
-        for e in range(N_EVENTS):
-            if _crossed(g0[e], g1[e]):
-                first = e
+        # dopri5 steps where the right-hand side is smooth (air, water column); in contact
+        # with the sediment the fixed RK4 step numerics.sediment_dt (docs/design.md, "time
+        # stepping": the regularised tractions make the sediment phase stiff)
+        adaptive_now = adaptive and not g0[2] < 0.0
+        if adaptive_now:
+            h = min(h_adapt, MAX_STEP, t_max - t)
+            if h < MIN_STEP * max(1.0, t):
+                status = st.NUMERICAL_FAILURE
                 break
+            dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew, err)
+            enorm = error_norm(y, ynew, err, N_STATE, rtol, atol)
+            h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
+            accepted_before = accept
+            if not accept:
+                h_adapt = h_next
+                continue
+            dopri_dense(y, ynew, k, h, r)
+            h_adapt = h_next
+        else:
+            h = min(p[P_SED_DT] if adaptive else p[P_DT], t_max - t)
+            if integrator == INTEGRATOR_LOCAL_LINEAR:
+                local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2],
+                                  ytmp, diag, ynew)
+            else:
+                rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp,
+                         diag, ynew)
+            derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
+            hermite_dense(y, ynew, k[0], k[6], h, r)
+        event_values(ynew, p, g1)
+        # ---- events on the continuous extension: the first one ends the step ----
+        theta = 2.0
+        first = -1
+        in_contact = g0[2] < 0.0 and g1[2] < 0.0
+        for e in range(N_EVENTS):
+            if e == EVENT_REST:
+                # the rest measure turning negative while in contact with the sediment
+                if not (in_contact and g0[e] > 0.0 and g1[e] <= 0.0):
+                    continue
+            elif not _crossed(g0[e], g1[e]):
+                continue
+            th = _locate(r, p, e, g0[e], g1[e], ytmp, gtmp)
+            if th < theta:
+                theta = th
+                first = e
+        # ---- the recorder: rows at exact output times within the step ----
+        t_end = t + h if first < 0 else t + theta * h
+        while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
+            dense_state(r, min(max((next_record - t) / h, 0.0), 1.0), ytmp)
+            _record(traj, row, next_record, ytmp, p, law, sed_bank, cur_bank, work, dy, diag)
+            row += 1
+            next_record = row * record_dt
+        # ---- accept the step (cut at the first event) ----
         if first >= 0:
-            # locate the earliest crossing by bisection on the step fraction: the
-            # step is cut just after the first interface crossing
-            lo = 0.0
-            hi = 1.0
-            for it in range(60):
-                if (hi - lo) * dt <= EVENT_TIME_TOLERANCE:
-                    break
-                theta = 0.5 * (lo + hi)
-                take_step(y, theta * dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp,
-                          diag, ynew, integrator)
-                event_values(ynew, p, g1)
-                any_crossed = False
-                for e in range(N_EVENTS):
-                    if _crossed(g0[e], g1[e]):
-                        any_crossed = True
-                if any_crossed:
-                    hi = theta
-                else:
-                    lo = theta
-            dt = hi * dt
-            take_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, ynew,
-                      integrator)
+            dense_state(r, theta, ynew)
             event_values(ynew, p, g1)
-        # accept the step
-        dv_step = math.sqrt((ynew[3] - y[3]) ** 2 + (ynew[4] - y[4]) ** 2 + (ynew[5] - y[5]) ** 2)
-        dw_step = math.sqrt((ynew[10] - y[10]) ** 2 + (ynew[11] - y[11]) ** 2
-                            + (ynew[12] - y[12]) ** 2)
+            if first < EVENT_REST:
+                # the interface is crossed at the cut: make its sign change exact
+                # (strictly: a value of -0.0 would read as not crossed)
+                mag = max(abs(g1[first]), 1e-300)
+                g1[first] = -mag if g0[first] > 0.0 else mag
+            else:
+                g1[EVENT_REST] = min(g1[EVENT_REST], -1e-300)
+        _normalize_attitude(ynew)
         for i in range(N_EXT):
             y[i] = ynew[i]
-        t += dt
+        t = t_end
         n_steps += 1
+        if first >= 0:
+            # restart: f at the cut state (the right-hand side is not smooth there)
+            derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
+            accepted_before = False
+        else:
+            for i in range(N_EXT):
+                k[0, i] = k[6, i]
         if not entered_water and g1[0] < 0.0:
             entered_water = True
             summary[S_ENTRY_TIME] = t
@@ -292,43 +407,34 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             summary[S_IMPACT_ANGLE] = math.degrees(math.atan2(-y[5], math.sqrt(y[3] * y[3] + y[4] * y[4])))
         for e in range(N_EVENTS):
             g0[e] = g1[e]
-        phase = derivatives(y, p, law, sed_bank, cur_bank, work, k1, diag)
         finite = True
         for i in range(N_EXT):
-            if not math.isfinite(y[i]) or not math.isfinite(k1[i]):
+            if not math.isfinite(y[i]) or not math.isfinite(k[0, i]):
                 finite = False
         if not finite:
             status = st.NUMERICAL_FAILURE
             break
         if g1[2] < 0.0:
-            acc = math.sqrt(k1[3] * k1[3] + k1[4] * k1[4] + k1[5] * k1[5])
+            acc = math.sqrt(k[0, 3] * k[0, 3] + k[0, 4] * k[0, 4] + k[0, 5] * k[0, 5])
             if acc > max_decel:
                 max_decel = acc
-            speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
-            spin = math.sqrt(y[10] * y[10] + y[11] * y[11] + y[12] * y[12])
-            # seed 000 eq. (89) as a speed criterion, plus a test that the sediment can
-            # hold the mine there: one at a turning point of an oscillation is
-            # momentarily slow but not at rest. A speed below the change of velocity
-            # over the last step counts as zero: the rigid-plastic resistance reverses
-            # within one step there (stick), which an explicit step cannot resolve.
-            if (speed < max(rest_speed, 2.0 * dv_step)
-                    and spin < max(rest_spin, 2.0 * dw_step)):
-                if held_by_sediment(y, p, law, sed_bank, p[P_MASS] * rest_speed / REST_TIME, rest_speed):
-                    status = st.AT_REST
-                    break
+            # the end of the drop: slow (eq. (89)) and held by the sediment (kernels/rest.py)
+            if g1[EVENT_REST] <= 0.0 and held_by_sediment(y, p, law, sed_bank, rest_speed):
+                status = st.AT_REST
+                break
+        elif buoyant and entered_water and not hit_seabed and g1[0] < 0.0 and y[5] > 0.0:
+            # lighter than the water, in it and rising: it will not reach the seabed
+            status = st.FLOATED
+            break
         if y[2] > z_release + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:
             status = st.LEFT_DOMAIN
             break
-    if row < n_rows and row > 0 and traj[row - 1, 0] < t:
-        _record(traj, row, t, y, phase, diag)
+    if row < n_rows and (row == 0 or traj[row - 1, 0] < t):
+        _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
         row += 1
     # ---- burial measures and final attitude ----
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
-    chi = p[P_CHI]
-    r = rotation_matrix(y[6], y[7], y[8], y[9])
-    a_z = r[6]
-    pv, ph, pa, proud, pen = burial_measures(L, R, chi, a_z, y[2], -depth)
+    rot = rotation_matrix(y[6], y[7], y[8], y[9])
+    pv, ph, pa, proud, pen = burial_measures(L, R, chi, rot[6], y[2], -depth)
     summary[S_PENETRATION] = pen
     summary[S_COM_DEPTH] = -depth - y[2]
     summary[S_BURIAL_VOLUME] = pv

@@ -1,9 +1,381 @@
-"""Fast fixed-cost rule for the sediment tractions (placeholder: calls the reference)."""
+"""Fast fixed-cost rule for the sediment tractions, smooth in the state.
+
+The default rule (``numerics.sediment_quadrature = "fast"``): the same traction law
+(:func:`.laws._traction`) and the same embedded, advancing surface as
+:mod:`.reference`, integrated with a fixed number of Gauss-Legendre nodes whose
+positions are continuous functions of the state (``docs/notes/sediment_fast.md``).
+
+Lateral surface, point (x, R cos t, R sin t). With phi = t - t_deep (t_deep the
+direction of the deepest generator) the depth is zeta = d0 - c20 x + R rperp cos phi,
+so the generators that are embedded somewhere fill |phi| < a_any and those embedded
+along their whole length |phi| < a_all (closed forms, arccos of a clipped ratio). The
+outer integral runs over [-a_any, a_any] in panels between breakpoints that are
+continuous functions of the state, clamped into that range:
+
+* +-a_all (the seabed line reaches a body end);
+* the four angles where the delta line v.n = 0 crosses a body end (v.n at x = xa or
+  xb is a pure harmonic of t: two roots each; for a translation they coincide pairwise
+  and the panels end exactly at the jump of the integrand);
+* with friction: the angles where the circumferential slip v_t reverses at a body end
+  (two per end) and where the axial slip v_x (independent of x) reverses; a root
+  that does not exist is replaced by the clipped double root (where it is born), so the
+  breakpoints never jump.
+
+Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
+breakpoints crossing each other or the ends change the result continuously. At each
+node the embedded and advancing x-interval of the generator is exact (both conditions
+are linear in x), split at the point where v_t reverses (clamped into it, so a split
+point that enters or leaves does so with a zero-length piece), with N_X nodes on each
+piece.
+
+End caps, point (xc, s d + t e) with d the unit direction of increasing depth in the
+cap plane: zeta = e0 + rperp s > 0 is s > s0, and s = R sin u, t in
+[-R cos u, R cos u] (area element R cos u du dt, smooth up to the rim). The outer
+variable u runs over [asin(clip(s0/R)), pi/2], split where the delta chord meets the
+rim (clipped double roots when it does not), N_U nodes a panel; the inner t-interval
+is cut exactly by the delta chord, N_S nodes.
+
+Fixed node counts, no state-dependent refinement, no allocation.
+"""
+
+import math
+
+import numpy as np
 
 from mineburial._numba import kernel
-from mineburial.kernels.sediment.reference import reference_tractions
+from mineburial.kernels.sediment.laws import _traction
+
+#: Gauss-Legendre points: per theta panel (N_T), per x-piece of a generator (N_X), per u
+#: panel of a cap (N_U), per cap chord (N_S).
+import os as _os
+N_T = int(_os.environ.get("FNT", 3))
+N_X = int(_os.environ.get("FNX", 3))
+N_U = int(_os.environ.get("FNU", 3))
+N_S = int(_os.environ.get("FNS", 3))
+
+_GL_MAX = 8
+_GL_NODES = np.zeros((_GL_MAX + 1, _GL_MAX))
+_GL_WEIGHTS = np.zeros((_GL_MAX + 1, _GL_MAX))
+for _n in range(1, _GL_MAX + 1):
+    _xg, _wg = np.polynomial.legendre.leggauss(_n)
+    _GL_NODES[_n, :_n] = _xg
+    _GL_WEIGHTS[_n, :_n] = _wg
+del _n, _xg, _wg
+
+_PI = math.pi
+_TWO_PI = 2.0 * math.pi
+_HALF_PI = 0.5 * math.pi
+
+
+@kernel
+def _clip1(r):
+    """r clipped to [-1, 1] (NaN -> 1)."""
+    if r > 1.0:
+        return 1.0
+    if r < -1.0:
+        return -1.0
+    if not (r == r):
+        return 1.0
+    return r
+
+
+@kernel
+def _local(t, t0, amax):
+    """Angle t as an offset from t0 in [-pi, pi], clamped to [-amax, amax]."""
+    p = t - t0
+    p -= _TWO_PI * math.floor(p / _TWO_PI + 0.5)
+    if p > amax:
+        return amax
+    if p < -amax:
+        return -amax
+    return p
+
+
+@kernel
+def _harmonic_roots(k, a, b):
+    """Roots of k + a cos t + b sin t = 0 as (psi - w, psi + w), psi = atan2(b, a),
+    w = arccos(clip(-k / amp)): when there is no root, the double root where the
+    roots are born (continuous in (k, a, b) wherever amp > 0)."""
+    amp = math.sqrt(a * a + b * b)
+    psi = math.atan2(b, a)
+    if amp > 0.0:
+        w = math.acos(_clip1(-k / amp))
+    else:
+        w = 0.0
+    return psi - w, psi + w
+
+
+@kernel
+def _next_break(bps, cur, end):
+    """Smallest breakpoint above cur, at most end."""
+    nxt = end
+    for k in range(len(bps)):
+        b = bps[k]
+        if b > cur and b < nxt:
+            nxt = b
+    return nxt
+
+
+@kernel
+def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
+    """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
+    v1, v2, v3, w1, w2, w3 = vbody
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    y = R * c
+    z = R * s
+    lo = xa
+    hi = xb
+    # seabed: zeta = a0 + a1 x > 0
+    a0 = d0 - c21 * y - c22 * z
+    a1 = -c20
+    if a1 > 0.0:
+        lo = max(lo, -a0 / a1)
+    elif a1 < 0.0:
+        hi = min(hi, -a0 / a1)
+    elif not (a0 > 0.0):
+        return f1, f2, f3, m1, m2, m3
+    # advancing: v.n = b0 + b1 x >= 0
+    b0 = v2 * c + v3 * s
+    b1 = w3 * c - w2 * s
+    if b1 > 0.0:
+        lo = max(lo, -b0 / b1)
+    elif b1 < 0.0:
+        hi = min(hi, -b0 / b1)
+    elif b0 < 0.0:
+        return f1, f2, f3, m1, m2, m3
+    if not (hi > lo):
+        return f1, f2, f3, m1, m2, m3
+    # split where the circumferential slip reverses: T0 + T1 x = 0 (clamped)
+    xs = lo
+    if tangential:
+        t1 = -w2 * c - w3 * s
+        if t1 != 0.0:
+            xs = -(w1 * R + v3 * c - v2 * s) / t1
+            if xs < lo:
+                xs = lo
+            elif xs > hi:
+                xs = hi
+    for piece in range(2):
+        pa = lo if piece == 0 else xs
+        pb = xs if piece == 0 else hi
+        if not (pb > pa):
+            continue
+        h = 0.5 * (pb - pa)
+        mid = 0.5 * (pb + pa)
+        for i in range(N_X):
+            x = mid + h * _GL_NODES[N_X, i]
+            wgt = h * _GL_WEIGHTS[N_X, i]
+            g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3,
+                                   law, bank)
+            f1 += wgt * g1
+            f2 += wgt * g2
+            f3 += wgt * g3
+            m1 += wgt * (y * g3 - z * g2)
+            m2 += wgt * (z * g1 - x * g3)
+            m3 += wgt * (x * g2 - y * g1)
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
+    """Moments over the lateral surface."""
+    v1, v2, v3, w1, w2, w3 = vbody
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    rp = R * math.sqrt(c21 * c21 + c22 * c22)
+    zhi = d0 - min(c20 * xa, c20 * xb)   # depth of the axis at its deeper end
+    zlo = d0 - max(c20 * xa, c20 * xb)   # ... at its shallower end
+    # zeta = (d0 - c20 x) + rp cos(phi), phi = t - tdeep
+    if rp > 0.0:
+        a_any = math.acos(_clip1(-zhi / rp))
+        a_all = math.acos(_clip1(-zlo / rp))
+        tdeep = math.atan2(-c22, -c21)
+    else:
+        a_any = _PI if zhi > 0.0 else 0.0
+        a_all = _PI if zlo > 0.0 else 0.0
+        tdeep = 0.0
+    if not (a_any > 0.0):
+        return f1, f2, f3, m1, m2, m3
+    # breakpoints (offsets from tdeep, clamped to [-a_any, a_any])
+    nan = a_any
+    pa0, pa1 = _harmonic_roots(0.0, v2 + w3 * xa, v3 - w2 * xa)     # v.n at x = xa
+    pb0, pb1 = _harmonic_roots(0.0, v2 + w3 * xb, v3 - w2 * xb)     # v.n at x = xb
+    q0 = nan
+    q1 = nan
+    q2 = nan
+    q3 = nan
+    q4 = nan
+    q5 = nan
+    if tangential:
+        # v_theta = w1 R + (v3 - w2 x) cos t - (v2 + w3 x) sin t at both ends
+        r0, r1 = _harmonic_roots(w1 * R, v3 - w2 * xa, -(v2 + w3 * xa))
+        r2, r3 = _harmonic_roots(w1 * R, v3 - w2 * xb, -(v2 + w3 * xb))
+        # v_x = v1 - w3 R cos t + w2 R sin t
+        r4, r5 = _harmonic_roots(v1, -w3 * R, w2 * R)
+        q0 = _local(r0, tdeep, a_any)
+        q1 = _local(r1, tdeep, a_any)
+        q2 = _local(r2, tdeep, a_any)
+        q3 = _local(r3, tdeep, a_any)
+        q4 = _local(r4, tdeep, a_any)
+        q5 = _local(r5, tdeep, a_any)
+    bps = (-a_all, a_all, _local(pa0, tdeep, a_any), _local(pa1, tdeep, a_any),
+           _local(pb0, tdeep, a_any), _local(pb1, tdeep, a_any), q0, q1, q2, q3, q4, q5)
+    # advancing arc: union of the half-circles where v.n >= 0 at x = xa and at x = xb
+    # (v.n is linear along a generator), centre dc, half-width dw
+    amp_a = math.hypot(v2 + w3 * xa, v3 - w2 * xa)
+    amp_b = math.hypot(v2 + w3 * xb, v3 - w2 * xb)
+    if amp_a > 0.0 and amp_b > 0.0:
+        ca = 0.5 * (pa0 + pa1)
+        dd = 0.5 * (pb0 + pb1) - ca
+        dd -= _TWO_PI * math.floor(dd / _TWO_PI + 0.5)
+        dc = ca + 0.5 * dd
+        dw = _HALF_PI + 0.5 * abs(dd)
+    elif amp_a > 0.0:
+        dc = 0.5 * (pa0 + pa1)
+        dw = _HALF_PI
+    elif amp_b > 0.0:
+        dc = 0.5 * (pb0 + pb1)
+        dw = _HALF_PI
+    else:
+        dc = tdeep
+        dw = _PI
+    delta = dc - tdeep
+    delta -= _TWO_PI * math.floor(delta / _TWO_PI + 0.5)
+    for shift in range(-1, 2):
+        lo = max(-a_any, delta + _TWO_PI * shift - dw)
+        hi = min(a_any, delta + _TWO_PI * shift + dw)
+        cur = lo
+        while cur < hi:
+            nxt = _next_break(bps, cur, hi)
+            h = 0.5 * (nxt - cur)
+            mid = 0.5 * (nxt + cur)
+            for i in range(N_T):
+                t = tdeep + mid + h * _GL_NODES[N_T, i]
+                wgt = R * h * _GL_WEIGHTS[N_T, i]
+                g1, g2, g3, h1, h2, h3 = _generator(math.cos(t), math.sin(t), R, xa, xb, d0,
+                                                    c20, c21, c22, vbody, law, bank, tangential)
+                f1 += wgt * g1
+                f2 += wgt * g2
+                f3 += wgt * g3
+                m1 += wgt * h1
+                m2 += wgt * h2
+                m3 += wgt * h3
+            cur = nxt
+    return f1, f2, f3, m1, m2, m3
+
+
+@kernel
+def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
+    """Moments over the end cap x = xc with outward normal sgn i_M."""
+    v1, v2, v3, w1, w2, w3 = vbody
+    f1 = 0.0
+    f2 = 0.0
+    f3 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    # zeta = e0 + ey y + ez z = e0 + g s, s along the unit direction (dy, dz)
+    e0 = d0 - c20 * xc
+    ey = -c21
+    ez = -c22
+    g = math.sqrt(ey * ey + ez * ez)
+    if g > 0.0:
+        dy = ey / g
+        dz = ez / g
+        u0 = math.asin(_clip1(-e0 / (g * R)))
+    else:
+        dy = 1.0
+        dz = 0.0
+        u0 = -_HALF_PI if e0 > 0.0 else _HALF_PI
+    if not (u0 < _HALF_PI):
+        return f1, f2, f3, m1, m2, m3
+    ty = -dz
+    tz = dy
+    # v.n = q0 + qy y + qz z = q0 + qs s + qt t
+    q0 = sgn * v1
+    qy = -sgn * w3
+    qz = sgn * w2
+    qs = qy * dy + qz * dz
+    qt = qy * ty + qz * tz
+    # where the delta chord meets the rim: (s, t) = R (sin gam, cos gam)
+    ga, gb = _harmonic_roots(q0, R * qt, R * qs)
+    ua = math.asin(_clip1(math.sin(ga)))
+    ub = math.asin(_clip1(math.sin(gb)))
+    ua = min(max(ua, u0), _HALF_PI)
+    ub = min(max(ub, u0), _HALF_PI)
+    bps = (ua, ub)
+    cur = u0
+    while cur < _HALF_PI:
+        nxt = _next_break(bps, cur, _HALF_PI)
+        hu = 0.5 * (nxt - cur)
+        mu = 0.5 * (nxt + cur)
+        for i in range(N_U):
+            u = mu + hu * _GL_NODES[N_U, i]
+            cu = math.cos(u)
+            sv = R * math.sin(u)
+            tl = -R * cu
+            th = R * cu
+            a0 = q0 + qs * sv
+            if qt > 0.0:
+                tl = max(tl, -a0 / qt)
+            elif qt < 0.0:
+                th = min(th, -a0 / qt)
+            elif a0 < 0.0:
+                continue
+            if not (th > tl):
+                continue
+            ht = 0.5 * (th - tl)
+            mt = 0.5 * (th + tl)
+            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu
+            zeta = e0 + g * sv
+            for j in range(N_S):
+                t = mt + ht * _GL_NODES[N_S, j]
+                wgt = wu * ht * _GL_WEIGHTS[N_S, j]
+                y = sv * dy + t * ty
+                z = sv * dz + t * tz
+                g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3,
+                                       law, bank)
+                f1 += wgt * g1
+                f2 += wgt * g2
+                f3 += wgt * g3
+                m1 += wgt * (y * g3 - z * g2)
+                m2 += wgt * (z * g1 - xc * g3)
+                m3 += wgt * (xc * g2 - y * g1)
+        cur = nxt
+    return f1, f2, f3, m1, m2, m3
 
 
 @kernel
 def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
-    return reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+    """Sediment force and torque (body frame, about the COM) by the fixed-cost rule.
+
+    Same arguments and result as :func:`.reference.reference_tractions`:
+    ``(c20, c21, c22)`` the E-frame vertical in the body frame, ``d0`` the height of the
+    seabed above the COM, ``vbody`` = (v1, v2, v3, w1, w2, w3), ``law`` from
+    :func:`.laws.pack_law`.
+    """
+    xa = -0.5 * L - chi
+    xb = 0.5 * L - chi
+    tangential = law[6] != 0.0
+    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank,
+                                      tangential)
+    for k in range(2):
+        xc = xb if k == 0 else xa
+        sgn = 1.0 if k == 0 else -1.0
+        g1, g2, g3, h1, h2, h3 = _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank)
+        f1 += g1
+        f2 += g2
+        f3 += g3
+        m1 += h1
+        m2 += h2
+        m3 += h3
+    return f1, f2, f3, m1, m2, m3

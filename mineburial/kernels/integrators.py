@@ -1,0 +1,206 @@
+"""Generic pieces of the time integrators: no mine, no sediment, only arrays of floats.
+
+A system (the falling mine of :mod:`.stepper`, or any other) supplies its right-hand
+side ``f(y)``; these kernels supply everything else, so that a second system reuses
+them instead of forking them. The protocol of one step is:
+
+1. the system evaluates the stages ``k[s] = f(y + h sum_j A[s, j] k[j])``, building the
+   stage states with :func:`dopri_stage_state` (the first stage is ``f(y)``, carried
+   over from the last step: first same as last, "FSAL");
+2. :func:`dopri_solution` gives the new state and the error estimate,
+   :func:`error_norm` measures the estimate against the mixed tolerance
+   ``atol + rtol max(|y|, |y_new|)`` and :func:`next_step_size` chooses the next step
+   (accept when the norm is <= 1);
+3. :func:`dopri_dense` builds the continuous extension of the accepted step and
+   :func:`dense_state` evaluates it anywhere on the step (events, output times).
+
+The fixed-step references (RK4, the seed's local linearisation) get a continuous
+extension too: the cubic Hermite interpolant of :func:`hermite_dense` through both ends
+and their derivatives, evaluated by the same :func:`dense_state`.
+
+Events are located on the continuous extension by a bracketing root finder (the
+Illinois variant of regula falsi, Dowell & Jarratt 1971, BIT 11:168) written in
+reverse-communication style: :func:`illinois_next` proposes the next trial fraction
+and :func:`illinois_update` takes the event value found there, so the event function
+stays the system's own.
+
+Sources: Dormand & Prince (1980), J. Comput. Appl. Math. 6:19 (the 5(4) pair);
+Hairer, Norsett & Wanner, *Solving ODEs I*, 2nd ed., sec. II.4 (step-size
+control, PI controller with beta = 0.04 after Gustafsson 1991) and II.6 (the dense
+output of order 4 used by their code DOPRI5).
+"""
+
+import math
+
+import numpy as np
+
+from mineburial._numba import kernel
+
+# --- Dormand-Prince 5(4) tableau -------------------------------------------------
+N_STAGES = 7
+DP_C = np.array([0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0])
+DP_A = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+])
+#: 5th-order weights (the last row of A: first same as last)
+DP_B = np.array([35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0,
+                 11.0 / 84.0, 0.0])
+#: b - b_hat: the error estimate is h sum E_i k_i
+DP_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
+                 22.0 / 525.0, -1.0 / 40.0])
+#: coefficients of the 4th-order dense output (Hairer, Norsett & Wanner, DOPRI5 contd5)
+DP_D = np.array([-12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
+                 -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+                 -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0])
+
+#: PI step-size controller (Hairer, Norsett & Wanner II.4, eqs. (4.12)-(4.13) and DOPRI5)
+SAFETY = 0.9
+BETA = 0.04
+MAX_GROWTH = 10.0
+MAX_SHRINK = 0.2
+#: error norm floor of the PI memory (DOPRI5)
+ERR_FLOOR = 1e-4
+
+
+@kernel
+def dopri_stage_state(y, k, s, h, out):
+    """out = y + h sum_{j<s} A[s, j] k[j]: the state at which stage ``s`` is evaluated."""
+    n = y.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for j in range(s):
+            acc += DP_A[s, j] * k[j, i]
+        out[i] = y[i] + h * acc
+
+
+@kernel
+def dopri_solution(y, k, h, out, err):
+    """5th-order solution ``out`` and local error estimate ``err`` from the 7 stages
+    (stage 6 is f(out) only after the system has evaluated it; its weight in the
+    solution is 0, so ``out`` equals the state of stage 6)."""
+    n = y.shape[0]
+    for i in range(n):
+        acc = 0.0
+        e = 0.0
+        for j in range(N_STAGES):
+            acc += DP_B[j] * k[j, i]
+            e += DP_E[j] * k[j, i]
+        out[i] = y[i] + h * acc
+        err[i] = h * e
+
+
+@kernel
+def error_norm(y, ynew, err, n_control, rtol, atol):
+    """RMS of err_i / (atol + rtol max(|y_i|, |ynew_i|)) over the first ``n_control``
+    components (the others, e.g. work accumulators, ride along uncontrolled)."""
+    acc = 0.0
+    for i in range(n_control):
+        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        r = err[i] / sc
+        acc += r * r
+    return math.sqrt(acc / n_control)
+
+
+@kernel
+def next_step_size(h, err, err_prev, accepted_before):
+    """Step-size factor of the PI controller: returns (h_next, accept, err_memory).
+
+    Accepted (err <= 1): h (err^-0.17 err_prev^0.04) * 0.9, within [0.2, 10] h.
+    Rejected: h err^-0.17 * 0.9, at least 0.2 h, and never more than h.
+    ``accepted_before``: False right after a rejection (then no growth).
+    """
+    if not (err == err):
+        return h * MAX_SHRINK, False, err_prev
+    e = max(err, 1e-12)
+    fac11 = e ** (0.2 - 0.75 * BETA)
+    if err <= 1.0:
+        fac = fac11 / err_prev ** BETA / SAFETY        # h_new = h / fac
+        fac = min(1.0 / MAX_SHRINK, max(1.0 / MAX_GROWTH, fac))
+        hn = h / fac
+        if not accepted_before:
+            hn = min(hn, h)
+        return hn, True, max(err, ERR_FLOOR)
+    fac = min(1.0 / MAX_SHRINK, fac11 / SAFETY)
+    return h / fac, False, err_prev
+
+
+@kernel
+def dopri_dense(y, ynew, k, h, r):
+    """Coefficients ``r`` (5 x n) of the 4th-order continuous extension of an accepted
+    Dormand-Prince step (k[6] = f(ynew))."""
+    n = y.shape[0]
+    for i in range(n):
+        ydiff = ynew[i] - y[i]
+        bspl = h * k[0, i] - ydiff
+        r[0, i] = y[i]
+        r[1, i] = ydiff
+        r[2, i] = bspl
+        r[3, i] = ydiff - h * k[6, i] - bspl
+        acc = 0.0
+        for j in range(N_STAGES):
+            acc += DP_D[j] * k[j, i]
+        r[4, i] = h * acc
+
+
+@kernel
+def hermite_dense(y, ynew, f0, f1, h, r):
+    """Coefficients ``r`` (5 x n) of the cubic Hermite interpolant through (y, f0) and
+    (ynew, f1), in the same form as :func:`dopri_dense` (r[4] = 0)."""
+    n = y.shape[0]
+    for i in range(n):
+        ydiff = ynew[i] - y[i]
+        bspl = h * f0[i] - ydiff
+        r[0, i] = y[i]
+        r[1, i] = ydiff
+        r[2, i] = bspl
+        r[3, i] = ydiff - h * f1[i] - bspl
+        r[4, i] = 0.0
+
+
+@kernel
+def dense_state(r, theta, out):
+    """State at fraction ``theta`` of the step from the continuous extension ``r``:
+    y = r0 + theta (r1 + (1 - theta) (r2 + theta (r3 + (1 - theta) r4)))."""
+    n = out.shape[0]
+    s1 = 1.0 - theta
+    for i in range(n):
+        out[i] = r[0, i] + theta * (r[1, i] + s1 * (r[2, i] + theta * (r[3, i] + s1 * r[4, i])))
+
+
+# --- event location: Illinois regula falsi, reverse communication -----------------
+@kernel
+def illinois_next(a, ga, b, gb):
+    """Next trial fraction in the bracket [a, b] with event values ga, gb of opposite
+    sign (regula falsi; the midpoint if the secant leaves the bracket)."""
+    if gb != ga:
+        t = b - gb * (b - a) / (gb - ga)
+        if t > a and t < b:
+            return t
+    return 0.5 * (a + b)
+
+
+@kernel
+def illinois_update(a, ga, b, gb, t, gt, side):
+    """Shrink the bracket with the value ``gt`` at ``t``; the end kept twice in a row has
+    its value halved (Illinois). ``side``: which end was kept last (-1 a, +1 b, 0 none).
+    Returns (a, ga, b, gb, side)."""
+    if (gt > 0.0) == (gb > 0.0):
+        # the root lies in [a, t]
+        b = t
+        gb = gt
+        if side == -1:
+            ga *= 0.5
+        side = -1
+    else:
+        a = t
+        ga = gt
+        if side == 1:
+            gb *= 0.5
+        side = 1
+    return a, ga, b, gb, side
