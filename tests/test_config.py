@@ -163,12 +163,12 @@ def test_defaults_are_filled():
 def test_model_dependent_defaults():
     s = Scenario.from_dict(base())
     assert (s.sediment.resistance, s.sediment.rate_law, s.numerics.integrator) == \
-        ("bearing", "semilog", "rk4")
+        ("bearing", "semilog", "dopri5")
     d = base()
     d["numerics"] = {"model": "impact35"}
     s = Scenario.from_dict(d)
     assert (s.sediment.resistance, s.sediment.rate_law, s.numerics.integrator) == \
-        ("delta", "impact35", "local_linear")
+        ("delta", "impact35", "dopri5")
     d["sediment"]["resistance"] = "bearing"       # explicit choices win
     d["numerics"]["integrator"] = "rk4"
     s = Scenario.from_dict(d)
@@ -436,7 +436,9 @@ def test_to_params_puts_each_value_in_its_named_slot():
     expected.update({"sediment.profile_index": -1, "sediment.resistance": 1,
                      "sediment.rate_law": 2, "sediment.pore_pressure": 1.0})
     expected.update({f"numerics.{k}": v for k, v in nm.items()
-                     if k not in ("model", "integrator", "drag")})
+                     if k not in ("model", "integrator", "drag", "sediment_quadrature")})
+    expected.update({"numerics.rtol": 1e-5, "numerics.atol": 1e-6, "numerics.sediment_dt": 5e-4,
+                     "numerics.sediment_quadrature": 0})
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
     ref_q = Rotation.from_euler("ZYX", [r["heading_deg"], r["pitch_deg"], r["roll_deg"]],
                                 degrees=True).as_quat()
@@ -493,7 +495,8 @@ def test_fields_table_is_consistent():
     # every float slot of the layout that is a scenario value has a FieldSpec
     codes = {"current.kind", "current.table_index", "sediment.profile_index",
              "sediment.resistance", "sediment.rate_law", "sediment.pore_pressure",
-             "numerics.model", "numerics.integrator", "numerics.drag"}
+             "numerics.model", "numerics.integrator", "numerics.drag",
+             "numerics.sediment_quadrature"}
     assert set(layout.PARAM_NAMES) - codes <= set(FIELDS)
     # dataclass defaults agree with the table
     sed = Sediment(density=1500.0, strength=1000.0)
@@ -501,7 +504,7 @@ def test_fields_table_is_consistent():
               "bearing_factor", "rupture_length", "permeability", "void_ratio"):
         assert getattr(sed, f) == FIELDS[f"sediment.{f}"].default
     num = Numerics()
-    for f in ("dt", "t_max", "rest_speed", "rest_spin"):
+    for f in ("dt", "t_max", "rest_speed", "rest_spin", "rtol", "atol", "sediment_dt"):
         assert getattr(num, f) == FIELDS[f"numerics.{f}"].default
     assert Current().exponent == FIELDS["current.exponent"].default
 

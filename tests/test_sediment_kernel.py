@@ -59,6 +59,9 @@ def params(**kw):
     p[lay.P_SED_B] = 0.1
     p[lay.P_SED_KP] = 1e-4
     p[lay.P_SED_EV] = 0.5
+    # these tests guard the reference quadrature (tight tolerances); the fast rule is
+    # tested against it in tests/test_sediment_fast.py
+    p[lay.P_SED_QUADRATURE] = 1
     for key, value in kw.items():
         p[getattr(lay, key)] = value
     return p

@@ -111,13 +111,17 @@ def test_neutrally_buoyant_at_rest_stays_at_rest():
 # ---------------------------------------------------------------------------
 # invariance under a rotation of the whole drop about the vertical
 # ---------------------------------------------------------------------------
-def test_rotation_about_vertical_rotates_trajectory():
+@pytest.mark.parametrize("integrator, tol", [("rk4", 1e-9), ("dopri5", 1e-7)])
+def test_rotation_about_vertical_rotates_trajectory(integrator, tol):
+    """Fixed RK4 (the steps are the same): to rounding; dopri5 (its step sizes follow a
+    rotation-invariant error norm, but rounding in the rotated coordinates perturbs the
+    controller's decisions): to 1e-7 m, far below its tolerance."""
     alpha = math.radians(40.0)
     v0 = np.array([1.0, 0.5, -2.0])
     rot = np.array([[math.cos(alpha), -math.sin(alpha)], [math.sin(alpha), math.cos(alpha)]])
     pos = np.array([0.3, -0.2])
     # air, water entry and the water column (the seabed at 1000 m is not reached)
-    common = dict(mine={"com_offset": 0.05}, numerics={"t_max": 6.0})
+    common = dict(mine={"com_offset": 0.05}, numerics={"t_max": 6.0, "integrator": integrator})
     a = make_scenario(release={"position": [pos[0], pos[1], 2.0], "velocity": list(v0),
                                "pitch_deg": 30.0, "heading_deg": 10.0,
                                "angular_velocity": [0.3, 0.5, -0.2]}, **common)
@@ -129,13 +133,13 @@ def test_rotation_about_vertical_rotates_trajectory():
     da = simulate_drop(a, record_interval=0.01)
     db = simulate_drop(b, record_interval=0.01)
     n = min(da.sizes["time"], db.sizes["time"])
-    np.testing.assert_allclose(db.z[:n], da.z[:n], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(db.z[:n], da.z[:n], rtol=0, atol=tol)
     xy = rot @ np.vstack([da.x[:n], da.y[:n]])
-    np.testing.assert_allclose(db.x[:n], xy[0], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(db.y[:n], xy[1], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(db.psi2[:n], da.psi2[:n], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(db.x[:n], xy[0], rtol=0, atol=tol)
+    np.testing.assert_allclose(db.y[:n], xy[1], rtol=0, atol=tol)
+    np.testing.assert_allclose(db.psi2[:n], da.psi2[:n], rtol=0, atol=100 * tol)
     dpsi3 = (db.psi3.values[:n] - da.psi3.values[:n] - 40.0 + 180.0) % 360.0 - 180.0
-    np.testing.assert_allclose(dpsi3, 0.0, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(dpsi3, 0.0, rtol=0, atol=100 * tol)
 
 
 # ---------------------------------------------------------------------------

@@ -510,6 +510,15 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
     if counts is not None:
         parts = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
         lines.append(f"drops: {n} (" + ", ".join(parts) + ")")
+        used = int(sum(int(counts[k]) for k in st.IN_STATISTICS if k < len(counts)))
+        lines.append(f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
+                     f"a buried_sinking penetration is a lower bound)")
+        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts)
+                if c and k not in st.IN_STATISTICS]
+        if left:
+            lines.append("warning: left out of the burial statistics: " + ", ".join(left)
+                         + " (floated: lighter than the water, never reached the seabed)"
+                         * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0))
     for name, label, unit in (("burial_volume", "burial by volume", "%"),
                               ("penetration_depth", "penetration depth", "m")):
         mean = ds.get(f"{name}_mean")

@@ -2,9 +2,11 @@
 
 Input: the per-drop ``summary`` array (n, N_SUMMARY) whose columns are
 :data:`mineburial.kernels.layout.SUMMARY_NAMES` and the per-drop ``status``
-codes (:mod:`mineburial.kernels.status`). Only drops with status 0 (``at_rest``)
-and a finite value enter the statistics of an output; the counts of every
-status code are reported as well.
+codes (:mod:`mineburial.kernels.status`). Only drops whose status is in
+``status.IN_STATISTICS`` (``at_rest``, and ``buried_sinking``: fully buried and still
+sinking at the time limit, whose penetration is a lower bound) and a finite value
+enter the statistics of an output; the counts of every status code are reported as
+well, and the summary says how many drops were left out and why.
 
 Every statistic is a function of the stored per-drop values, so statistics of
 several chunks of an ensemble are obtained by concatenating the chunks' arrays
@@ -235,10 +237,11 @@ def burial_statistics(
         if o not in V.SUMMARY_OUTPUTS:
             raise ValueError(V._unknown("summary output", o, V.SUMMARY_OUTPUTS))
 
-    at_rest = np.asarray(status) == status_codes.AT_REST
+    used = np.isin(np.asarray(status), status_codes.IN_STATISTICS)
     n_drops = int(summary.shape[0])
-    n_at_rest = int(np.count_nonzero(at_rest))
-    ok = summary[at_rest]
+    n_at_rest = int(np.count_nonzero(np.asarray(status) == status_codes.AT_REST))
+    n_used = int(np.count_nonzero(used))
+    ok = summary[used]
 
     data_vars: dict[str, xr.DataArray] = {}
     coords: dict[str, xr.DataArray] = {"quantile": V.variable("quantile").data_array(q)}
@@ -278,17 +281,21 @@ def burial_statistics(
     attrs = {
         "n_drops": np.int64(n_drops),
         "n_at_rest": np.int64(n_at_rest),
+        "n_in_statistics": np.int64(n_used),
         "burial_class_basis": class_basis,
         "burial_class_definition": "0: exactly 0 %; 1: (0, 10] %; 2: (10, 20] %; 3: (20, 75] %; "
                                    "4: > 75 %",
         "confidence_level": float(confidence_level),
         "quantile_method": "numpy.quantile method 'linear' (Hyndman & Fan 1996 type 7), exact "
                            "from the stored per-drop values",
-        "statistics_basis": "drops with status 0 (at_rest) and a finite value of the output",
+        "statistics_basis": ("drops with status at_rest or buried_sinking (fully buried, still "
+                             "sinking at the time limit: penetration is a lower bound) and a "
+                             "finite value of the output"),
     }
-    if n_at_rest == 0:
-        attrs["statistics_note"] = ("no drop came to rest (n_at_rest = 0): every burial statistic "
-                                    "is NaN and every count is 0; see status_count")
+    if n_used == 0:
+        attrs["statistics_note"] = ("no drop came to rest or was buried (n_at_rest = 0, "
+                                    "n_in_statistics = 0): every burial statistic is NaN and "
+                                    "every count is 0; see status_count")
     ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
     # xarray keeps encodings on the variables; restore them in case construction dropped any
     for name, da in {**data_vars, **coords}.items():

@@ -207,7 +207,8 @@ def build_dataset(
         "processing_level": "model output: Monte Carlo ensemble statistics",
         "standard_name_vocabulary": STANDARD_NAME_VOCABULARY,
         "references": REFERENCES,
-        "comment": ("Statistics use only drops with status at_rest; status_count gives the "
+        "comment": ("Statistics use only drops with status at_rest or buried_sinking; "
+                    "status_count gives the "
                     "number of drops with every status code. Variable definitions: "
                     "docs/notes/output.md of the mineburial sources."),
         "scenario": scen,
@@ -236,7 +237,8 @@ def _per_drop_dataset(summary, status, inputs, input_metadata, realization, clas
         data[name] = V.variable(name).data_array(summary[:, j])
     data["status"] = V.variable("status").data_array(status)
     cls = burial_class(summary[:, layout.SUMMARY_INDEX[class_basis]])
-    cls = np.where(status == status_codes.AT_REST, cls, np.int8(V.UNCLASSIFIED)).astype(np.int8)
+    cls = np.where(np.isin(status, status_codes.IN_STATISTICS), cls,
+                   np.int8(V.UNCLASSIFIED)).astype(np.int8)
     data["burial_class"] = V.variable("burial_class").data_array(
         cls, burial_class_basis=class_basis)
     meta = dict(input_metadata or {})

@@ -275,7 +275,7 @@ def _declare() -> dict[str, Variable]:
     for name, out in SUMMARY_OUTPUTS.items():
         add(Variable(name, ("realization",), "float64", out.units, out.long_name,
                      out.description + " Reported for every drop; only drops with status "
-                     "at_rest enter the statistics.",
+                     "at_rest or buried_sinking enter the statistics.",
                      attrs={"coverage_content_type": "modelResult"}))
     add(Variable("status", ("realization",), "int8", None, "termination status of the drop",
                  "How the drop ended: " + "; ".join(
@@ -312,7 +312,8 @@ def _declare() -> dict[str, Variable]:
                  "Upper bound of the class (inclusive).", fill_value=_NO_FILL, group="statistics"))
     add(Variable("burial_class_count", ("impact_burial_class",), "int64", "1",
                  "number of drops at rest in the impact-burial class",
-                 "Number of drops with status at_rest and a finite basis value in each class.",
+                 "Number of drops with status at_rest or buried_sinking and a finite basis value in "
+                 "each class.",
                  fill_value=_NO_FILL, group="statistics"))
     add(Variable("burial_class_probability", ("impact_burial_class",), "float64", "1",
                  "probability of the impact-burial class",
@@ -359,7 +360,7 @@ def _declare() -> dict[str, Variable]:
 
 def _statistics_of(name: str, out: _Output) -> list[Variable]:
     u, ln = out.units, out.long_name
-    basis = "over the drops with status at_rest and a finite value"
+    basis = "over the drops with status at_rest or buried_sinking and a finite value"
     bin_, lev = f"{name}_bin", f"{name}_level"
     return [
         Variable(f"{name}_mean", (), "float64", u, f"mean of {ln}",

@@ -9,7 +9,7 @@ them instead of forking them. The protocol of one step is:
    over from the last step: first same as last, "FSAL");
 2. :func:`dopri_solution` gives the new state and the error estimate,
    :func:`error_norm` measures the estimate against the mixed tolerance
-   ``atol + rtol max(|y|, |y_new|)`` and :func:`next_step_size` chooses the next step
+   ``atol + rtol max(|y|, |y_new|)`` over vector groups and :func:`next_step_size` chooses the next step
    (accept when the norm is <= 1);
 3. :func:`dopri_dense` builds the continuous extension of the accepted step and
    :func:`dense_state` evaluates it anywhere on the step (events, output times).
@@ -96,15 +96,26 @@ def dopri_solution(y, k, h, out, err):
 
 
 @kernel
-def error_norm(y, ynew, err, n_control, rtol, atol):
-    """RMS of err_i / (atol + rtol max(|y_i|, |ynew_i|)) over the first ``n_control``
-    components (the others, e.g. work accumulators, ride along uncontrolled)."""
+def error_norm(y, ynew, err, groups, rtol, atol):
+    """RMS over the vector groups of |err_g| / (atol + rtol max(|y_g|, |ynew_g|)).
+
+    ``groups`` is a tuple of (start, stop) index ranges, each measured as one Euclidean
+    vector (a position, a velocity, a quaternion), so that the norm, and with it every
+    step size, is invariant under a rotation of the frame; components outside every
+    group (e.g. work accumulators) ride along uncontrolled.
+    """
     acc = 0.0
-    for i in range(n_control):
-        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
-        r = err[i] / sc
-        acc += r * r
-    return math.sqrt(acc / n_control)
+    for g in groups:
+        e2 = 0.0
+        a2 = 0.0
+        b2 = 0.0
+        for i in range(g[0], g[1]):
+            e2 += err[i] * err[i]
+            a2 += y[i] * y[i]
+            b2 += ynew[i] * ynew[i]
+        sc = atol + rtol * math.sqrt(max(a2, b2))
+        acc += e2 / (sc * sc)
+    return math.sqrt(acc / len(groups))
 
 
 @kernel

@@ -46,7 +46,7 @@ from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, dopri_solution,
                                             dopri_stage_state, error_norm, hermite_dense,
                                             illinois_next, illinois_update, next_step_size)
-from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_STATE, N_SUMMARY, P_ATOL, P_CHI,
+from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_SUMMARY, P_ATOL, P_CHI,
                                        P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
                                        P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
                                        P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_SED_DT, P_TMAX,
@@ -73,11 +73,15 @@ INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
 INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
 INTEGRATOR_DOPRI5 = INTEGRATOR_NAMES.index("dopri5")
 
+#: vector groups of the error norm: position, velocity, attitude quaternion, angular velocity
+ERROR_GROUPS = ((0, 3), (3, 6), (6, 10), (10, 13))
 N_EVENTS = 5                  # 4 interfaces + the rest measure
 EVENT_REST = 4
 MAX_STEPS = 50_000_000
 EVENT_TOLERANCE = 1e-12       # fraction of a step: events are located to this accuracy
 MAX_EVENT_ITERATIONS = 60
+REDO_MARGIN = 1e-6            # a step ending at an interface is retaken 1e-6 of a step past it
+MAX_REDO = 2                  # at most this many retakes per accepted step
 DOMAIN_RADIUS = 1e5           # m: a drop that drifts further has left the domain
 MAX_STEP = 0.5                # s: largest adaptive step (events are detected per step)
 MIN_STEP = 1e-12              # s: an adaptive step below this is a numerical failure
@@ -301,6 +305,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     next_record = 0.0
     status = st.TIME_LIMIT
     h_adapt = p[P_DT]           # next trial step of dopri5 (its first: numerics.dt)
+    h_cap = math.inf            # cap of the next step (a step taken again to end at an interface)
+    redo = 0
     err_prev = 1e-4
     accepted_before = True
     max_decel = 0.0
@@ -325,12 +331,12 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
         # stepping": the regularised tractions make the sediment phase stiff)
         adaptive_now = adaptive and not g0[2] < 0.0
         if adaptive_now:
-            h = min(h_adapt, MAX_STEP, t_max - t)
+            h = min(h_adapt, MAX_STEP, t_max - t, h_cap)
             if h < MIN_STEP * max(1.0, t):
                 status = st.NUMERICAL_FAILURE
                 break
             dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew, err)
-            enorm = error_norm(y, ynew, err, N_STATE, rtol, atol)
+            enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol)
             h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
             accepted_before = accept
             if not accept:
@@ -339,7 +345,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             dopri_dense(y, ynew, k, h, r)
             h_adapt = h_next
         else:
-            h = min(p[P_SED_DT] if adaptive else p[P_DT], t_max - t)
+            h = min(p[P_SED_DT] if adaptive else p[P_DT], t_max - t, h_cap)
             if integrator == INTEGRATOR_LOCAL_LINEAR:
                 local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2],
                                   ytmp, diag, ynew)
@@ -364,6 +370,13 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             if th < theta:
                 theta = th
                 first = e
+        if first >= 0 and first < EVENT_REST and theta < 1.0 - REDO_MARGIN and redo < MAX_REDO:
+            # an interface inside the step: the step's continuous extension has seen the
+            # forces beyond it; take the step again, ending just past the located crossing,
+            # so that the state at the interface comes from the forces before it
+            h_cap = theta * h * (1.0 + REDO_MARGIN)
+            redo += 1
+            continue
         # ---- the recorder: rows at exact output times within the step ----
         t_end = t + h if first < 0 else t + theta * h
         while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
@@ -382,6 +395,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
                 g1[first] = -mag if g0[first] > 0.0 else mag
             else:
                 g1[EVENT_REST] = min(g1[EVENT_REST], -1e-300)
+        h_cap = math.inf
+        redo = 0
         _normalize_attitude(ynew)
         for i in range(N_EXT):
             y[i] = ynew[i]

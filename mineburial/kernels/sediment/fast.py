@@ -8,25 +8,24 @@ positions are continuous functions of the state (``docs/notes/sediment_fast.md``
 Lateral surface, point (x, R cos t, R sin t). With phi = t - t_deep (t_deep the
 direction of the deepest generator) the depth is zeta = d0 - c20 x + R rperp cos phi,
 so the generators that are embedded somewhere fill |phi| < a_any and those embedded
-along their whole length |phi| < a_all (closed forms, arccos of a clipped ratio). The
-outer integral runs over [-a_any, a_any] in panels between breakpoints that are
-continuous functions of the state, clamped into that range:
+along their whole length |phi| < a_all (closed forms: arccos of a clipped ratio). The
+generators that advance somewhere fill the union of the half-circles where v.n >= 0 at
+x = xa and at x = xb (v.n is linear along a generator and a pure harmonic of t at a
+fixed x). The outer integral runs over the intersection of the two arcs, in panels
+between breakpoints that are continuous functions of the state, clamped into it:
 
 * +-a_all (the seabed line reaches a body end);
-* the four angles where the delta line v.n = 0 crosses a body end (v.n at x = xa or
-  xb is a pure harmonic of t: two roots each; for a translation they coincide pairwise
-  and the panels end exactly at the jump of the integrand);
-* with friction: the angles where the circumferential slip v_t reverses at a body end
-  (two per end) and where the axial slip v_x (independent of x) reverses; a root
-  that does not exist is replaced by the clipped double root (where it is born), so the
-  breakpoints never jump.
+* the four angles where the delta line v.n = 0 crosses a body end (for a translation
+  they coincide pairwise and the panels end exactly at the jump of the integrand);
+* with friction, the angles where the circumferential slip v_t reverses at a body end
+  (two per end); a root that does not exist is replaced by the clipped double root
+  (where it is born), so the breakpoints never jump;
+* phi = +-pi/2, so that no panel is wider than a quarter of the circle.
 
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
 breakpoints crossing each other or the ends change the result continuously. At each
 node the embedded and advancing x-interval of the generator is exact (both conditions
-are linear in x), split at the point where v_t reverses (clamped into it, so a split
-point that enters or leaves does so with a zero-length piece), with N_X nodes on each
-piece.
+are linear in x), with N_X nodes.
 
 End caps, point (xc, s d + t e) with d the unit direction of increasing depth in the
 cap plane: zeta = e0 + rperp s > 0 is s > s0, and s = R sin u, t in
@@ -45,13 +44,12 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels.sediment.laws import _traction
 
-#: Gauss-Legendre points: per theta panel (N_T), per x-piece of a generator (N_X), per u
-#: panel of a cap (N_U), per cap chord (N_S).
-import os as _os
-N_T = int(_os.environ.get("FNT", 3))
-N_X = int(_os.environ.get("FNX", 3))
-N_U = int(_os.environ.get("FNU", 3))
-N_S = int(_os.environ.get("FNS", 3))
+#: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
+#: cap (N_U), per cap chord (N_S) (the depth is constant along a chord).
+N_T = 3
+N_X = 3
+N_U = 4
+N_S = 2
 
 _GL_MAX = 8
 _GL_NODES = np.zeros((_GL_MAX + 1, _GL_MAX))
@@ -117,7 +115,7 @@ def _next_break(bps, cur, end):
 
 
 @kernel
-def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
+def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
@@ -150,34 +148,19 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential)
         return f1, f2, f3, m1, m2, m3
     if not (hi > lo):
         return f1, f2, f3, m1, m2, m3
-    # split where the circumferential slip reverses: T0 + T1 x = 0 (clamped)
-    xs = lo
-    if tangential:
-        t1 = -w2 * c - w3 * s
-        if t1 != 0.0:
-            xs = -(w1 * R + v3 * c - v2 * s) / t1
-            if xs < lo:
-                xs = lo
-            elif xs > hi:
-                xs = hi
-    for piece in range(2):
-        pa = lo if piece == 0 else xs
-        pb = xs if piece == 0 else hi
-        if not (pb > pa):
-            continue
-        h = 0.5 * (pb - pa)
-        mid = 0.5 * (pb + pa)
-        for i in range(N_X):
-            x = mid + h * _GL_NODES[N_X, i]
-            wgt = h * _GL_WEIGHTS[N_X, i]
-            g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3,
-                                   law, bank)
-            f1 += wgt * g1
-            f2 += wgt * g2
-            f3 += wgt * g3
-            m1 += wgt * (y * g3 - z * g2)
-            m2 += wgt * (z * g1 - x * g3)
-            m3 += wgt * (x * g2 - y * g1)
+    h = 0.5 * (hi - lo)
+    mid = 0.5 * (hi + lo)
+    for i in range(N_X):
+        x = mid + h * _GL_NODES[N_X, i]
+        wgt = h * _GL_WEIGHTS[N_X, i]
+        g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law,
+                               bank)
+        f1 += wgt * g1
+        f2 += wgt * g2
+        f3 += wgt * g3
+        m1 += wgt * (y * g3 - z * g2)
+        m2 += wgt * (z * g1 - x * g3)
+        m3 += wgt * (x * g2 - y * g1)
     return f1, f2, f3, m1, m2, m3
 
 
@@ -205,30 +188,27 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         tdeep = 0.0
     if not (a_any > 0.0):
         return f1, f2, f3, m1, m2, m3
-    # breakpoints (offsets from tdeep, clamped to [-a_any, a_any])
-    nan = a_any
-    pa0, pa1 = _harmonic_roots(0.0, v2 + w3 * xa, v3 - w2 * xa)     # v.n at x = xa
-    pb0, pb1 = _harmonic_roots(0.0, v2 + w3 * xb, v3 - w2 * xb)     # v.n at x = xb
-    q0 = nan
-    q1 = nan
-    q2 = nan
-    q3 = nan
-    q4 = nan
-    q5 = nan
+    # breakpoints (offsets from tdeep, clamped to [-a_any, a_any]): the seabed line
+    # reaching a body end, the delta line crossing a body end (v.n at x = xa, xb is a pure
+    # harmonic of t) and, with friction, the reversal of the circumferential slip
+    # v_t = w1 R + (v3 - w2 x) cos t - (v2 + w3 x) sin t at a body end
+    pa0, pa1 = _harmonic_roots(0.0, v2 + w3 * xa, v3 - w2 * xa)
+    pb0, pb1 = _harmonic_roots(0.0, v2 + w3 * xb, v3 - w2 * xb)
+    q0 = a_any
+    q1 = a_any
+    q2 = a_any
+    q3 = a_any
     if tangential:
-        # v_theta = w1 R + (v3 - w2 x) cos t - (v2 + w3 x) sin t at both ends
         r0, r1 = _harmonic_roots(w1 * R, v3 - w2 * xa, -(v2 + w3 * xa))
         r2, r3 = _harmonic_roots(w1 * R, v3 - w2 * xb, -(v2 + w3 * xb))
-        # v_x = v1 - w3 R cos t + w2 R sin t
-        r4, r5 = _harmonic_roots(v1, -w3 * R, w2 * R)
         q0 = _local(r0, tdeep, a_any)
         q1 = _local(r1, tdeep, a_any)
         q2 = _local(r2, tdeep, a_any)
         q3 = _local(r3, tdeep, a_any)
-        q4 = _local(r4, tdeep, a_any)
-        q5 = _local(r5, tdeep, a_any)
+    # and, so that no panel is wider than pi/2, the quarter points of the circle
+    hq = min(_HALF_PI, a_any)
     bps = (-a_all, a_all, _local(pa0, tdeep, a_any), _local(pa1, tdeep, a_any),
-           _local(pb0, tdeep, a_any), _local(pb1, tdeep, a_any), q0, q1, q2, q3, q4, q5)
+           _local(pb0, tdeep, a_any), _local(pb1, tdeep, a_any), q0, q1, q2, q3, -hq, hq)
     # advancing arc: union of the half-circles where v.n >= 0 at x = xa and at x = xb
     # (v.n is linear along a generator), centre dc, half-width dw
     amp_a = math.hypot(v2 + w3 * xa, v3 - w2 * xa)
@@ -262,7 +242,7 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
                 t = tdeep + mid + h * _GL_NODES[N_T, i]
                 wgt = R * h * _GL_WEIGHTS[N_T, i]
                 g1, g2, g3, h1, h2, h3 = _generator(math.cos(t), math.sin(t), R, xa, xb, d0,
-                                                    c20, c21, c22, vbody, law, bank, tangential)
+                                                    c20, c21, c22, vbody, law, bank)
                 f1 += wgt * g1
                 f2 += wgt * g2
                 f3 += wgt * g3

@@ -1,0 +1,163 @@
+"""Fast drops (issue 9): throughput and accuracy of the default path against the references.
+
+Run:  python benchmarks/bench_fast_drops.py [-n 200] [--families default,air_laid,small_cylinders]
+                                             [--work-precision] [--png wp.png]
+
+On the same sampled drops of each scenario family it runs
+
+* ``default``   -- the shipped defaults: dopri5 (fixed RK4 at numerics.sediment_dt in the
+  sediment) and the fast sediment rule;
+* ``reference`` -- the old path: fixed RK4 at dt = 1 ms and the reference quadrature;
+* ``truth``     -- fixed RK4 at dt = 0.25 ms and the reference quadrature (accuracy reference);
+
+and prints drops/s (batch kernel, all threads, compile excluded), the ratio
+default/reference, and the accuracy of each path against ``truth``: p95 and max of the
+penetration difference (relative to max(penetration, 0.5 m), differences below 5 mm count as
+0, the convention of ../shared/tools/answers-vs), the share of drops whose burial class
+changes, the largest change of a class probability, and the status counts.
+
+``--work-precision`` adds fixed RK4 at several dt and dopri5 at several tolerances and
+sediment steps, each with both sediment rules, and writes the table and a PNG of error
+against CPU time per drop.
+
+Families: ``default`` (the embedded soft-mud ensemble), ``air_laid``
+(benchmarks/scenarios/air_laid_mixed.toml), ``small_cylinders``
+(benchmarks/scenarios/small_cylinders_impact35.toml).
+"""
+
+import argparse
+import pathlib
+import time
+
+import numpy as np
+
+from _common import machine
+
+HERE = pathlib.Path(__file__).resolve().parent
+FAMILIES = {"default": None,
+            "air_laid": HERE / "scenarios" / "air_laid_mixed.toml",
+            "small_cylinders": HERE / "scenarios" / "small_cylinders_impact35.toml"}
+
+
+def variant(P, integrator, quadrature, dt=None, rtol=None, sediment_dt=None):
+    from mineburial.kernels import layout as L
+
+    Q = P.copy()
+    Q[:, L.P_INTEGRATOR] = L.INTEGRATOR_NAMES.index(integrator)
+    Q[:, L.P_SED_QUADRATURE] = L.SEDIMENT_QUADRATURE_NAMES.index(quadrature)
+    if dt is not None:
+        Q[:, L.P_DT] = dt
+    if rtol is not None:
+        Q[:, L.P_RTOL] = rtol
+        Q[:, L.P_ATOL] = rtol / 10.0
+    if sediment_dt is not None:
+        Q[:, L.P_SED_DT] = sediment_dt
+    return Q
+
+
+def run(spec, P, valid):
+    from mineburial.ensembles.batch import run_batch
+
+    t = time.perf_counter()
+    summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+    return time.perf_counter() - t, summary, status
+
+
+def compare(summary, status, ref_summary, ref_status):
+    from mineburial.ensembles.statistics import burial_class
+    from mineburial.kernels import layout as L
+    from mineburial.kernels import status as S
+
+    pen = summary[:, L.S_PENETRATION]
+    pen_ref = ref_summary[:, L.S_PENETRATION]
+    both = np.isfinite(pen) & np.isfinite(pen_ref)
+    d = np.abs(pen - pen_ref)[both]
+    rel = np.where(d <= 0.005, 0.0, d / np.maximum(np.abs(pen_ref[both]), 0.5))
+    used = np.isin(status, S.IN_STATISTICS)
+    used_ref = np.isin(ref_status, S.IN_STATISTICS)
+    cls = burial_class(summary[:, L.S_BURIAL_VOLUME])
+    cls_ref = burial_class(ref_summary[:, L.S_BURIAL_VOLUME])
+    both_used = used & used_ref
+    changed = float(np.mean(cls[both_used] != cls_ref[both_used])) if both_used.any() else np.nan
+    prob = np.bincount(cls[used].astype(int), minlength=5) / max(used.sum(), 1)
+    prob_ref = np.bincount(cls_ref[used_ref].astype(int), minlength=5) / max(used_ref.sum(), 1)
+    return (100 * np.percentile(rel, 95) if rel.size else np.nan,
+            100 * rel.max() if rel.size else np.nan, 100 * changed,
+            float(np.abs(prob - prob_ref).max()))
+
+
+def counts(status):
+    from mineburial.kernels import status as S
+
+    return ", ".join(f"{S.NAMES[k]} {int((status == k).sum())}" for k in np.unique(status))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("-n", type=int, default=200, help="drops per family")
+    ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--work-precision", action="store_true")
+    ap.add_argument("--png", default="work_precision.png")
+    args = ap.parse_args()
+    import numba
+
+    from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+
+    print(f"machine: {machine()}; threads: {numba.get_num_threads()}")
+    rows = []
+    for fam in args.families.split(","):
+        spec = load_ensemble(FAMILIES[fam])
+        P, valid, _ = chunk_inputs(spec, 0, args.n)
+        paths = {"default": P,
+                 "reference": variant(P, "rk4", "reference", dt=1e-3),
+                 "truth": variant(P, "rk4", "reference", dt=2.5e-4)}
+        if args.work_precision:
+            for dt in (2e-3, 1e-3, 5e-4):
+                paths[f"rk4 dt={dt:g} fast"] = variant(P, "rk4", "fast", dt=dt)
+            for rtol in (1e-4, 1e-6):
+                paths[f"dopri5 rtol={rtol:g} fast"] = variant(P, "dopri5", "fast", rtol=rtol)
+            for sdt in (1e-3, 2.5e-4):
+                paths[f"dopri5 sediment_dt={sdt:g} fast"] = variant(P, "dopri5", "fast",
+                                                                   sediment_dt=sdt)
+            paths["dopri5 reference"] = variant(P, "dopri5", "reference")
+        # compile (or load from the cache) outside the timed runs
+        run(spec, P[:1], valid[:1])
+        results = {name: run(spec, Q, valid) for name, Q in paths.items()}
+        _, ref_s, ref_st = results["truth"]
+        print(f"\n== {fam}: {args.n} drops")
+        print(f"{'path':32s} {'drops/s':>8s} {'ms/drop':>8s} {'p95 %':>6s} {'max %':>6s} "
+              f"{'class %':>7s} {'dP':>6s}  status")
+        for name, (el, s, st) in results.items():
+            p95, mx, ch, dp = compare(s, st, ref_s, ref_st)
+            rate = args.n / el
+            cpu_ms = 1e3 * el * numba.get_num_threads() / args.n
+            rows.append((fam, name, rate, cpu_ms, p95, mx, ch, dp))
+            print(f"{name:32s} {rate:8.1f} {cpu_ms:8.2f} {p95:6.2f} {mx:6.2f} {ch:7.2f} "
+                  f"{dp:6.3f}  {counts(st)}")
+        r_def = args.n / results["default"][0]
+        r_ref = args.n / results["reference"][0]
+        print(f"speed-up default / reference (RK4 1 ms, reference quadrature): {r_def / r_ref:.1f}x")
+    if args.work_precision:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fams = sorted({r[0] for r in rows})
+        fig, axes = plt.subplots(1, len(fams), figsize=(5 * len(fams), 4), squeeze=False)
+        for ax, fam in zip(axes[0], fams):
+            for r in rows:
+                if r[0] != fam or r[1] == "truth":
+                    continue
+                ax.loglog(max(r[3], 1e-3), max(r[4], 1e-3), "o")
+                ax.annotate(r[1], (max(r[3], 1e-3), max(r[4], 1e-3)), fontsize=6)
+            ax.set_xlabel("CPU time per drop [ms]")
+            ax.set_ylabel("p95 penetration error vs RK4 0.25 ms reference [%]")
+            ax.set_title(fam)
+        fig.tight_layout()
+        fig.savefig(args.png, dpi=120)
+        print(f"wrote {args.png}")
+
+
+if __name__ == "__main__":
+    main()

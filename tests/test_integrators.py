@@ -1,0 +1,232 @@
+"""The integrator protocol (dopri5 with error control, continuous extension, events) and the
+end of a drop, against closed forms and the fixed-step RK4 reference.
+
+References: the exponential and the harmonic oscillator (closed forms), ballistic flight in
+vacuum (closed-form interface crossing times), RK4 at small dt on a full drop, Archimedes
+for a mine lighter than the water.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from mineburial.drop import run_params, simulate_drop
+from mineburial.kernels import integrators as it
+from mineburial.kernels import layout, status
+
+from conftest import make_scenario
+
+G = 9.81
+
+
+# ---------------------------------------------------------------------------
+# the generic pieces, driven from Python on closed-form problems
+# ---------------------------------------------------------------------------
+def _oscillator(y, dy):
+    dy[0] = y[1]
+    dy[1] = -y[0]
+
+
+def _dopri_step(f, y, h):
+    k = np.zeros((it.N_STAGES, y.size))
+    f(y, k[0])
+    tmp = np.empty_like(y)
+    for s in range(1, it.N_STAGES):
+        it.dopri_stage_state(y, k, s, h, tmp)
+        f(tmp, k[s])
+    out = np.empty_like(y)
+    err = np.empty_like(y)
+    it.dopri_solution(y, k, h, out, err)
+    r = np.empty((5, y.size))
+    it.dopri_dense(y, out, k, h, r)
+    return out, err, r
+
+
+def test_dopri_local_error_is_fifth_order_and_estimate_fourth():
+    """On the harmonic oscillator the local error of the 5th-order solution falls as h^6
+    and the embedded estimate as h^5 (Dormand & Prince 1980)."""
+    y0 = np.array([1.0, 0.0])
+    errs, ests = [], []
+    hs = (0.2, 0.1, 0.05)
+    for h in hs:
+        out, err, _ = _dopri_step(_oscillator, y0, h)
+        exact = np.array([math.cos(h), -math.sin(h)])
+        errs.append(np.linalg.norm(out - exact))
+        ests.append(np.linalg.norm(err))
+    order_sol = math.log2(errs[1] / errs[2])
+    order_est = math.log2(ests[1] / ests[2])
+    assert 5.5 < order_sol < 6.6, order_sol
+    assert 4.6 < order_est < 5.5, order_est
+
+
+def test_dense_output_is_fourth_order_inside_the_step():
+    """The continuous extension at theta = 0.3 and 0.7: error O(h^5) against cos, -sin."""
+    y0 = np.array([1.0, 0.0])
+    errs = []
+    for h in (0.2, 0.1):
+        _, _, r = _dopri_step(_oscillator, y0, h)
+        e = 0.0
+        for th in (0.3, 0.7):
+            y = np.empty(2)
+            it.dense_state(r, th, y)
+            e = max(e, abs(y[0] - math.cos(th * h)) + abs(y[1] + math.sin(th * h)))
+        errs.append(e)
+    assert 4.4 < math.log2(errs[0] / errs[1]) < 6.5
+    # the ends are exact
+    out, _, r = _dopri_step(_oscillator, y0, 0.1)
+    y = np.empty(2)
+    it.dense_state(r, 1.0, y)
+    np.testing.assert_allclose(y, out, rtol=0, atol=1e-15)
+    it.dense_state(r, 0.0, y)
+    np.testing.assert_allclose(y, y0, rtol=0, atol=1e-15)
+
+
+def _integrate(rtol, t_end=10.0):
+    """dopri5 with the PI controller on the oscillator; returns (global error, steps)."""
+    y = np.array([1.0, 0.0])
+    t, h, err_prev, ok_before, n = 0.0, 0.01, 1e-4, True, 0
+    while t < t_end - 1e-12:
+        h = min(h, t_end - t)
+        out, err, _ = _dopri_step(_oscillator, y, h)
+        e = it.error_norm(y, out, err, ((0, 1), (1, 2)), rtol, rtol * 1e-3)
+        h_next, accept, err_prev = it.next_step_size(h, e, err_prev, ok_before)
+        ok_before = accept
+        if accept:
+            y, t, n = out, t + h, n + 1
+        h = h_next
+    return abs(y[0] - math.cos(t_end)) + abs(y[1] + math.sin(t_end)), n
+
+
+def test_step_size_controller_follows_the_tolerance():
+    """Global error tracks rtol (within a factor ~30 either way) and the number of steps
+    grows like rtol^(-1/5)."""
+    e5, n5 = _integrate(1e-5)
+    e8, n8 = _integrate(1e-8)
+    assert 1e-7 < e5 < 1e-3 and 1e-10 < e8 < 1e-6, (e5, e8)
+    assert e8 < e5 / 50
+    ratio = n8 / n5
+    assert 2.5 < ratio < 6.0, (n5, n8)       # 10^(3/5) = 3.98
+
+
+def test_illinois_finds_a_root():
+    f = lambda x: math.cos(x) - x   # root 0.7390851332151607
+    a, b = 0.0, 1.0
+    ga, gb, side = f(a), f(b), 0
+    for _ in range(60):
+        if b - a < 1e-14:
+            break
+        t = it.illinois_next(a, ga, b, gb)
+        a, ga, b, gb, side = it.illinois_update(a, ga, b, gb, t, f(t), side)
+    assert abs(0.5 * (a + b) - 0.7390851332151607) < 1e-12
+
+
+# ---------------------------------------------------------------------------
+# events on the continuous extension of a full drop
+# ---------------------------------------------------------------------------
+def _vacuum(**over):
+    """Ballistic flight: no air, no water (both densities 0), drag off."""
+    base = dict(mine={"mass": 80.0, "com_offset": 0.0},
+                environment={"water_depth": 20.0, "water_density": 0.0, "air_density": 0.0,
+                             "gravity": G},
+                release={"position": [0.0, 0.0, 10.0], "pitch_deg": 0.0},
+                numerics={"t_max": 3.0, "drag": False, "rtol": 1e-6, "atol": 1e-8})
+    for k, v in over.items():
+        base[k] = {**base[k], **v}
+    return make_scenario(**base)
+
+
+@pytest.mark.parametrize("integrator", ["dopri5", "rk4"])
+def test_interface_events_are_located_on_the_interpolant(integrator):
+    """A horizontal cylinder (R = 0.125 m) falling from rest at z = 10 m in vacuum: its
+    lowest point reaches the water surface at t = sqrt(2 (10 - R) / g) and the seabed
+    (z = -20) at t = sqrt(2 (30 - R) / g), to the event tolerance, whatever the steps."""
+    sc = _vacuum(numerics={"integrator": integrator, "dt": 7e-3})
+    p, sb, cb = sc.to_params()
+    _, s, _ = run_params(p, sb, cb)
+    R = 0.125
+    assert abs(s[layout.S_ENTRY_TIME] - math.sqrt(2 * (10 - R) / G)) < 1e-9
+    assert abs(s[layout.S_IMPACT_TIME] - math.sqrt(2 * (30 - R) / G)) < 1e-9
+    # the speed at the cut comes from the continuous extension (cubic Hermite for RK4)
+    assert abs(s[layout.S_IMPACT_SPEED] - math.sqrt(2 * G * (30 - R))) < 1e-4
+
+
+def test_recorder_samples_exact_output_times():
+    """Rows at exact multiples of the interval, on the ballistic parabola."""
+    ds = simulate_drop(_vacuum(numerics={"t_max": 1.0}), record_interval=0.1)
+    t = ds.time.values
+    np.testing.assert_allclose(t[:11], np.arange(11) * 0.1, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ds.z.values[:11], 10.0 - 0.5 * G * t[:11] ** 2, rtol=0, atol=1e-9)
+
+
+# ---------------------------------------------------------------------------
+# a full drop: dopri5 + fast rule against RK4 at small dt + reference quadrature
+# ---------------------------------------------------------------------------
+def test_default_path_matches_rk4_reference_on_the_default_mine():
+    from mineburial.config import Scenario, load_example
+
+    d = load_example("default_mine").to_dict()
+    d["numerics"] = dict(d["numerics"], integrator="dopri5", sediment_quadrature="fast")
+    fast = Scenario.from_dict(d)
+    d["numerics"] = dict(d["numerics"], integrator="rk4", dt=2.5e-4,
+                         sediment_quadrature="reference")
+    ref = Scenario.from_dict(d)
+    out = []
+    for sc in (fast, ref):
+        p, sb, cb = sc.to_params()
+        code, s, _ = run_params(p, sb, cb)
+        assert code == status.AT_REST
+        out.append(s)
+    a, b = out
+    assert abs(a[layout.S_IMPACT_TIME] - b[layout.S_IMPACT_TIME]) < 2e-3
+    assert abs(a[layout.S_PENETRATION] - b[layout.S_PENETRATION]) < 0.01 * b[layout.S_PENETRATION]
+    assert a[layout.S_N_STEPS] < b[layout.S_N_STEPS] / 10
+
+
+# ---------------------------------------------------------------------------
+# the end of a drop
+# ---------------------------------------------------------------------------
+def test_mine_lighter_than_water_floats_and_ends():
+    """mass 40 kg < rho_w V = 50.3 kg: it enters, turns round, and ends 'floated' long
+    before the time limit, without touching the seabed."""
+    sc = make_scenario(mine={"mass": 40.0}, release={"position": [0.0, 0.0, 1.0]},
+                       environment={"water_depth": 50.0}, numerics={"t_max": 60.0})
+    p, sb, cb = sc.to_params()
+    code, s, _ = run_params(p, sb, cb)
+    assert code == status.FLOATED
+    assert s[layout.S_TOTAL_TIME] < 5.0
+    assert np.isnan(s[layout.S_IMPACT_TIME])
+
+
+def test_mine_in_sediment_that_cannot_hold_it_is_buried_sinking():
+    """A zero-strength sediment lighter than the mine (1100 kg/m3 against 1630): it sinks
+    without limit, fully buried at the time limit; reported as such, 100 % buried."""
+    from mineburial.config import Scenario
+
+    from conftest import scenario_dict
+
+    d = scenario_dict(environment={"water_depth": 3.0},
+                      release={"position": [0.0, 0.0, -2.0], "pitch_deg": 90.0},
+                      numerics={"t_max": 6.0})
+    d["sediment"] = {"density": 1100.0, "density_gradient": 0.0, "strength": 0.0,
+                     "strength_gradient": 0.0}
+    sc = Scenario.from_dict(d)
+    p, sb, cb = sc.to_params()
+    code, s, _ = run_params(p, sb, cb)
+    assert code == status.BURIED_SINKING
+    assert s[layout.S_BURIAL_VOLUME] == pytest.approx(100.0)
+
+
+def test_mine_placed_on_a_bottom_that_holds_it_stops_at_once():
+    """A horizontal mine released at rest with its lower half in a stiff clay (rigid-plastic
+    bearing capacity far above its submerged weight): at rest within the first steps,
+    within 5 mm of where it was put (the regularised switch mobilises the resistance over
+    a few mm of settlement)."""
+    sc = make_scenario(environment={"water_depth": 10.0},
+                       release={"position": [0.0, 0.0, -10.0 + 0.06], "pitch_deg": 0.0},
+                       sediment={"class": "stiff_clay"}, numerics={"t_max": 10.0})
+    p, sb, cb = sc.to_params()
+    code, s, _ = run_params(p, sb, cb)
+    assert code == status.AT_REST
+    assert s[layout.S_TOTAL_TIME] < 0.05
+    assert abs(s[layout.S_COM_DEPTH] - (-0.06)) < 5e-3
