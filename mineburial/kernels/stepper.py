@@ -82,6 +82,7 @@ EVENT_TOLERANCE = 1e-12       # fraction of a step: events are located to this a
 MAX_EVENT_ITERATIONS = 60
 REDO_MARGIN = 1e-6            # a step ending at an interface is retaken 1e-6 of a step past it
 MAX_REDO = 2                  # at most this many retakes per accepted step
+MIN_REDO_STEP = 1e-9          # s: a crossing closer than this to the step's start is cut, not retaken
 DOMAIN_RADIUS = 1e5           # m: a drop that drifts further has left the domain
 MAX_STEP = 0.5                # s: largest adaptive step (events are detected per step)
 MIN_STEP = 1e-12              # s: an adaptive step below this is a numerical failure
@@ -311,6 +312,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     accepted_before = True
     max_decel = 0.0
     n_steps = 0
+    n_attempts = 0
     derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
     event_values(y, p, g0)
     entered_water = g0[0] < 0.0
@@ -324,7 +326,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             if g0[3] < 0.0:
                 status = st.BURIED_SINKING
             break
-        if n_steps >= MAX_STEPS:
+        n_attempts += 1
+        if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
             break
         # dopri5 steps where the right-hand side is smooth (air, water column); in contact
         # with the sediment the fixed RK4 step numerics.sediment_dt (docs/design.md, "time
@@ -370,7 +373,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             if th < theta:
                 theta = th
                 first = e
-        if first >= 0 and first < EVENT_REST and theta < 1.0 - REDO_MARGIN and redo < MAX_REDO:
+        if (first >= 0 and first < EVENT_REST and theta < 1.0 - REDO_MARGIN and redo < MAX_REDO
+                and theta * h > MIN_REDO_STEP):
             # an interface inside the step: the step's continuous extension has seen the
             # forces beyond it; take the step again, ending just past the located crossing,
             # so that the state at the interface comes from the forces before it
