@@ -230,10 +230,13 @@ _FIELD_LIST = [
     _spec("numerics.atol", "1", 0, 1.0,
           "absolute tolerance of the adaptive integrator, in m, m s-1, 1 (quaternion) and "
           "rad s-1", 1e-6, incl=_OPEN_LOW),
-    _spec("numerics.sediment_dt", "s", 0, 1,
-          "fixed RK4 step of the dopri5 integrator while the mine is in contact with the "
-          "sediment (the regularised tractions are stiff there; docs/design.md)", 5e-4,
+    _spec("numerics.slip_speed", "m s-1", 0, 0.1,
+          "regularisation speed of the slip direction of the sediment's tangential traction "
+          "(seed 000 eq. (67)): it ramps up over this slip speed (docs/design.md)", 5e-3,
           incl=_OPEN_LOW),
+    _spec("numerics.switch_speed", "m s-1", 0, 0.1,
+          "regularisation speed of the advancing switch of seed 000 eq. (65): the normal "
+          "traction ramps up over this normal speed (docs/design.md)", 5e-3, incl=_OPEN_LOW),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.
@@ -758,7 +761,8 @@ class Numerics:
     rtol: float = 1e-5
     atol: float = 1e-6
     sediment_quadrature: str = "fast"
-    sediment_dt: float = 5e-4
+    slip_speed: float = 5e-3
+    switch_speed: float = 5e-3
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
@@ -768,7 +772,7 @@ class Numerics:
         _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES,
                 "numerics.sediment_quadrature")
         for f in ("dt", "t_max", "rest_speed", "rest_spin", "munk_factor", "rtol", "atol",
-                  "sediment_dt"):
+                  "slip_speed", "switch_speed"):
             _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
         if not self.dt <= self.t_max:
             raise _range_error("numerics.dt", "numerics.dt", self.dt, FIELDS["numerics.dt"],
@@ -955,7 +959,8 @@ class Scenario:
             "numerics.dt": n.dt, "numerics.t_max": n.t_max, "numerics.rest_speed": n.rest_speed,
             "numerics.rest_spin": n.rest_spin, "numerics.drag": float(n.drag),
             "numerics.munk_factor": n.munk_factor, "numerics.rtol": n.rtol,
-            "numerics.atol": n.atol, "numerics.sediment_dt": n.sediment_dt,
+            "numerics.atol": n.atol, "numerics.slip_speed": n.slip_speed,
+            "numerics.switch_speed": n.switch_speed,
             "numerics.sediment_quadrature":
                 layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
         }

@@ -437,7 +437,8 @@ def test_to_params_puts_each_value_in_its_named_slot():
                      "sediment.rate_law": 2, "sediment.pore_pressure": 1.0})
     expected.update({f"numerics.{k}": v for k, v in nm.items()
                      if k not in ("model", "integrator", "drag", "sediment_quadrature")})
-    expected.update({"numerics.rtol": 1e-5, "numerics.atol": 1e-6, "numerics.sediment_dt": 5e-4,
+    expected.update({"numerics.rtol": 1e-5, "numerics.atol": 1e-6, "numerics.slip_speed": 5e-3,
+                     "numerics.switch_speed": 5e-3,
                      "numerics.sediment_quadrature": 0})
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
     ref_q = Rotation.from_euler("ZYX", [r["heading_deg"], r["pitch_deg"], r["roll_deg"]],
@@ -504,7 +505,8 @@ def test_fields_table_is_consistent():
               "bearing_factor", "rupture_length", "permeability", "void_ratio"):
         assert getattr(sed, f) == FIELDS[f"sediment.{f}"].default
     num = Numerics()
-    for f in ("dt", "t_max", "rest_speed", "rest_spin", "rtol", "atol", "sediment_dt"):
+    for f in ("dt", "t_max", "rest_speed", "rest_spin", "rtol", "atol", "slip_speed",
+              "switch_speed"):
         assert getattr(num, f) == FIELDS[f"numerics.{f}"].default
     assert Current().exponent == FIELDS["current.exponent"].default
 

@@ -17,10 +17,14 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
-from mineburial.kernels.sediment import V_REG, V_REG_N, pack_law, sediment_force_torque
+from mineburial.kernels.sediment import pack_law, sediment_force_torque
 from mineburial.kernels.sediment.fast import fast_tractions
 from mineburial.kernels.sediment.reference import reference_tractions
 
+# the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
+# advancing switch 0.1 mm/s), independent of numerics.slip_speed / switch_speed defaults
+V_REG = 1.0e-3
+V_REG_N = 1.0e-4
 G = 9.81
 RHO_W = 1025.0
 SEABED = -20.0
@@ -56,6 +60,8 @@ def params(**kw):
     p[lay.P_SED_KP] = 1e-4
     p[lay.P_SED_EV] = 0.5
     p[lay.P_SED_QUADRATURE] = 0          # fast
+    p[lay.P_SLIP_SPEED] = V_REG            # the regularisation these tests were written for
+    p[lay.P_SWITCH_SPEED] = V_REG_N
     for key, value in kw.items():
         p[getattr(lay, key)] = value
     return p

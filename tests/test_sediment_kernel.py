@@ -25,9 +25,13 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
-from mineburial.kernels.sediment import (V_REG, V_REG_N, bearing_factor, rate_factor,
+from mineburial.kernels.sediment import (bearing_factor, rate_factor,
                                          sediment_force_torque, sediment_properties)
 
+# the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
+# advancing switch 0.1 mm/s), independent of numerics.slip_speed / switch_speed defaults
+V_REG = 1.0e-3
+V_REG_N = 1.0e-4
 G = 9.81
 RHO_W = 1025.0
 SEABED = -20.0
@@ -62,6 +66,8 @@ def params(**kw):
     # these tests guard the reference quadrature (tight tolerances); the fast rule is
     # tested against it in tests/test_sediment_fast.py
     p[lay.P_SED_QUADRATURE] = 1
+    p[lay.P_SLIP_SPEED] = V_REG            # the regularisation these tests were written for
+    p[lay.P_SWITCH_SPEED] = V_REG_N
     for key, value in kw.items():
         p[getattr(lay, key)] = value
     return p

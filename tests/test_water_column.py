@@ -9,7 +9,13 @@ from scipy.spatial.transform import Rotation
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout
 
-from conftest import make_scenario
+from conftest import make_scenario as _make_scenario
+
+
+def make_scenario(**sections):
+    """The test scenario with dopri5 at tolerances far below these closed-form checks'."""
+    numerics = {"rtol": 1e-10, "atol": 1e-12, **sections.pop("numerics", {})}
+    return _make_scenario(numerics=numerics, **sections)
 
 G = 9.81
 

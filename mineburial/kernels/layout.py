@@ -81,7 +81,8 @@ PARAM_NAMES = (
     "numerics.rtol",               # relative tolerance of the adaptive integrator
     "numerics.atol",               # absolute tolerance of the adaptive integrator (scaled units)
     "numerics.sediment_quadrature",  # 0 fast (fixed-cost rule), 1 reference (adaptive quadrature)
-    "numerics.sediment_dt",        # s, fixed RK4 step of dopri5 drops while in contact with the sediment
+    "numerics.slip_speed",         # m s-1, regularisation speed of the sediment's slip direction
+    "numerics.switch_speed",       # m s-1, regularisation speed of the sediment's advancing switch
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -97,7 +98,7 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
  P_SED_RESISTANCE, P_SED_RATE_LAW, P_SED_A, P_SED_VREST, P_SED_BETA, P_SED_RATE_REF,
  P_SED_MU, P_SED_NC, P_SED_PORE, P_SED_B, P_SED_KP, P_SED_EV,
  P_MODEL, P_INTEGRATOR, P_DT, P_TMAX, P_REST_SPEED, P_REST_SPIN, P_DRAG,
- P_MUNK, P_RTOL, P_ATOL, P_SED_QUADRATURE, P_SED_DT) = range(N_PARAMS)
+ P_MUNK, P_RTOL, P_ATOL, P_SED_QUADRATURE, P_SLIP_SPEED, P_SWITCH_SPEED) = range(N_PARAMS)
 
 # model and integrator codes
 MODEL_NAMES = ("mineburial", "impact35")

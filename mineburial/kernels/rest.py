@@ -15,6 +15,9 @@ the immersed part, geostatic overburden of the embedded part: everything that do
 not depend on the velocity) and (R, M_R) the sediment's resistance to a motion with
 twist xi, evaluated by the traction laws themselves at the probe speed.
 
+The resistance is that of the unregularised law (the switch and slip regularisation of
+``numerics.slip_speed`` and ``numerics.switch_speed`` is a numerical device to keep the motion continuous, not
+strength: a rigid-plastic capacity is fully mobilised by any motion).
 The probe speed is the rest speed: with a rate-dependent strength, a mine that passes
 the test would creep, if at all, slower than the rest speed, which is what eq. (89)
 calls rest. Mechanisms probed (each only where the load drives it, W . xi > 0):
@@ -41,6 +44,7 @@ from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_GRAVITY, P_
 from mineburial.kernels.overburden import overburden_force
 from mineburial.kernels.rotation import rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
+from mineburial.kernels.sediment.laws import LAW_VREG
 
 #: s: the force tolerance of the hold test is mass * rest_speed / REST_TIME
 REST_TIME = 1.0
@@ -114,6 +118,8 @@ def held_by_sediment(y, p, law, bank, probe_speed):
     if not (z_lo < -depth):
         return False
     fx, fy, fz, m1, m2, m3 = static_load(y, p, law, bank)
+    # the rigid-plastic capacity: the law without its switch and slip regularisation
+    law = law[:LAW_VREG] + (1e-9 * probe_speed, 1e-9 * probe_speed)
     # load force in the body frame
     f1 = r[0] * fx + r[3] * fy + r[6] * fz
     f2 = r[1] * fx + r[4] * fy + r[7] * fz

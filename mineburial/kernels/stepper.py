@@ -49,7 +49,7 @@ from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, 
 from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_SUMMARY, P_ATOL, P_CHI,
                                        P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
                                        P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
-                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_SED_DT, P_TMAX,
+                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_TMAX,
                                        P_U0, P_V0, P_W0, P_X0, P_Y0, P_Z0, S_BURIAL_AREA,
                                        S_BURIAL_HEIGHT, S_BURIAL_VOLUME, S_COM_DEPTH,
                                        S_ENTRY_TIME, S_FINAL_HEADING, S_FINAL_PITCH, S_FINAL_ROLL,
@@ -329,11 +329,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
         n_attempts += 1
         if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
             break
-        # dopri5 steps where the right-hand side is smooth (air, water column); in contact
-        # with the sediment the fixed RK4 step numerics.sediment_dt (docs/design.md, "time
-        # stepping": the regularised tractions make the sediment phase stiff)
-        adaptive_now = adaptive and not g0[2] < 0.0
-        if adaptive_now:
+        if adaptive:
             h = min(h_adapt, MAX_STEP, t_max - t, h_cap)
             if h < MIN_STEP * max(1.0, t):
                 status = st.NUMERICAL_FAILURE
@@ -348,7 +344,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             dopri_dense(y, ynew, k, h, r)
             h_adapt = h_next
         else:
-            h = min(p[P_SED_DT] if adaptive else p[P_DT], t_max - t, h_cap)
+            h = min(p[P_DT], t_max - t, h_cap)
             if integrator == INTEGRATOR_LOCAL_LINEAR:
                 local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2],
                                   ytmp, diag, ynew)

@@ -49,7 +49,8 @@ from mineburial.kernels.layout import (P_GRAVITY, P_RHO_WATER, P_SED_A, P_SED_B,
                                        P_SED_EV, P_SED_KP, P_SED_MU, P_SED_NC, P_SED_PORE,
                                        P_SED_PROFILE, P_SED_QUADRATURE, P_SED_RATE_LAW,
                                        P_SED_RATE_REF, P_SED_RESISTANCE, P_SED_RHO,
-                                       P_SED_RHO_GRAD, P_SED_S, P_SED_S_GRAD, P_SED_VREST)
+                                       P_SED_RHO_GRAD, P_SED_S, P_SED_S_GRAD, P_SED_VREST, P_SLIP_SPEED,
+                                       P_SWITCH_SPEED)
 
 # --- model codes (layout.RESISTANCE_NAMES, layout.RATE_LAW_NAMES) -----------
 RES_DELTA = 0
@@ -59,15 +60,17 @@ RATE_IMPACT35 = 0
 RATE_SEMILOG = 1
 RATE_NONE = 2
 
-#: Regularisation speed of the slip direction, m/s: tau = -v_tau / sqrt(|v_tau|^2 + V_REG^2).
-#: Makes the tangential traction continuous at rest (it grows linearly with the
-#: slip below ~V_REG); 1 mm/s is the default rest-speed criterion of the
-#: stepper (numerics.rest_speed, seed 000 eq. (89)).
-V_REG = 1.0e-3
-
-#: Regularisation speed of the advancing switch delta (eq. (65)), m/s: the normal
-#: traction is scaled by v_n / sqrt(v_n^2 + V_REG_N^2) on advancing elements.
-V_REG_N = 1.0e-4
+#: Default regularisation speed (``numerics.slip_speed``, ``numerics.switch_speed``), m/s, of
+#: * the slip direction: tau = -v_tau / sqrt(|v_tau|^2 + V_REG^2), which makes the tangential
+#:   traction continuous at rest (it grows linearly with the slip below ~V_REG), and
+#: * the advancing switch delta (eq. (65)): the normal traction is scaled by
+#:   v_n / sqrt(v_n^2 + V_REG_N^2) on advancing elements.
+#: The value sets the stiffness of the sediment phase (docs/design.md, "Time stepping");
+#: the law reads it from the packed law (slots LAW_VREG, LAW_VREG_N), these constants are
+#: the default and what the reference quadrature resolves.
+SWITCH_SPEED = 5.0e-3
+V_REG = SWITCH_SPEED
+V_REG_N = SWITCH_SPEED
 
 #: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
 DEPTH_FACTOR = 0.4
@@ -219,7 +222,8 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     # v_n / sqrt(v_n^2 + V_REG_N^2) has a short tail (1 - h ~ V_REG_N^2 / (2 v_n^2)), so
     # the ramp is a thin layer along the delta line that the quadrature need not resolve
     # (v_n / (v_n + V_REG_N) would lower the traction by 1 % up to v_n = 100 V_REG_N).
-    hn = vn / math.sqrt(vn * vn + V_REG_N * V_REG_N) if vn > 0.0 else 0.0
+    vrn = law[22]
+    hn = vn / math.sqrt(vn * vn + vrn * vrn) if vn > 0.0 else 0.0
     if model == RES_DELTA:
         pn = sig * hn
         ft = mu * gfac * s
@@ -232,7 +236,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
         nc = law[7] * (1.0 + DEPTH_FACTOR * math.atan(zeta / law[8]))
         pn = nc * s * gfac * hn
         ft = mu * s * gfac
-    k = ft / math.sqrt(vt2 + V_REG * V_REG)
+    k = ft / math.sqrt(vt2 + law[21] * law[21])
     return -pn * nx - k * tx, -pn * ny - k * ty, -pn * nz - k * tz
 
 
@@ -242,7 +246,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 #: Slots of the packed law tuple (:func:`pack_law`).
 (LAW_MODEL, LAW_RATE, LAW_A, LAW_VREST, LAW_BETA, LAW_RATE_REF, LAW_MU, LAW_N0, LAW_DIAMETER,
  LAW_RHO_W, LAW_G, LAW_RHO0, LAW_KRHO, LAW_S0, LAW_KS, LAW_ROW, LAW_QUADRATURE, LAW_PORE,
- LAW_B, LAW_KP, LAW_EV) = range(21)
+ LAW_B, LAW_KP, LAW_EV, LAW_VREG, LAW_VREG_N) = range(23)
 
 
 @kernel
@@ -251,7 +255,9 @@ def pack_law(p, diameter):
 
     Unknown resistance codes fall back to ``delta``; a non-positive N_c to pi + 2
     (Prandtl 1920). The quadrature code (``layout.SEDIMENT_QUADRATURE_NAMES``) and the
-    pore-pressure constants of seed 000 eq. (73) ride along.
+    pore-pressure constants of seed 000 eq. (73) ride along, and the regularisation speeds
+    of the slip direction (``numerics.slip_speed``) and of the advancing switch
+    (``numerics.switch_speed``).
     """
     model = int(p[P_SED_RESISTANCE])
     if model < 0 or model > 2:
@@ -263,7 +269,7 @@ def pack_law(p, diameter):
             p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, p[P_RHO_WATER], p[P_GRAVITY],
             p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
             int(p[P_SED_PROFILE]), int(p[P_SED_QUADRATURE]), p[P_SED_PORE] > 0.0,
-            p[P_SED_B], p[P_SED_KP], p[P_SED_EV])
+            p[P_SED_B], p[P_SED_KP], p[P_SED_EV], p[P_SLIP_SPEED], p[P_SWITCH_SPEED])
 
 
 @kernel

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
-from mineburial.kernels.sediment.laws import (RATE_IMPACT35, RATE_SEMILOG, V_REG, V_REG_N,
+from mineburial.kernels.sediment.laws import (LAW_VREG, LAW_VREG_N, RATE_IMPACT35, RATE_SEMILOG,
                                               _traction)
 
 # --- quadrature constants -----------------------------------------------------
@@ -285,7 +285,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
     if b1 != 0.0:
         rd = -b0 / b1
         tol = 1e-12 * (abs(lo) + abs(hi)) + 1e-300
-        en = V_REG_N / abs(b1)
+        en = law[LAW_VREG_N] / abs(b1)
         if en > RAMP_MIN * (hi - lo):
             if abs(lo - rd) <= tol:
                 elo = en
@@ -306,7 +306,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
             xq = -t0 / t1
             if xq > lo and xq < hi:
                 p1 = xq
-                q1 = math.sqrt(vx * vx + V_REG * V_REG) / abs(t1)
+                q1 = math.sqrt(vx * vx + law[LAW_VREG] * law[LAW_VREG]) / abs(t1)
         if dip[0] > 0:
             d0 = fd[1] * c + fd[2] * s
             d1 = fd[4] * c + fd[5] * s
@@ -637,7 +637,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
 # breakpoints of the lateral surface
 # =============================================================================
 @kernel
-def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
+def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
     """Breakpoints in theta of the lateral surface and their near-singularity scales.
 
     Returned as two 28-tuples (NaN: no breakpoint; inf: no near-singularity), seven
@@ -787,7 +787,7 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
                 vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
                 rate = abs(w3 * R * s + w2 * R * c)
                 if rate > 0.0:
-                    e = math.sqrt(vmin * vmin + V_REG * V_REG) / rate
+                    e = math.sqrt(vmin * vmin + vreg * vreg) / rate
             else:
                 zeta = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
                 vn = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
@@ -809,14 +809,14 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip):
                     if group == 3:
                         dvn += (fd[4] * c + fd[5] * s) * sl
                     if dvn != 0.0:
-                        er = V_REG_N / abs(dvn)
+                        er = vreg_n / abs(dvn)
                 if group == 2 or group == 4 or group == 5:
                     # slip-reversal front crossing the curve x(theta) of slope sl:
                     # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
                     vx = v1 - w3 * R * c + w2 * R * s
                     a1 = ft[3] + ft[4] * c + ft[5] * s
                     rate = abs((-ft[1] * s + ft[2] * c) + (-ft[4] * s + ft[5] * c) * x + a1 * sl)
-                    front = math.sqrt(vx * vx + V_REG * V_REG) / rate if rate > 0.0 else inf
+                    front = math.sqrt(vx * vx + vreg * vreg) / rate if rate > 0.0 else inf
                     e = min(e, min(_adist(t, pt), front))
             if k == 0:
                 t0 = t
@@ -1023,7 +1023,8 @@ def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     m3 = 0.0
     for surf in range(3):
         if surf == 0:
-            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip)
+            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip,
+                                                        law[LAW_VREG], law[LAW_VREG_N])
             sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             kind = 0
             rule = LATERAL_RULE
