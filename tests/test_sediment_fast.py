@@ -18,13 +18,11 @@ from scipy import integrate
 
 from mineburial.kernels import layout as lay
 from mineburial.kernels.sediment import pack_law, sediment_force_torque
+from test_sediment_kernel import V_REG, V_REG_N  # the regularisation pinned by params()
+from test_sediment_kernel import params as _kernel_params
 from mineburial.kernels.sediment.fast import fast_tractions
 from mineburial.kernels.sediment.reference import reference_tractions
 
-# the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
-# advancing switch 0.1 mm/s), independent of numerics.slip_speed / switch_speed defaults
-V_REG = 1.0e-3
-V_REG_N = 1.0e-4
 G = 9.81
 RHO_W = 1025.0
 SEABED = -20.0
@@ -40,31 +38,8 @@ BANK[1, :, :3] = [[0.02, 0.3, 0.9], [1500.0, 1650.0, 1750.0], [1000.0, 3000.0, 6
 # helpers
 # -----------------------------------------------------------------------------
 def params(**kw):
-    p = np.zeros(lay.N_PARAMS)
-    p[lay.P_GRAVITY] = G
-    p[lay.P_RHO_WATER] = RHO_W
-    p[lay.P_SED_PROFILE] = -1
-    p[lay.P_SED_RHO] = 1600.0
-    p[lay.P_SED_RHO_GRAD] = 300.0
-    p[lay.P_SED_S] = 2000.0
-    p[lay.P_SED_S_GRAD] = 4000.0
-    p[lay.P_SED_RESISTANCE] = 0
-    p[lay.P_SED_RATE_LAW] = 0
-    p[lay.P_SED_A] = 10.0
-    p[lay.P_SED_VREST] = 0.04
-    p[lay.P_SED_BETA] = 0.1
-    p[lay.P_SED_RATE_REF] = 0.01 / 3600.0
-    p[lay.P_SED_MU] = 0.3
-    p[lay.P_SED_NC] = math.pi + 2.0
-    p[lay.P_SED_B] = 0.1
-    p[lay.P_SED_KP] = 1e-4
-    p[lay.P_SED_EV] = 0.5
-    p[lay.P_SED_QUADRATURE] = 0          # fast
-    p[lay.P_SLIP_SPEED] = V_REG            # the regularisation these tests were written for
-    p[lay.P_SWITCH_SPEED] = V_REG_N
-    for key, value in kw.items():
-        p[getattr(lay, key)] = value
-    return p
+    """The sediment kernel tests' parameters (regularisation pinned there), with the fast rule."""
+    return _kernel_params(**{"P_SED_QUADRATURE": 0, **kw})
 
 
 def ypr_matrix(yaw, pitch, roll):

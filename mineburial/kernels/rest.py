@@ -38,6 +38,7 @@ rest speed in REST_TIME seconds is no load).
 import math
 
 from mineburial._numba import kernel
+from mineburial.kernels.dynamics import vertical_load
 from mineburial.kernels.geometry import cut_cylinder, e_down_body, vertical_extent
 from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_GRAVITY, P_LENGTH, P_MASS,
                                        P_RHO_WATER, P_SED_RESISTANCE)
@@ -79,12 +80,8 @@ def static_load(y, p, law, bank):
         fx += fox
         fe += foe
     _, dn2, dn3 = e_down_body(kb1, kb2, kb3)
-    # vertical force f with first moments fx (along i_M) and fe (along e_down)
-    r2 = fe * dn2
-    r3 = fe * dn3
-    m1 = r2 * kb3 - r3 * kb2
-    m2 = r3 * kb1 - fx * kb3
-    m3 = fx * kb2 - r2 * kb1
+    # torque of the vertical force f with first moments fx (along i_M) and fe (along e_down)
+    _, _, _, m1, m2, m3 = vertical_load(f, fx, fe, dn2, dn3, kb1, kb2, kb3)
     return 0.0, 0.0, f - p[P_MASS] * g, m1, m2, m3
 
 

@@ -39,9 +39,9 @@ Fixed node counts, no state-dependent refinement, no allocation.
 
 import math
 
-import numpy as np
-
 from mineburial._numba import kernel
+from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
+from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.sediment.laws import _traction
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
@@ -51,14 +51,6 @@ N_X = 3
 N_U = 4
 N_S = 2
 
-_GL_MAX = 8
-_GL_NODES = np.zeros((_GL_MAX + 1, _GL_MAX))
-_GL_WEIGHTS = np.zeros((_GL_MAX + 1, _GL_MAX))
-for _n in range(1, _GL_MAX + 1):
-    _xg, _wg = np.polynomial.legendre.leggauss(_n)
-    _GL_NODES[_n, :_n] = _xg
-    _GL_WEIGHTS[_n, :_n] = _wg
-del _n, _xg, _wg
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi

@@ -44,6 +44,8 @@ The law is packed once per drop into a tuple (:func:`pack_law`, layout ``LAW_*``
 
 import math
 
+import numpy as np
+
 from mineburial._numba import kernel
 from mineburial.kernels.layout import (P_GRAVITY, P_RHO_WATER, P_SED_A, P_SED_B, P_SED_BETA,
                                        P_SED_EV, P_SED_KP, P_SED_MU, P_SED_NC, P_SED_PORE,
@@ -71,6 +73,17 @@ RATE_NONE = 2
 SWITCH_SPEED = 5.0e-3
 V_REG = SWITCH_SPEED
 V_REG_N = SWITCH_SPEED
+
+#: Gauss-Legendre nodes and weights on [-1, 1], row n holding the n-point rule (n <= GL_MAX),
+#: shared by the quadratures (:mod:`.reference`, :mod:`.fast`).
+GL_MAX = 12
+GL_NODES = np.zeros((GL_MAX + 1, GL_MAX))
+GL_WEIGHTS = np.zeros((GL_MAX + 1, GL_MAX))
+for _n in range(1, GL_MAX + 1):
+    _xg, _wg = np.polynomial.legendre.leggauss(_n)
+    GL_NODES[_n, :_n] = _xg
+    GL_WEIGHTS[_n, :_n] = _wg
+del _n, _xg, _wg
 
 #: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
 DEPTH_FACTOR = 0.4

@@ -23,6 +23,8 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
+from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
+from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.sediment.laws import (LAW_VREG, LAW_VREG_N, RATE_IMPACT35, RATE_SEMILOG,
                                               _traction)
 
@@ -54,14 +56,6 @@ N_SAMPLE = 32
 #: resolved where the local minimum speed is below DIP_SPEEDS * V_rest.
 DIP_SPEEDS = 7.0
 
-_GL_MAX = 12
-_GL_NODES = np.zeros((_GL_MAX + 1, _GL_MAX))
-_GL_WEIGHTS = np.zeros((_GL_MAX + 1, _GL_MAX))
-for _n in range(1, _GL_MAX + 1):
-    _xg, _wg = np.polynomial.legendre.leggauss(_n)
-    _GL_NODES[_n, :_n] = _xg
-    _GL_WEIGHTS[_n, :_n] = _wg
-del _n, _xg, _wg
 
 _SAMPLE_T = 2.0 * np.pi * np.arange(N_SAMPLE + 1) / N_SAMPLE
 _SAMPLE_C = np.cos(_SAMPLE_T)
