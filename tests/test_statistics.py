@@ -254,3 +254,20 @@ def test_bad_arguments_have_clear_messages():
         burial_statistics(summary, status, outputs=("burial_volumes",))
     with pytest.raises(ValueError, match="quantiles"):
         burial_statistics(summary, status, quantiles=(0.5, 0.25))
+
+
+def test_nearly_constant_output_does_not_crash_histogram():
+    """Issue 12 item 4: a summary variable constant to the last digit (here an impact time
+    that differs by one ulp between drops) made numpy.histogram raise "Too many bins for
+    data range" after every drop was computed. The statistics must accept it: the mean is
+    the numpy mean and every value is counted once."""
+    summary, _ = synthetic(12)
+    t = 6.034
+    summary[:, layout.SUMMARY_INDEX["impact_time"]] = t
+    summary[1, layout.SUMMARY_INDEX["impact_time"]] = np.nextafter(t, 7.0)
+    status = np.zeros(12, np.int8)
+    with pytest.raises(ValueError, match="Too many bins"):    # what numpy alone does
+        np.histogram(summary[:, layout.SUMMARY_INDEX["impact_time"]], bins=20)
+    ds = burial_statistics(summary, status)
+    assert float(ds["impact_time_mean"]) == pytest.approx(t, rel=1e-15)
+    assert int(ds["impact_time_histogram"].sum()) == 12

@@ -160,6 +160,22 @@ def default_histogram_bins(output: str):
     return DEFAULT_N_BINS
 
 
+def _histogram_bins(values, bins):
+    """``bins`` for ``numpy.histogram``: a bin count over values whose range is too narrow
+    for that many finite bins (constant to the last few digits, e.g. one impact time for
+    every drop) becomes explicit edges over a range of 1e-6 of their magnitude around them
+    (numpy raises "Too many bins for data range" there)."""
+    if np.ndim(bins) != 0 or isinstance(bins, str) or values.size == 0:
+        return bins
+    lo = float(values.min())
+    hi = float(values.max())
+    scale = max(abs(lo), abs(hi), 1e-300)
+    if hi - lo >= 1e-6 * scale or hi == lo:
+        return bins
+    mid = 0.5 * (lo + hi)
+    return np.linspace(mid - 0.5e-6 * scale, mid + 0.5e-6 * scale, int(bins) + 1)
+
+
 def _per_output(option, output: str, default):
     """Resolve an option that may be ``None`` / a single value / a mapping per output."""
     if option is None:
@@ -316,7 +332,7 @@ def _describe_output(name, values, q, exceedance_levels, histogram_bins, data_va
         mean = std = stderr = np.nan
         quant = np.full(q.shape, np.nan)
 
-    bins = _per_output(histogram_bins, name, default_histogram_bins)
+    bins = _histogram_bins(values, _per_output(histogram_bins, name, default_histogram_bins))
     counts, edges = np.histogram(values, bins=bins)
     edges = _check_levels(edges, f"{name} (histogram edges)")
     n_outside = n - int(counts.sum())
