@@ -42,6 +42,7 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
+from mineburial.kernels.sediment.laws import add_point_traction, add_weighted
 from mineburial.kernels.sediment.laws import _traction
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
@@ -147,12 +148,8 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         wgt = h * _GL_WEIGHTS[N_X, i]
         g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law,
                                bank)
-        f1 += wgt * g1
-        f2 += wgt * g2
-        f3 += wgt * g3
-        m1 += wgt * (y * g3 - z * g2)
-        m2 += wgt * (z * g1 - x * g3)
-        m3 += wgt * (x * g2 - y * g1)
+        f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y,
+                                                    z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
 
 
@@ -235,12 +232,8 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
                 wgt = R * h * _GL_WEIGHTS[N_T, i]
                 g1, g2, g3, h1, h2, h3 = _generator(math.cos(t), math.sin(t), R, xa, xb, d0,
                                                     c20, c21, c22, vbody, law, bank)
-                f1 += wgt * g1
-                f2 += wgt * g2
-                f3 += wgt * g3
-                m1 += wgt * h1
-                m2 += wgt * h2
-                m3 += wgt * h3
+                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt,
+                                                      (g1, g2, g3, h1, h2, h3))
             cur = nxt
     return f1, f2, f3, m1, m2, m3
 
@@ -316,12 +309,8 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
                 z = sv * dz + t * tz
                 g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3,
                                        law, bank)
-                f1 += wgt * g1
-                f2 += wgt * g2
-                f3 += wgt * g3
-                m1 += wgt * (y * g3 - z * g2)
-                m2 += wgt * (z * g1 - xc * g3)
-                m3 += wgt * (xc * g2 - y * g1)
+                f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, xc, y,
+                                                            z, g1, g2, g3)
         cur = nxt
     return f1, f2, f3, m1, m2, m3
 

@@ -290,3 +290,19 @@ def _law_properties(zeta, law, bank):
     """(rho_s, S, sigma'_eff) at depth zeta for the packed law."""
     return _properties(zeta, law[LAW_RHO0], law[LAW_KRHO], law[LAW_S0], law[LAW_KS],
                        law[LAW_ROW], bank, law[LAW_RHO_W], law[LAW_G])
+
+
+@kernel
+def add_point_traction(acc, wgt, x, y, z, g1, g2, g3):
+    """The accumulator ``acc`` = (F1, F2, F3, M1, M2, M3) plus ``wgt`` times the traction
+    (g1, g2, g3) at body point (x, y, z) and its moment r x g about the COM (body frame)."""
+    f1, f2, f3, m1, m2, m3 = acc
+    return (f1 + wgt * g1, f2 + wgt * g2, f3 + wgt * g3, m1 + wgt * (y * g3 - z * g2),
+            m2 + wgt * (z * g1 - x * g3), m3 + wgt * (x * g2 - y * g1))
+
+
+@kernel
+def add_weighted(acc, wgt, part):
+    """The 6-tuple ``acc`` plus ``wgt`` times the 6-tuple ``part`` (a line's force and torque)."""
+    return (acc[0] + wgt * part[0], acc[1] + wgt * part[1], acc[2] + wgt * part[2],
+            acc[3] + wgt * part[3], acc[4] + wgt * part[4], acc[5] + wgt * part[5])

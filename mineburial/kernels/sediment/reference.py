@@ -25,6 +25,7 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
+from mineburial.kernels.sediment.laws import add_point_traction, add_weighted
 from mineburial.kernels.sediment.laws import (LAW_VREG, LAW_VREG_N, RATE_IMPACT35, RATE_SEMILOG,
                                               _traction)
 
@@ -456,12 +457,8 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
                         wgt = hu * _GL_WEIGHTS[kk, i] * jac
                         if polar:
                             wgt *= r
-                        f1 += wgt * g1
-                        f2 += wgt * g2
-                        f3 += wgt * g3
-                        m1 += wgt * (y * g3 - z * g2)
-                        m2 += wgt * (z * g1 - x * g3)
-                        m3 += wgt * (x * g2 - y * g1)
+                        f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y,
+                                                                    z, g1, g2, g3)
                     u0 = u1
     return f1, f2, f3, m1, m2, m3
 
@@ -611,12 +608,8 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                                                         vel, law, bank, tangential, dip, nr,
                                                         rule[7])
                         wt = hw * _GL_WEIGHTS[n, i] * scale * jac
-                        f1 += wt * g1
-                        f2 += wt * g2
-                        f3 += wt * g3
-                        m1 += wt * h1
-                        m2 += wt * h2
-                        m3 += wt * h3
+                        f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wt,
+                                                              (g1, g2, g3, h1, h2, h3))
                 if last:
                     break
                 pos = pnext
