@@ -16,6 +16,9 @@ decorated with :func:`kernel` (or :func:`parallel_kernel`), so changing an optio
 from numba import njit
 
 _OPTIONS = dict(cache=True, nogil=True, fastmath=False, error_model="numpy")
+#: the same options for ``numba.extending.overload`` implementations (compiled into their
+#: caller, which caches them)
+JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy")
 
 
 def kernel(fn):

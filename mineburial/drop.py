@@ -10,7 +10,7 @@ import xarray as xr
 
 from mineburial.kernels import layout, status
 from mineburial.kernels.rotation import euler_angles
-from mineburial.kernels.stepper import N_TRAJ, TRAJ_COLUMNS, run_drop
+from mineburial.kernels.stepper import N_TRAJ, TRAJ_COLUMNS, reference_paths, run_drop
 
 PHASE_NAMES = ("air", "crossing_water_surface", "water", "crossing_seabed", "embedded")
 
@@ -71,7 +71,7 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
     params = np.ascontiguousarray(params, dtype=np.float64)
     summary = np.empty(layout.N_SUMMARY)
     if record_interval is None:
-        traj = np.empty((0, N_TRAJ))
+        traj = None
         dt_rec = 1.0
     else:
         dt_rec = float(record_interval)
@@ -79,7 +79,7 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
         traj = np.empty((n, N_TRAJ))
     code, rows = run_drop(params, np.ascontiguousarray(sediment_bank, dtype=np.float64),
                           np.ascontiguousarray(current_bank, dtype=np.float64), summary, traj,
-                          dt_rec)
+                          dt_rec, reference_paths(params))
     return int(code), summary, (traj[:rows] if record_interval is not None else None)
 
 

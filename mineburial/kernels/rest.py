@@ -45,7 +45,7 @@ from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_GRAVITY, P_
 from mineburial.kernels.overburden import overburden_force
 from mineburial.kernels.rotation import rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
-from mineburial.kernels.sediment.laws import LAW_VREG
+from mineburial.kernels.sediment.laws import LAW_REFERENCE_PATHS, LAW_VREG
 
 #: s: the force tolerance of the hold test is mass * rest_speed / REST_TIME
 REST_TIME = 1.0
@@ -116,7 +116,7 @@ def held_by_sediment(y, p, law, bank, probe_speed):
         return False
     fx, fy, fz, m1, m2, m3 = static_load(y, p, law, bank)
     # the rigid-plastic capacity: the law without its switch and slip regularisation
-    law = law[:LAW_VREG] + (1e-9 * probe_speed, 1e-9 * probe_speed)
+    law = law[:LAW_VREG] + (1e-9 * probe_speed, 1e-9 * probe_speed) + law[LAW_REFERENCE_PATHS:]
     # load force in the body frame
     f1 = r[0] * fx + r[3] * fy + r[6] * fz
     f2 = r[1] * fx + r[4] * fy + r[7] * fz

@@ -39,14 +39,18 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from numba.core import types
+from numba.extending import overload
+
+from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels import status as st
 from mineburial.kernels.dynamics import I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG, N_EXT, N_WORK, derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, dopri_solution,
                                             dopri_stage_state, error_norm, hermite_dense,
                                             illinois_next, illinois_update, next_step_size)
-from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_SUMMARY, P_ATOL, P_CHI,
+from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_PARAMS, N_SUMMARY, P_ATOL, P_CHI,
+                                       P_SED_QUADRATURE,
                                        P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
                                        P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
                                        P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_TMAX,
@@ -59,7 +63,7 @@ from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_SUMMARY, P_ATOL, P_CH
 from mineburial.kernels.rest import held_by_sediment
 from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, quaternion_multiply,
                                          rotation_matrix, rotation_vector_quaternion)
-from mineburial.kernels.sediment import pack_law
+from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
 
 # columns of a recorded trajectory row
 TRAJ_COLUMNS = ("time", "x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
@@ -267,14 +271,62 @@ def _locate(r, p, e, gstart, gend, ytmp, gtmp):
     return b
 
 
+def reference_paths(params):
+    """The ``reference_paths`` argument of :func:`run_drop` for the drops whose parameter
+    vectors are the rows of ``params``.
+
+    ``None`` when every drop uses the default paths (``dopri5``, the fast sediment rule):
+    then the reference paths (the fixed-step ``rk4`` and ``local_linear`` integrators and
+    the reference sediment quadrature) are not even compiled, which halves the compile
+    time of the engine from an empty cache. ``True`` when any drop asks for one of them:
+    then all are compiled and chosen per drop by its parameters.
+    """
+    params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
+    uses_reference = ((params[:, P_INTEGRATOR] != INTEGRATOR_DOPRI5)
+                      | (params[:, P_SED_QUADRATURE] != QUADRATURE_FAST))
+    return True if np.any(uses_reference) else None
+
+
+def _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp,
+                diag, out):
+    """One step of a fixed-step reference integrator (``rk4``, ``local_linear``); compiled
+    through the overload below only when ``reference_paths`` is not ``None``."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_fixed_step, jit_options=JIT_OPTIONS)
+def _fixed_step_impl(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp,
+                     diag, out):
+    if isinstance(reference_paths, (types.NoneType, types.Omitted)):
+        def not_compiled(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k,
+                         ytmp, diag, out):
+            # never reached: reference_paths() is True whenever a drop asks for these
+            out[:] = np.nan
+        return not_compiled
+
+    def step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag,
+             out):
+        if integrator == INTEGRATOR_LOCAL_LINEAR:
+            local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp,
+                              diag, out)
+        else:
+            rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp, diag,
+                     out)
+    return step
+
+
 @kernel
-def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
-    """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` has rows,
-    the trajectory every ``record_dt`` seconds. Returns (status, rows recorded).
+def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
+    """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` is an array
+    (rows, N_TRAJ), the trajectory every ``record_dt`` seconds; ``traj = None`` records
+    nothing (and compiles no recorder). Returns (status, rows recorded).
+
+    ``reference_paths``: :func:`reference_paths` of the drop (``None``: only the default
+    paths are compiled).
     """
     for i in range(N_SUMMARY):
         summary[i] = np.nan
-    law = pack_law(p, p[P_DIAMETER])
+    law = pack_law(p, p[P_DIAMETER], reference_paths)
     y = np.empty(N_EXT)
     ynew = np.empty(N_EXT)
     err = np.empty(N_EXT)
@@ -300,7 +352,9 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
     R = 0.5 * p[P_DIAMETER]
     chi = p[P_CHI]
     buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * L
-    n_rows = traj.shape[0]
+    n_rows = 0
+    if traj is not None:
+        n_rows = traj.shape[0]
     row = 0
     t = 0.0
     next_record = 0.0
@@ -345,12 +399,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             h_adapt = h_next
         else:
             h = min(p[P_DT], t_max - t, h_cap)
-            if integrator == INTEGRATOR_LOCAL_LINEAR:
-                local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2],
-                                  ytmp, diag, ynew)
-            else:
-                rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp,
-                         diag, ynew)
+            _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k,
+                        ytmp, diag, ynew)
             derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
             hermite_dense(y, ynew, k[0], k[6], h, r)
         event_values(ynew, p, g1)
@@ -379,11 +429,12 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
             continue
         # ---- the recorder: rows at exact output times within the step ----
         t_end = t + h if first < 0 else t + theta * h
-        while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
-            dense_state(r, min(max((next_record - t) / h, 0.0), 1.0), ytmp)
-            _record(traj, row, next_record, ytmp, p, law, sed_bank, cur_bank, work, dy, diag)
-            row += 1
-            next_record = row * record_dt
+        if traj is not None:
+            while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
+                dense_state(r, min(max((next_record - t) / h, 0.0), 1.0), ytmp)
+                _record(traj, row, next_record, ytmp, p, law, sed_bank, cur_bank, work, dy, diag)
+                row += 1
+                next_record = row * record_dt
         # ---- accept the step (cut at the first event) ----
         if first >= 0:
             dense_state(r, theta, ynew)
@@ -444,9 +495,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt):
         if y[2] > z_release + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:
             status = st.LEFT_DOMAIN
             break
-    if row < n_rows and (row == 0 or traj[row - 1, 0] < t):
-        _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
-        row += 1
+    if traj is not None:
+        if row < n_rows and (row == 0 or traj[row - 1, 0] < t):
+            _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
+            row += 1
     # ---- burial measures and final attitude ----
     rot = rotation_matrix(y[6], y[7], y[8], y[9])
     pv, ph, pa, proud, pen = burial_measures(L, R, chi, rot[6], y[2], -depth)

@@ -15,9 +15,13 @@ A small package with methods chosen by name:
 
 import math
 
-from mineburial._numba import kernel
+from numba.core import types
+from numba.extending import overload
+
+from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels.sediment.fast import fast_tractions
-from mineburial.kernels.sediment.laws import (DEPTH_FACTOR, LAW_PORE, LAW_QUADRATURE, RATE_IMPACT35,
+from mineburial.kernels.sediment.laws import (DEPTH_FACTOR, LAW_PORE, LAW_QUADRATURE,
+                                              LAW_REFERENCE_PATHS, RATE_IMPACT35,
                                               RATE_NONE, RATE_SEMILOG, RES_BEARING, RES_DELTA,
                                               RES_FRICTION, V_REG, V_REG_N, bearing_factor,
                                               pack_law, rate_factor, sediment_properties)
@@ -31,6 +35,32 @@ __all__ = ["sediment_tractions", "sediment_force_torque", "pack_law", "sediment_
            "rate_factor", "bearing_factor", "RES_DELTA", "RES_FRICTION", "RES_BEARING",
            "RATE_IMPACT35", "RATE_SEMILOG", "RATE_NONE", "V_REG", "V_REG_N", "DEPTH_FACTOR",
            "QUADRATURE_FAST", "QUADRATURE_REFERENCE"]
+
+
+def _surface_tractions(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+    """The tractions integrated over the embedded surface by the rule the law names.
+
+    Compiled only through the overload below, which looks at the *type* of
+    ``reference_paths`` (``law[LAW_REFERENCE_PATHS]``, see :func:`.pack_law`): for
+    ``None`` it is the fast rule alone, so that the reference quadrature (a third of the
+    engine's compile time) is not compiled at all; otherwise the rule is chosen per drop
+    by the quadrature code.
+    """
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_surface_tractions, jit_options=JIT_OPTIONS)
+def _surface_tractions_impl(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+    if isinstance(reference_paths, (types.NoneType, types.Omitted)):
+        def fast_only(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+            return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+        return fast_only
+
+    def by_name(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+        if law[LAW_QUADRATURE] == QUADRATURE_REFERENCE:
+            return reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+        return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+    return by_name
 
 
 @kernel
@@ -81,11 +111,8 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
     if abs(w3) * (L + R) < vtiny:
         w3 = 0.0
     vbody = (v1, v2, v3, w1, w2, w3)
-    if law[LAW_QUADRATURE] == QUADRATURE_REFERENCE:
-        f1, f2, f3, m1, m2, m3 = reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law,
-                                                     bank)
-    else:
-        f1, f2, f3, m1, m2, m3 = fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+    f1, f2, f3, m1, m2, m3 = _surface_tractions(law[LAW_REFERENCE_PATHS], L, R, chi, c20, c21,
+                                                c22, d0, vbody, law, bank)
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
     fz = rot[6] * f1 + rot[7] * f2 + rot[8] * f3

@@ -249,7 +249,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
         nc = law[7] * (1.0 + DEPTH_FACTOR * math.atan(zeta / law[8]))
         pn = nc * s * gfac * hn
         ft = mu * s * gfac
-    k = ft / math.sqrt(vt2 + law[21] * law[21])
+    k = ft / math.sqrt(vt2 + law[LAW_VREG] * law[LAW_VREG])
     return -pn * nx - k * tx, -pn * ny - k * ty, -pn * nz - k * tz
 
 
@@ -259,11 +259,11 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 #: Slots of the packed law tuple (:func:`pack_law`).
 (LAW_MODEL, LAW_RATE, LAW_A, LAW_VREST, LAW_BETA, LAW_RATE_REF, LAW_MU, LAW_N0, LAW_DIAMETER,
  LAW_RHO_W, LAW_G, LAW_RHO0, LAW_KRHO, LAW_S0, LAW_KS, LAW_ROW, LAW_QUADRATURE, LAW_PORE,
- LAW_B, LAW_KP, LAW_EV, LAW_VREG, LAW_VREG_N) = range(23)
+ LAW_B, LAW_KP, LAW_EV, LAW_VREG, LAW_VREG_N, LAW_REFERENCE_PATHS) = range(24)
 
 
 @kernel
-def pack_law(p, diameter):
+def pack_law(p, diameter, reference_paths=True):
     """The sediment law of the drop with parameters ``p``, as a tuple (slots ``LAW_*``).
 
     Unknown resistance codes fall back to ``delta``; a non-positive N_c to pi + 2
@@ -271,6 +271,11 @@ def pack_law(p, diameter):
     pore-pressure constants of seed 000 eq. (73) ride along, and the regularisation speeds
     of the slip direction (``numerics.slip_speed``) and of the advancing switch
     (``numerics.switch_speed``).
+
+    ``reference_paths`` decides, by its *type*, what is compiled (see
+    :func:`.stepper.reference_paths`): ``None`` compiles the fast rule only, ``True`` the
+    reference quadrature as well, chosen per drop by the quadrature code
+    (:func:`.sediment_tractions`).
     """
     model = int(p[P_SED_RESISTANCE])
     if model < 0 or model > 2:
@@ -282,7 +287,8 @@ def pack_law(p, diameter):
             p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, p[P_RHO_WATER], p[P_GRAVITY],
             p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
             int(p[P_SED_PROFILE]), int(p[P_SED_QUADRATURE]), p[P_SED_PORE] > 0.0,
-            p[P_SED_B], p[P_SED_KP], p[P_SED_EV], p[P_SLIP_SPEED], p[P_SWITCH_SPEED])
+            p[P_SED_B], p[P_SED_KP], p[P_SED_EV], p[P_SLIP_SPEED], p[P_SWITCH_SPEED],
+            reference_paths)
 
 
 @kernel
