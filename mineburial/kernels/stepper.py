@@ -62,12 +62,7 @@ from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, qua
 from mineburial.kernels.sediment import pack_law
 
 # columns of a recorded trajectory row
-TRAJ_COLUMNS = ("time", "x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
-                "omega1", "omega2", "omega3", "work_fluid", "work_sediment", "phase",
-                "fluid_force_x", "fluid_force_y", "fluid_force_z",
-                "sediment_force_x", "sediment_force_y", "sediment_force_z",
-                "torque_1", "torque_2", "torque_3")
-N_TRAJ = len(TRAJ_COLUMNS)
+from mineburial.kernels.layout import N_TRAJ, TRAJ_COLUMNS  # noqa: F401,E402  (re-exported)
 
 INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
 INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
