@@ -25,7 +25,7 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
-from mineburial.kernels.sediment import (bearing_factor, rate_factor,
+from mineburial.kernels.sediment import (rate_factor,
                                          sediment_force_torque, sediment_properties)
 
 # the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
@@ -574,16 +574,6 @@ def test_no_rate_law():
     p = params(P_SED_RATE_LAW=2)
     assert rate_factor(0.0, 0.3, p) == 1.0
     assert rate_factor(7.0, 0.3, p) == 1.0
-
-
-def test_bearing_factor():
-    """N_c = N_c0 (1 + 0.4 arctan(zeta/d)): Prandtl's pi + 2 at the seabed, 1 + 0.1 pi
-    times that at zeta = d, 1 + 0.2 pi deep (Brinch Hansen 1970)."""
-    p = params(P_SED_NC=math.pi + 2.0)
-    d = 0.4
-    assert bearing_factor(0.0, d, p) == pytest.approx(math.pi + 2.0, rel=1e-15)
-    assert bearing_factor(d, d, p) == pytest.approx((math.pi + 2.0) * (1 + 0.1 * math.pi))
-    assert bearing_factor(1e9, d, p) == pytest.approx((math.pi + 2.0) * (1 + 0.2 * math.pi))
 
 
 def test_linear_profile():
