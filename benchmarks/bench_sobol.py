@@ -17,7 +17,6 @@ drops released 1 m above a 4.5-5.5 m deep seabed and stopped at 3 s (``-n 16
 import argparse
 import copy
 import time
-import tomllib
 
 import numpy as np
 
@@ -33,6 +32,7 @@ def main():
     ap.add_argument("--short", action="store_true", help="short drops (see the module docstring)")
     args = ap.parse_args()
     from mineburial import run_ensemble
+    from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
     from mineburial.ensembles.engine import DEFAULT_SCENARIO
 
     if args.short:

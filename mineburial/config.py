@@ -29,7 +29,8 @@ import json
 import math
 import pathlib
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -700,7 +701,7 @@ class Sediment:
         _set(self, "pore_pressure", bool(self.pore_pressure))
 
     @classmethod
-    def from_class(cls, name: str, **options) -> "Sediment":
+    def from_class(cls, name: str, **options) -> Sediment:
         """Sediment with the profile of catalogue class ``name`` and ``options``."""
         return cls(profile=catalogue_profile(name), **options)
 
@@ -716,7 +717,7 @@ class Sediment:
         return (self.density + self.density_gradient * z,
                 self.strength + self.strength_gradient * z)
 
-    def resolved(self, model: str) -> "Sediment":
+    def resolved(self, model: str) -> Sediment:
         """Copy with ``resistance``/``rate_law`` set from :data:`MODEL_DEFAULTS` if None."""
         d = MODEL_DEFAULTS[model]
         return dataclasses.replace(
@@ -850,7 +851,7 @@ class Scenario:
 
     # -- reading -------------------------------------------------------------
     @classmethod
-    def from_dict(cls, d: Mapping, base_dir=None) -> "Scenario":
+    def from_dict(cls, d: Mapping, base_dir=None) -> Scenario:
         """Build from a nested dict (the parsed TOML). ``base_dir`` resolves a relative
         ``sediment.file`` (default: the current directory)."""
         if not isinstance(d, Mapping):
@@ -872,7 +873,7 @@ class Scenario:
                    numerics=Numerics(**num), description=d.get("description", ""))
 
     @classmethod
-    def from_toml(cls, path) -> "Scenario":
+    def from_toml(cls, path) -> Scenario:
         """Read a TOML scenario file; a relative ``sediment.file`` is resolved against
         the file's folder."""
         path = pathlib.Path(path)
@@ -886,7 +887,7 @@ class Scenario:
         return cls.from_dict(d, base_dir=path.resolve().parent)
 
     @classmethod
-    def from_toml_string(cls, text: str, base_dir=None) -> "Scenario":
+    def from_toml_string(cls, text: str, base_dir=None) -> Scenario:
         try:
             d = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:

@@ -4,13 +4,13 @@ benchmarks/bench_sobol.py."""
 
 import copy
 import json
-import tomllib
 
 import numba
 import numpy as np
 import pytest
 import xarray as xr
 
+from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
 from mineburial.drop import run_params
 from mineburial.ensembles.engine import (DEFAULT_SCENARIO, chunk_inputs, load_ensemble,
                                          run_ensemble)

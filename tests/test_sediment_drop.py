@@ -1,6 +1,5 @@
 """Full drops into the sediment against independent references (issue 3)."""
 
-import dataclasses
 import math
 
 import numpy as np

@@ -316,7 +316,8 @@ def reference_force_torque(L, R, chi, C, com, vel, omega, plist, bank=EMPTY_BANK
     tot = refined_midpoint(lambda th: _lateral_integrand(th, geo, plist, bank, gx, gw),
                            0.0, 2 * np.pi, n_outer, periodic=True)
     for xc, sgn in ((xb, 1.0), (xa, -1.0)):
-        tot += refined_midpoint(lambda u: _cap_integrand(u, geo, xc, sgn, plist, bank, gx, gw),
+        tot += refined_midpoint(lambda u, xc=xc, sgn=sgn: _cap_integrand(u, geo, xc, sgn, plist, bank,
+                                                                        gx, gw),
                                 -0.5 * np.pi, 0.5 * np.pi, n_outer)
     return [(C @ tot[8 * i:8 * i + 3], tot[8 * i + 3:8 * i + 6], tot[8 * i + 6],
              tot[8 * i + 7]) for i in range(len(plist))]

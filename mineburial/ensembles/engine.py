@@ -27,7 +27,7 @@ import os
 import pathlib
 import sys
 import time
-from typing import Any, Mapping
+from collections.abc import Mapping
 
 import numpy as np
 

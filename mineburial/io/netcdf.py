@@ -21,7 +21,8 @@ import json
 import os
 import secrets
 from pathlib import Path
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr

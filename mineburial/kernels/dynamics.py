@@ -27,7 +27,6 @@ same scheme so that energy bookkeeping closes to the integration error.
 
 import math
 
-import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_coefficient,
