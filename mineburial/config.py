@@ -626,7 +626,7 @@ class Environment:
 #: impact35 reproduces seed 000: "delta" tractions (eq. (74)), the impact function (70)
 #: and the local-linearisation step (83)-(87). mineburial uses the bearing-factor method
 #: (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34, lower bias and RMSE of burial volume
-#: on Baltic drops) with a semi-logarithmic rate law and RK4 (PHYSICS.md secs. 3-4).
+#: on Baltic drops) with a semi-logarithmic rate law and RK4 (docs/physics.md).
 MODEL_DEFAULTS = {
     "mineburial": {"resistance": "bearing", "rate_law": "semilog", "integrator": "dopri5"},
     "impact35": {"resistance": "delta", "rate_law": "impact35", "integrator": "dopri5"},

@@ -557,7 +557,7 @@ def test_impact35_rate_law():
     p = params(P_SED_RATE_LAW=0, P_SED_A=10.0, P_SED_VREST=0.04)
     assert rate_factor(0.0, 0.5, p) == pytest.approx(1.0, abs=1e-15)
     assert rate_factor(0.04, 0.5, p) == pytest.approx(10.0 - 9.0 / math.e, rel=1e-14)
-    assert rate_factor(0.1, 0.5, p) == pytest.approx(9.26, abs=0.005)   # PHYSICS.md section 4
+    assert rate_factor(0.1, 0.5, p) == pytest.approx(9.26, abs=0.005)   # 10 - 9 exp(-2.5), by hand
     assert rate_factor(50.0, 0.5, p) == pytest.approx(10.0, rel=1e-14)
 
 

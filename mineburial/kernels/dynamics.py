@@ -144,7 +144,7 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
     if v2 > 1e-12:
         jy = ur2 / v2
         jz = ur3 / v2
-    else:  # fallback F-frame when the cross-flow vanishes (PHYSICS.md §2): j_F = j_M
+    else:  # fallback F-frame when the cross-flow vanishes (docs/physics.md): j_F = j_M
         jy = 1.0
         jz = 0.0
     ky = -jz                    # k_F = e1 x j_F
