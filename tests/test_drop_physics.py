@@ -302,6 +302,9 @@ def test_tabulated_overburden_against_quadrature(a_z, zeta_lo, table):
             return quad(strip, -R, R, limit=100)[0]
         ref_f = G * quad(section, -0.5 * L, 0.5 * L, limit=100)[0]
         assert f == pytest.approx(ref_f, rel=1e-5)
+        if table == "uniform":   # first moment along the axis: int x dF
+            ref_fx = G * quad(lambda x: x * section(x), -0.5 * L, 0.5 * L, limit=100)[0]
+            assert fx == pytest.approx(ref_fx, rel=1e-5, abs=1e-5 * abs(ref_f))
 
 
 def test_tabulated_profile_on_a_line_gives_the_linear_profile():
