@@ -13,7 +13,6 @@ import argparse
 import dataclasses
 import subprocess
 import sys
-import time
 
 from _common import best_of, machine
 
@@ -64,7 +63,7 @@ def main():
     for name, sc in cases:
         p, sb, cb = sc.to_params()
         run_params(p, sb, cb)  # compile / warm
-        t, (code, summary, _) = best_of(lambda: run_params(p, sb, cb), args.repeat)
+        t, (code, summary, _) = best_of(lambda p=p, sb=sb, cb=cb: run_params(p, sb, cb), args.repeat)
         steps = summary[layout.S_N_STEPS]
         from mineburial.kernels import status
         print(f"{name:48s} {p[layout.P_DT]:8.0e} {int(steps):8d} {steps / t:10.0f} {1 / t:9.2f} "

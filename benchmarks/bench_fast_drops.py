@@ -13,7 +13,7 @@ On the same sampled drops of each scenario family it runs
 and prints drops/s (batch kernel, all threads, compile excluded), the ratio
 default/reference, and the accuracy of each path against ``truth``: p95 and max of the
 penetration difference (relative to max(penetration, 0.5 m), differences below 5 mm count as
-0, the convention of ../shared/tools/answers-vs), the share of drops whose burial class
+0), the share of drops whose burial class
 changes, the largest change of a class probability, and the status counts.
 
 ``--work-precision`` adds fixed RK4 at several dt and dopri5 at several tolerances, with

@@ -29,7 +29,8 @@ import json
 import math
 import pathlib
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -39,6 +40,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.kernels import layout
+from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.sediment_profiles import (
     CATALOGUE, ScenarioError, SedimentProfile, catalogue_profile, load_file, pack_banks,
     unknown_name_message,
@@ -47,9 +49,8 @@ from mineburial.sediment_profiles import (
 __all__ = [
     "ScenarioError", "FieldSpec", "FIELDS", "ALIASES", "check_range", "check_params",
     "explain_params", "Mine", "Release", "Current", "Environment", "Sediment", "Numerics",
-    "Scenario", "quaternion_from_angles", "angles_from_quaternion",
-    "rotation_matrix_from_quaternion", "pack_banks", "example_names", "example_path",
-    "load_example", "MODEL_DEFAULTS",
+    "Scenario", "quaternion_from_angles", "uniform_cylinder_inertia", "pack_banks",
+    "example_names", "example_path", "load_example", "MODEL_DEFAULTS",
 ]
 
 _EPS = np.finfo(np.float64).eps
@@ -315,14 +316,32 @@ def _set(obj, name, value):
 
 
 # ===========================================================================
-# Orientation helpers (plain numpy, vectorised)
+# Mass properties
+# ===========================================================================
+def uniform_cylinder_inertia(mass, diameter, length):
+    """(J1, J2) of a uniform solid cylinder about its centre: m R^2/2 about the axis and
+    m (3 R^2 + L^2)/12 about a transverse axis. Scalars or numpy arrays.
+
+    The one formula of the default inertia (:class:`Mine` and the ensembles that vary the
+    mass or size). ``length ** 2`` is kept as written: a Python float squares with ``pow``
+    and an array with ``x * x``, which is what each caller has always computed.
+    """
+    r = diameter / 2.0
+    return mass * r * r / 2.0, mass * (3.0 * r * r + length ** 2) / 12.0
+
+
+# ===========================================================================
+# Orientation: angles -> quaternion (vectorised, for the sampled release angles).
+# The way back, the rotation matrix and the gimbal-lock rule are the kernels'
+# (mineburial.kernels.rotation: euler_angles, rotation_matrix).
 # ===========================================================================
 def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
     """Unit quaternion (q0, q1, q2, q3), scalar first, of R = Rz(psi3) Ry(psi2) Rx(psi1).
 
     Angles in radians (roll psi1, nose dip psi2, heading psi3; docs/design.md, seed 000
     eq. (4)); arrays broadcast, the result has shape ``broadcast + (4,)``. The body main
-    axis is then i_M = R e_x = (cos psi3 cos psi2, sin psi3 cos psi2, -sin psi2).
+    axis is then i_M = R e_x = (cos psi3 cos psi2, sin psi3 cos psi2, -sin psi2). The
+    inverse is :func:`mineburial.kernels.rotation.euler_angles`.
     """
     h1, h2, h3 = (np.asarray(a, dtype=np.float64) / 2.0 for a in (psi1, psi2, psi3))
     c1, s1, c2, s2, c3, s3 = np.cos(h1), np.sin(h1), np.cos(h2), np.sin(h2), np.cos(h3), np.sin(h3)
@@ -332,40 +351,6 @@ def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
         s1 * c2 * c3 - c1 * s2 * s3,
         c1 * s2 * c3 + s1 * c2 * s3,
         c1 * c2 * s3 - s1 * s2 * c3), axis=-1)
-
-
-def rotation_matrix_from_quaternion(q) -> np.ndarray:
-    """Rotation matrix (..., 3, 3) body -> earth of a (not necessarily unit) quaternion."""
-    q = np.asarray(q, dtype=np.float64)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
-    r = np.stack([
-        1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2),
-        2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1),
-        2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2),
-    ], axis=-1)
-    return r.reshape(q.shape[:-1] + (3, 3))
-
-
-def angles_from_quaternion(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(psi1, psi2, psi3) in radians of a quaternion (..., 4), inverse of
-    :func:`quaternion_from_angles`: psi2 in [-pi/2, pi/2], psi1, psi3 in (-pi, pi].
-
-    At the gimbal lock (nose vertical, |cos psi2| < ~1e-6) only psi3 -/+ psi1 is defined;
-    psi1 is then set to 0 and psi3 carries the whole rotation about the vertical.
-    """
-    q = np.asarray(q, dtype=np.float64)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
-    s2 = np.clip(2.0 * (q0 * q2 - q1 * q3), -1.0, 1.0)          # -R[2,0]
-    psi2 = np.arcsin(s2)
-    psi1 = np.arctan2(2.0 * (q0 * q1 + q2 * q3), 1.0 - 2.0 * (q1 * q1 + q2 * q2))
-    psi3 = np.arctan2(2.0 * (q0 * q3 + q1 * q2), 1.0 - 2.0 * (q2 * q2 + q3 * q3))
-    lock = np.abs(s2) > 1.0 - 1e-12
-    psi3_lock = np.arctan2(-2.0 * (q1 * q2 - q0 * q3), 1.0 - 2.0 * (q1 * q1 + q3 * q3))
-    psi1 = np.where(lock, 0.0, psi1)
-    psi3 = np.where(lock, psi3_lock, psi3)
-    return psi1, psi2, psi3
 
 
 # ===========================================================================
@@ -393,12 +378,11 @@ class Mine:
             raise ScenarioError(f"mine.name = {self.name!r} must be a string")
         for f in ("length", "diameter", "mass", "com_offset"):
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
-        r = self.diameter / 2.0
+        j1, j2 = uniform_cylinder_inertia(self.mass, self.diameter, self.length)
         if self.inertia_axial is None:
-            _set(self, "inertia_axial", self.mass * r * r / 2.0)
+            _set(self, "inertia_axial", j1)
         if self.inertia_transverse is None:
-            _set(self, "inertia_transverse",
-                 self.mass * (3.0 * r * r + self.length ** 2) / 12.0)
+            _set(self, "inertia_transverse", j2)
         for f in ("inertia_axial", "inertia_transverse"):
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
         half = self.length / 2.0
@@ -498,7 +482,7 @@ class Release:
         """(roll, pitch, heading) in degrees, as given or derived from the quaternion."""
         if self.quaternion is None:
             return self.roll_deg, self.pitch_deg, self.heading_deg
-        return tuple(float(np.degrees(a)) for a in angles_from_quaternion(self.quaternion))
+        return tuple(math.degrees(a) for a in euler_angles(*normalize_quaternion(*self.quaternion)))
 
     def to_dict(self) -> dict:
         d = {"position": list(self.position), "velocity": list(self.velocity)}
@@ -625,7 +609,7 @@ class Environment:
 #: impact35 reproduces seed 000: "delta" tractions (eq. (74)), the impact function (70)
 #: and the local-linearisation step (83)-(87). mineburial uses the bearing-factor method
 #: (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34, lower bias and RMSE of burial volume
-#: on Baltic drops) with a semi-logarithmic rate law and RK4 (PHYSICS.md secs. 3-4).
+#: on Baltic drops) with a semi-logarithmic rate law and RK4 (docs/physics.md).
 MODEL_DEFAULTS = {
     "mineburial": {"resistance": "bearing", "rate_law": "semilog", "integrator": "dopri5"},
     "impact35": {"resistance": "delta", "rate_law": "impact35", "integrator": "dopri5"},
@@ -700,7 +684,7 @@ class Sediment:
         _set(self, "pore_pressure", bool(self.pore_pressure))
 
     @classmethod
-    def from_class(cls, name: str, **options) -> "Sediment":
+    def from_class(cls, name: str, **options) -> Sediment:
         """Sediment with the profile of catalogue class ``name`` and ``options``."""
         return cls(profile=catalogue_profile(name), **options)
 
@@ -716,7 +700,7 @@ class Sediment:
         return (self.density + self.density_gradient * z,
                 self.strength + self.strength_gradient * z)
 
-    def resolved(self, model: str) -> "Sediment":
+    def resolved(self, model: str) -> Sediment:
         """Copy with ``resistance``/``rate_law`` set from :data:`MODEL_DEFAULTS` if None."""
         d = MODEL_DEFAULTS[model]
         return dataclasses.replace(
@@ -850,7 +834,7 @@ class Scenario:
 
     # -- reading -------------------------------------------------------------
     @classmethod
-    def from_dict(cls, d: Mapping, base_dir=None) -> "Scenario":
+    def from_dict(cls, d: Mapping, base_dir=None) -> Scenario:
         """Build from a nested dict (the parsed TOML). ``base_dir`` resolves a relative
         ``sediment.file`` (default: the current directory)."""
         if not isinstance(d, Mapping):
@@ -872,7 +856,7 @@ class Scenario:
                    numerics=Numerics(**num), description=d.get("description", ""))
 
     @classmethod
-    def from_toml(cls, path) -> "Scenario":
+    def from_toml(cls, path) -> Scenario:
         """Read a TOML scenario file; a relative ``sediment.file`` is resolved against
         the file's folder."""
         path = pathlib.Path(path)
@@ -886,7 +870,7 @@ class Scenario:
         return cls.from_dict(d, base_dir=path.resolve().parent)
 
     @classmethod
-    def from_toml_string(cls, text: str, base_dir=None) -> "Scenario":
+    def from_toml_string(cls, text: str, base_dir=None) -> Scenario:
         try:
             d = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import xarray as xr
 
+from mineburial.io.variables import SUMMARY_OUTPUTS
 from mineburial.kernels import layout, status
+from mineburial.kernels.layout import N_TRAJ, PHASE_NAMES, TRAJ_COLUMNS
 from mineburial.kernels.rotation import euler_angles
-from mineburial.kernels.stepper import N_TRAJ, TRAJ_COLUMNS, reference_paths, run_drop
-
-PHASE_NAMES = ("air", "crossing_water_surface", "water", "crossing_seabed", "embedded")
+from mineburial.kernels.stepper import reference_paths, run_drop
 
 _TRAJ_ATTRS = {
     "x": ("m", "x coordinate of the centre of mass (E-frame)"),
@@ -43,27 +43,9 @@ _FORCE_ATTRS = {
     "torque_3": ("N m", "total torque about the centre of mass, k_M component (body frame)"),
 }
 
-SUMMARY_ATTRS = {
-    "penetration_depth": ("m", "depth of the lowest point of the mine below the seabed"),
-    "com_depth": ("m", "depth of the centre of mass below the seabed (negative: above)"),
-    "burial_volume": ("percent", "percent of the mine volume below the seabed"),
-    "burial_height": ("percent", "percent of the mine's vertical extent below the seabed"),
-    "burial_area": ("percent", "percent of the mine's surface area below the seabed"),
-    "height_proud": ("m", "height of the highest point of the mine above the seabed"),
-    "final_pitch": ("degree", "final nose dip below the horizontal, psi2"),
-    "final_roll": ("degree", "final roll about the mine axis, psi1"),
-    "final_heading": ("degree", "final heading of the mine axis, psi3"),
-    "final_x": ("m", "final x of the centre of mass"),
-    "final_y": ("m", "final y of the centre of mass"),
-    "impact_speed": ("m s-1", "speed of the centre of mass at first contact with the seabed"),
-    "impact_pitch": ("degree", "nose dip psi2 at first contact with the seabed"),
-    "impact_angle": ("degree", "angle of the velocity below the horizontal at first contact"),
-    "impact_time": ("s", "time of first contact with the seabed"),
-    "water_entry_time": ("s", "time of first contact with the water surface"),
-    "total_time": ("s", "simulated time of the drop"),
-    "max_deceleration": ("m s-2", "largest acceleration magnitude while in contact with the sediment"),
-    "n_steps": ("1", "number of time steps taken"),
-}
+#: units and long name of each per-drop summary value, from the one variable registry
+#: (:data:`mineburial.io.variables.SUMMARY_OUTPUTS`)
+SUMMARY_ATTRS = {name: (out.units, out.long_name) for name, out in SUMMARY_OUTPUTS.items()}
 
 
 def run_params(params, sediment_bank, current_bank, record_interval=None):

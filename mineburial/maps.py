@@ -26,7 +26,7 @@ import math
 import pathlib
 import shutil
 import time
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 import xarray as xr
@@ -717,8 +717,8 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "processing_level": "model output: Monte Carlo ensemble statistics per grid cell",
         "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
         "references": ncio.REFERENCES,
-        "comment": ("Statistics use only drops with status at_rest or buried_sinking; status_count gives the number "
-                    "of drops with every status code per cell. Skipped cells (cell_status != 0) "
+        "comment": ("Statistics use only drops with status at_rest or buried_sinking; status_count gives "
+                    "the number of drops with every status code per cell. Skipped cells (cell_status != 0) "
                     "hold NaN and zero counts. Format: docs/maps.md of the mineburial sources."),
         "cdm_data_type": "Grid",
         "scenario": scen,

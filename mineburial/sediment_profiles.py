@@ -33,7 +33,7 @@ import difflib
 import math
 import pathlib
 from dataclasses import dataclass
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -212,7 +212,7 @@ class SedimentProfile:
         return d
 
     @classmethod
-    def from_dict(cls, d: dict, where: str = "sediment.profile") -> "SedimentProfile":
+    def from_dict(cls, d: dict, where: str = "sediment.profile") -> SedimentProfile:
         allowed = {"depth", "density", "strength", "name", "description", "source"}
         if not isinstance(d, dict):
             raise ScenarioError(f"{where} must be a table with keys depth, density, strength")
@@ -228,7 +228,7 @@ class SedimentProfile:
     @classmethod
     def linear(cls, density: float, density_gradient: float, strength: float,
                strength_gradient: float, *, max_depth: float = CATALOGUE_MAX_DEPTH,
-               **labels) -> "SedimentProfile":
+               **labels) -> SedimentProfile:
         """Two-point table of rho = rho0 + k_rho z, S = S0 + k_S z on [0, max_depth]
         (exact there, constant below)."""
         return cls([0.0, max_depth], [density, density + density_gradient * max_depth],

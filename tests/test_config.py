@@ -14,10 +14,10 @@ from mineburial import config
 from mineburial.config import tomllib  # tomllib or the tomli fallback
 from mineburial.config import (
     FIELDS, Current, Numerics, Release, Scenario, ScenarioError, Sediment,
-    angles_from_quaternion, check_params, check_range, explain_params, quaternion_from_angles,
-    rotation_matrix_from_quaternion,
+    check_params, check_range, explain_params, quaternion_from_angles,
 )
 from mineburial.kernels import layout
+from mineburial.kernels.rotation import euler_angles, normalize_quaternion, rotation_matrix
 from mineburial.sediment_profiles import catalogue_profile, pack_banks
 
 G_CM2 = 1e-7  # kg m2 per g cm2
@@ -348,8 +348,22 @@ def test_toml_file_errors(tmp_path):
 
 
 # ---------------------------------------------------------------------------
-# orientation
+# orientation: config.quaternion_from_angles and its inverse, the kernels' euler_angles
 # ---------------------------------------------------------------------------
+def rotation_matrix_from_quaternion(q):
+    """The kernel's rotation matrix of each quaternion of q (..., 4), as (..., 3, 3)."""
+    q = np.asarray(q, dtype=np.float64)
+    rows = [rotation_matrix(*normalize_quaternion(*row)) for row in q.reshape(-1, 4)]
+    return np.array(rows).reshape(q.shape[:-1] + (3, 3))
+
+
+def angles_from_quaternion(q):
+    """The kernel's (psi1, psi2, psi3) of each quaternion of q (..., 4)."""
+    q = np.asarray(q, dtype=np.float64)
+    out = np.array([euler_angles(*normalize_quaternion(*row)) for row in q.reshape(-1, 4)])
+    return tuple(out[:, k].reshape(q.shape[:-1]) for k in range(3))
+
+
 def test_quaternion_matches_scipy_zyx_and_seed_000_main_axis():
     rng = np.random.default_rng(1)
     n = 500

@@ -15,10 +15,7 @@ import numpy as np
 import pytest
 from scipy.integrate import IntegrationWarning, quad
 
-from mineburial.kernels.crossflow import (
-    quadratic_drag_integrals,
-    quadratic_drag_integrals_1d,
-)
+from mineburial.kernels.crossflow import quadratic_drag_integrals
 
 REL = 1e-9
 ABS = 1e-12
@@ -140,7 +137,6 @@ def test_special_cases_against_quad(args):
 def test_equal_limits_give_zero():
     for args in [(0.7, 0.7, 1.0, 2.0, 3.0, 4.0), (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)]:
         assert quadratic_drag_integrals(*args) == (0.0, 0.0, 0.0, 0.0)
-    assert quadratic_drag_integrals_1d(-0.3, -0.3, 1.0, 2.0) == (0.0, 0.0)
 
 
 def test_zero_velocity_gives_zero():
@@ -201,59 +197,3 @@ def test_length_scaling():
 def test_nan_propagates():
     got = quadratic_drag_integrals(-1.0, 1.0, math.nan, 0.0, 1.0, 0.0)
     assert all(math.isnan(g) for g in got)
-    assert all(math.isnan(g) for g in quadratic_drag_integrals_1d(-1.0, 1.0, math.nan, 1.0))
-
-
-# --- scalar version ----------------------------------------------------------
-
-def quad_reference_1d(a, b, v0, w):
-    lo, hi, sign = (a, b, 1.0) if a <= b else (b, a, -1.0)
-    pts = None
-    if w != 0.0 and lo < -v0 / w < hi:
-        pts = [-v0 / w]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", IntegrationWarning)
-        f = quad(lambda x: abs(v0 + w * x) * (v0 + w * x), lo, hi, points=pts,
-                 epsabs=1e-300, epsrel=1e-13, limit=200)[0]
-        m = quad(lambda x: x * abs(v0 + w * x) * (v0 + w * x), lo, hi, points=pts,
-                 epsabs=1e-300, epsrel=1e-13, limit=200)[0]
-    return sign * np.array([f, m])
-
-
-def test_scalar_sweep_against_quad():
-    rng = np.random.default_rng(99)
-    for i in range(120):
-        a, b = rng.uniform(-3.0, 3.0, 2)
-        v0 = rng.normal() * 10.0 ** rng.uniform(-1, 1)
-        w = rng.normal() * 10.0 ** rng.uniform(-3, 1.5)
-        if i % 4 == 1:
-            w = 0.0
-        elif i % 4 == 2:  # sign change inside
-            v0 = -w * rng.uniform(min(a, b), max(a, b))
-        got = np.array(quadratic_drag_integrals_1d(a, b, v0, w))
-        ref = quad_reference_1d(a, b, v0, w)
-        s = max(abs(v0 + w * a), abs(v0 + w * b))
-        sc = np.array([1.0, max(abs(a), abs(b))]) * s * s * abs(b - a)
-        assert np.all(np.abs(got - ref) <= REL * np.abs(ref) + ABS * sc), (a, b, v0, w, got, ref)
-
-
-def test_scalar_closed_forms():
-    # v = w x on [-l, l] (seed 000 eq. (47) with chi = 0): F = 0, M = w|w| l^4 / 2
-    assert quadratic_drag_integrals_1d(-2.0, 2.0, 0.0, -1.5) == pytest.approx(
-        (0.0, -1.5 * 1.5 * 16.0 / 2.0), rel=1e-14, abs=1e-14)
-    # no sign change: int v^2 dx = (v(b)^3 - v(a)^3) / (3 w)
-    a, b, v0, w = 0.5, 2.0, 1.0, 0.8
-    f, _ = quadratic_drag_integrals_1d(a, b, v0, w)
-    assert f == pytest.approx(((v0 + w * b) ** 3 - (v0 + w * a) ** 3) / (3 * w), rel=1e-14)
-    # reversing and scaling
-    assert quadratic_drag_integrals_1d(b, a, v0, w) == pytest.approx(
-        tuple(-x for x in quadratic_drag_integrals_1d(a, b, v0, w)), rel=1e-15)
-
-
-def test_scalar_matches_seed000_eq48():
-    # seed 000 eqs. (47)-(48): int_{-L/2-chi}^{L/2-chi} |w eta| w eta d eta
-    #   = -(1/6) chi (3 L^2 + 4 chi^2) |w| w      (valid for |chi| < L/2)
-    for ell, chi, w in [(1.0, 0.1, 2.0), (0.6, -0.05, -3.0), (2.5, 0.0, 1.0)]:
-        f, _ = quadratic_drag_integrals_1d(-ell / 2 - chi, ell / 2 - chi, 0.0, w)
-        assert f == pytest.approx(-chi * (3 * ell ** 2 + 4 * chi ** 2) * abs(w) * w / 6,
-                                  rel=1e-13, abs=1e-15)

@@ -37,7 +37,8 @@ CONTINUOUS = [
 ]
 
 
-@pytest.mark.parametrize("table,ref", CONTINUOUS, ids=lambda x: x["distribution"] if isinstance(x, dict) else "")
+@pytest.mark.parametrize("table,ref", CONTINUOUS,
+                         ids=lambda x: x["distribution"] if isinstance(x, dict) else "")
 @pytest.mark.parametrize("method", ["mc", "sobol"])
 def test_ks_against_scipy(table, ref, method):
     x = draws(table, method)
@@ -66,8 +67,12 @@ def test_truncated_normal_mean_closed_form():
     # E[X] = mu + sigma (phi(a) - phi(b)) / (Phi(b) - Phi(a))  (Johnson, Kotz & Balakrishnan)
     mu, sd, lo, hi = 1.0, 2.0, 0.0, 4.0
     a, b = (lo - mu) / sd, (hi - mu) / sd
-    phi = lambda z: math.exp(-0.5 * z * z) / math.sqrt(2 * math.pi)
-    Phi = lambda z: 0.5 * math.erfc(-z / math.sqrt(2))
+    def phi(z):
+        return math.exp(-0.5 * z * z) / math.sqrt(2 * math.pi)
+
+    def Phi(z):
+        return 0.5 * math.erfc(-z / math.sqrt(2))
+
     exact = mu + sd * (phi(a) - phi(b)) / (Phi(b) - Phi(a))
     d = TruncatedNormal.from_dict({"mean": mu, "std": sd, "low": lo, "high": hi}, "x")
     assert d.mean() == pytest.approx(exact, rel=1e-12)
@@ -196,16 +201,19 @@ def test_registry_names():
 ERRORS = [
     ({"distribution": "normal", "mean": 500.0, "std": -1}, r"^mine\.mass: std = -1 must be > 0$"),
     ({"distribution": "normal", "mean": 500.0}, r"^mine\.mass: normal distribution needs 'std'"),
-    ({"distribution": "normal", "mean": "500", "std": 1.0}, r"^mine\.mass: mean = '500' must be a number"),
+    ({"distribution": "normal", "mean": "500", "std": 1.0},
+     r"^mine\.mass: mean = '500' must be a number"),
     ({"distribution": "normal", "mean": 500.0, "sdt": 1.0},
      r"^mine\.mass: unknown parameter 'sdt' .*allowed parameters are mean, std \(did you mean 'std'\?\)"),
-    ({"distribution": "normal", "mean": float("nan"), "std": 1.0}, r"^mine\.mass: mean = nan must be a finite"),
+    ({"distribution": "normal", "mean": float("nan"), "std": 1.0},
+     r"^mine\.mass: mean = nan must be a finite"),
     ({"distribution": "nromal", "mean": 0, "std": 1},
      r"^mine\.mass: unknown distribution 'nromal'; available distributions are uniform, normal, "
      r"truncated_normal, lognormal, choice, empirical \(did you mean 'normal'\?\)"),
     ({"mean": 0, "std": 1}, r"^mine\.mass: an inline table must name its family .*available distributions"),
     ({"distribution": "uniform", "low": 5, "high": 2}, r"^mine\.mass: high = 2 must be > low = 5$"),
-    ({"distribution": "truncated_normal", "mean": 0, "std": 1}, r"^mine\.mass: truncated_normal needs at least one"),
+    ({"distribution": "truncated_normal", "mean": 0, "std": 1},
+     r"^mine\.mass: truncated_normal needs at least one"),
     ({"distribution": "truncated_normal", "mean": 0, "std": 1, "low": 3, "high": 1},
      r"^mine\.mass: high = 1 must be > low = 3$"),
     ({"distribution": "lognormal", "mean": 500.0, "std": 50.0},
@@ -216,10 +224,13 @@ ERRORS = [
      r"^mine\.mass: weights has 1 entries but values has 2$"),
     ({"distribution": "choice", "values": [1, 2], "weights": [1, -0.5]},
      r"^mine\.mass: weights\[1\] = -0\.5 must be finite and >= 0$"),
-    ({"distribution": "choice", "values": [1, 2], "weights": [0, 0]}, r"^mine\.mass: weights must not all be zero"),
-    ({"distribution": "choice", "values": [1, "a"]}, r"^mine\.mass: values\[1\] = 'a' must be a number.*mixed"),
+    ({"distribution": "choice", "values": [1, 2], "weights": [0, 0]},
+     r"^mine\.mass: weights must not all be zero"),
+    ({"distribution": "choice", "values": [1, "a"]},
+     r"^mine\.mass: values\[1\] = 'a' must be a number.*mixed"),
     ({"distribution": "choice", "values": []}, r"^mine\.mass: values = \[\] must be a non-empty list"),
-    ({"distribution": "empirical", "values": ["a"]}, r"^mine\.mass: values\[0\] = 'a' .*use distribution = \"choice\""),
+    ({"distribution": "empirical", "values": ["a"]},
+     r"^mine\.mass: values\[0\] = 'a' .*use distribution = \"choice\""),
     ({"distribution": "empirical"}, r"^mine\.mass: empirical distribution needs exactly one of"),
 ]
 
@@ -251,7 +262,8 @@ def test_empirical_file_errors(tmp_path):
                        r"available columns are depth, strength \(did you mean 'strength'\?\)"):
         from_dict({"distribution": "empirical", "file": "c.csv", "column": "strenght"},
                   "sediment.strength", base_dir=tmp_path)
-    with pytest.raises(DistributionError, match=r"^sediment\.strength: .*line 3, column 'strength': 'x' is not a number"):
+    with pytest.raises(DistributionError,
+                       match=r"^sediment\.strength: .*line 3, column 'strength': 'x' is not a number"):
         from_dict({"distribution": "empirical", "file": "c.csv", "column": "strength"},
                   "sediment.strength", base_dir=tmp_path)
     with pytest.raises(DistributionError, match=r"^sediment\.strength: file = 'missing\.csv' not found"):

@@ -153,9 +153,6 @@ def test_cut_against_quadrature_sweep(a, chi):
         got = _moments(geo.cut_cylinder(L, R, chi, a, z_c, level))
         ref = reference(L, R, chi, a, z_c, level)
         _assert_close(got, ref, L, R, (a, chi, f))
-        got = _moments(geo.cut_cylinder_above(L, R, chi, a, z_c, level))
-        ref = reference(L, R, chi, a, z_c, level, above=True)
-        _assert_close(got, ref, L, R, ("above", a, chi, f))
 
 
 @pytest.mark.parametrize("pattern", ["a", "b", "c"])
@@ -174,8 +171,6 @@ def test_cut_patterns_of_seed_fig3(pattern):
                     continue
                 got = _moments(geo.cut_cylinder(L, R, chi, a, 0.0, level))
                 _assert_close(got, reference(L, R, chi, a, 0.0, level), L, R)
-                got = _moments(geo.cut_cylinder_above(L, R, chi, a, 0.0, level))
-                _assert_close(got, reference(L, R, chi, a, 0.0, level, True), L, R)
                 checked += 1
                 if checked >= 6:
                     return
@@ -351,25 +346,23 @@ def test_burial_measures(a):
 
 @pytest.mark.parametrize("a", [-1.0, -0.5, 0.0, 0.2, 0.9])
 def test_equivalent_cylinder(a):
+    """The equivalent cylinder (seed 000 section 4.1) of the part below a plane, as the
+    equations of motion build it: cut_cylinder, then equivalent_of_part."""
     L, R, chi = 1.5, 0.25, 0.1
     xt, xn = -0.5 * L - chi, 0.5 * L - chi
     z_min, z_max = geo.vertical_extent(L, R, chi, a, 0.0)
     for f in (0.1, 0.5, 0.9):
         level = z_min + f * (z_max - z_min)
         ref = reference(L, R, chi, a, 0.0, level)
-        for above in (False, True):
-            if above:
-                l, xa, xb, eta = geo.equivalent_cylinder_above(L, R, chi, a, 0.0, level)
-                ref = reference(L, R, chi, a, 0.0, level, above=True)
-            else:
-                l, xa, xb, eta = geo.equivalent_cylinder(L, R, chi, a, 0.0, level)
-            assert l == pytest.approx(ref[0] / (math.pi * R * R), rel=RTOL)
-            assert xb - xa == pytest.approx(l, rel=1e-12, abs=1e-15)
-            assert xt - 1e-12 <= xa and xb <= xn + 1e-12
-            xc = ref[1] / ref[0]
-            if xt + 1e-9 < xc - 0.5 * l and xc + 0.5 * l < xn - 1e-9:
-                assert 0.5 * (xa + xb) == pytest.approx(xc, rel=RTOL, abs=1e-12)
-            assert eta == pytest.approx(ref[2] / ref[0], rel=RTOL, abs=1e-12)
+        V, x_c, eta_c, _, _, _ = geo.cut_cylinder(L, R, chi, a, 0.0, level)
+        l, xa, xb, eta = geo.equivalent_of_part(L, R, chi, V, x_c, eta_c)
+        assert l == pytest.approx(ref[0] / (math.pi * R * R), rel=RTOL)
+        assert xb - xa == pytest.approx(l, rel=1e-12, abs=1e-15)
+        assert xt - 1e-12 <= xa and xb <= xn + 1e-12
+        xc = ref[1] / ref[0]
+        if xt + 1e-9 < xc - 0.5 * l and xc + 0.5 * l < xn - 1e-9:
+            assert 0.5 * (xa + xb) == pytest.approx(xc, rel=RTOL, abs=1e-12)
+        assert eta == pytest.approx(ref[2] / ref[0], rel=RTOL, abs=1e-12)
 
 
 def test_equivalent_interval_is_shifted_not_shrunk():

@@ -110,7 +110,9 @@ def test_step_size_controller_follows_the_tolerance():
 
 
 def test_illinois_finds_a_root():
-    f = lambda x: math.cos(x) - x   # root 0.7390851332151607
+    def f(x):
+        return math.cos(x) - x      # root 0.7390851332151607
+
     a, b = 0.0, 1.0
     ga, gb, side = f(a), f(b), 0
     for _ in range(60):

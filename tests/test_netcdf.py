@@ -25,7 +25,6 @@ import pytest
 import xarray as xr
 
 from mineburial.ensembles.statistics import burial_class
-from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
 from mineburial.io.netcdf import build_dataset, write_netcdf
 from mineburial.kernels import layout
@@ -153,7 +152,7 @@ def _fail_fsync(monkeypatch):
     def fsync(fd):
         raise OSError("simulated fsync failure")
 
-    monkeypatch.setattr(ncio.os, "fsync", fsync)
+    monkeypatch.setattr(os, "fsync", fsync)
 
 
 @pytest.mark.parametrize("failure", ["mid_write", "fsync"])

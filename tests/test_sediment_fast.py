@@ -382,7 +382,7 @@ def test_force_is_continuous_along_paths(name):
     for model in (0, 2):
         p = params(P_SED_RESISTANCE=model, P_SED_RATE_LAW=model % 3)
 
-        def fun(s):
+        def fun(s, p=p):
             L, R, chi, c2, d0, vb = case(s)
             return fast(L, R, chi, c2, d0, vb, p)
         coarse = _largest_step(fun, s0, s1, 300)

@@ -44,7 +44,7 @@ import pathlib
 import threading
 import time
 import uuid
-from typing import Iterable, Iterator
+from collections.abc import Iterable, Iterator
 
 from mineburial.ensembles import engine
 

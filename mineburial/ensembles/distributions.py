@@ -38,7 +38,8 @@ import difflib
 import math
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any, ClassVar, Mapping
+from collections.abc import Mapping
+from typing import Any, ClassVar
 
 import numpy as np
 from scipy import special, stats
@@ -132,7 +133,7 @@ class Distribution:
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], field: str, *,
-                  base_dir: str | Path | None = None) -> "Distribution":  # pragma: no cover
+                  base_dir: str | Path | None = None) -> Distribution:  # pragma: no cover
         raise NotImplementedError
 
     def ppf(self, u) -> np.ndarray:  # pragma: no cover

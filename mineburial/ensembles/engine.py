@@ -23,17 +23,17 @@ import dataclasses
 import hashlib
 import json
 import math
-import os
 import pathlib
 import sys
 import time
-from typing import Any, Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.sampling import check_drop_count, sample_fields
+from mineburial.io.files import atomic_path, atomic_write_text
 from mineburial.kernels import layout
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks, unknown_name_message
 
@@ -267,11 +267,8 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
             q = cfg.quaternion_from_angles(*(np.radians(a) for a in ang))
             P[:, layout.P_Q00:layout.P_Q30 + 1] = q
         if spec.recompute_inertia:
-            m = P[:, layout.P_MASS]
-            r = 0.5 * P[:, layout.P_DIAMETER]
-            length = P[:, layout.P_LENGTH]
-            P[:, layout.P_J1] = 0.5 * m * r * r                       # uniform solid cylinder
-            P[:, layout.P_J2] = m * (3.0 * r * r + length * length) / 12.0
+            P[:, layout.P_J1], P[:, layout.P_J2] = cfg.uniform_cylinder_inertia(
+                P[:, layout.P_MASS], P[:, layout.P_DIAMETER], P[:, layout.P_LENGTH])
     valid = cfg.check_params(P, n_sediment=spec.sediment_bank.shape[0],
                              n_current=spec.current_bank.shape[0])
     return P, valid, inputs
@@ -305,12 +302,8 @@ def _chunk_path(parts: pathlib.Path, start: int, stop: int) -> pathlib.Path:
 def save_chunk(parts: pathlib.Path, result: dict) -> pathlib.Path:
     """Write one chunk's results atomically (temporary file, fsync, rename)."""
     path = _chunk_path(parts, int(result["start"]), int(result["stop"]))
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as fh:
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **{k.replace(":", "__"): v for k, v in result.items()})
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
     return path
 
 
@@ -329,9 +322,7 @@ def _prepare_parts(spec: EnsembleSpec, output) -> pathlib.Path:
         if old.get("fingerprint") != fp:
             for f in parts.glob("chunk-*.npz"):
                 f.unlink()
-    tmp = manifest.with_suffix(".tmp")
-    tmp.write_text(json.dumps({"fingerprint": fp, "n": spec.n, "seed": spec.seed}))
-    os.replace(tmp, manifest)
+    atomic_write_text(manifest, json.dumps({"fingerprint": fp, "n": spec.n, "seed": spec.seed}))
     return parts
 
 

@@ -37,7 +37,8 @@ from __future__ import annotations
 
 import hashlib
 import warnings
-from typing import Any, Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from scipy.stats import qmc

@@ -31,7 +31,7 @@ Definitions (all declared once in :mod:`mineburial.io.variables`):
 
 from __future__ import annotations
 
-from typing import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 import xarray as xr

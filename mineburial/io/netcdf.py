@@ -18,15 +18,15 @@ import dataclasses
 import datetime as _dt
 import hashlib
 import json
-import os
-import secrets
 from pathlib import Path
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from mineburial.io import variables as V
+from mineburial.io.files import atomic_path
 from mineburial.kernels import layout
 from mineburial.kernels import status as status_codes
 
@@ -291,51 +291,17 @@ def _encoding(ds: xr.Dataset, complevel: int) -> dict[str, dict[str, Any]]:
     return enc
 
 
-def _fsync_dir(directory: Path) -> None:
-    """fsync a directory so that a rename in it is durable (POSIX; a no-op elsewhere)."""
-    try:
-        fd = os.open(directory, os.O_RDONLY)
-    except OSError:  # pragma: no cover - e.g. Windows cannot open directories
-        return
-    try:
-        os.fsync(fd)
-    except OSError:  # pragma: no cover - some file systems refuse directory fsync
-        pass
-    finally:
-        os.close(fd)
-
-
 def write_netcdf(ds: xr.Dataset, path, *, complevel: int = 4) -> Path:
     """Write ``ds`` to ``path`` atomically (NETCDF4, zlib level ``complevel``).
 
     The file is written to a temporary file in the same directory, flushed to
-    disk with ``fsync`` and moved over ``path`` with ``os.replace``: readers see
-    either the previous file or the complete new one, never a partial file. On
-    any error the temporary file is removed and the previous ``path`` is left
-    untouched. Returns the path written.
+    disk with ``fsync`` and moved over ``path`` with ``os.replace``
+    (:func:`mineburial.io.files.atomic_path`): readers see either the previous file
+    or the complete new one, never a partial file. On any error the temporary file
+    is removed and the previous ``path`` is left untouched. Returns the path written.
     """
     path = Path(path)
-    directory = path.parent if str(path.parent) else Path(".")
-    # O_EXCL with mode 0o666 creates a fresh name and lets the umask set the permissions
-    # (tempfile.mkstemp would leave the final file readable by its owner only)
-    while True:
-        tmp = directory / f".{path.name}.{secrets.token_hex(8)}.tmp"
-        try:
-            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
-            break
-        except FileExistsError:  # pragma: no cover - 64 random bits
-            continue
-    try:
+    with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4",
                      encoding=_encoding(ds, complevel))
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            tmp.unlink()
-        except FileNotFoundError:
-            pass
-        raise
-    _fsync_dir(directory)
     return path

@@ -3,7 +3,6 @@
 * :func:`axial_drag_coefficient` -- seed 000 eq. (40), along the axis, vs aspect ratio.
 * :func:`cross_drag_coefficient` -- seed 000 eq. (44), across the axis, vs Re and aspect ratio.
 * :func:`lift_coefficient` -- seed 000 eq. (50), Magnus lift vs spin ratio.
-* :func:`normal_drag_coefficient_huston` -- seed 001 eq. (10), an alternative cross-flow law.
 
 The aspect ratio is ``delta = L / d`` (length over diameter) and the Reynolds
 number ``Re = |V2| d / nu`` (cross-flow speed, diameter, kinematic viscosity).
@@ -106,46 +105,3 @@ def lift_coefficient(spin_ratio):
     if s > 4.0:
         return math.copysign(8.0 + 0.24 * (s - 4.0), spin_ratio)
     return spin_ratio  # NaN
-
-
-@kernel
-def normal_drag_coefficient_huston(reynolds):
-    """Normal drag coefficient C_N(Re) of a cylinder, seed 001 eq. (10).
-
-    Huston & Kamman's curve fit (``log`` is log10: with ln the law would be
-    negative at Re = 1000; with log10 it joins 0.90 there)::
-
-        Re < 30               1.45 + 8.55 Re^-0.40
-        30 <= Re < 100        1.0 + 4 Re^-0.5
-        100 <= Re < 1000      2.25 - 0.45 log10(Re)
-        1000 <= Re < 4000     0.90
-        4000 <= Re < 15000    -1.05 + 0.54 log10(Re)     (printed "1.05 + ...")
-        15000 <= Re < 150000  1.21
-        Re >= 150000          0.3
-
-    DEVIATIONS: (i) the 4000-15000 branch is printed ``1.05 + 0.54 log(Re)``,
-    which is 3.0-3.3 between two branches at 0.90 and 1.21; with ``-1.05`` it
-    joins them (0.895 at 4000, 1.205 at 15000), so the minus sign was lost in
-    the scan. (ii) The law starts at Re = 1 in print; the first branch is
-    extended down to Re = 0 with the same guard as seed 000 eq. (44) (Re below
-    1e-6 is raised to 1e-6). The remaining jumps (largest: 3.64 -> 1.73 at
-    Re = 30) are kept as printed. NaN in, NaN out.
-    """
-    if reynolds != reynolds:
-        return math.nan
-    re = reynolds
-    if re < RE_MIN:
-        re = RE_MIN
-    if re < 30.0:
-        return 1.45 + 8.55 * re ** -0.40
-    if re < 100.0:
-        return 1.0 + 4.0 / math.sqrt(re)
-    if re < 1000.0:
-        return 2.25 - 0.45 * math.log10(re)
-    if re < 4000.0:
-        return 0.90
-    if re < 15000.0:
-        return -1.05 + 0.54 * math.log10(re)
-    if re < 150000.0:
-        return 1.21
-    return 0.3

@@ -27,7 +27,6 @@ same scheme so that energy bookkeeping closes to the integration error.
 
 import math
 
-import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_coefficient,
@@ -36,25 +35,17 @@ from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
 from mineburial.kernels.geometry import (cut_cylinder, e_down_body, equivalent_of_part,
                                          vertical_extent)
-from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_DRAG, P_GRAVITY, P_J1, P_J2,
-                                       P_LENGTH, P_MASS, P_MODEL, P_MUNK, P_NU_AIR, P_NU_WATER,
-                                       P_RHO_AIR, P_RHO_WATER, P_SED_RESISTANCE)
+# the extended state, the scratch and diagnostics sizes (N_EXT, I_WORK_*, N_WORK, N_DIAG,
+# re-exported for the driver) and the phase codes live in kernels.layout
+from mineburial.kernels.layout import (I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG,  # noqa: F401
+                                       N_EXT, N_WORK, P_CHI, P_DEPTH, P_DIAMETER, P_DRAG,
+                                       P_GRAVITY, P_J1, P_J2, P_LENGTH, P_MASS, P_MODEL, P_MUNK,
+                                       P_NU_AIR, P_NU_WATER, P_RHO_AIR, P_RHO_WATER,
+                                       P_SED_RESISTANCE, PHASE_AIR, PHASE_EMBEDDED, PHASE_SEABED,
+                                       PHASE_SURFACE, PHASE_WATER)
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.overburden import overburden_force
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
-
-N_EXT = 15          # 13 physical states + work of fluid forces + work of sediment forces
-I_WORK_FLUID = 13
-I_WORK_SEDIMENT = 14
-N_WORK = 48         # size of the per-drop scratch array used by derivatives()
-N_DIAG = 16         # diagnostics written by derivatives()
-
-# phases of the mine with respect to the interfaces (output variable "phase")
-PHASE_AIR = 0
-PHASE_SURFACE = 1      # crossing the air-water interface
-PHASE_WATER = 2
-PHASE_SEABED = 3       # crossing the water-sediment interface
-PHASE_EMBEDDED = 4     # entirely below the seabed
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
 
@@ -153,7 +144,7 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
     if v2 > 1e-12:
         jy = ur2 / v2
         jz = ur3 / v2
-    else:  # fallback F-frame when the cross-flow vanishes (PHYSICS.md §2): j_F = j_M
+    else:  # fallback F-frame when the cross-flow vanishes (docs/physics.md): j_F = j_M
         jy = 1.0
         jz = 0.0
     ky = -jz                    # k_F = e1 x j_F

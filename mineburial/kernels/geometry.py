@@ -8,10 +8,10 @@ The axis has E-frame vertical component ``a_z = i_M . k = -sin(psi2)``; the COM
 is at height ``z_c``; the horizontal plane ``z = level`` is the water surface
 (``level = 0``) or the seabed (``level = -H``).
 
-The kernels here give the part of the body *below* the plane (and, by
-reflection, the part above): volume, centroid, wetted lateral and end-cap
-areas, the vertical extent of the body, the burial measures of the results
-table and the equivalent cylinder of seed 000 section 4.1.
+The kernels here give the part of the body *below* the plane: volume, centroid,
+wetted lateral and end-cap areas, the vertical extent of the body, the burial
+measures of the results table and the equivalent cylinder of seed 000 section 4.1
+of a part of the body.
 
 Derivation (re-derived from seed 000 section 4, eqs. (25)-(33); see
 ``docs/notes/geometry.md`` for the full summary and the printed typos):
@@ -321,22 +321,6 @@ def cut_cylinder(L, R, chi, a_z, z_c, level):
 
 
 @kernel
-def cut_cylinder_above(L, R, chi, a_z, z_c, level):
-    """Part of the cylinder above the plane ``z = level``, same outputs as
-    :func:`cut_cylinder` (``eta_c`` still along ``e_down``, so it is <= 0).
-
-    Obtained by reflecting space through the plane (``a_z -> -a_z``,
-    ``z_c - level -> level - z_c``; ``e_down -> -e_down``), which is exact and
-    keeps full precision when the above part is small (no total-minus-below
-    cancellation).
-    """
-    V, Mx, Ms, lat, cn, ct = _cut_raw(L, R, chi, -a_z, level - z_c)
-    if V > 0.0:
-        return V, Mx / V, -Ms / V, lat, cn, ct
-    return 0.0, _empty_x(L, chi, -a_z), 0.0, lat, cn, ct
-
-
-@kernel
 def vertical_extent(L, R, chi, a_z, z_c):
     """Lowest and highest heights ``(z_min, z_max)`` of the body: the end
     sections are at ``z_c + a_z x`` and reach ``+- R sqrt(1 - a_z^2)``."""
@@ -402,22 +386,3 @@ def equivalent_of_part(L, R, chi, V, x_c, eta):
         xb = xn
         xa = xn - l
     return l, xa, xb, eta
-
-
-@kernel
-def equivalent_cylinder(L, R, chi, a_z, z_c, level):
-    """Equivalent cylinder of the part below the plane (seed 000 section 4.1,
-    eqs. (26)-(28)): ``(l, x_a, x_b, eta)`` with length ``l = volume/(pi R^2)``,
-    axial interval ``[x_a, x_b]`` centred on the partial centre of volume
-    (shifted, not shrunk, to stay inside the body) and transverse offset
-    ``eta`` along ``e_down``."""
-    V, x_c, eta, lat, cn, ct = cut_cylinder(L, R, chi, a_z, z_c, level)
-    return equivalent_of_part(L, R, chi, V, x_c, eta)
-
-
-@kernel
-def equivalent_cylinder_above(L, R, chi, a_z, z_c, level):
-    """Equivalent cylinder of the part above the plane, as
-    :func:`equivalent_cylinder` (``eta`` along ``e_down``, <= 0)."""
-    V, x_c, eta, lat, cn, ct = cut_cylinder_above(L, R, chi, a_z, z_c, level)
-    return equivalent_of_part(L, R, chi, V, x_c, eta)

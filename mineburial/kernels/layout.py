@@ -16,7 +16,10 @@ The names are the dotted paths of the scenario file, so an ensemble can map a
 sampled scenario field straight onto its slot (``INDEX["mine.mass"]``).
 
 The per-drop **state** is 13 floats: position and velocity of the centre of mass
-in the E-frame, the unit quaternion body->earth, the body angular velocity.
+in the E-frame, the unit quaternion body->earth, the body angular velocity; the
+kernels carry it **extended** by two work accumulators (:data:`N_EXT`). The phase
+codes, the columns of a recorded trajectory and the per-drop summary are declared
+here too, once.
 """
 
 # --- state -----------------------------------------------------------------
@@ -24,6 +27,27 @@ X, Y, Z, U, V, W, Q0, Q1, Q2, Q3, P, Q, R = range(13)
 N_STATE = 13
 STATE_NAMES = ("x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
                "omega1", "omega2", "omega3")
+
+# --- extended state: the state plus two work accumulators --------------------
+# (the work done on the mine by fluid forces and by sediment forces, integrated with
+# the state so that the energy bookkeeping closes to the integration error)
+N_EXT = 15
+I_WORK_FLUID = 13
+I_WORK_SEDIMENT = 14
+N_WORK = 48         # size of the per-drop scratch array of dynamics.derivatives()
+N_DIAG = 16         # diagnostics written by dynamics.derivatives()
+
+# --- phase of the mine with respect to the interfaces (output variable "phase") ---
+PHASE_NAMES = ("air", "crossing_water_surface", "water", "crossing_seabed", "embedded")
+PHASE_AIR, PHASE_SURFACE, PHASE_WATER, PHASE_SEABED, PHASE_EMBEDDED = range(len(PHASE_NAMES))
+
+# --- columns of a recorded trajectory row (kernels.stepper._record) -----------
+TRAJ_COLUMNS = ("time",) + STATE_NAMES + (
+    "work_fluid", "work_sediment", "phase",
+    "fluid_force_x", "fluid_force_y", "fluid_force_z",
+    "sediment_force_x", "sediment_force_y", "sediment_force_z",
+    "torque_1", "torque_2", "torque_3")
+N_TRAJ = len(TRAJ_COLUMNS)
 
 # --- parameter vector ------------------------------------------------------
 PARAM_NAMES = (

@@ -70,12 +70,20 @@ def normalize_quaternion(q0, q1, q2, q3):
     return (q0 / n, q1 / n, q2 / n, q3 / n)
 
 
+#: |sin psi2| above which the nose is taken as vertical (the gimbal lock of the angles)
+GIMBAL_LOCK = 1.0 - 1e-12
+
+
 @kernel
 def euler_angles(q0, q1, q2, q3):
     """(psi1, psi2, psi3) in radians: roll about the axis, nose dip, heading.
 
     Z-Y-X angles of R(q) = Rz(psi3) Ry(psi2) Rx(psi1) (seed 000 eq. (4)), so
-    i_M = (cos psi3 cos psi2, sin psi3 cos psi2, -sin psi2).
+    i_M = (cos psi3 cos psi2, sin psi3 cos psi2, -sin psi2); psi2 in [-pi/2, pi/2],
+    psi1, psi3 in (-pi, pi]. ``q`` must be a unit quaternion.
+
+    At the gimbal lock (nose vertical, |sin psi2| > :data:`GIMBAL_LOCK`) only psi3 -/+ psi1
+    is defined: psi1 is then 0 and psi3 carries the whole rotation about the vertical.
     """
     r = rotation_matrix(q0, q1, q2, q3)
     s2 = -r[6]
@@ -84,6 +92,8 @@ def euler_angles(q0, q1, q2, q3):
     elif s2 < -1.0:
         s2 = -1.0
     psi2 = math.asin(s2)
+    if abs(s2) > GIMBAL_LOCK:
+        return 0.0, psi2, math.atan2(-r[1], r[4])
     psi3 = math.atan2(r[3], r[0])
     psi1 = math.atan2(r[7], r[8])
     return psi1, psi2, psi3

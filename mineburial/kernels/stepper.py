@@ -44,16 +44,17 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels import status as st
-from mineburial.kernels.dynamics import I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG, N_EXT, N_WORK, derivatives
+from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, dopri_solution,
                                             dopri_stage_state, error_norm, hermite_dense,
                                             illinois_next, illinois_update, next_step_size)
-from mineburial.kernels.layout import (INTEGRATOR_NAMES, N_PARAMS, N_SUMMARY, P_ATOL, P_CHI,
-                                       P_SED_QUADRATURE,
+from mineburial.kernels.layout import (I_WORK_FLUID, I_WORK_SEDIMENT, INTEGRATOR_NAMES, N_DIAG,
+                                       N_EXT, N_PARAMS, N_SUMMARY, N_WORK, P_ATOL, P_CHI,
                                        P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
                                        P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
-                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL, P_TMAX,
+                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL,
+                                       P_SED_QUADRATURE, P_TMAX,
                                        P_U0, P_V0, P_W0, P_X0, P_Y0, P_Z0, S_BURIAL_AREA,
                                        S_BURIAL_HEIGHT, S_BURIAL_VOLUME, S_COM_DEPTH,
                                        S_ENTRY_TIME, S_FINAL_HEADING, S_FINAL_PITCH, S_FINAL_ROLL,
@@ -64,14 +65,6 @@ from mineburial.kernels.rest import held_by_sediment
 from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, quaternion_multiply,
                                          rotation_matrix, rotation_vector_quaternion)
 from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
-
-# columns of a recorded trajectory row
-TRAJ_COLUMNS = ("time", "x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3",
-                "omega1", "omega2", "omega3", "work_fluid", "work_sediment", "phase",
-                "fluid_force_x", "fluid_force_y", "fluid_force_z",
-                "sediment_force_x", "sediment_force_y", "sediment_force_z",
-                "torque_1", "torque_2", "torque_3")
-N_TRAJ = len(TRAJ_COLUMNS)
 
 INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
 INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")

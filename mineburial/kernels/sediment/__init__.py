@@ -23,7 +23,7 @@ from mineburial.kernels.sediment.fast import fast_tractions
 from mineburial.kernels.sediment.laws import (DEPTH_FACTOR, LAW_PORE, LAW_QUADRATURE,
                                               LAW_REFERENCE_PATHS, RATE_IMPACT35,
                                               RATE_NONE, RATE_SEMILOG, RES_BEARING, RES_DELTA,
-                                              RES_FRICTION, V_REG, V_REG_N, bearing_factor,
+                                              RES_FRICTION, V_REG, V_REG_N,
                                               pack_law, rate_factor, sediment_properties)
 from mineburial.kernels.sediment.pore import pore_pressure
 from mineburial.kernels.sediment.reference import reference_tractions
@@ -32,7 +32,7 @@ QUADRATURE_FAST = 0
 QUADRATURE_REFERENCE = 1
 
 __all__ = ["sediment_tractions", "sediment_force_torque", "pack_law", "sediment_properties",
-           "rate_factor", "bearing_factor", "RES_DELTA", "RES_FRICTION", "RES_BEARING",
+           "rate_factor", "RES_DELTA", "RES_FRICTION", "RES_BEARING",
            "RATE_IMPACT35", "RATE_SEMILOG", "RATE_NONE", "V_REG", "V_REG_N", "DEPTH_FACTOR",
            "QUADRATURE_FAST", "QUADRATURE_REFERENCE"]
 

@@ -189,20 +189,6 @@ def rate_factor(speed, diameter, p):
                  p[P_SED_RATE_REF], diameter)
 
 
-@kernel
-def bearing_factor(zeta, diameter, p):
-    """Bearing factor N_c of the ``bearing`` law at depth zeta for a body of diameter d.
-
-    N_c = N_c0 (1 + 0.4 arctan(zeta/d)) with N_c0 = p[P_SED_NC] (pi + 2 = 5.14,
-    Prandtl 1920, when p[P_SED_NC] <= 0) and the depth factor of Brinch Hansen (1970).
-    """
-    nc0 = p[P_SED_NC]
-    if not (nc0 > 0.0):
-        nc0 = math.pi + 2.0
-    z = zeta if zeta > 0.0 else 0.0
-    return nc0 * (1.0 + DEPTH_FACTOR * math.atan(z / diameter))
-
-
 # =============================================================================
 # traction at one surface point
 # =============================================================================
