@@ -414,7 +414,9 @@ def _number(value, location: str, units: str = "") -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
                                                                        np.floating)):
         u = f" ({units})" if units and units != "1" else ""
-        raise ScenarioError(f"{location} = {value!r} must be a number{u}")
+        hint = (": an inline table is a distribution only with distribution = \"...\" "
+                "(docs/scenario.md)") if isinstance(value, Mapping) else ""
+        raise ScenarioError(f"{location} = {value!r} must be a number{u}{hint}")
     return float(value)
 
 
@@ -991,7 +993,8 @@ def _distribution_paths(node, path: str = "") -> list[str]:
         return [p for key, value in node.items()
                 for p in _distribution_paths(value, f"{path}.{key}" if path else str(key))]
     if isinstance(node, (list, tuple)):
-        return [p for k, value in enumerate(node) for p in _distribution_paths(value, f"{path}[{k}]")]
+        return [p for k, value in enumerate(node)
+                for p in _distribution_paths(value, f"{path}[{k}]")]
     return []
 
 

@@ -29,6 +29,10 @@ Families and parameterisations (scipy.stats names in brackets):
     strings) with probabilities proportional to ``weights`` (equal if omitted).
 ``empirical(values=[...])`` or ``empirical(file="...", column="...")`` --
     resample the given numbers with equal weight (inverse empirical CDF).
+
+Every family also gives ``probability_outside(low, high)``, the probability of a draw
+outside an interval, with which :func:`mineburial.config.check_distribution` checks a
+distribution against its field's allowed range when an ensemble scenario is loaded.
 """
 
 from __future__ import annotations

@@ -178,6 +178,9 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     template = copy.deepcopy(raw)
     for path, table in leaves.items():
         d = dist.from_dict(table, path, base_dir=base_dir)
+        if path in ("sediment.class", "sediment.file") and not isinstance(d, dist.Choice):
+            raise EnsembleError(f"{path} can only vary as a 'choice' distribution, "
+                                f"got {type(d).__name__.lower()}")
         cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
@@ -188,11 +191,7 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     choice = None
     for key in ("sediment.class", "sediment.file"):
         if key in random:
-            d = random[key]
-            if not isinstance(d, dist.Choice):
-                raise EnsembleError(f"{key} can only vary as a 'choice' distribution, "
-                                    f"got {type(d).__name__.lower()}")
-            labels = tuple(str(v) for v in d.values)
+            labels = tuple(str(v) for v in random[key].values)
             if key == "sediment.class":
                 profiles = [catalogue_profile(v) for v in labels]
             else:
@@ -203,7 +202,7 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
         if path in (choice,) or path in _ANGLE_FIELDS:
             continue
         slot = cfg.ALIASES.get(path, path)
-        if slot not in layout.INDEX:
+        if slot not in layout.INDEX or slot not in cfg.FIELDS:   # not a number: a name, a code
             raise EnsembleError(
                 f"{path} cannot vary in an ensemble: only numeric inputs of the kernels "
                 f"(docs/scenario.md), the release angles and sediment.class/sediment.file can")
