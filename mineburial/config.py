@@ -25,7 +25,6 @@ field path, the value and the allowed range with its units, e.g.
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import json
 import math
 import pathlib
@@ -43,7 +42,7 @@ from mineburial.kernels import layout
 from mineburial.kernels.geometry import vertical_extent
 from mineburial.sediment_profiles import (
     CATALOGUE, ScenarioError, SedimentProfile, catalogue_profile, load_file, pack_banks,
-    unknown_name_message,
+    unknown_name_message, unknown_names_message,
 )
 
 __all__ = [
@@ -487,11 +486,9 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
     args = np.broadcast_arrays(*(np.asarray(x, dtype=np.float64)
                                  for x in (length, diameter, com_offset, a_z, z)))
-    out = np.empty(args[0].shape)
-    for idx in np.ndindex(out.shape):
-        L, d, chi, a, zc = (float(x[idx]) for x in args)
-        out[idx] = vertical_extent(L, 0.5 * d, chi, a, zc)[0]
-    return out
+    rows = zip(*(x.ravel().tolist() for x in args))
+    return np.array([vertical_extent(L, 0.5 * d, chi, a, zc)[0] for L, d, chi, a, zc in rows],
+                    dtype=np.float64).reshape(args[0].shape)
 
 
 def angles_from_quaternion(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -955,20 +952,6 @@ _SED_SOURCES = ("class", "profile", "file")
 _SED_KEYS = _SED_SOURCES + _SED_LINEAR + ("resistance", "rate_law", "pore_pressure") \
     + _SED_OPTIONS
 _NUM_KEYS = tuple(f.name for f in dataclasses.fields(Numerics))
-
-
-def unknown_names_message(what: str, names, allowed) -> str:
-    """Like :func:`~mineburial.sediment_profiles.unknown_name_message`, for every unknown
-    name at once: ``unknown keys 'lenght' (did you mean 'length'?), 'x': allowed: ...``."""
-    names = list(names)
-    if len(names) == 1:
-        return unknown_name_message(what, names[0], allowed)
-    allowed = sorted(allowed)
-    parts = []
-    for name in names:
-        close = difflib.get_close_matches(str(name), allowed, n=1, cutoff=0.5)
-        parts.append(f"'{name}'" + (f" (did you mean '{close[0]}'?)" if close else ""))
-    return f"unknown {what}s {', '.join(parts)}: allowed: {', '.join(allowed)}"
 
 
 def _section(d: Mapping, name: str, allowed, required: bool = False) -> dict:

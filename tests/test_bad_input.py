@@ -190,6 +190,17 @@ CASES = {
     "uniform_with_mean": run(setting(ensemble, M, {"distribution": "uniform", "mean": 80.0,
                                                    "low": 70.0, "high": 90.0}),
                              r"mine\.mass: unknown parameter 'mean' for the uniform"),
+    "uniform_with_two_unknown_parameters": run(
+        setting(ensemble, M, {"distribution": "uniform", "mean": 80.0, "sd": 1.0, "low": 70.0,
+                              "high": 90.0}),
+        r"mine\.mass: unknown parameters 'mean', 'sd' for the uniform distribution; allowed "
+        r"parameters are low, high"),
+    "profile_unknown_keys_all_named": run(
+        setting(ensemble, "sediment", {"profile": {
+            "depth": [0.0, 1.0], "density": [1500.0, 1600.0], "strength": [1000.0, 2000.0],
+            "dept": [0.0], "strenght": [1.0]}}),
+        r"sediment\.profile: unknown keys 'dept' \(did you mean 'depth'\?\), 'strenght' "
+        r"\(did you mean 'strength'\?\)"),
     "choice_mixing_numbers_and_strings": run(
         setting(ensemble, M, {"distribution": "choice", "values": [80.0, "heavy"]}),
         r"mine\.mass: values\[1\] = 'heavy' must be a number.*cannot be mixed"),

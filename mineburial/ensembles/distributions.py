@@ -102,13 +102,17 @@ def _number(d: Mapping, key: str, field: str, family: str, *, default=None,
 
 
 def _check_keys(d: Mapping, field: str, family: str, allowed: tuple[str, ...]) -> None:
-    for key in d:
-        if key == "distribution":
-            continue
-        if key not in allowed:
-            raise DistributionError(
-                f"{field}: unknown parameter {key!r} for the {family} distribution; "
-                f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}")
+    unknown = [key for key in d if key != "distribution" and key not in allowed]
+    if len(unknown) == 1:
+        key = unknown[0]
+        raise DistributionError(
+            f"{field}: unknown parameter {key!r} for the {family} distribution; "
+            f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}")
+    if unknown:
+        names = ", ".join(f"{key!r}{_nearest(key, allowed)}" for key in unknown)
+        raise DistributionError(
+            f"{field}: unknown parameters {names} for the {family} distribution; "
+            f"allowed parameters are {', '.join(allowed)}")
 
 
 def _check_family(d: Mapping, field: str, family: str) -> None:
