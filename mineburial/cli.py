@@ -176,7 +176,10 @@ def main(argv=None) -> int:
     except OSError as exc:
         message = _one_line(_os_error_text(exc))
     except KeyboardInterrupt:
-        print("mineburial: interrupted; rerun the same command to resume", file=sys.stderr)
+        # on a terminal the progress line is still open: end it first
+        start = "\n" if getattr(sys.stderr, "isatty", lambda: False)() else ""
+        print(f"{start}mineburial: interrupted; rerun the same command to resume",
+              file=sys.stderr)
         return EXIT_INTERRUPTED
     print(f"mineburial: error: {message}", file=sys.stderr)
     return EXIT_USAGE
