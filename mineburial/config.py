@@ -13,7 +13,9 @@ A scenario file (TOML, SI units, angles named ``*_deg``) has the sections
   class or a core file expanded into its values), so ``from_dict(to_dict())`` is equal.
 * :data:`FIELDS` is the machine-readable table of every numeric scalar field (units,
   range, default, description), used by validation and by the ensemble engine
-  (:func:`check_range`, :func:`check_params`).
+  (:func:`check_range`, :func:`check_params`): a distribution is checked against its
+  field's range when an ensemble is loaded (:func:`check_distribution`), sampled values
+  per drop (:func:`check_samples`, counted per field by :func:`invalid_samples`).
 * :meth:`Scenario.to_params` packs a scenario into the flat parameter vector and the
   profile banks of :mod:`mineburial.kernels.layout`.
 
