@@ -528,7 +528,7 @@ def test_sigint_during_a_run_ends_in_one_line_and_status_130(tmp_path):
                             stdout=subprocess.PIPE, text=True, env=_env())
     try:
         first = proc.stderr.readline()          # the first progress line: drops under way
-        assert first.startswith("drops 0/1000000"), first
+        assert first.startswith("drops "), first
         time.sleep(0.5)
         proc.send_signal(signal.SIGINT)
         out, rest = proc.communicate(timeout=300)
