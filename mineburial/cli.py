@@ -1,18 +1,64 @@
-"""Command-line interface: ``mineburial {run,drop,example,map}``."""
+"""Command-line interface: ``mineburial {run,drop,example,map}``.
+
+Every error a user can cause ends the command with one line on stderr,
+``mineburial: error: ...`` naming the field or option, and exit status 2 (bad
+options included); an interrupt (Ctrl-C, SIGINT) ends it with one line and status 130.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
+
+#: Exit status of a user error (bad scenario, option or file), as argparse uses.
+EXIT_USAGE = 2
+#: Exit status after an interrupt: 128 + SIGINT, the shell's convention.
+EXIT_INTERRUPTED = 130
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with the one-line error of every other user error (no usage block)."""
+
+    def error(self, message):
+        self.exit(EXIT_USAGE, f"mineburial: error: {message} (see '{self.prog} --help')\n")
+
+
+def _seconds(text: str) -> float:
+    """argparse type: a finite number of seconds > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"{text} must be a finite number of seconds > 0")
+    return value
+
+
+def _check_drop_output(output: Path, scenario: Path) -> None:
+    """Refuse, before computing, an output the trajectory cannot or must not be written to."""
+    from mineburial.config import ScenarioError
+
+    if output.is_dir():
+        raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
+    if not output.resolve().parent.is_dir():
+        raise ScenarioError(f"-o/--output '{output}': the folder '{output.parent}' does not "
+                            f"exist or is not a folder")
+    if output.exists() and scenario.exists() and output.samefile(scenario):
+        raise ScenarioError(f"-o/--output '{output}' is the scenario file; writing the "
+                            f"trajectory there would overwrite it")
 
 
 def _cmd_drop(args):
     from mineburial.config import Scenario
-    from mineburial.drop import simulate_drop
+    from mineburial.drop import simulate_drop, trajectory_rows
     from mineburial.io.netcdf import write_netcdf
 
     scenario = Scenario.from_toml(args.scenario)
+    _check_drop_output(Path(args.output), Path(args.scenario))
+    if args.record_interval is not None:
+        trajectory_rows(args.record_interval, scenario.numerics.t_max, "--record-interval")
     ds = simulate_drop(scenario, record_interval=args.record_interval, forces=args.forces)
     write_netcdf(ds, args.output)
     print(f"{scenario.mine.name}: status {ds.attrs['status']}, "
@@ -24,10 +70,10 @@ def _cmd_drop(args):
 
 
 def _cmd_example(args):
-    from mineburial.config import example_names, example_path
+    from mineburial.config import ensemble_example_names, example_names, example_path
 
     if args.name is None:
-        for name in example_names():
+        for name in example_names() + ensemble_example_names():
             print(name)
         return 0
     source = example_path(args.name)
@@ -50,7 +96,7 @@ def _cmd_map(args):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="mineburial",
         description="Monte Carlo prediction of the impact burial of naval mines.")
     from mineburial import __version__
@@ -77,11 +123,13 @@ def build_parser() -> argparse.ArgumentParser:
     drop = sub.add_parser("drop", help="simulate one drop and write its trajectory (NetCDF)")
     drop.add_argument("scenario", help="scenario TOML with fixed values")
     drop.add_argument("-o", "--output", default="trajectory.nc")
-    drop.add_argument("--record-interval", type=float, default=None, help="output interval, s")
+    drop.add_argument("--record-interval", type=_seconds, default=None,
+                      help="output interval, s (default: 10 numerics.dt)")
     drop.add_argument("--forces", action="store_true", help="also write forces and torques")
     drop.set_defaults(func=_cmd_drop)
 
-    ex = sub.add_parser("example", help="write an example scenario (no name: list them)")
+    ex = sub.add_parser("example", help="write an example scenario, single-drop or ensemble "
+                                        "(no name: list them)")
     ex.add_argument("name", nargs="?")
     ex.add_argument("-o", "--output", default=None)
     ex.set_defaults(func=_cmd_example)
@@ -99,16 +147,42 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _os_error_text(exc: OSError) -> str:
+    if exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}"
+    return str(exc)
+
+
 def main(argv=None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status.
+
+    User errors (:class:`~mineburial.config.ScenarioError`, which covers bad distribution
+    tables and grids too, and files that cannot be read or written) print one line
+    ``mineburial: error: ...`` and return 2; an interrupt prints one line and returns 130.
+    Anything else is a bug and keeps its traceback.
+    """
     from mineburial.config import ScenarioError
 
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (ScenarioError, FileNotFoundError) as exc:
-        print(f"mineburial: error: {exc}", file=sys.stderr)
-        return 2
+    except ScenarioError as exc:
+        message = _one_line(exc)
+    except OSError as exc:
+        message = _one_line(_os_error_text(exc))
+    except KeyboardInterrupt:
+        # on a terminal the progress line is still open: end it first
+        start = "\n" if getattr(sys.stderr, "isatty", lambda: False)() else ""
+        print(f"{start}mineburial: interrupted; rerun the same command to resume",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(f"mineburial: error: {message}", file=sys.stderr)
+    return EXIT_USAGE
 
 
 if __name__ == "__main__":

@@ -13,7 +13,9 @@ A scenario file (TOML, SI units, angles named ``*_deg``) has the sections
   class or a core file expanded into its values), so ``from_dict(to_dict())`` is equal.
 * :data:`FIELDS` is the machine-readable table of every numeric scalar field (units,
   range, default, description), used by validation and by the ensemble engine
-  (:func:`check_range`, :func:`check_params`).
+  (:func:`check_range`, :func:`check_params`): a distribution is checked against its
+  field's range when an ensemble is loaded (:func:`check_distribution`), sampled values
+  per drop (:func:`check_samples`, counted per field by :func:`invalid_samples`).
 * :meth:`Scenario.to_params` packs a scenario into the flat parameter vector and the
   profile banks of :mod:`mineburial.kernels.layout`.
 
@@ -40,17 +42,20 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.kernels import layout
+from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.sediment_profiles import (
     CATALOGUE, ScenarioError, SedimentProfile, catalogue_profile, load_file, pack_banks,
-    unknown_name_message,
+    unknown_name_message, unknown_names_message,
 )
 
 __all__ = [
     "ScenarioError", "FieldSpec", "FIELDS", "ALIASES", "check_range", "check_params",
     "explain_params", "Mine", "Release", "Current", "Environment", "Sediment", "Numerics",
     "Scenario", "quaternion_from_angles", "uniform_cylinder_inertia", "pack_banks",
-    "example_names", "example_path", "load_example", "MODEL_DEFAULTS",
+    "example_names", "example_path", "load_example", "MODEL_DEFAULTS", "SUPPORT_TOLERANCE",
+    "check_distribution", "check_samples", "InvalidSamples", "invalid_samples",
+    "unknown_names_message", "ensemble_example_names",
 ]
 
 _EPS = np.finfo(np.float64).eps
@@ -271,6 +276,131 @@ def check_range(path: str, values) -> np.ndarray:
 
 
 # ===========================================================================
+# Distributions and sampled values against the field table (ensembles)
+# ===========================================================================
+#: The largest probability that a continuous distribution of a numeric field may put
+#: outside the field's allowed range (the tails of a normal on a positive field); more is
+#: refused when the scenario is loaded (:func:`check_distribution`). A draw in the
+#: tolerated tail is still caught: :func:`check_samples` marks its drop invalid and
+#: :func:`invalid_samples` counts it.
+SUPPORT_TOLERANCE = 1e-6
+
+
+def _field_for(path: str) -> FieldSpec | None:
+    return FIELDS.get(ALIASES.get(path, path))
+
+
+def _label(location: str, spec: FieldSpec) -> str:
+    return location if location == spec.path else f"{location} ({spec.path})"
+
+
+def _inline(d: Mapping) -> str:
+    """A distribution table as the inline TOML a user writes (long lists shortened)."""
+    def value(v):
+        if isinstance(v, (list, tuple)):
+            items = [value(x) for x in v[:6]] + (["..."] if len(v) > 6 else [])
+            return "[" + ", ".join(items) + "]"
+        return json.dumps(v) if isinstance(v, str) else f"{v:g}"
+    return "{" + ", ".join(f"{k} = {value(v)}" for k, v in d.items()) + "}"
+
+
+def check_distribution(path: str, distribution) -> None:
+    """Check the distribution of field ``path`` against the field's allowed range.
+
+    ``distribution`` is a :class:`mineburial.ensembles.distributions.Distribution`.
+    A continuous one may put at most :data:`SUPPORT_TOLERANCE` of its probability
+    outside the range (a normal(750, 15) on the mass is fine, a uniform(-10, 10) or a
+    normal(1, 1) is not); a discrete one (``choice``, ``empirical``) none at all: every
+    value it can draw must be allowed. Nothing is truncated on the user's behalf: a
+    ``truncated_normal`` or a ``uniform`` with its bounds inside the range is the way to
+    say so. Raises :class:`ScenarioError` naming the field, the distribution, the
+    probability outside and the allowed range. Fields without a range (labels, or
+    names that are not fields) are left to the caller.
+    """
+    spec = _field_for(path)
+    if spec is None or getattr(distribution, "categorical", False):
+        return
+    p = distribution.probability_outside(spec.low, spec.high, spec.low_inclusive,
+                                         spec.high_inclusive)
+    tolerance = 0.0 if distribution.discrete else SUPPORT_TOLERANCE
+    if p <= tolerance:
+        return
+    label = f"{_label(path, spec)} = {_inline(distribution.to_dict())}"
+    if distribution.discrete:
+        values = np.asarray(distribution.values, dtype=np.float64)
+        bad = values[~spec.contains(values)]
+        raise ScenarioError(
+            f"{label}: {bad.size} of its {values.size} values lie outside the allowed range "
+            f"{spec.range_text()} (probability {p:.3g}), e.g. {float(bad[0]):g}")
+    raise ScenarioError(
+        f"{label} puts probability {p:.3g} outside the allowed range {spec.range_text()} "
+        f"(at most {SUPPORT_TOLERANCE:g} may lie outside): narrow it, or bound it inside the "
+        f"range (a uniform's or a truncated_normal's low and high)")
+
+
+def check_samples(inputs: Mapping[str, Any], n: int | None = None) -> np.ndarray:
+    """Boolean mask over ``n`` drops: True where every sampled value in ``inputs`` (field
+    path -> array of per-drop values, the ``inputs`` of an ensemble chunk) lies inside its
+    field's allowed range. Paths that are not numeric fields (a sediment-class index) are
+    skipped. This is the one check that also covers the release angles, which the packed
+    parameter rows of :func:`check_params` hold only as a quaternion. ``n`` (default: the
+    length of the first array) sizes the mask when nothing is sampled."""
+    ok = None
+    for path, values in inputs.items():
+        spec = _field_for(path)
+        if spec is None:
+            continue
+        mask = spec.contains(values)
+        ok = mask if ok is None else ok & mask
+    if ok is None:
+        if n is None:
+            n = len(next(iter(inputs.values()))) if inputs else 0
+        ok = np.ones(n, dtype=bool)
+    return ok
+
+
+@dataclass(frozen=True)
+class InvalidSamples:
+    """Sampled values of one field that lie outside its allowed range (see
+    :func:`invalid_samples`); ``str()`` is the sentence for a warning line."""
+    path: str
+    count: int
+    total: int
+    example: float          #: the offending value farthest outside the range
+    allowed: str            #: the allowed range with units, as in error messages
+
+    def __str__(self) -> str:
+        return (f"{self.path}: {self.count} of {self.total} sampled values are outside the "
+                f"allowed range {self.allowed} (e.g. {self.example:g}); those drops are "
+                f"invalid_input")
+
+
+def invalid_samples(inputs: Mapping[str, Any]) -> list[InvalidSamples]:
+    """The fields of ``inputs`` (path -> per-drop sampled values) with values outside their
+    allowed range, one :class:`InvalidSamples` per such field, in the order of ``inputs``.
+
+    After :func:`check_distribution` has passed at load time, what can remain is a draw
+    in the tolerated tail (at most :data:`SUPPORT_TOLERANCE` per drop and field); such a
+    drop is marked ``invalid_input`` (:func:`check_samples`) and the run should say so
+    (``mineburial run`` prints ``str()`` of each item as a warning). Combinations that
+    break a cross-field constraint (|chi| < L/2, the mine above the seabed, ...) are
+    counted by :func:`check_params`/:func:`explain_params`, not here."""
+    out = []
+    for path, values in inputs.items():
+        spec = _field_for(path)
+        if spec is None:
+            continue
+        v = np.asarray(values, dtype=np.float64).reshape(-1)
+        bad = v[~spec.contains(v)]
+        if bad.size == 0:
+            continue
+        distance = np.maximum(spec.low - bad, bad - spec.high)    # NaN for a NaN value
+        example = float(bad[np.argmax(np.where(np.isnan(distance), np.inf, distance))])
+        out.append(InvalidSamples(path, int(bad.size), int(v.size), example, spec.range_text()))
+    return out
+
+
+# ===========================================================================
 # Value checking helpers (scalar, raising)
 # ===========================================================================
 def _range_error(location: str, path: str, value: float, spec: FieldSpec, *,
@@ -286,7 +416,9 @@ def _number(value, location: str, units: str = "") -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
                                                                        np.floating)):
         u = f" ({units})" if units and units != "1" else ""
-        raise ScenarioError(f"{location} = {value!r} must be a number{u}")
+        hint = (": an inline table is a distribution only with distribution = \"...\" "
+                "(docs/scenario.md)") if isinstance(value, Mapping) else ""
+        raise ScenarioError(f"{location} = {value!r} must be a number{u}{hint}")
     return float(value)
 
 
@@ -351,6 +483,20 @@ def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
         s1 * c2 * c3 - c1 * s2 * s3,
         c1 * s2 * c3 + s1 * c2 * s3,
         c1 * c2 * s3 - s1 * s2 * c3), axis=-1)
+
+
+def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
+    """Height of the lowest point of the cylinder whose COM is at height ``z`` with
+    attitude ``q`` (..., 4), by the kernel the stepper's seabed-contact event uses
+    (kernels/geometry.py ``vertical_extent``); arrays broadcast."""
+    q = np.asarray(q, dtype=np.float64)
+    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
+    args = np.broadcast_arrays(*(np.asarray(x, dtype=np.float64)
+                                 for x in (length, diameter, com_offset, a_z, z)))
+    rows = zip(*(x.ravel().tolist() for x in args))
+    return np.array([vertical_extent(L, 0.5 * d, chi, a, zc)[0] for L, d, chi, a, zc in rows],
+                    dtype=np.float64).reshape(args[0].shape)
 
 
 # ===========================================================================
@@ -430,6 +576,10 @@ class Release:
     (``roll_deg``, ``pitch_deg``, ``heading_deg``; missing ones are 0) or by a
     ``quaternion`` (scalar first, body -> earth, normalised on construction), not both.
     If neither is given the mine is horizontal, nose towards +x.
+
+    ``embedded`` (default false) allows the mine to start partly inside the seabed (a
+    mine placed on or pressed into the sediment); without it such a release is refused
+    (:class:`Scenario`), since a drop that starts in contact has no impact to report.
     """
     position: tuple = (0.0, 0.0, 0.0)
     velocity: tuple = (0.0, 0.0, 0.0)
@@ -438,8 +588,12 @@ class Release:
     pitch_deg: float | None = None
     heading_deg: float | None = None
     quaternion: tuple | None = None
+    embedded: bool = False
 
     def __post_init__(self):
+        if not isinstance(self.embedded, (bool, np.bool_)):
+            raise ScenarioError(f"release.embedded = {self.embedded!r} must be true or false")
+        _set(self, "embedded", bool(self.embedded))
         for name, paths in (("position", ("release.x", "release.y", "release.z")),
                             ("velocity", ("release.u", "release.v", "release.w")),
                             ("angular_velocity",
@@ -492,6 +646,7 @@ class Release:
             for a in _ANGLES:
                 d[a] = getattr(self, a)
         d["angular_velocity"] = list(self.angular_velocity)
+        d["embedded"] = self.embedded
         return d
 
 
@@ -776,7 +931,7 @@ _SECTIONS = ("description", "mine", "release", "environment", "sediment", "numer
 _MINE_KEYS = ("name", "length", "diameter", "mass", "com_offset", "inertia_axial",
               "inertia_transverse")
 _RELEASE_KEYS = ("position", "velocity", "angular_velocity", "roll_deg", "pitch_deg",
-                 "heading_deg", "quaternion")
+                 "heading_deg", "quaternion", "embedded")
 _ENV_KEYS = ("gravity", "air_density", "air_viscosity", "water_density", "water_viscosity",
              "water_depth", "current")
 _SED_SOURCES = ("class", "profile", "file")
@@ -793,10 +948,39 @@ def _section(d: Mapping, name: str, allowed, required: bool = False) -> dict:
     sec = d[name]
     if not isinstance(sec, Mapping):
         raise ScenarioError(f"{name} must be a table ([{name}]), got {sec!r}")
-    for key in sec:
-        if key not in allowed:
-            raise ScenarioError(f"[{name}]: " + unknown_name_message("key", key, allowed))
+    unknown = [key for key in sec if key not in allowed]
+    if unknown:
+        raise ScenarioError(f"[{name}]: " + unknown_names_message("key", unknown, allowed))
     return dict(sec)
+
+
+def _distribution_paths(node, path: str = "") -> list[str]:
+    """Paths of the distribution tables (inline tables with a ``distribution`` key)."""
+    if isinstance(node, Mapping):
+        if "distribution" in node:
+            return [path]
+        return [p for key, value in node.items()
+                for p in _distribution_paths(value, f"{path}.{key}" if path else str(key))]
+    if isinstance(node, (list, tuple)):
+        return [p for k, value in enumerate(node)
+                for p in _distribution_paths(value, f"{path}[{k}]")]
+    return []
+
+
+def _check_fixed(d: Mapping) -> None:
+    """A :class:`Scenario` is one drop: refuse an ensemble scenario with a message that
+    says so (not 'unknown section' or 'must be a number')."""
+    random = _distribution_paths(d)
+    if random:
+        listed = ", ".join(random[:5]) + (f" and {len(random) - 5} more" if len(random) > 5
+                                           else "")
+        raise ScenarioError(
+            f"{listed} {'is a distribution' if len(random) == 1 else 'are distributions'}: "
+            f"this is an ensemble scenario, but a single drop needs fixed values; run the "
+            f"ensemble with `mineburial run` (run_ensemble), or give fixed values")
+    if "ensemble" in d:
+        raise ScenarioError("the [ensemble] table belongs to an ensemble scenario (`mineburial "
+                            "run`, run_ensemble); a single drop does not use it: remove it")
 
 
 def _required(sec: dict, section: str, keys):
@@ -831,6 +1015,15 @@ class Scenario:
                                low=-depth, low_inclusive=False,
                                note="the COM must start above the seabed, "
                                     "z > -environment.water_depth")
+        m = self.mine
+        lowest = float(_lowest_point(m.length, m.diameter, m.com_offset, self.release.q, z))
+        if not self.release.embedded and lowest < -depth:
+            raise ScenarioError(
+                f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
+                f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
+                f"-environment.water_depth = {-depth:g} m), so it has no impact: release it "
+                f"at least that much higher, or set release.embedded = true for a mine placed "
+                f"in the sediment")
 
     # -- reading -------------------------------------------------------------
     @classmethod
@@ -839,9 +1032,10 @@ class Scenario:
         ``sediment.file`` (default: the current directory)."""
         if not isinstance(d, Mapping):
             raise ScenarioError(f"a scenario must be a table, got {type(d).__name__}")
-        for key in d:
-            if key not in _SECTIONS:
-                raise ScenarioError(unknown_name_message("section", key, _SECTIONS))
+        _check_fixed(d)
+        unknown = [key for key in d if key not in _SECTIONS]
+        if unknown:
+            raise ScenarioError(unknown_names_message("section", unknown, _SECTIONS))
         mine = _section(d, "mine", _MINE_KEYS, required=True)
         _required(mine, "mine", ("length", "diameter", "mass"))
         release = _section(d, "release", _RELEASE_KEYS)
@@ -967,14 +1161,17 @@ def _current_from_dict(cur) -> Current:
     kind = cur.get("kind", "none")
     kind = _choice(kind, layout.CURRENT_KINDS, "environment.current.kind")
     allowed = _CURRENT_KEYS[kind]
-    for key in cur:
-        if key not in allowed:
-            all_keys = sorted({k for ks in _CURRENT_KEYS.values() for k in ks})
-            if key in all_keys:
-                raise ScenarioError(f"[environment.current]: key '{key}' is not used by kind "
-                                    f"'{kind}'; keys of this kind: {', '.join(allowed)}")
-            raise ScenarioError("[environment.current]: "
-                                + unknown_name_message("key", key, all_keys))
+    all_keys = sorted({k for ks in _CURRENT_KEYS.values() for k in ks})
+    unknown = [key for key in cur if key not in all_keys]
+    if unknown:
+        raise ScenarioError("[environment.current]: "
+                            + unknown_names_message("key", unknown, all_keys))
+    unused = [key for key in cur if key not in allowed]
+    if unused:
+        raise ScenarioError(f"[environment.current]: {'key' if len(unused) == 1 else 'keys'} "
+                            f"{', '.join(repr(k) for k in unused)} "
+                            f"{'is' if len(unused) == 1 else 'are'} not used by kind "
+                            f"'{kind}'; keys of this kind: {', '.join(allowed)}")
     if kind in ("uniform", "power_law"):
         key = "velocity" if kind == "uniform" else "surface_velocity"
         if key not in cur:
@@ -1028,7 +1225,7 @@ _CODE_LIMITS = {
 }
 
 
-def _param_checks(P: np.ndarray, n_sediment, n_current):
+def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
     """List of (text, slot names involved, ok mask) over rows of P."""
     P = np.atleast_2d(np.asarray(P, dtype=np.float64))
     if P.ndim != 2 or P.shape[-1] != layout.N_PARAMS:
@@ -1069,6 +1266,16 @@ def _param_checks(P: np.ndarray, n_sediment, n_current):
     checks.append(("release.z > -environment.water_depth",
                    ("release.z", "environment.water_depth"),
                    col["release.z"] > -col["environment.water_depth"]))
+    if not embedded:
+        q = np.stack([col[f"release.q{i}"] for i in range(4)], axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            lowest = _lowest_point(col["mine.length"], col["mine.diameter"],
+                                  col["mine.com_offset"], q, col["release.z"])
+        checks.append(("the mine starts entirely above the seabed (release.embedded = false)",
+                       ("release.z", "environment.water_depth", "mine.length", "mine.diameter",
+                        "mine.com_offset", "release.q0", "release.q1", "release.q2",
+                        "release.q3"),
+                       lowest >= -col["environment.water_depth"]))
     qn = np.sqrt(sum(col[f"release.q{i}"] ** 2 for i in range(4)))
     checks.append(("the release quaternion has unit norm (within 1e-9)",
                    tuple(f"release.q{i}" for i in range(4)), np.abs(qn - 1) <= 1e-9))
@@ -1077,27 +1284,31 @@ def _param_checks(P: np.ndarray, n_sediment, n_current):
     return checks
 
 
-def check_params(P, n_sediment: int | None = None, n_current: int | None = None) -> np.ndarray:
+def check_params(P, n_sediment: int | None = None, n_current: int | None = None, *,
+                 embedded: bool = False) -> np.ndarray:
     """Boolean mask over packed parameter rows ``P`` (shape (n, N_PARAMS) or (N_PARAMS,)):
     True where every slot is inside its :data:`FIELDS` range, codes are valid, bank
     indices are in range (when the bank sizes are given) and the cross-field constraints
-    hold (|chi| < L/2, J1 <= 2 J2, z0 > -H, unit quaternion, dt <= t_max). The ensemble
+    hold (|chi| < L/2, J1 <= 2 J2, z0 > -H, the whole mine above the seabed unless
+    ``embedded`` (``release.embedded``), unit quaternion, dt <= t_max). The ensemble
     marks the failing drops ``invalid_input`` (kernels/status.py); :func:`explain_params`
     says why."""
-    checks = _param_checks(P, n_sediment, n_current)
+    checks = _param_checks(P, n_sediment, n_current, embedded)
     ok = np.ones_like(checks[0][2], dtype=bool)
     for _, _, mask in checks:
         ok &= mask
     return ok
 
 
-def explain_params(p, n_sediment: int | None = None, n_current: int | None = None) -> list[str]:
+def explain_params(p, n_sediment: int | None = None, n_current: int | None = None, *,
+                   embedded: bool = False) -> list[str]:
     """The constraints that one parameter row ``p`` violates, with the offending values
     (empty list when the row is valid)."""
     p = np.asarray(p, dtype=np.float64).reshape(-1)
     return [f"{text} (got " + ", ".join(f"{n} = {float(p[layout.INDEX[n]])!r}" for n in names)
             + ")"
-            for text, names, mask in _param_checks(p, n_sediment, n_current) if not mask[0]]
+            for text, names, mask in _param_checks(p, n_sediment, n_current, embedded)
+            if not mask[0]]
 
 
 # ===========================================================================
@@ -1149,15 +1360,26 @@ _DATA = pathlib.Path(__file__).resolve().parent / "data"
 
 
 def example_names() -> tuple[str, ...]:
-    """Names of the example scenarios shipped in ``mineburial/data``."""
+    """Names of the example (single-drop) scenarios shipped in ``mineburial/data``."""
     return tuple(sorted(p.stem for p in _DATA.glob("*.toml")))
 
 
+def ensemble_example_names() -> tuple[str, ...]:
+    """Names of the example ensemble scenarios shipped in ``mineburial/data/ensembles``
+    (for ``mineburial run`` and ``mineburial map``; ``default_soft_mud`` is the one
+    ``mineburial run`` uses without a scenario)."""
+    return tuple(sorted(p.stem for p in (_DATA / "ensembles").glob("*.toml")))
+
+
 def example_path(name: str) -> pathlib.Path:
-    """Path of example scenario ``name`` (ScenarioError with a suggestion if unknown)."""
+    """Path of example scenario ``name``, single-drop or ensemble (ScenarioError with a
+    suggestion if unknown)."""
+    if name in ensemble_example_names():
+        return _DATA / "ensembles" / f"{name}.toml"
     names = example_names()
     if name not in names:
-        raise ScenarioError(unknown_name_message("example scenario", name, names))
+        raise ScenarioError(unknown_name_message("example scenario", name,
+                                                 names + ensemble_example_names()))
     return _DATA / f"{name}.toml"
 
 

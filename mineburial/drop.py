@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 
 import numpy as np
 import xarray as xr
@@ -48,6 +49,41 @@ _FORCE_ATTRS = {
 SUMMARY_ATTRS = {name: (out.units, out.long_name) for name, out in SUMMARY_OUTPUTS.items()}
 
 
+def _memory_bytes() -> int | None:
+    """Physical memory of this machine in bytes (None where the OS does not say)."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):   # pragma: no cover - not POSIX
+        return None
+
+
+def trajectory_rows(record_interval, t_max: float, name: str = "record_interval") -> int:
+    """Rows of the trajectory recorded every ``record_interval`` seconds over ``t_max``.
+
+    Raises :class:`~mineburial.config.ScenarioError` naming ``name`` (the argument or
+    command-line option) when the interval is not a finite number > 0, or when the
+    trajectory would take more than half of this machine's memory.
+    """
+    from mineburial.config import ScenarioError
+
+    if isinstance(record_interval, bool) or not isinstance(
+            record_interval, (int, float, np.integer, np.floating)):
+        raise ScenarioError(f"{name} = {record_interval!r} must be a number of seconds")
+    dt_rec = float(record_interval)
+    if not (math.isfinite(dt_rec) and dt_rec > 0.0):
+        raise ScenarioError(f"{name} = {dt_rec!r} s must be a finite number > 0 (seconds "
+                            f"between trajectory records)")
+    rows = t_max / dt_rec + 3.0          # float: may overflow to inf for a tiny interval
+    need = rows * N_TRAJ * 8.0
+    memory = _memory_bytes()
+    if not math.isfinite(need) or (memory is not None and need > memory / 2):
+        raise ScenarioError(
+            f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over numerics.t_max "
+            f"= {t_max:g} s, {need / 2 ** 30:.3g} GiB, more than half of this machine's "
+            f"memory ({(memory or 0) / 2 ** 30:.3g} GiB): give a larger {name}")
+    return math.ceil(t_max / dt_rec) + 3
+
+
 def run_params(params, sediment_bank, current_bank, record_interval=None):
     """Run one drop on packed inputs; returns (status, summary, trajectory or None)."""
     params = np.ascontiguousarray(params, dtype=np.float64)
@@ -57,8 +93,7 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
         dt_rec = 1.0
     else:
         dt_rec = float(record_interval)
-        n = int(math.ceil(params[layout.P_TMAX] / dt_rec)) + 3
-        traj = np.empty((n, N_TRAJ))
+        traj = np.empty((trajectory_rows(dt_rec, float(params[layout.P_TMAX])), N_TRAJ))
     code, rows = run_drop(params, np.ascontiguousarray(sediment_bank, dtype=np.float64),
                           np.ascontiguousarray(current_bank, dtype=np.float64), summary, traj,
                           dt_rec, reference_paths(params))
@@ -74,7 +109,8 @@ def simulate_drop(scenario, record_interval: float | None = None, forces: bool =
     scenario : mineburial.config.Scenario, dict or path to a TOML file
         A fully specified (deterministic) scenario.
     record_interval : float, optional
-        Output interval in seconds (default: every 10 time steps).
+        Output interval in seconds (default: every 10 time steps); a finite number > 0
+        whose trajectory fits in memory (:func:`trajectory_rows`).
     forces : bool
         Also return the fluid and sediment forces and the torque.
     params : tuple, optional

@@ -145,6 +145,32 @@ def _check_units(da, allowed, want, name):
                        f"expected {want}")
 
 
+def _check_axis(da) -> None:
+    """A horizontal axis must be 1-D, finite and strictly monotonic (increasing or
+    decreasing): cells are drawn between midpoints of neighbouring coordinates, so an
+    unsorted or repeated coordinate would put cells in the wrong place."""
+    name = str(da.name)
+    if da.ndim != 1:
+        raise MapError(f"environment grid: coordinate '{name}' must be 1-D, got dimensions "
+                       f"{da.dims}")
+    c = np.asarray(da.values, dtype=np.float64)
+    bad = np.flatnonzero(~np.isfinite(c))
+    if bad.size:
+        raise MapError(f"environment grid: coordinate '{name}' has the non-finite value "
+                       f"{c[bad[0]]} at index {bad[0]}")
+    step = np.diff(c)
+    same = np.flatnonzero(step == 0)
+    if same.size:
+        k = int(same[0])
+        raise MapError(f"environment grid: coordinate '{name}' repeats the value {c[k]:g} "
+                       f"(indices {k} and {k + 1}); each cell needs its own coordinate")
+    if step.size and not (np.all(step > 0) or np.all(step < 0)):
+        k = int(np.flatnonzero(np.sign(step) != np.sign(step[0]))[0])
+        raise MapError(f"environment grid: coordinate '{name}' is not sorted: {c[k]:g} then "
+                       f"{c[k + 1]:g} at indices {k}, {k + 1} (it must increase or decrease "
+                       f"throughout; sort the grid, e.g. ds.sortby('{name}'))")
+
+
 def read_environment(source) -> EnvironmentGrid:
     """Read and check an environment grid (path or :class:`xarray.Dataset`); docs/maps.md.
 
@@ -203,6 +229,8 @@ def read_environment(source) -> EnvironmentGrid:
         raise MapError("environment grid: a projected y/x grid needs a grid_mapping variable "
                        "(CF 5.6) named by the grid_mapping attribute of water_depth")
     dims = (ydim, xdim)
+    _check_axis(yc)
+    _check_axis(xc)
     depth_da = _field(ds, "water_depth", dims)
     _check_units(depth_da, _METRE, "m", "water_depth")
     depth = np.asarray(depth_da.values, dtype=np.float64)

@@ -63,6 +63,20 @@ def unknown_name_message(what: str, name: str, allowed: Iterable[str]) -> str:
     return f"unknown {what} '{name}':{hint} allowed: {', '.join(allowed)}"
 
 
+def unknown_names_message(what: str, names: Iterable[str], allowed: Iterable[str]) -> str:
+    """:func:`unknown_name_message` for every unknown name at once:
+    ``unknown keys 'lenght' (did you mean 'length'?), 'x': allowed: a, b, c``."""
+    names = list(names)
+    if len(names) == 1:
+        return unknown_name_message(what, names[0], allowed)
+    allowed = sorted(allowed)
+    parts = []
+    for name in names:
+        close = difflib.get_close_matches(str(name), allowed, n=1, cutoff=0.5)
+        parts.append(f"'{name}'" + (f" (did you mean '{close[0]}'?)" if close else ""))
+    return f"unknown {what}s {', '.join(parts)}: allowed: {', '.join(allowed)}"
+
+
 #: Allowed bulk density of a sediment [kg m-3]: from (fresh) water to the grain
 #: density of quartz/clay minerals (~2650-2700 kg m-3).
 DENSITY_RANGE = (1000.0, 2700.0)
@@ -216,9 +230,9 @@ class SedimentProfile:
         allowed = {"depth", "density", "strength", "name", "description", "source"}
         if not isinstance(d, dict):
             raise ScenarioError(f"{where} must be a table with keys depth, density, strength")
-        for key in d:
-            if key not in allowed:
-                raise ScenarioError(f"{where}: " + unknown_name_message("key", key, allowed))
+        unknown = [key for key in d if key not in allowed]
+        if unknown:
+            raise ScenarioError(f"{where}: " + unknown_names_message("key", unknown, allowed))
         for key in ("depth", "density", "strength"):
             if key not in d:
                 raise ScenarioError(f"{where}.{key} is required (a list of numbers)")

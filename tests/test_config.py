@@ -556,3 +556,199 @@ def test_check_params_cross_constraints():
     # a tabulated profile makes the linear slots informational only
     P[6, idx["sediment.profile_index"]] = 0
     assert check_params(P[6], n_sediment=1)[0]
+
+
+# ---------------------------------------------------------------------------
+# distributions and samples against the field ranges (issue 12 items 5, 6)
+# ---------------------------------------------------------------------------
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def _ensemble(**fields):
+    """base() as an ensemble scenario with the dotted ``fields`` set."""
+    d = base()
+    for path, value in fields.items():
+        section, key = path.split(".")
+        d[section][key] = value
+    return d
+
+
+@pytest.mark.parametrize("path", sorted(
+    [*(ROOT / "mineburial" / "data").rglob("*.toml"), *(ROOT / "benchmarks" / "scenarios").glob(
+        "*.toml")]), ids=lambda p: p.name)
+def test_shipped_scenarios_pass_the_support_check(path):
+    """The rule that refuses distributions reaching outside a range keeps every shipped
+    example and benchmark scenario (normal masses, lognormal strengths) valid."""
+    from mineburial.ensembles.engine import load_ensemble
+
+    load_ensemble(path)
+
+
+def test_pitch_uniform_on_full_circle_is_refused_at_load():
+    """Regression: pitch_deg = uniform(-180, 180) ran drops at 155 deg."""
+    from mineburial.ensembles.engine import load_ensemble
+
+    d = _ensemble(**{"release.pitch_deg": {"distribution": "uniform", "low": -180.0,
+                                           "high": 180.0}})
+    with pytest.raises(ScenarioError, match=r"^release\.pitch_deg = \{distribution = \"uniform\", "
+                                            r"low = -180, high = 180\} puts probability 0\.5 "
+                                            r"outside the allowed range \[-90, 90\] deg"):
+        load_ensemble(d)
+
+
+@pytest.mark.parametrize("mean,refused", [(300.0, False), (5.0, False), (4.0, True), (1.0, True)])
+def test_normal_on_a_positive_field_is_refused_only_beyond_the_tolerance(mean, refused):
+    """mass ~ normal(mean, 1) puts Phi(-mean) below 0 (scipy): 2.9e-7 at 5 sigma is within
+    the 1e-6 tolerance, 3.2e-5 at 4 sigma is not, and the message gives that number."""
+    from scipy.stats import norm
+
+    table = {"distribution": "normal", "mean": mean, "std": 1.0}
+    from mineburial.ensembles.distributions import from_dict
+
+    d = from_dict(table, "mine.mass")
+    outside = norm.cdf(-mean)
+    assert (outside > config.SUPPORT_TOLERANCE) == refused
+    if refused:
+        with pytest.raises(ScenarioError, match=rf"^mine\.mass = .* puts probability "
+                                                rf"{outside:.3g} outside the allowed range "
+                                                r"\(0, 100000\] kg \(at most 1e-06"):
+            config.check_distribution("mine.mass", d)
+    else:
+        config.check_distribution("mine.mass", d)
+
+
+def test_bounded_distributions_inside_the_range_are_accepted():
+    from mineburial.ensembles.distributions import from_dict
+
+    ok = [("mine.mass", {"distribution": "truncated_normal", "mean": 1.0, "std": 5.0,
+                         "low": 0.5, "high": 20.0}),     # the parent normal reaches below 0
+          ("mine.mass", {"distribution": "uniform", "low": 0.0, "high": 10.0}),   # open end: P=0
+          ("sediment.friction", {"distribution": "choice", "values": [0.3, 9.0],
+                                 "weights": [1.0, 0.0]}),  # a zero weight is never drawn
+          ("release.position[2]", {"distribution": "uniform", "low": -5.0, "high": 5.0}),
+          ("sediment.class", {"distribution": "choice", "values": ["sand", "mud"]}),  # labels
+          ("not.a.field", {"distribution": "normal", "mean": 0.0, "std": 1.0})]
+    for path, table in ok:
+        config.check_distribution(path, from_dict(table, path))
+    bad = from_dict({"distribution": "choice", "values": [0.3, 9.0], "weights": [1.0, 1e-9]},
+                    "sediment.friction")
+    with pytest.raises(ScenarioError, match=r"1 of its 2 values lie outside the allowed range "
+                                            r"\[0, 5\] \(probability 1e-09\), e\.g\. 9"):
+        config.check_distribution("sediment.friction", bad)
+
+
+def test_invalid_samples_are_counted_per_field():
+    """Sampled values outside their ranges, counted by hand: mass (0, 1e5] kg has -2 and NaN
+    out; pitch [-90, 90] has 95 and -91 (95 the farthest); a sediment-class index and an
+    unknown name are not fields."""
+    inputs = {"mine.mass": np.array([1.0, -2.0, 3.0, np.nan]),
+              "release.pitch_deg": np.array([0.0, 95.0, -91.0, 10.0]),
+              "release.velocity[0]": np.array([0.0, 1.0, 2.0, 3.0]),
+              "sediment.class": np.array([0, 1, 5, 7]),
+              "something": np.array([-1e9] * 4)}
+    np.testing.assert_array_equal(config.check_samples(inputs), [True, False, False, False])
+    found = config.invalid_samples(inputs)
+    assert [(f.path, f.count, f.total) for f in found] == [("mine.mass", 2, 4),
+                                                           ("release.pitch_deg", 2, 4)]
+    assert math.isnan(found[0].example) and found[1].example == 95.0
+    assert str(found[1]) == ("release.pitch_deg: 2 of 4 sampled values are outside the allowed "
+                             "range [-90, 90] deg (e.g. 95); those drops are invalid_input")
+    assert config.check_samples({}, 3).tolist() == [True] * 3
+
+
+def test_sampled_angle_outside_range_marks_the_drop_invalid(monkeypatch):
+    """The packed rows hold the angles only as a quaternion, so check_params cannot see a
+    sampled pitch of 120 deg: chunk_inputs must mark that drop invalid_input."""
+    from mineburial.ensembles import engine
+    from mineburial.ensembles.sampling import SampleTable
+
+    spec = engine.load_ensemble(_ensemble(**{"release.pitch_deg": {
+        "distribution": "uniform", "low": 0.0, "high": 60.0}}))
+    monkeypatch.setattr(engine, "sample_fields", lambda *a, **k: SampleTable(
+        {"release.pitch_deg": np.array([10.0, 120.0, -90.0])}))
+    _, valid, inputs = engine.chunk_inputs(spec, 0, 3)
+    assert valid.tolist() == [True, False, True]
+    assert inputs["release.pitch_deg"].tolist() == [10.0, 120.0, -90.0]
+
+
+# ---------------------------------------------------------------------------
+# a mine released partly inside the seabed (issue 12 item 12)
+# ---------------------------------------------------------------------------
+def test_release_partly_inside_the_seabed_is_refused():
+    """Regression: such a release ran and reported a NaN impact speed. Geometry by hand:
+    a horizontal cylinder of diameter 0.5 reaches 0.25 below its COM; nose down (pitch 90)
+    with chi = 0.2 the nose is L/2 - chi = 0.8 below it."""
+    def scenario(z, pitch, chi=0.0, embedded=False):
+        d = base()
+        d["mine"]["com_offset"] = chi
+        d["release"] = {"position": [0.0, 0.0, z], "pitch_deg": pitch, "embedded": embedded}
+        return Scenario.from_dict(d)
+
+    scenario(-30.0 + 0.25, 0.0)                                   # touching
+    with pytest.raises(ScenarioError, match=r"^release\.position\[2\] = -29\.8 m starts the mine "
+                                            r"0\.05 m inside the seabed"):
+        scenario(-29.8, 0.0)
+    scenario(-30.0 + 0.8, 90.0, chi=0.2)
+    with pytest.raises(ScenarioError, match=r"0\.01 m inside the seabed.*release\.embedded = true"):
+        scenario(-29.21, 90.0, chi=0.2)
+    s = scenario(-29.8, 0.0, embedded=True)                      # said on purpose
+    assert s.release.embedded and Scenario.from_dict(s.to_dict()) == s
+    with pytest.raises(ScenarioError, match=r"release\.embedded = 'yes' must be true or false"):
+        scenario(-29.8, 0.0, embedded="yes")
+
+
+def test_check_params_marks_partly_embedded_rows():
+    p, _, _ = Scenario.from_dict(base()).to_params()
+    P = np.tile(p, (3, 1))
+    z = layout.INDEX["release.z"]
+    P[:, z] = [-29.0, -30.0 + 0.25 * math.cos(math.radians(30.0)) + 1.0 * math.sin(
+        math.radians(30.0)) + 1e-9, -29.5]                       # above, touching, inside
+    assert check_params(P, n_sediment=1, n_current=0).tolist() == [True, True, False]
+    assert check_params(P, n_sediment=1, n_current=0, embedded=True).tolist() == [True] * 3
+    assert any("entirely above the seabed" in m for m in explain_params(P[2], n_sediment=1))
+
+
+# ---------------------------------------------------------------------------
+# messages that named one of several problems, or the wrong one (issue 12 item 12)
+# ---------------------------------------------------------------------------
+def test_unknown_keys_are_all_named():
+    d = base()
+    d["release"]["positon"] = [0.0, 0.0, 1.0]
+    d["release"]["pich_deg"] = 3.0
+    with pytest.raises(ScenarioError, match=r"^\[release\]: unknown keys 'positon' \(did you mean "
+                                            r"'position'\?\), 'pich_deg' \(did you mean "
+                                            r"'pitch_deg'\?\): allowed: "):
+        Scenario.from_dict(d)
+    d = base()
+    d["environment"]["current"] = {"kind": "uniform", "velocity": [0.1, 0.0], "exponent": 0.2,
+                                   "surface_velocity": [0.0, 0.0]}
+    with pytest.raises(ScenarioError, match=r"keys 'exponent', 'surface_velocity' are not used by "
+                                            r"kind 'uniform'"):
+        Scenario.from_dict(d)
+
+
+def test_an_ensemble_scenario_given_as_one_drop_says_so():
+    d = base()
+    d["mine"]["mass"] = {"distribution": "normal", "mean": 700.0, "std": 5.0}
+    d["release"]["velocity"] = [0.0, 0.0, {"distribution": "uniform", "low": -2.0, "high": 0.0}]
+    with pytest.raises(ScenarioError, match=r"^mine\.mass, release\.velocity\[2\] are distributions:"
+                                            r" this is an ensemble scenario"):
+        Scenario.from_dict(d)
+    d = base()
+    d["ensemble"] = {"n": 10}
+    with pytest.raises(ScenarioError, match=r"^the \[ensemble\] table belongs to an ensemble"):
+        Scenario.from_dict(d)
+
+
+def test_docs_name_only_examples_that_exist():
+    """Regression: docs/maps.md told users to write `mineburial example default_ensemble`,
+    which does not exist."""
+    import re
+
+    from mineburial.ensembles.engine import DEFAULT_SCENARIO
+
+    names = set(config.example_names()) | set(config.ensemble_example_names())
+    texts = [p.read_text() for p in [ROOT / "README.md", *(ROOT / "docs").glob("*.md")]]
+    used = {m for t in texts for m in re.findall(r"mineburial example ([A-Za-z0-9_]+)", t)}
+    assert used and used <= names, used - names
+    assert config.example_path("default_soft_mud") == DEFAULT_SCENARIO

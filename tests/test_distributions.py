@@ -271,3 +271,71 @@ def test_empirical_file_errors(tmp_path):
                   "sediment.strength", base_dir=tmp_path)
     with pytest.raises(DistributionError, match=r"has columns depth, strength; name one"):
         from_dict({"distribution": "empirical", "file": "c.csv"}, "sediment.strength", base_dir=tmp_path)
+
+
+# --- probability outside an interval: the load-time support check (issue 12 item 6) ---
+def _phi(x):
+    return stats.norm.cdf(x)
+
+
+def _truncnorm_cdf(x, mu, sd, a, b):
+    """CDF of normal(mu, sd) restricted to [a, b], from the normal CDF alone."""
+    x = min(max(x, a), b)
+    za, zb = _phi((a - mu) / sd), _phi((b - mu) / sd)
+    return (_phi((x - mu) / sd) - za) / (zb - za)
+
+
+OUTSIDE = [
+    ({"distribution": "uniform", "low": 2.0, "high": 5.0},
+     lambda lo, hi: (min(max(lo - 2.0, 0.0), 3.0) + min(max(5.0 - hi, 0.0), 3.0)) / 3.0),
+    ({"distribution": "normal", "mean": 3.0, "std": 1.5},
+     lambda lo, hi: _phi((lo - 3.0) / 1.5) + 1.0 - _phi((hi - 3.0) / 1.5)),
+    ({"distribution": "truncated_normal", "mean": 1.0, "std": 2.0, "low": 0.5, "high": 6.0},
+     lambda lo, hi: _truncnorm_cdf(lo, 1.0, 2.0, 0.5, 6.0)
+     + 1.0 - _truncnorm_cdf(hi, 1.0, 2.0, 0.5, 6.0)),
+    ({"distribution": "lognormal", "median": 3.0, "sigma": 0.5},
+     lambda lo, hi: (_phi(math.log(lo / 3.0) / 0.5) if lo > 0 else 0.0)
+     + 1.0 - _phi(math.log(hi / 3.0) / 0.5)),
+]
+INTERVALS = [(-math.inf, math.inf), (2.5, 4.0), (0.0, 1.5), (-1.0, 3.0), (4.0, 100.0),
+             (10.0, 20.0)]
+
+
+@pytest.mark.parametrize("table,reference", OUTSIDE, ids=lambda x: x["distribution"]
+                         if isinstance(x, dict) else "")
+def test_probability_outside_matches_the_closed_form(table, reference):
+    d = from_dict(table, "test.x")
+    for low, high in INTERVALS:
+        expected = min(reference(low, high), 1.0)
+        assert d.probability_outside(low, high) == pytest.approx(expected, rel=1e-9, abs=1e-15)
+
+
+def test_probability_outside_agrees_with_the_fraction_of_draws():
+    """The CDF-based probability and the inverse-CDF draws are separate code: a normal(1, 1)
+    puts Phi(-1) = 0.1587 below 0, and so many of 1e5 draws do (binomial 5 sigma)."""
+    table = {"distribution": "normal", "mean": 1.0, "std": 1.0}
+    p = from_dict(table, "test.x").probability_outside(0.0, math.inf)
+    x = draws(table)
+    assert abs(np.mean(x < 0.0) - p) < 5 * math.sqrt(p * (1 - p) / N)
+    assert p == pytest.approx(0.15865525393145707, rel=1e-12)
+
+
+def test_probability_outside_of_discrete_families_counts_open_ends():
+    c = from_dict({"distribution": "choice", "values": [0.0, 1.0, 2.0], "weights": [1, 1, 2]},
+                  "test.x")
+    assert c.probability_outside(0.0, 2.0) == 0.0
+    assert c.probability_outside(0.0, 2.0, low_inclusive=False) == 0.25
+    assert c.probability_outside(0.0, 2.0, high_inclusive=False) == 0.5
+    e = from_dict({"distribution": "empirical", "values": [1.0, 1.0, 2.0, 5.0]}, "test.x")
+    assert e.probability_outside(0.0, 3.0) == 0.25
+    assert e.probability_outside(1.0, 5.0, low_inclusive=False) == 0.5
+    with pytest.raises(TypeError):
+        from_dict({"distribution": "choice", "values": ["a", "b"]}, "t").probability_outside(0, 1)
+
+
+def test_distribution_error_is_a_scenario_error():
+    """The command line reports ScenarioErrors in one line: a bad distribution table is one
+    (it used to end in a traceback)."""
+    from mineburial.config import ScenarioError
+
+    assert issubclass(DistributionError, ScenarioError)

@@ -225,7 +225,8 @@ def test_mine_placed_on_a_bottom_that_holds_it_stops_at_once():
     within 5 mm of where it was put (the regularised switch mobilises the resistance over
     a few mm of settlement)."""
     sc = make_scenario(environment={"water_depth": 10.0},
-                       release={"position": [0.0, 0.0, -10.0 + 0.06], "pitch_deg": 0.0},
+                       release={"position": [0.0, 0.0, -10.0 + 0.06], "pitch_deg": 0.0,
+                                "embedded": True},
                        sediment={"class": "stiff_clay"}, numerics={"t_max": 10.0})
     p, sb, cb = sc.to_params()
     code, s, _ = run_params(p, sb, cb)

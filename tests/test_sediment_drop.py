@@ -39,7 +39,8 @@ def _archimedes_case(penetration, t_max):
     depth = 10.0
     sc = _scenario(mine={"mass": rho_mine * vol},
                    environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
-                   release={"position": [0.0, 0.0, -depth + r - penetration], "pitch_deg": 0.0},
+                   release={"position": [0.0, 0.0, -depth + r - penetration], "pitch_deg": 0.0,
+                            "embedded": True},
                    sediment={"density": rho_s, "density_gradient": 0.0, "strength": 0.0,
                              "strength_gradient": 0.0, "resistance": "bearing"},
                    numerics={"t_max": t_max, "dt": 1e-3})

@@ -29,6 +29,10 @@ Families and parameterisations (scipy.stats names in brackets):
     strings) with probabilities proportional to ``weights`` (equal if omitted).
 ``empirical(values=[...])`` or ``empirical(file="...", column="...")`` --
     resample the given numbers with equal weight (inverse empirical CDF).
+
+Every family also gives ``probability_outside(low, high)``, the probability of a draw
+outside an interval, with which :func:`mineburial.config.check_distribution` checks a
+distribution against its field's allowed range when an ensemble scenario is loaded.
 """
 
 from __future__ import annotations
@@ -43,6 +47,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 from scipy import special, stats
+
+from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
     "DistributionError",
@@ -60,11 +66,12 @@ __all__ = [
 ]
 
 
-class DistributionError(ValueError):
+class DistributionError(ScenarioError):
     """A scenario value or distribution table is invalid.
 
     The message always starts with the dotted field path, e.g.
-    ``"mine.mass: std = -1 must be > 0"``.
+    ``"mine.mass: std = -1 must be > 0"``. A :class:`ScenarioError` (so a
+    ``ValueError``): the command line reports it as a one-line error.
     """
 
 
@@ -96,13 +103,17 @@ def _number(d: Mapping, key: str, field: str, family: str, *, default=None,
 
 
 def _check_keys(d: Mapping, field: str, family: str, allowed: tuple[str, ...]) -> None:
-    for key in d:
-        if key == "distribution":
-            continue
-        if key not in allowed:
-            raise DistributionError(
-                f"{field}: unknown parameter {key!r} for the {family} distribution; "
-                f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}")
+    unknown = [key for key in d if key != "distribution" and key not in allowed]
+    if len(unknown) == 1:
+        key = unknown[0]
+        raise DistributionError(
+            f"{field}: unknown parameter {key!r} for the {family} distribution; "
+            f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}")
+    if unknown:
+        names = ", ".join(f"{key!r}{_nearest(key, allowed)}" for key in unknown)
+        raise DistributionError(
+            f"{field}: unknown parameters {names} for the {family} distribution; "
+            f"allowed parameters are {', '.join(allowed)}")
 
 
 def _check_family(d: Mapping, field: str, family: str) -> None:
@@ -116,6 +127,12 @@ def _as_u(u) -> np.ndarray:
     return np.asarray(u, dtype=np.float64)
 
 
+def _inside(values, low, high, low_inclusive, high_inclusive) -> np.ndarray:
+    v = np.asarray(values, dtype=np.float64)
+    return (((v >= low) if low_inclusive else (v > low))
+            & ((v <= high) if high_inclusive else (v < high)))
+
+
 # ---------------------------------------------------------------------------
 # families
 # ---------------------------------------------------------------------------
@@ -124,12 +141,16 @@ class Distribution:
     """Base class: a frozen dataclass per family with a vectorised inverse CDF.
 
     Subclasses define ``family`` (the name used in the TOML ``distribution``
-    key), ``from_dict``, ``ppf``, ``mean``, ``support`` and ``to_dict``.
+    key), ``from_dict``, ``ppf``, ``mean``, ``support``,
+    ``probability_outside`` and ``to_dict``.
     """
 
     family: ClassVar[str] = ""
     #: True when draws are labels (strings) returned as integer indices.
     categorical: ClassVar[bool] = False
+    #: True for the families that draw from a finite list of values (choice,
+    #: empirical); False for the continuous ones.
+    discrete: ClassVar[bool] = False
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], field: str, *,
@@ -144,6 +165,14 @@ class Distribution:
         raise NotImplementedError
 
     def support(self) -> tuple[float, float]:  # pragma: no cover
+        raise NotImplementedError
+
+    def probability_outside(self, low: float, high: float, low_inclusive: bool = True,
+                            high_inclusive: bool = True) -> float:  # pragma: no cover
+        """Probability that a draw lies outside the interval from ``low`` to ``high``
+        (each end closed or open as given; it matters only for the discrete families).
+        Used to check a distribution against a field's allowed range when a scenario
+        is loaded (:func:`mineburial.config.check_distribution`)."""
         raise NotImplementedError
 
     def to_dict(self) -> dict[str, Any]:
@@ -186,6 +215,12 @@ class Uniform(Distribution):
     def support(self):
         return (self.low, self.high)
 
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        width = self.high - self.low
+        below = min(max(low - self.low, 0.0), width)
+        above = min(max(self.high - high, 0.0), width)
+        return min((below + above) / width, 1.0)
+
 
 @dataclass(frozen=True)
 class Normal(Distribution):
@@ -213,6 +248,10 @@ class Normal(Distribution):
 
     def support(self):
         return (-math.inf, math.inf)
+
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        return min(float(special.ndtr((low - self.mu) / self.std)
+                         + special.ndtr((self.mu - high) / self.std)), 1.0)
 
     def to_dict(self):
         return {"distribution": self.family, "mean": self.mu, "std": self.std}
@@ -276,6 +315,12 @@ class TruncatedNormal(Distribution):
     def support(self):
         return (self.low, self.high)
 
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        a, b = self._ab
+        kw = {"loc": self.mu, "scale": self.std}
+        return min(float(stats.truncnorm.cdf(low, a, b, **kw)
+                         + stats.truncnorm.sf(high, a, b, **kw)), 1.0)
+
     def to_dict(self):
         out = {"distribution": self.family, "mean": self.mu, "std": self.std}
         if math.isfinite(self.low):
@@ -336,6 +381,11 @@ class LogNormal(Distribution):
     def support(self):
         return (0.0, math.inf)
 
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        kw = {"s": self.sigma, "scale": self.median}
+        below = float(stats.lognorm.cdf(low, **kw)) if low > 0 else 0.0
+        return min(below + float(stats.lognorm.sf(high, **kw)), 1.0)
+
 
 @dataclass(frozen=True)
 class Choice(Distribution):
@@ -349,6 +399,7 @@ class Choice(Distribution):
     values: tuple
     weights: tuple[float, ...]
     family: ClassVar[str] = "choice"
+    discrete: ClassVar[bool] = True
 
     @classmethod
     def from_dict(cls, d, field, *, base_dir=None):
@@ -434,6 +485,12 @@ class Choice(Distribution):
             raise TypeError(f"a choice among labels {self.values!r} has no numeric support")
         return (min(self.values), max(self.values))
 
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        if self.categorical:
+            raise TypeError(f"a choice among labels {self.values!r} has no numeric support")
+        out = ~_inside(self.values, low, high, low_inclusive, high_inclusive)
+        return min(math.fsum(w for w, o in zip(self.weights, out) if o), 1.0)
+
 
 @dataclass(frozen=True)
 class Empirical(Distribution):
@@ -450,6 +507,7 @@ class Empirical(Distribution):
     file: str | None = None
     column: str | None = None
     family: ClassVar[str] = "empirical"
+    discrete: ClassVar[bool] = True
 
     @classmethod
     def from_dict(cls, d, field, *, base_dir=None):
@@ -498,6 +556,10 @@ class Empirical(Distribution):
 
     def support(self):
         return (self.values[0], self.values[-1])
+
+    def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        out = ~_inside(self.values, low, high, low_inclusive, high_inclusive)
+        return int(out.sum()) / len(self.values)
 
     def to_dict(self):
         out: dict[str, Any] = {"distribution": self.family}

@@ -156,10 +156,14 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
             raise cfg.ScenarioError(f"scenario file '{path}' is not valid TOML: {exc}") from None
         base_dir = base_dir or path.resolve().parent
     ens = dict(ENSEMBLE_DEFAULTS)
-    given = raw.pop("ensemble", {}) or {}
-    for key in given:
-        if key not in _ENSEMBLE_KEYS:
-            raise cfg.ScenarioError(unknown_name_message("ensemble key", key, _ENSEMBLE_KEYS))
+    given = raw.pop("ensemble", {})
+    if not isinstance(given, Mapping):
+        raise cfg.ScenarioError(f"ensemble = {given!r} must be a table: [ensemble] with "
+                                f"{', '.join(_ENSEMBLE_KEYS)}")
+    unknown = [key for key in given if key not in _ENSEMBLE_KEYS]
+    if unknown:
+        raise cfg.ScenarioError("[ensemble]: " + cfg.unknown_names_message(
+            "key", unknown, _ENSEMBLE_KEYS))
     ens.update(given)
     for key, value in (("n", n), ("seed", seed), ("sampling", sampling),
                        ("chunk_size", chunk_size), ("per_drop", per_drop),
@@ -174,6 +178,10 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     template = copy.deepcopy(raw)
     for path, table in leaves.items():
         d = dist.from_dict(table, path, base_dir=base_dir)
+        if path in ("sediment.class", "sediment.file") and not isinstance(d, dist.Choice):
+            raise EnsembleError(f"{path} can only vary as a 'choice' distribution, "
+                                f"got {type(d).__name__.lower()}")
+        cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
     base = cfg.Scenario.from_dict(template, base_dir=base_dir)
@@ -183,11 +191,7 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     choice = None
     for key in ("sediment.class", "sediment.file"):
         if key in random:
-            d = random[key]
-            if not isinstance(d, dist.Choice):
-                raise EnsembleError(f"{key} can only vary as a 'choice' distribution, "
-                                    f"got {type(d).__name__.lower()}")
-            labels = tuple(str(v) for v in d.values)
+            labels = tuple(str(v) for v in random[key].values)
             if key == "sediment.class":
                 profiles = [catalogue_profile(v) for v in labels]
             else:
@@ -198,7 +202,7 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
         if path in (choice,) or path in _ANGLE_FIELDS:
             continue
         slot = cfg.ALIASES.get(path, path)
-        if slot not in layout.INDEX:
+        if slot not in layout.INDEX or slot not in cfg.FIELDS:   # not a number: a name, a code
             raise EnsembleError(
                 f"{path} cannot vary in an ensemble: only numeric inputs of the kernels "
                 f"(docs/scenario.md), the release angles and sediment.class/sediment.file can")
@@ -226,13 +230,17 @@ def _check_ensemble(ens):
                                 f"{allowed}")
     if not isinstance(ens["n"], (int, np.integer)) or isinstance(ens["n"], bool) or ens["n"] < 1:
         bad("n", "[1, inf) (an integer number of drops)")
-    if not isinstance(ens["seed"], (int, np.integer)) or not 0 <= ens["seed"] < 2 ** 64:
+    if not isinstance(ens["seed"], (int, np.integer)) or isinstance(ens["seed"], bool) \
+            or not 0 <= ens["seed"] < 2 ** 64:
         bad("seed", "[0, 2**64) (an integer)")
     if ens["sampling"] not in ("mc", "sobol"):
         raise cfg.ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"],
                                                          ("mc", "sobol")))
-    if not isinstance(ens["chunk_size"], (int, np.integer)) or ens["chunk_size"] < 1:
+    if not isinstance(ens["chunk_size"], (int, np.integer)) or isinstance(
+            ens["chunk_size"], bool) or ens["chunk_size"] < 1:
         bad("chunk_size", "[1, inf) (an integer number of drops)")
+    if not isinstance(ens["per_drop"], (bool, np.bool_)):
+        raise cfg.ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
     if ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
         raise cfg.ScenarioError(unknown_name_message(
             "ensemble.class_basis", ens["class_basis"],
@@ -270,7 +278,9 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
             P[:, layout.P_J1], P[:, layout.P_J2] = cfg.uniform_cylinder_inertia(
                 P[:, layout.P_MASS], P[:, layout.P_DIAMETER], P[:, layout.P_LENGTH])
     valid = cfg.check_params(P, n_sediment=spec.sediment_bank.shape[0],
-                             n_current=spec.current_bank.shape[0])
+                             n_current=spec.current_bank.shape[0],
+                             embedded=spec.base.release.embedded)
+    valid &= cfg.check_samples(inputs, n)   # also the release angles, not in P
     return P, valid, inputs
 
 
