@@ -10,8 +10,8 @@ import pytest
 import xarray as xr
 
 from mineburial.drop import run_params
-from mineburial.ensembles.engine import (DEFAULT_SCENARIO, chunk_inputs, load_ensemble,
-                                         run_ensemble)
+from mineburial.ensembles.engine import DEFAULT_SCENARIO, chunk_inputs, load_ensemble
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.kernels import layout
 
 
