@@ -162,10 +162,12 @@ def check_threads(threads, what: str = "threads") -> int | None:
     return int(threads)
 
 
-def connect_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT):
-    """A dask client of the scheduler at ``address``, or a RunError after ``timeout`` s."""
+def connect_scheduler(address: str, timeout: float | None = None):
+    """A dask client of the scheduler at ``address``, or a RunError after ``timeout`` s
+    (default :data:`SCHEDULER_TIMEOUT`)."""
     from dask.distributed import Client
 
+    timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
     try:
         return Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError, TypeError) as exc:
