@@ -847,17 +847,19 @@ def check_plot_path(path, output=None, inputs=()) -> pathlib.Path:
     """Check before computing that the map can be drawn to ``path``: matplotlib is there,
     it can write the file type of the extension, the folder exists, and the path is
     neither the map's output nor one of its inputs."""
-    from mineburial.ensembles.store import check_output_path
+    from mineburial.ensembles.store import check_output_path, same_file
 
     Figure = _import_matplotlib()
     path = pathlib.Path(path)
+    if output is not None and same_file(path, pathlib.Path(output)):
+        raise MapError(f"--plot '{path}' is also the map's output (-o); choose another path")
     types = Figure().canvas.get_supported_filetypes()
     ext = path.suffix.lower().lstrip(".")
     if ext not in types:
         raise MapError(f"--plot '{path}': unsupported image type "
                        f"'{path.suffix or '(no extension)'}'; use one of "
                        + ", ".join(f".{t}" for t in sorted(types)))
-    return check_output_path(path, [p for p in (output, *inputs) if p is not None], "--plot")
+    return check_output_path(path, inputs, "--plot")
 
 
 def run_map_cli(args) -> int:

@@ -348,7 +348,8 @@ class RunLock:
 # ---------------------------------------------------------------------------
 # the output of a run
 # ---------------------------------------------------------------------------
-def _same_file(a: pathlib.Path, b: pathlib.Path) -> bool:
+def same_file(a: pathlib.Path, b: pathlib.Path) -> bool:
+    """Whether paths ``a`` and ``b`` name the same file (also through links)."""
     try:
         return a.resolve() == b.resolve() or (a.exists() and b.exists() and os.path.samefile(a, b))
     except OSError:
@@ -369,7 +370,7 @@ def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
     if not parent.is_dir():
         raise RunError(f"{what} '{out}': '{parent}' is a file, not a folder")
     for path in inputs:
-        if path is not None and _same_file(out, pathlib.Path(path)):
+        if path is not None and same_file(out, pathlib.Path(path)):
             raise RunError(f"{what} '{out}' is an input of the run ('{path}'); writing the "
                            f"output there would destroy it: choose another path")
     if out.exists() and not os.access(out, os.W_OK):
