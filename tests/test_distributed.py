@@ -220,3 +220,26 @@ def test_a_failing_chunk_is_reported_with_its_bounds(client, monkeypatch):
 
 def _always_fails(spec, start, stop, store, numba_threads=None):
     raise ValueError("deliberate failure")
+
+
+def test_the_client_says_it_is_waiting_when_no_worker_is_left(monkeypatch):
+    """A cluster without workers (all gone): the client says that it waits, and the run
+    completes with the right bits once a worker joins."""
+    from distributed import Client, LocalCluster
+
+    monkeypatch.setattr(D, "WAITING_INTERVAL", 0.2)
+    spec = engine.load_ensemble(_scenario(), n=2, seed=3, chunk_size=2)
+    messages = []
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None,
+                      silence_logs=50) as cluster, Client(cluster) as c:
+        def notice(message):
+            messages.append(message)
+            if message.startswith("waiting for dask workers") and not cluster.workers:
+                cluster.scale(1)                    # a worker joins after the message
+
+        monkeypatch.setattr(D, "notice", notice)
+        got = list(D.run_tasks_distributed(c, [(None, spec, 0, 2, None)], warm=False))
+    assert messages and messages[0].startswith(
+        f"waiting for dask workers: the cluster at {cluster.scheduler_address} has none")
+    assert np.array_equal(got[0][2]["summary"], engine.compute_chunk(spec, 0, 2)["summary"],
+                          equal_nan=True)

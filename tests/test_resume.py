@@ -255,3 +255,32 @@ def test_per_drop_and_class_basis_do_not_change_the_run_identity():
     d = engine.load_ensemble(cheap(), seed=12, chunk_size=3)
     assert store.run_identity(a) == store.run_identity(b)
     assert len({store.run_identity(x) for x in (a, c, d)}) == 3
+
+
+def write_grid(path, depth):
+    from mineburial.synthetic import synthetic_environment
+
+    env = synthetic_environment(ny=2, nx=2, seed=1)          # 3 water cells, 1 land cell
+    wet = np.isfinite(env["water_depth"].values)
+    env["water_depth"].values[wet] = depth
+    env["sediment_class"].values[wet] = 4                    # stiff_clay
+    env.to_netcdf(path)
+
+
+def test_map_resume_after_the_environment_grid_changed_matches_a_clean_map(
+        tmp_path, monkeypatch, capsys):
+    from mineburial.maps import run_map
+
+    env, out = tmp_path / "env.nc", tmp_path / "map.nc"
+    scen = cheap()
+    write_grid(env, 3.0)
+    killed_after(monkeypatch, 3)
+    with pytest.raises(KeyboardInterrupt):
+        run_map(scen, env, n=2, seed=3, chunk_size=1, output=out)
+    write_grid(env, 3.4)                                     # a new survey of the area
+    calls = counting(monkeypatch)
+    resumed = run_map(scen, env, n=2, seed=3, chunk_size=1, output=out)
+    assert "discarding" in capsys.readouterr().err
+    assert len(calls) == 6                                   # 3 cells x 2 chunks, all new
+    assert_bit_identical(resumed, run_map(scen, env, n=2, seed=3, chunk_size=1))
+    assert not parts_of(out).exists()
