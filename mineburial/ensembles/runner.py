@@ -105,12 +105,22 @@ def _bytes(n: float) -> str:
     return f"{n:.3g} PiB"  # pragma: no cover
 
 
+#: bytes of bookkeeping a chunk costs in memory beside its per-drop arrays (its dict, the
+#: small arrays, the task), measured order of magnitude
+CHUNK_OVERHEAD = 4096
+
+
 def memory_needed(spec) -> int:
     """Bytes a run of ``spec`` needs for its per-drop values: the summary row, status and
     sampled inputs of every drop, kept until the statistics are computed, with room for
-    the copies made while reducing them (a factor of 4)."""
-    per_drop = layout.N_SUMMARY * 8 + 1 + 8 * len(spec.random)
-    return 4 * per_drop * int(spec.n)
+    the copies made while reducing them (a factor of 4), and the bookkeeping of every
+    chunk (:data:`CHUNK_OVERHEAD`)."""
+    chunks = -(-int(spec.n) // int(spec.chunk_size))
+    return 4 * _bytes_a_drop(spec) * int(spec.n) + CHUNK_OVERHEAD * chunks
+
+
+def _bytes_a_drop(spec) -> int:
+    return layout.N_SUMMARY * 8 + 1 + 8 * len(spec.random)
 
 
 def _extremes(spec, path, fixed):
@@ -133,7 +143,7 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
     if have is not None and need > have:
         raise RunError(
             f"ensemble.n = {spec.n} drops: {what} would need about {_bytes(need)} of memory for "
-            f"the per-drop values ({need // (4 * spec.n)} bytes a drop, kept until the "
+            f"the per-drop values ({_bytes_a_drop(spec)} bytes a drop, kept until the "
             f"statistics are computed), more than this machine's {_bytes(have)}; run fewer "
             f"drops (several runs with different seeds can be combined)")
     num = spec.base.numerics

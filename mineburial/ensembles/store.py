@@ -172,8 +172,9 @@ class ChunkStore:
                 f.unlink(missing_ok=True)
         for f in folder.glob(".*.tmp"):   # left by a run killed while writing
             f.unlink(missing_ok=True)
+        # not fsynced: a manifest lost in a crash only costs recomputing the chunks
         _write_atomic(manifest, json.dumps({"identity": self.identity,
-                                            "settings": self.settings}).encode())
+                                            "settings": self.settings}).encode(), sync=False)
         return self
 
     def shared(self) -> bool:
@@ -235,9 +236,9 @@ class ChunkStore:
         return None if ok else "is incomplete or of the wrong shape"
 
 
-def _write_atomic(path: pathlib.Path, content) -> None:
+def _write_atomic(path: pathlib.Path, content, sync: bool = True) -> None:
     """Write ``content`` (bytes, or a function of the open file) to ``path`` atomically:
-    a temporary ``.<name>.<pid>-<random>.tmp`` beside it, fsync, rename."""
+    a temporary ``.<name>.<pid>-<random>.tmp`` beside it, fsync (when ``sync``), rename."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}-{secrets.token_hex(4)}.tmp")
     try:
         with open(tmp, "wb") as fh:
@@ -246,7 +247,8 @@ def _write_atomic(path: pathlib.Path, content) -> None:
             else:
                 fh.write(content)
             fh.flush()
-            os.fsync(fh.fileno())
+            if sync:
+                os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
