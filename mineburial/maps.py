@@ -410,6 +410,7 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
     base = engine.load_ensemble(scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False,
                                 base_dir=base_dir)
     runner.check_run(base, what="each cell of the map")
+    runner.warn_run(base)
     grid = read_environment(environment)
     status = grid.cell_status()
     ny, nx = grid.shape
@@ -870,6 +871,7 @@ def run_map_cli(args) -> int:
     from mineburial.ensembles.store import check_output_path
 
     base = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed, per_drop=False)
+    runner.check_run(base, what="each cell of the map")
     read_environment(args.environment)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
     check_output_path(args.output, inputs, "-o")

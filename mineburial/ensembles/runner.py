@@ -35,7 +35,7 @@ from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
 from mineburial.kernels import layout
 
 __all__ = ["Job", "run_jobs", "run_ensemble", "summarize", "run_ensemble_cli", "Progress",
-           "check_run", "check_threads", "connect_scheduler", "STEPS_WARNING"]
+           "check_run", "warn_run", "check_threads", "connect_scheduler", "STEPS_WARNING"]
 
 #: time steps a drop above which a fixed-step integrator gets a warning
 STEPS_WARNING = 1e8
@@ -133,10 +133,9 @@ def _extremes(spec, path, fixed):
 
 
 def check_run(spec, *, what: str = "the ensemble") -> None:
-    """Checks of an ensemble that can be made before computing: the Sobol drop count,
+    """Checks of an ensemble that can be made before computing: the Sobol drop count and
     the memory for the per-drop values (a run that cannot fit is refused with the memory
-    it would need), and a warning when a fixed-step integrator would take more than
-    :data:`STEPS_WARNING` steps a drop."""
+    it would need)."""
     if spec.sampling == "sobol":
         check_drop_count(spec.n, "sobol")
     need, have = memory_needed(spec), _physical_memory()
@@ -146,6 +145,11 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
             f"the per-drop values ({_bytes_a_drop(spec)} bytes a drop, kept until the "
             f"statistics are computed), more than this machine's {_bytes(have)}; run fewer "
             f"drops (several runs with different seeds can be combined)")
+
+
+def warn_run(spec) -> None:
+    """A warning when a fixed-step integrator would take more than :data:`STEPS_WARNING`
+    steps a drop (the adaptive default ``dopri5`` is not warned about)."""
     num = spec.base.numerics
     if num.integrator in _FIXED_STEP:
         dt_lo, _ = _extremes(spec, "numerics.dt", num.dt)
@@ -332,6 +336,7 @@ def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *
                                 class_basis=class_basis)
     threads = check_threads(threads)
     check_run(spec)
+    warn_run(spec)
     if threads is not None:
         import numba
 
@@ -357,6 +362,7 @@ def run_ensemble_cli(args) -> int:
                                 sampling=args.sampling, chunk_size=args.chunk_size,
                                 per_drop=args.per_drop)
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
+    check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
