@@ -176,23 +176,26 @@ def test_per_drop_summary_prints_the_files_class_probabilities(tmp_path, capsys,
 
 
 def test_invalid_sampled_inputs_get_a_warning_with_reason_and_count(tmp_path, capsys):
+    """A release 1 m below the surface over a random water depth of 0.5-3 m: the drops whose
+    sampled depth is not more than 1 m would start inside the seabed. (A cross-field
+    constraint: no single field's range can exclude it when the scenario is loaded.)"""
     scen = tmp_path / "scenario.toml"
     d = cheap(per_drop=True)
-    d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 80.0}
+    d["environment"]["water_depth"] = {"distribution": "uniform", "low": 0.5, "high": 3.0}
+    d["release"]["position"] = [0.0, 0.0, -1.0]
     scen.write_text(dumps_toml(d))
     out = tmp_path / "o.nc"
     assert main(["run", str(scen), "-o", str(out), "-n", "16", "--seed", "1", "--quiet"]) == 0
     text = capsys.readouterr().out
     ds = xr.load_dataset(out)
-    bad = int(np.count_nonzero(ds["input_mine_mass"].values <= 0))
-    assert bad > 0
+    depth = ds["input_environment_water_depth"].values
+    bad = int(np.count_nonzero(depth <= 1.0))
+    assert 0 < bad < 16
     line = [ln for ln in text.splitlines() if "sampled inputs are invalid" in ln]
     assert len(line) == 1, text
     assert line[0].startswith(f"warning: {bad} of 16 drops were not run")
-    assert f"mine.mass in (0, 100000] kg: {bad} drop" in line[0] or \
-        re.search(rf"mine\.mass in \S+ \S*: {bad} drop", line[0]), line[0]
-    first = float(ds["input_mine_mass"].values[ds["input_mine_mass"].values <= 0][0])
-    assert f"mine.mass = {first!r}" in line[0]
+    assert f"release.z > -environment.water_depth: {bad} drop" in line[0], line[0]
+    assert f"environment.water_depth = {float(depth[depth <= 1.0][0])!r}" in line[0], line[0]
     assert int(ds["status_count"].sel(status_code=4)) == bad
 
 

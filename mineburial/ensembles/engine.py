@@ -323,11 +323,16 @@ def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
 
 def invalid_reasons(spec: EnsembleSpec, P, valid) -> dict:
     """Why the drops with ``valid`` False were not run: ``{constraint: [count, first
-    offending values]}`` (the constraints of :func:`mineburial.config.explain_params`)."""
+    offending values]}`` (the constraints of :func:`mineburial.config.explain_params`; the
+    moments of inertia computed from a sampled mass or size are left out where the mass
+    or size itself is the reason)."""
     reasons: dict = {}
     for i in np.flatnonzero(~np.asarray(valid, dtype=bool)):
-        for text in cfg.explain_params(P[i], n_sediment=spec.sediment_bank.shape[0],
-                                       n_current=spec.current_bank.shape[0]):
+        texts = cfg.explain_params(P[i], n_sediment=spec.sediment_bank.shape[0],
+                                   n_current=spec.current_bank.shape[0])
+        if spec.recompute_inertia:   # inertia computed from a bad mass/size: not a reason
+            texts = [t for t in texts if "inertia" not in t.partition(" (got ")[0]] or texts
+        for text in texts:
             rule, _, got = text.partition(" (got ")
             entry = reasons.setdefault(rule, [0, got.rstrip(")")])
             entry[0] += 1
