@@ -321,6 +321,18 @@ def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
     return out
 
 
+def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
+    """(UDUNITS units, description) of the sampled input ``path`` in the output."""
+    if path == spec.sediment_choice:
+        return "1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}"
+    if path in _ANGLE_FIELDS:
+        return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
+    field = cfg.FIELDS.get(cfg.ALIASES.get(path, path))
+    if field is not None:
+        return field.units, field.description
+    return "1", path
+
+
 def invalid_reasons(spec: EnsembleSpec, P, valid) -> dict:
     """Why the drops with ``valid`` False were not run: ``{constraint: [count, first
     offending values]}`` (the constraints of :func:`mineburial.config.explain_params`; the

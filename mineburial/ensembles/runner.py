@@ -27,7 +27,6 @@ from typing import Any, Iterable, Iterator
 
 import numpy as np
 
-from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.ensembles import engine
 from mineburial.ensembles.sampling import check_drop_count
@@ -285,18 +284,7 @@ def ensemble_dataset(spec, chunks):
     status = np.concatenate([r["status"] for r in chunks])
     inputs = {key[6:]: np.concatenate([r[key] for r in chunks])
               for key in chunks[0] if key.startswith("input:")}
-    meta = {}
-    for path in inputs:
-        slot = cfg.ALIASES.get(path, path)
-        field = cfg.FIELDS.get(slot)
-        if path == spec.sediment_choice:
-            meta[path] = ("1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}")
-        elif path in engine._ANGLE_FIELDS:
-            meta[path] = ("degree", path.split(".")[1].replace("_deg", "") + " angle at release")
-        elif field is not None:
-            meta[path] = (field.units, field.description)
-        else:
-            meta[path] = ("1", path)
+    meta = {path: engine.input_metadata(spec, path) for path in inputs}
     invalid = invalid_inputs_text(engine.merge_invalid_reasons(chunks))
     attrs = {"invalid_inputs": invalid} if invalid else None
     return build_dataset(summary, status, inputs=inputs, input_metadata=meta,

@@ -121,7 +121,7 @@ def run_identity(spec, extra_files=()) -> str:
 def _differences(old: dict, new: dict) -> str:
     keys = [k for k in new if old.get(k) != new.get(k)]
     if not keys:
-        return "a different scenario or input file"
+        return "a different scenario, input file or program"
     return ", ".join(f"{k} {old.get(k)!r} -> {new.get(k)!r}" for k in keys)
 
 
