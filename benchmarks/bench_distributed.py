@@ -7,7 +7,7 @@
    run in this process with 1 numba thread (the single-core cost per drop) and as one
    chunk with all cores, and on a ``LocalCluster`` with 1 and 2 single-threaded worker
    processes (numba threads per chunk = cores // dask threads, as
-   ``run_chunks_distributed`` chooses). Compile time is excluded: every process is
+   ``run_tasks_distributed`` chooses). Compile time is excluded: every process is
    warmed up (``warm_up``) before the clock starts. Prints drops/s, s/drop and
    core-s/drop (wall time x the cores the layout keeps busy / drops).
 2. **Overhead per chunk**: chunks of ``--overhead-drops`` drops that end after one time
@@ -69,7 +69,8 @@ def _time_local(spec, bounds):
 
 def _time_cluster(client, spec, bounds):
     t0 = time.perf_counter()
-    results = dict(D.run_chunks_distributed(client, spec, bounds, None, warm=False))
+    results = {b: res for _, b, res in D.run_tasks_distributed(
+        client, [(None, spec, s, e, None) for s, e in bounds], warm=False)}
     return time.perf_counter() - t0, [results[b] for b in bounds]
 
 

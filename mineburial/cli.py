@@ -84,7 +84,7 @@ def _cmd_example(args):
 
 
 def _cmd_run(args):
-    from mineburial.ensembles.engine import run_ensemble_cli
+    from mineburial.ensembles.runner import run_ensemble_cli
 
     return run_ensemble_cli(args)
 
@@ -99,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="mineburial",
         description="Monte Carlo prediction of the impact burial of naval mines.")
-    from mineburial import __version__
+    from mineburial._version import __version__
     parser.add_argument("--version", action="version", version=f"mineburial {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -112,9 +112,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--sampling", choices=("mc", "sobol"), default=None,
                      help="Monte Carlo or scrambled Sobol sampling")
     run.add_argument("--chunk-size", type=int, default=None, help="drops per chunk written to disk")
-    run.add_argument("--threads", type=int, default=None, help="numba threads")
-    run.add_argument("--per-drop", action="store_true",
-                     help="also store per-drop inputs and results along 'realization'")
+    run.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
+    run.add_argument("--per-drop", action=argparse.BooleanOptionalAction, default=None,
+                     help="also store per-drop inputs and results along 'realization' "
+                          "(default: the scenario's [ensemble] per_drop)")
     run.add_argument("--scheduler", default=None,
                      help="address of a dask.distributed scheduler to spread chunks over")
     run.add_argument("--quiet", action="store_true", help="no progress lines")
@@ -140,7 +141,8 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("-o", "--output", default="burial_map.nc")
     mp.add_argument("-n", "--drops", type=int, default=None, help="drops per cell")
     mp.add_argument("--seed", type=int, default=None)
-    mp.add_argument("--plot", default=None, help="also draw the map to this PNG")
+    mp.add_argument("--plot", default=None,
+                    help="also draw the map to this image (.png, .pdf, .svg, ...)")
     mp.add_argument("--scheduler", default=None)
     mp.add_argument("--quiet", action="store_true")
     mp.set_defaults(func=_cmd_map)

@@ -123,7 +123,7 @@ def simulate_drop(scenario, record_interval: float | None = None, forces: bool =
     burial summary as scalar variables; the status code and the resolved scenario
     in the attributes.
     """
-    from mineburial import __version__
+    from mineburial._version import __version__
     from mineburial.config import Scenario
 
     if not isinstance(scenario, Scenario):

@@ -12,8 +12,10 @@ A cell's statistics are exactly those of ``run_ensemble(cell scenario, n, seed=c
 seed)``: the map only decides which scenario and seed each cell gets. Chunks of all
 cells are spread over a dask cluster as one flat list of tasks
 (:func:`mineburial.ensembles.distributed.run_tasks_distributed`), and with an output
-path the finished chunks are kept in ``MAP.nc.parts/cell-<index>.parts/`` (the engine's
-chunk files) so an interrupted map resumes.
+path the finished chunks are kept in ``MAP.nc.parts/cell-<index>/`` so an interrupted
+map resumes: the map is run by the same driver and chunk store as a single ensemble
+(:func:`mineburial.ensembles.runner.run_jobs`, :mod:`mineburial.ensembles.store`), with
+one job per cell.
 """
 
 from __future__ import annotations
@@ -24,7 +26,6 @@ import hashlib
 import json
 import math
 import pathlib
-import shutil
 import time
 from collections.abc import Mapping
 
@@ -32,7 +33,9 @@ import numpy as np
 import xarray as xr
 
 from mineburial import config as cfg
-from mineburial.ensembles import engine
+from mineburial._version import __version__
+from mineburial.ensembles import engine, runner
+from mineburial.ensembles.store import OutputRun
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
 __all__ = ["MapError", "EnvironmentGrid", "read_environment", "cell_seed", "cell_scenario",
@@ -397,13 +400,12 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 # the map
 # ---------------------------------------------------------------------------
-def _cell_statistics(spec, results):
-    """Statistics of one cell from its chunk results {(start, stop): dict}."""
+def _cell_statistics(spec, chunks):
+    """Statistics of one cell from its chunk results in drop order."""
     from mineburial.ensembles.statistics import burial_statistics
 
-    bounds = engine.chunk_bounds(spec.n, spec.chunk_size)
-    summary = np.concatenate([results[b]["summary"] for b in bounds])
-    status = np.concatenate([results[b]["status"] for b in bounds])
+    summary = np.concatenate([r["summary"] for r in chunks])
+    status = np.concatenate([r["status"] for r in chunks])
     return burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
 
 
@@ -421,22 +423,22 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
         :func:`cell_seed` ``(seed, k)``.
     client : dask.distributed.Client, optional: all (cell, chunk) tasks go to its cluster.
     output : path, optional: write the map there (NetCDF, atomically); finished chunks
-        are kept in ``OUTPUT.parts/`` until then, so an interrupted map resumes.
+        are kept in ``OUTPUT.parts/cell-<k>/`` until then, so an interrupted map resumes
+        (the run driver and chunk store of :func:`mineburial.ensembles.runner.run_jobs`:
+        a rerun reuses only chunks of the same run identity, which includes the contents
+        of the environment grid; a second live run on the same output is refused).
     progress : print rate-limited progress lines (drops over all cells) to stderr.
     chunk_size : drops per chunk (default: the scenario's ``[ensemble] chunk_size``).
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
-    from mineburial import __version__
-    from mineburial.ensembles.sampling import check_drop_count
-
     base_dir = None
     if isinstance(scenario, (str, pathlib.Path)):
         base_dir = pathlib.Path(scenario).resolve().parent
     base = engine.load_ensemble(scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False,
                                 base_dir=base_dir)
-    if base.sampling == "sobol":
-        check_drop_count(base.n, "sobol")
+    runner.check_run(base, what="each cell of the map")
+    runner.warn_run(base)
     grid = read_environment(environment)
     status = grid.cell_status()
     ny, nx = grid.shape
@@ -456,80 +458,47 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
             except cfg.ScenarioError as exc:
                 raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
 
-    # --- resume: per-cell chunk files ------------------------------------------------
-    root = None
-    parts: dict[int, pathlib.Path | None] = {k: None for k in specs}
-    results: dict[int, dict] = {k: {} for k in specs}
-    if output is not None:
-        out = pathlib.Path(output)
-        root = out.with_name(out.name + ".parts")
-        root.mkdir(parents=True, exist_ok=True)
-        for k, spec in specs.items():
-            parts[k] = engine._prepare_parts(spec, root / f"cell-{k:09d}")
-            for s, e in engine.chunk_bounds(spec.n, spec.chunk_size):
-                path = engine._chunk_path(parts[k], s, e)
-                if path.exists():
-                    results[k][(s, e)] = engine.load_chunk(path)
-
-    # --- output arrays ------------------------------------------------------------------
     template = _cell_statistics_template(base)
     arrays = {}
     for name in _CELL_VARIABLES:
         da = template[name]
         fill = 0 if da.dtype.kind in "iu" else np.nan
         arrays[name] = np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
+    invalid: dict = {}
 
-    def reduce(k):
-        st = _cell_statistics(specs[k], results.pop(k))
-        j, i = divmod(k, nx)
-        for name in _CELL_VARIABLES:
-            arrays[name][..., j, i] = st[name].values
+    def reduce(stream):
+        for k, chunks in stream:
+            st = _cell_statistics(specs[k], chunks)
+            j, i = divmod(k, nx)
+            for name in _CELL_VARIABLES:
+                arrays[name][..., j, i] = st[name].values
+            for rule, (count, example) in engine.merge_invalid_reasons(chunks).items():
+                invalid.setdefault(rule, [0, example])[0] += count
 
-    n_chunks = {k: len(engine.chunk_bounds(s.n, s.chunk_size)) for k, s in specs.items()}
-    total = base.n * len(specs)
-    done = sum(int(e - s) for r in results.values() for s, e in r)
-    bar = engine.Progress(total, enabled=progress)
-    bar.update(done)
-    todo = [(k, specs[k], s, e, parts[k]) for k in specs
-            for s, e in engine.chunk_bounds(specs[k].n, specs[k].chunk_size)
-            if (s, e) not in results[k]]
-    for k in list(specs):
-        if len(results[k]) == n_chunks[k]:
-            reduce(k)
-    if client is not None:
-        from mineburial.ensembles.distributed import run_tasks_distributed
+    def finish():
+        ds = _assemble(grid, status, arrays, template, base, __version__)
+        ds.attrs["scenario_name"] = (pathlib.Path(scenario).stem
+                                     if isinstance(scenario, (str, pathlib.Path))
+                                     else base.base.mine.name)
+        if invalid:
+            ds.attrs["invalid_inputs"] = runner.invalid_inputs_text(invalid)
+        return ds
 
-        stream = ((k, b, r) for k, b, r in run_tasks_distributed(client, todo))
-    else:
-        stream = _run_local(todo)
-    for k, bounds, res in stream:
-        results[k][bounds] = res
-        done += bounds[1] - bounds[0]
-        bar.update(done)
-        if len(results[k]) == n_chunks[k]:
-            reduce(k)
-    bar.update(done, final=True)
-
-    if isinstance(scenario, (str, pathlib.Path)):
-        scenario_name = pathlib.Path(scenario).stem
-    else:
-        scenario_name = base.base.mine.name
-    ds = _assemble(grid, status, arrays, template, base, __version__)
-    ds.attrs["scenario_name"] = scenario_name
-    if output is not None:
-        from mineburial.io.netcdf import write_netcdf
-
-        write_netcdf(ds, output)
-        shutil.rmtree(root, ignore_errors=True)
+    if output is None:
+        reduce(runner.run_jobs([runner.Job(k, spec) for k, spec in specs.items()],
+                               client=client, progress=progress))
+        return finish()
+    env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
+    env_files = ((str(env_path.resolve()), engine.file_digest(env_path)),) if env_path else ()
+    inputs = runner.input_paths(scenario, base) + ([env_path] if env_path else []) + [
+        pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
+    with OutputRun(output, inputs) as out:
+        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files))
+                for k, spec in specs.items()]
+        reduce(runner.run_jobs(jobs, client=client, progress=progress))
+        ds = finish()
+        out.commit(ds)
     return ds
-
-
-def _run_local(todo):
-    for k, spec, s, e, parts in todo:
-        res = engine.compute_chunk(spec, s, e)
-        if parts is not None:
-            engine.save_chunk(parts, res)
-        yield k, (s, e), res
 
 
 def _cell_statistics_template(spec) -> xr.Dataset:
@@ -702,7 +671,7 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
 
 
 def _global_attrs(grid, status, base, version, ncio) -> dict:
-    created = ncio._utc_now()
+    created = ncio.utc_now()
     resolved = base.resolved()
     overridden = ["environment.water_depth",
                   "sediment.class" if grid.sediment_class is not None else
@@ -750,7 +719,7 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
                     "hold NaN and zero counts. Format: docs/maps.md of the mineburial sources."),
         "cdm_data_type": "Grid",
         "scenario": scen,
-        "random_seed": ncio._seed_attr(base.seed),
+        "random_seed": ncio.seed_attr(base.seed),
         "seed_derivation": resolved["map"]["seed_derivation"],
         "sampling_method": base.sampling,
         "mineburial_version": str(version),
@@ -768,7 +737,7 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         attrs.update(geospatial_lat_min=float(lat.min()), geospatial_lat_max=float(lat.max()),
                      geospatial_lon_min=float(lon.min()), geospatial_lon_max=float(lon.max()),
                      geospatial_lat_units="degrees_north", geospatial_lon_units="degrees_east")
-    return ncio._clean_attrs(attrs)
+    return ncio.clean_attrs(attrs)
 
 
 # ---------------------------------------------------------------------------
@@ -903,15 +872,40 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
 # ---------------------------------------------------------------------------
 # CLI
 # ---------------------------------------------------------------------------
-def run_map_cli(args) -> int:
-    """``mineburial map SCENARIO --environment ENV.nc -o MAP.nc [--plot MAP.png]``."""
-    client = None
-    if args.plot:
-        _import_matplotlib()      # fail before hours of computing, not after
-    if args.scheduler:
-        from dask.distributed import Client
+def check_plot_path(path, output=None, inputs=()) -> pathlib.Path:
+    """Check before computing that the map can be drawn to ``path``: matplotlib is there,
+    it can write the file type of the extension, the folder exists, and the path is
+    neither the map's output nor one of its inputs."""
+    from mineburial.ensembles.store import check_output_path, same_file
 
-        client = Client(args.scheduler)
+    Figure = _import_matplotlib()
+    path = pathlib.Path(path)
+    if output is not None and same_file(path, pathlib.Path(output)):
+        raise MapError(f"--plot '{path}' is also the map's output (-o); choose another path")
+    types = Figure().canvas.get_supported_filetypes()
+    ext = path.suffix.lower().lstrip(".")
+    if ext not in types:
+        raise MapError(f"--plot '{path}': unsupported image type "
+                       f"'{path.suffix or '(no extension)'}'; use one of "
+                       + ", ".join(f".{t}" for t in sorted(types)))
+    return check_output_path(path, inputs, "--plot")
+
+
+def run_map_cli(args) -> int:
+    """``mineburial map SCENARIO --environment ENV.nc -o MAP.nc [--plot MAP.png]``.
+
+    Every check that can be made before computing is made first: the scenario, the
+    environment grid, the output and plot paths, the scheduler."""
+    from mineburial.ensembles.store import check_output_path
+
+    base = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed, per_drop=False)
+    runner.check_run(base, what="each cell of the map")
+    read_environment(args.environment)
+    inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
+    check_output_path(args.output, inputs, "-o")
+    if args.plot:
+        check_plot_path(args.plot, args.output, inputs)
+    client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
         ds = run_map(args.scenario, args.environment, n=args.drops, seed=args.seed,
@@ -925,8 +919,11 @@ def run_map_cli(args) -> int:
     print(f"{ds.attrs['title']}\n"
           f"cells: {int(ds.attrs['n_cells'])} ({n_comp} computed, "
           f"{int(ds.attrs['n_cells_land'])} land, {int(ds.attrs['n_cells_no_sediment'])} without "
-          f"sediment data), {n} drops per cell\n"
-          f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\n"
+          f"sediment data), {n} drops per cell")
+    if ds.attrs.get("invalid_inputs"):
+        print(f"warning: drops not run because their sampled inputs are invalid: "
+              f"{ds.attrs['invalid_inputs']}")
+    print(f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\n"
           f"wrote {args.output}")
     if args.plot:
         plot_map(ds, args.plot)

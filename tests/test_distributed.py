@@ -19,7 +19,7 @@ import xarray as xr
 
 from conftest import scenario_dict
 from mineburial.ensembles import distributed as D
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, runner, store
 from mineburial.ensembles.distributed import chunk_task as _real_chunk_task
 from mineburial.maps import run_map
 
@@ -57,7 +57,7 @@ def client():
 @pytest.fixture(scope="module")
 def reference():
     """The local run: the bits every distributed run must reproduce."""
-    return engine.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
+    return runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
 
 
 def assert_same_run(a: xr.Dataset, b: xr.Dataset):
@@ -79,7 +79,7 @@ class MarkingTask:
     log: str
     kill_start: int | None = None
 
-    def __call__(self, spec, start, stop, parts, numba_threads=None):
+    def __call__(self, spec, start, stop, store, numba_threads=None):
         log = pathlib.Path(self.log)
         (log / f"attempt-{start}-{stop}-{uuid.uuid4().hex}").touch()
         if start == self.kill_start:
@@ -87,7 +87,7 @@ class MarkingTask:
             if not marker.exists():
                 marker.touch()
                 os._exit(1)          # the worker process dies mid-task
-        return _real_chunk_task(spec, start, stop, parts, numba_threads)
+        return _real_chunk_task(spec, start, stop, store, numba_threads)
 
 
 def attempts(log: pathlib.Path) -> dict:
@@ -110,20 +110,20 @@ def test_warm_up_runs_on_every_worker_and_threads_fit_the_cores(client):
 
 def _count_client_saves(monkeypatch):
     saved = []
-    real = engine.save_chunk
+    real = store.ChunkStore.save
 
-    def counting(parts, result):
+    def counting(self, result):
         saved.append((int(result["start"]), int(result["stop"])))
-        return real(parts, result)
+        return real(self, result)
 
-    monkeypatch.setattr(engine, "save_chunk", counting)
+    monkeypatch.setattr(store.ChunkStore, "save", counting)
     return saved
 
 
 def test_distributed_run_is_bit_identical_to_local(client, reference, tmp_path, monkeypatch):
     out = tmp_path / "dist.nc"
     client_saves = _count_client_saves(monkeypatch)
-    ds = engine.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
+    ds = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
                              client=client, output=out)
     assert client_saves == []             # shared filesystem: the workers wrote the chunks
     assert_same_run(reference, ds)
@@ -138,7 +138,7 @@ def test_killed_worker_costs_only_a_retry(client, reference, tmp_path, monkeypat
     log = tmp_path / "log"
     log.mkdir()
     monkeypatch.setattr(D, "chunk_task", MarkingTask(str(log), kill_start=6))
-    ds = engine.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
+    ds = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
                              client=client, output=tmp_path / "killed.nc")
     assert (log / "killed").exists()                        # a worker did die mid-run
     assert_same_run(reference, ds)
@@ -152,24 +152,26 @@ def test_killed_worker_costs_only_a_retry(client, reference, tmp_path, monkeypat
 def test_rerun_resumes_from_finished_chunks(client, reference, tmp_path, monkeypatch):
     out = tmp_path / "resumed.nc"
     spec = engine.load_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
-    parts = engine._prepare_parts(spec, out)                # an interrupted earlier run ...
-    finished = [(0, 3), (6, 9)]
+    parts = store.ChunkStore.for_spec(spec, str(out) + ".parts").open()   # an interrupted
+    finished = [(0, 3), (6, 9)]                             # earlier run ...
     before = {}
     for s, e in finished:                                   # ... left two chunk files
-        path = engine.save_chunk(parts, engine.compute_chunk(spec, s, e))
+        path = parts.save(engine.compute_chunk(spec, s, e))
         before[(s, e)] = path.stat().st_mtime_ns
     log = tmp_path / "log"
     log.mkdir()
     monkeypatch.setattr(D, "chunk_task", MarkingTask(str(log)))
-    real_load = engine.load_chunk
+    real_load = store.ChunkStore.load
     loaded = []
 
-    def counting_load(path):
-        loaded.append((pathlib.Path(path).name, pathlib.Path(path).stat().st_mtime_ns))
-        return real_load(path)
+    def counting_load(self, start, stop):
+        path = self.chunk_path(start, stop)
+        if path.exists():
+            loaded.append((path.name, path.stat().st_mtime_ns))
+        return real_load(self, start, stop)
 
-    monkeypatch.setattr(engine, "load_chunk", counting_load)
-    ds = engine.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
+    monkeypatch.setattr(store.ChunkStore, "load", counting_load)
+    ds = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True,
                              client=client, output=out)
     assert set(attempts(log)) == {(3, 6), (9, 12)}           # only the missing chunks ran
     assert sorted(m for _, m in loaded) == sorted(before.values())   # files read untouched
@@ -182,11 +184,13 @@ def test_without_a_shared_filesystem_the_client_saves_the_chunks(client, tmp_pat
     spec = engine.load_ensemble(_scenario(), n=4, seed=2, chunk_size=2)
     parts = tmp_path / "parts-without-manifest"
     parts.mkdir()
+    chunks = store.ChunkStore.for_spec(spec, parts)         # not opened: no manifest
     client_saves = _count_client_saves(monkeypatch)
-    got = dict(D.run_chunks_distributed(client, spec, [(0, 2), (2, 4)], parts))
+    got = {b: res for _, b, res in D.run_tasks_distributed(
+        client, [(None, spec, 0, 2, chunks), (None, spec, 2, 4, chunks)])}
     assert sorted(client_saves) == [(0, 2), (2, 4)]
     for b, res in got.items():
-        back = engine.load_chunk(engine._chunk_path(parts, *b))
+        back = chunks.load(*b)
         assert np.array_equal(back["summary"], res["summary"], equal_nan=True)
 
 
@@ -210,8 +214,32 @@ def test_a_failing_chunk_is_reported_with_its_bounds(client, monkeypatch):
     spec = engine.load_ensemble(_scenario(), n=4, seed=1, chunk_size=2)
     with pytest.raises(RuntimeError, match=r"chunk \[[02], [24]\) of the ensemble failed .* 2 "
                                            r"retries.*deliberate"):
-        list(D.run_chunks_distributed(client, spec, [(0, 2), (2, 4)], None, warm=False))
+        list(D.run_tasks_distributed(client, [(None, spec, 0, 2, None), (None, spec, 2, 4, None)],
+                                     warm=False))
 
 
-def _always_fails(spec, start, stop, parts, numba_threads=None):
+def _always_fails(spec, start, stop, store, numba_threads=None):
     raise ValueError("deliberate failure")
+
+
+def test_the_client_says_it_is_waiting_when_no_worker_is_left(monkeypatch):
+    """A cluster without workers (all gone): the client says that it waits, and the run
+    completes with the right bits once a worker joins."""
+    from distributed import Client, LocalCluster
+
+    monkeypatch.setattr(D, "WAITING_INTERVAL", 0.2)
+    spec = engine.load_ensemble(_scenario(), n=2, seed=3, chunk_size=2)
+    messages = []
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None,
+                      silence_logs=50) as cluster, Client(cluster) as c:
+        def notice(message):
+            messages.append(message)
+            if message.startswith("waiting for dask workers") and not cluster.workers:
+                cluster.scale(1)                    # a worker joins after the message
+
+        monkeypatch.setattr(D, "notice", notice)
+        got = list(D.run_tasks_distributed(c, [(None, spec, 0, 2, None)], warm=False))
+    assert messages and messages[0].startswith(
+        f"waiting for dask workers: the cluster at {cluster.scheduler_address} has none")
+    assert np.array_equal(got[0][2]["summary"], engine.compute_chunk(spec, 0, 2)["summary"],
+                          equal_nan=True)

@@ -12,8 +12,8 @@ import xarray as xr
 
 from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
 from mineburial.drop import run_params
-from mineburial.ensembles.engine import (DEFAULT_SCENARIO, chunk_inputs, load_ensemble,
-                                         run_ensemble)
+from mineburial.ensembles.engine import DEFAULT_SCENARIO, chunk_inputs, load_ensemble
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.kernels import layout
 
 

@@ -21,7 +21,7 @@ import xarray as xr
 from conftest import scenario_dict
 from mineburial.cli import main
 from mineburial.ensembles import engine
-from mineburial.ensembles.engine import run_ensemble
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.maps import MAP_OUTPUTS, MapError, plot_map, read_environment, run_map
 from mineburial.synthetic import synthetic_environment, write_synthetic_environment
 

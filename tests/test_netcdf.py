@@ -26,7 +26,8 @@ import xarray as xr
 
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
-from mineburial.io.netcdf import build_dataset, write_netcdf
+from mineburial.ensembles.dataset import build_dataset
+from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels import layout
 from mineburial.kernels import status as S
 

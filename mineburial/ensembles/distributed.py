@@ -9,10 +9,10 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
   ``pure=False`` and ``retries=2`` under a key that names the chunk
   (``mineburial-chunk-[<cell>-]<start>-<stop>-<run>-<k>``; ``client.map`` is
   ``client.submit`` for many tasks at once). The worker runs
-  :func:`~mineburial.ensembles.engine.compute_chunk` and, when the run's parts
-  folder is on a filesystem it shares with the client (it sees the folder's
-  ``manifest.json``), writes the chunk file itself, atomically
-  (:func:`~mineburial.ensembles.engine.save_chunk`). The workers of one machine
+  :func:`~mineburial.ensembles.engine.compute_chunk` and, when the run's chunk
+  store is on a filesystem it shares with the client (it sees the store's
+  ``manifest.json`` with the run's identity), writes the chunk file itself,
+  atomically (:meth:`~mineburial.ensembles.store.ChunkStore.save`). The workers of one machine
   always share it; on a cluster put the output on the shared home/scratch
   filesystem. Without a shared filesystem the results still come back through
   the scheduler, and the client saves each chunk file as its result arrives, so
@@ -28,6 +28,9 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
   exception raised inside a chunk is retried twice. A chunk whose file already
   exists in the shared parts folder (written before the worker died) is read
   back instead of being recomputed.
+* When every worker is gone the tasks wait for new ones; the client says so
+  (one line on stderr every :data:`WAITING_INTERVAL` seconds while none is there)
+  instead of waiting without a word.
 * numba threads: each chunk runs its drops in a parallel numba loop. So that
   dask threads and numba threads do not oversubscribe the cores, every chunk
   uses ``cores of the host // dask threads on that host`` numba threads
@@ -40,19 +43,21 @@ from __future__ import annotations
 
 import asyncio
 import os
-import pathlib
 import threading
 import time
 import uuid
 from collections.abc import Iterable, Iterator
 
 from mineburial.ensembles import engine
+from mineburial.ensembles.store import notice
 
 __all__ = ["warm_up", "chunk_task", "numba_threads_per_task", "run_tasks_distributed",
-           "run_chunks_distributed", "RETRIES"]
+           "RETRIES", "WAITING_INTERVAL"]
 
 #: retries of a chunk whose task raised (a lost worker is rescheduled by the scheduler)
 RETRIES = 2
+#: seconds between the checks for a cluster without workers (and the waiting messages)
+WAITING_INTERVAL = 30.0
 
 _LOCK = threading.Lock()   # serialises parallel launches under numba's workqueue layer
 
@@ -98,25 +103,24 @@ async def _warm_up_on_worker(dask_worker=None):
     return await asyncio.to_thread(warm_up)
 
 
-def chunk_task(spec, start: int, stop: int, parts, numba_threads: int | None = None) -> dict:
+def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = None) -> dict:
     """The dask task of one chunk: compute drops ``[start, stop)`` of ``spec``.
 
-    ``parts`` is the chunk folder of the run (or None). When this worker sees the run's
-    ``manifest.json`` there, the folder is on a filesystem shared with the client: a
-    chunk file already present (written by an earlier attempt) is read instead of
-    recomputed, and the new chunk file is saved atomically by the worker. Otherwise
-    (no shared filesystem) the worker writes nothing and the client saves the chunk
-    when the result arrives (:func:`run_tasks_distributed`).
+    ``store`` is the run's :class:`~mineburial.ensembles.store.ChunkStore` (or None).
+    When this worker sees the store opened by the client (its ``manifest.json`` with the
+    run's identity), the folder is on a filesystem shared with the client: a valid chunk
+    file already there (written by an earlier attempt) is read instead of recomputed,
+    and the new chunk file is saved atomically by the worker. Otherwise (no shared
+    filesystem) the worker writes nothing and the client saves the chunk when the
+    result arrives (:func:`run_tasks_distributed`).
     """
     import numba
 
-    shared = False
-    if parts is not None:
-        parts = pathlib.Path(parts)
-        shared = (parts / "manifest.json").exists()
-        path = engine._chunk_path(parts, start, stop)
-        if shared and path.exists():
-            return engine.load_chunk(path)
+    shared = store is not None and store.shared()
+    if shared:
+        done = store.load(start, stop)
+        if done is not None:
+            return done
     if numba_threads is not None:
         numba.set_num_threads(max(1, min(int(numba_threads), numba.config.NUMBA_NUM_THREADS)))
     if _workqueue():
@@ -125,7 +129,7 @@ def chunk_task(spec, start: int, stop: int, parts, numba_threads: int | None = N
     else:
         res = engine.compute_chunk(spec, start, stop)
     if shared:
-        engine.save_chunk(parts, res)
+        store.save(res)
     return res
 
 
@@ -159,15 +163,35 @@ def numba_threads_per_task(client) -> int:
     return max(1, min(ks))
 
 
+def _watch_workers(client, stop: threading.Event, interval: float):
+    """Say so while the cluster has no worker (the tasks wait for new ones)."""
+    since = None
+    while not stop.wait(interval):
+        try:
+            n = len(client.scheduler_info(n_workers=-1).get("workers", {}))
+        except Exception:   # the scheduler itself is unreachable: the client reports that
+            continue
+        if n == 0:
+            since = since or time.monotonic()
+            notice(f"waiting for dask workers: the cluster at {client.scheduler.address} has "
+                   f"none (for {time.monotonic() - since:.0f} s); the run goes on when workers "
+                   f"join. Ctrl-C stops it; finished chunks are kept and a rerun resumes")
+        elif since is not None:
+            notice(f"{n} dask worker(s) joined; the run goes on")
+            since = None
+
+
 def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
                           numba_threads: int | None = None) -> Iterator:
     """Run chunks of possibly different ensembles on a dask cluster.
 
-    ``items``: iterable of ``(tag, spec, start, stop, parts)`` (``tag`` is any label
-    passed back, e.g. a map cell; ``parts`` a folder or None). Yields
-    ``(tag, (start, stop), result_dict)`` as chunks finish, in any order. If a chunk
-    still fails after its retries, the remaining tasks are cancelled and a
-    ``RuntimeError`` naming the chunk is raised from the task's exception.
+    ``items``: iterable of ``(tag, spec, start, stop, store)`` (``tag`` is any label
+    passed back, e.g. a map cell; ``store`` a
+    :class:`~mineburial.ensembles.store.ChunkStore` or None). Yields
+    ``(tag, (start, stop), result_dict)`` as chunks finish, in any order; a chunk that
+    the worker could not save (no shared filesystem) is saved here. If a chunk still
+    fails after its retries, the remaining tasks are cancelled and a ``RuntimeError``
+    naming the chunk is raised from the task's exception.
     """
     from distributed import as_completed
 
@@ -179,23 +203,27 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
     if numba_threads is None:
         numba_threads = numba_threads_per_task(client)
     run_id = uuid.uuid4().hex[:8]
-    keys, labels, folders_of = [], {}, {}
-    specs, starts, stops, folders = [], [], [], []
-    for k, (tag, spec, start, stop, parts) in enumerate(items):
+    keys, labels, stores_of = [], {}, {}
+    specs, starts, stops, stores = [], [], [], []
+    for k, (tag, spec, start, stop, store) in enumerate(items):
         tag_txt = "" if tag is None else f"{tag}-"
         key = f"mineburial-chunk-{tag_txt}{int(start)}-{int(stop)}-{run_id}-{k}"
         keys.append(key)
         labels[key] = (tag, (int(start), int(stop)))
-        folders_of[key] = parts
+        stores_of[key] = store
         specs.append(spec)
         starts.append(int(start))
         stops.append(int(stop))
-        folders.append(None if parts is None else str(parts))
+        stores.append(store)
     # chunk_task is looked up here, at call time, so that tests can replace it
-    futures = client.map(chunk_task, specs, starts, stops, folders,
+    futures = client.map(chunk_task, specs, starts, stops, stores,
                          [numba_threads] * len(keys), key=keys, pure=False, retries=RETRIES)
     pending = {f.key: f for f in futures}
     del futures
+    stop_watch = threading.Event()
+    watcher = threading.Thread(target=_watch_workers, args=(client, stop_watch, WAITING_INTERVAL),
+                               name="mineburial-worker-watch", daemon=True)
+    watcher.start()
     try:
         for fut, res in as_completed(list(pending.values()), with_results=True,
                                      raise_errors=False):
@@ -208,25 +236,11 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
                     f"after {RETRIES} retries: {exc!r}") from exc
             fut.release()
-            parts = folders_of.pop(fut.key)
-            if parts is not None and not engine._chunk_path(pathlib.Path(parts), *bounds).exists():
-                engine.save_chunk(pathlib.Path(parts), res)   # no filesystem shared with workers
+            store = stores_of.pop(fut.key)
+            if store is not None and not store.has(*bounds):
+                store.save(res)            # no filesystem shared with the workers
             yield tag, bounds, res
     finally:
+        stop_watch.set()
         if pending:
             client.cancel(list(pending.values()))
-
-
-def run_chunks_distributed(client, spec, todo, parts, *, warm: bool = True,
-                           numba_threads: int | None = None) -> Iterator:
-    """Chunks ``todo`` (list of ``(start, stop)``) of ``spec`` on the cluster of ``client``.
-
-    Yields ``((start, stop), result_dict)`` as chunks finish (any order); with ``parts``
-    (a folder on a filesystem shared with the workers) every worker also saves its chunk
-    file there. Called by :func:`mineburial.ensembles.engine.run_ensemble` when given a
-    ``client``.
-    """
-    items = [(None, spec, s, e, parts) for s, e in todo]
-    for _, bounds, res in run_tasks_distributed(client, items, warm=warm,
-                                                numba_threads=numba_threads):
-        yield bounds, res

@@ -1,4 +1,5 @@
-"""The Monte Carlo ensemble engine: sample, run in compiled code, reduce, write NetCDF.
+"""The Monte Carlo ensemble engine: an ensemble scenario, and the per-drop results of
+any chunk of its drops computed in compiled code.
 
 An ensemble scenario is an ordinary scenario file in which any numeric input may
 be a distribution (``mass = {distribution = "normal", mean = 750, std = 20}``),
@@ -6,14 +7,13 @@ be a distribution (``mass = {distribution = "normal", mean = 750, std = 20}``),
 classes or core files, and an optional ``[ensemble]`` table sets ``n``, ``seed``,
 ``sampling``, ``chunk_size``, ``per_drop`` and ``class_basis``.
 
-Drops are processed in chunks ``[start, stop)``. Every random input of drop *i*
-is a pure function of ``(seed, i)`` (:mod:`mineburial.ensembles.sampling`), each
-drop writes only its own result row, and statistics are computed from the
-concatenated per-drop values, so results are bit-identical for any chunk size,
-thread count or dask cluster. With an output path, each finished chunk is saved
-atomically beside the output (``OUT.nc.parts/``) and a rerun with the same
-arguments resumes from them; the folder is removed once the NetCDF file is
-written (atomically too).
+Drops are processed in chunks ``[start, stop)`` (:func:`compute_chunk`). Every
+random input of drop *i* is a pure function of ``(seed, i)``
+(:mod:`mineburial.ensembles.sampling`) and each drop writes only its own result
+row, so a chunk gives the same bits for any chunk size, thread count or dask
+worker. Running the chunks, keeping finished ones on disk and reducing them to
+statistics is the run driver's job (:mod:`mineburial.ensembles.runner`, with the
+chunk store :mod:`mineburial.ensembles.store`).
 """
 
 from __future__ import annotations
@@ -22,18 +22,14 @@ import copy
 import dataclasses
 import hashlib
 import json
-import math
 import pathlib
-import sys
-import time
 from collections.abc import Mapping
 
 import numpy as np
 
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles.sampling import check_drop_count, sample_fields
-from mineburial.io.files import atomic_path, atomic_write_text
+from mineburial.ensembles.sampling import sample_fields
 from mineburial.kernels import layout
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks, unknown_name_message
 
@@ -112,23 +108,53 @@ class EnsembleSpec:
     sediment_choice: str | None    # "sediment.class" or "sediment.file" when it varies
     recompute_inertia: bool
     angles_deg: tuple              # (roll, pitch, heading) of the base scenario
-
-    def fingerprint(self) -> str:
-        """Hash of what determines the per-drop results (for resuming)."""
-        from mineburial import __version__
-        blob = json.dumps({"raw": self.raw, "seed": self.seed, "n": self.n,
-                           "sampling": self.sampling, "version": __version__},
-                          sort_keys=True, default=str)
-        return hashlib.sha256(blob.encode()).hexdigest()[:16]
+    input_files: tuple = ()        # ((path, SHA-256 of its contents), ...) of the files read
 
     def resolved(self) -> dict:
         """The resolved scenario written into outputs: the base scenario fully
-        resolved, the distributions of the random inputs, and the run settings."""
-        return {"scenario": self.base.to_dict(),
-                "random_inputs": {k: v.to_dict() for k, v in self.random.items()},
-                "ensemble": {"n": self.n, "seed": self.seed, "sampling": self.sampling,
-                             "chunk_size": self.chunk_size, "per_drop": self.per_drop,
-                             "class_basis": self.class_basis}}
+        resolved, the distributions of the random inputs, the files read (with the
+        SHA-256 of their contents) and the run settings."""
+        out = {"scenario": self.base.to_dict(),
+               "random_inputs": {k: v.to_dict() for k, v in self.random.items()},
+               "ensemble": {"n": self.n, "seed": self.seed, "sampling": self.sampling,
+                            "chunk_size": self.chunk_size, "per_drop": self.per_drop,
+                            "class_basis": self.class_basis}}
+        if self.input_files:
+            out["input_files"] = {path: digest for path, digest in self.input_files}
+        return out
+
+
+def file_digest(path) -> str:
+    """SHA-256 (hex) of the contents of the file ``path``."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _resolve(path, base_dir) -> pathlib.Path:
+    """A file name of the scenario as its loaders resolve it (relative to ``base_dir``)."""
+    p = pathlib.Path(path)
+    if not p.is_absolute() and base_dir is not None:
+        p = pathlib.Path(base_dir) / p
+    return p.resolve()
+
+
+def _input_files(raw: Mapping, random: Mapping, base_dir) -> tuple:
+    """((path, SHA-256), ...) of every file the scenario reads: a fixed ``sediment.file``,
+    the files of a ``sediment.file`` choice, and the files of empirical distributions."""
+    names = []
+    sed = raw.get("sediment")
+    if isinstance(sed, Mapping) and isinstance(sed.get("file"), str):
+        names.append(sed["file"])
+    for path, d in random.items():
+        if path == "sediment.file" and isinstance(d, dist.Choice):
+            names.extend(str(v) for v in d.values)
+        elif getattr(d, "file", None):
+            names.append(d.file)
+    files = sorted({str(_resolve(name, base_dir)) for name in names})
+    return tuple((f, file_digest(f)) for f in files)
 
 
 def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=None,
@@ -221,7 +247,8 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
                         per_drop=bool(ens["per_drop"]), class_basis=str(ens["class_basis"]),
                         base_params=p, sediment_bank=sed_bank, current_bank=cur_bank,
                         sediment_labels=labels, sediment_choice=choice,
-                        recompute_inertia=recompute, angles_deg=angles)
+                        recompute_inertia=recompute, angles_deg=angles,
+                        input_files=_input_files(raw, random, base_dir))
 
 
 def _check_ensemble(ens):
@@ -285,263 +312,63 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
 
 
 def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
-    """Run drops [start, stop): returns a dict of per-drop arrays."""
+    """Run drops [start, stop): returns a dict of per-drop arrays (``summary``,
+    ``status``, ``input:<path>`` of every sampled input) and ``invalid_inputs``, the
+    reasons why drops were not run (:func:`invalid_reasons`)."""
     from mineburial.ensembles.batch import run_batch
 
     P, valid, inputs = chunk_inputs(spec, start, stop)
     summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
     out = {"start": np.int64(start), "stop": np.int64(stop), "summary": summary,
-           "status": status}
+           "status": status,
+           "invalid_inputs": np.array(json.dumps(invalid_reasons(spec, P, valid),
+                                                 sort_keys=True))}
     for k, v in inputs.items():
         out["input:" + k] = v
     return out
 
 
-# ---------------------------------------------------------------------------
-# chunk files (resume)
-# ---------------------------------------------------------------------------
-def _parts_dir(output) -> pathlib.Path:
-    output = pathlib.Path(output)
-    return output.with_name(output.name + ".parts")
+def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
+    """(UDUNITS units, description) of the sampled input ``path`` in the output."""
+    if path == spec.sediment_choice:
+        return "1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}"
+    if path in _ANGLE_FIELDS:
+        return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
+    field = cfg.FIELDS.get(cfg.ALIASES.get(path, path))
+    if field is not None:
+        return field.units, field.description
+    return "1", path
 
 
-def _chunk_path(parts: pathlib.Path, start: int, stop: int) -> pathlib.Path:
-    return parts / f"chunk-{start:012d}-{stop:012d}.npz"
+def invalid_reasons(spec: EnsembleSpec, P, valid) -> dict:
+    """Why the drops with ``valid`` False were not run: ``{constraint: [count, first
+    offending values]}`` (the constraints of :func:`mineburial.config.explain_params`; the
+    moments of inertia computed from a sampled mass or size are left out where the mass
+    or size itself is the reason)."""
+    reasons: dict = {}
+    for i in np.flatnonzero(~np.asarray(valid, dtype=bool)):
+        texts = cfg.explain_params(P[i], n_sediment=spec.sediment_bank.shape[0],
+                                   n_current=spec.current_bank.shape[0])
+        if spec.recompute_inertia:   # inertia computed from a bad mass/size: not a reason
+            texts = [t for t in texts if "inertia" not in t.partition(" (got ")[0]] or texts
+        for text in texts:
+            rule, _, got = text.partition(" (got ")
+            entry = reasons.setdefault(rule, [0, got.rstrip(")")])
+            entry[0] += 1
+    return reasons
 
 
-def save_chunk(parts: pathlib.Path, result: dict) -> pathlib.Path:
-    """Write one chunk's results atomically (temporary file, fsync, rename)."""
-    path = _chunk_path(parts, int(result["start"]), int(result["stop"]))
-    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
-        np.savez(fh, **{k.replace(":", "__"): v for k, v in result.items()})
-    return path
-
-
-def load_chunk(path: pathlib.Path) -> dict:
-    with np.load(path) as z:
-        return {k.replace("__", ":"): z[k] for k in z.files}
-
-
-def _prepare_parts(spec: EnsembleSpec, output) -> pathlib.Path:
-    parts = _parts_dir(output)
-    parts.mkdir(parents=True, exist_ok=True)
-    manifest = parts / "manifest.json"
-    fp = spec.fingerprint()
-    if manifest.exists():
-        old = json.loads(manifest.read_text())
-        if old.get("fingerprint") != fp:
-            for f in parts.glob("chunk-*.npz"):
-                f.unlink()
-    atomic_write_text(manifest, json.dumps({"fingerprint": fp, "n": spec.n, "seed": spec.seed}))
-    return parts
+def merge_invalid_reasons(chunks) -> dict:
+    """The :func:`invalid_reasons` of several chunk results added up (first example kept)."""
+    total: dict = {}
+    for chunk in chunks:
+        for rule, (count, example) in json.loads(str(chunk["invalid_inputs"])).items():
+            entry = total.setdefault(rule, [0, example])
+            entry[0] += int(count)
+    return total
 
 
 def chunk_bounds(n: int, chunk_size: int):
+    """The chunks ``[(start, stop), ...]`` of ``n`` drops, ``chunk_size`` drops each (the
+    last may be shorter)."""
     return [(s, min(s + chunk_size, n)) for s in range(0, n, chunk_size)]
-
-
-# ---------------------------------------------------------------------------
-# progress
-# ---------------------------------------------------------------------------
-class Progress:
-    """Rate-limited progress lines: drops done, drops/s, time left.
-
-    Every 2 s on a terminal (rewriting one line), every 30 s in a batch log.
-    """
-
-    def __init__(self, total: int, enabled: bool = True, stream=None):
-        self.total = total
-        self.stream = stream or sys.stderr
-        self.enabled = enabled
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.interval = 2.0 if self.tty else 30.0
-        self.t0 = time.monotonic()
-        self.last = -math.inf
-        self.done0 = None
-
-    def update(self, done: int, final: bool = False):
-        if not self.enabled:
-            return
-        now = time.monotonic()
-        if self.done0 is None:
-            self.done0 = done
-            self.t0 = now
-        if not final and now - self.last < self.interval:
-            return
-        self.last = now
-        elapsed = max(now - self.t0, 1e-9)
-        rate = (done - self.done0) / elapsed
-        left = (self.total - done) / rate if rate > 0 else math.inf
-        eta = "--" if not math.isfinite(left) else time.strftime("%H:%M:%S", time.gmtime(left))
-        line = (f"drops {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
-                f"{rate:.1f} drops/s, time left {eta}")
-        if self.tty:
-            end = "\n" if final else ""
-            self.stream.write("\r" + line + end)
-        else:
-            self.stream.write(line + "\n")
-        self.stream.flush()
-
-
-# ---------------------------------------------------------------------------
-# the ensemble
-# ---------------------------------------------------------------------------
-def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *,
-                 sampling: str | None = None, chunk_size: int | None = None,
-                 output=None, per_drop: bool | None = None, threads: int | None = None,
-                 progress: bool = False, client=None, class_basis: str | None = None):
-    """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
-
-    Parameters
-    ----------
-    scenario : path, dict, :class:`~mineburial.config.Scenario` or None
-        Ensemble scenario (None: the embedded default soft-mud scenario).
-    n, seed, sampling, chunk_size, per_drop, class_basis
-        Override the scenario's ``[ensemble]`` table.
-    output : path, optional
-        Write the NetCDF file here (atomically); finished chunks are kept in
-        ``OUTPUT.parts/`` until then, so an interrupted run resumes.
-    threads : int, optional
-        Number of numba threads (default: all cores).
-    progress : bool
-        Print rate-limited progress lines to stderr.
-    client : dask.distributed.Client, optional
-        Spread chunks over a dask cluster (:mod:`mineburial.ensembles.distributed`).
-    """
-    import numba
-
-    from mineburial import __version__
-    from mineburial.io.netcdf import build_dataset, write_netcdf
-
-    spec = load_ensemble(scenario, n=n, seed=seed, sampling=sampling, chunk_size=chunk_size,
-                         per_drop=per_drop, class_basis=class_basis)
-    if spec.sampling == "sobol":
-        check_drop_count(spec.n, "sobol")
-    if threads is not None:
-        numba.set_num_threads(int(threads))
-    bounds = chunk_bounds(spec.n, spec.chunk_size)
-    parts = _prepare_parts(spec, output) if output is not None else None
-    results = {}
-    if parts is not None:
-        for s, e in bounds:
-            path = _chunk_path(parts, s, e)
-            if path.exists():
-                results[(s, e)] = load_chunk(path)
-    todo = [b for b in bounds if b not in results]
-    bar = Progress(spec.n, enabled=progress)
-    done = sum(e - s for s, e in results)
-    bar.update(done)
-    if client is not None:
-        from mineburial.ensembles.distributed import run_chunks_distributed
-
-        for key, res in run_chunks_distributed(client, spec, todo, parts):
-            results[key] = res
-            done += key[1] - key[0]
-            bar.update(done)
-    else:
-        for s, e in todo:
-            res = compute_chunk(spec, s, e)
-            if parts is not None:
-                save_chunk(parts, res)
-            results[(s, e)] = res
-            done += e - s
-            bar.update(done)
-    bar.update(done, final=True)
-
-    ordered = [results[b] for b in bounds]
-    summary = np.concatenate([r["summary"] for r in ordered])
-    status = np.concatenate([r["status"] for r in ordered])
-    inputs = {}
-    for key in ordered[0]:
-        if key.startswith("input:"):
-            inputs[key[6:]] = np.concatenate([r[key] for r in ordered])
-    meta = {}
-    for path in inputs:
-        slot = cfg.ALIASES.get(path, path)
-        spec_f = cfg.FIELDS.get(slot)
-        if path == spec.sediment_choice:
-            meta[path] = ("1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}")
-        elif path in _ANGLE_FIELDS:
-            meta[path] = ("degree", path.split(".")[1].replace("_deg", "") + " angle at release")
-        elif spec_f is not None:
-            meta[path] = (spec_f.units, spec_f.description)
-        else:
-            meta[path] = ("1", path)
-    ds = build_dataset(summary, status, inputs=inputs, input_metadata=meta,
-                       scenario=spec.resolved(), seed=spec.seed, version=__version__,
-                       sampling_method=spec.sampling, n_drops=spec.n, per_drop=spec.per_drop,
-                       statistics_options={"class_basis": spec.class_basis},
-                       title=f"mineburial impact-burial ensemble: {spec.base.mine.name}")
-    if output is not None:
-        write_netcdf(ds, output)
-        for f in parts.glob("*"):
-            f.unlink()
-        parts.rmdir()
-    return ds
-
-
-def run_ensemble_cli(args) -> int:
-    """``mineburial run``: the main job."""
-    client = None
-    if args.scheduler:
-        from dask.distributed import Client
-
-        client = Client(args.scheduler)
-    t0 = time.monotonic()
-    try:
-        ds = run_ensemble(args.scenario, n=args.drops, seed=args.seed, sampling=args.sampling,
-                          chunk_size=args.chunk_size, output=args.output,
-                          per_drop=args.per_drop, threads=args.threads,
-                          progress=not args.quiet, client=client)
-    finally:
-        if client is not None:
-            client.close()
-    elapsed = time.monotonic() - t0
-    print(summarize(ds, elapsed, args.output))
-    return 0
-
-
-def summarize(ds, elapsed: float | None = None, output=None) -> str:
-    """A short human-readable report of an ensemble Dataset."""
-    from mineburial.kernels import status as st
-
-    lines = [ds.attrs.get("title", "mineburial ensemble")]
-    n = int(ds.attrs.get("n_drops", ds.sizes.get("realization", 0)) or 0)
-    counts = ds["status_count"].values if "status_count" in ds else None
-    if counts is not None:
-        parts = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
-        lines.append(f"drops: {n} (" + ", ".join(parts) + ")")
-        used = int(sum(int(counts[k]) for k in st.IN_STATISTICS if k < len(counts)))
-        lines.append(f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
-                     f"a buried_sinking penetration is a lower bound)")
-        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts)
-                if c and k not in st.IN_STATISTICS]
-        if left:
-            lines.append("warning: left out of the burial statistics: " + ", ".join(left)
-                         + " (floated: lighter than the water, never reached the seabed)"
-                         * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0))
-    for name, label, unit in (("burial_volume", "burial by volume", "%"),
-                              ("penetration_depth", "penetration depth", "m")):
-        mean = ds.get(f"{name}_mean")
-        if mean is not None:
-            q = ds.get(f"{name}_quantile")
-            qtxt = ""
-            if q is not None:
-                qtxt = ", 5-50-95 % quantiles " + " / ".join(
-                    f"{float(v):.3g}" for v in q.sel(quantile=[0.05, 0.5, 0.95]).values)
-            lines.append(f"{label}: mean {float(mean):.3g} {unit}{qtxt} {unit}")
-    if "burial_class_probability" in ds:
-        p = ds["burial_class_probability"].values
-        lo = ds["burial_class_probability_lower"].values if "burial_class_probability_lower" in ds else None
-        hi = ds["burial_class_probability_upper"].values if "burial_class_probability_upper" in ds else None
-        names = ds["burial_class"].attrs.get("flag_meanings", "").split() if "burial_class" in ds else []
-        if not names:
-            names = ["0 %", "0-10 %", "10-20 %", "20-75 %", ">75 %"]
-        for k, pk in enumerate(p):
-            ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
-            lines.append(f"  P(class {names[k] if k < len(names) else k}) = {pk:.3f}{ci}")
-    if elapsed is not None:
-        lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
-    if output is not None:
-        lines.append(f"wrote {output}")
-    return "\n".join(lines)

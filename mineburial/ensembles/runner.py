@@ -1,0 +1,430 @@
+"""The run driver: one mechanism that runs the chunks of ensembles, resumes them and
+reduces them, for both :func:`run_ensemble` and :func:`mineburial.maps.run_map`.
+
+A run is a list of :class:`Job` s, each an ensemble (:class:`~mineburial.ensembles.
+engine.EnsembleSpec`) with an optional chunk store
+(:class:`~mineburial.ensembles.store.ChunkStore`). :func:`run_jobs` loads the valid
+chunk files already in the stores, computes the other chunks here (a parallel numba
+loop per chunk) or on a dask cluster (:mod:`mineburial.ensembles.distributed`), saves
+each finished chunk atomically, prints rate-limited progress, and yields each job's
+chunk results, in drop order, as soon as the job is complete. Everything that can be
+checked before computing is checked first (:func:`check_run`).
+
+:func:`run_ensemble` is one job: its statistics and per-drop values go into one
+Dataset (:func:`mineburial.ensembles.dataset.build_dataset`), written atomically to the
+output path under the run's lock (:class:`~mineburial.ensembles.store.OutputRun`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import pathlib
+import sys
+import time
+from typing import Any
+from collections.abc import Iterable, Iterator
+
+import numpy as np
+
+from mineburial._version import __version__
+from mineburial.ensembles import engine
+from mineburial.ensembles.sampling import check_drop_count
+from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
+from mineburial.kernels import layout
+
+__all__ = ["Job", "run_jobs", "run_ensemble", "summarize", "run_ensemble_cli", "Progress",
+           "check_run", "warn_run", "check_threads", "connect_scheduler", "STEPS_WARNING"]
+
+#: time steps a drop above which a fixed-step integrator gets a warning
+STEPS_WARNING = 1e8
+#: seconds to wait for a dask scheduler to answer before giving up
+SCHEDULER_TIMEOUT = 10.0
+_FIXED_STEP = ("rk4", "local_linear")
+
+
+# ---------------------------------------------------------------------------
+# progress
+# ---------------------------------------------------------------------------
+class Progress:
+    """Rate-limited progress lines: drops done, drops/s, time left.
+
+    Every 2 s on a terminal (rewriting one line), every 30 s in a batch log.
+    """
+
+    def __init__(self, total: int, enabled: bool = True, stream=None):
+        self.total = total
+        self.stream = stream or sys.stderr
+        self.enabled = enabled
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.interval = 2.0 if self.tty else 30.0
+        self.t0 = time.monotonic()
+        self.last = -math.inf
+        self.done0 = None
+
+    def update(self, done: int, final: bool = False):
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if self.done0 is None:
+            self.done0 = done
+            self.t0 = now
+        if not final and now - self.last < self.interval:
+            return
+        self.last = now
+        elapsed = max(now - self.t0, 1e-9)
+        rate = (done - self.done0) / elapsed
+        left = (self.total - done) / rate if rate > 0 else math.inf
+        eta = "--" if not math.isfinite(left) else time.strftime("%H:%M:%S", time.gmtime(left))
+        line = (f"drops {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
+                f"{rate:.1f} drops/s, time left {eta}")
+        if self.tty:
+            end = "\n" if final else ""
+            self.stream.write("\r" + line + end)
+        else:
+            self.stream.write(line + "\n")
+        self.stream.flush()
+
+
+# ---------------------------------------------------------------------------
+# checks before computing
+# ---------------------------------------------------------------------------
+def _physical_memory() -> int | None:
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return None
+
+
+def _bytes(n: float) -> str:
+    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n < 1024 or unit == "PiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024
+    return f"{n:.3g} PiB"  # pragma: no cover
+
+
+#: bytes of bookkeeping a chunk costs in memory beside its per-drop arrays (its dict, the
+#: small arrays, the task), measured order of magnitude
+CHUNK_OVERHEAD = 4096
+
+
+def memory_needed(spec) -> int:
+    """Bytes a run of ``spec`` needs for its per-drop values: the summary row, status and
+    sampled inputs of every drop, kept until the statistics are computed, with room for
+    the copies made while reducing them (a factor of 4), and the bookkeeping of every
+    chunk (:data:`CHUNK_OVERHEAD`)."""
+    chunks = -(-int(spec.n) // int(spec.chunk_size))
+    return 4 * _bytes_a_drop(spec) * int(spec.n) + CHUNK_OVERHEAD * chunks
+
+
+def _bytes_a_drop(spec) -> int:
+    return layout.N_SUMMARY * 8 + 1 + 8 * len(spec.random)
+
+
+def _extremes(spec, path, fixed):
+    """(smallest, largest) value of input ``path`` (its distribution's central 1 - 2e-9)."""
+    d = spec.random.get(path)
+    if d is None:
+        return fixed, fixed
+    lo, hi = d.ppf(np.array([1e-9, 1.0 - 1e-9]))
+    return float(lo), float(hi)
+
+
+def check_run(spec, *, what: str = "the ensemble") -> None:
+    """Checks of an ensemble that can be made before computing: the Sobol drop count and
+    the memory for the per-drop values (a run that cannot fit is refused with the memory
+    it would need)."""
+    if spec.sampling == "sobol":
+        check_drop_count(spec.n, "sobol")
+    need, have = memory_needed(spec), _physical_memory()
+    if have is not None and need > have:
+        raise RunError(
+            f"ensemble.n = {spec.n} drops: {what} would need about {_bytes(need)} of memory for "
+            f"the per-drop values ({_bytes_a_drop(spec)} bytes a drop, kept until the "
+            f"statistics are computed), more than this machine's {_bytes(have)}; run fewer "
+            f"drops (several runs with different seeds can be combined)")
+
+
+def warn_run(spec) -> None:
+    """A warning when a fixed-step integrator would take more than :data:`STEPS_WARNING`
+    steps a drop (the adaptive default ``dopri5`` is not warned about)."""
+    num = spec.base.numerics
+    if num.integrator in _FIXED_STEP:
+        dt_lo, _ = _extremes(spec, "numerics.dt", num.dt)
+        _, t_hi = _extremes(spec, "numerics.t_max", num.t_max)
+        steps = t_hi / dt_lo if dt_lo > 0 else math.inf
+        if steps > STEPS_WARNING:
+            notice(f"warning: numerics.t_max / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
+                   f"{steps:.3g} time steps a drop with the fixed-step integrator "
+                   f"'{num.integrator}': a drop that does not come to rest early may run for "
+                   f"hours; use the adaptive integrator 'dopri5' or a larger dt")
+
+
+def check_threads(threads, what: str = "threads") -> int | None:
+    """``threads`` as an int in 1..(the cores numba can use), or a RunError."""
+    if threads is None:
+        return None
+    import numba
+
+    cores = int(numba.config.NUMBA_NUM_THREADS)
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) \
+            or not 1 <= threads <= cores:
+        raise RunError(f"{what} = {threads!r} is outside the allowed range 1..{cores} "
+                       f"(the cores numba can use on this machine)")
+    return int(threads)
+
+
+def connect_scheduler(address: str, timeout: float | None = None):
+    """A dask client of the scheduler at ``address``, or a RunError after ``timeout`` s
+    (default :data:`SCHEDULER_TIMEOUT`)."""
+    from dask.distributed import Client
+
+    timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
+    try:
+        return Client(address, timeout=timeout)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise RunError(f"--scheduler {address}: cannot reach a dask scheduler there within "
+                       f"{timeout:g} s ({reason})") from None
+
+
+# ---------------------------------------------------------------------------
+# the driver
+# ---------------------------------------------------------------------------
+@dataclasses.dataclass
+class Job:
+    """One ensemble of a run: ``tag`` names it (None for a lone ensemble, the cell index
+    of a map), ``store`` keeps its finished chunks (None: nothing on disk)."""
+    tag: Any
+    spec: Any
+    store: ChunkStore | None = None
+
+
+def _run_local(todo):
+    for tag, spec, start, stop, store in todo:
+        res = engine.compute_chunk(spec, start, stop)
+        if store is not None:
+            store.save(res)
+        yield tag, (start, stop), res
+
+
+def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Iterator:
+    """Run every chunk of every job; yield ``(tag, [chunk results in drop order])`` as
+    each job completes (jobs resumed in full first).
+
+    Chunk files in a job's store that are valid for the run are loaded instead of
+    computed; the others are computed here or, with a dask ``client``, on its cluster,
+    and saved as they finish.
+    """
+    jobs = list(jobs)
+    bounds = {job.tag: engine.chunk_bounds(job.spec.n, job.spec.chunk_size) for job in jobs}
+    if len(bounds) != len(jobs):
+        raise ValueError("the jobs of a run need distinct tags")
+    results: dict = {job.tag: {} for job in jobs}
+    for job in jobs:
+        if job.store is not None:
+            for s, e in bounds[job.tag]:
+                res = job.store.load(s, e)
+                if res is not None:
+                    results[job.tag][(s, e)] = res
+    done = sum(e - s for r in results.values() for s, e in r)
+    bar = Progress(sum(job.spec.n for job in jobs), enabled=progress)
+    bar.update(done)
+
+    def complete(tag):
+        got = results.pop(tag)
+        return [got[b] for b in bounds[tag]]
+
+    todo = [(job.tag, job.spec, s, e, job.store) for job in jobs
+            for s, e in bounds[job.tag] if (s, e) not in results[job.tag]]
+    for job in jobs:
+        if len(results[job.tag]) == len(bounds[job.tag]):
+            yield job.tag, complete(job.tag)
+    if client is not None:
+        from mineburial.ensembles.distributed import run_tasks_distributed
+
+        stream = run_tasks_distributed(client, todo)
+    else:
+        stream = _run_local(todo)
+    for tag, b, res in stream:
+        results[tag][b] = res
+        done += b[1] - b[0]
+        bar.update(done)
+        if len(results[tag]) == len(bounds[tag]):
+            yield tag, complete(tag)
+    bar.update(done, final=True)
+
+
+# ---------------------------------------------------------------------------
+# the ensemble
+# ---------------------------------------------------------------------------
+def _scenario_path(scenario):
+    return pathlib.Path(scenario) if isinstance(scenario, (str, os.PathLike)) else None
+
+
+def input_paths(scenario, spec) -> list:
+    """The files a run of ``spec`` reads (the scenario file and the files it names)."""
+    paths = [_scenario_path(scenario)] + [pathlib.Path(f) for f, _ in spec.input_files]
+    return [p for p in paths if p is not None]
+
+
+def invalid_inputs_text(reasons: dict) -> str:
+    """One line for the drops whose sampled inputs were invalid (empty if none)."""
+    return "; ".join(f"{rule}: {count} drop{'s' * (count != 1)} (e.g. {example})"
+                     for rule, (count, example) in sorted(reasons.items(),
+                                                          key=lambda kv: -kv[1][0]))
+
+
+def ensemble_dataset(spec, chunks):
+    """The output Dataset of ensemble ``spec`` from its chunk results in drop order."""
+    from mineburial.ensembles.dataset import build_dataset
+
+    summary = np.concatenate([r["summary"] for r in chunks])
+    status = np.concatenate([r["status"] for r in chunks])
+    inputs = {key[6:]: np.concatenate([r[key] for r in chunks])
+              for key in chunks[0] if key.startswith("input:")}
+    meta = {path: engine.input_metadata(spec, path) for path in inputs}
+    invalid = invalid_inputs_text(engine.merge_invalid_reasons(chunks))
+    attrs = {"invalid_inputs": invalid} if invalid else None
+    return build_dataset(summary, status, inputs=inputs, input_metadata=meta,
+                         scenario=spec.resolved(), seed=spec.seed, version=__version__,
+                         sampling_method=spec.sampling, n_drops=spec.n, per_drop=spec.per_drop,
+                         statistics_options={"class_basis": spec.class_basis},
+                         title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
+                         attrs=attrs)
+
+
+def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *,
+                 sampling: str | None = None, chunk_size: int | None = None,
+                 output=None, per_drop: bool | None = None, threads: int | None = None,
+                 progress: bool = False, client=None, class_basis: str | None = None):
+    """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
+
+    Parameters
+    ----------
+    scenario : path, dict, :class:`~mineburial.config.Scenario` or None
+        Ensemble scenario (None: the embedded default soft-mud scenario).
+    n, seed, sampling, chunk_size, per_drop, class_basis
+        Override the scenario's ``[ensemble]`` table.
+    output : path, optional
+        Write the NetCDF file here (atomically); finished chunks are kept in
+        ``OUTPUT.parts/`` until then, so an interrupted run resumes
+        (:mod:`mineburial.ensembles.store`: a rerun reuses only chunks of the same run
+        identity; a second live run on the same output is refused).
+    threads : int, optional
+        Number of numba threads (default: all cores).
+    progress : bool
+        Print rate-limited progress lines to stderr.
+    client : dask.distributed.Client, optional
+        Spread chunks over a dask cluster (:mod:`mineburial.ensembles.distributed`).
+    """
+    spec = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling,
+                                chunk_size=chunk_size, per_drop=per_drop,
+                                class_basis=class_basis)
+    threads = check_threads(threads)
+    check_run(spec)
+    warn_run(spec)
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(threads)
+    if output is None:
+        (_, chunks), = run_jobs([Job(None, spec)], client=client, progress=progress)
+        return ensemble_dataset(spec, chunks)
+    with OutputRun(output, input_paths(scenario, spec)) as out:
+        (_, chunks), = run_jobs([Job(None, spec, out.store(spec))], client=client,
+                                progress=progress)
+        ds = ensemble_dataset(spec, chunks)
+        out.commit(ds)
+    return ds
+
+
+def run_ensemble_cli(args) -> int:
+    """``mineburial run``: the main job. Every check that can be made before computing is
+    made first (scenario, output path, threads, scheduler)."""
+    from mineburial.ensembles.store import check_output_path
+
+    check_threads(args.threads, "--threads")
+    spec = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed,
+                                sampling=args.sampling, chunk_size=args.chunk_size,
+                                per_drop=args.per_drop)
+    check_output_path(args.output, input_paths(args.scenario, spec), "-o")
+    check_run(spec)
+    client = connect_scheduler(args.scheduler) if args.scheduler else None
+    t0 = time.monotonic()
+    try:
+        ds = run_ensemble(args.scenario, n=args.drops, seed=args.seed, sampling=args.sampling,
+                          chunk_size=args.chunk_size, output=args.output,
+                          per_drop=args.per_drop, threads=args.threads,
+                          progress=not args.quiet, client=client)
+    finally:
+        if client is not None:
+            client.close()
+    elapsed = time.monotonic() - t0
+    print(summarize(ds, elapsed, args.output))
+    return 0
+
+
+def class_labels(ds) -> list[str]:
+    """Names of the impact-burial classes of the statistics, in the order of
+    ``burial_class_probability`` (from its class coordinate's flag values and meanings)."""
+    coord = ds["burial_class_probability"].dims[0]
+    c = ds[coord]
+    values = np.atleast_1d(c.attrs.get("flag_values", np.arange(c.size))).tolist()
+    meanings = str(c.attrs.get("flag_meanings", "")).split()
+    table = dict(zip(values, meanings))
+    return [table.get(v, str(v)) for v in np.asarray(c.values).tolist()]
+
+
+def summarize(ds, elapsed: float | None = None, output=None) -> str:
+    """A short human-readable report of an ensemble Dataset."""
+    from mineburial.kernels import status as st
+
+    lines = [ds.attrs.get("title", "mineburial ensemble")]
+    n = int(ds.attrs.get("n_drops", ds.sizes.get("realization", 0)) or 0)
+    counts = ds["status_count"].values if "status_count" in ds else None
+    used = None
+    if counts is not None:
+        parts = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
+        lines.append(f"drops: {n} (" + ", ".join(parts) + ")")
+        used = int(sum(int(counts[k]) for k in st.IN_STATISTICS if k < len(counts)))
+        lines.append(f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
+                     f"a buried_sinking penetration is a lower bound)")
+        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts)
+                if c and k not in st.IN_STATISTICS]
+        if left:
+            lines.append("warning: left out of the burial statistics: " + ", ".join(left)
+                         + " (floated: lighter than the water, never reached the seabed)"
+                         * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0))
+    invalid = ds.attrs.get("invalid_inputs")
+    if invalid:
+        k = int(counts[st.INVALID_INPUT]) if counts is not None else 0
+        lines.append(f"warning: {k} of {n} drops were not run because their sampled inputs are "
+                     f"invalid: {invalid}")
+    for name, label, unit in (("burial_volume", "burial by volume", "%"),
+                              ("penetration_depth", "penetration depth", "m")):
+        mean = ds.get(f"{name}_mean")
+        if mean is not None:
+            q = ds.get(f"{name}_quantile")
+            qtxt = ""
+            if q is not None:
+                qtxt = ", 5-50-95 % quantiles " + " / ".join(
+                    f"{float(v):.3g}" for v in q.sel(quantile=[0.05, 0.5, 0.95]).values)
+            lines.append(f"{label}: mean {float(mean):.3g} {unit}{qtxt} {unit}")
+    if "burial_class_probability" in ds:
+        p = ds["burial_class_probability"].values
+        lo = ds["burial_class_probability_lower"].values if "burial_class_probability_lower" in ds else None
+        hi = ds["burial_class_probability_upper"].values if "burial_class_probability_upper" in ds else None
+        basis = ds.attrs.get("burial_class_basis", "burial_volume")
+        of = f" of the {used} drops at rest" if used is not None else ""
+        lines.append(f"impact-burial classes (by {basis}){of}:")
+        for name, pk, k in zip(class_labels(ds), p, range(len(p))):
+            ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
+            lines.append(f"  P({name}) = {pk:.3f}{ci}")
+    if elapsed is not None:
+        lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
+    if output is not None:
+        lines.append(f"wrote {output}")
+    return "\n".join(lines)

@@ -1,0 +1,417 @@
+"""The chunk store of a run: finished chunks kept on disk so that an interrupted run resumes.
+
+A run with an output path ``OUT.nc`` keeps its working state in the folder
+``OUT.nc.parts/`` until the NetCDF file is written:
+
+* ``lock``: held by the live run (an advisory ``flock`` on the file, which records
+  the process id, host and start time for the message). A second run on the same
+  output path is refused while the lock is held; the kernel releases the lock when
+  its process dies, so the lock file of a killed run is simply taken over.
+* ``manifest.json`` of each store (an ensemble: the parts folder itself; a map: one
+  ``cell-<k>/`` sub-folder per grid cell): the *run identity* of the chunks kept there.
+* ``chunk-<start>-<stop>.npz``: the per-drop arrays of drops ``[start, stop)``, written
+  atomically (temporary file, fsync, rename), each carrying the identity of the run
+  that wrote it.
+
+The run identity (:func:`run_identity`) is a SHA-256 over everything that decides the
+per-drop results: the resolved scenario, the distributions of the random inputs with
+the values they hold (an empirical distribution's data, not only its file name), the
+packed parameters and sediment/current banks handed to the kernels, the seed, the
+sampling method, ``n``, the chunk size, the package version and a digest of its Python
+sources, and the SHA-256 of the contents of every input file the run reads (sediment
+profile files, empirical-distribution files, the environment grid of a map). On
+opening a store, chunks of another identity are discarded (and the run says so); on
+loading, a chunk file that is unreadable, truncated or of another identity is deleted
+and recomputed (and the run says so). So a rerun never mixes the drops of two runs, and
+its result is bit-identical to a clean run of the same command.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import json
+import os
+import pathlib
+import re
+import socket
+import sys
+import time
+import zipfile
+
+import numpy as np
+
+from mineburial._version import __version__
+from mineburial.config import ScenarioError
+from mineburial.io.files import atomic_path, atomic_write_bytes
+from mineburial.kernels import layout
+
+__all__ = ["RunError", "RunLockedError", "ChunkStore", "RunLock", "OutputRun", "run_identity",
+           "check_output_path", "notice"]
+
+_MANIFEST = "manifest.json"
+_LOCK = "lock"
+_CHUNK = re.compile(r"^chunk-(\d{12})-(\d{12})\.npz$")
+
+
+class RunError(ScenarioError):
+    """A run that cannot start: its output path, or another run holding it."""
+
+
+class RunLockedError(RunError):
+    """Another live run writes the same output path."""
+
+
+def notice(message: str) -> None:
+    """Tell the user about something the run did on its own (one line on stderr)."""
+    print(f"mineburial: {message}", file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------------------
+# run identity
+# ---------------------------------------------------------------------------
+@functools.lru_cache(maxsize=1)
+def code_digest() -> str:
+    """SHA-256 of the package's Python sources (names and contents): the engine version
+    of a source tree whose version number did not change."""
+    root = pathlib.Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(str(path.relative_to(root)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _settings(spec) -> dict:
+    """The run settings that decide a chunk's results, for the identity and messages."""
+    return {"seed": spec.seed, "n": spec.n, "sampling": spec.sampling,
+            "chunk_size": spec.chunk_size, "version": __version__}
+
+
+def run_identity(spec, extra_files=()) -> str:
+    """Identity of the chunks of the ensemble ``spec`` (module docstring).
+
+    ``extra_files``: ``((path, sha256), ...)`` of further files the run reads (the
+    environment grid of a map). Per-drop output and the class basis are not part of
+    it: they only change what is made of the chunks.
+    """
+    h = hashlib.sha256()
+
+    def add(tag, data):
+        h.update(tag.encode() + b"\0")
+        h.update(data if isinstance(data, bytes) else str(data).encode())
+        h.update(b"\0")
+
+    add("settings", json.dumps(_settings(spec), sort_keys=True))
+    add("code", code_digest())
+    add("scenario", json.dumps(spec.base.to_dict(), sort_keys=True, default=repr))
+    for path in sorted(spec.random):
+        add(f"random:{path}", repr(spec.random[path]))
+    for name in ("base_params", "sediment_bank", "current_bank"):
+        arr = np.ascontiguousarray(getattr(spec, name), dtype=np.float64)
+        add(name, f"{arr.shape}".encode() + arr.tobytes())
+    add("options", repr((spec.sediment_labels, spec.sediment_choice, spec.recompute_inertia,
+                         spec.angles_deg)))
+    for path, digest in sorted(tuple(spec.input_files) + tuple(extra_files)):
+        add(f"file:{path}", digest)
+    return h.hexdigest()
+
+
+def _differences(old: dict, new: dict) -> str:
+    keys = [k for k in new if old.get(k) != new.get(k)]
+    if not keys:
+        return "a different scenario, input file or program"
+    return ", ".join(f"{k} {old.get(k)!r} -> {new.get(k)!r}" for k in keys)
+
+
+# ---------------------------------------------------------------------------
+# chunk store
+# ---------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class ChunkStore:
+    """The chunk files of one ensemble in ``folder``, tied to the run ``identity``.
+
+    Picklable (it travels with the chunk tasks to dask workers).
+    """
+    folder: str
+    identity: str
+    settings: dict = dataclasses.field(default_factory=dict, compare=False)
+
+    @classmethod
+    def for_spec(cls, spec, folder, extra_files=()) -> ChunkStore:
+        return cls(str(folder), run_identity(spec, extra_files), _settings(spec))
+
+    @property
+    def path(self) -> pathlib.Path:
+        return pathlib.Path(self.folder)
+
+    def chunk_path(self, start: int, stop: int) -> pathlib.Path:
+        return self.path / f"chunk-{int(start):012d}-{int(stop):012d}.npz"
+
+    # -- opening -----------------------------------------------------------------
+    def open(self) -> ChunkStore:
+        """Create the folder, discard chunks of another run and stray temporary files
+        (saying so), and record this run's identity. Call with the run's lock held."""
+        folder = self.path
+        folder.mkdir(parents=True, exist_ok=True)
+        manifest = folder / _MANIFEST
+        old = None
+        if manifest.exists():
+            try:
+                old = json.loads(manifest.read_text())
+            except (OSError, ValueError):
+                old = {}
+        chunks = [f for f in folder.iterdir() if _CHUNK.match(f.name)]
+        if chunks and (old is None or old.get("identity") != self.identity):
+            why = _differences(old.get("settings", {}), self.settings) if old else \
+                "no record of the run that wrote them"
+            notice(f"discarding {len(chunks)} finished chunk file(s) in {folder} of another "
+                   f"run ({why}); they are recomputed for this run")
+            for f in chunks:
+                f.unlink(missing_ok=True)
+        for f in folder.glob(".*.tmp"):   # left by a run killed while writing
+            f.unlink(missing_ok=True)
+        atomic_write_bytes(manifest, json.dumps({"identity": self.identity,
+                                                 "settings": self.settings}).encode())
+        return self
+
+    def shared(self) -> bool:
+        """Whether this process sees the store opened by the run's client (a dask worker
+        on a filesystem shared with the client)."""
+        try:
+            return json.loads((self.path / _MANIFEST).read_text()).get("identity") == \
+                self.identity
+        except (OSError, ValueError):
+            return False
+
+    # -- chunks ------------------------------------------------------------------
+    def save(self, result: dict) -> pathlib.Path:
+        """Write one chunk's results atomically, stamped with the run identity."""
+        path = self.chunk_path(int(result["start"]), int(result["stop"]))
+        arrays = {k.replace(":", "__"): v for k, v in result.items()}
+        arrays["identity"] = np.array(self.identity)
+        with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+        return path
+
+    def has(self, start: int, stop: int) -> bool:
+        return self.chunk_path(start, stop).exists()
+
+    def load(self, start: int, stop: int) -> dict | None:
+        """The results of chunk ``[start, stop)``, or None when there is no usable file:
+        a missing file, or one that is unreadable, truncated, of another run or of the
+        wrong shape (deleted, with a notice; the caller recomputes the chunk)."""
+        path = self.chunk_path(start, stop)
+        if not path.exists():
+            return None
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                data = {k: z[k] for k in z.files}
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+            problem = f"is unreadable ({type(exc).__name__}: {exc})"
+        else:
+            problem = self._check(data, start, stop)
+            if problem is None:
+                data.pop("identity")
+                return {k.replace("__", ":"): v for k, v in data.items()}
+        notice(f"chunk file {path} {problem}; recomputing drops [{start}, {stop})")
+        path.unlink(missing_ok=True)
+        return None
+
+    def _check(self, data: dict, start: int, stop: int) -> str | None:
+        n = stop - start
+        if str(data.get("identity", "")) != self.identity:
+            return "was written by another run"
+        try:
+            ok = (int(data["start"]) == start and int(data["stop"]) == stop
+                  and data["summary"].shape == (n, layout.N_SUMMARY)
+                  and data["status"].shape == (n,) and "invalid_inputs" in data
+                  and all(v.shape == (n,) for k, v in data.items() if k.startswith("input__")))
+        except (KeyError, TypeError, ValueError):
+            ok = False
+        return None if ok else "is incomplete or of the wrong shape"
+
+
+# ---------------------------------------------------------------------------
+# lock
+# ---------------------------------------------------------------------------
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: the lock records its owner only
+    fcntl = None
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True
+    return True
+
+
+class RunLock:
+    """The lock of one output path: only one live run writes it.
+
+    ``fcntl.flock`` on ``folder/lock`` (released by the kernel when the holder dies, so
+    the lock file of a killed run is taken over). Where the filesystem has no ``flock``,
+    the owner recorded in the file decides: a lock of a process that is no longer
+    alive on this host is taken over.
+    """
+
+    def __init__(self, folder, output):
+        self.path = pathlib.Path(folder) / _LOCK
+        self.output = output
+        self.fd = None
+
+    def _owner(self) -> dict:
+        try:
+            return json.loads(self.path.read_text() or "{}")
+        except (OSError, ValueError):
+            return {}
+
+    def _refuse(self, owner: dict):
+        who = (f"process {owner.get('pid', '?')} on {owner.get('host', '?')}, started "
+               f"{owner.get('started', '?')}") if owner else "another process"
+        raise RunLockedError(
+            f"output '{self.output}' is being written by another mineburial run ({who}); "
+            f"wait for it to finish or choose another output path (lock: {self.path})")
+
+    def acquire(self) -> RunLock:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        while True:
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+            try:
+                if fcntl is not None:
+                    try:
+                        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    except BlockingIOError:
+                        self._refuse(self._owner())
+                    except OSError:   # a filesystem without flock: the recorded owner
+                        self._check_owner()
+                else:  # pragma: no cover
+                    self._check_owner()
+                # the file may have been removed by the run that held it just before
+                if os.path.samestat(os.fstat(fd), os.stat(self.path)):
+                    break
+            except FileNotFoundError:
+                pass
+            except BaseException:
+                os.close(fd)
+                raise
+            os.close(fd)
+        owner = {"pid": os.getpid(), "host": socket.gethostname(),
+                 "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, json.dumps(owner).encode(), 0)
+        self.fd = fd
+        return self
+
+    def _check_owner(self):
+        owner = self._owner()
+        if owner.get("pid") and owner.get("pid") != os.getpid() and (
+                owner.get("host") != socket.gethostname() or _alive(int(owner["pid"]))):
+            self._refuse(owner)
+
+    def release(self, remove: bool = True):
+        """Release the lock (removing the lock file first when ``remove``)."""
+        if self.fd is None:
+            return
+        if remove:
+            self.path.unlink(missing_ok=True)
+        os.close(self.fd)
+        self.fd = None
+
+
+# ---------------------------------------------------------------------------
+# the output of a run
+# ---------------------------------------------------------------------------
+def same_file(a: pathlib.Path, b: pathlib.Path) -> bool:
+    """Whether paths ``a`` and ``b`` name the same file (also through links)."""
+    try:
+        return a.resolve() == b.resolve() or (a.exists() and b.exists() and os.path.samefile(a, b))
+    except OSError:
+        return False
+
+
+def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
+    """Check before computing that ``output`` can be written: not a folder, its parent an
+    existing folder, and none of the run's ``inputs`` (files the run reads: writing the
+    output there would destroy it). ``what`` names the path in messages (``-o``)."""
+    out = pathlib.Path(output)
+    if out.is_dir():
+        raise RunError(f"{what} '{out}' is an existing folder; give a file name "
+                       f"(e.g. {out / 'burial.nc'})")
+    parent = out.parent if str(out.parent) else pathlib.Path(".")
+    if not parent.exists():
+        raise RunError(f"{what} '{out}': the folder '{parent}' does not exist")
+    if not parent.is_dir():
+        raise RunError(f"{what} '{out}': '{parent}' is a file, not a folder")
+    for path in inputs:
+        if path is not None and same_file(out, pathlib.Path(path)):
+            raise RunError(f"{what} '{out}' is an input of the run ('{path}'); writing the "
+                           f"output there would destroy it: choose another path")
+    if out.exists() and not os.access(out, os.W_OK):
+        raise RunError(f"{what} '{out}' exists and is not writable")
+    if not os.access(parent, os.W_OK):
+        raise RunError(f"{what} '{out}': the folder '{parent}' is not writable")
+    return out
+
+
+class OutputRun:
+    """The working state of a run that writes ``output``: checks the path, holds the lock,
+    removes the stray temporary files of a killed final write, hands out chunk stores
+    and, on :meth:`commit`, writes the output atomically and removes the parts folder.
+
+    Use as a context manager; an interrupted run keeps its parts folder (to resume) and
+    releases the lock.
+    """
+
+    def __init__(self, output, inputs=()):
+        self.output = check_output_path(output, inputs)
+        self.parts = self.output.with_name(self.output.name + ".parts")
+        self.lock = RunLock(self.parts, self.output)
+
+    def __enter__(self) -> OutputRun:
+        if self.parts.exists() and not self.parts.is_dir():
+            raise RunError(f"'{self.parts}' (the folder of finished chunks of output "
+                           f"'{self.output}') is a file; remove it or choose another output")
+        self.lock.acquire()
+        try:
+            pattern = re.compile(r"^\." + re.escape(self.output.name) + r"\.[0-9a-f]{16}\.tmp$")
+            for f in self.output.parent.iterdir():
+                if pattern.match(f.name):
+                    notice(f"removing {f}, left by an interrupted write of '{self.output}'")
+                    f.unlink(missing_ok=True)
+        except BaseException:
+            self.lock.release(remove=False)
+            raise
+        return self
+
+    def __exit__(self, *exc):
+        self.lock.release(remove=False)
+        return False
+
+    def store(self, spec, name: str | None = None, extra_files=()) -> ChunkStore:
+        """The opened chunk store of ensemble ``spec`` (in the sub-folder ``name``)."""
+        folder = self.parts if name is None else self.parts / name
+        return ChunkStore.for_spec(spec, folder, extra_files).open()
+
+    def commit(self, ds) -> pathlib.Path:
+        """Write ``ds`` to the output atomically, then remove the parts folder."""
+        import shutil
+
+        from mineburial.io.netcdf import write_netcdf
+
+        write_netcdf(ds, self.output)
+        for entry in self.parts.iterdir():
+            if entry.name != _LOCK:
+                shutil.rmtree(entry) if entry.is_dir() else entry.unlink(missing_ok=True)
+        self.lock.release(remove=True)
+        try:
+            self.parts.rmdir()
+        except OSError:   # a new run took the folder in the meantime
+            pass
+        return self.output
