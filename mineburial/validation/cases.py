@@ -7,7 +7,7 @@ failing row is reported failing, never removed. ``quick`` rows are the subset CI
 (``mineburial validate --quick``, tests/test_validation.py).
 
 Seed 000 = Chu & Fan (2006), "Prediction of falling cylinder through air-water-sediment
-columns", J. Appl. Mech. 73, 300-314, DOI 10.1115/1.2125975 (IMPACT35).
+columns", J. Appl. Mech. 73, DOI 10.1115/1.2125975 (IMPACT35).
 """
 
 from __future__ import annotations
