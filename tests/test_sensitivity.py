@@ -83,3 +83,26 @@ def test_scenario_sensitivity_runs_every_random_input():
                                     "sediment.strength_gradient"}
     assert int(ds.attrs["n_evaluations"]) == 4 * 11
     assert list(ds.output.values) == ["penetration_depth", "burial_volume"]
+
+
+def test_cli_writes_netcdf_and_plot(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    import xarray as xr
+
+    from mineburial.cli import main
+
+    out, png = tmp_path / "s.nc", tmp_path / "s.png"
+    assert main(["sensitivity", "-n", "2", "--seed", "3", "--quiet", "-o", str(out),
+                 "--plot", str(png)]) == 0
+    assert "first order S_i" in capsys.readouterr().out
+    assert png.stat().st_size > 0
+    with xr.open_dataset(out) as ds:
+        assert ds.first_order.dims == ("output", "input") and ds.sizes["input"] == 9
+
+
+def test_cli_bad_sample_size_is_one_line(capsys):
+    from mineburial.cli import main
+
+    assert main(["sensitivity", "-n", "100"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "power of two" in err[0]

@@ -351,6 +351,10 @@ def exp1(quick_only=False, figures=None):
         if not quick_only:
             rows.extend(_pool_depth_rows(name, info, src))
     if figures is not None:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:      # the report is written without its figures
+            return rows
         figures.extend(_exp1_figures(drops, figures_dir=figures.directory))
     return rows
 

@@ -379,13 +379,21 @@ def comparison_table(ds: xr.Dataset) -> str:
     return "\n".join([head, sep, *body])
 
 
+def _pyplot():
+    try:
+        import matplotlib
+    except ImportError:
+        from mineburial.config import ScenarioError
+        raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
 def plot_comparison(ds: xr.Dataset, path) -> None:
     """Bar charts: mean burial by volume and penetration (95 % CI) and the class
     probabilities (Wilson 95 %) of every variant."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _pyplot()
 
     labels = [str(v) for v in ds.variant.values]
     nv = len(labels)
