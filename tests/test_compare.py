@@ -99,3 +99,18 @@ def test_cli_error_is_one_line(capsys):
     assert main(["compare", "--vary", "mine.mass=1,2", "-n", "2"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("mineburial: error: --vary mine.mass")
+
+
+def test_plot_with_bounds_equal_to_the_estimate_up_to_rounding(resistances, tmp_path):
+    """Regression: on the default ensemble the delta variant buries every drop 100 %; the
+    Wilson upper bound of P(> 75 %) = 1 came out 2.2e-16 below it and matplotlib refused the
+    negative error bar."""
+    pytest.importorskip("matplotlib")
+    from mineburial.validation.compare import plot_comparison
+
+    ds = resistances.copy(deep=True)
+    p = ds.burial_class_probability.values
+    ds["burial_class_probability_upper"].values[:] = p - 2.220446049250313e-16
+    ds["burial_volume_mean_lower"].values[:] = ds.burial_volume_mean.values + 1e-14
+    plot_comparison(ds, tmp_path / "c.png")
+    assert (tmp_path / "c.png").stat().st_size > 0

@@ -402,7 +402,10 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
     for ax, name, ylabel in ((axes[0], "burial_volume", "mean burial by volume (%)"),
                              (axes[1], "penetration_depth", "mean penetration (m)")):
         m = ds[f"{name}_mean"].values
-        err = np.vstack([m - ds[f"{name}_mean_lower"].values, ds[f"{name}_mean_upper"].values - m])
+        # clipped: a constant output (every drop 100 % buried) has bounds equal to the mean
+        # up to rounding, and matplotlib refuses negative error bars
+        err = np.clip(np.vstack([m - ds[f"{name}_mean_lower"].values,
+                                 ds[f"{name}_mean_upper"].values - m]), 0.0, None)
         ax.bar(x, m, yerr=err, capsize=4, color="C0")
         q = ds[f"{name}_quantile"].sel(quantile=[0.05, 0.95]).values
         ax.plot(np.repeat(x, 2).reshape(-1, 2).T, q.T, "k_", ms=14)
@@ -416,7 +419,8 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
     w = 0.8 / nv
     for k in range(nv):
         xc = np.arange(5) + (k - (nv - 1) / 2) * w
-        ax.bar(xc, p[k], w, yerr=np.vstack([p[k] - lo[k], hi[k] - p[k]]), capsize=3,
+        ax.bar(xc, p[k], w, yerr=np.clip(np.vstack([p[k] - lo[k], hi[k] - p[k]]), 0.0, None),
+               capsize=3,
                label=labels[k])
     ax.set_xticks(np.arange(5), _CLASS_NAMES)
     ax.set_xlabel(f"impact-burial class ({ds.attrs.get('burial_class_basis', 'burial_volume')})")
