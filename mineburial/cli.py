@@ -95,6 +95,24 @@ def _cmd_map(args):
     return run_map_cli(args)
 
 
+def _cmd_compare(args):
+    from mineburial.validation.compare import run_compare_cli
+
+    return run_compare_cli(args)
+
+
+def _cmd_sensitivity(args):
+    from mineburial.validation.sensitivity import run_sensitivity_cli
+
+    return run_sensitivity_cli(args)
+
+
+def _cmd_validate(args):
+    from mineburial.validation.report import run_validate_cli
+
+    return run_validate_cli(args)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="mineburial",
@@ -146,6 +164,38 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--scheduler", default=None)
     mp.add_argument("--quiet", action="store_true")
     mp.set_defaults(func=_cmd_map)
+
+    cmp_ = sub.add_parser("compare", help="the same sampled drops under several values of one "
+                                          "scenario field: side-by-side burial statistics")
+    cmp_.add_argument("scenario", nargs="?", help="ensemble scenario TOML (default: embedded)")
+    cmp_.add_argument("--vary", required=True, metavar="FIELD=A,B,...",
+                      help="scenario field and its values, e.g. sediment.resistance=bearing,"
+                           "friction,delta or model=mineburial,impact35")
+    cmp_.add_argument("-n", "--drops", type=int, default=None, help="number of drops")
+    cmp_.add_argument("--seed", type=int, default=None, help="random seed")
+    cmp_.add_argument("-o", "--output", default=None, help="write the comparison (NetCDF)")
+    cmp_.add_argument("--plot", default=None, help="draw the comparison to this PNG")
+    cmp_.add_argument("--threads", type=int, default=None, help="numba threads")
+    cmp_.add_argument("--quiet", action="store_true", help="no progress lines")
+    cmp_.set_defaults(func=_cmd_compare)
+
+    sens = sub.add_parser("sensitivity", help="first-order and total Sobol' indices of "
+                                              "penetration and burial for every random input")
+    sens.add_argument("scenario", nargs="?", help="ensemble scenario TOML (default: embedded)")
+    sens.add_argument("-n", "--drops", type=int, default=None,
+                      help="base sample size (power of two); n (d + 2) drops are run")
+    sens.add_argument("--seed", type=int, default=None, help="random seed")
+    sens.add_argument("-o", "--output", default=None, help="write the indices (NetCDF)")
+    sens.add_argument("--plot", default=None, help="draw the indices to this PNG")
+    sens.add_argument("--threads", type=int, default=None, help="numba threads")
+    sens.add_argument("--quiet", action="store_true", help="no progress lines")
+    sens.set_defaults(func=_cmd_sensitivity)
+
+    val = sub.add_parser("validate", help="run every validation case and write the report "
+                                          "(Markdown, PNG, JSON)")
+    val.add_argument("-o", "--output", default="validation", help="report folder")
+    val.add_argument("--quick", action="store_true", help="only the quick cases (as in CI)")
+    val.set_defaults(func=_cmd_validate)
     return parser
 
 

@@ -3,11 +3,10 @@
 import math
 
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
+from mineburial.validation.references import archimedes_penetration, axial_penetration
 
 from conftest import scenario_dict
 from mineburial.config import Scenario
@@ -45,12 +44,7 @@ def _archimedes_case(penetration, t_max):
                              "strength_gradient": 0.0, "resistance": "bearing"},
                    numerics={"t_max": t_max, "dt": 1e-3})
     # closed form: (rho_s - rho_w) V_emb + rho_w V = rho_mine V with V_emb = L * segment(h)
-    v_emb = (rho_mine - RHO_W) * vol / (rho_s - RHO_W)
-
-    def segment(h):
-        return r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(max(r * r - (r - h) ** 2, 0.0))
-
-    h = brentq(lambda h: L * segment(h) - v_emb, 0.0, d)
+    h = archimedes_penetration(L, d, rho_mine, rho_s, RHO_W)
     return sc, h, depth, r
 
 
@@ -80,8 +74,6 @@ def test_oscillates_about_archimedes_depth_from_above():
 # ---------------------------------------------------------------------------
 def test_vertical_penetration_matches_one_dimensional_solution():
     L, d, mass = 1.0, 0.25, 150.0
-    r = d / 2
-    area = math.pi * r * r
     depth = 10.0
     s0, ks, rho_s = 3000.0, 2000.0, 1500.0
     nc0 = math.pi + 2.0
@@ -100,35 +92,12 @@ def test_vertical_penetration_matches_one_dimensional_solution():
     code, s = _summary(sc)
     assert code == status.AT_REST
 
-    # The same force law written for a vertical cylinder penetrating axially to depth
-    # zeta (tip below the seabed), speed v > 0 downwards (docs/notes/sediment.md):
-    def strength(z):
-        return s0 + ks * z
-
-    def g_rate(v):                    # semi-log rate law, strain rate v/d
-        ratio = v / (d * rate_ref)
-        return 1.0 + beta * math.log10(ratio) if ratio > 1.0 else 1.0
-
-    def rhs(t, y):
-        zeta, v = y
-        emb = min(max(zeta, 0.0), L)
-        nc = nc0 * (1.0 + 0.4 * math.atan(zeta / d))           # Brinch Hansen depth factor
-        h_reg = v / math.sqrt(v * v + 1e-8) if v > 0 else 0.0    # regularised advancing switch
-        gv = g_rate(v)
-        bearing = nc * strength(zeta) * gv * area * h_reg
-        overburden = (rho_s - RHO_W) * G * area * emb            # effective sediment buoyancy
-        weight = (mass - RHO_W * area * L) * G                    # weight in water
-        water_len = L - emb
-        m_eff = mass + RHO_W * area * water_len                    # isotropic added mass (munk 0)
-        return [v, (weight - overburden - bearing) / m_eff]
-
-    def stopped(t, y):
-        return y[1] - 1e-2          # numerics.rest_speed
-    stopped.terminal = True
-    stopped.direction = -1
-    sol = solve_ivp(rhs, (0.0, 10.0), [0.0, -w0], events=stopped, rtol=1e-10, atol=1e-12,
-                    max_step=1e-3)
-    zeta_ref = sol.y[0, -1]
+    # the same force law written for a vertical cylinder penetrating axially
+    zeta_ref = axial_penetration(
+        mass=mass, length=L, diameter=d, impact_speed=-w0, strength=s0, strength_gradient=ks,
+        sediment_density=rho_s, water_density=RHO_W, gravity=G, bearing_factor=nc0,
+        rate_coefficient=beta, reference_rate=rate_ref,
+        switch_speed=sc.numerics.switch_speed, rest_speed=sc.numerics.rest_speed)
     assert abs(s["penetration_depth"] - zeta_ref) / zeta_ref < 0.01, (s["penetration_depth"],
                                                                       zeta_ref)
 

@@ -8,6 +8,7 @@ from scipy.spatial.transform import Rotation
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout
+from mineburial.validation.references import terminal_velocity_axial, terminal_velocity_broadside
 
 from conftest import make_scenario as _make_scenario
 
@@ -37,11 +38,8 @@ MASS = 52.0          # slightly heavier than the displaced water (50.3 kg)
 
 
 def test_terminal_velocity_broadside():
-    # seed 000 eq. (44), branch 12 000 < Re <= 150 000, 2 <= delta < 10: C_d2 = 0.835 - 0.35/delta
-    cd2 = 0.835 - 0.35 / (L / D)
-    v_t = math.sqrt((MASS - RHO * VOL) * G / (0.5 * RHO * cd2 * D * L))
-    re = v_t * D / 1.0e-6
-    assert 12_000 < re <= 150_000          # the closed form is in the branch it assumes
+    # seed 000 eq. (44), branch 12 000 < Re <= 150 000 (checked by the reference)
+    v_t = terminal_velocity_broadside(MASS, L, D, RHO, G, 1.0e-6)
     sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
                        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
                        numerics={"t_max": 40.0, "dt": 5e-3})
@@ -53,10 +51,7 @@ def test_terminal_velocity_broadside():
 
 
 def test_terminal_velocity_axial():
-    delta = L / D
-    cd1 = 0.75 + delta / 32.1934 + 0.09612 / delta ** 2          # seed 000 eq. (40)
-    area = math.pi * (D / 2) ** 2
-    v_t = math.sqrt((MASS - RHO * VOL) * G / (0.5 * RHO * cd1 * area))
+    v_t = terminal_velocity_axial(MASS, L, D, RHO, G)               # seed 000 eq. (40)
     sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
                        release={"position": [0, 0, -5.0], "pitch_deg": 90.0},
                        numerics={"t_max": 40.0, "dt": 5e-3})

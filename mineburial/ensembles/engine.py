@@ -277,13 +277,21 @@ def _check_ensemble(ens):
 # ---------------------------------------------------------------------------
 # one chunk
 # ---------------------------------------------------------------------------
-def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
-    """Packed parameters, validity mask and sampled inputs of drops [start, stop)."""
+def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
+    """Packed parameters, validity mask and sampled inputs of drops [start, stop).
+
+    ``table`` (optional): the sampled inputs to pack instead of drawing them, a mapping
+    of each of ``spec.random``'s fields to its values for these drops (as returned by
+    :func:`~mineburial.ensembles.sampling.sample_fields`). ``mineburial compare`` draws
+    once and packs the same draws into every variant; ``mineburial sensitivity`` packs
+    the points of its Sobol' design.
+    """
     n = stop - start
     P = np.tile(spec.base_params, (n, 1))
     inputs = {}
     if spec.random:
-        table = sample_fields(spec.random, spec.seed, start, stop, spec.sampling)
+        if table is None:
+            table = sample_fields(spec.random, spec.seed, start, stop, spec.sampling)
         for path, values in table.items():
             values = np.asarray(values)
             if path == spec.sediment_choice:
