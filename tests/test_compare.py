@@ -8,7 +8,8 @@ import pytest
 import xarray as xr
 
 from mineburial.cli import main
-from mineburial.ensembles.engine import DEFAULT_SCENARIO, run_ensemble
+from mineburial.ensembles.engine import DEFAULT_SCENARIO
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.validation.compare import ComparisonError, parse_vary, run_comparison
 
 

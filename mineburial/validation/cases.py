@@ -331,7 +331,8 @@ def exp1(quick_only=False, figures=None):
                 dev = _straightness(ds)
                 ok = flip is None and dev <= STRAIGHT_TOL
                 rows.append(Row(case, f"pattern, model {model}", src + ", observed",
-                                "slant-straight", f"{'no flip' if flip is None else f'flip at {flip:.3f} s'}, "
+                                "slant-straight",
+                                f"{'no flip' if flip is None else f'flip at {flip:.3f} s'}, "
                                 f"largest distance from the straight chord {dev:.1%} of its length",
                                 tolerance=f"no flip and within {STRAIGHT_TOL:.0%} of the chord",
                                 passed=ok, quick=True))

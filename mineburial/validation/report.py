@@ -82,7 +82,7 @@ def run_validation(output, quick: bool = False):
     t0 = time.monotonic()
     rows, groups = [], []
     figures = FigureList(out)
-    for key, title, fn in CASES:
+    for _key, title, fn in CASES:
         start = len(figures)
         got = fn(quick_only=quick, figures=figures)
         rows.extend(got)
