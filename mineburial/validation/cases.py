@@ -142,7 +142,8 @@ def float_depth(quick_only=False, figures=None):
     def case(start_pen, t_max):
         return _scenario(mine={"mass": rho_mine * vol},
                          environment={"water_depth": depth},
-                         release={"position": [0.0, 0.0, -depth + CYL_D / 2 - start_pen]},
+                         release={"position": [0.0, 0.0, -depth + CYL_D / 2 - start_pen],
+                                  "embedded": True},
                          sediment=sediment, numerics={"t_max": t_max})
 
     code, s = _summary(case(h, 5.0))
@@ -400,7 +401,7 @@ def _exp1_figures(drops, figures_dir):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from mineburial.config import rotation_matrix_from_quaternion
+    from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
 
     out = []
     for name, info in EXP1.items():
@@ -415,7 +416,7 @@ def _exp1_figures(drops, figures_dir):
             for tk in marks:
                 k = int(np.argmin(np.abs(t - tk)))
                 q = [float(ds[c][k]) for c in ("q0", "q1", "q2", "q3")]
-                axis = rotation_matrix_from_quaternion(q)[:, 0]
+                axis = np.reshape(rotation_matrix(*normalize_quaternion(*q)), (3, 3))[:, 0]
                 com = np.array([float(ds.x[k]), float(ds.y[k]), float(ds.z[k])])
                 nose = com + (half - chi) * axis
                 tail = com - (half + chi) * axis

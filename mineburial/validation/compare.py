@@ -31,7 +31,7 @@ import xarray as xr
 from scipy.special import ndtri
 
 from mineburial import config as cfg
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, runner
 from mineburial.ensembles.sampling import check_drop_count, sample_fields
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.io import variables as V
@@ -204,7 +204,7 @@ def run_comparison(scenario=None, field: str = "sediment.resistance", values=Non
     statuses = [[] for _ in specs]
     inputs_all: dict[str, list] = {}
     changed = [set() for _ in specs]
-    bar = engine.Progress(base.n * nv, enabled=progress)
+    bar = runner.Progress(base.n * nv, enabled=progress)
     done = 0
     t0 = time.monotonic()
     for s, e in engine.chunk_bounds(base.n, base.chunk_size):

@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 
@@ -153,7 +153,7 @@ def run_sensitivity(scenario=None, n: int = 256, seed: int | None = None, *,
         numba.set_num_threads(int(threads))
     names = list(spec.random)
     total = n * (len(names) + 2)
-    bar = engine.Progress(total, enabled=progress)
+    bar = runner.Progress(total, enabled=progress)
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
     done = [0]
     cols = [layout.SUMMARY_INDEX[o] for o in OUTPUTS]
