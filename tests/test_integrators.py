@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.integrate import quad
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import integrators as it
@@ -233,3 +234,67 @@ def test_mine_placed_on_a_bottom_that_holds_it_stops_at_once():
     assert code == status.AT_REST
     assert s[layout.S_TOTAL_TIME] < 0.05
     assert abs(s[layout.S_COM_DEPTH] - (-0.06)) < 5e-3
+
+
+def _toppling_time(m, g_eff, r_c, inertia_com, psi0, psi1, pivot_fixed):
+    """Time for a rigid body toppling about a contact point on a flat bottom, released at rest
+    with its centre of mass psi0 past the vertical through the contact, to reach psi1.
+
+    Energy: (1/2) I(psi) psi'^2 = m g r_c (cos psi0 - cos psi), with I = I_c + m r_c^2 for
+    a contact that does not move (rigid pivot) and I = I_c + m r_c^2 sin^2 psi for one that
+    slides without friction (the centre of mass then falls vertically; Goldstein-style
+    ladder problem). Integrated by quadrature with psi = psi0 + s^2, which removes the
+    inverse-square-root singularity at the start."""
+    def integrand(s):
+        psi = psi0 + s * s
+        inertia = inertia_com + m * r_c * r_c * (1.0 if pivot_fixed else math.sin(psi) ** 2)
+        k = 2.0 * m * g_eff * r_c / inertia
+        if s == 0.0:
+            return 2.0 / math.sqrt(k * math.sin(psi0))
+        return 2.0 * s / math.sqrt(k * (math.cos(psi0) - math.cos(psi)))
+
+    t, _ = quad(integrand, 0.0, math.sqrt(psi1 - psi0), epsabs=1e-12, epsrel=1e-10)
+    return t
+
+
+def test_mine_that_cannot_be_held_topples_in_the_rigid_pivot_time():
+    """A dense cylinder stood on its end on a stiff clay, tilted 5 deg past the point where
+    its centre of mass is over the edge of its lower rim: the rigid-plastic bottom cannot
+    hold it (the toppling mechanism of kernels/rest.py), so it must topple about the rim.
+    References: the closed-form energy integrals of a body toppling under its submerged
+    weight about a rigid pivot and about a contact sliding without friction (the rim on
+    the clay lies between the two). The water's added inertia and drag only slow the
+    fall, a little for a steel body (water/body density 0.13): the model must take at
+    least the frictionless-sliding time and not much more than the rigid-pivot time."""
+    L, D = 1.0, 0.2
+    R = D / 2
+    rho_steel = 7800.0
+    volume = math.pi * R * R * L
+    m = rho_steel * volume
+    depth = 10.0
+    alpha = math.atan2(R, L / 2)                     # axis tilt with the COM over the rim
+    phi0 = alpha + math.radians(5.0)                 # axis tilt from the vertical at release
+    phi1 = math.radians(70.0)                        # measured up to here (before the side lands)
+    z_c = -depth + (L / 2) * math.cos(phi0) + R * math.sin(phi0) - 0.002   # rim 2 mm in
+    sc = make_scenario(mine={"length": L, "diameter": D, "mass": m},
+                       environment={"water_depth": depth},
+                       release={"position": [0.0, 0.0, z_c], "pitch_deg": 90.0 - math.degrees(phi0),
+                                "embedded": True},
+                       sediment={"class": "stiff_clay"},
+                       numerics={"t_max": 5.0, "sediment_quadrature": "fast"})
+    ds = simulate_drop(sc, record_interval=0.002)
+    tilt = 90.0 - np.abs(ds.psi2.values)          # axis tilt from the vertical, degrees
+    assert tilt[0] == pytest.approx(math.degrees(phi0), abs=1e-6)
+    reached = np.flatnonzero(tilt >= math.degrees(phi1))
+    assert reached.size, f"did not topple: largest tilt {tilt.max():.1f} deg"
+    t_model = float(ds.time[reached[0]])
+    rho_w = sc.environment.water_density
+    g = sc.environment.gravity
+    r_c = math.hypot(L / 2, R)
+    g_eff = g * (1.0 - rho_w * volume / m)
+    times = [_toppling_time(m, g_eff, r_c, sc.mine.inertia_transverse, phi0 - alpha,
+                            phi1 - alpha, pivot_fixed) for pivot_fixed in (False, True)]
+    t_slide, t_pivot = times
+    assert t_slide < t_pivot
+    assert t_slide <= t_model <= 1.3 * t_pivot, (t_model, t_slide, t_pivot)
+    assert ds.attrs["status"] == "at_rest"

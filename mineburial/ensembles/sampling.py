@@ -41,7 +41,6 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
-from scipy.stats import qmc
 
 from mineburial._numba import kernel
 from mineburial.ensembles.distributions import Distribution, parse_value
@@ -216,7 +215,9 @@ def _philox(seed: int, ids: np.ndarray, start: int, stop: int, ctr1: int) -> np.
     return out
 
 
-def _sobol_engine(d: int, seed: int) -> qmc.Sobol:
+def _sobol_engine(d: int, seed: int):
+    from scipy.stats import qmc   # here, not at import: scipy.stats costs ~0.5 s of start-up
+
     rng = np.random.default_rng(seed)
     try:
         return qmc.Sobol(d, scramble=True, bits=SOBOL_BITS, rng=rng)
