@@ -3,7 +3,7 @@
 Run:  python benchmarks/bench_ensemble.py [-n 64] [--scenario FILE]
 
 Reports the compile (or cache-load) time of the batch kernel separately, then the
-drops/s of the compiled prange driver on the embedded default soft-mud ensemble
+drops/s of the compiled batch driver (threads over a GIL-free loop) on the embedded default soft-mud ensemble
 for 1, 2, ... threads (up to the cores available), and the parallel efficiency
 (speed-up / threads). Sampling and statistics are excluded: the timed part is
 ``run_batch`` on pre-sampled parameter rows, the same rows for every thread count.

@@ -31,12 +31,13 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
 * When every worker is gone the tasks wait for new ones; the client says so
   (one line on stderr every :data:`WAITING_INTERVAL` seconds while none is there)
   instead of waiting without a word.
-* numba threads: each chunk runs its drops in a parallel numba loop. So that
-  dask threads and numba threads do not oversubscribe the cores, every chunk
-  uses ``cores of the host // dask threads on that host`` numba threads
-  (:func:`numba_threads_per_task`; at least 1). The recommended layout is one
-  worker process with one dask thread per node (numba then uses every core), or
-  one single-threaded worker per core.
+* Threads: each chunk runs its drops on a pool of threads calling a GIL-free
+  compiled loop (:mod:`.batch`). So that dask threads and those threads do not
+  oversubscribe the cores, every chunk uses ``cores of the host // dask threads on
+  that host`` threads (:func:`numba_threads_per_task`; at least 1; set with
+  ``numba.set_num_threads``). The recommended layout is one worker process with one
+  dask thread per node (a chunk then uses every core), or one single-threaded worker
+  per core.
 """
 
 from __future__ import annotations
@@ -59,7 +60,6 @@ RETRIES = 2
 #: seconds between the checks for a cluster without workers (and the waiting messages)
 WAITING_INTERVAL = 30.0
 
-_LOCK = threading.Lock()   # serialises parallel launches under numba's workqueue layer
 
 
 def _available_cores() -> int:
@@ -123,25 +123,10 @@ def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = N
             return done
     if numba_threads is not None:
         numba.set_num_threads(max(1, min(int(numba_threads), numba.config.NUMBA_NUM_THREADS)))
-    if _workqueue():
-        with _LOCK:
-            res = engine.compute_chunk(spec, start, stop)
-    else:
-        res = engine.compute_chunk(spec, start, stop)
+    res = engine.compute_chunk(spec, start, stop)
     if shared:
         store.save(res)
     return res
-
-
-def _workqueue() -> bool:
-    """True when numba runs on its workqueue threading layer, which aborts the process
-    if two threads launch parallel regions at once (dask workers with nthreads > 1)."""
-    import numba
-
-    try:
-        return numba.threading_layer() == "workqueue"
-    except ValueError:
-        return numba.config.THREADING_LAYER == "workqueue"
 
 
 def numba_threads_per_task(client) -> int:

@@ -4,8 +4,8 @@ reduces them, for both :func:`run_ensemble` and :func:`mineburial.maps.run_map`.
 A run is a list of :class:`Job` s, each an ensemble (:class:`~mineburial.ensembles.
 engine.EnsembleSpec`) with an optional chunk store
 (:class:`~mineburial.ensembles.store.ChunkStore`). :func:`run_jobs` loads the valid
-chunk files already in the stores, computes the other chunks here (a parallel numba
-loop per chunk) or on a dask cluster (:mod:`mineburial.ensembles.distributed`), saves
+chunk files already in the stores, computes the other chunks here (a thread pool over
+compiled drops per chunk) or on a dask cluster (:mod:`mineburial.ensembles.distributed`), saves
 each finished chunk atomically, prints rate-limited progress, and yields each job's
 chunk results, in drop order, as soon as the job is complete. Everything that can be
 checked before computing is checked first (:func:`check_run`).
