@@ -17,8 +17,11 @@ def machine() -> str:
         pass
     import numba
     import numpy
-    return (f"{cpu}, {os.cpu_count()} logical cores, Python {platform.python_version()}, "
-            f"numpy {numpy.__version__}, numba {numba.__version__}")
+
+    return (
+        f"{cpu}, {os.cpu_count()} logical cores, Python {platform.python_version()}, "
+        f"numpy {numpy.__version__}, numba {numba.__version__}"
+    )
 
 
 def best_of(fn, repeat=3):

@@ -69,8 +69,12 @@ def _time_local(spec, bounds):
 
 def _time_cluster(client, spec, bounds):
     t0 = time.perf_counter()
-    results = {b: res for _, b, res in D.run_tasks_distributed(
-        client, [(None, spec, s, e, None) for s, e in bounds], warm=False)}
+    results = {
+        b: res
+        for _, b, res in D.run_tasks_distributed(
+            client, [(None, spec, s, e, None) for s, e in bounds], warm=False
+        )
+    }
     return time.perf_counter() - t0, [results[b] for b in bounds]
 
 
@@ -78,32 +82,43 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("-n", type=int, default=8, help="drops of the throughput ensemble (default 8)")
     ap.add_argument("--chunk-size", type=int, default=2, help="drops per chunk (default 2)")
-    ap.add_argument("--workers", type=int, nargs="+", default=[1, 2],
-                    help="numbers of single-threaded worker processes (default 1 2)")
-    ap.add_argument("--overhead-chunks", type=int, default=200,
-                    help="chunks in the overhead measurement (default 200)")
-    ap.add_argument("--overhead-drops", type=int, default=1,
-                    help="drops per chunk in the overhead measurement (default 1)")
-    ap.add_argument("--scenario", default=None,
-                    help="ensemble scenario TOML (default: the embedded default ensemble)")
+    ap.add_argument(
+        "--workers",
+        type=int,
+        nargs="+",
+        default=[1, 2],
+        help="numbers of single-threaded worker processes (default 1 2)",
+    )
+    ap.add_argument(
+        "--overhead-chunks", type=int, default=200, help="chunks in the overhead measurement (default 200)"
+    )
+    ap.add_argument(
+        "--overhead-drops",
+        type=int,
+        default=1,
+        help="drops per chunk in the overhead measurement (default 1)",
+    )
+    ap.add_argument(
+        "--scenario", default=None, help="ensemble scenario TOML (default: the embedded default ensemble)"
+    )
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args(argv)
 
     from distributed import Client, LocalCluster
 
     cores = _cores()
-    print(f"machine: {cores} cores, {_cpu_model()}, Python {platform.python_version()}, "
-          f"{platform.system()}")
-    spec = engine.load_ensemble(args.scenario, n=args.n, chunk_size=args.chunk_size,
-                                seed=args.seed)
+    print(f"machine: {cores} cores, {_cpu_model()}, Python {platform.python_version()}, {platform.system()}")
+    spec = engine.load_ensemble(args.scenario, n=args.n, chunk_size=args.chunk_size, seed=args.seed)
     bounds = engine.chunk_bounds(spec.n, spec.chunk_size)
     instant = _instant_spec(args.overhead_chunks * args.overhead_drops, args.overhead_drops)
     ibounds = engine.chunk_bounds(instant.n, instant.chunk_size)
-    print(f"scenario: {args.scenario or 'embedded default ensemble'}, {spec.n} drops in "
-          f"{len(bounds)} chunks of {spec.chunk_size}; overhead: {len(ibounds)} chunks of "
-          f"{instant.chunk_size} drop(s) that stop after one step\n")
+    print(
+        f"scenario: {args.scenario or 'embedded default ensemble'}, {spec.n} drops in "
+        f"{len(bounds)} chunks of {spec.chunk_size}; overhead: {len(ibounds)} chunks of "
+        f"{instant.chunk_size} drop(s) that stop after one step\n"
+    )
 
-    D.warm_up()                                           # compile outside the clock
+    D.warm_up()  # compile outside the clock
     rows = []
     import numba
 
@@ -117,18 +132,18 @@ def main(argv=None) -> int:
     over = [("local", 1, iwall)]
 
     for nw in args.workers:
-        cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=50)
+        cluster = LocalCluster(
+            n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=50
+        )
         client = Client(cluster)
         try:
             client.run(D._warm_up_on_worker)
             k = D.numba_threads_per_task(client)
             w, res = _time_cluster(client, spec, bounds)
-            for a, b in zip(ref, res):                    # same bits as the local run
+            for a, b in zip(ref, res):  # same bits as the local run
                 assert np.array_equal(a["summary"], b["summary"], equal_nan=True)
                 assert np.array_equal(a["status"], b["status"])
-            rows.append((f"dask, {nw} worker(s) x 1 thread, numba threads {k}", nw, w,
-                         min(cores, nw * k)))
+            rows.append((f"dask, {nw} worker(s) x 1 thread, numba threads {k}", nw, w, min(cores, nw * k)))
             iw, _ = _time_cluster(client, instant, ibounds)
             over.append((f"dask, {nw} worker(s)", nw, iw))
         finally:
@@ -137,12 +152,10 @@ def main(argv=None) -> int:
 
     print("throughput (compile excluded)")
     print(f"{'layout':48s} {'wall s':>8s} {'drops/s':>9s} {'s/drop':>8s} {'core-s/drop':>12s}")
-    for label, _, w, busy in rows:      # core-s per drop: wall x cores the layout keeps busy
-        print(f"{label:48s} {w:8.2f} {spec.n / w:9.3f} {w / spec.n:8.3f} "
-              f"{w * busy / spec.n:12.3f}")
+    for label, _, w, busy in rows:  # core-s per drop: wall x cores the layout keeps busy
+        print(f"{label:48s} {w:8.2f} {spec.n / w:9.3f} {w / spec.n:8.3f} {w * busy / spec.n:12.3f}")
     print("\noverhead per chunk (chunks of drops that stop after one step)")
-    print(f"{'layout':48s} {'wall s':>8s} {'ms/chunk':>9s} "
-          f"{'overhead ms/chunk (worker-time)':>32s}")
+    print(f"{'layout':48s} {'wall s':>8s} {'ms/chunk':>9s} {'overhead ms/chunk (worker-time)':>32s}")
     local_per = over[0][2] / len(ibounds)
     for label, nw, w in over:
         per = w / len(ibounds)
@@ -153,9 +166,11 @@ def main(argv=None) -> int:
     except OSError:  # pragma: no cover
         load = float("nan")
     print(f"\nload average at the end: {load:.2f} on {cores} cores (other jobs inflate timings)")
-    print("note: the batch driver hands drops to numba threads 4 at a time "
-          "(mineburial.ensembles.batch.CHUNK_SIZE), so a chunk of <= 4 drops runs on one thread; "
-          "drops differ widely in cost, so small ensembles are dominated by load imbalance.")
+    print(
+        "note: the batch driver hands drops to numba threads 4 at a time "
+        "(mineburial.ensembles.batch.CHUNK_SIZE), so a chunk of <= 4 drops runs on one thread; "
+        "drops differ widely in cost, so small ensembles are dominated by load imbalance."
+    )
     return 0
 
 

@@ -33,9 +33,11 @@ def compile_time(no_cache: bool) -> float:
     if no_cache:
         import os
         import tempfile
+
         env = dict(os.environ, NUMBA_CACHE_DIR=tempfile.mkdtemp(prefix="mb-nocache-"))
-    out = subprocess.run([sys.executable, "-c", COMPILE_SNIPPET], capture_output=True, text=True,
-                         env=env, check=True)
+    out = subprocess.run(
+        [sys.executable, "-c", COMPILE_SNIPPET], capture_output=True, text=True, env=env, check=True
+    )
     return float(out.stdout.strip().splitlines()[-1])
 
 
@@ -55,8 +57,12 @@ def main():
     sc = load_example("exp1_case92")
     env = dataclasses.replace(sc.environment, water_depth=1000.0)
     num = dataclasses.replace(sc.numerics, t_max=2.0)
-    cases.append(("water column (exp1_case92, 2 s, deep water)",
-                  dataclasses.replace(sc, environment=env, numerics=num)))
+    cases.append(
+        (
+            "water column (exp1_case92, 2 s, deep water)",
+            dataclasses.replace(sc, environment=env, numerics=num),
+        )
+    )
     cases.append(("air-water-sediment (exp2_barrel)", load_example("exp2_barrel")))
     cases.append(("air-water-sediment (default_mine)", load_example("default_mine")))
     print(f"{'case':48s} {'dt [s]':>8s} {'steps':>8s} {'steps/s':>10s} {'drops/s':>9s} status")
@@ -66,8 +72,11 @@ def main():
         t, (code, summary, _) = best_of(lambda p=p, sb=sb, cb=cb: run_params(p, sb, cb), args.repeat)
         steps = summary[layout.S_N_STEPS]
         from mineburial.kernels import status
-        print(f"{name:48s} {p[layout.P_DT]:8.0e} {int(steps):8d} {steps / t:10.0f} {1 / t:9.2f} "
-              f"{status.NAMES[code]}")
+
+        print(
+            f"{name:48s} {p[layout.P_DT]:8.0e} {int(steps):8d} {steps / t:10.0f} {1 / t:9.2f} "
+            f"{status.NAMES[code]}"
+        )
 
 
 if __name__ == "__main__":

@@ -14,7 +14,6 @@ import os
 import time
 
 import numpy as np
-
 from _common import machine
 
 
@@ -30,6 +29,7 @@ def main():
     t0 = time.perf_counter()
     from mineburial.ensembles.batch import run_batch
     from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+
     spec = load_ensemble(args.scenario)
     P, valid, _ = chunk_inputs(spec, 0, args.n)
     run_batch(P[:1], valid[:1], spec.sediment_bank, spec.current_bank)

@@ -36,13 +36,14 @@ import pathlib
 import time
 
 import numpy as np
-
 from _common import machine
 
 HERE = pathlib.Path(__file__).resolve().parent
-FAMILIES = {"default": None,
-            "air_laid": HERE / "scenarios" / "air_laid_mixed.toml",
-            "small_cylinders": HERE / "scenarios" / "small_cylinders_impact35.toml"}
+FAMILIES = {
+    "default": None,
+    "air_laid": HERE / "scenarios" / "air_laid_mixed.toml",
+    "small_cylinders": HERE / "scenarios" / "small_cylinders_impact35.toml",
+}
 
 
 def variant(P, integrator, quadrature, dt=None, rtol=None):
@@ -85,9 +86,12 @@ def compare(summary, status, ref_summary, ref_status):
     changed = float(np.mean(cls[both_used] != cls_ref[both_used])) if both_used.any() else np.nan
     prob = np.bincount(cls[used].astype(int), minlength=5) / max(used.sum(), 1)
     prob_ref = np.bincount(cls_ref[used_ref].astype(int), minlength=5) / max(used_ref.sum(), 1)
-    return (100 * np.percentile(rel, 95) if rel.size else np.nan,
-            100 * rel.max() if rel.size else np.nan, 100 * changed,
-            float(np.abs(prob - prob_ref).max()))
+    return (
+        100 * np.percentile(rel, 95) if rel.size else np.nan,
+        100 * rel.max() if rel.size else np.nan,
+        100 * changed,
+        float(np.abs(prob - prob_ref).max()),
+    )
 
 
 def counts(status):
@@ -112,10 +116,12 @@ def main():
     for fam in args.families.split(","):
         spec = load_ensemble(FAMILIES[fam])
         P, valid, _ = chunk_inputs(spec, 0, args.n)
-        paths = {"default": P,
-                 "reference": variant(P, "rk4", "reference", dt=1e-3),
-                 "truth": variant(P, "rk4", "reference", dt=2.5e-4),
-                 "converged": variant(P, "dopri5", "reference", rtol=1e-8)}
+        paths = {
+            "default": P,
+            "reference": variant(P, "rk4", "reference", dt=1e-3),
+            "truth": variant(P, "rk4", "reference", dt=2.5e-4),
+            "converged": variant(P, "dopri5", "reference", rtol=1e-8),
+        }
         if args.work_precision:
             for dt in (2e-3, 1e-3, 5e-4):
                 paths[f"rk4 dt={dt:g} fast"] = variant(P, "rk4", "fast", dt=dt)
@@ -128,19 +134,25 @@ def main():
         results = {name: run(spec, Q, valid) for name, Q in paths.items()}
         _, ref_s, ref_st = results["truth"]
         _, conv_s, conv_st = results["converged"]
-        print(f"\n== {fam}: {args.n} drops   (errors: vs truth = RK4 0.25 ms | vs converged = "
-              f"dopri5 1e-8; both with the reference quadrature)")
-        print(f"{'path':28s} {'drops/s':>8s} {'ms/drop':>8s} {'p95 %':>6s} {'max %':>6s} "
-              f"{'class %':>7s} {'dP':>6s} | {'p95 %':>6s} {'max %':>6s} {'class %':>7s} "
-              f"{'dP':>6s}  status")
+        print(
+            f"\n== {fam}: {args.n} drops   (errors: vs truth = RK4 0.25 ms | vs converged = "
+            f"dopri5 1e-8; both with the reference quadrature)"
+        )
+        print(
+            f"{'path':28s} {'drops/s':>8s} {'ms/drop':>8s} {'p95 %':>6s} {'max %':>6s} "
+            f"{'class %':>7s} {'dP':>6s} | {'p95 %':>6s} {'max %':>6s} {'class %':>7s} "
+            f"{'dP':>6s}  status"
+        )
         for name, (el, s, st) in results.items():
             p95, mx, ch, dp = compare(s, st, ref_s, ref_st)
             cp95, cmx, cch, cdp = compare(s, st, conv_s, conv_st)
             rate = args.n / el
             cpu_ms = 1e3 * el * numba.get_num_threads() / args.n
             rows.append((fam, name, rate, cpu_ms, p95, mx, ch, dp))
-            print(f"{name:28s} {rate:8.1f} {cpu_ms:8.2f} {p95:6.2f} {mx:6.2f} {ch:7.2f} "
-                  f"{dp:6.3f} | {cp95:6.2f} {cmx:6.2f} {cch:7.2f} {cdp:6.3f}  {counts(st)}")
+            print(
+                f"{name:28s} {rate:8.1f} {cpu_ms:8.2f} {p95:6.2f} {mx:6.2f} {ch:7.2f} "
+                f"{dp:6.3f} | {cp95:6.2f} {cmx:6.2f} {cch:7.2f} {cdp:6.3f}  {counts(st)}"
+            )
         r_def = args.n / results["default"][0]
         r_ref = args.n / results["reference"][0]
         print(f"speed-up default / reference (RK4 1 ms, reference quadrature): {r_def / r_ref:.1f}x")

@@ -22,7 +22,7 @@ def main():
     print(f"machine: {machine()}")
     names = [f"f.x{k}" for k in range(args.fields)]
     for method in ("mc", "sobol"):
-        uniforms(1, names, 0, 10, method)             # compile / load the cached kernels
+        uniforms(1, names, 0, 10, method)  # compile / load the cached kernels
         best, _ = best_of(lambda method=method: uniforms(1, names, 0, args.n, method))
         rate = args.n * args.fields / best
         note = "  (target >= 1e7 /s)" if method == "mc" else ""

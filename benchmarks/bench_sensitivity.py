@@ -31,18 +31,22 @@ def main():
         t0 = time.perf_counter()
         ds = run_sensitivity(args.scenario, args.n, seed, threads=args.threads)
         dt = time.perf_counter() - t0
-        print(f"\nseed {seed}: {int(ds.attrs['n_evaluations'])} drops in {dt:.0f} s "
-              f"({int(ds.attrs['n_evaluations']) / dt:.1f} drops/s; {ds.attrs['status_counts']})")
+        print(
+            f"\nseed {seed}: {int(ds.attrs['n_evaluations'])} drops in {dt:.0f} s "
+            f"({int(ds.attrs['n_evaluations']) / dt:.1f} drops/s; {ds.attrs['status_counts']})"
+        )
         print(sensitivity_table(ds))
         ranks[seed] = {str(o): ranking(ds, str(o)) for o in ds.output.values}
     a, b = args.seeds
     ok = True
     for out in ranks[a]:
-        la, lb = ranks[a][out][:args.leading], ranks[b][out][:args.leading]
+        la, lb = ranks[a][out][: args.leading], ranks[b][out][: args.leading]
         same = la == lb
         ok &= same
-        print(f"\n{out}: leading {args.leading} by S_Ti, seed {a}: {la}; seed {b}: {lb} -> "
-              f"{'same' if same else 'DIFFERENT'}")
+        print(
+            f"\n{out}: leading {args.leading} by S_Ti, seed {a}: {la}; seed {b}: {lb} -> "
+            f"{'same' if same else 'DIFFERENT'}"
+        )
     print("\nranking of the leading inputs the same for both seeds:", "yes" if ok else "NO")
 
 

@@ -19,7 +19,6 @@ import copy
 import time
 
 import numpy as np
-
 from _common import machine
 
 
@@ -48,11 +47,14 @@ def main():
     t0 = time.perf_counter()
     ref = run_ensemble(args.scenario, n=args.reference, seed=1000, sampling="sobol")
     mu = float(ref["burial_volume_mean"])
-    print(f"reference (Sobol', n = {args.reference}): mean burial {mu:.3f} % "
-          f"({time.perf_counter() - t0:.0f} s)")
+    print(
+        f"reference (Sobol', n = {args.reference}): mean burial {mu:.3f} % ({time.perf_counter() - t0:.0f} s)"
+    )
     for method in ("mc", "sobol"):
-        est = [float(run_ensemble(args.scenario, n=args.n, seed=s, sampling=method)
-                     ["burial_volume_mean"]) for s in range(1, args.replicates + 1)]
+        est = [
+            float(run_ensemble(args.scenario, n=args.n, seed=s, sampling=method)["burial_volume_mean"])
+            for s in range(1, args.replicates + 1)
+        ]
         rms = float(np.sqrt(np.mean((np.array(est) - mu) ** 2)))
         print(f"{method:6s} n = {args.n}: estimates {np.round(est, 3).tolist()}  rms error {rms:.3f} %")
 

@@ -45,8 +45,13 @@ print(t_import, time.perf_counter() - t0)
 
 def measure(cache_dir, reference=False):
     env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir, "MINEBURIAL_NUMBA_CACHE": "1"}
-    out = subprocess.run([sys.executable, "-c", SNIPPET.format(reference=reference)], env=env,
-                         capture_output=True, text=True, check=True)
+    out = subprocess.run(
+        [sys.executable, "-c", SNIPPET.format(reference=reference)],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     t_import, total = map(float, out.stdout.split())
     return t_import, total
 

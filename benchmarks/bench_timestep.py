@@ -19,6 +19,7 @@ from _common import machine
 def run(sc, dt):
     from mineburial.drop import run_params
     from mineburial.kernels import layout
+
     p, sb, cb = sc.to_params()
     p = p.copy()
     p[layout.P_DT] = dt
@@ -27,22 +28,34 @@ def run(sc, dt):
     t_imp = s[layout.S_IMPACT_TIME]
     # COM position at the first recorded time at or after impact
     import numpy as np
+
     k = int(np.searchsorted(traj[:, 0], t_imp - 1e-12))
     k = min(k, traj.shape[0] - 1)
-    return dict(t=t_imp, x=traj[k, 1], y=traj[k, 2], x0=traj[0, 1], y0=traj[0, 2],
-                pen=s[layout.S_PENETRATION], status=code)
+    return dict(
+        t=t_imp,
+        x=traj[k, 1],
+        y=traj[k, 2],
+        x0=traj[0, 1],
+        y0=traj[0, 2],
+        pen=s[layout.S_PENETRATION],
+        status=code,
+    )
 
 
 def main():
     from mineburial.config import load_example
+
     print(f"machine: {machine()}")
-    print(f"{'scenario':14s} {'dt':>8s} {'impact t [s]':>12s} {'err t':>8s} {'err xy':>8s} "
-          f"{'penetr. [m]':>11s} {'err pen':>8s}")
+    print(
+        f"{'scenario':14s} {'dt':>8s} {'impact t [s]':>12s} {'err t':>8s} {'err xy':>8s} "
+        f"{'penetr. [m]':>11s} {'err pen':>8s}"
+    )
     for name in ("exp1_case92", "exp1_case93", "exp2_barrel", "default_mine"):
         sc = load_example(name)
         dt0 = sc.numerics.dt
-        sc = dataclasses.replace(sc, numerics=dataclasses.replace(sc.numerics,
-                                                                 t_max=min(sc.numerics.t_max, 20.0)))
+        sc = dataclasses.replace(
+            sc, numerics=dataclasses.replace(sc.numerics, t_max=min(sc.numerics.t_max, 20.0))
+        )
         runs = {f: run(sc, dt0 / f) for f in (1, 2, 4, 8, 16)}
         ref = runs[16]
         travel = math.hypot(ref["x"] - ref["x0"], ref["y"] - ref["y0"])
@@ -50,8 +63,10 @@ def main():
             et = abs(r["t"] - ref["t"]) / ref["t"]
             exy = math.hypot(r["x"] - ref["x"], r["y"] - ref["y"]) / max(travel, 1e-9)
             ep = abs(r["pen"] - ref["pen"]) / max(abs(ref["pen"]), 1e-9)
-            print(f"{name:14s} {dt0 / f:8.1e} {r['t']:12.5f} {100 * et:7.3f}% {100 * exy:7.3f}% "
-                  f"{r['pen']:11.4f} {100 * ep:7.3f}%")
+            print(
+                f"{name:14s} {dt0 / f:8.1e} {r['t']:12.5f} {100 * et:7.3f}% {100 * exy:7.3f}% "
+                f"{r['pen']:11.4f} {100 * ep:7.3f}%"
+            )
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ def simulate_drop(*args, **kwargs):
 
 simulate_drop.__doc__ = "Simulate one drop; see :func:`mineburial.drop.simulate_drop`."
 
+
 def run_ensemble(*args, **kwargs):
     from mineburial.ensembles.runner import run_ensemble as _run_ensemble
 

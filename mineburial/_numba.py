@@ -41,8 +41,10 @@ def cache_enabled(environ=os.environ) -> bool:
         return False
     if value in _ON:
         return True
-    raise ValueError(f"environment variable {CACHE_ENV} = {environ[CACHE_ENV]!r} must be "
-                     f"1 (cache compiled kernels on disk, the default) or 0 (do not)")
+    raise ValueError(
+        f"environment variable {CACHE_ENV} = {environ[CACHE_ENV]!r} must be "
+        f"1 (cache compiled kernels on disk, the default) or 0 (do not)"
+    )
 
 
 _OPTIONS = dict(cache=cache_enabled(), nogil=True, fastmath=False, error_model="numpy")
@@ -54,4 +56,3 @@ JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy")
 def kernel(fn):
     """Compile ``fn`` as a serial numba kernel with the project's options."""
     return njit(**_OPTIONS)(fn)
-

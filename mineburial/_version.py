@@ -1,7 +1,8 @@
 """The package version, in a leaf module that imports nothing of mineburial (so that any
 module can record the version without importing the package's ``__init__``)."""
 
-from importlib.metadata import PackageNotFoundError, version as _version
+from importlib.metadata import PackageNotFoundError
+from importlib.metadata import version as _version
 
 try:
     __version__ = _version("mineburial")

@@ -43,11 +43,13 @@ def _check_drop_output(output: Path, scenario: Path) -> None:
     if output.is_dir():
         raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
     if not output.resolve().parent.is_dir():
-        raise ScenarioError(f"-o/--output '{output}': the folder '{output.parent}' does not "
-                            f"exist or is not a folder")
+        raise ScenarioError(
+            f"-o/--output '{output}': the folder '{output.parent}' does not exist or is not a folder"
+        )
     if output.exists() and scenario.exists() and output.samefile(scenario):
-        raise ScenarioError(f"-o/--output '{output}' is the scenario file; writing the "
-                            f"trajectory there would overwrite it")
+        raise ScenarioError(
+            f"-o/--output '{output}' is the scenario file; writing the trajectory there would overwrite it"
+        )
 
 
 def _cmd_drop(args):
@@ -61,11 +63,13 @@ def _cmd_drop(args):
         trajectory_rows(args.record_interval, scenario.numerics.t_max, "--record-interval")
     ds = simulate_drop(scenario, record_interval=args.record_interval, forces=args.forces)
     write_netcdf(ds, args.output)
-    print(f"{scenario.mine.name}: status {ds.attrs['status']}, "
-          f"water entry {float(ds.water_entry_time):.3f} s, "
-          f"seabed impact {float(ds.impact_time):.3f} s at {float(ds.impact_speed):.2f} m/s, "
-          f"penetration {float(ds.penetration_depth):.3f} m, "
-          f"burial {float(ds.burial_volume):.1f} % by volume; wrote {args.output}")
+    print(
+        f"{scenario.mine.name}: status {ds.attrs['status']}, "
+        f"water entry {float(ds.water_entry_time):.3f} s, "
+        f"seabed impact {float(ds.impact_time):.3f} s at {float(ds.impact_speed):.2f} m/s, "
+        f"penetration {float(ds.penetration_depth):.3f} m, "
+        f"burial {float(ds.burial_volume):.1f} % by volume; wrote {args.output}"
+    )
     return 0
 
 
@@ -115,40 +119,52 @@ def _cmd_validate(args):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
-        prog="mineburial",
-        description="Monte Carlo prediction of the impact burial of naval mines.")
+        prog="mineburial", description="Monte Carlo prediction of the impact burial of naval mines."
+    )
     from mineburial._version import __version__
+
     parser.add_argument("--version", action="version", version=f"mineburial {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    run = sub.add_parser("run", help="run a Monte Carlo ensemble and write burial statistics "
-                                     "(NetCDF); with no scenario, the embedded default")
+    run = sub.add_parser(
+        "run",
+        help="run a Monte Carlo ensemble and write burial statistics "
+        "(NetCDF); with no scenario, the embedded default",
+    )
     run.add_argument("scenario", nargs="?", help="scenario TOML (default: embedded soft-mud case)")
     run.add_argument("-n", "--drops", type=int, default=None, help="number of drops")
     run.add_argument("--seed", type=int, default=None, help="random seed")
     run.add_argument("-o", "--output", default="burial.nc", help="output NetCDF (default burial.nc)")
-    run.add_argument("--sampling", choices=("mc", "sobol"), default=None,
-                     help="Monte Carlo or scrambled Sobol sampling")
+    run.add_argument(
+        "--sampling", choices=("mc", "sobol"), default=None, help="Monte Carlo or scrambled Sobol sampling"
+    )
     run.add_argument("--chunk-size", type=int, default=None, help="drops per chunk written to disk")
     run.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
-    run.add_argument("--per-drop", action=argparse.BooleanOptionalAction, default=None,
-                     help="also store per-drop inputs and results along 'realization' "
-                          "(default: the scenario's [ensemble] per_drop)")
-    run.add_argument("--scheduler", default=None,
-                     help="address of a dask.distributed scheduler to spread chunks over")
+    run.add_argument(
+        "--per-drop",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="also store per-drop inputs and results along 'realization' "
+        "(default: the scenario's [ensemble] per_drop)",
+    )
+    run.add_argument(
+        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
+    )
     run.add_argument("--quiet", action="store_true", help="no progress lines")
     run.set_defaults(func=_cmd_run)
 
     drop = sub.add_parser("drop", help="simulate one drop and write its trajectory (NetCDF)")
     drop.add_argument("scenario", help="scenario TOML with fixed values")
     drop.add_argument("-o", "--output", default="trajectory.nc")
-    drop.add_argument("--record-interval", type=_seconds, default=None,
-                      help="output interval, s (default: 10 numerics.dt)")
+    drop.add_argument(
+        "--record-interval", type=_seconds, default=None, help="output interval, s (default: 10 numerics.dt)"
+    )
     drop.add_argument("--forces", action="store_true", help="also write forces and torques")
     drop.set_defaults(func=_cmd_drop)
 
-    ex = sub.add_parser("example", help="write an example scenario, single-drop or ensemble "
-                                        "(no name: list them)")
+    ex = sub.add_parser(
+        "example", help="write an example scenario, single-drop or ensemble (no name: list them)"
+    )
     ex.add_argument("name", nargs="?")
     ex.add_argument("-o", "--output", default=None)
     ex.set_defaults(func=_cmd_example)
@@ -159,18 +175,24 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("-o", "--output", default="burial_map.nc")
     mp.add_argument("-n", "--drops", type=int, default=None, help="drops per cell")
     mp.add_argument("--seed", type=int, default=None)
-    mp.add_argument("--plot", default=None,
-                    help="also draw the map to this image (.png, .pdf, .svg, ...)")
+    mp.add_argument("--plot", default=None, help="also draw the map to this image (.png, .pdf, .svg, ...)")
     mp.add_argument("--scheduler", default=None)
     mp.add_argument("--quiet", action="store_true")
     mp.set_defaults(func=_cmd_map)
 
-    cmp_ = sub.add_parser("compare", help="the same sampled drops under several values of one "
-                                          "scenario field: side-by-side burial statistics")
+    cmp_ = sub.add_parser(
+        "compare",
+        help="the same sampled drops under several values of one "
+        "scenario field: side-by-side burial statistics",
+    )
     cmp_.add_argument("scenario", nargs="?", help="ensemble scenario TOML (default: embedded)")
-    cmp_.add_argument("--vary", required=True, metavar="FIELD=A,B,...",
-                      help="scenario field and its values, e.g. sediment.resistance=bearing,"
-                           "friction,delta or model=mineburial,impact35")
+    cmp_.add_argument(
+        "--vary",
+        required=True,
+        metavar="FIELD=A,B,...",
+        help="scenario field and its values, e.g. sediment.resistance=bearing,"
+        "friction,delta or model=mineburial,impact35",
+    )
     cmp_.add_argument("-n", "--drops", type=int, default=None, help="number of drops")
     cmp_.add_argument("--seed", type=int, default=None, help="random seed")
     cmp_.add_argument("-o", "--output", default=None, help="write the comparison (NetCDF)")
@@ -179,11 +201,18 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--quiet", action="store_true", help="no progress lines")
     cmp_.set_defaults(func=_cmd_compare)
 
-    sens = sub.add_parser("sensitivity", help="first-order and total Sobol' indices of "
-                                              "penetration and burial for every random input")
+    sens = sub.add_parser(
+        "sensitivity",
+        help="first-order and total Sobol' indices of penetration and burial for every random input",
+    )
     sens.add_argument("scenario", nargs="?", help="ensemble scenario TOML (default: embedded)")
-    sens.add_argument("-n", "--drops", type=int, default=None,
-                      help="base sample size (power of two); n (d + 2) drops are run")
+    sens.add_argument(
+        "-n",
+        "--drops",
+        type=int,
+        default=None,
+        help="base sample size (power of two); n (d + 2) drops are run",
+    )
     sens.add_argument("--seed", type=int, default=None, help="random seed")
     sens.add_argument("-o", "--output", default=None, help="write the indices (NetCDF)")
     sens.add_argument("--plot", default=None, help="draw the indices to this PNG")
@@ -191,8 +220,9 @@ def build_parser() -> argparse.ArgumentParser:
     sens.add_argument("--quiet", action="store_true", help="no progress lines")
     sens.set_defaults(func=_cmd_sensitivity)
 
-    val = sub.add_parser("validate", help="run every validation case and write the report "
-                                          "(Markdown, PNG, JSON)")
+    val = sub.add_parser(
+        "validate", help="run every validation case and write the report (Markdown, PNG, JSON)"
+    )
     val.add_argument("-o", "--output", default="validation", help="report folder")
     val.add_argument("--quick", action="store_true", help="only the quick cases (as in CI)")
     val.set_defaults(func=_cmd_validate)
@@ -230,8 +260,7 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         # on a terminal the progress line is still open: end it first
         start = "\n" if getattr(sys.stderr, "isatty", lambda: False)() else ""
-        print(f"{start}mineburial: interrupted; rerun the same command to resume",
-              file=sys.stderr)
+        print(f"{start}mineburial: interrupted; rerun the same command to resume", file=sys.stderr)
         return EXIT_INTERRUPTED
     print(f"mineburial: error: {message}", file=sys.stderr)
     return EXIT_USAGE

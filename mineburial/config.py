@@ -30,8 +30,8 @@ import dataclasses
 import json
 import math
 import pathlib
-from dataclasses import dataclass, field
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -45,17 +45,45 @@ from mineburial.kernels import layout
 from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.sediment_profiles import (
-    CATALOGUE, ScenarioError, SedimentProfile, catalogue_profile, load_file, pack_banks,
-    unknown_name_message, unknown_names_message,
+    CATALOGUE,
+    ScenarioError,
+    SedimentProfile,
+    catalogue_profile,
+    load_file,
+    pack_banks,
+    unknown_name_message,
+    unknown_names_message,
 )
 
 __all__ = [
-    "ScenarioError", "FieldSpec", "FIELDS", "ALIASES", "check_range", "check_params",
-    "explain_params", "Mine", "Release", "Current", "Environment", "Sediment", "Numerics",
-    "Scenario", "quaternion_from_angles", "uniform_cylinder_inertia", "pack_banks",
-    "example_names", "example_path", "load_example", "MODEL_DEFAULTS", "SUPPORT_TOLERANCE",
-    "check_distribution", "check_samples", "InvalidSamples", "invalid_samples",
-    "unknown_names_message", "ensemble_example_names",
+    "ScenarioError",
+    "FieldSpec",
+    "FIELDS",
+    "ALIASES",
+    "check_range",
+    "check_params",
+    "explain_params",
+    "Mine",
+    "Release",
+    "Current",
+    "Environment",
+    "Sediment",
+    "Numerics",
+    "Scenario",
+    "quaternion_from_angles",
+    "uniform_cylinder_inertia",
+    "pack_banks",
+    "example_names",
+    "example_path",
+    "load_example",
+    "MODEL_DEFAULTS",
+    "SUPPORT_TOLERANCE",
+    "check_distribution",
+    "check_samples",
+    "InvalidSamples",
+    "invalid_samples",
+    "unknown_names_message",
+    "ensemble_example_names",
 ]
 
 _EPS = np.finfo(np.float64).eps
@@ -77,6 +105,7 @@ class FieldSpec:
     (``release.position[2]`` for ``release.z``). ``default`` is ``None`` for required
     fields or fields whose default is computed (documented in ``description``).
     """
+
     path: str
     units: str
     low: float
@@ -87,8 +116,13 @@ class FieldSpec:
     default: float | None = None
     location: str = ""
 
-    def range_text(self, low: float | None = None, high: float | None = None,
-                   low_inclusive: bool | None = None, high_inclusive: bool | None = None) -> str:
+    def range_text(
+        self,
+        low: float | None = None,
+        high: float | None = None,
+        low_inclusive: bool | None = None,
+        high_inclusive: bool | None = None,
+    ) -> str:
         """``(0, 50] m`` style text of the allowed range (optionally with other bounds)."""
         lo = self.low if low is None else low
         hi = self.high if high is None else high
@@ -106,10 +140,18 @@ class FieldSpec:
         return ok
 
 
-def _spec(path, units, low, high, description, default=None, *, incl=(True, True),
-          location=None):
-    return FieldSpec(path, units, float(low), float(high), incl[0], incl[1], description,
-                     None if default is None else float(default), location or path)
+def _spec(path, units, low, high, description, default=None, *, incl=(True, True), location=None):
+    return FieldSpec(
+        path,
+        units,
+        float(low),
+        float(high),
+        incl[0],
+        incl[1],
+        description,
+        None if default is None else float(default),
+        location or path,
+    )
 
 
 _OPEN_LOW = (False, True)
@@ -123,126 +165,267 @@ _FIELD_LIST = [
     _spec("mine.length", "m", 0, 50, "length L of the cylinder", incl=_OPEN_LOW),
     _spec("mine.diameter", "m", 0, 10, "diameter d = 2R of the cylinder", incl=_OPEN_LOW),
     _spec("mine.mass", "kg", 0, 1e5, "mass m", incl=_OPEN_LOW),
-    _spec("mine.com_offset", "m", -25, 25,
-          "chi: COM displacement from the centre of volume towards the nose (seed 000 "
-          "Fig. 1); also |chi| < length/2", 0.0, incl=_OPEN),
-    _spec("mine.inertia_axial", "kg m2", 0, 1e7,
-          "J1, moment of inertia about the main axis through the COM; default m R^2/2 "
-          "(uniform cylinder); also J1 <= 2 J2", incl=_OPEN_LOW),
-    _spec("mine.inertia_transverse", "kg m2", 0, 1e7,
-          "J2 = J3, moment of inertia about a transverse axis through the COM; default "
-          "m (3R^2 + L^2)/12 (uniform cylinder)", incl=_OPEN_LOW),
+    _spec(
+        "mine.com_offset",
+        "m",
+        -25,
+        25,
+        "chi: COM displacement from the centre of volume towards the nose (seed 000 "
+        "Fig. 1); also |chi| < length/2",
+        0.0,
+        incl=_OPEN,
+    ),
+    _spec(
+        "mine.inertia_axial",
+        "kg m2",
+        0,
+        1e7,
+        "J1, moment of inertia about the main axis through the COM; default m R^2/2 "
+        "(uniform cylinder); also J1 <= 2 J2",
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "mine.inertia_transverse",
+        "kg m2",
+        0,
+        1e7,
+        "J2 = J3, moment of inertia about a transverse axis through the COM; default "
+        "m (3R^2 + L^2)/12 (uniform cylinder)",
+        incl=_OPEN_LOW,
+    ),
     # --- release ------------------------------------------------------------
-    _spec("release.x", "m", -1e5, 1e5, "initial x of the COM", 0.0,
-          location="release.position[0]"),
-    _spec("release.y", "m", -1e5, 1e5, "initial y of the COM", 0.0,
-          location="release.position[1]"),
-    _spec("release.z", "m", -11000, 20000,
-          "initial height of the COM above the calm water surface; also > "
-          "-environment.water_depth", 0.0, location="release.position[2]"),
-    _spec("release.u", "m s-1", -500, 500, "initial COM velocity, x", 0.0,
-          location="release.velocity[0]"),
-    _spec("release.v", "m s-1", -500, 500, "initial COM velocity, y", 0.0,
-          location="release.velocity[1]"),
-    _spec("release.w", "m s-1", -500, 500, "initial COM velocity, z (up)", 0.0,
-          location="release.velocity[2]"),
+    _spec("release.x", "m", -1e5, 1e5, "initial x of the COM", 0.0, location="release.position[0]"),
+    _spec("release.y", "m", -1e5, 1e5, "initial y of the COM", 0.0, location="release.position[1]"),
+    _spec(
+        "release.z",
+        "m",
+        -11000,
+        20000,
+        "initial height of the COM above the calm water surface; also > -environment.water_depth",
+        0.0,
+        location="release.position[2]",
+    ),
+    _spec("release.u", "m s-1", -500, 500, "initial COM velocity, x", 0.0, location="release.velocity[0]"),
+    _spec("release.v", "m s-1", -500, 500, "initial COM velocity, y", 0.0, location="release.velocity[1]"),
+    _spec(
+        "release.w", "m s-1", -500, 500, "initial COM velocity, z (up)", 0.0, location="release.velocity[2]"
+    ),
     _spec("release.roll_deg", "deg", -360, 360, "psi1, roll about the main axis", 0.0),
-    _spec("release.pitch_deg", "deg", -90, 90,
-          "psi2, dip of the nose below the horizontal (+90 = nose down)", 0.0),
-    _spec("release.heading_deg", "deg", -360, 360,
-          "psi3, heading of the nose from +x towards +y", 0.0),
-    _spec("release.q0", "1", -1, 1, "orientation quaternion, scalar part",
-          location="release.quaternion[0]"),
-    _spec("release.q1", "1", -1, 1, "orientation quaternion, x part",
-          location="release.quaternion[1]"),
-    _spec("release.q2", "1", -1, 1, "orientation quaternion, y part",
-          location="release.quaternion[2]"),
-    _spec("release.q3", "1", -1, 1, "orientation quaternion, z part",
-          location="release.quaternion[3]"),
-    _spec("release.omega1", "rad s-1", -1000, 1000, "initial angular velocity, body axis 1",
-          0.0, location="release.angular_velocity[0]"),
-    _spec("release.omega2", "rad s-1", -1000, 1000, "initial angular velocity, body axis 2",
-          0.0, location="release.angular_velocity[1]"),
-    _spec("release.omega3", "rad s-1", -1000, 1000, "initial angular velocity, body axis 3",
-          0.0, location="release.angular_velocity[2]"),
+    _spec(
+        "release.pitch_deg",
+        "deg",
+        -90,
+        90,
+        "psi2, dip of the nose below the horizontal (+90 = nose down)",
+        0.0,
+    ),
+    _spec("release.heading_deg", "deg", -360, 360, "psi3, heading of the nose from +x towards +y", 0.0),
+    _spec("release.q0", "1", -1, 1, "orientation quaternion, scalar part", location="release.quaternion[0]"),
+    _spec("release.q1", "1", -1, 1, "orientation quaternion, x part", location="release.quaternion[1]"),
+    _spec("release.q2", "1", -1, 1, "orientation quaternion, y part", location="release.quaternion[2]"),
+    _spec("release.q3", "1", -1, 1, "orientation quaternion, z part", location="release.quaternion[3]"),
+    _spec(
+        "release.omega1",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 1",
+        0.0,
+        location="release.angular_velocity[0]",
+    ),
+    _spec(
+        "release.omega2",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 2",
+        0.0,
+        location="release.angular_velocity[1]",
+    ),
+    _spec(
+        "release.omega3",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 3",
+        0.0,
+        location="release.angular_velocity[2]",
+    ),
     # --- environment ----------------------------------------------------------
-    _spec("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81,
-          incl=_OPEN_LOW),
-    _spec("environment.air_density", "kg m-3", 0, 10,
-          "air density (ISA sea level 1.225)", 1.225),
-    _spec("environment.air_viscosity", "m2 s-1", 0, 1e-3,
-          "kinematic viscosity of air (ISA 15 C: 1.46e-5)", 1.5e-5, incl=_OPEN_LOW),
-    _spec("environment.water_density", "kg m-3", 0, 1300,
-          "water density (sea water 1025, seed 004 sec. 4; fresh 998; 0 = no water, for "
-          "ballistic checks)", 1025.0),
-    _spec("environment.water_viscosity", "m2 s-1", 0, 1e-4,
-          "kinematic viscosity of water (sea water 1.05e-6, seed 004 sec. 4)", 1.05e-6,
-          incl=_OPEN_LOW),
-    _spec("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = -H",
-          incl=_OPEN_LOW),
-    _spec("current.u", "m s-1", -10, 10,
-          "current x: uniform value or surface value of the power law", 0.0,
-          location="environment.current.velocity[0]"),
-    _spec("current.v", "m s-1", -10, 10,
-          "current y: uniform value or surface value of the power law", 0.0,
-          location="environment.current.velocity[1]"),
-    _spec("current.exponent", "1", 0, 1,
-          "power-law exponent, U(h) = U_s (h/d)^exponent (seed 004 eq. (38))", 1.0 / 7.0,
-          incl=_OPEN_LOW, location="environment.current.exponent"),
+    _spec("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81, incl=_OPEN_LOW),
+    _spec("environment.air_density", "kg m-3", 0, 10, "air density (ISA sea level 1.225)", 1.225),
+    _spec(
+        "environment.air_viscosity",
+        "m2 s-1",
+        0,
+        1e-3,
+        "kinematic viscosity of air (ISA 15 C: 1.46e-5)",
+        1.5e-5,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "environment.water_density",
+        "kg m-3",
+        0,
+        1300,
+        "water density (sea water 1025, seed 004 sec. 4; fresh 998; 0 = no water, for ballistic checks)",
+        1025.0,
+    ),
+    _spec(
+        "environment.water_viscosity",
+        "m2 s-1",
+        0,
+        1e-4,
+        "kinematic viscosity of water (sea water 1.05e-6, seed 004 sec. 4)",
+        1.05e-6,
+        incl=_OPEN_LOW,
+    ),
+    _spec("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = -H", incl=_OPEN_LOW),
+    _spec(
+        "current.u",
+        "m s-1",
+        -10,
+        10,
+        "current x: uniform value or surface value of the power law",
+        0.0,
+        location="environment.current.velocity[0]",
+    ),
+    _spec(
+        "current.v",
+        "m s-1",
+        -10,
+        10,
+        "current y: uniform value or surface value of the power law",
+        0.0,
+        location="environment.current.velocity[1]",
+    ),
+    _spec(
+        "current.exponent",
+        "1",
+        0,
+        1,
+        "power-law exponent, U(h) = U_s (h/d)^exponent (seed 004 eq. (38))",
+        1.0 / 7.0,
+        incl=_OPEN_LOW,
+        location="environment.current.exponent",
+    ),
     # --- sediment -------------------------------------------------------------
     _spec("sediment.density", "kg m-3", 1000, 2700, "linear profile: bulk density at the seabed"),
-    _spec("sediment.density_gradient", "kg m-4", 0, 1e4, "linear profile: density gradient",
-          0.0),
-    _spec("sediment.strength", "Pa", 0, 1e6,
-          "linear profile: undrained shear strength at the seabed"),
-    _spec("sediment.strength_gradient", "Pa m-1", 0, 1e6, "linear profile: strength gradient",
-          0.0),
+    _spec("sediment.density_gradient", "kg m-4", 0, 1e4, "linear profile: density gradient", 0.0),
+    _spec("sediment.strength", "Pa", 0, 1e6, "linear profile: undrained shear strength at the seabed"),
+    _spec("sediment.strength_gradient", "Pa m-1", 0, 1e6, "linear profile: strength gradient", 0.0),
     _spec("sediment.impact_factor", "1", 1, 100, "A of seed 000 eq. (70), (72)", 10.0),
-    _spec("sediment.rest_speed", "m s-1", 0, 10, "V_rest of seed 000 eq. (70), (72)", 0.04,
-          incl=_OPEN_LOW),
-    _spec("sediment.rate_coefficient", "1", 0, 2,
-          "beta of the semi-logarithmic rate law, per log10 cycle of strain rate "
-          "(~0.1: Kulhawy & Mayne 1990)", 0.1),
-    _spec("sediment.reference_rate", "s-1", 0, 1e6,
-          "reference strain rate of the semi-logarithmic law (1 %/h lab rate)",
-          LAB_STRAIN_RATE, incl=_OPEN_LOW),
-    _spec("sediment.friction", "1", 0, 5,
-          "mu, tangential/normal traction ratio (seed 004 Table 2 case 1: 0.3)", 0.3),
-    _spec("sediment.bearing_factor", "1", 0, 50,
-          "N_c, bearing-capacity factor (pi + 2, Prandtl 1920)", math.pi + 2.0,
-          incl=_OPEN_LOW),
-    _spec("sediment.rupture_length", "m", 0, 10, "B of seed 000 eq. (73)", 0.1,
-          incl=_OPEN_LOW),
-    _spec("sediment.permeability", "m s-1", 0, 1,
-          "k_p of seed 000 eq. (73) (1e-4, seed 000 ref. [15])", 1e-4, incl=_OPEN_LOW),
-    _spec("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (~0.5)", 0.5,
-          incl=_OPEN_LOW),
+    _spec("sediment.rest_speed", "m s-1", 0, 10, "V_rest of seed 000 eq. (70), (72)", 0.04, incl=_OPEN_LOW),
+    _spec(
+        "sediment.rate_coefficient",
+        "1",
+        0,
+        2,
+        "beta of the semi-logarithmic rate law, per log10 cycle of strain rate (~0.1: Kulhawy & Mayne 1990)",
+        0.1,
+    ),
+    _spec(
+        "sediment.reference_rate",
+        "s-1",
+        0,
+        1e6,
+        "reference strain rate of the semi-logarithmic law (1 %/h lab rate)",
+        LAB_STRAIN_RATE,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "sediment.friction",
+        "1",
+        0,
+        5,
+        "mu, tangential/normal traction ratio (seed 004 Table 2 case 1: 0.3)",
+        0.3,
+    ),
+    _spec(
+        "sediment.bearing_factor",
+        "1",
+        0,
+        50,
+        "N_c, bearing-capacity factor (pi + 2, Prandtl 1920)",
+        math.pi + 2.0,
+        incl=_OPEN_LOW,
+    ),
+    _spec("sediment.rupture_length", "m", 0, 10, "B of seed 000 eq. (73)", 0.1, incl=_OPEN_LOW),
+    _spec(
+        "sediment.permeability",
+        "m s-1",
+        0,
+        1,
+        "k_p of seed 000 eq. (73) (1e-4, seed 000 ref. [15])",
+        1e-4,
+        incl=_OPEN_LOW,
+    ),
+    _spec("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (~0.5)", 0.5, incl=_OPEN_LOW),
     # --- numerics -------------------------------------------------------------
     _spec("numerics.dt", "s", 0, 1, "time step; also dt <= t_max", 1e-3, incl=_OPEN_LOW),
     _spec("numerics.t_max", "s", 0, 1e6, "simulated time limit", 60.0, incl=_OPEN_LOW),
-    _spec("numerics.rest_speed", "m s-1", 0, 10,
-          "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1); the sediment's "
-          "hold is probed at this speed", 1e-2,
-          incl=_OPEN_LOW),
-    _spec("numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed",
-          5e-2, incl=_OPEN_LOW),
-    _spec("numerics.munk_factor", "1", 0, 1,
-          "fraction of the potential-flow Munk moment kept by the added-mass tensor "
-          "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
-          "theory); see docs/physics.md", 0.0),
-    _spec("numerics.rtol", "1", 0, 0.1,
-          "relative tolerance of the adaptive integrator (dopri5), per step on position, "
-          "velocity, attitude and angular velocity", 1e-5, incl=_OPEN_LOW),
-    _spec("numerics.atol", "1", 0, 1.0,
-          "absolute tolerance of the adaptive integrator, in m, m s-1, 1 (quaternion) and "
-          "rad s-1", 1e-6, incl=_OPEN_LOW),
-    _spec("numerics.slip_speed", "m s-1", 0, 0.1,
-          "regularisation speed of the slip direction of the sediment's tangential traction "
-          "(seed 000 eq. (67)): it ramps up over this slip speed (docs/design.md)", 5e-3,
-          incl=_OPEN_LOW),
-    _spec("numerics.switch_speed", "m s-1", 0, 0.1,
-          "regularisation speed of the advancing switch of seed 000 eq. (65): the normal "
-          "traction ramps up over this normal speed (docs/design.md)", 5e-3, incl=_OPEN_LOW),
+    _spec(
+        "numerics.rest_speed",
+        "m s-1",
+        0,
+        10,
+        "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1); the sediment's "
+        "hold is probed at this speed",
+        1e-2,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed", 5e-2, incl=_OPEN_LOW
+    ),
+    _spec(
+        "numerics.munk_factor",
+        "1",
+        0,
+        1,
+        "fraction of the potential-flow Munk moment kept by the added-mass tensor "
+        "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
+        "theory); see docs/physics.md",
+        0.0,
+    ),
+    _spec(
+        "numerics.rtol",
+        "1",
+        0,
+        0.1,
+        "relative tolerance of the adaptive integrator (dopri5), per step on position, "
+        "velocity, attitude and angular velocity",
+        1e-5,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "numerics.atol",
+        "1",
+        0,
+        1.0,
+        "absolute tolerance of the adaptive integrator, in m, m s-1, 1 (quaternion) and rad s-1",
+        1e-6,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "numerics.slip_speed",
+        "m s-1",
+        0,
+        0.1,
+        "regularisation speed of the slip direction of the sediment's tangential traction "
+        "(seed 000 eq. (67)): it ramps up over this slip speed (docs/design.md)",
+        5e-3,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "numerics.switch_speed",
+        "m s-1",
+        0,
+        0.1,
+        "regularisation speed of the advancing switch of seed 000 eq. (65): the normal "
+        "traction ramps up over this normal speed (docs/design.md)",
+        5e-3,
+        incl=_OPEN_LOW,
+    ),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.
@@ -296,11 +479,13 @@ def _label(location: str, spec: FieldSpec) -> str:
 
 def _inline(d: Mapping) -> str:
     """A distribution table as the inline TOML a user writes (long lists shortened)."""
+
     def value(v):
         if isinstance(v, (list, tuple)):
             items = [value(x) for x in v[:6]] + (["..."] if len(v) > 6 else [])
             return "[" + ", ".join(items) + "]"
         return json.dumps(v) if isinstance(v, str) else f"{v:g}"
+
     return "{" + ", ".join(f"{k} = {value(v)}" for k, v in d.items()) + "}"
 
 
@@ -320,8 +505,7 @@ def check_distribution(path: str, distribution) -> None:
     spec = _field_for(path)
     if spec is None or getattr(distribution, "categorical", False):
         return
-    p = distribution.probability_outside(spec.low, spec.high, spec.low_inclusive,
-                                         spec.high_inclusive)
+    p = distribution.probability_outside(spec.low, spec.high, spec.low_inclusive, spec.high_inclusive)
     tolerance = 0.0 if distribution.discrete else SUPPORT_TOLERANCE
     if p <= tolerance:
         return
@@ -331,11 +515,13 @@ def check_distribution(path: str, distribution) -> None:
         bad = values[~spec.contains(values)]
         raise ScenarioError(
             f"{label}: {bad.size} of its {values.size} values lie outside the allowed range "
-            f"{spec.range_text()} (probability {p:.3g}), e.g. {float(bad[0]):g}")
+            f"{spec.range_text()} (probability {p:.3g}), e.g. {float(bad[0]):g}"
+        )
     raise ScenarioError(
         f"{label} puts probability {p:.3g} outside the allowed range {spec.range_text()} "
         f"(at most {SUPPORT_TOLERANCE:g} may lie outside): narrow it, or bound it inside the "
-        f"range (a uniform's or a truncated_normal's low and high)")
+        f"range (a uniform's or a truncated_normal's low and high)"
+    )
 
 
 def check_samples(inputs: Mapping[str, Any], n: int | None = None) -> np.ndarray:
@@ -363,16 +549,19 @@ def check_samples(inputs: Mapping[str, Any], n: int | None = None) -> np.ndarray
 class InvalidSamples:
     """Sampled values of one field that lie outside its allowed range (see
     :func:`invalid_samples`); ``str()`` is the sentence for a warning line."""
+
     path: str
     count: int
     total: int
-    example: float          #: the offending value farthest outside the range
-    allowed: str            #: the allowed range with units, as in error messages
+    example: float  #: the offending value farthest outside the range
+    allowed: str  #: the allowed range with units, as in error messages
 
     def __str__(self) -> str:
-        return (f"{self.path}: {self.count} of {self.total} sampled values are outside the "
-                f"allowed range {self.allowed} (e.g. {self.example:g}); those drops are "
-                f"invalid_input")
+        return (
+            f"{self.path}: {self.count} of {self.total} sampled values are outside the "
+            f"allowed range {self.allowed} (e.g. {self.example:g}); those drops are "
+            f"invalid_input"
+        )
 
 
 def invalid_samples(inputs: Mapping[str, Any]) -> list[InvalidSamples]:
@@ -394,7 +583,7 @@ def invalid_samples(inputs: Mapping[str, Any]) -> list[InvalidSamples]:
         bad = v[~spec.contains(v)]
         if bad.size == 0:
             continue
-        distance = np.maximum(spec.low - bad, bad - spec.high)    # NaN for a NaN value
+        distance = np.maximum(spec.low - bad, bad - spec.high)  # NaN for a NaN value
         example = float(bad[np.argmax(np.where(np.isnan(distance), np.inf, distance))])
         out.append(InvalidSamples(path, int(bad.size), int(v.size), example, spec.range_text()))
     return out
@@ -403,21 +592,34 @@ def invalid_samples(inputs: Mapping[str, Any]) -> list[InvalidSamples]:
 # ===========================================================================
 # Value checking helpers (scalar, raising)
 # ===========================================================================
-def _range_error(location: str, path: str, value: float, spec: FieldSpec, *,
-                 low=None, high=None, low_inclusive=None, note: str = "") -> ScenarioError:
+def _range_error(
+    location: str,
+    path: str,
+    value: float,
+    spec: FieldSpec,
+    *,
+    low=None,
+    high=None,
+    low_inclusive=None,
+    note: str = "",
+) -> ScenarioError:
     label = location if location == path else f"{location} ({path})"
     units = "" if spec.units == "1" else f" {spec.units}"
     extra = f" ({note})" if note else ""
-    return ScenarioError(f"{label} = {value!r}{units} is outside the allowed range "
-                         f"{spec.range_text(low, high, low_inclusive)}{extra}")
+    return ScenarioError(
+        f"{label} = {value!r}{units} is outside the allowed range "
+        f"{spec.range_text(low, high, low_inclusive)}{extra}"
+    )
 
 
 def _number(value, location: str, units: str = "") -> float:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
-                                                                       np.floating)):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
         u = f" ({units})" if units and units != "1" else ""
-        hint = (": an inline table is a distribution only with distribution = \"...\" "
-                "(docs/scenario.md)") if isinstance(value, Mapping) else ""
+        hint = (
+            (': an inline table is a distribution only with distribution = "..." (docs/scenario.md)')
+            if isinstance(value, Mapping)
+            else ""
+        )
         raise ScenarioError(f"{location} = {value!r} must be a number{u}{hint}")
     return float(value)
 
@@ -459,7 +661,7 @@ def uniform_cylinder_inertia(mass, diameter, length):
     and an array with ``x * x``, which is what each caller has always computed.
     """
     r = diameter / 2.0
-    return mass * r * r / 2.0, mass * (3.0 * r * r + length ** 2) / 12.0
+    return mass * r * r / 2.0, mass * (3.0 * r * r + length**2) / 12.0
 
 
 # ===========================================================================
@@ -478,11 +680,15 @@ def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
     h1, h2, h3 = (np.asarray(a, dtype=np.float64) / 2.0 for a in (psi1, psi2, psi3))
     c1, s1, c2, s2, c3, s3 = np.cos(h1), np.sin(h1), np.cos(h2), np.sin(h2), np.cos(h3), np.sin(h3)
     # q = qz(psi3) * qy(psi2) * qx(psi1) (Hamilton product)
-    return np.stack(np.broadcast_arrays(
-        c1 * c2 * c3 + s1 * s2 * s3,
-        s1 * c2 * c3 - c1 * s2 * s3,
-        c1 * s2 * c3 + s1 * c2 * s3,
-        c1 * c2 * s3 - s1 * s2 * c3), axis=-1)
+    return np.stack(
+        np.broadcast_arrays(
+            c1 * c2 * c3 + s1 * s2 * s3,
+            s1 * c2 * c3 - c1 * s2 * s3,
+            c1 * s2 * c3 + s1 * c2 * s3,
+            c1 * c2 * s3 - s1 * s2 * c3,
+        ),
+        axis=-1,
+    )
 
 
 def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
@@ -492,11 +698,13 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
     q = np.asarray(q, dtype=np.float64)
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
-    args = np.broadcast_arrays(*(np.asarray(x, dtype=np.float64)
-                                 for x in (length, diameter, com_offset, a_z, z)))
+    args = np.broadcast_arrays(
+        *(np.asarray(x, dtype=np.float64) for x in (length, diameter, com_offset, a_z, z))
+    )
     rows = zip(*(x.ravel().tolist() for x in args))
-    return np.array([vertical_extent(L, 0.5 * d, chi, a, zc)[0] for L, d, chi, a, zc in rows],
-                    dtype=np.float64).reshape(args[0].shape)
+    return np.array(
+        [vertical_extent(L, 0.5 * d, chi, a, zc)[0] for L, d, chi, a, zc in rows], dtype=np.float64
+    ).reshape(args[0].shape)
 
 
 # ===========================================================================
@@ -511,6 +719,7 @@ class Mine:
     ``None`` again through ``dataclasses.replace`` to recompute them after changing the
     mass or size.
     """
+
     length: float
     diameter: float
     mass: float
@@ -533,15 +742,24 @@ class Mine:
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
         half = self.length / 2.0
         if not abs(self.com_offset) < half:
-            raise _range_error("mine.com_offset", "mine.com_offset", self.com_offset,
-                               FIELDS["mine.com_offset"], low=-half, high=half,
-                               note="|chi| < length/2: the COM lies inside the body")
+            raise _range_error(
+                "mine.com_offset",
+                "mine.com_offset",
+                self.com_offset,
+                FIELDS["mine.com_offset"],
+                low=-half,
+                high=half,
+                note="|chi| < length/2: the COM lies inside the body",
+            )
         if not self.inertia_axial <= 2.0 * self.inertia_transverse:
-            raise _range_error("mine.inertia_axial", "mine.inertia_axial", self.inertia_axial,
-                               FIELDS["mine.inertia_axial"],
-                               high=2.0 * self.inertia_transverse,
-                               note="J1 <= 2 J2 = 2 * mine.inertia_transverse, triangle "
-                                    "inequality of a rigid body")
+            raise _range_error(
+                "mine.inertia_axial",
+                "mine.inertia_axial",
+                self.inertia_axial,
+                FIELDS["mine.inertia_axial"],
+                high=2.0 * self.inertia_transverse,
+                note="J1 <= 2 J2 = 2 * mine.inertia_transverse, triangle inequality of a rigid body",
+            )
 
     @property
     def radius(self) -> float:
@@ -549,7 +767,7 @@ class Mine:
 
     @property
     def volume(self) -> float:
-        return math.pi * self.radius ** 2 * self.length
+        return math.pi * self.radius**2 * self.length
 
     @property
     def density(self) -> float:
@@ -557,10 +775,15 @@ class Mine:
         return self.mass / self.volume
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "length": self.length, "diameter": self.diameter,
-                "mass": self.mass, "com_offset": self.com_offset,
-                "inertia_axial": self.inertia_axial,
-                "inertia_transverse": self.inertia_transverse}
+        return {
+            "name": self.name,
+            "length": self.length,
+            "diameter": self.diameter,
+            "mass": self.mass,
+            "com_offset": self.com_offset,
+            "inertia_axial": self.inertia_axial,
+            "inertia_transverse": self.inertia_transverse,
+        }
 
 
 _ANGLES = ("roll_deg", "pitch_deg", "heading_deg")
@@ -581,6 +804,7 @@ class Release:
     mine placed on or pressed into the sediment); without it such a release is refused
     (:class:`Scenario`), since a drop that starts in contact has no impact to report.
     """
+
     position: tuple = (0.0, 0.0, 0.0)
     velocity: tuple = (0.0, 0.0, 0.0)
     angular_velocity: tuple = (0.0, 0.0, 0.0)
@@ -594,10 +818,11 @@ class Release:
         if not isinstance(self.embedded, (bool, np.bool_)):
             raise ScenarioError(f"release.embedded = {self.embedded!r} must be true or false")
         _set(self, "embedded", bool(self.embedded))
-        for name, paths in (("position", ("release.x", "release.y", "release.z")),
-                            ("velocity", ("release.u", "release.v", "release.w")),
-                            ("angular_velocity",
-                             ("release.omega1", "release.omega2", "release.omega3"))):
+        for name, paths in (
+            ("position", ("release.x", "release.y", "release.z")),
+            ("velocity", ("release.u", "release.v", "release.w")),
+            ("angular_velocity", ("release.omega1", "release.omega2", "release.omega3")),
+        ):
             vec = _vector(getattr(self, name), 3, f"release.{name}")
             _set(self, name, tuple(_check(p, x) for p, x in zip(paths, vec)))
         given = [a for a in _ANGLES if getattr(self, a) is not None]
@@ -606,17 +831,19 @@ class Release:
                 raise ScenarioError(
                     f"release: give either the angles (roll_deg, pitch_deg, heading_deg) or "
                     f"quaternion, not both (got quaternion and {', '.join(given)}); with "
-                    f"dataclasses.replace, set the other form to None")
+                    f"dataclasses.replace, set the other form to None"
+                )
             q = np.array(_vector(self.quaternion, 4, "release.quaternion"))
             norm = float(np.linalg.norm(q))
             if not (np.isfinite(norm) and norm > 1e-6):
-                raise ScenarioError(f"release.quaternion = {list(self.quaternion)!r} has norm "
-                                    f"{norm:g} ~ 0 and cannot be normalised")
+                raise ScenarioError(
+                    f"release.quaternion = {list(self.quaternion)!r} has norm "
+                    f"{norm:g} ~ 0 and cannot be normalised"
+                )
             # idempotent: a quaternion that is already unit (to rounding) is kept as is
             if abs(norm - 1.0) > 4 * _EPS or np.any(np.abs(q) > 1.0):
                 q = np.clip(q / norm, -1.0, 1.0)
-            _set(self, "quaternion", tuple(_check(f"release.q{i}", float(x))
-                                           for i, x in enumerate(q)))
+            _set(self, "quaternion", tuple(_check(f"release.q{i}", float(x)) for i, x in enumerate(q)))
         else:
             for a in _ANGLES:
                 value = getattr(self, a)
@@ -627,9 +854,12 @@ class Release:
         """Unit quaternion body -> earth, scalar first."""
         if self.quaternion is not None:
             return self.quaternion
-        return tuple(float(x) for x in quaternion_from_angles(
-            math.radians(self.roll_deg), math.radians(self.pitch_deg),
-            math.radians(self.heading_deg)))
+        return tuple(
+            float(x)
+            for x in quaternion_from_angles(
+                math.radians(self.roll_deg), math.radians(self.pitch_deg), math.radians(self.heading_deg)
+            )
+        )
 
     @property
     def angles_deg(self) -> tuple[float, float, float]:
@@ -671,6 +901,7 @@ class Current:
 
     Fields not used by the kind must keep their defaults (so a Current has one meaning).
     """
+
     kind: str = "none"
     u: float = 0.0
     v: float = 0.0
@@ -683,36 +914,50 @@ class Current:
         kind = _choice(self.kind, layout.CURRENT_KINDS, "environment.current.kind")
         vel = "surface_velocity" if kind == "power_law" else "velocity"
         for i, f in enumerate(("u", "v")):
-            _set(self, f, _check(f"current.{f}", getattr(self, f),
-                                 f"environment.current.{vel}[{i}]"))
+            _set(self, f, _check(f"current.{f}", getattr(self, f), f"environment.current.{vel}[{i}]"))
         _set(self, "exponent", _check("current.exponent", self.exponent))
         for f in ("depth", "table_u", "table_v"):
             value = getattr(self, f)
             if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
-                raise ScenarioError(f"environment.current.{f.replace('table_', '')} = "
-                                    f"{value!r} must be a list of numbers")
-            _set(self, f, tuple(_number(x, f"environment.current.{f.replace('table_', '')}[{i}]")
-                                for i, x in enumerate(value)))
+                raise ScenarioError(
+                    f"environment.current.{f.replace('table_', '')} = {value!r} must be a list of numbers"
+                )
+            _set(
+                self,
+                f,
+                tuple(
+                    _number(x, f"environment.current.{f.replace('table_', '')}[{i}]")
+                    for i, x in enumerate(value)
+                ),
+            )
         if kind in ("none", "table") and (self.u, self.v) != (0.0, 0.0):
-            raise ScenarioError(f"environment.current: u, v = ({self.u!r}, {self.v!r}) are only "
-                                f"used by kind 'uniform' or 'power_law', not '{kind}'")
+            raise ScenarioError(
+                f"environment.current: u, v = ({self.u!r}, {self.v!r}) are only "
+                f"used by kind 'uniform' or 'power_law', not '{kind}'"
+            )
         if kind != "power_law" and self.exponent != 1.0 / 7.0:
-            raise ScenarioError(f"environment.current.exponent = {self.exponent!r} is only used "
-                                f"by kind 'power_law', not '{kind}'")
+            raise ScenarioError(
+                f"environment.current.exponent = {self.exponent!r} is only used "
+                f"by kind 'power_law', not '{kind}'"
+            )
         if kind != "table":
             if self.depth or self.table_u or self.table_v:
-                raise ScenarioError(f"environment.current: depth/u/v tables are only used by "
-                                    f"kind 'table', not '{kind}'")
+                raise ScenarioError(
+                    f"environment.current: depth/u/v tables are only used by kind 'table', not '{kind}'"
+                )
             return
         n = len(self.depth)
         if n == 0 or len(self.table_u) != n or len(self.table_v) != n:
             raise ScenarioError(
                 f"environment.current: kind 'table' needs depth, u and v lists of the same "
-                f"non-zero length, got {n}, {len(self.table_u)}, {len(self.table_v)}")
+                f"non-zero length, got {n}, {len(self.table_u)}, {len(self.table_v)}"
+            )
         d = np.array(self.depth)
         if d[0] < 0 or not np.all(np.diff(d) > 0):
-            raise ScenarioError(f"environment.current.depth = {list(self.depth)!r} m must be "
-                                f">= 0 and strictly increasing (depth below the surface)")
+            raise ScenarioError(
+                f"environment.current.depth = {list(self.depth)!r} m must be "
+                f">= 0 and strictly increasing (depth below the surface)"
+            )
         for f, comp in (("table_u", "u"), ("table_v", "v")):
             for i, x in enumerate(getattr(self, f)):
                 _check(f"current.{comp}", x, f"environment.current.{comp}[{i}]")
@@ -729,15 +974,14 @@ class Current:
         if self.kind == "uniform":
             return {"kind": "uniform", "velocity": [self.u, self.v]}
         if self.kind == "power_law":
-            return {"kind": "power_law", "surface_velocity": [self.u, self.v],
-                    "exponent": self.exponent}
-        return {"kind": "table", "depth": list(self.depth), "u": list(self.table_u),
-                "v": list(self.table_v)}
+            return {"kind": "power_law", "surface_velocity": [self.u, self.v], "exponent": self.exponent}
+        return {"kind": "table", "depth": list(self.depth), "u": list(self.table_u), "v": list(self.table_v)}
 
 
 @dataclass(frozen=True, kw_only=True)
 class Environment:
     """Fluids, gravity, water depth (the seabed is at z = -water_depth) and current."""
+
     water_depth: float
     gravity: float = 9.81
     air_density: float = 1.225
@@ -747,31 +991,57 @@ class Environment:
     current: Current = field(default_factory=Current)
 
     def __post_init__(self):
-        for f in ("water_depth", "gravity", "air_density", "air_viscosity", "water_density",
-                  "water_viscosity"):
+        for f in (
+            "water_depth",
+            "gravity",
+            "air_density",
+            "air_viscosity",
+            "water_density",
+            "water_viscosity",
+        ):
             _set(self, f, _check(f"environment.{f}", getattr(self, f)))
         if not isinstance(self.current, Current):
             raise ScenarioError(f"environment.current = {self.current!r} must be a Current")
 
     def to_dict(self) -> dict:
-        d = {f: getattr(self, f) for f in ("gravity", "air_density", "air_viscosity",
-                                           "water_density", "water_viscosity", "water_depth")}
+        d = {
+            f: getattr(self, f)
+            for f in (
+                "gravity",
+                "air_density",
+                "air_viscosity",
+                "water_density",
+                "water_viscosity",
+                "water_depth",
+            )
+        }
         d["current"] = self.current.to_dict()
         return d
 
 
 #: Defaults that depend on ``numerics.model`` (used where the field is None / absent).
-#: impact35 reproduces seed 000: "delta" tractions (eq. (74)), the impact function (70)
-#: and the local-linearisation step (83)-(87). mineburial uses the bearing-factor method
-#: (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34, lower bias and RMSE of burial volume
-#: on Baltic drops) with a semi-logarithmic rate law and RK4 (docs/physics.md).
+#: impact35 reproduces seed 000's force laws: "delta" tractions (eq. (74)) and the impact
+#: function (70); mineburial uses the bearing-factor method (Chu & Fan 2007, IEEE J. Oceanic
+#: Eng. 32(1):34, lower bias and RMSE of burial volume on Baltic drops) with a
+#: semi-logarithmic rate law (docs/physics.md). Both integrate with the error-controlled
+#: dopri5; the seed's local-linearisation step (83)-(87) stays selectable as
+#: ``integrator = "local_linear"`` (docs/design.md, "Time stepping").
 MODEL_DEFAULTS = {
     "mineburial": {"resistance": "bearing", "rate_law": "semilog", "integrator": "dopri5"},
     "impact35": {"resistance": "delta", "rate_law": "impact35", "integrator": "dopri5"},
 }
 
-_SED_OPTIONS = ("impact_factor", "rest_speed", "rate_coefficient", "reference_rate",
-                "friction", "bearing_factor", "rupture_length", "permeability", "void_ratio")
+_SED_OPTIONS = (
+    "impact_factor",
+    "rest_speed",
+    "rate_coefficient",
+    "reference_rate",
+    "friction",
+    "bearing_factor",
+    "rupture_length",
+    "permeability",
+    "void_ratio",
+)
 _SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
 
 
@@ -788,6 +1058,7 @@ class Sediment:
     ``numerics.model`` (:data:`MODEL_DEFAULTS`) when the :class:`Scenario` is built.
     Option defaults and sources: :data:`FIELDS` and docs/scenario.md.
     """
+
     profile: SedimentProfile | None = None
     density: float | None = None
     density_gradient: float | None = None
@@ -810,20 +1081,21 @@ class Sediment:
         linear_given = [f for f in _SED_LINEAR if getattr(self, f) is not None]
         if self.profile is not None:
             if not isinstance(self.profile, SedimentProfile):
-                raise ScenarioError(f"sediment.profile = {self.profile!r} must be a "
-                                    f"SedimentProfile")
+                raise ScenarioError(f"sediment.profile = {self.profile!r} must be a SedimentProfile")
             if linear_given:
                 raise ScenarioError(
                     f"sediment: give either a tabulated profile (class, profile or file) or a "
                     f"linear one (density, strength, gradients), not both (got a profile and "
-                    f"{', '.join(linear_given)})")
+                    f"{', '.join(linear_given)})"
+                )
         else:
             for f in ("density", "strength"):
                 if getattr(self, f) is None:
                     raise ScenarioError(
                         f"sediment.{f} is required for a linear profile; or give the profile "
                         f"as class = one of {', '.join(CATALOGUE)}, profile = {{depth, "
-                        f"density, strength}} or file = 'core.csv'")
+                        f"density, strength}} or file = 'core.csv'"
+                    )
             for f in _SED_LINEAR:
                 value = getattr(self, f)
                 _set(self, f, _check(f"sediment.{f}", 0.0 if value is None else value))
@@ -834,8 +1106,7 @@ class Sediment:
         for f in _SED_OPTIONS:
             _set(self, f, _check(f"sediment.{f}", getattr(self, f)))
         if not isinstance(self.pore_pressure, (bool, np.bool_)):
-            raise ScenarioError(f"sediment.pore_pressure = {self.pore_pressure!r} must be "
-                                f"true or false")
+            raise ScenarioError(f"sediment.pore_pressure = {self.pore_pressure!r} must be true or false")
         _set(self, "pore_pressure", bool(self.pore_pressure))
 
     @classmethod
@@ -852,15 +1123,14 @@ class Sediment:
         if self.profile is not None:
             return self.profile.evaluate(depth)
         z = np.maximum(np.asarray(depth, dtype=np.float64), 0.0)
-        return (self.density + self.density_gradient * z,
-                self.strength + self.strength_gradient * z)
+        return (self.density + self.density_gradient * z, self.strength + self.strength_gradient * z)
 
     def resolved(self, model: str) -> Sediment:
         """Copy with ``resistance``/``rate_law`` set from :data:`MODEL_DEFAULTS` if None."""
         d = MODEL_DEFAULTS[model]
         return dataclasses.replace(
-            self, resistance=self.resistance or d["resistance"],
-            rate_law=self.rate_law or d["rate_law"])
+            self, resistance=self.resistance or d["resistance"], rate_law=self.rate_law or d["rate_law"]
+        )
 
     def to_dict(self) -> dict:
         d: dict[str, Any] = {}
@@ -889,6 +1159,7 @@ class Numerics:
     ``sediment_quadrature``: ``fast`` (fixed-cost rule, default) or ``reference``
     (the accurate adaptive quadrature).
     """
+
     model: str = "mineburial"
     integrator: str | None = None
     dt: float = 1e-3
@@ -908,14 +1179,28 @@ class Numerics:
         if self.integrator is None:
             _set(self, "integrator", MODEL_DEFAULTS[self.model]["integrator"])
         _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
-        _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES,
-                "numerics.sediment_quadrature")
-        for f in ("dt", "t_max", "rest_speed", "rest_spin", "munk_factor", "rtol", "atol",
-                  "slip_speed", "switch_speed"):
+        _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES, "numerics.sediment_quadrature")
+        for f in (
+            "dt",
+            "t_max",
+            "rest_speed",
+            "rest_spin",
+            "munk_factor",
+            "rtol",
+            "atol",
+            "slip_speed",
+            "switch_speed",
+        ):
             _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
         if not self.dt <= self.t_max:
-            raise _range_error("numerics.dt", "numerics.dt", self.dt, FIELDS["numerics.dt"],
-                               high=min(1.0, self.t_max), note="dt <= numerics.t_max")
+            raise _range_error(
+                "numerics.dt",
+                "numerics.dt",
+                self.dt,
+                FIELDS["numerics.dt"],
+                high=min(1.0, self.t_max),
+                note="dt <= numerics.t_max",
+            )
         if not isinstance(self.drag, (bool, np.bool_)):
             raise ScenarioError(f"numerics.drag = {self.drag!r} must be true or false")
         _set(self, "drag", bool(self.drag))
@@ -928,15 +1213,28 @@ class Numerics:
 # Scenario
 # ===========================================================================
 _SECTIONS = ("description", "mine", "release", "environment", "sediment", "numerics")
-_MINE_KEYS = ("name", "length", "diameter", "mass", "com_offset", "inertia_axial",
-              "inertia_transverse")
-_RELEASE_KEYS = ("position", "velocity", "angular_velocity", "roll_deg", "pitch_deg",
-                 "heading_deg", "quaternion", "embedded")
-_ENV_KEYS = ("gravity", "air_density", "air_viscosity", "water_density", "water_viscosity",
-             "water_depth", "current")
+_MINE_KEYS = ("name", "length", "diameter", "mass", "com_offset", "inertia_axial", "inertia_transverse")
+_RELEASE_KEYS = (
+    "position",
+    "velocity",
+    "angular_velocity",
+    "roll_deg",
+    "pitch_deg",
+    "heading_deg",
+    "quaternion",
+    "embedded",
+)
+_ENV_KEYS = (
+    "gravity",
+    "air_density",
+    "air_viscosity",
+    "water_density",
+    "water_viscosity",
+    "water_depth",
+    "current",
+)
 _SED_SOURCES = ("class", "profile", "file")
-_SED_KEYS = _SED_SOURCES + _SED_LINEAR + ("resistance", "rate_law", "pore_pressure") \
-    + _SED_OPTIONS
+_SED_KEYS = _SED_SOURCES + _SED_LINEAR + ("resistance", "rate_law", "pore_pressure") + _SED_OPTIONS
 _NUM_KEYS = tuple(f.name for f in dataclasses.fields(Numerics))
 
 
@@ -959,11 +1257,13 @@ def _distribution_paths(node, path: str = "") -> list[str]:
     if isinstance(node, Mapping):
         if "distribution" in node:
             return [path]
-        return [p for key, value in node.items()
-                for p in _distribution_paths(value, f"{path}.{key}" if path else str(key))]
+        return [
+            p
+            for key, value in node.items()
+            for p in _distribution_paths(value, f"{path}.{key}" if path else str(key))
+        ]
     if isinstance(node, (list, tuple)):
-        return [p for k, value in enumerate(node)
-                for p in _distribution_paths(value, f"{path}[{k}]")]
+        return [p for k, value in enumerate(node) for p in _distribution_paths(value, f"{path}[{k}]")]
     return []
 
 
@@ -972,15 +1272,17 @@ def _check_fixed(d: Mapping) -> None:
     says so (not 'unknown section' or 'must be a number')."""
     random = _distribution_paths(d)
     if random:
-        listed = ", ".join(random[:5]) + (f" and {len(random) - 5} more" if len(random) > 5
-                                           else "")
+        listed = ", ".join(random[:5]) + (f" and {len(random) - 5} more" if len(random) > 5 else "")
         raise ScenarioError(
             f"{listed} {'is a distribution' if len(random) == 1 else 'are distributions'}: "
             f"this is an ensemble scenario, but a single drop needs fixed values; run the "
-            f"ensemble with `mineburial run` (run_ensemble), or give fixed values")
+            f"ensemble with `mineburial run` (run_ensemble), or give fixed values"
+        )
     if "ensemble" in d:
-        raise ScenarioError("the [ensemble] table belongs to an ensemble scenario (`mineburial "
-                            "run`, run_ensemble); a single drop does not use it: remove it")
+        raise ScenarioError(
+            "the [ensemble] table belongs to an ensemble scenario (`mineburial "
+            "run`, run_ensemble); a single drop does not use it: remove it"
+        )
 
 
 def _required(sec: dict, section: str, keys):
@@ -994,6 +1296,7 @@ def _required(sec: dict, section: str, keys):
 @dataclass(frozen=True, kw_only=True)
 class Scenario:
     """A complete, validated drop scenario (see module docstring and docs/scenario.md)."""
+
     mine: Mine
     environment: Environment
     sediment: Sediment
@@ -1002,8 +1305,13 @@ class Scenario:
     description: str = ""
 
     def __post_init__(self):
-        for name, cls in (("mine", Mine), ("environment", Environment), ("sediment", Sediment),
-                          ("release", Release), ("numerics", Numerics)):
+        for name, cls in (
+            ("mine", Mine),
+            ("environment", Environment),
+            ("sediment", Sediment),
+            ("release", Release),
+            ("numerics", Numerics),
+        ):
             if not isinstance(getattr(self, name), cls):
                 raise ScenarioError(f"{name} = {getattr(self, name)!r} must be a {cls.__name__}")
         if not isinstance(self.description, str):
@@ -1011,10 +1319,15 @@ class Scenario:
         _set(self, "sediment", self.sediment.resolved(self.numerics.model))
         z, depth = self.release.position[2], self.environment.water_depth
         if not z > -depth:
-            raise _range_error("release.position[2]", "release.z", z, FIELDS["release.z"],
-                               low=-depth, low_inclusive=False,
-                               note="the COM must start above the seabed, "
-                                    "z > -environment.water_depth")
+            raise _range_error(
+                "release.position[2]",
+                "release.z",
+                z,
+                FIELDS["release.z"],
+                low=-depth,
+                low_inclusive=False,
+                note="the COM must start above the seabed, z > -environment.water_depth",
+            )
         m = self.mine
         lowest = float(_lowest_point(m.length, m.diameter, m.com_offset, self.release.q, z))
         if not self.release.embedded and lowest < -depth:
@@ -1023,7 +1336,8 @@ class Scenario:
                 f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
                 f"-environment.water_depth = {-depth:g} m), so it has no impact: release it "
                 f"at least that much higher, or set release.embedded = true for a mine placed "
-                f"in the sediment")
+                f"in the sediment"
+            )
 
     # -- reading -------------------------------------------------------------
     @classmethod
@@ -1044,10 +1358,14 @@ class Scenario:
         current = env.pop("current", {"kind": "none"})
         sed = _section(d, "sediment", _SED_KEYS, required=True)
         num = _section(d, "numerics", _NUM_KEYS)
-        return cls(mine=Mine(**mine), release=Release(**release),
-                   environment=Environment(**env, current=_current_from_dict(current)),
-                   sediment=_sediment_from_dict(sed, base_dir),
-                   numerics=Numerics(**num), description=d.get("description", ""))
+        return cls(
+            mine=Mine(**mine),
+            release=Release(**release),
+            environment=Environment(**env, current=_current_from_dict(current)),
+            sediment=_sediment_from_dict(sed, base_dir),
+            numerics=Numerics(**num),
+            description=d.get("description", ""),
+        )
 
     @classmethod
     def from_toml(cls, path) -> Scenario:
@@ -1075,9 +1393,14 @@ class Scenario:
     def to_dict(self) -> dict:
         """Fully resolved nested dict (floats, strings, bools, lists; no None), JSON and
         TOML serialisable; ``Scenario.from_dict(s.to_dict()) == s``."""
-        return {"description": self.description, "mine": self.mine.to_dict(),
-                "release": self.release.to_dict(), "environment": self.environment.to_dict(),
-                "sediment": self.sediment.to_dict(), "numerics": self.numerics.to_dict()}
+        return {
+            "description": self.description,
+            "mine": self.mine.to_dict(),
+            "release": self.release.to_dict(),
+            "environment": self.environment.to_dict(),
+            "sediment": self.sediment.to_dict(),
+            "numerics": self.numerics.to_dict(),
+        }
 
     def to_json(self) -> str:
         """``to_dict`` as a JSON string (e.g. for a NetCDF global attribute)."""
@@ -1097,8 +1420,14 @@ class Scenario:
         first-segment gradients, for information); a linear profile gives an empty bank and
         index -1. Likewise a ``table`` current is row 0 of ``current_bank``.
         """
-        m, r, e, c, s, n = (self.mine, self.release, self.environment,
-                            self.environment.current, self.sediment, self.numerics)
+        m, r, e, c, s, n = (
+            self.mine,
+            self.release,
+            self.environment,
+            self.environment.current,
+            self.sediment,
+            self.numerics,
+        )
         q = r.q
         if s.profile is not None:
             rho0, krho, s0, ks = s.profile.surface_gradients()
@@ -1111,44 +1440,67 @@ class Scenario:
         else:
             cur_bank, cur_index = pack_banks([]), -1
         values = {
-            "mine.length": m.length, "mine.diameter": m.diameter, "mine.mass": m.mass,
-            "mine.com_offset": m.com_offset, "mine.inertia_axial": m.inertia_axial,
+            "mine.length": m.length,
+            "mine.diameter": m.diameter,
+            "mine.mass": m.mass,
+            "mine.com_offset": m.com_offset,
+            "mine.inertia_axial": m.inertia_axial,
             "mine.inertia_transverse": m.inertia_transverse,
-            "release.x": r.position[0], "release.y": r.position[1], "release.z": r.position[2],
-            "release.u": r.velocity[0], "release.v": r.velocity[1], "release.w": r.velocity[2],
-            "release.q0": q[0], "release.q1": q[1], "release.q2": q[2], "release.q3": q[3],
-            "release.omega1": r.angular_velocity[0], "release.omega2": r.angular_velocity[1],
+            "release.x": r.position[0],
+            "release.y": r.position[1],
+            "release.z": r.position[2],
+            "release.u": r.velocity[0],
+            "release.v": r.velocity[1],
+            "release.w": r.velocity[2],
+            "release.q0": q[0],
+            "release.q1": q[1],
+            "release.q2": q[2],
+            "release.q3": q[3],
+            "release.omega1": r.angular_velocity[0],
+            "release.omega2": r.angular_velocity[1],
             "release.omega3": r.angular_velocity[2],
-            "environment.gravity": e.gravity, "environment.air_density": e.air_density,
+            "environment.gravity": e.gravity,
+            "environment.air_density": e.air_density,
             "environment.air_viscosity": e.air_viscosity,
             "environment.water_density": e.water_density,
             "environment.water_viscosity": e.water_viscosity,
             "environment.water_depth": e.water_depth,
-            "current.kind": layout.CURRENT_KINDS.index(c.kind), "current.u": c.u,
-            "current.v": c.v, "current.exponent": c.exponent, "current.table_index": cur_index,
-            "sediment.profile_index": sed_index, "sediment.density": rho0,
-            "sediment.density_gradient": krho, "sediment.strength": s0,
+            "current.kind": layout.CURRENT_KINDS.index(c.kind),
+            "current.u": c.u,
+            "current.v": c.v,
+            "current.exponent": c.exponent,
+            "current.table_index": cur_index,
+            "sediment.profile_index": sed_index,
+            "sediment.density": rho0,
+            "sediment.density_gradient": krho,
+            "sediment.strength": s0,
             "sediment.strength_gradient": ks,
             "sediment.resistance": layout.RESISTANCE_NAMES.index(s.resistance),
             "sediment.rate_law": layout.RATE_LAW_NAMES.index(s.rate_law),
             "sediment.pore_pressure": float(s.pore_pressure),
             "numerics.model": layout.MODEL_NAMES.index(n.model),
             "numerics.integrator": layout.INTEGRATOR_NAMES.index(n.integrator),
-            "numerics.dt": n.dt, "numerics.t_max": n.t_max, "numerics.rest_speed": n.rest_speed,
-            "numerics.rest_spin": n.rest_spin, "numerics.drag": float(n.drag),
-            "numerics.munk_factor": n.munk_factor, "numerics.rtol": n.rtol,
-            "numerics.atol": n.atol, "numerics.slip_speed": n.slip_speed,
+            "numerics.dt": n.dt,
+            "numerics.t_max": n.t_max,
+            "numerics.rest_speed": n.rest_speed,
+            "numerics.rest_spin": n.rest_spin,
+            "numerics.drag": float(n.drag),
+            "numerics.munk_factor": n.munk_factor,
+            "numerics.rtol": n.rtol,
+            "numerics.atol": n.atol,
+            "numerics.slip_speed": n.slip_speed,
             "numerics.switch_speed": n.switch_speed,
-            "numerics.sediment_quadrature":
-                layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
+            "numerics.sediment_quadrature": layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)
         missing = set(layout.PARAM_NAMES) - set(values)
         extra = set(values) - set(layout.PARAM_NAMES)
         if missing or extra:  # pragma: no cover - guards layout changes
-            raise RuntimeError(f"to_params is out of step with layout.PARAM_NAMES: missing "
-                               f"{sorted(missing)}, unknown {sorted(extra)}")
+            raise RuntimeError(
+                f"to_params is out of step with layout.PARAM_NAMES: missing "
+                f"{sorted(missing)}, unknown {sorted(extra)}"
+            )
         p = np.empty(layout.N_PARAMS, dtype=np.float64)
         for name, value in values.items():
             p[layout.INDEX[name]] = value
@@ -1164,26 +1516,25 @@ def _current_from_dict(cur) -> Current:
     all_keys = sorted({k for ks in _CURRENT_KEYS.values() for k in ks})
     unknown = [key for key in cur if key not in all_keys]
     if unknown:
-        raise ScenarioError("[environment.current]: "
-                            + unknown_names_message("key", unknown, all_keys))
+        raise ScenarioError("[environment.current]: " + unknown_names_message("key", unknown, all_keys))
     unused = [key for key in cur if key not in allowed]
     if unused:
-        raise ScenarioError(f"[environment.current]: {'key' if len(unused) == 1 else 'keys'} "
-                            f"{', '.join(repr(k) for k in unused)} "
-                            f"{'is' if len(unused) == 1 else 'are'} not used by kind "
-                            f"'{kind}'; keys of this kind: {', '.join(allowed)}")
+        raise ScenarioError(
+            f"[environment.current]: {'key' if len(unused) == 1 else 'keys'} "
+            f"{', '.join(repr(k) for k in unused)} "
+            f"{'is' if len(unused) == 1 else 'are'} not used by kind "
+            f"'{kind}'; keys of this kind: {', '.join(allowed)}"
+        )
     if kind in ("uniform", "power_law"):
         key = "velocity" if kind == "uniform" else "surface_velocity"
         if key not in cur:
-            raise ScenarioError(f"environment.current.{key} = [u, v] (m s-1) is required for "
-                                f"kind '{kind}'")
+            raise ScenarioError(f"environment.current.{key} = [u, v] (m s-1) is required for kind '{kind}'")
         u, v = _vector(cur[key], 2, f"environment.current.{key}")
         return Current(kind=kind, u=u, v=v, exponent=cur.get("exponent", 1.0 / 7.0))
     if kind == "table":
         for key in ("depth", "u", "v"):
             if key not in cur:
-                raise ScenarioError(f"environment.current.{key} (list) is required for kind "
-                                    f"'table'")
+                raise ScenarioError(f"environment.current.{key} (list) is required for kind 'table'")
         return Current(kind="table", depth=cur["depth"], table_u=cur["u"], table_v=cur["v"])
     return Current(kind="none")
 
@@ -1197,7 +1548,8 @@ def _sediment_from_dict(sed: dict, base_dir) -> Sediment:
             "sediment: give exactly one profile: class = one of "
             f"{', '.join(CATALOGUE)} | density/density_gradient/strength/strength_gradient | "
             f"profile = {{depth, density, strength}} | file = 'core.csv' or 'core.nc' "
-            f"(got {', '.join(given) if given else 'none'})")
+            f"(got {', '.join(given) if given else 'none'})"
+        )
     kw = {k: v for k, v in sed.items() if k not in _SED_SOURCES}
     if "class" in sed:
         kw["profile"] = catalogue_profile(sed["class"])
@@ -1229,8 +1581,7 @@ def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
     """List of (text, slot names involved, ok mask) over rows of P."""
     P = np.atleast_2d(np.asarray(P, dtype=np.float64))
     if P.ndim != 2 or P.shape[-1] != layout.N_PARAMS:
-        raise ScenarioError(f"parameter rows must have {layout.N_PARAMS} columns, "
-                            f"got shape {P.shape}")
+        raise ScenarioError(f"parameter rows must have {layout.N_PARAMS} columns, got shape {P.shape}")
     col = {name: P[:, i] for i, name in enumerate(layout.PARAM_NAMES)}
     checks = []
     tabulated = col["sediment.profile_index"] != -1
@@ -1239,14 +1590,19 @@ def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
         if spec is None:
             continue
         ok = spec.contains(col[name])
-        if name in ("sediment.density", "sediment.density_gradient", "sediment.strength",
-                    "sediment.strength_gradient"):
-            ok |= tabulated & np.isfinite(col[name])   # informational for tables
+        if name in (
+            "sediment.density",
+            "sediment.density_gradient",
+            "sediment.strength",
+            "sediment.strength_gradient",
+        ):
+            ok |= tabulated & np.isfinite(col[name])  # informational for tables
         checks.append((f"{name} in {spec.range_text()}", (name,), ok))
     for name, n in _CODE_LIMITS.items():
         v = col[name]
-        checks.append((f"{name} is an integer code in [0, {n - 1}]", (name,),
-                       (v == np.floor(v)) & (v >= 0) & (v < n)))
+        checks.append(
+            (f"{name} is an integer code in [0, {n - 1}]", (name,), (v == np.floor(v)) & (v >= 0) & (v < n))
+        )
     for name, n in (("sediment.profile_index", n_sediment), ("current.table_index", n_current)):
         v = col[name]
         ok = (v == np.floor(v)) & (v >= -1)
@@ -1254,38 +1610,78 @@ def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
             ok &= v < n
         bound = f" < {n}" if n is not None else ""
         checks.append((f"{name} is -1 or a bank row{bound}", (name,), ok))
-    checks.append(("current.table_index >= 0 exactly when current.kind is 'table'",
-                   ("current.kind", "current.table_index"),
-                   (col["current.table_index"] >= 0)
-                   == (col["current.kind"] == layout.CURRENT_KINDS.index("table"))))
-    checks.append(("|mine.com_offset| < mine.length/2", ("mine.com_offset", "mine.length"),
-                   np.abs(col["mine.com_offset"]) < col["mine.length"] / 2))
-    checks.append(("mine.inertia_axial <= 2 mine.inertia_transverse",
-                   ("mine.inertia_axial", "mine.inertia_transverse"),
-                   col["mine.inertia_axial"] <= 2 * col["mine.inertia_transverse"]))
-    checks.append(("release.z > -environment.water_depth",
-                   ("release.z", "environment.water_depth"),
-                   col["release.z"] > -col["environment.water_depth"]))
+    checks.append(
+        (
+            "current.table_index >= 0 exactly when current.kind is 'table'",
+            ("current.kind", "current.table_index"),
+            (col["current.table_index"] >= 0) == (col["current.kind"] == layout.CURRENT_KINDS.index("table")),
+        )
+    )
+    checks.append(
+        (
+            "|mine.com_offset| < mine.length/2",
+            ("mine.com_offset", "mine.length"),
+            np.abs(col["mine.com_offset"]) < col["mine.length"] / 2,
+        )
+    )
+    checks.append(
+        (
+            "mine.inertia_axial <= 2 mine.inertia_transverse",
+            ("mine.inertia_axial", "mine.inertia_transverse"),
+            col["mine.inertia_axial"] <= 2 * col["mine.inertia_transverse"],
+        )
+    )
+    checks.append(
+        (
+            "release.z > -environment.water_depth",
+            ("release.z", "environment.water_depth"),
+            col["release.z"] > -col["environment.water_depth"],
+        )
+    )
     if not embedded:
         q = np.stack([col[f"release.q{i}"] for i in range(4)], axis=-1)
         with np.errstate(invalid="ignore", divide="ignore"):
-            lowest = _lowest_point(col["mine.length"], col["mine.diameter"],
-                                  col["mine.com_offset"], q, col["release.z"])
-        checks.append(("the mine starts entirely above the seabed (release.embedded = false)",
-                       ("release.z", "environment.water_depth", "mine.length", "mine.diameter",
-                        "mine.com_offset", "release.q0", "release.q1", "release.q2",
-                        "release.q3"),
-                       lowest >= -col["environment.water_depth"]))
+            lowest = _lowest_point(
+                col["mine.length"], col["mine.diameter"], col["mine.com_offset"], q, col["release.z"]
+            )
+        checks.append(
+            (
+                "the mine starts entirely above the seabed (release.embedded = false)",
+                (
+                    "release.z",
+                    "environment.water_depth",
+                    "mine.length",
+                    "mine.diameter",
+                    "mine.com_offset",
+                    "release.q0",
+                    "release.q1",
+                    "release.q2",
+                    "release.q3",
+                ),
+                lowest >= -col["environment.water_depth"],
+            )
+        )
     qn = np.sqrt(sum(col[f"release.q{i}"] ** 2 for i in range(4)))
-    checks.append(("the release quaternion has unit norm (within 1e-9)",
-                   tuple(f"release.q{i}" for i in range(4)), np.abs(qn - 1) <= 1e-9))
-    checks.append(("numerics.dt <= numerics.t_max", ("numerics.dt", "numerics.t_max"),
-                   col["numerics.dt"] <= col["numerics.t_max"]))
+    checks.append(
+        (
+            "the release quaternion has unit norm (within 1e-9)",
+            tuple(f"release.q{i}" for i in range(4)),
+            np.abs(qn - 1) <= 1e-9,
+        )
+    )
+    checks.append(
+        (
+            "numerics.dt <= numerics.t_max",
+            ("numerics.dt", "numerics.t_max"),
+            col["numerics.dt"] <= col["numerics.t_max"],
+        )
+    )
     return checks
 
 
-def check_params(P, n_sediment: int | None = None, n_current: int | None = None, *,
-                 embedded: bool = False) -> np.ndarray:
+def check_params(
+    P, n_sediment: int | None = None, n_current: int | None = None, *, embedded: bool = False
+) -> np.ndarray:
     """Boolean mask over packed parameter rows ``P`` (shape (n, N_PARAMS) or (N_PARAMS,)):
     True where every slot is inside its :data:`FIELDS` range, codes are valid, bank
     indices are in range (when the bank sizes are given) and the cross-field constraints
@@ -1300,15 +1696,17 @@ def check_params(P, n_sediment: int | None = None, n_current: int | None = None,
     return ok
 
 
-def explain_params(p, n_sediment: int | None = None, n_current: int | None = None, *,
-                   embedded: bool = False) -> list[str]:
+def explain_params(
+    p, n_sediment: int | None = None, n_current: int | None = None, *, embedded: bool = False
+) -> list[str]:
     """The constraints that one parameter row ``p`` violates, with the offending values
     (empty list when the row is valid)."""
     p = np.asarray(p, dtype=np.float64).reshape(-1)
-    return [f"{text} (got " + ", ".join(f"{n} = {float(p[layout.INDEX[n]])!r}" for n in names)
-            + ")"
-            for text, names, mask in _param_checks(p, n_sediment, n_current, embedded)
-            if not mask[0]]
+    return [
+        f"{text} (got " + ", ".join(f"{n} = {float(p[layout.INDEX[n]])!r}" for n in names) + ")"
+        for text, names, mask in _param_checks(p, n_sediment, n_current, embedded)
+        if not mask[0]
+    ]
 
 
 # ===========================================================================
@@ -1378,8 +1776,7 @@ def example_path(name: str) -> pathlib.Path:
         return _DATA / "ensembles" / f"{name}.toml"
     names = example_names()
     if name not in names:
-        raise ScenarioError(unknown_name_message("example scenario", name,
-                                                 names + ensemble_example_names()))
+        raise ScenarioError(unknown_name_message("example scenario", name, names + ensemble_example_names()))
     return _DATA / f"{name}.toml"
 
 

@@ -53,7 +53,7 @@ def _memory_bytes() -> int | None:
     """Physical memory of this machine in bytes (None where the OS does not say)."""
     try:
         return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, ValueError, OSError):   # pragma: no cover - not POSIX
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
         return None
 
 
@@ -67,20 +67,23 @@ def trajectory_rows(record_interval, t_max: float, name: str = "record_interval"
     from mineburial.config import ScenarioError
 
     if isinstance(record_interval, bool) or not isinstance(
-            record_interval, (int, float, np.integer, np.floating)):
+        record_interval, (int, float, np.integer, np.floating)
+    ):
         raise ScenarioError(f"{name} = {record_interval!r} must be a number of seconds")
     dt_rec = float(record_interval)
     if not (math.isfinite(dt_rec) and dt_rec > 0.0):
-        raise ScenarioError(f"{name} = {dt_rec!r} s must be a finite number > 0 (seconds "
-                            f"between trajectory records)")
-    rows = t_max / dt_rec + 3.0          # float: may overflow to inf for a tiny interval
+        raise ScenarioError(
+            f"{name} = {dt_rec!r} s must be a finite number > 0 (seconds between trajectory records)"
+        )
+    rows = t_max / dt_rec + 3.0  # float: may overflow to inf for a tiny interval
     need = rows * N_TRAJ * 8.0
     memory = _memory_bytes()
     if not math.isfinite(need) or (memory is not None and need > memory / 2):
         raise ScenarioError(
             f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over numerics.t_max "
-            f"= {t_max:g} s, {need / 2 ** 30:.3g} GiB, more than half of this machine's "
-            f"memory ({(memory or 0) / 2 ** 30:.3g} GiB): give a larger {name}")
+            f"= {t_max:g} s, {need / 2**30:.3g} GiB, more than half of this machine's "
+            f"memory ({(memory or 0) / 2**30:.3g} GiB): give a larger {name}"
+        )
     return math.ceil(t_max / dt_rec) + 3
 
 
@@ -94,14 +97,21 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
     else:
         dt_rec = float(record_interval)
         traj = np.empty((trajectory_rows(dt_rec, float(params[layout.P_TMAX])), N_TRAJ))
-    code, rows = run_drop(params, np.ascontiguousarray(sediment_bank, dtype=np.float64),
-                          np.ascontiguousarray(current_bank, dtype=np.float64), summary, traj,
-                          dt_rec, reference_paths(params))
+    code, rows = run_drop(
+        params,
+        np.ascontiguousarray(sediment_bank, dtype=np.float64),
+        np.ascontiguousarray(current_bank, dtype=np.float64),
+        summary,
+        traj,
+        dt_rec,
+        reference_paths(params),
+    )
     return int(code), summary, (traj[:rows] if record_interval is not None else None)
 
 
-def simulate_drop(scenario, record_interval: float | None = None, forces: bool = False,
-                  params=None) -> xr.Dataset:
+def simulate_drop(
+    scenario, record_interval: float | None = None, forces: bool = False, params=None
+) -> xr.Dataset:
     """Simulate one drop and return its trajectory as an :class:`xarray.Dataset`.
 
     Parameters
@@ -143,33 +153,53 @@ def simulate_drop(scenario, record_interval: float | None = None, forces: bool =
     for name, (units, desc) in _TRAJ_ATTRS.items():
         data[name] = ("time", cols[name], {"units": units, "long_name": desc})
     angles = np.array([euler_angles(*row) for row in traj[:, 7:11]]).reshape(-1, 3)
-    for k, (name, desc) in enumerate((("psi1", "roll about the mine axis (seed 000 psi1)"),
-                                      ("psi2", "dip of the nose below the horizontal (seed 000 psi2)"),
-                                      ("psi3", "heading of the mine axis (seed 000 psi3)"))):
+    for k, (name, desc) in enumerate(
+        (
+            ("psi1", "roll about the mine axis (seed 000 psi1)"),
+            ("psi2", "dip of the nose below the horizontal (seed 000 psi2)"),
+            ("psi3", "heading of the mine axis (seed 000 psi3)"),
+        )
+    ):
         data[name] = ("time", np.degrees(angles[:, k]), {"units": "degree", "long_name": desc})
-    data["phase"] = ("time", cols["phase"].astype(np.int8),
-                     {"long_name": "medium the mine is in or crossing",
-                      "flag_values": np.arange(len(PHASE_NAMES), dtype=np.int8),
-                      "flag_meanings": " ".join(PHASE_NAMES)})
+    data["phase"] = (
+        "time",
+        cols["phase"].astype(np.int8),
+        {
+            "long_name": "medium the mine is in or crossing",
+            "flag_values": np.arange(len(PHASE_NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(PHASE_NAMES),
+        },
+    )
     if forces:
         for name, (units, desc) in _FORCE_ATTRS.items():
             data[name] = ("time", cols[name], {"units": units, "long_name": desc})
     for i, name in enumerate(layout.SUMMARY_NAMES):
         units, desc = SUMMARY_ATTRS[name]
         data[name] = ((), summary[i], {"units": units, "long_name": desc})
-    data["status"] = ((), np.int8(code), {
-        "long_name": "drop status",
-        "flag_values": np.arange(len(status.NAMES), dtype=np.int8),
-        "flag_meanings": " ".join(status.NAMES)})
-    ds = xr.Dataset(data, coords={"time": ("time", time, {"units": "s", "standard_name": "time",
-                                                             "long_name": "time since release"})})
-    ds.attrs.update({
-        "title": f"mineburial drop trajectory: {scenario.mine.name}",
-        "status": status.NAMES[code],
-        "status_description": status.DESCRIPTIONS[code],
-        "scenario": json.dumps(scenario.to_dict()),
-        "mineburial_version": __version__,
-        "model": layout.MODEL_NAMES[int(p[layout.P_MODEL])],
-        "integrator": layout.INTEGRATOR_NAMES[int(p[layout.P_INTEGRATOR])],
-    })
+    data["status"] = (
+        (),
+        np.int8(code),
+        {
+            "long_name": "drop status",
+            "flag_values": np.arange(len(status.NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(status.NAMES),
+        },
+    )
+    ds = xr.Dataset(
+        data,
+        coords={
+            "time": ("time", time, {"units": "s", "standard_name": "time", "long_name": "time since release"})
+        },
+    )
+    ds.attrs.update(
+        {
+            "title": f"mineburial drop trajectory: {scenario.mine.name}",
+            "status": status.NAMES[code],
+            "status_description": status.DESCRIPTIONS[code],
+            "scenario": json.dumps(scenario.to_dict()),
+            "mineburial_version": __version__,
+            "model": layout.MODEL_NAMES[int(p[layout.P_MODEL])],
+            "integrator": layout.INTEGRATOR_NAMES[int(p[layout.P_INTEGRATOR])],
+        }
+    )
     return ds

@@ -38,25 +38,40 @@ from mineburial.ensembles import engine, runner
 from mineburial.ensembles.store import OutputRun
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
-__all__ = ["MapError", "EnvironmentGrid", "read_environment", "cell_seed", "cell_scenario",
-           "run_map", "plot_map", "run_map_cli", "MAP_OUTPUTS", "CELL_STATUS_MEANINGS"]
+__all__ = [
+    "MapError",
+    "EnvironmentGrid",
+    "read_environment",
+    "cell_seed",
+    "cell_scenario",
+    "run_map",
+    "plot_map",
+    "run_map_cli",
+    "MAP_OUTPUTS",
+    "CELL_STATUS_MEANINGS",
+]
 
 #: summary outputs whose mean, standard deviation and quantiles go into the map
 MAP_OUTPUTS = ("burial_volume", "penetration_depth")
 #: statistics variables copied per cell (plus the class dimension and status ones)
-_CELL_VARIABLES = ("burial_class_count", "burial_class_probability",
-                   "burial_class_probability_lower", "burial_class_probability_upper",
-                   "status_count") + tuple(f"{o}_{s}" for o in MAP_OUTPUTS
-                                           for s in ("mean", "std", "quantile"))
+_CELL_VARIABLES = (
+    "burial_class_count",
+    "burial_class_probability",
+    "burial_class_probability_lower",
+    "burial_class_probability_upper",
+    "status_count",
+) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
 #: codes of the per-cell variable ``cell_status``
 CELL_COMPUTED, CELL_LAND, CELL_NO_SEDIMENT = 0, 1, 2
 CELL_STATUS_MEANINGS = ("computed", "land_or_no_water_depth", "no_sediment_data")
 
-_SEDIMENT_PARAMS = {"sediment_density": "density", "sediment_density_gradient": "density_gradient",
-                    "sediment_strength": "strength",
-                    "sediment_strength_gradient": "strength_gradient"}
-_SEDIMENT_KEYS = ("class", "profile", "file", "density", "density_gradient", "strength",
-                  "strength_gradient")
+_SEDIMENT_PARAMS = {
+    "sediment_density": "density",
+    "sediment_density_gradient": "density_gradient",
+    "sediment_strength": "strength",
+    "sediment_strength_gradient": "strength_gradient",
+}
+_SEDIMENT_KEYS = ("class", "profile", "file", "density", "density_gradient", "strength", "strength_gradient")
 _METRE = {"m", "meter", "meters", "metre", "metres"}
 _SPEED = {"m s-1", "m/s", "m s^-1", "m.s-1", "meter second-1", "m s**-1"}
 _DEGREE = {"degree", "degrees", "degree_true", "degrees_true", "deg"}
@@ -73,16 +88,17 @@ class MapError(cfg.ScenarioError):
 @dataclasses.dataclass
 class EnvironmentGrid:
     """An environment grid read by :func:`read_environment` (arrays of shape (ny, nx))."""
-    ds: xr.Dataset                 # the grid as read (2-D variables, squeezed)
+
+    ds: xr.Dataset  # the grid as read (2-D variables, squeezed)
     ydim: str
     xdim: str
-    geographic: bool               # latitude/longitude axes (else projected y/x)
-    grid_mapping: str | None       # name of the grid-mapping variable, if any
-    water_depth: np.ndarray        # m, NaN on land
-    sediment_class: np.ndarray | None   # object array of class names (None: missing)
-    sediment_params: dict | None   # scenario key ('density', ...) -> array
-    current_u: np.ndarray | None   # m s-1 towards the east (scenario x)
-    current_v: np.ndarray | None   # m s-1 towards the north (scenario y)
+    geographic: bool  # latitude/longitude axes (else projected y/x)
+    grid_mapping: str | None  # name of the grid-mapping variable, if any
+    water_depth: np.ndarray  # m, NaN on land
+    sediment_class: np.ndarray | None  # object array of class names (None: missing)
+    sediment_params: dict | None  # scenario key ('density', ...) -> array
+    current_u: np.ndarray | None  # m s-1 towards the east (scenario x)
+    current_v: np.ndarray | None  # m s-1 towards the north (scenario y)
     source: str = ""
 
     @property
@@ -114,16 +130,20 @@ def _is_axis(da, kind: str) -> bool:
     u = _units(da)
     name = str(da.name).lower()
     if kind == "lat":
-        return sn == "latitude" or u in ("degrees_north", "degree_north", "degree_n",
-                                         "degrees_n") or name in ("lat", "latitude")
+        return (
+            sn == "latitude"
+            or u in ("degrees_north", "degree_north", "degree_n", "degrees_n")
+            or name in ("lat", "latitude")
+        )
     if kind == "lon":
-        return sn == "longitude" or u in ("degrees_east", "degree_east", "degree_e",
-                                          "degrees_e") or name in ("lon", "longitude")
+        return (
+            sn == "longitude"
+            or u in ("degrees_east", "degree_east", "degree_e", "degrees_e")
+            or name in ("lon", "longitude")
+        )
     if kind == "y":
-        return sn == "projection_y_coordinate" or str(da.attrs.get("axis", "")).upper() == "Y" \
-            or name == "y"
-    return sn == "projection_x_coordinate" or str(da.attrs.get("axis", "")).upper() == "X" \
-        or name == "x"
+        return sn == "projection_y_coordinate" or str(da.attrs.get("axis", "")).upper() == "Y" or name == "y"
+    return sn == "projection_x_coordinate" or str(da.attrs.get("axis", "")).upper() == "X" or name == "x"
 
 
 def _field(ds, name, dims):
@@ -133,8 +153,10 @@ def _field(ds, name, dims):
     extra = [d for d in da.dims if d not in dims]
     for d in extra:
         if da.sizes[d] != 1:
-            raise MapError(f"environment variable '{name}' has the extra dimension '{d}' of "
-                           f"size {da.sizes[d]}; give one 2-D field over {dims}")
+            raise MapError(
+                f"environment variable '{name}' has the extra dimension '{d}' of "
+                f"size {da.sizes[d]}; give one 2-D field over {dims}"
+            )
         da = da.isel({d: 0})
     if set(da.dims) != set(dims):
         raise MapError(f"environment variable '{name}' has dimensions {da.dims}; expected {dims}")
@@ -144,8 +166,9 @@ def _field(ds, name, dims):
 def _check_units(da, allowed, want, name):
     u = _units(da)
     if u not in allowed:
-        raise MapError(f"environment variable '{name}' has units '{da.attrs.get('units', '')}'; "
-                       f"expected {want}")
+        raise MapError(
+            f"environment variable '{name}' has units '{da.attrs.get('units', '')}'; expected {want}"
+        )
 
 
 def _check_axis(da) -> None:
@@ -154,24 +177,28 @@ def _check_axis(da) -> None:
     unsorted or repeated coordinate would put cells in the wrong place."""
     name = str(da.name)
     if da.ndim != 1:
-        raise MapError(f"environment grid: coordinate '{name}' must be 1-D, got dimensions "
-                       f"{da.dims}")
+        raise MapError(f"environment grid: coordinate '{name}' must be 1-D, got dimensions {da.dims}")
     c = np.asarray(da.values, dtype=np.float64)
     bad = np.flatnonzero(~np.isfinite(c))
     if bad.size:
-        raise MapError(f"environment grid: coordinate '{name}' has the non-finite value "
-                       f"{c[bad[0]]} at index {bad[0]}")
+        raise MapError(
+            f"environment grid: coordinate '{name}' has the non-finite value {c[bad[0]]} at index {bad[0]}"
+        )
     step = np.diff(c)
     same = np.flatnonzero(step == 0)
     if same.size:
         k = int(same[0])
-        raise MapError(f"environment grid: coordinate '{name}' repeats the value {c[k]:g} "
-                       f"(indices {k} and {k + 1}); each cell needs its own coordinate")
+        raise MapError(
+            f"environment grid: coordinate '{name}' repeats the value {c[k]:g} "
+            f"(indices {k} and {k + 1}); each cell needs its own coordinate"
+        )
     if step.size and not (np.all(step > 0) or np.all(step < 0)):
         k = int(np.flatnonzero(np.sign(step) != np.sign(step[0]))[0])
-        raise MapError(f"environment grid: coordinate '{name}' is not sorted: {c[k]:g} then "
-                       f"{c[k + 1]:g} at indices {k}, {k + 1} (it must increase or decrease "
-                       f"throughout; sort the grid, e.g. ds.sortby('{name}'))")
+        raise MapError(
+            f"environment grid: coordinate '{name}' is not sorted: {c[k]:g} then "
+            f"{c[k + 1]:g} at indices {k}, {k + 1} (it must increase or decrease "
+            f"throughout; sort the grid, e.g. ds.sortby('{name}'))"
+        )
 
 
 def read_environment(source) -> EnvironmentGrid:
@@ -201,36 +228,49 @@ def read_environment(source) -> EnvironmentGrid:
             raise MapError(f"cannot read environment grid '{path}' as NetCDF: {exc}") from None
         label = str(path)
     if "water_depth" not in ds:
-        raise MapError("environment grid: the variable 'water_depth' (m) is required; found "
-                       + ", ".join(map(str, ds.data_vars)))
+        raise MapError(
+            "environment grid: the variable 'water_depth' (m) is required; found "
+            + ", ".join(map(str, ds.data_vars))
+        )
     wd = ds["water_depth"]
     dims = tuple(wd.dims)
-    if len(dims) > 2:   # drop size-1 extra dimensions (a single time, a single level)
-        dims = tuple(d for d in dims if wd.sizes[d] != 1 or (d in ds.coords and any(
-            _is_axis(ds[d], k) for k in ("lat", "lon", "y", "x"))))
+    if len(dims) > 2:  # drop size-1 extra dimensions (a single time, a single level)
+        dims = tuple(
+            d
+            for d in dims
+            if wd.sizes[d] != 1
+            or (d in ds.coords and any(_is_axis(ds[d], k) for k in ("lat", "lon", "y", "x")))
+        )
     if len(dims) != 2:
-        raise MapError(f"environment grid: 'water_depth' must be a 2-D field (y, x), got "
-                       f"dimensions {wd.dims} with sizes {tuple(wd.shape)}")
+        raise MapError(
+            f"environment grid: 'water_depth' must be a 2-D field (y, x), got "
+            f"dimensions {wd.dims} with sizes {tuple(wd.shape)}"
+        )
     ydim, xdim = dims
     for d in dims:
         if d not in ds.coords:
             raise MapError(f"environment grid: dimension '{d}' has no coordinate variable")
     yc, xc = ds[ydim], ds[xdim]
-    if _is_axis(yc, "lon") and _is_axis(xc, "lat"):   # (longitude, latitude) order
+    if _is_axis(yc, "lon") and _is_axis(xc, "lat"):  # (longitude, latitude) order
         ydim, xdim = xdim, ydim
         yc, xc = xc, yc
     geographic = _is_axis(yc, "lat") and _is_axis(xc, "lon")
     if not geographic and not (_is_axis(yc, "y") and _is_axis(xc, "x")):
-        raise MapError(f"environment grid: axes '{ydim}', '{xdim}' are neither latitude/longitude "
-                       f"(units degrees_north/degrees_east) nor projected y/x (standard_name "
-                       f"projection_y_coordinate/projection_x_coordinate)")
+        raise MapError(
+            f"environment grid: axes '{ydim}', '{xdim}' are neither latitude/longitude "
+            f"(units degrees_north/degrees_east) nor projected y/x (standard_name "
+            f"projection_y_coordinate/projection_x_coordinate)"
+        )
     gm = wd.attrs.get("grid_mapping") or wd.encoding.get("grid_mapping")
     if gm is not None and gm not in ds.variables:
-        raise MapError(f"environment grid: water_depth names the grid_mapping '{gm}', which is "
-                       f"not in the file")
+        raise MapError(
+            f"environment grid: water_depth names the grid_mapping '{gm}', which is not in the file"
+        )
     if not geographic and gm is None:
-        raise MapError("environment grid: a projected y/x grid needs a grid_mapping variable "
-                       "(CF 5.6) named by the grid_mapping attribute of water_depth")
+        raise MapError(
+            "environment grid: a projected y/x grid needs a grid_mapping variable "
+            "(CF 5.6) named by the grid_mapping attribute of water_depth"
+        )
     dims = (ydim, xdim)
     _check_axis(yc)
     _check_axis(xc)
@@ -245,17 +285,19 @@ def read_environment(source) -> EnvironmentGrid:
         needed = ("sediment_density", "sediment_strength", "sediment_strength_gradient")
         missing = [k for k in needed if k not in ds]
         if missing:
-            raise MapError("environment grid: give 'sediment_class' (catalogue class codes) or "
-                           "the linear-profile fields sediment_density (kg m-3), sediment_strength "
-                           "(Pa), sediment_strength_gradient (Pa m-1) [, sediment_density_gradient "
-                           f"(kg m-4)]; missing {', '.join(missing)}")
+            raise MapError(
+                "environment grid: give 'sediment_class' (catalogue class codes) or "
+                "the linear-profile fields sediment_density (kg m-3), sediment_strength "
+                "(Pa), sediment_strength_gradient (Pa m-1) [, sediment_density_gradient "
+                f"(kg m-4)]; missing {', '.join(missing)}"
+            )
         sed_params = {}
-        want = {"sediment_density": ("kg m-3", {"kg m-3", "kg/m3", "kg m^-3", "kg m**-3"}),
-                "sediment_density_gradient": ("kg m-4", {"kg m-4", "kg/m4", "kg m^-4",
-                                                         "kg m**-4"}),
-                "sediment_strength": ("Pa", {"pa"}),
-                "sediment_strength_gradient": ("Pa m-1", {"pa m-1", "pa/m", "pa m^-1",
-                                                          "pa m**-1"})}
+        want = {
+            "sediment_density": ("kg m-3", {"kg m-3", "kg/m3", "kg m^-3", "kg m**-3"}),
+            "sediment_density_gradient": ("kg m-4", {"kg m-4", "kg/m4", "kg m^-4", "kg m**-4"}),
+            "sediment_strength": ("Pa", {"pa"}),
+            "sediment_strength_gradient": ("Pa m-1", {"pa m-1", "pa/m", "pa m^-1", "pa m**-1"}),
+        }
         for name, key in _SEDIMENT_PARAMS.items():
             if name in ds:
                 da = _field(ds, name, dims)
@@ -278,10 +320,20 @@ def read_environment(source) -> EnvironmentGrid:
         _check_units(di, _DEGREE, "degree (clockwise from north, towards)", "current_direction")
         speed = np.asarray(sp.values, np.float64)
         rad = np.radians(np.asarray(di.values, np.float64))
-        cu, cv = speed * np.sin(rad), speed * np.cos(rad)   # towards-direction, clockwise from N
-    return EnvironmentGrid(ds=ds, ydim=ydim, xdim=xdim, geographic=geographic, grid_mapping=gm,
-                           water_depth=depth, sediment_class=sed_class, sediment_params=sed_params,
-                           current_u=cu, current_v=cv, source=label)
+        cu, cv = speed * np.sin(rad), speed * np.cos(rad)  # towards-direction, clockwise from N
+    return EnvironmentGrid(
+        ds=ds,
+        ydim=ydim,
+        xdim=xdim,
+        geographic=geographic,
+        grid_mapping=gm,
+        water_depth=depth,
+        sediment_class=sed_class,
+        sediment_params=sed_params,
+        current_u=cu,
+        current_v=cv,
+        source=label,
+    )
 
 
 def _read_classes(da) -> np.ndarray:
@@ -291,24 +343,28 @@ def _read_classes(da) -> np.ndarray:
     if meanings is not None:
         names = str(meanings).split()
         values = da.attrs.get("flag_values")
-        values = (list(range(len(names))) if values is None
-                  else [int(v) for v in np.atleast_1d(values)])
+        values = list(range(len(names))) if values is None else [int(v) for v in np.atleast_1d(values)]
         if len(values) != len(names):
-            raise MapError(f"environment grid: sediment_class has {len(values)} flag_values but "
-                           f"{len(names)} flag_meanings")
+            raise MapError(
+                f"environment grid: sediment_class has {len(values)} flag_values but "
+                f"{len(names)} flag_meanings"
+            )
         table = dict(zip(values, names))
     else:
         labels = da.attrs.get("labels", da.attrs.get("class_names"))
         if labels is None:
-            raise MapError("environment grid: sediment_class needs flag_values/flag_meanings "
-                           "(CF flags) or a 'labels' attribute naming the catalogue class of each "
-                           f"code; classes: {', '.join(known)}")
+            raise MapError(
+                "environment grid: sediment_class needs flag_values/flag_meanings "
+                "(CF flags) or a 'labels' attribute naming the catalogue class of each "
+                f"code; classes: {', '.join(known)}"
+            )
         names = [s.strip() for s in str(labels).replace(",", " ").split()]
         table = dict(enumerate(names))
     for name in table.values():
         if name not in known:
-            raise MapError("environment grid: sediment_class: " + unknown_name_message(
-                "sediment class", name, known))
+            raise MapError(
+                "environment grid: sediment_class: " + unknown_name_message("sediment class", name, known)
+            )
     vals = np.asarray(da.values, dtype=np.float64)
     out = np.full(vals.shape, None, dtype=object)
     fill = da.attrs.get("_FillValue", da.encoding.get("_FillValue"))
@@ -318,8 +374,10 @@ def _read_classes(da) -> np.ndarray:
             continue
         name = table.get(int(v))
         if name is None or v != int(v):
-            raise MapError(f"environment grid: sediment_class value {v:g} at cell {idx} is not "
-                           f"one of the codes {sorted(table)}")
+            raise MapError(
+                f"environment grid: sediment_class value {v:g} at cell {idx} is not "
+                f"one of the codes {sorted(table)}"
+            )
         out[idx] = name
     return out
 
@@ -381,10 +439,12 @@ def cell_scenario(raw: Mapping, grid: EnvironmentGrid, j: int, i: int) -> dict:
             elif kind in ("none", "uniform"):
                 new = {"kind": "uniform", "velocity": [u, v]}
             else:
-                raise MapError(f"the environment grid gives a current but the scenario's "
-                               f"current is of kind '{kind}', which a cell value cannot replace; "
-                               f"use kind 'uniform' or 'power_law' (or remove the current from "
-                               f"the grid)")
+                raise MapError(
+                    f"the environment grid gives a current but the scenario's "
+                    f"current is of kind '{kind}', which a cell value cannot replace; "
+                    f"use kind 'uniform' or 'power_law' (or remove the current from "
+                    f"the grid)"
+                )
             env["current"] = new
     return d
 
@@ -409,9 +469,17 @@ def _cell_statistics(spec, chunks):
     return burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
 
 
-def run_map(scenario, environment, n: int | None = None, seed: int | None = None, *,
-            client=None, output=None, progress: bool = False,
-            chunk_size: int | None = None) -> xr.Dataset:
+def run_map(
+    scenario,
+    environment,
+    n: int | None = None,
+    seed: int | None = None,
+    *,
+    client=None,
+    output=None,
+    progress: bool = False,
+    chunk_size: int | None = None,
+) -> xr.Dataset:
     """Burial-probability map: one ensemble of ``n`` drops per water cell of ``environment``.
 
     Parameters
@@ -435,8 +503,9 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
     base_dir = None
     if isinstance(scenario, (str, pathlib.Path)):
         base_dir = pathlib.Path(scenario).resolve().parent
-    base = engine.load_ensemble(scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False,
-                                base_dir=base_dir)
+    base = engine.load_ensemble(
+        scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False, base_dir=base_dir
+    )
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
     grid = read_environment(environment)
@@ -452,9 +521,15 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
             k = j * nx + i
             try:
                 specs[k] = engine.load_ensemble(
-                    cell_scenario(raw, grid, j, i), n=base.n, seed=cell_seed(base.seed, k),
-                    sampling=base.sampling, chunk_size=base.chunk_size, per_drop=False,
-                    class_basis=base.class_basis, base_dir=base_dir)
+                    cell_scenario(raw, grid, j, i),
+                    n=base.n,
+                    seed=cell_seed(base.seed, k),
+                    sampling=base.sampling,
+                    chunk_size=base.chunk_size,
+                    per_drop=False,
+                    class_basis=base.class_basis,
+                    base_dir=base_dir,
+                )
             except cfg.ScenarioError as exc:
                 raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
 
@@ -477,24 +552,29 @@ def run_map(scenario, environment, n: int | None = None, seed: int | None = None
 
     def finish():
         ds = _assemble(grid, status, arrays, template, base, __version__)
-        ds.attrs["scenario_name"] = (pathlib.Path(scenario).stem
-                                     if isinstance(scenario, (str, pathlib.Path))
-                                     else base.base.mine.name)
+        ds.attrs["scenario_name"] = (
+            pathlib.Path(scenario).stem if isinstance(scenario, (str, pathlib.Path)) else base.base.mine.name
+        )
         if invalid:
             ds.attrs["invalid_inputs"] = runner.invalid_inputs_text(invalid)
         return ds
 
     if output is None:
-        reduce(runner.run_jobs([runner.Job(k, spec) for k, spec in specs.items()],
-                               client=client, progress=progress))
+        reduce(
+            runner.run_jobs(
+                [runner.Job(k, spec) for k, spec in specs.items()], client=client, progress=progress
+            )
+        )
         return finish()
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
     env_files = ((str(env_path.resolve()), engine.file_digest(env_path)),) if env_path else ()
-    inputs = runner.input_paths(scenario, base) + ([env_path] if env_path else []) + [
-        pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
+    inputs = (
+        runner.input_paths(scenario, base)
+        + ([env_path] if env_path else [])
+        + [pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
+    )
     with OutputRun(output, inputs) as out:
-        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files))
-                for k, spec in specs.items()]
+        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files)) for k, spec in specs.items()]
         reduce(runner.run_jobs(jobs, client=client, progress=progress))
         ds = finish()
         out.commit(ds)
@@ -507,8 +587,12 @@ def _cell_statistics_template(spec) -> xr.Dataset:
     from mineburial.ensembles.statistics import burial_statistics
     from mineburial.kernels import layout
 
-    return burial_statistics(np.empty((0, layout.N_SUMMARY)), np.empty(0, dtype=np.int8),
-                             class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+    return burial_statistics(
+        np.empty((0, layout.N_SUMMARY)),
+        np.empty(0, dtype=np.int8),
+        class_basis=spec.class_basis,
+        outputs=MAP_OUTPUTS,
+    )
 
 
 def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
@@ -540,10 +624,16 @@ def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
         lat, lon = _latlon_from_projection(grid)
     if lat is not None:
         lat, lon = np.asarray(getattr(lat, "values", lat)), np.asarray(getattr(lon, "values", lon))
-        coords["latitude"] = xr.DataArray(lat, dims=(grid.ydim, grid.xdim), attrs={
-            "standard_name": "latitude", "long_name": "latitude", "units": "degrees_north"})
-        coords["longitude"] = xr.DataArray(lon, dims=(grid.ydim, grid.xdim), attrs={
-            "standard_name": "longitude", "long_name": "longitude", "units": "degrees_east"})
+        coords["latitude"] = xr.DataArray(
+            lat,
+            dims=(grid.ydim, grid.xdim),
+            attrs={"standard_name": "latitude", "long_name": "latitude", "units": "degrees_north"},
+        )
+        coords["longitude"] = xr.DataArray(
+            lon,
+            dims=(grid.ydim, grid.xdim),
+            attrs={"standard_name": "longitude", "long_name": "longitude", "units": "degrees_east"},
+        )
         aux = ["latitude", "longitude"]
     return coords, aux
 
@@ -557,7 +647,7 @@ def _latlon_from_projection(grid: EnvironmentGrid):
     try:
         crs = pyproj.CRS.from_cf(dict(grid.ds[grid.grid_mapping].attrs))
         tr = pyproj.Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
-    except Exception:   # pragma: no cover - an exotic mapping pyproj cannot read
+    except Exception:  # pragma: no cover - an exotic mapping pyproj cannot read
         return None, None
     y = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
     x = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
@@ -579,12 +669,12 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
         t = template[name]
         attrs = {k: v for k, v in t.attrs.items() if k != "sample_size"}
         attrs.update(extra)
-        attrs["coverage_content_type"] = ("qualityInformation" if name == "status_count"
-                                          else "modelResult")
+        attrs["coverage_content_type"] = "qualityInformation" if name == "status_count" else "modelResult"
         if name.endswith(("_mean", "_std", "_quantile")):
             attrs["comment"] = attrs.get("comment", "") + (
                 " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
-                "where no drop came to rest, or (std) where fewer than 2 did.")
+                "where no drop came to rest, or (std) where fewer than 2 did."
+            )
         da = xr.DataArray(arrays[name], dims=t.dims + hdims, attrs=attrs)
         da.encoding.update(t.encoding)
         data[name] = da
@@ -596,72 +686,126 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     finite = np.isfinite(prob).all(axis=0)
     likely = np.where(finite, np.argmax(np.where(np.isfinite(prob), prob, -1.0), axis=0), -1)
     data["most_likely_burial_class"] = xr.DataArray(
-        likely.astype(np.int8), dims=hdims, attrs={
+        likely.astype(np.int8),
+        dims=hdims,
+        attrs={
             "long_name": "most likely impact-burial class",
             "flag_values": np.arange(-1, 5, dtype=np.int8),
             "flag_meanings": "no_data " + " ".join(V.BURIAL_CLASS_MEANINGS),
             "comment": "Class with the highest burial_class_probability in the cell (the lower "
-                       "class on ties); -1 where the cell was not computed or no drop came to "
-                       "rest.", "coverage_content_type": "modelResult", **extra})
+            "class on ties); -1 where the cell was not computed or no drop came to "
+            "rest.",
+            "coverage_content_type": "modelResult",
+            **extra,
+        },
+    )
     data["cell_status"] = xr.DataArray(
-        status, dims=hdims, attrs={
+        status,
+        dims=hdims,
+        attrs={
             "long_name": "status of the map cell",
             "flag_values": np.arange(3, dtype=np.int8),
             "flag_meanings": " ".join(CELL_STATUS_MEANINGS),
             "comment": "0: an ensemble was run; 1: land (water depth missing or <= 0), skipped; "
-                       "2: no sediment data, skipped.",
-            "coverage_content_type": "qualityInformation", **extra})
+            "2: no sediment data, skipped.",
+            "coverage_content_type": "qualityInformation",
+            **extra,
+        },
+    )
     seeds = np.zeros((ny, nx), dtype=np.uint64)
     for j in range(ny):
         for i in range(nx):
             if status[j, i] == CELL_COMPUTED:
                 seeds[j, i] = cell_seed(base.seed, j * nx + i)
-    data["cell_seed"] = xr.DataArray(seeds, dims=hdims, attrs={
-        "long_name": "random seed of the cell's ensemble",
-        "comment": "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-cell:<seed>:<k>' "
-                   "with <seed> the global attribute random_seed and k = row * n_columns + column; "
-                   "rerun a cell with mineburial run --seed <cell_seed>. 0 for skipped cells.",
-        "coverage_content_type": "auxiliaryInformation", **extra})
+    data["cell_seed"] = xr.DataArray(
+        seeds,
+        dims=hdims,
+        attrs={
+            "long_name": "random seed of the cell's ensemble",
+            "comment": "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-cell:<seed>:<k>' "
+            "with <seed> the global attribute random_seed and k = row * n_columns + column; "
+            "rerun a cell with mineburial run --seed <cell_seed>. 0 for skipped cells.",
+            "coverage_content_type": "auxiliaryInformation",
+            **extra,
+        },
+    )
     depth = np.where(status == CELL_LAND, np.nan, grid.water_depth)
-    data["water_depth"] = xr.DataArray(depth, dims=hdims, attrs={
-        "standard_name": "sea_floor_depth_below_sea_surface", "long_name": "water depth",
-        "units": "m", "comment": "Water depth of the cell used by its ensemble (from the "
-        "environment grid).", "coverage_content_type": "referenceInformation", **extra})
+    data["water_depth"] = xr.DataArray(
+        depth,
+        dims=hdims,
+        attrs={
+            "standard_name": "sea_floor_depth_below_sea_surface",
+            "long_name": "water depth",
+            "units": "m",
+            "comment": "Water depth of the cell used by its ensemble (from the environment grid).",
+            "coverage_content_type": "referenceInformation",
+            **extra,
+        },
+    )
     if grid.sediment_class is not None:
         names = class_names()
         codes = np.full((ny, nx), -1, dtype=np.int8)
         for (j, i), v in np.ndenumerate(grid.sediment_class):
             if v is not None:
                 codes[j, i] = names.index(v)
-        da = xr.DataArray(codes, dims=hdims, attrs={
-            "long_name": "seabed sediment class", "flag_values": np.arange(len(names),
-                                                                           dtype=np.int8),
-            "flag_meanings": " ".join(names),
-            "comment": "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
-            "coverage_content_type": "referenceInformation", **extra})
+        da = xr.DataArray(
+            codes,
+            dims=hdims,
+            attrs={
+                "long_name": "seabed sediment class",
+                "flag_values": np.arange(len(names), dtype=np.int8),
+                "flag_meanings": " ".join(names),
+                "comment": "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
+                "coverage_content_type": "referenceInformation",
+                **extra,
+            },
+        )
         da.encoding["_FillValue"] = np.int8(-1)
         data["sediment_class"] = da
     else:
-        units = {"density": "kg m-3", "density_gradient": "kg m-4", "strength": "Pa",
-                 "strength_gradient": "Pa m-1"}
+        units = {
+            "density": "kg m-3",
+            "density_gradient": "kg m-4",
+            "strength": "Pa",
+            "strength_gradient": "Pa m-1",
+        }
         for key, arr in grid.sediment_params.items():
-            data[f"sediment_{key}"] = xr.DataArray(arr, dims=hdims, attrs={
-                "long_name": f"seabed sediment {key.replace('_', ' ')} at the seabed"
-                if key in ("density", "strength") else f"seabed sediment {key.replace('_', ' ')}",
-                "units": units[key], "coverage_content_type": "referenceInformation", **extra})
+            data[f"sediment_{key}"] = xr.DataArray(
+                arr,
+                dims=hdims,
+                attrs={
+                    "long_name": f"seabed sediment {key.replace('_', ' ')} at the seabed"
+                    if key in ("density", "strength")
+                    else f"seabed sediment {key.replace('_', ' ')}",
+                    "units": units[key],
+                    "coverage_content_type": "referenceInformation",
+                    **extra,
+                },
+            )
     if grid.current_u is not None:
-        for name, arr, sn in (("current_u", grid.current_u, "eastward_sea_water_velocity"),
-                              ("current_v", grid.current_v, "northward_sea_water_velocity")):
-            data[name] = xr.DataArray(arr, dims=hdims, attrs={
-                "standard_name": sn, "units": "m s-1",
-                "long_name": f"{sn.split('_')[0]} current",
-                "comment": "Current used by the cell's ensemble (E-frame x = east, y = north).",
-                "coverage_content_type": "referenceInformation", **extra})
+        for name, arr, sn in (
+            ("current_u", grid.current_u, "eastward_sea_water_velocity"),
+            ("current_v", grid.current_v, "northward_sea_water_velocity"),
+        ):
+            data[name] = xr.DataArray(
+                arr,
+                dims=hdims,
+                attrs={
+                    "standard_name": sn,
+                    "units": "m s-1",
+                    "long_name": f"{sn.split('_')[0]} current",
+                    "comment": "Current used by the cell's ensemble (E-frame x = east, y = north).",
+                    "coverage_content_type": "referenceInformation",
+                    **extra,
+                },
+            )
     if grid.grid_mapping:
         g = grid.ds[grid.grid_mapping]
         data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
-    ds = xr.Dataset(data, coords={**{c: template[c] for c in ("quantile", "impact_burial_class",
-                                                                "status_code")}, **coords})
+    ds = xr.Dataset(
+        data,
+        coords={**{c: template[c] for c in ("quantile", "impact_burial_class", "status_code")}, **coords},
+    )
     for name, da in data.items():
         ds[name].encoding.update(da.encoding)
     for c in ("quantile", "impact_burial_class", "status_code"):
@@ -673,10 +817,12 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
 def _global_attrs(grid, status, base, version, ncio) -> dict:
     created = ncio.utc_now()
     resolved = base.resolved()
-    overridden = ["environment.water_depth",
-                  "sediment.class" if grid.sediment_class is not None else
-                  "sediment.density, sediment.density_gradient, sediment.strength, "
-                  "sediment.strength_gradient"]
+    overridden = [
+        "environment.water_depth",
+        "sediment.class"
+        if grid.sediment_class is not None
+        else "sediment.density, sediment.density_gradient, sediment.strength, sediment.strength_gradient",
+    ]
     if grid.current_u is not None:
         overridden.append("environment.current")
     resolved["map"] = {
@@ -685,26 +831,30 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "overridden_per_cell": overridden,
         "drops_per_cell": base.n,
         "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
-                           "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
+        "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
     }
     scen = ncio.scenario_json(resolved)
     n_cells = int(status.size)
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
     ident = json.dumps([scen, str(base.seed), base.n, version, grid.source])
     name = base.base.mine.name
-    line = (f"{created} mineburial {version}: burial map over {grid.source or 'a grid'}, "
-            f"{base.n} drops in each of {n_comp} cells, seed {base.seed}")
+    line = (
+        f"{created} mineburial {version}: burial map over {grid.source or 'a grid'}, "
+        f"{base.n} drops in each of {n_comp} cells, seed {base.seed}"
+    )
     attrs = {
         "Conventions": ncio.CONVENTIONS,
         "title": f"mineburial impact-burial probability map: {name}",
-        "summary": ("Map of the Monte Carlo prediction of naval mine impact burial: for every "
-                    "water cell of an environment grid (water depth, seabed sediment, current) an "
-                    f"ensemble of {base.n} drops of the scenario with the cell's environment was "
-                    "computed with mineburial (numba-compiled rigid-body impact-burial model after "
-                    "Chu and Fan 2006, IMPACT35). Per cell: probabilities of the impact-burial "
-                    "classes 0 %, 0-10 %, 10-20 %, 20-75 %, > 75 % with Wilson 95 % intervals, the "
-                    "most likely class, mean, standard deviation and quantiles of burial by volume "
-                    "and penetration depth, and the count of every drop status."),
+        "summary": (
+            "Map of the Monte Carlo prediction of naval mine impact burial: for every "
+            "water cell of an environment grid (water depth, seabed sediment, current) an "
+            f"ensemble of {base.n} drops of the scenario with the cell's environment was "
+            "computed with mineburial (numba-compiled rigid-body impact-burial model after "
+            "Chu and Fan 2006, IMPACT35). Per cell: probabilities of the impact-burial "
+            "classes 0 %, 0-10 %, 10-20 %, 20-75 %, > 75 % with Wilson 95 % intervals, the "
+            "most likely class, mean, standard deviation and quantiles of burial by volume "
+            "and penetration depth, and the count of every drop status."
+        ),
         "keywords": ncio.KEYWORDS + ", map, grid",
         "id": "mineburial-map-" + hashlib.sha256(ident.encode()).hexdigest()[:16],
         "history": line,
@@ -714,9 +864,11 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "processing_level": "model output: Monte Carlo ensemble statistics per grid cell",
         "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
         "references": ncio.REFERENCES,
-        "comment": ("Statistics use only drops with status at_rest or buried_sinking; status_count gives "
-                    "the number of drops with every status code per cell. Skipped cells (cell_status != 0) "
-                    "hold NaN and zero counts. Format: docs/maps.md of the mineburial sources."),
+        "comment": (
+            "Statistics use only drops with status at_rest or buried_sinking; status_count gives "
+            "the number of drops with every status code per cell. Skipped cells (cell_status != 0) "
+            "hold NaN and zero counts. Format: docs/maps.md of the mineburial sources."
+        ),
         "cdm_data_type": "Grid",
         "scenario": scen,
         "random_seed": ncio.seed_attr(base.seed),
@@ -734,9 +886,14 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
     if grid.geographic:
         lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
         lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
-        attrs.update(geospatial_lat_min=float(lat.min()), geospatial_lat_max=float(lat.max()),
-                     geospatial_lon_min=float(lon.min()), geospatial_lon_max=float(lon.max()),
-                     geospatial_lat_units="degrees_north", geospatial_lon_units="degrees_east")
+        attrs.update(
+            geospatial_lat_min=float(lat.min()),
+            geospatial_lat_max=float(lat.max()),
+            geospatial_lon_min=float(lon.min()),
+            geospatial_lon_max=float(lon.max()),
+            geospatial_lat_units="degrees_north",
+            geospatial_lon_units="degrees_east",
+        )
     return ncio.clean_attrs(attrs)
 
 
@@ -756,8 +913,10 @@ def _import_matplotlib():
     try:
         from matplotlib.figure import Figure
     except ImportError:
-        raise MapError("drawing the map needs matplotlib, an optional dependency: "
-                       "pip install 'mineburial[plot]' (or pip install matplotlib)") from None
+        raise MapError(
+            "drawing the map needs matplotlib, an optional dependency: "
+            "pip install 'mineburial[plot]' (or pip install matplotlib)"
+        ) from None
     return Figure
 
 
@@ -793,8 +952,9 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
     likely = ds["most_likely_burial_class"].values.astype(float)
     prob = ds["burial_class_probability"].values
     p75 = prob[4]
-    likely_p = np.take_along_axis(np.where(np.isfinite(prob), prob, 0.0),
-                                  np.clip(likely, 0, 4).astype(int)[None], axis=0)[0]
+    likely_p = np.take_along_axis(
+        np.where(np.isfinite(prob), prob, 0.0), np.clip(likely, 0, 4).astype(int)[None], axis=0
+    )[0]
     land = (status == CELL_LAND).astype(float)
     nodata = ((status != CELL_LAND) & (likely < 0)).astype(float)
 
@@ -816,15 +976,20 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
 
     def background(ax):
         mesh(ax, np.ma.masked_where(land == 0, land), cmap=ListedColormap([_LAND_COLOUR]))
-        mesh(ax, np.ma.masked_where(nodata == 0, nodata), cmap=ListedColormap([_NODATA_COLOUR]),
-             edgecolors="white", linewidth=0.5)
+        mesh(
+            ax,
+            np.ma.masked_where(nodata == 0, nodata),
+            cmap=ListedColormap([_NODATA_COLOUR]),
+            edgecolors="white",
+            linewidth=0.5,
+        )
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
-        if geographic:   # equal ground distances in x and y
+        if geographic:  # equal ground distances in x and y
             ax.set_aspect(1.0 / max(math.cos(math.radians(float(np.mean(y)))), 1e-3))
         else:
             ax.set_aspect("equal")
-            ax.tick_params(axis="x", labelrotation=30)     # long projected coordinates
+            ax.tick_params(axis="x", labelrotation=30)  # long projected coordinates
         ax.ticklabel_format(useOffset=False, style="plain")
 
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
@@ -832,36 +997,59 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
     background(ax)
     cmap = ListedColormap(CLASS_COLOURS)
     norm = BoundaryNorm(np.arange(-0.5, 5.5), cmap.N)
-    mesh(ax, np.ma.masked_where(likely < 0, likely), cmap=cmap, norm=norm, edgecolors="white",
-         linewidth=0.5)
-    ax.set_title(f"most likely impact-burial class (burial by {basis})\n"
-                 "in a cell: its probability, and n = drops at rest", fontsize=11)
-    handles = [Patch(facecolor=c, edgecolor="0.5", label=lbl)
-               for c, lbl in zip(CLASS_COLOURS, _CLASS_LABELS)]
+    mesh(ax, np.ma.masked_where(likely < 0, likely), cmap=cmap, norm=norm, edgecolors="white", linewidth=0.5)
+    ax.set_title(
+        f"most likely impact-burial class (burial by {basis})\n"
+        "in a cell: its probability, and n = drops at rest",
+        fontsize=11,
+    )
+    handles = [Patch(facecolor=c, edgecolor="0.5", label=lbl) for c, lbl in zip(CLASS_COLOURS, _CLASS_LABELS)]
     handles.append(Patch(facecolor=_LAND_COLOUR, edgecolor="0.5", label="land (not computed)"))
-    handles.append(Patch(facecolor=_NODATA_COLOUR, edgecolor="0.5",
-                         label="no drop came to rest / no data"))
-    legend_ax.legend(handles=handles, title=f"impact-burial class (burial by {basis})",
-                     loc="upper center", ncol=4, fontsize=8, title_fontsize=9, frameon=False)
-    if status.size <= 400:   # small grids: the class probability and its sample size
+    handles.append(Patch(facecolor=_NODATA_COLOUR, edgecolor="0.5", label="no drop came to rest / no data"))
+    legend_ax.legend(
+        handles=handles,
+        title=f"impact-burial class (burial by {basis})",
+        loc="upper center",
+        ncol=4,
+        fontsize=8,
+        title_fontsize=9,
+        frameon=False,
+    )
+    if status.size <= 400:  # small grids: the class probability and its sample size
         n_cls = ds["burial_class_count"].values.sum(axis=0)
         for (j, i), c in np.ndenumerate(likely):
             if c >= 0:
-                ax.text(x[i], y[j], f"{likely_p[j, i]:.2f}\nn={int(n_cls[j, i])}", ha="center",
-                        va="center", fontsize=7, color="white" if c >= 3 else "black")
+                ax.text(
+                    x[i],
+                    y[j],
+                    f"{likely_p[j, i]:.2f}\nn={int(n_cls[j, i])}",
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color="white" if c >= 3 else "black",
+                )
 
     ax = axes[1]
     background(ax)
-    p75_mesh = mesh(ax, np.ma.masked_invalid(np.where(status == CELL_COMPUTED, p75, np.nan)),
-                    cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5)
+    p75_mesh = mesh(
+        ax,
+        np.ma.masked_invalid(np.where(status == CELL_COMPUTED, p75, np.nan)),
+        cmap="magma_r",
+        vmin=0.0,
+        vmax=1.0,
+        edgecolors="white",
+        linewidth=0.5,
+    )
     cb = fig.colorbar(p75_mesh, cax=cax, orientation="horizontal")
     cb.set_label(f"P(burial by {basis} > 75 %), probability (0 to 1)")
-    ax.set_title(f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)",
-                 fontsize=11)
+    ax.set_title(
+        f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
+    )
 
     n = int(ds.attrs.get("n_drops_per_cell", 0))
     name = ds.attrs.get("scenario_name") or ds.attrs.get("title", "").replace(
-        "mineburial impact-burial probability map: ", "")
+        "mineburial impact-burial probability map: ", ""
+    )
     seed = ds.attrs.get("random_seed", "")
     fig.suptitle(f"Impact burial of {name}: {n} drops per cell, map seed {seed}", fontsize=13)
     path = pathlib.Path(path)
@@ -885,9 +1073,10 @@ def check_plot_path(path, output=None, inputs=()) -> pathlib.Path:
     types = Figure().canvas.get_supported_filetypes()
     ext = path.suffix.lower().lstrip(".")
     if ext not in types:
-        raise MapError(f"--plot '{path}': unsupported image type "
-                       f"'{path.suffix or '(no extension)'}'; use one of "
-                       + ", ".join(f".{t}" for t in sorted(types)))
+        raise MapError(
+            f"--plot '{path}': unsupported image type "
+            f"'{path.suffix or '(no extension)'}'; use one of " + ", ".join(f".{t}" for t in sorted(types))
+        )
     return check_output_path(path, inputs, "--plot")
 
 
@@ -908,23 +1097,32 @@ def run_map_cli(args) -> int:
     client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
-        ds = run_map(args.scenario, args.environment, n=args.drops, seed=args.seed,
-                     client=client, output=args.output, progress=not args.quiet)
+        ds = run_map(
+            args.scenario,
+            args.environment,
+            n=args.drops,
+            seed=args.seed,
+            client=client,
+            output=args.output,
+            progress=not args.quiet,
+        )
     finally:
         if client is not None:
             client.close()
     elapsed = time.monotonic() - t0
     n_comp = int(ds.attrs["n_cells_computed"])
     n = int(ds.attrs["n_drops_per_cell"])
-    print(f"{ds.attrs['title']}\n"
-          f"cells: {int(ds.attrs['n_cells'])} ({n_comp} computed, "
-          f"{int(ds.attrs['n_cells_land'])} land, {int(ds.attrs['n_cells_no_sediment'])} without "
-          f"sediment data), {n} drops per cell")
+    print(
+        f"{ds.attrs['title']}\n"
+        f"cells: {int(ds.attrs['n_cells'])} ({n_comp} computed, "
+        f"{int(ds.attrs['n_cells_land'])} land, {int(ds.attrs['n_cells_no_sediment'])} without "
+        f"sediment data), {n} drops per cell"
+    )
     if ds.attrs.get("invalid_inputs"):
-        print(f"warning: drops not run because their sampled inputs are invalid: "
-              f"{ds.attrs['invalid_inputs']}")
-    print(f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\n"
-          f"wrote {args.output}")
+        print(
+            f"warning: drops not run because their sampled inputs are invalid: {ds.attrs['invalid_inputs']}"
+        )
+    print(f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\nwrote {args.output}")
     if args.plot:
         plot_map(ds, args.plot)
         print(f"wrote {args.plot}")

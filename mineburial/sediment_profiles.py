@@ -32,16 +32,28 @@ import csv
 import difflib
 import math
 import pathlib
-from dataclasses import dataclass
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 __all__ = [
-    "ScenarioError", "SedimentProfile", "SedimentClass", "CATALOGUE", "catalogue_profile",
-    "class_names", "load_csv", "load_netcdf", "load_file", "pack_banks",
-    "DENSITY_RANGE", "STRENGTH_RANGE", "CATALOGUE_MAX_DEPTH",
-    "nc_clay_strength_gradient", "bearing_capacity_factors", "drained_equivalent_strength",
+    "ScenarioError",
+    "SedimentProfile",
+    "SedimentClass",
+    "CATALOGUE",
+    "catalogue_profile",
+    "class_names",
+    "load_csv",
+    "load_netcdf",
+    "load_file",
+    "pack_banks",
+    "DENSITY_RANGE",
+    "STRENGTH_RANGE",
+    "CATALOGUE_MAX_DEPTH",
+    "nc_clay_strength_gradient",
+    "bearing_capacity_factors",
+    "drained_equivalent_strength",
 ]
 
 
@@ -51,8 +63,7 @@ class ScenarioError(ValueError):
 
 
 def _rebuild_profile(depth, density, strength, name, description, source):
-    return SedimentProfile(depth, density, strength, name=name, description=description,
-                           source=source)
+    return SedimentProfile(depth, density, strength, name=name, description=description, source=source)
 
 
 def unknown_name_message(what: str, name: str, allowed: Iterable[str]) -> str:
@@ -121,32 +132,47 @@ class SedimentProfile:
 
     __slots__ = ("depth", "density", "strength", "name", "description", "source")
 
-    def __init__(self, depth, density, strength, *, name: str = "", description: str = "",
-                 source: str = "", where: str = "sediment.profile"):
+    def __init__(
+        self,
+        depth,
+        density,
+        strength,
+        *,
+        name: str = "",
+        description: str = "",
+        source: str = "",
+        where: str = "sediment.profile",
+    ):
         d = _as_vector(depth, f"{where}.depth")
         rho = _as_vector(density, f"{where}.density")
         s = _as_vector(strength, f"{where}.strength")
         if not (d.size == rho.size == s.size):
             raise ScenarioError(
                 f"{where}: depth, density and strength must have the same length, "
-                f"got {d.size}, {rho.size}, {s.size}")
+                f"got {d.size}, {rho.size}, {s.size}"
+            )
         if d[0] != 0.0:
             raise ScenarioError(
                 f"{where}.depth[0] = {float(d[0])!r} m: the first point must be at the seabed, "
-                f"depth 0 m (add a row at depth 0, e.g. repeating the first slice)")
+                f"depth 0 m (add a row at depth 0, e.g. repeating the first slice)"
+            )
         if d.size > 1 and not np.all(np.diff(d) > 0):
             i = int(np.argmin(np.diff(d) > 0)) + 1
             raise ScenarioError(
                 f"{where}.depth[{i}] = {float(d[i])!r} m: depths must be strictly increasing "
-                f"(previous point {float(d[i - 1])!r} m)")
-        for arr, key, (lo, hi), units in ((rho, "density", DENSITY_RANGE, "kg m-3"),
-                                          (s, "strength", STRENGTH_RANGE, "Pa")):
+                f"(previous point {float(d[i - 1])!r} m)"
+            )
+        for arr, key, (lo, hi), units in (
+            (rho, "density", DENSITY_RANGE, "kg m-3"),
+            (s, "strength", STRENGTH_RANGE, "Pa"),
+        ):
             bad = np.flatnonzero((arr < lo) | (arr > hi))
             if bad.size:
                 i = int(bad[0])
                 raise ScenarioError(
                     f"{where}.{key}[{i}] = {float(arr[i])!r} {units} is outside the allowed range "
-                    f"[{_fmt(lo)}, {_fmt(hi)}] {units}")
+                    f"[{_fmt(lo)}, {_fmt(hi)}] {units}"
+                )
         for arr in (d, rho, s):
             arr.flags.writeable = False
         set_ = object.__setattr__
@@ -159,8 +185,17 @@ class SedimentProfile:
 
     def __reduce__(self):
         # picklable (dask workers) despite __slots__ and the read-only __setattr__
-        return (_rebuild_profile, (self.depth.copy(), self.density.copy(), self.strength.copy(),
-                                   self.name, self.description, self.source))
+        return (
+            _rebuild_profile,
+            (
+                self.depth.copy(),
+                self.density.copy(),
+                self.strength.copy(),
+                self.name,
+                self.description,
+                self.source,
+            ),
+        )
 
     # -- immutability / value semantics ------------------------------------
     def __setattr__(self, key, value):
@@ -169,21 +204,32 @@ class SedimentProfile:
     def __eq__(self, other):
         if not isinstance(other, SedimentProfile):
             return NotImplemented
-        return (np.array_equal(self.depth, other.depth)
-                and np.array_equal(self.density, other.density)
-                and np.array_equal(self.strength, other.strength)
-                and (self.name, self.description, self.source)
-                == (other.name, other.description, other.source))
+        return (
+            np.array_equal(self.depth, other.depth)
+            and np.array_equal(self.density, other.density)
+            and np.array_equal(self.strength, other.strength)
+            and (self.name, self.description, self.source) == (other.name, other.description, other.source)
+        )
 
     def __hash__(self):
-        return hash((self.depth.tobytes(), self.density.tobytes(), self.strength.tobytes(),
-                     self.name, self.description, self.source))
+        return hash(
+            (
+                self.depth.tobytes(),
+                self.density.tobytes(),
+                self.strength.tobytes(),
+                self.name,
+                self.description,
+                self.source,
+            )
+        )
 
     def __repr__(self):
         label = f" {self.name!r}" if self.name else ""
-        return (f"SedimentProfile{label}({self.n_points} points, depth 0..{self.depth[-1]:g} m, "
-                f"density {self.density.min():g}..{self.density.max():g} kg m-3, "
-                f"strength {self.strength.min():g}..{self.strength.max():g} Pa)")
+        return (
+            f"SedimentProfile{label}({self.n_points} points, depth 0..{self.depth[-1]:g} m, "
+            f"density {self.density.min():g}..{self.density.max():g} kg m-3, "
+            f"strength {self.strength.min():g}..{self.strength.max():g} Pa)"
+        )
 
     # -- evaluation --------------------------------------------------------
     @property
@@ -211,8 +257,12 @@ class SedimentProfile:
         if self.n_points == 1:
             return float(self.density[0]), 0.0, float(self.strength[0]), 0.0
         dz = self.depth[1] - self.depth[0]
-        return (float(self.density[0]), float((self.density[1] - self.density[0]) / dz),
-                float(self.strength[0]), float((self.strength[1] - self.strength[0]) / dz))
+        return (
+            float(self.density[0]),
+            float((self.density[1] - self.density[0]) / dz),
+            float(self.strength[0]),
+            float((self.strength[1] - self.strength[0]) / dz),
+        )
 
     def to_dict(self) -> dict:
         """Plain dict (lists of floats, strings), the inline ``profile`` table of a scenario."""
@@ -236,17 +286,35 @@ class SedimentProfile:
         for key in ("depth", "density", "strength"):
             if key not in d:
                 raise ScenarioError(f"{where}.{key} is required (a list of numbers)")
-        return cls(d["depth"], d["density"], d["strength"], name=d.get("name", ""),
-                   description=d.get("description", ""), source=d.get("source", ""), where=where)
+        return cls(
+            d["depth"],
+            d["density"],
+            d["strength"],
+            name=d.get("name", ""),
+            description=d.get("description", ""),
+            source=d.get("source", ""),
+            where=where,
+        )
 
     @classmethod
-    def linear(cls, density: float, density_gradient: float, strength: float,
-               strength_gradient: float, *, max_depth: float = CATALOGUE_MAX_DEPTH,
-               **labels) -> SedimentProfile:
+    def linear(
+        cls,
+        density: float,
+        density_gradient: float,
+        strength: float,
+        strength_gradient: float,
+        *,
+        max_depth: float = CATALOGUE_MAX_DEPTH,
+        **labels,
+    ) -> SedimentProfile:
         """Two-point table of rho = rho0 + k_rho z, S = S0 + k_S z on [0, max_depth]
         (exact there, constant below)."""
-        return cls([0.0, max_depth], [density, density + density_gradient * max_depth],
-                   [strength, strength + strength_gradient * max_depth], **labels)
+        return cls(
+            [0.0, max_depth],
+            [density, density + density_gradient * max_depth],
+            [strength, strength + strength_gradient * max_depth],
+            **labels,
+        )
 
 
 # ---------------------------------------------------------------------------
@@ -265,8 +333,12 @@ def load_csv(path, *, name: str | None = None) -> SedimentProfile:
         text = path.read_text()
     except OSError as exc:
         raise ScenarioError(f"{where}: cannot read the file ({exc.strerror})") from None
-    rows = [r for r in csv.reader(line for line in text.splitlines()
-                                  if line.strip() and not line.lstrip().startswith("#"))]
+    rows = [
+        r
+        for r in csv.reader(
+            line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+        )
+    ]
     if not rows:
         raise ScenarioError(f"{where}: the file is empty")
     header = [h.strip() for h in rows[0]]
@@ -275,8 +347,9 @@ def load_csv(path, *, name: str | None = None) -> SedimentProfile:
         if col not in header:
             close = difflib.get_close_matches(col, header, n=1, cutoff=0.5)
             hint = f" (found '{close[0]}')" if close else ""
-            raise ScenarioError(f"{where}: missing column '{col}'{hint}; required columns: "
-                                f"{', '.join(CSV_COLUMNS)}")
+            raise ScenarioError(
+                f"{where}: missing column '{col}'{hint}; required columns: {', '.join(CSV_COLUMNS)}"
+            )
         cols[col] = header.index(col)
     data = {c: [] for c in CSV_COLUMNS}
     for lineno, row in enumerate(rows[1:], start=2):
@@ -284,20 +357,40 @@ def load_csv(path, *, name: str | None = None) -> SedimentProfile:
             try:
                 data[col].append(float(row[i]))
             except (IndexError, ValueError):
-                raise ScenarioError(f"{where}: data row {lineno - 1}, column '{col}': "
-                                    f"not a number ({row!r})") from None
-    return SedimentProfile(data["depth_m"], data["density_kg_m3"], data["strength_pa"],
-                           name=path.stem if name is None else name,
-                           source=f"file {path.resolve()}", where=where)
+                raise ScenarioError(
+                    f"{where}: data row {lineno - 1}, column '{col}': not a number ({row!r})"
+                ) from None
+    return SedimentProfile(
+        data["depth_m"],
+        data["density_kg_m3"],
+        data["strength_pa"],
+        name=path.stem if name is None else name,
+        source=f"file {path.resolve()}",
+        where=where,
+    )
 
 
 # accepted spellings of the units attribute -> factor to SI
 _UNITS = {
-    "depth": ({"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0,
-               "cm": 0.01, "mm": 1e-3}, "m"),
-    "density": ({"kg m-3": 1.0, "kg/m3": 1.0, "kg m^-3": 1.0, "kg/m^3": 1.0, "kg m**-3": 1.0,
-                 "kg.m-3": 1.0, "g cm-3": 1000.0, "g/cm3": 1000.0, "g cm^-3": 1000.0,
-                 "g/cm^3": 1000.0}, "kg m-3"),
+    "depth": (
+        {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0, "cm": 0.01, "mm": 1e-3},
+        "m",
+    ),
+    "density": (
+        {
+            "kg m-3": 1.0,
+            "kg/m3": 1.0,
+            "kg m^-3": 1.0,
+            "kg/m^3": 1.0,
+            "kg m**-3": 1.0,
+            "kg.m-3": 1.0,
+            "g cm-3": 1000.0,
+            "g/cm3": 1000.0,
+            "g cm^-3": 1000.0,
+            "g/cm^3": 1000.0,
+        },
+        "kg m-3",
+    ),
     "strength": ({"pa": 1.0, "kpa": 1000.0, "n m-2": 1.0, "n/m2": 1.0}, "Pa"),
 }
 
@@ -318,27 +411,36 @@ def load_netcdf(path, *, name: str | None = None) -> SedimentProfile:
         arrays = {}
         for var, (table, si) in _UNITS.items():
             if var not in ds.variables:
-                raise ScenarioError(f"{where}: missing variable '{var}'; required variables: "
-                                    f"{', '.join(_UNITS)} (found: {', '.join(ds.variables)})")
+                raise ScenarioError(
+                    f"{where}: missing variable '{var}'; required variables: "
+                    f"{', '.join(_UNITS)} (found: {', '.join(ds.variables)})"
+                )
             v = ds.variables[var]
             units = getattr(v, "units", None)
             if units is None:
-                raise ScenarioError(f"{where}: variable '{var}' has no units attribute "
-                                    f"(expected {si})")
+                raise ScenarioError(f"{where}: variable '{var}' has no units attribute (expected {si})")
             key = " ".join(str(units).split()).lower()
             if key not in table:
-                raise ScenarioError(f"{where}: variable '{var}' has units '{units}'; accepted: "
-                                    f"{', '.join(table)}")
+                raise ScenarioError(
+                    f"{where}: variable '{var}' has units '{units}'; accepted: {', '.join(table)}"
+                )
             if var == "depth" and str(getattr(v, "positive", "down")).lower() != "down":
-                raise ScenarioError(f"{where}: variable 'depth' must be positive down "
-                                    f"(depth below the seabed), got positive = '{v.positive}'")
+                raise ScenarioError(
+                    f"{where}: variable 'depth' must be positive down "
+                    f"(depth below the seabed), got positive = '{v.positive}'"
+                )
             data = np.ma.filled(np.ma.asarray(v[:], dtype=np.float64), np.nan).ravel()
             arrays[var] = data * table[key]
     finally:
         ds.close()
-    return SedimentProfile(arrays["depth"], arrays["density"], arrays["strength"],
-                           name=path.stem if name is None else name,
-                           source=f"file {path.resolve()}", where=where)
+    return SedimentProfile(
+        arrays["depth"],
+        arrays["density"],
+        arrays["strength"],
+        name=path.stem if name is None else name,
+        source=f"file {path.resolve()}",
+        where=where,
+    )
 
 
 def load_file(path, base_dir=None) -> SedimentProfile:
@@ -352,15 +454,14 @@ def load_file(path, base_dir=None) -> SedimentProfile:
         return load_csv(p)
     if suffix in (".nc", ".nc4", ".cdf", ".netcdf"):
         return load_netcdf(p)
-    raise ScenarioError(f"sediment.file = '{path}': unknown file type '{p.suffix}', "
-                        f"expected .csv or .nc")
+    raise ScenarioError(f"sediment.file = '{path}': unknown file type '{p.suffix}', expected .csv or .nc")
 
 
 # ---------------------------------------------------------------------------
 # Catalogue of sediment classes
 # ---------------------------------------------------------------------------
-RHO_SEAWATER = 1025.0   # kg m-3, reference pore/sea water for effective unit weights
-G = 9.81                # m s-2
+RHO_SEAWATER = 1025.0  # kg m-3, reference pore/sea water for effective unit weights
+G = 9.81  # m s-2
 #: s_u / sigma'_v of normally consolidated clay: Mesri, G. (1975), discussion of
 #: "New design procedure for stability of soft clays", J. Geotech. Eng. Div. ASCE
 #: 101(GT4), 409-412 (s_u = 0.22 sigma'_p); also Ladd & Foott (1974) SHANSEP, 0.2-0.25.
@@ -387,8 +488,9 @@ def bearing_capacity_factors(phi_deg: float) -> tuple[float, float, float]:
     return (nq - 1.0) / t, nq, 2.0 * (nq + 1.0) * t
 
 
-def drained_equivalent_strength(phi_deg: float, density: float,
-                                width: float = EQUIVALENT_WIDTH) -> tuple[float, float]:
+def drained_equivalent_strength(
+    phi_deg: float, density: float, width: float = EQUIVALENT_WIDTH
+) -> tuple[float, float]:
     """Crude undrained-strength proxy (S0 [Pa], dS/dz [Pa m-1]) for a cohesionless bed.
 
     The drained bearing capacity of a strip of width B embedded at depth z,
@@ -405,21 +507,27 @@ def drained_equivalent_strength(phi_deg: float, density: float,
 @dataclass(frozen=True)
 class SedimentClass:
     """A named sediment class with linear profiles rho = rho0 + k_rho z, S = S0 + k_S z."""
+
     name: str
     description: str
-    density: float            # kg m-3 at the seabed
-    density_gradient: float   # kg m-4
-    strength: float           # Pa at the seabed
+    density: float  # kg m-3 at the seabed
+    density_gradient: float  # kg m-4
+    strength: float  # Pa at the seabed
     strength_gradient: float  # Pa m-1
     source: str
 
     def profile(self) -> SedimentProfile:
         """The class as a two-point table on [0, CATALOGUE_MAX_DEPTH] m (constant below)."""
-        return SedimentProfile.linear(self.density, self.density_gradient, self.strength,
-                                      self.strength_gradient, name=self.name,
-                                      description=self.description,
-                                      source=f"catalogue class '{self.name}': {self.source}",
-                                      where=f"sediment.class '{self.name}'")
+        return SedimentProfile.linear(
+            self.density,
+            self.density_gradient,
+            self.strength,
+            self.strength_gradient,
+            name=self.name,
+            description=self.description,
+            source=f"catalogue class '{self.name}': {self.source}",
+            where=f"sediment.class '{self.name}'",
+        )
 
 
 _HB82 = "bulk density after Hamilton & Bachman (1982), J. Acoust. Soc. Am. 72(6):1891-1904"
@@ -427,8 +535,9 @@ _MESRI = "gradient = 0.22 (rho(2.5 m) - 1025) g, NC clay s_u/sigma'_v of Mesri (
 
 
 def _clay(name, description, rho0, k_rho, s0, source):
-    return SedimentClass(name, description, rho0, k_rho, s0,
-                         nc_clay_strength_gradient(rho0 + 2.5 * k_rho), source)
+    return SedimentClass(
+        name, description, rho0, k_rho, s0, nc_clay_strength_gradient(rho0 + 2.5 * k_rho), source
+    )
 
 
 def _granular(name, description, rho0, k_rho, phi, source):
@@ -444,39 +553,76 @@ def _granular(name, description, rho0, k_rho, phi, source):
 #: 1-2 kPa/m typical of soft marine clays (e.g. Randolph & Gourvenec 2011, Offshore
 #: Geotechnical Engineering). Silt and sand: equivalent strength from the drained bearing
 #: capacity (:func:`drained_equivalent_strength`) -- a crude proxy.
-CATALOGUE: dict[str, SedimentClass] = {c.name: c for c in (
-    _clay("very_soft_clay", "very soft, high-water-content surficial mud (harbour/estuary)",
-          1300.0, 40.0, 500.0,
-          "S0 = 0.5 kPa, low end of 'very soft' (Terzaghi & Peck 1967) and inside the "
-          "fall-cone range 0.0063-25 kPa of seed 000 Table 4; rho0 typical of high-porosity "
-          f"surficial muds; {_MESRI}"),
-    _clay("soft_clay", "soft normally consolidated marine (silty) clay",
-          1420.0, 30.0, 2000.0,
-          f"rho0 = 1420 kg m-3 ~ silty clay, {_HB82}; S0 = 2 kPa mudline strength of soft "
-          f"marine clays (Randolph & Gourvenec 2011); {_MESRI}"),
-    _clay("silty_mud", "soft clayey silt / silty mud of shelf basins",
-          1490.0, 30.0, 3000.0,
-          f"rho0 = 1490 kg m-3 ~ clayey silt, {_HB82}; S0 = 3 kPa (soft, Terzaghi & Peck "
-          f"1967); {_MESRI}"),
-    _clay("firm_clay", "firm (medium) overconsolidated clay",
-          1800.0, 10.0, 25000.0,
-          "S0 = 25 kPa, lower bound of 'medium' (Terzaghi & Peck 1967); rho0 = 1800 kg m-3 "
-          f"typical of overconsolidated clay; {_MESRI}"),
-    _clay("stiff_clay", "stiff clay or a hard, nearly impenetrable bottom",
-          1950.0, 5.0, 50000.0,
-          "S0 = 50 kPa, lower bound of 'stiff' (Terzaghi & Peck 1967); rho0 = 1950 kg m-3 "
-          f"typical of stiff clay; {_MESRI}"),
-    _granular("sandy_silt", "sandy silt (crude equivalent-strength proxy)",
-              1770.0, 10.0, 28.0,
-              f"rho0 = 1770 kg m-3, {_HB82}; equivalent strength from drained bearing "
-              "capacity, phi' = 28 deg, B = 0.5 m, divided by N_c = pi + 2 (Vesic 1973): "
-              "a crude proxy"),
-    _granular("sand", "fine to medium sand (crude equivalent-strength proxy)",
-              1940.0, 0.0, 33.0,
-              f"rho0 = 1940 kg m-3 ~ fine sand, {_HB82}; equivalent strength from drained "
-              "bearing capacity, phi' = 33 deg, B = 0.5 m, divided by N_c = pi + 2 "
-              "(Vesic 1973): a crude proxy"),
-)}
+CATALOGUE: dict[str, SedimentClass] = {
+    c.name: c
+    for c in (
+        _clay(
+            "very_soft_clay",
+            "very soft, high-water-content surficial mud (harbour/estuary)",
+            1300.0,
+            40.0,
+            500.0,
+            "S0 = 0.5 kPa, low end of 'very soft' (Terzaghi & Peck 1967) and inside the "
+            "fall-cone range 0.0063-25 kPa of seed 000 Table 4; rho0 typical of high-porosity "
+            f"surficial muds; {_MESRI}",
+        ),
+        _clay(
+            "soft_clay",
+            "soft normally consolidated marine (silty) clay",
+            1420.0,
+            30.0,
+            2000.0,
+            f"rho0 = 1420 kg m-3 ~ silty clay, {_HB82}; S0 = 2 kPa mudline strength of soft "
+            f"marine clays (Randolph & Gourvenec 2011); {_MESRI}",
+        ),
+        _clay(
+            "silty_mud",
+            "soft clayey silt / silty mud of shelf basins",
+            1490.0,
+            30.0,
+            3000.0,
+            f"rho0 = 1490 kg m-3 ~ clayey silt, {_HB82}; S0 = 3 kPa (soft, Terzaghi & Peck 1967); {_MESRI}",
+        ),
+        _clay(
+            "firm_clay",
+            "firm (medium) overconsolidated clay",
+            1800.0,
+            10.0,
+            25000.0,
+            "S0 = 25 kPa, lower bound of 'medium' (Terzaghi & Peck 1967); rho0 = 1800 kg m-3 "
+            f"typical of overconsolidated clay; {_MESRI}",
+        ),
+        _clay(
+            "stiff_clay",
+            "stiff clay or a hard, nearly impenetrable bottom",
+            1950.0,
+            5.0,
+            50000.0,
+            "S0 = 50 kPa, lower bound of 'stiff' (Terzaghi & Peck 1967); rho0 = 1950 kg m-3 "
+            f"typical of stiff clay; {_MESRI}",
+        ),
+        _granular(
+            "sandy_silt",
+            "sandy silt (crude equivalent-strength proxy)",
+            1770.0,
+            10.0,
+            28.0,
+            f"rho0 = 1770 kg m-3, {_HB82}; equivalent strength from drained bearing "
+            "capacity, phi' = 28 deg, B = 0.5 m, divided by N_c = pi + 2 (Vesic 1973): "
+            "a crude proxy",
+        ),
+        _granular(
+            "sand",
+            "fine to medium sand (crude equivalent-strength proxy)",
+            1940.0,
+            0.0,
+            33.0,
+            f"rho0 = 1940 kg m-3 ~ fine sand, {_HB82}; equivalent strength from drained "
+            "bearing capacity, phi' = 33 deg, B = 0.5 m, divided by N_c = pi + 2 "
+            "(Vesic 1973): a crude proxy",
+        ),
+    )
+}
 
 
 def class_names() -> tuple[str, ...]:
@@ -489,8 +635,9 @@ def catalogue_profile(name: str) -> SedimentProfile:
     try:
         return CATALOGUE[name].profile()
     except (KeyError, TypeError):
-        raise ScenarioError("sediment.class: " + unknown_name_message(
-            "sediment class", name, CATALOGUE)) from None
+        raise ScenarioError(
+            "sediment.class: " + unknown_name_message("sediment class", name, CATALOGUE)
+        ) from None
 
 
 # ---------------------------------------------------------------------------
@@ -499,7 +646,7 @@ def catalogue_profile(name: str) -> SedimentProfile:
 def _rows(item) -> np.ndarray:
     if isinstance(item, SedimentProfile):
         return item.as_array()
-    as_array = getattr(item, "as_array", None)   # e.g. config.Current with kind "table"
+    as_array = getattr(item, "as_array", None)  # e.g. config.Current with kind "table"
     if callable(as_array):
         return np.asarray(as_array(), dtype=np.float64)
     a = np.asarray(item, dtype=np.float64)
@@ -522,5 +669,5 @@ def pack_banks(profiles: Sequence) -> np.ndarray:
     npts = max(r.shape[1] for r in rows)
     bank = np.full((len(rows), 3, npts), np.nan, dtype=np.float64)
     for i, r in enumerate(rows):
-        bank[i, :, :r.shape[1]] = r
+        bank[i, :, : r.shape[1]] = r
     return bank

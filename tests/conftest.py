@@ -5,13 +5,21 @@ import copy
 import pytest
 
 BASE = {
-    "mine": {"name": "test cylinder", "length": 1.0, "diameter": 0.25, "mass": 80.0,
-             "com_offset": 0.0},
-    "release": {"position": [0.0, 0.0, -5.0], "velocity": [0.0, 0.0, 0.0],
-                "pitch_deg": 0.0, "heading_deg": 0.0, "roll_deg": 0.0,
-                "angular_velocity": [0.0, 0.0, 0.0]},
-    "environment": {"water_depth": 1000.0, "water_density": 1025.0,
-                    "water_viscosity": 1.0e-6, "air_density": 1.225},
+    "mine": {"name": "test cylinder", "length": 1.0, "diameter": 0.25, "mass": 80.0, "com_offset": 0.0},
+    "release": {
+        "position": [0.0, 0.0, -5.0],
+        "velocity": [0.0, 0.0, 0.0],
+        "pitch_deg": 0.0,
+        "heading_deg": 0.0,
+        "roll_deg": 0.0,
+        "angular_velocity": [0.0, 0.0, 0.0],
+    },
+    "environment": {
+        "water_depth": 1000.0,
+        "water_density": 1025.0,
+        "water_viscosity": 1.0e-6,
+        "air_density": 1.225,
+    },
     "sediment": {"class": "soft_clay"},
     # the default integrator (dopri5) at its default tolerances (test_water_column.py asks for
     # tight ones), and the reference sediment quadrature (the fast rule is tested against it

@@ -59,15 +59,16 @@ t_max = 5.0
 def _cli(*args):
     """Run ``python -m mineburial.cli`` in a fresh process: (exit code, stdout, stderr)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
-    out = subprocess.run([sys.executable, "-m", "mineburial.cli", *args], env=env,
-                         capture_output=True, text=True, timeout=300)
+    out = subprocess.run(
+        [sys.executable, "-m", "mineburial.cli", *args], env=env, capture_output=True, text=True, timeout=300
+    )
     return out.returncode, out.stdout, out.stderr
 
 
 def test_process_exit_codes():
     rc, out, err = _cli("--version")
     assert rc == 0 and out.strip() == f"mineburial {__version__}"
-    rc, out, err = _cli()                                     # no command: one error line
+    rc, out, err = _cli()  # no command: one error line
     assert rc == 2 and err.startswith("mineburial: error:") and "command" in err
     assert len(err.strip().splitlines()) == 1
     rc, out, err = _cli("example")
@@ -80,15 +81,14 @@ def test_example_writes_the_embedded_file(tmp_path, capsys):
     assert main(["example", "exp2_barrel", "-o", str(target)]) == 0
     assert target.read_text() == example_path("exp2_barrel").read_text()
     assert f"to {target}" in capsys.readouterr().out
-    Scenario.from_toml(target)                                # a valid scenario
+    Scenario.from_toml(target)  # a valid scenario
 
 
 def test_drop_writes_the_trajectory_of_simulate_drop(tmp_path, capsys):
     scen = tmp_path / "drop.toml"
     scen.write_text(DROP)
     out = tmp_path / "traj.nc"
-    assert main(["drop", str(scen), "-o", str(out), "--record-interval", "0.05",
-                 "--forces"]) == 0
+    assert main(["drop", str(scen), "-o", str(out), "--record-interval", "0.05", "--forces"]) == 0
     ref = simulate_drop(Scenario.from_toml(scen), record_interval=0.05, forces=True)
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == ref.attrs["status"] == "at_rest"
@@ -105,8 +105,22 @@ def test_run_writes_statistics_of_its_per_drop_values(tmp_path, capsys, sampling
     scen = tmp_path / "ens.toml"
     scen.write_text(ENSEMBLE)
     out = tmp_path / "ens.nc"
-    rc = main(["run", str(scen), "-n", "4", "--seed", "3", "-o", str(out), "--per-drop",
-               "--sampling", sampling, "--quiet"])
+    rc = main(
+        [
+            "run",
+            str(scen),
+            "-n",
+            "4",
+            "--seed",
+            "3",
+            "-o",
+            str(out),
+            "--per-drop",
+            "--sampling",
+            sampling,
+            "--quiet",
+        ]
+    )
     assert rc == 0
     with xr.open_dataset(out) as ds:
         assert ds.sizes["realization"] == 4 and int(ds.attrs["random_seed"]) == 3
@@ -114,5 +128,6 @@ def test_run_writes_statistics_of_its_per_drop_values(tmp_path, capsys, sampling
         assert used.any()
         for name in ("burial_volume", "penetration_depth"):
             assert float(ds[f"{name}_mean"]) == pytest.approx(
-                float(np.mean(ds[name].values[used])), rel=1e-12)
+                float(np.mean(ds[name].values[used])), rel=1e-12
+            )
     assert str(out) in capsys.readouterr().out

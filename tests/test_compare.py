@@ -1,10 +1,10 @@
 """``mineburial compare``: the same sampled drops under each variant (issue 10 item 2)."""
 
 import copy
-import tomllib
 
 import numpy as np
 import pytest
+import tomllib
 import xarray as xr
 
 from mineburial.cli import main
@@ -27,8 +27,7 @@ def short_default(n=10):
 
 @pytest.fixture(scope="module")
 def resistances():
-    return run_comparison(short_default(), "sediment.resistance",
-                          ["bearing", "friction", "delta"], seed=5)
+    return run_comparison(short_default(), "sediment.resistance", ["bearing", "friction", "delta"], seed=5)
 
 
 def test_every_variant_equals_its_own_ensemble_run(resistances):
@@ -39,35 +38,33 @@ def test_every_variant_equals_its_own_ensemble_run(resistances):
         raw["sediment"]["resistance"] = value
         ref = run_ensemble(raw, seed=5, per_drop=True)
         np.testing.assert_array_equal(resistances.drop_burial_volume[k], ref.burial_volume)
-        np.testing.assert_array_equal(resistances.drop_penetration_depth[k],
-                                      ref.penetration_depth)
+        np.testing.assert_array_equal(resistances.drop_penetration_depth[k], ref.penetration_depth)
         np.testing.assert_array_equal(resistances.drop_status[k], ref.status)
         for name in [v for v in ref.data_vars if v.startswith("input_")]:
             np.testing.assert_array_equal(resistances[name], ref[name])
-        np.testing.assert_array_equal(resistances.burial_class_probability[k],
-                                      ref.burial_class_probability)
+        np.testing.assert_array_equal(resistances.burial_class_probability[k], ref.burial_class_probability)
 
 
 def test_only_the_varied_field_changes(resistances):
-    assert list(resistances.changed_parameters.values) == [
-        "", "sediment.resistance", "sediment.resistance"]
+    assert list(resistances.changed_parameters.values) == ["", "sediment.resistance", "sediment.resistance"]
     # the variants do differ in their results
-    assert not np.array_equal(resistances.drop_burial_volume[0],
-                              resistances.drop_burial_volume[2])
+    assert not np.array_equal(resistances.drop_burial_volume[0], resistances.drop_burial_volume[2])
 
 
 def test_paired_difference_is_the_mean_of_per_drop_differences(resistances):
     d = (resistances.drop_penetration_depth[2] - resistances.drop_penetration_depth[0]).values
     assert resistances.penetration_depth_mean_difference[2] == pytest.approx(d.mean(), rel=1e-12)
     half = 1.959963984540054 * d.std(ddof=1) / np.sqrt(d.size)
-    assert resistances.penetration_depth_mean_difference_upper[2] == pytest.approx(
-        d.mean() + half, rel=1e-12)
+    assert resistances.penetration_depth_mean_difference_upper[2] == pytest.approx(d.mean() + half, rel=1e-12)
 
 
 def test_model_variant_switches_the_model_defaults_only():
     ds = run_comparison(short_default(n=4), "model", ["mineburial", "impact35"], seed=2)
     assert set(ds.changed_parameters.values[1].split()) == {
-        "numerics.model", "sediment.resistance", "sediment.rate_law"}
+        "numerics.model",
+        "sediment.resistance",
+        "sediment.rate_law",
+    }
 
 
 def test_parse_vary():
@@ -86,8 +83,23 @@ def test_random_field_cannot_be_varied():
 def test_cli_writes_table_netcdf_and_plot(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     out, png = tmp_path / "c.nc", tmp_path / "c.png"
-    assert main(["compare", "-n", "3", "--vary", "sediment.impact_factor=5,10", "--quiet",
-                 "-o", str(out), "--plot", str(png)]) == 0
+    assert (
+        main(
+            [
+                "compare",
+                "-n",
+                "3",
+                "--vary",
+                "sediment.impact_factor=5,10",
+                "--quiet",
+                "-o",
+                str(out),
+                "--plot",
+                str(png),
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     assert "| sediment.impact_factor | 5 | 10 |" in text
     assert png.stat().st_size > 0

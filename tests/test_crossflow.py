@@ -53,8 +53,9 @@ def quad_reference(a, b, vy, vz, wy, wz):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", IntegrationWarning)
         for k in range(4):
-            out[k] = quad(integrand, lo, hi, args=(k,), points=pts or None,
-                          epsabs=1e-300, epsrel=1e-13, limit=1000)[0]
+            out[k] = quad(
+                integrand, lo, hi, args=(k,), points=pts or None, epsabs=1e-300, epsrel=1e-13, limit=1000
+            )[0]
     return sign * out
 
 
@@ -82,7 +83,7 @@ def _random_cases(rng, n):
         kind = i % 6
         vy, vz = rng.normal(size=2) * 10.0 ** rng.uniform(-1, 1)
         wy, wz = rng.normal(size=2) * 10.0 ** rng.uniform(-2, 1.5)
-        if kind == 1:    # no rotation: C = 0
+        if kind == 1:  # no rotation: C = 0
             wy = wz = 0.0
         elif kind == 2:  # parallel, zero crossing x0 inside [a, b]: v = w (x - x0)
             x0 = rng.uniform(min(a, b), max(a, b))
@@ -113,23 +114,26 @@ def test_random_sweep_against_quad():
         _check(args)
 
 
-@pytest.mark.parametrize("args", [
-    # exactly parallel (exact floats): v = (2, -1) (x - 0.3), crossing inside
-    (-1.0, 1.0, -0.6, 0.3, 2.0, -1.0),
-    # crossing exactly at an end point and at the midpoint
-    (-0.5, 1.5, 1.0, 0.0, 2.0, 0.0),
-    (-2.0, 1.0, 0.0, 3.0, 0.0, 2.0),
-    (-1.0, 1.0, 0.0, 0.0, 1.5, -2.5),
-    # axis-aligned rotation with a perpendicular offset (m > 0, no sign change)
-    (-1.2, 0.8, 0.7, 0.0, 0.0, 3.0),
-    # nearly degenerate: v_min = 1e-13 / 1e-9 off a zero crossing
-    (-1.0, 1.0, -0.3, 1e-13, 1.0, 0.0),
-    (-1.0, 2.0, 1e-9, 0.45, 0.0, -1.5),
-    # tiny rotation, long offset interval
-    (10.0, 12.0, 1.0, -2.0, 1e-9, 3e-9),
-    # reversed interval
-    (1.0, -1.0, 0.4, 0.2, -1.0, 2.0),
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        # exactly parallel (exact floats): v = (2, -1) (x - 0.3), crossing inside
+        (-1.0, 1.0, -0.6, 0.3, 2.0, -1.0),
+        # crossing exactly at an end point and at the midpoint
+        (-0.5, 1.5, 1.0, 0.0, 2.0, 0.0),
+        (-2.0, 1.0, 0.0, 3.0, 0.0, 2.0),
+        (-1.0, 1.0, 0.0, 0.0, 1.5, -2.5),
+        # axis-aligned rotation with a perpendicular offset (m > 0, no sign change)
+        (-1.2, 0.8, 0.7, 0.0, 0.0, 3.0),
+        # nearly degenerate: v_min = 1e-13 / 1e-9 off a zero crossing
+        (-1.0, 1.0, -0.3, 1e-13, 1.0, 0.0),
+        (-1.0, 2.0, 1e-9, 0.45, 0.0, -1.5),
+        # tiny rotation, long offset interval
+        (10.0, 12.0, 1.0, -2.0, 1e-9, 3e-9),
+        # reversed interval
+        (1.0, -1.0, 0.4, 0.2, -1.0, 2.0),
+    ],
+)
 def test_special_cases_against_quad(args):
     _check(args)
 
@@ -147,8 +151,9 @@ def test_uniform_flow_closed_form():
     # w = 0: |v| v L and |v| v (b^2 - a^2) / 2 (elementary)
     a, b, vy, vz = -0.7, 1.9, 1.3, -0.4
     sp = math.hypot(vy, vz)
-    ref = np.array([sp * vy * (b - a), sp * vz * (b - a),
-                    sp * vy * (b * b - a * a) / 2, sp * vz * (b * b - a * a) / 2])
+    ref = np.array(
+        [sp * vy * (b - a), sp * vz * (b - a), sp * vy * (b * b - a * a) / 2, sp * vz * (b * b - a * a) / 2]
+    )
     _check((a, b, vy, vz, 0.0, 0.0), ref=ref)
 
 
@@ -156,7 +161,7 @@ def test_pure_rotation_closed_form():
     # v = w x on [-l, l]: F = 0, M = |w| w int x^2 |x| dx = |w| w l^4 / 2
     l, wy, wz = 1.3, 0.6, -2.2
     ww = math.hypot(wy, wz)
-    ref = np.array([0.0, 0.0, ww * wy * l ** 4 / 2, ww * wz * l ** 4 / 2])
+    ref = np.array([0.0, 0.0, ww * wy * l**4 / 2, ww * wz * l**4 / 2])
     _check((-l, l, 0.0, 0.0, wy, wz), ref=ref)
 
 
@@ -179,7 +184,7 @@ def test_velocity_scaling_is_quadratic():
         for k in (1e-150, 1e-7, 3.7, 1e120):
             got = np.array(quadratic_drag_integrals(a, b, k * vy, k * vz, k * wy, k * wz))
             tol = REL * np.abs(ref) + ABS * sc
-            assert np.all(np.abs(got / k ** 2 - ref) <= tol), (k, got / k ** 2, ref)
+            assert np.all(np.abs(got / k**2 - ref) <= tol), (k, got / k**2, ref)
 
 
 def test_length_scaling():

@@ -12,8 +12,18 @@ import pytest
 from scipy import stats
 
 from mineburial.ensembles.distributions import (
-    DISTRIBUTIONS, Choice, DistributionError, Empirical, LogNormal, Normal,
-    TruncatedNormal, Uniform, from_dict, is_distribution_table, parse_value)
+    DISTRIBUTIONS,
+    Choice,
+    DistributionError,
+    Empirical,
+    LogNormal,
+    Normal,
+    TruncatedNormal,
+    Uniform,
+    from_dict,
+    is_distribution_table,
+    parse_value,
+)
 from mineburial.ensembles.sampling import sample_fields
 
 N = 100_000
@@ -29,16 +39,18 @@ def draws(table, method="mc", n=N, seed=SEED, field="test.x"):
 CONTINUOUS = [
     ({"distribution": "uniform", "low": 2.0, "high": 5.0}, stats.uniform(loc=2.0, scale=3.0)),
     ({"distribution": "normal", "mean": 500.0, "std": 25.0}, stats.norm(loc=500.0, scale=25.0)),
-    ({"distribution": "truncated_normal", "mean": 1.0, "std": 2.0, "low": 0.0, "high": 4.0},
-     stats.truncnorm(-0.5, 1.5, loc=1.0, scale=2.0)),
-    ({"distribution": "truncated_normal", "mean": 0.0, "std": 1.0, "low": 1.5},
-     stats.truncnorm(1.5, np.inf)),
+    (
+        {"distribution": "truncated_normal", "mean": 1.0, "std": 2.0, "low": 0.0, "high": 4.0},
+        stats.truncnorm(-0.5, 1.5, loc=1.0, scale=2.0),
+    ),
+    ({"distribution": "truncated_normal", "mean": 0.0, "std": 1.0, "low": 1.5}, stats.truncnorm(1.5, np.inf)),
     ({"distribution": "lognormal", "median": 3.0, "sigma": 0.5}, stats.lognorm(s=0.5, scale=3.0)),
 ]
 
 
-@pytest.mark.parametrize("table,ref", CONTINUOUS,
-                         ids=lambda x: x["distribution"] if isinstance(x, dict) else "")
+@pytest.mark.parametrize(
+    "table,ref", CONTINUOUS, ids=lambda x: x["distribution"] if isinstance(x, dict) else ""
+)
 @pytest.mark.parametrize("method", ["mc", "sobol"])
 def test_ks_against_scipy(table, ref, method):
     x = draws(table, method)
@@ -67,6 +79,7 @@ def test_truncated_normal_mean_closed_form():
     # E[X] = mu + sigma (phi(a) - phi(b)) / (Phi(b) - Phi(a))  (Johnson, Kotz & Balakrishnan)
     mu, sd, lo, hi = 1.0, 2.0, 0.0, 4.0
     a, b = (lo - mu) / sd, (hi - mu) / sd
+
     def phi(z):
         return math.exp(-0.5 * z * z) / math.sqrt(2 * math.pi)
 
@@ -91,11 +104,12 @@ def test_lognormal_median_and_mean():
 
 def test_far_tail_truncation_is_finite():
     d = TruncatedNormal.from_dict({"mean": 0.0, "std": 1.0, "low": 30.0, "high": 31.0}, "x")
-    x = d.ppf(np.array([2.0 ** -53, 0.5, 1 - 2.0 ** -53]))
+    x = d.ppf(np.array([2.0**-53, 0.5, 1 - 2.0**-53]))
     assert np.all(np.isfinite(x)) and np.all((x >= 30.0) & (x <= 31.0))
 
 
 # --- discrete families ---------------------------------------------------------
+
 
 def test_choice_weights_chi_square():
     d = {"distribution": "choice", "values": [1.0, 2.0, 5.0, 10.0], "weights": [1, 2, 3, 4]}
@@ -130,7 +144,7 @@ def test_choice_labels_return_indices_and_labels():
 
 
 def test_empirical_values_resampled_with_equal_weight():
-    vals = [0.5, 1.0, 1.0, 2.0, 7.0]          # 1.0 twice -> probability 2/5
+    vals = [0.5, 1.0, 1.0, 2.0, 7.0]  # 1.0 twice -> probability 2/5
     x = draws({"distribution": "empirical", "values": vals})
     uniq, counts = np.unique(x, return_counts=True)
     np.testing.assert_array_equal(uniq, [0.5, 1.0, 2.0, 7.0])
@@ -142,7 +156,7 @@ def test_empirical_values_resampled_with_equal_weight():
 
 def test_empirical_reproduces_a_continuous_sample():
     rng = np.random.default_rng(1)
-    sample = rng.gamma(2.0, 3.0, size=400)            # 400 distinct values
+    sample = rng.gamma(2.0, 3.0, size=400)  # 400 distinct values
     x = draws({"distribution": "empirical", "values": sample.tolist()})
     values, counts = np.unique(x, return_counts=True)
     # only the given values come out, each with probability 1/400
@@ -158,8 +172,11 @@ def test_empirical_reproduces_a_continuous_sample():
 def test_empirical_from_csv_file(tmp_path):
     f = tmp_path / "cores.csv"
     f.write_text("# shear strengths of cores\ncore,strength_kpa\nA,2.5\nB,3.5\n\nC,3.5\n")
-    d = from_dict({"distribution": "empirical", "file": "cores.csv", "column": "strength_kpa"},
-                  "sediment.strength", base_dir=tmp_path)
+    d = from_dict(
+        {"distribution": "empirical", "file": "cores.csv", "column": "strength_kpa"},
+        "sediment.strength",
+        base_dir=tmp_path,
+    )
     assert d.values == (2.5, 3.5, 3.5) and d.file == "cores.csv"
     assert d.to_dict() == {"distribution": "empirical", "file": "cores.csv", "column": "strength_kpa"}
     one = tmp_path / "one.csv"
@@ -169,6 +186,7 @@ def test_empirical_from_csv_file(tmp_path):
 
 # --- parse_value and round trip -----------------------------------------------
 
+
 def test_parse_value_fixed_and_distribution():
     assert parse_value(500, "mine.mass") == 500.0 and isinstance(parse_value(500, "m"), float)
     assert parse_value("clay", "sediment.class") == "clay"
@@ -177,14 +195,17 @@ def test_parse_value_fixed_and_distribution():
     assert is_distribution_table({"distribution": "normal"}) and not is_distribution_table({"mean": 1})
 
 
-@pytest.mark.parametrize("table", [
-    {"distribution": "uniform", "low": 0.0, "high": 1.0},
-    {"distribution": "normal", "mean": 0.0, "std": 1.0},
-    {"distribution": "truncated_normal", "mean": 0.0, "std": 1.0, "low": -1.0},
-    {"distribution": "lognormal", "median": 1.0, "sigma": 0.1},
-    {"distribution": "choice", "values": ["a", "b"], "weights": [0.25, 0.75]},
-    {"distribution": "empirical", "values": [1.0, 2.0]},
-])
+@pytest.mark.parametrize(
+    "table",
+    [
+        {"distribution": "uniform", "low": 0.0, "high": 1.0},
+        {"distribution": "normal", "mean": 0.0, "std": 1.0},
+        {"distribution": "truncated_normal", "mean": 0.0, "std": 1.0, "low": -1.0},
+        {"distribution": "lognormal", "median": 1.0, "sigma": 0.1},
+        {"distribution": "choice", "values": ["a", "b"], "weights": [0.25, 0.75]},
+        {"distribution": "empirical", "values": [1.0, 2.0]},
+    ],
+)
 def test_to_dict_round_trip(table):
     d = from_dict(table, "x")
     assert d.to_dict() == table
@@ -192,8 +213,7 @@ def test_to_dict_round_trip(table):
 
 
 def test_registry_names():
-    assert set(DISTRIBUTIONS) == {"uniform", "normal", "truncated_normal", "lognormal",
-                                  "choice", "empirical"}
+    assert set(DISTRIBUTIONS) == {"uniform", "normal", "truncated_normal", "lognormal", "choice", "empirical"}
 
 
 # --- error messages -------------------------------------------------------------
@@ -201,36 +221,57 @@ def test_registry_names():
 ERRORS = [
     ({"distribution": "normal", "mean": 500.0, "std": -1}, r"^mine\.mass: std = -1 must be > 0$"),
     ({"distribution": "normal", "mean": 500.0}, r"^mine\.mass: normal distribution needs 'std'"),
-    ({"distribution": "normal", "mean": "500", "std": 1.0},
-     r"^mine\.mass: mean = '500' must be a number"),
-    ({"distribution": "normal", "mean": 500.0, "sdt": 1.0},
-     r"^mine\.mass: unknown parameter 'sdt' .*allowed parameters are mean, std \(did you mean 'std'\?\)"),
-    ({"distribution": "normal", "mean": float("nan"), "std": 1.0},
-     r"^mine\.mass: mean = nan must be a finite"),
-    ({"distribution": "nromal", "mean": 0, "std": 1},
-     r"^mine\.mass: unknown distribution 'nromal'; available distributions are uniform, normal, "
-     r"truncated_normal, lognormal, choice, empirical \(did you mean 'normal'\?\)"),
+    ({"distribution": "normal", "mean": "500", "std": 1.0}, r"^mine\.mass: mean = '500' must be a number"),
+    (
+        {"distribution": "normal", "mean": 500.0, "sdt": 1.0},
+        r"^mine\.mass: unknown parameter 'sdt' .*allowed parameters are mean, std \(did you mean 'std'\?\)",
+    ),
+    (
+        {"distribution": "normal", "mean": float("nan"), "std": 1.0},
+        r"^mine\.mass: mean = nan must be a finite",
+    ),
+    (
+        {"distribution": "nromal", "mean": 0, "std": 1},
+        r"^mine\.mass: unknown distribution 'nromal'; available distributions are uniform, normal, "
+        r"truncated_normal, lognormal, choice, empirical \(did you mean 'normal'\?\)",
+    ),
     ({"mean": 0, "std": 1}, r"^mine\.mass: an inline table must name its family .*available distributions"),
     ({"distribution": "uniform", "low": 5, "high": 2}, r"^mine\.mass: high = 2 must be > low = 5$"),
-    ({"distribution": "truncated_normal", "mean": 0, "std": 1},
-     r"^mine\.mass: truncated_normal needs at least one"),
-    ({"distribution": "truncated_normal", "mean": 0, "std": 1, "low": 3, "high": 1},
-     r"^mine\.mass: high = 1 must be > low = 3$"),
-    ({"distribution": "lognormal", "mean": 500.0, "std": 50.0},
-     r"^mine\.mass: lognormal is parameterised by median .*median = 497\.519, sigma = 0\.0997513"),
+    (
+        {"distribution": "truncated_normal", "mean": 0, "std": 1},
+        r"^mine\.mass: truncated_normal needs at least one",
+    ),
+    (
+        {"distribution": "truncated_normal", "mean": 0, "std": 1, "low": 3, "high": 1},
+        r"^mine\.mass: high = 1 must be > low = 3$",
+    ),
+    (
+        {"distribution": "lognormal", "mean": 500.0, "std": 50.0},
+        r"^mine\.mass: lognormal is parameterised by median .*median = 497\.519, sigma = 0\.0997513",
+    ),
     ({"distribution": "lognormal", "median": -2, "sigma": 1}, r"^mine\.mass: median = -2 must be > 0$"),
     ({"distribution": "lognormal", "median": 2, "sigma": 0}, r"^mine\.mass: sigma = 0 must be > 0$"),
-    ({"distribution": "choice", "values": [1, 2], "weights": [1]},
-     r"^mine\.mass: weights has 1 entries but values has 2$"),
-    ({"distribution": "choice", "values": [1, 2], "weights": [1, -0.5]},
-     r"^mine\.mass: weights\[1\] = -0\.5 must be finite and >= 0$"),
-    ({"distribution": "choice", "values": [1, 2], "weights": [0, 0]},
-     r"^mine\.mass: weights must not all be zero"),
-    ({"distribution": "choice", "values": [1, "a"]},
-     r"^mine\.mass: values\[1\] = 'a' must be a number.*mixed"),
+    (
+        {"distribution": "choice", "values": [1, 2], "weights": [1]},
+        r"^mine\.mass: weights has 1 entries but values has 2$",
+    ),
+    (
+        {"distribution": "choice", "values": [1, 2], "weights": [1, -0.5]},
+        r"^mine\.mass: weights\[1\] = -0\.5 must be finite and >= 0$",
+    ),
+    (
+        {"distribution": "choice", "values": [1, 2], "weights": [0, 0]},
+        r"^mine\.mass: weights must not all be zero",
+    ),
+    (
+        {"distribution": "choice", "values": [1, "a"]},
+        r"^mine\.mass: values\[1\] = 'a' must be a number.*mixed",
+    ),
     ({"distribution": "choice", "values": []}, r"^mine\.mass: values = \[\] must be a non-empty list"),
-    ({"distribution": "empirical", "values": ["a"]},
-     r"^mine\.mass: values\[0\] = 'a' .*use distribution = \"choice\""),
+    (
+        {"distribution": "empirical", "values": ["a"]},
+        r"^mine\.mass: values\[0\] = 'a' .*use distribution = \"choice\"",
+    ),
     ({"distribution": "empirical"}, r"^mine\.mass: empirical distribution needs exactly one of"),
 ]
 
@@ -245,11 +286,14 @@ def test_error_is_a_value_error():
     assert issubclass(DistributionError, ValueError)
 
 
-@pytest.mark.parametrize("value,pattern", [
-    (True, r"^release\.z: True must be a number"),
-    ([1, 2], r"^release\.z: a list \[1, 2\] is not a value; write a choice"),
-    (float("inf"), r"^release\.z: inf must be a finite number"),
-])
+@pytest.mark.parametrize(
+    "value,pattern",
+    [
+        (True, r"^release\.z: True must be a number"),
+        ([1, 2], r"^release\.z: a list \[1, 2\] is not a value; write a choice"),
+        (float("inf"), r"^release\.z: inf must be a finite number"),
+    ],
+)
 def test_parse_value_rejects(value, pattern):
     with pytest.raises(DistributionError, match=pattern):
         parse_value(value, "release.z")
@@ -258,17 +302,30 @@ def test_parse_value_rejects(value, pattern):
 def test_empirical_file_errors(tmp_path):
     f = tmp_path / "c.csv"
     f.write_text("depth,strength\n0.1,2\n0.2,x\n")
-    with pytest.raises(DistributionError, match=r"^sediment\.strength: column = 'strenght' not in .*"
-                       r"available columns are depth, strength \(did you mean 'strength'\?\)"):
-        from_dict({"distribution": "empirical", "file": "c.csv", "column": "strenght"},
-                  "sediment.strength", base_dir=tmp_path)
-    with pytest.raises(DistributionError,
-                       match=r"^sediment\.strength: .*line 3, column 'strength': 'x' is not a number"):
-        from_dict({"distribution": "empirical", "file": "c.csv", "column": "strength"},
-                  "sediment.strength", base_dir=tmp_path)
+    with pytest.raises(
+        DistributionError,
+        match=r"^sediment\.strength: column = 'strenght' not in .*"
+        r"available columns are depth, strength \(did you mean 'strength'\?\)",
+    ):
+        from_dict(
+            {"distribution": "empirical", "file": "c.csv", "column": "strenght"},
+            "sediment.strength",
+            base_dir=tmp_path,
+        )
+    with pytest.raises(
+        DistributionError, match=r"^sediment\.strength: .*line 3, column 'strength': 'x' is not a number"
+    ):
+        from_dict(
+            {"distribution": "empirical", "file": "c.csv", "column": "strength"},
+            "sediment.strength",
+            base_dir=tmp_path,
+        )
     with pytest.raises(DistributionError, match=r"^sediment\.strength: file = 'missing\.csv' not found"):
-        from_dict({"distribution": "empirical", "file": "missing.csv", "column": "a"},
-                  "sediment.strength", base_dir=tmp_path)
+        from_dict(
+            {"distribution": "empirical", "file": "missing.csv", "column": "a"},
+            "sediment.strength",
+            base_dir=tmp_path,
+        )
     with pytest.raises(DistributionError, match=r"has columns depth, strength; name one"):
         from_dict({"distribution": "empirical", "file": "c.csv"}, "sediment.strength", base_dir=tmp_path)
 
@@ -286,23 +343,31 @@ def _truncnorm_cdf(x, mu, sd, a, b):
 
 
 OUTSIDE = [
-    ({"distribution": "uniform", "low": 2.0, "high": 5.0},
-     lambda lo, hi: (min(max(lo - 2.0, 0.0), 3.0) + min(max(5.0 - hi, 0.0), 3.0)) / 3.0),
-    ({"distribution": "normal", "mean": 3.0, "std": 1.5},
-     lambda lo, hi: _phi((lo - 3.0) / 1.5) + 1.0 - _phi((hi - 3.0) / 1.5)),
-    ({"distribution": "truncated_normal", "mean": 1.0, "std": 2.0, "low": 0.5, "high": 6.0},
-     lambda lo, hi: _truncnorm_cdf(lo, 1.0, 2.0, 0.5, 6.0)
-     + 1.0 - _truncnorm_cdf(hi, 1.0, 2.0, 0.5, 6.0)),
-    ({"distribution": "lognormal", "median": 3.0, "sigma": 0.5},
-     lambda lo, hi: (_phi(math.log(lo / 3.0) / 0.5) if lo > 0 else 0.0)
-     + 1.0 - _phi(math.log(hi / 3.0) / 0.5)),
+    (
+        {"distribution": "uniform", "low": 2.0, "high": 5.0},
+        lambda lo, hi: (min(max(lo - 2.0, 0.0), 3.0) + min(max(5.0 - hi, 0.0), 3.0)) / 3.0,
+    ),
+    (
+        {"distribution": "normal", "mean": 3.0, "std": 1.5},
+        lambda lo, hi: _phi((lo - 3.0) / 1.5) + 1.0 - _phi((hi - 3.0) / 1.5),
+    ),
+    (
+        {"distribution": "truncated_normal", "mean": 1.0, "std": 2.0, "low": 0.5, "high": 6.0},
+        lambda lo, hi: _truncnorm_cdf(lo, 1.0, 2.0, 0.5, 6.0) + 1.0 - _truncnorm_cdf(hi, 1.0, 2.0, 0.5, 6.0),
+    ),
+    (
+        {"distribution": "lognormal", "median": 3.0, "sigma": 0.5},
+        lambda lo, hi: (
+            (_phi(math.log(lo / 3.0) / 0.5) if lo > 0 else 0.0) + 1.0 - _phi(math.log(hi / 3.0) / 0.5)
+        ),
+    ),
 ]
-INTERVALS = [(-math.inf, math.inf), (2.5, 4.0), (0.0, 1.5), (-1.0, 3.0), (4.0, 100.0),
-             (10.0, 20.0)]
+INTERVALS = [(-math.inf, math.inf), (2.5, 4.0), (0.0, 1.5), (-1.0, 3.0), (4.0, 100.0), (10.0, 20.0)]
 
 
-@pytest.mark.parametrize("table,reference", OUTSIDE, ids=lambda x: x["distribution"]
-                         if isinstance(x, dict) else "")
+@pytest.mark.parametrize(
+    "table,reference", OUTSIDE, ids=lambda x: x["distribution"] if isinstance(x, dict) else ""
+)
 def test_probability_outside_matches_the_closed_form(table, reference):
     d = from_dict(table, "test.x")
     for low, high in INTERVALS:
@@ -321,8 +386,7 @@ def test_probability_outside_agrees_with_the_fraction_of_draws():
 
 
 def test_probability_outside_of_discrete_families_counts_open_ends():
-    c = from_dict({"distribution": "choice", "values": [0.0, 1.0, 2.0], "weights": [1, 1, 2]},
-                  "test.x")
+    c = from_dict({"distribution": "choice", "values": [0.0, 1.0, 2.0], "weights": [1, 1, 2]}, "test.x")
     assert c.probability_outside(0.0, 2.0) == 0.0
     assert c.probability_outside(0.0, 2.0, low_inclusive=False) == 0.25
     assert c.probability_outside(0.0, 2.0, high_inclusive=False) == 0.5

@@ -12,10 +12,10 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
-
 from conftest import make_scenario as _make_scenario
 from conftest import scenario_dict
+from scipy.integrate import quad, solve_ivp
+
 from mineburial.config import Scenario
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
@@ -84,21 +84,22 @@ def test_broadside_fall_matches_the_ode_of_the_printed_laws(model, added_mass):
     impact35 (its ratios f_i are never given), strip-theory added mass rho pi R^2 L
     (C_M = 1, seed 001) in the default model."""
     mass = 60.0
-    sc = make_scenario(mine={"mass": mass}, environment={"gravity": G, "water_density": RHO},
-                       release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-                       numerics={"model": model, "integrator": "dopri5", "t_max": 6.0,
-                                 "rtol": 1e-9, "atol": 1e-12})
+    sc = make_scenario(
+        mine={"mass": mass},
+        environment={"gravity": G, "water_density": RHO},
+        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
+        numerics={"model": model, "integrator": "dopri5", "t_max": 6.0, "rtol": 1e-9, "atol": 1e-12},
+    )
     ds = simulate_drop(sc, record_interval=0.05)
     assert ds.attrs["model"] == model
 
     def rhs(t, y):
         return [(-(mass - RHO * VOL) * G + broadside_drag(y[0])) / (mass + added_mass)]
 
-    ref = solve_ivp(rhs, (0.0, 6.0), [0.0], t_eval=ds.time.values, rtol=1e-11, atol=1e-13,
-                    max_step=0.01)
+    ref = solve_ivp(rhs, (0.0, 6.0), [0.0], t_eval=ds.time.values, rtol=1e-11, atol=1e-13, max_step=0.01)
     np.testing.assert_allclose(ds.w.values, ref.y[0], rtol=0, atol=2e-5)
-    assert float(ds.w[-1]) < -0.3                           # the drag law was exercised
-    np.testing.assert_allclose(ds.psi2.values, 0.0, atol=1e-9)   # no torque: stays broadside
+    assert float(ds.w[-1]) < -0.3  # the drag law was exercised
+    np.testing.assert_allclose(ds.psi2.values, 0.0, atol=1e-9)  # no torque: stays broadside
 
 
 # ---------------------------------------------------------------------------
@@ -111,19 +112,20 @@ def test_neutral_mine_relaxes_to_a_uniform_current():
     k = 0.5 rho C_d2 d L / (m + m_a)."""
     U = 0.5
     mass = RHO * VOL
-    sc = make_scenario(mine={"mass": mass},
-                       environment={"water_density": RHO,
-                                    "current": {"kind": "uniform", "velocity": [0.0, U]}},
-                       release={"position": [0, 0, -20.0], "pitch_deg": 0.0},
-                       numerics={"t_max": 15.0, "rtol": 1e-9, "atol": 1e-12})
+    sc = make_scenario(
+        mine={"mass": mass},
+        environment={"water_density": RHO, "current": {"kind": "uniform", "velocity": [0.0, U]}},
+        release={"position": [0, 0, -20.0], "pitch_deg": 0.0},
+        numerics={"t_max": 15.0, "rtol": 1e-9, "atol": 1e-12},
+    )
     ds = simulate_drop(sc, record_interval=0.5)
     cd2 = 0.835 - 0.35 / (L / D)
     k = 0.5 * RHO * cd2 * D * L / (mass + RHO * VOL)
     t = ds.time.values
-    assert (U - ds.v.values[-1]) * D / NU > 12000            # still in the constant-C_d2 band
+    assert (U - ds.v.values[-1]) * D / NU > 12000  # still in the constant-C_d2 band
     np.testing.assert_allclose(ds.v.values, U - U / (1 + k * U * t), rtol=0, atol=5e-5)
-    np.testing.assert_allclose(ds.u.values, 0.0, atol=1e-12)   # along the current only
-    np.testing.assert_allclose(ds.w.values, 0.0, atol=1e-9)    # neutrally buoyant
+    np.testing.assert_allclose(ds.u.values, 0.0, atol=1e-12)  # along the current only
+    np.testing.assert_allclose(ds.w.values, 0.0, atol=1e-9)  # neutrally buoyant
     assert float(ds.v[-1]) > 0.85 * U
 
 
@@ -133,10 +135,12 @@ def test_heavy_mine_drifts_with_the_current_at_terminal_velocity():
     sideways force): the lateral lag decays with the time constant (m + m_a) / (0.5 rho C_d2
     d L |w|) ~ 3 s, far below the 40 s simulated."""
     U = 0.3
-    sc = make_scenario(mine={"mass": 60.0},
-                       environment={"current": {"kind": "uniform", "velocity": [0.0, U]}},
-                       release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-                       numerics={"t_max": 40.0})
+    sc = make_scenario(
+        mine={"mass": 60.0},
+        environment={"current": {"kind": "uniform", "velocity": [0.0, U]}},
+        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
+        numerics={"t_max": 40.0},
+    )
     ds = simulate_drop(sc, record_interval=1.0)
     assert abs(float(ds.v[-1]) - U) < 1e-4
     assert abs(float(ds.u[-1])) < 1e-9
@@ -148,16 +152,16 @@ def test_heavy_mine_drifts_with_the_current_at_terminal_velocity():
 # ---------------------------------------------------------------------------
 def test_water_entry_and_impact_events_match_free_fall():
     z0, u0, w0, pitch, depth = 4.0, 2.0, -3.0, 30.0, 6.0
-    sc = make_scenario(environment={"air_density": 0.0, "water_density": 0.0, "gravity": G,
-                                    "water_depth": depth},
-                       release={"position": [0.0, 0.0, z0], "velocity": [u0, 0.0, w0],
-                                "pitch_deg": pitch},
-                       numerics={"t_max": 2.0})
+    sc = make_scenario(
+        environment={"air_density": 0.0, "water_density": 0.0, "gravity": G, "water_depth": depth},
+        release={"position": [0.0, 0.0, z0], "velocity": [u0, 0.0, w0], "pitch_deg": pitch},
+        numerics={"t_max": 2.0},
+    )
     p, sb, cb = sc.to_params()
     # lowest point of a cylinder at dip psi2 below its centre: L/2 sin psi2 + R cos psi2
     drop = 0.5 * L * math.sin(math.radians(pitch)) + R * math.cos(math.radians(pitch))
 
-    def crossing(level):      # z0 - drop + w0 t - g t^2 / 2 = level, the first root t > 0
+    def crossing(level):  # z0 - drop + w0 t - g t^2 / 2 = level, the first root t > 0
         a, b, c = -0.5 * G, w0, z0 - drop - level
         return (-b - math.sqrt(b * b - 4 * a * c)) / (2 * a)
 
@@ -176,12 +180,13 @@ def test_water_entry_and_impact_events_match_free_fall():
 def test_impact_values_of_a_vertical_drop_through_air():
     """A nose-down mine dropped through air only (no water) from rest: impact at the
     free-fall time and speed of its nose, angle 90 degrees, no water entry before it."""
-    h = 3.0       # nose height above the surface
+    h = 3.0  # nose height above the surface
     depth = 0.5
-    sc = make_scenario(environment={"air_density": 0.0, "water_density": 0.0, "gravity": G,
-                                    "water_depth": depth},
-                       release={"position": [0.0, 0.0, h + 0.5 * L], "pitch_deg": 90.0},
-                       numerics={"t_max": 1.2})
+    sc = make_scenario(
+        environment={"air_density": 0.0, "water_density": 0.0, "gravity": G, "water_depth": depth},
+        release={"position": [0.0, 0.0, h + 0.5 * L], "pitch_deg": 90.0},
+        numerics={"t_max": 1.2},
+    )
     code, s = _summary(sc)
     assert s["water_entry_time"] == pytest.approx(math.sqrt(2 * h / G), abs=1e-10)
     assert s["impact_time"] == pytest.approx(math.sqrt(2 * (h + depth) / G), abs=1e-10)
@@ -202,20 +207,24 @@ def test_time_limit():
     assert int(ds.status) == status.TIME_LIMIT and ds.attrs["status"] == "time_limit"
     assert float(ds.total_time) == pytest.approx(0.7, abs=1e-12)
     assert float(ds.time[-1]) == pytest.approx(0.7, abs=1e-12)
-    assert math.isnan(float(ds.impact_time))                 # it never reached the seabed
+    assert math.isnan(float(ds.impact_time))  # it never reached the seabed
 
 
-@pytest.mark.parametrize("velocity, gravity, t_exit", [
-    # straight up in vacuum: z = z0 + 1000 m at the first root of 200 t - g t^2 / 2 = 1000
-    ((0.0, 0.0, 200.0), G, (200.0 - math.sqrt(200.0 ** 2 - 2 * G * 1000.0)) / G),
-    # sideways at 500 m/s (almost no gravity): |x| = 1e5 m at t = 200 s
-    ((500.0, 0.0, 0.0), 1e-6, 200.0),
-])
+@pytest.mark.parametrize(
+    "velocity, gravity, t_exit",
+    [
+        # straight up in vacuum: z = z0 + 1000 m at the first root of 200 t - g t^2 / 2 = 1000
+        ((0.0, 0.0, 200.0), G, (200.0 - math.sqrt(200.0**2 - 2 * G * 1000.0)) / G),
+        # sideways at 500 m/s (almost no gravity): |x| = 1e5 m at t = 200 s
+        ((500.0, 0.0, 0.0), 1e-6, 200.0),
+    ],
+)
 def test_left_domain(velocity, gravity, t_exit):
-    sc = make_scenario(environment={"air_density": 0.0, "water_density": 0.0,
-                                    "gravity": gravity, "water_depth": 100.0},
-                       release={"position": [0.0, 0.0, 10.0], "velocity": list(velocity)},
-                       numerics={"t_max": 1000.0})
+    sc = make_scenario(
+        environment={"air_density": 0.0, "water_density": 0.0, "gravity": gravity, "water_depth": 100.0},
+        release={"position": [0.0, 0.0, 10.0], "velocity": list(velocity)},
+        numerics={"t_max": 1000.0},
+    )
     code, s = _summary(sc)
     assert code == status.LEFT_DOMAIN
     # the domain is checked after each step, and no step is longer than 0.5 s
@@ -238,16 +247,23 @@ def test_numerical_failure(integrator, slot, value):
 # ---------------------------------------------------------------------------
 # tabulated sediment profiles: the overburden of the embedded part
 # ---------------------------------------------------------------------------
-TABLE = np.array([[0.0, 0.2, 0.45, 1.5],              # depth below the seabed, m
-                  [1300.0, 1450.0, 1700.0, 1900.0],    # bulk density, kg m-3
-                  [500.0, 900.0, 2000.0, 6000.0]])     # strength, Pa
+TABLE = np.array(
+    [
+        [0.0, 0.2, 0.45, 1.5],  # depth below the seabed, m
+        [1300.0, 1450.0, 1700.0, 1900.0],  # bulk density, kg m-3
+        [500.0, 900.0, 2000.0, 6000.0],
+    ]
+)  # strength, Pa
 
 
 def _tabulated_params(resistance="bearing"):
-    sc = make_scenario(sediment={"profile": {"depth": list(TABLE[0]), "density": list(TABLE[1]),
-                                             "strength": list(TABLE[2])},
-                                 "resistance": resistance},
-                       environment={"water_depth": 10.0, "water_density": RHO, "gravity": G})
+    sc = make_scenario(
+        sediment={
+            "profile": {"depth": list(TABLE[0]), "density": list(TABLE[1]), "strength": list(TABLE[2])},
+            "resistance": resistance,
+        },
+        environment={"water_depth": 10.0, "water_density": RHO, "gravity": G},
+    )
     return sc, *sc.to_params()
 
 
@@ -282,12 +298,14 @@ def test_tabulated_overburden_against_quadrature(a_z, zeta_lo, table):
         def integrand(x, moment):
             zeta = seabed - (z_c + a_z * x)
             return (rho(zeta) - RHO) * G * AREA * (x if moment else 1.0) if zeta > 0 else 0.0
-        kinks = [x for x in ((seabed - zeta - z_c) / a_z for zeta in tab[0])
-                 if -0.5 * L < x < 0.5 * L]
-        ref_f = quad(integrand, -0.5 * L, 0.5 * L, args=(False,), points=kinks, limit=200,
-                     epsabs=0.0, epsrel=1e-12)[0]
-        ref_fx = quad(integrand, -0.5 * L, 0.5 * L, args=(True,), points=kinks, limit=200,
-                      epsabs=0.0, epsrel=1e-12)[0]
+
+        kinks = [x for x in ((seabed - zeta - z_c) / a_z for zeta in tab[0]) if -0.5 * L < x < 0.5 * L]
+        ref_f = quad(
+            integrand, -0.5 * L, 0.5 * L, args=(False,), points=kinks, limit=200, epsabs=0.0, epsrel=1e-12
+        )[0]
+        ref_fx = quad(
+            integrand, -0.5 * L, 0.5 * L, args=(True,), points=kinks, limit=200, epsabs=0.0, epsrel=1e-12
+        )[0]
         assert f == pytest.approx(ref_f, rel=1e-9)
         if table == "uniform":
             assert fx == pytest.approx(ref_fx, rel=1e-9, abs=1e-9 * abs(ref_f))
@@ -295,14 +313,17 @@ def test_tabulated_overburden_against_quadrature(a_z, zeta_lo, table):
     else:
         # tilted: sum over axial stations of the cross-section strip integral
         def section(x):
-            zc = z_c + a_z * x            # height of the axis point
-            def strip(s):                 # s along e_down, chord half-width sqrt(R^2 - s^2)
+            zc = z_c + a_z * x  # height of the axis point
+
+            def strip(s):  # s along e_down, chord half-width sqrt(R^2 - s^2)
                 zeta = seabed - (zc - b * s)
                 return 2 * math.sqrt(R * R - s * s) * (rho(zeta) - RHO) if zeta > 0 else 0.0
+
             return quad(strip, -R, R, limit=100)[0]
+
         ref_f = G * quad(section, -0.5 * L, 0.5 * L, limit=100)[0]
         assert f == pytest.approx(ref_f, rel=1e-5)
-        if table == "uniform":   # first moment along the axis: int x dF
+        if table == "uniform":  # first moment along the axis: int x dF
             ref_fx = G * quad(lambda x: x * section(x), -0.5 * L, 0.5 * L, limit=100)[0]
             assert fx == pytest.approx(ref_fx, rel=1e-5, abs=1e-5 * abs(ref_f))
 
@@ -313,17 +334,35 @@ def test_tabulated_profile_on_a_line_gives_the_linear_profile():
     interpolation exact on a line)."""
     depths = [0.0, 0.3, 0.8, 2.0]
     rho0, krho, s0, ks = 1500.0, 100.0, 3000.0, 2000.0
-    common = dict(mine={"mass": 150.0}, environment={"water_depth": 8.0},
-                  release={"position": [0.0, 0.0, -7.0], "pitch_deg": 90.0,
-                           "velocity": [0.0, 0.0, -3.0]},
-                  numerics={"t_max": 10.0})
-    linear = make_scenario(sediment={"density": rho0, "density_gradient": krho, "strength": s0,
-                                     "strength_gradient": ks, "resistance": "bearing"}, **common)
-    table = make_scenario(sediment={"profile": {
-        "depth": depths, "density": [rho0 + krho * d for d in depths],
-        "strength": [s0 + ks * d for d in depths]}, "resistance": "bearing"}, **common)
+    common = dict(
+        mine={"mass": 150.0},
+        environment={"water_depth": 8.0},
+        release={"position": [0.0, 0.0, -7.0], "pitch_deg": 90.0, "velocity": [0.0, 0.0, -3.0]},
+        numerics={"t_max": 10.0},
+    )
+    linear = make_scenario(
+        sediment={
+            "density": rho0,
+            "density_gradient": krho,
+            "strength": s0,
+            "strength_gradient": ks,
+            "resistance": "bearing",
+        },
+        **common,
+    )
+    table = make_scenario(
+        sediment={
+            "profile": {
+                "depth": depths,
+                "density": [rho0 + krho * d for d in depths],
+                "strength": [s0 + ks * d for d in depths],
+            },
+            "resistance": "bearing",
+        },
+        **common,
+    )
     code_a, a = _summary(linear)
     code_b, b = _summary(table)
     assert code_a == code_b == status.AT_REST
     assert b["penetration_depth"] == pytest.approx(a["penetration_depth"], rel=1e-6)
-    assert 0.1 < a["penetration_depth"] < 2.0           # inside the table, below its first point
+    assert 0.1 < a["penetration_depth"] < 2.0  # inside the table, below its first point

@@ -12,9 +12,9 @@ force from the printed law along the recorded trajectory and check
 import math
 
 import numpy as np
+from conftest import make_scenario, scenario_dict
 from scipy.integrate import cumulative_trapezoid
 
-from conftest import make_scenario, scenario_dict
 from mineburial.config import Scenario
 from mineburial.drop import simulate_drop
 
@@ -57,20 +57,22 @@ def test_water_column_energy_balance_with_the_drag_of_the_printed_law():
     engine's work of the fluid forces equals buoyancy + drag + added-mass work."""
     m = 60.0
     m_a = RHO * VOL
-    sc = make_scenario(mine={"mass": m}, environment={"gravity": G, "water_density": RHO},
-                       release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-                       numerics={"t_max": 8.0, "rtol": 1e-10, "atol": 1e-12})
+    sc = make_scenario(
+        mine={"mass": m},
+        environment={"gravity": G, "water_density": RHO},
+        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
+        numerics={"t_max": 8.0, "rtol": 1e-10, "atol": 1e-12},
+    )
     ds = simulate_drop(sc, record_interval=0.002)
     t, z, w = ds.time.values, ds.z.values, ds.w.values
-    drag = np.array([-0.5 * RHO * cd2_eq44(abs(x) * D / NU, L / D) * D * L * abs(x) * x
-                     for x in w])
+    drag = np.array([-0.5 * RHO * cd2_eq44(abs(x) * D / NU, L / D) * D * L * abs(x) * x for x in w])
     w_drag = cumulative_trapezoid(drag * w, t, initial=0.0)
-    energy = 0.5 * (m + m_a) * w ** 2 + (m - RHO * VOL) * G * z
+    energy = 0.5 * (m + m_a) * w**2 + (m - RHO * VOL) * G * z
     scale = abs(w_drag[-1])
-    assert scale > 10.0                                  # drag did real work (J)
+    assert scale > 10.0  # drag did real work (J)
     np.testing.assert_allclose(energy - energy[0], w_drag, rtol=0, atol=2e-3 * scale)
     # the engine's fluid work: buoyancy rho V g dz, drag, and the added mass -m_a w^2 / 2
-    fluid = RHO * VOL * G * (z - z[0]) + w_drag - 0.5 * m_a * w ** 2
+    fluid = RHO * VOL * G * (z - z[0]) + w_drag - 0.5 * m_a * w**2
     np.testing.assert_allclose(ds.work_fluid.values, fluid, rtol=0, atol=2e-3 * scale)
     np.testing.assert_allclose(ds.work_sediment.values, 0.0, atol=1e-12)
 
@@ -85,28 +87,46 @@ def test_sediment_force_and_work_of_a_vertical_penetration_follow_the_bearing_la
     mass, depth = 150.0, 10.0
     s0, ks, rho_s = 3000.0, 2000.0, 1500.0
     nc0, beta, rate_ref, v_switch = math.pi + 2.0, 0.1, 2.78e-6, 5e-3
-    d = scenario_dict(mine={"mass": mass},
-                      environment={"water_depth": depth, "gravity": G, "water_density": RHO},
-                      release={"position": [0.0, 0.0, -depth + L / 2 + 0.05], "pitch_deg": 90.0,
-                               "velocity": [0.0, 0.0, -3.0]},
-                      numerics={"t_max": 3.0, "drag": False, "switch_speed": v_switch,
-                                "munk_factor": 0.0,
-                                "rtol": 1e-9, "atol": 1e-12})
-    d["sediment"] = {"density": rho_s, "density_gradient": 0.0, "strength": s0,
-                     "strength_gradient": ks, "resistance": "bearing", "rate_law": "semilog",
-                     "rate_coefficient": beta, "reference_rate": rate_ref, "friction": 0.0,
-                     "bearing_factor": nc0}
+    d = scenario_dict(
+        mine={"mass": mass},
+        environment={"water_depth": depth, "gravity": G, "water_density": RHO},
+        release={
+            "position": [0.0, 0.0, -depth + L / 2 + 0.05],
+            "pitch_deg": 90.0,
+            "velocity": [0.0, 0.0, -3.0],
+        },
+        numerics={
+            "t_max": 3.0,
+            "drag": False,
+            "switch_speed": v_switch,
+            "munk_factor": 0.0,
+            "rtol": 1e-9,
+            "atol": 1e-12,
+        },
+    )
+    d["sediment"] = {
+        "density": rho_s,
+        "density_gradient": 0.0,
+        "strength": s0,
+        "strength_gradient": ks,
+        "resistance": "bearing",
+        "rate_law": "semilog",
+        "rate_coefficient": beta,
+        "reference_rate": rate_ref,
+        "friction": 0.0,
+        "bearing_factor": nc0,
+    }
     ds = simulate_drop(Scenario.from_dict(d), record_interval=2e-4, forces=True)
     t, z, w = ds.time.values, ds.z.values, ds.w.values
-    zeta = -depth - (z - L / 2)                          # depth of the nose below the seabed
+    zeta = -depth - (z - L / 2)  # depth of the nose below the seabed
     emb = np.clip(zeta, 0.0, L)
-    v = -w                                               # downward speed
+    v = -w  # downward speed
     ratio = np.maximum(np.abs(v) / (D * rate_ref), 1.0)
     rate = 1.0 + beta * np.log10(ratio)
-    switch = np.where(v > 0, v / np.sqrt(v * v + v_switch ** 2), 0.0)
+    switch = np.where(v > 0, v / np.sqrt(v * v + v_switch**2), 0.0)
     nc = nc0 * (1.0 + 0.4 * np.arctan(np.maximum(zeta, 0.0) / D))
     bearing = np.where(zeta > 0, nc * (s0 + ks * zeta) * rate * AREA * switch, 0.0)
-    force = (rho_s - RHO) * G * AREA * emb + bearing     # upwards
+    force = (rho_s - RHO) * G * AREA * emb + bearing  # upwards
     assert zeta.max() > 0.2 and ds.attrs["status"] == "at_rest"
     inside = zeta > 1e-3
     np.testing.assert_allclose(ds.sediment_force_z.values[inside], force[inside], rtol=2e-3)
@@ -122,8 +142,7 @@ def test_sediment_force_and_work_of_a_vertical_penetration_follow_the_bearing_la
     # reaction -m_a dw/dt of the water part (isotropic added mass, munk_factor 0: axial
     # m_a = rho pi R^2 times the length still in the water), -int m_a d(w^2/2)
     m_a = RHO * AREA * (L - emb)
-    w_added = -cumulative_trapezoid(m_a, 0.5 * w ** 2, initial=0.0)
+    w_added = -cumulative_trapezoid(m_a, 0.5 * w**2, initial=0.0)
     w_buoy = RHO * G * VOL * (z - z[0])
-    energy = 0.5 * mass * w ** 2 + mass * G * z
-    np.testing.assert_allclose(energy - energy[0], w_buoy + w_added + w_sed, rtol=0,
-                               atol=3e-3 * scale)
+    energy = 0.5 * mass * w**2 + mass * G * z
+    np.testing.assert_allclose(energy - energy[0], w_buoy + w_added + w_sed, rtol=0, atol=3e-3 * scale)

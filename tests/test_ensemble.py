@@ -42,20 +42,23 @@ def test_same_seed_bit_identical_for_threads_and_chunks(reference):
         other = run_ensemble(fast_default(chunk_size=5), seed=11)
     finally:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-    for name in ("penetration_depth", "burial_volume", "status", "final_pitch",
-                 "input_mine_mass", "input_release_pitch_deg"):
+    for name in (
+        "penetration_depth",
+        "burial_volume",
+        "status",
+        "final_pitch",
+        "input_mine_mass",
+        "input_release_pitch_deg",
+    ):
         np.testing.assert_array_equal(other[name].values, reference[name].values)
-    for name in ("burial_volume_mean", "burial_volume_quantile", "burial_class_probability",
-                 "status_count"):
+    for name in ("burial_volume_mean", "burial_volume_quantile", "burial_class_probability", "status_count"):
         np.testing.assert_array_equal(other[name].values, reference[name].values)
 
 
 def test_different_seed_differs(reference):
     other = run_ensemble(fast_default(n=6, chunk_size=6), seed=12)
-    assert not np.array_equal(other["input_mine_mass"].values,
-                              reference["input_mine_mass"].values[:6])
-    assert not np.array_equal(other["penetration_depth"].values,
-                              reference["penetration_depth"].values[:6])
+    assert not np.array_equal(other["input_mine_mass"].values, reference["input_mine_mass"].values[:6])
+    assert not np.array_equal(other["penetration_depth"].values, reference["penetration_depth"].values[:6])
 
 
 def test_statistics_equal_numpy_on_the_per_drop_values(reference):
@@ -64,8 +67,9 @@ def test_statistics_equal_numpy_on_the_per_drop_values(reference):
     assert ok.sum() >= 20
     assert float(reference["burial_volume_mean"]) == np.mean(v)
     assert float(reference["burial_volume_std"]) == np.std(v, ddof=1)
-    np.testing.assert_array_equal(reference["burial_volume_quantile"].values,
-                                  np.quantile(v, [0.05, 0.25, 0.5, 0.75, 0.95]))
+    np.testing.assert_array_equal(
+        reference["burial_volume_quantile"].values, np.quantile(v, [0.05, 0.25, 0.5, 0.75, 0.95])
+    )
     pen = reference["penetration_depth"].values[ok]
     assert float(reference["penetration_depth_mean"]) == np.mean(pen)
 
@@ -112,10 +116,9 @@ def test_interrupted_run_resumes_without_recomputing(tmp_path, monkeypatch):
     calls.clear()
     monkeypatch.setattr(engine, "compute_chunk", lambda s, a, b: (calls.append(a), real(s, a, b))[1])
     resumed = run_ensemble(fast_default(n=8, chunk_size=2), seed=5, output=out)
-    assert sorted(calls) == [4, 6]                  # only the unfinished chunks ran
+    assert sorted(calls) == [4, 6]  # only the unfinished chunks ran
     fresh = run_ensemble(fast_default(n=8, chunk_size=2), seed=5)
-    np.testing.assert_array_equal(resumed["penetration_depth"].values,
-                                  fresh["penetration_depth"].values)
+    np.testing.assert_array_equal(resumed["penetration_depth"].values, fresh["penetration_depth"].values)
 
 
 def test_bad_ensemble_values_get_clear_errors():

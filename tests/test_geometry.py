@@ -73,11 +73,11 @@ def reference(L, R, chi, a, z_c, level, above=False):
     xt, xn = -0.5 * L - chi, 0.5 * L - chi
 
     def limits(x):
-        d = c + a * x          # height of the axis point above the plane
+        d = c + a * x  # height of the axis point above the plane
         if b == 0.0:
             s0 = -math.inf if d < 0.0 else math.inf
         else:
-            s0 = d / b         # below the plane  <=>  s > s0
+            s0 = d / b  # below the plane  <=>  s > s0
         return (-R, s0) if above else (s0, R)
 
     pts = []
@@ -89,8 +89,7 @@ def reference(L, R, chi, a, z_c, level, above=False):
     def q(g):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", IntegrationWarning)
-            return quad(g, xt, xn, points=pts or None, limit=400,
-                        epsabs=1e-14 * L * R * R, epsrel=1e-10)[0]
+            return quad(g, xt, xn, points=pts or None, limit=400, epsabs=1e-14 * L * R * R, epsrel=1e-10)[0]
 
     cache = {}
 
@@ -116,8 +115,14 @@ def _moments(res):
 def _assert_close(got, ref, L, R, label=""):
     vt = math.pi * R * R * L
     vmax = max(abs(ref[0]), abs(got[0]))
-    floors = (vt, vmax * L + vt * L * 1e-3, vmax * R + vt * R * 1e-3,
-              2 * math.pi * R * L, math.pi * R * R, math.pi * R * R)
+    floors = (
+        vt,
+        vmax * L + vt * L * 1e-3,
+        vmax * R + vt * R * 1e-3,
+        2 * math.pi * R * L,
+        math.pi * R * R,
+        math.pi * R * R,
+    )
     names = ("volume", "x-moment", "eta-moment", "lateral", "nose cap", "tail cap")
     for g, r, fl, n in zip(got, ref, floors, names):
         assert abs(g - r) <= RTOL * abs(r) + FLOOR * fl, (label, n, g, r)
@@ -138,9 +143,8 @@ def _cap_cut(L, R, chi, a, z_c, level):
 # ---------------------------------------------------------------------------
 # sweep over orientations and immersions
 # ---------------------------------------------------------------------------
-A_SWEEP = (-1.0, -(1.0 - 1e-9), -0.9, -0.5, -0.1, -1e-3, 0.0, 1e-3, 0.1, 0.5, 0.9,
-           1.0 - 1e-9, 1.0)
-FRACTIONS = (-0.2, 0.003, 0.3, 0.65, 0.997, 1.2)   # of the vertical extent
+A_SWEEP = (-1.0, -(1.0 - 1e-9), -0.9, -0.5, -0.1, -1e-3, 0.0, 1e-3, 0.1, 0.5, 0.9, 1.0 - 1e-9, 1.0)
+FRACTIONS = (-0.2, 0.003, 0.3, 0.65, 0.997, 1.2)  # of the vertical extent
 
 
 @pytest.mark.parametrize("chi", [0.0, 0.21])
@@ -183,8 +187,7 @@ def test_nearly_horizontal_tangent_plane():
     L, R, chi = 1.5, 0.25, 0.2
     for a in (1e-9, -1e-7, 1e-5, -1e-3):
         z_min, z_max = geo.vertical_extent(L, R, chi, a, 0.0)
-        for level in (z_min + 0.3 * abs(a) * L, z_min + 0.8 * abs(a) * L,
-                      z_max - 0.4 * abs(a) * L):
+        for level in (z_min + 0.3 * abs(a) * L, z_min + 0.8 * abs(a) * L, z_max - 0.4 * abs(a) * L):
             got = _moments(geo.cut_cylinder(L, R, chi, a, 0.0, level))
             _assert_close(got, reference(L, R, chi, a, 0.0, level), L, R, (a, level))
 
@@ -208,9 +211,9 @@ def test_random_poses_against_quadrature():
         kind = i % 4
         if kind == 0:
             a = rng.uniform(-1.0, 1.0)
-        elif kind == 1:       # nearly horizontal
+        elif kind == 1:  # nearly horizontal
             a = rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(-12, -1)
-        elif kind == 2:       # nearly vertical
+        elif kind == 2:  # nearly vertical
             a = rng.choice([-1.0, 1.0]) * (1.0 - 10.0 ** rng.uniform(-14, -1))
         else:
             a = rng.choice([-1.0, 0.0, 1.0])
@@ -233,7 +236,7 @@ def test_horizontal_buried_to_axis_is_half():
     V, xc, eta, lat, cn, ct = geo.cut_cylinder(L, R, chi, 0.0, -5.0, -5.0)
     assert V == pytest.approx(0.5 * math.pi * R * R * L, rel=1e-13)
     assert xc == pytest.approx(-chi, rel=1e-13)
-    assert eta == pytest.approx(4.0 * R / (3.0 * math.pi), rel=1e-13)   # half disk
+    assert eta == pytest.approx(4.0 * R / (3.0 * math.pi), rel=1e-13)  # half disk
     assert lat == pytest.approx(math.pi * R * L, rel=1e-13)
     assert cn == pytest.approx(0.5 * math.pi * R * R, rel=1e-13)
     assert ct == pytest.approx(0.5 * math.pi * R * R, rel=1e-13)
@@ -295,7 +298,8 @@ def test_empty_and_full():
         assert xc == pytest.approx(-chi, rel=1e-12)
         assert eta == 0.0
         assert (lat, cn, ct) == pytest.approx(
-            (2 * math.pi * R * L, math.pi * R * R, math.pi * R * R), rel=1e-14)
+            (2 * math.pi * R * L, math.pi * R * R, math.pi * R * R), rel=1e-14
+        )
         # just touching the plane from above: nothing is below it
         pv, ph, pa, proud, pen = geo.burial_measures(L, R, chi, a, 0.0, z_min)
         assert (pv, ph, pa, pen) == (0.0, 0.0, 0.0, 0.0)
@@ -310,7 +314,7 @@ def _rim_extent(L, R, chi, a, z_c, n=200001):
     the x-z plane with dip psi2 = -asin(a)."""
     psi2 = -math.asin(a)
     i_m = np.array([math.cos(psi2), 0.0, -math.sin(psi2)])
-    u = np.array([math.sin(psi2), 0.0, math.cos(psi2)])     # normal to i_m
+    u = np.array([math.sin(psi2), 0.0, math.cos(psi2)])  # normal to i_m
     v = np.array([0.0, 1.0, 0.0])
     phi = np.linspace(0.0, 2 * math.pi, n)
     zs = []
@@ -380,13 +384,16 @@ def test_e_down_body():
         q /= np.linalg.norm(q)
         q0, q1, q2, q3 = q
         # rotation body -> earth (scalar-first quaternion)
-        Rm = np.array([
-            [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-            [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]])
+        Rm = np.array(
+            [
+                [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+                [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+                [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)],
+            ]
+        )
         i_m = Rm[:, 0]
         k = np.array([0.0, 0.0, 1.0])
-        e = -k + (k @ i_m) * i_m                    # projection of -k normal to i_M
+        e = -k + (k @ i_m) * i_m  # projection of -k normal to i_M
         e /= np.linalg.norm(e)
         kb = Rm.T @ k
         eb = np.array(geo.e_down_body(*kb))

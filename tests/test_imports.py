@@ -33,16 +33,17 @@ def import_graph() -> dict:
                 targets = [alias.name for alias in node.names]
             elif isinstance(node, ast.ImportFrom):
                 if node.level:
-                    base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                    base = package.split(".")[: len(package.split(".")) - node.level + 1]
                     module = ".".join(base + ([node.module] if node.module else []))
                 else:
                     module = node.module or ""
-                targets = [f"{module}.{a.name}" if f"{module}.{a.name}" in files else module
-                           for a in node.names]
+                targets = [
+                    f"{module}.{a.name}" if f"{module}.{a.name}" in files else module for a in node.names
+                ]
             else:
                 continue
             for target in targets:
-                while target and target not in files:   # import a.b.c of a module a.b
+                while target and target not in files:  # import a.b.c of a module a.b
                     target = target.rpartition(".")[0]
                 if target.startswith("mineburial") and target != name:
                     edges.add(target)
@@ -59,7 +60,7 @@ def find_cycle(graph: dict):
         stack.append(node)
         for nxt in sorted(graph.get(node, ())):
             if colour.get(nxt) == "grey":
-                return stack[stack.index(nxt):] + [nxt]
+                return stack[stack.index(nxt) :] + [nxt]
             if nxt not in colour:
                 found = visit(nxt)
                 if found:

@@ -10,13 +10,12 @@ import math
 
 import numpy as np
 import pytest
+from conftest import make_scenario
 from scipy.integrate import quad
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import integrators as it
 from mineburial.kernels import layout, status
-
-from conftest import make_scenario
 
 G = 9.81
 
@@ -107,12 +106,12 @@ def test_step_size_controller_follows_the_tolerance():
     assert 1e-7 < e5 < 1e-3 and 1e-10 < e8 < 1e-6, (e5, e8)
     assert e8 < e5 / 50
     ratio = n8 / n5
-    assert 2.5 < ratio < 6.0, (n5, n8)       # 10^(3/5) = 3.98
+    assert 2.5 < ratio < 6.0, (n5, n8)  # 10^(3/5) = 3.98
 
 
 def test_illinois_finds_a_root():
     def f(x):
-        return math.cos(x) - x      # root 0.7390851332151607
+        return math.cos(x) - x  # root 0.7390851332151607
 
     a, b = 0.0, 1.0
     ga, gb, side = f(a), f(b), 0
@@ -129,11 +128,12 @@ def test_illinois_finds_a_root():
 # ---------------------------------------------------------------------------
 def _vacuum(**over):
     """Ballistic flight: no air, no water (both densities 0), drag off."""
-    base = dict(mine={"mass": 80.0, "com_offset": 0.0},
-                environment={"water_depth": 20.0, "water_density": 0.0, "air_density": 0.0,
-                             "gravity": G},
-                release={"position": [0.0, 0.0, 10.0], "pitch_deg": 0.0},
-                numerics={"t_max": 3.0, "drag": False, "rtol": 1e-6, "atol": 1e-8})
+    base = dict(
+        mine={"mass": 80.0, "com_offset": 0.0},
+        environment={"water_depth": 20.0, "water_density": 0.0, "air_density": 0.0, "gravity": G},
+        release={"position": [0.0, 0.0, 10.0], "pitch_deg": 0.0},
+        numerics={"t_max": 3.0, "drag": False, "rtol": 1e-6, "atol": 1e-8},
+    )
     for k, v in over.items():
         base[k] = {**base[k], **v}
     return make_scenario(**base)
@@ -171,8 +171,7 @@ def test_default_path_matches_rk4_reference_on_the_default_mine():
     d = load_example("default_mine").to_dict()
     d["numerics"] = dict(d["numerics"], integrator="dopri5", sediment_quadrature="fast")
     fast = Scenario.from_dict(d)
-    d["numerics"] = dict(d["numerics"], integrator="rk4", dt=2.5e-4,
-                         sediment_quadrature="reference")
+    d["numerics"] = dict(d["numerics"], integrator="rk4", dt=2.5e-4, sediment_quadrature="reference")
     ref = Scenario.from_dict(d)
     out = []
     for sc in (fast, ref):
@@ -192,8 +191,12 @@ def test_default_path_matches_rk4_reference_on_the_default_mine():
 def test_mine_lighter_than_water_floats_and_ends():
     """mass 40 kg < rho_w V = 50.3 kg: it enters, turns round, and ends 'floated' long
     before the time limit, without touching the seabed."""
-    sc = make_scenario(mine={"mass": 40.0}, release={"position": [0.0, 0.0, 1.0]},
-                       environment={"water_depth": 50.0}, numerics={"t_max": 60.0})
+    sc = make_scenario(
+        mine={"mass": 40.0},
+        release={"position": [0.0, 0.0, 1.0]},
+        environment={"water_depth": 50.0},
+        numerics={"t_max": 60.0},
+    )
     p, sb, cb = sc.to_params()
     code, s, _ = run_params(p, sb, cb)
     assert code == status.FLOATED
@@ -204,15 +207,16 @@ def test_mine_lighter_than_water_floats_and_ends():
 def test_mine_in_sediment_that_cannot_hold_it_is_buried_sinking():
     """A zero-strength sediment lighter than the mine (1100 kg/m3 against 1630): it sinks
     without limit, fully buried at the time limit; reported as such, 100 % buried."""
-    from mineburial.config import Scenario
-
     from conftest import scenario_dict
 
-    d = scenario_dict(environment={"water_depth": 3.0},
-                      release={"position": [0.0, 0.0, -2.0], "pitch_deg": 90.0},
-                      numerics={"t_max": 6.0})
-    d["sediment"] = {"density": 1100.0, "density_gradient": 0.0, "strength": 0.0,
-                     "strength_gradient": 0.0}
+    from mineburial.config import Scenario
+
+    d = scenario_dict(
+        environment={"water_depth": 3.0},
+        release={"position": [0.0, 0.0, -2.0], "pitch_deg": 90.0},
+        numerics={"t_max": 6.0},
+    )
+    d["sediment"] = {"density": 1100.0, "density_gradient": 0.0, "strength": 0.0, "strength_gradient": 0.0}
     sc = Scenario.from_dict(d)
     p, sb, cb = sc.to_params()
     code, s, _ = run_params(p, sb, cb)
@@ -225,10 +229,12 @@ def test_mine_placed_on_a_bottom_that_holds_it_stops_at_once():
     bearing capacity far above its submerged weight): at rest within the first steps,
     within 5 mm of where it was put (the regularised switch mobilises the resistance over
     a few mm of settlement)."""
-    sc = make_scenario(environment={"water_depth": 10.0},
-                       release={"position": [0.0, 0.0, -10.0 + 0.06], "pitch_deg": 0.0,
-                                "embedded": True},
-                       sediment={"class": "stiff_clay"}, numerics={"t_max": 10.0})
+    sc = make_scenario(
+        environment={"water_depth": 10.0},
+        release={"position": [0.0, 0.0, -10.0 + 0.06], "pitch_deg": 0.0, "embedded": True},
+        sediment={"class": "stiff_clay"},
+        numerics={"t_max": 10.0},
+    )
     p, sb, cb = sc.to_params()
     code, s, _ = run_params(p, sb, cb)
     assert code == status.AT_REST
@@ -245,6 +251,7 @@ def _toppling_time(m, g_eff, r_c, inertia_com, psi0, psi1, pivot_fixed):
     slides without friction (the centre of mass then falls vertically; Goldstein-style
     ladder problem). Integrated by quadrature with psi = psi0 + s^2, which removes the
     inverse-square-root singularity at the start."""
+
     def integrand(s):
         psi = psi0 + s * s
         inertia = inertia_com + m * r_c * r_c * (1.0 if pivot_fixed else math.sin(psi) ** 2)
@@ -272,18 +279,19 @@ def test_mine_that_cannot_be_held_topples_in_the_rigid_pivot_time():
     volume = math.pi * R * R * L
     m = rho_steel * volume
     depth = 10.0
-    alpha = math.atan2(R, L / 2)                     # axis tilt with the COM over the rim
-    phi0 = alpha + math.radians(5.0)                 # axis tilt from the vertical at release
-    phi1 = math.radians(70.0)                        # measured up to here (before the side lands)
-    z_c = -depth + (L / 2) * math.cos(phi0) + R * math.sin(phi0) - 0.002   # rim 2 mm in
-    sc = make_scenario(mine={"length": L, "diameter": D, "mass": m},
-                       environment={"water_depth": depth},
-                       release={"position": [0.0, 0.0, z_c], "pitch_deg": 90.0 - math.degrees(phi0),
-                                "embedded": True},
-                       sediment={"class": "stiff_clay"},
-                       numerics={"t_max": 5.0, "sediment_quadrature": "fast"})
+    alpha = math.atan2(R, L / 2)  # axis tilt with the COM over the rim
+    phi0 = alpha + math.radians(5.0)  # axis tilt from the vertical at release
+    phi1 = math.radians(70.0)  # measured up to here (before the side lands)
+    z_c = -depth + (L / 2) * math.cos(phi0) + R * math.sin(phi0) - 0.002  # rim 2 mm in
+    sc = make_scenario(
+        mine={"length": L, "diameter": D, "mass": m},
+        environment={"water_depth": depth},
+        release={"position": [0.0, 0.0, z_c], "pitch_deg": 90.0 - math.degrees(phi0), "embedded": True},
+        sediment={"class": "stiff_clay"},
+        numerics={"t_max": 5.0, "sediment_quadrature": "fast"},
+    )
     ds = simulate_drop(sc, record_interval=0.002)
-    tilt = 90.0 - np.abs(ds.psi2.values)          # axis tilt from the vertical, degrees
+    tilt = 90.0 - np.abs(ds.psi2.values)  # axis tilt from the vertical, degrees
     assert tilt[0] == pytest.approx(math.degrees(phi0), abs=1e-6)
     reached = np.flatnonzero(tilt >= math.degrees(phi1))
     assert reached.size, f"did not topple: largest tilt {tilt.max():.1f} deg"
@@ -292,8 +300,10 @@ def test_mine_that_cannot_be_held_topples_in_the_rigid_pivot_time():
     g = sc.environment.gravity
     r_c = math.hypot(L / 2, R)
     g_eff = g * (1.0 - rho_w * volume / m)
-    times = [_toppling_time(m, g_eff, r_c, sc.mine.inertia_transverse, phi0 - alpha,
-                            phi1 - alpha, pivot_fixed) for pivot_fixed in (False, True)]
+    times = [
+        _toppling_time(m, g_eff, r_c, sc.mine.inertia_transverse, phi0 - alpha, phi1 - alpha, pivot_fixed)
+        for pivot_fixed in (False, True)
+    ]
     t_slide, t_pivot = times
     assert t_slide < t_pivot
     assert t_slide <= t_model <= 1.3 * t_pivot, (t_model, t_slide, t_pivot)

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-
 from conftest import scenario_dict
+
 from mineburial.cli import main
 from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
@@ -26,23 +26,31 @@ from mineburial.maps import MAP_OUTPUTS, MapError, plot_map, read_environment, r
 from mineburial.synthetic import synthetic_environment, write_synthetic_environment
 
 N, SEED = 5, 424242
-STAT_NAMES = ("burial_class_count", "burial_class_probability", "burial_class_probability_lower",
-              "burial_class_probability_upper", "status_count") + tuple(
-    f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
+STAT_NAMES = (
+    "burial_class_count",
+    "burial_class_probability",
+    "burial_class_probability_lower",
+    "burial_class_probability_upper",
+    "status_count",
+) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
 
 
 def _scenario():
     """Cheap drops: 1 m above the water, 3 s limit, random mass and pitch; the water depth,
     the sediment (a soft_clay distribution here) and the current are replaced per cell."""
-    d = scenario_dict(environment={"water_depth": 30.0,
-                                   "current": {"kind": "power_law", "surface_velocity": [0.1, 0.0],
-                                               "exponent": 0.2}},
-                      release={"position": [0.0, 0.0, 1.0],
-                               "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0}},
-                      numerics={"t_max": 3.0})
+    d = scenario_dict(
+        environment={
+            "water_depth": 30.0,
+            "current": {"kind": "power_law", "surface_velocity": [0.1, 0.0], "exponent": 0.2},
+        },
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
+        },
+        numerics={"t_max": 3.0},
+    )
     d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
-    d["sediment"] = {"class": {"distribution": "choice", "values": ["soft_clay", "sand"]},
-                     "friction": 0.4}
+    d["sediment"] = {"class": {"distribution": "choice", "values": ["soft_clay", "sand"]}, "friction": 0.4}
     return d
 
 
@@ -57,7 +65,7 @@ def uniform_environment(depth=3.0, u=0.02, v=-0.01):
     wet = np.isfinite(env["water_depth"].values)
     assert wet.sum() == 3
     env["water_depth"].values[wet] = depth
-    env["sediment_class"].values[wet] = 4                        # stiff_clay
+    env["sediment_class"].values[wet] = 4  # stiff_clay
     env["current_u"].values[wet] = u
     env["current_v"].values[wet] = v
     return env
@@ -82,9 +90,11 @@ def uniform_map(tmp_path_factory):
 def test_uniform_map_holds_the_single_scenario_statistics_of_every_cell(uniform_map):
     ds, _ = uniform_map
     ny, nx = ds["cell_status"].shape
-    ref_scen = cell_reference(3.0, {"class": "stiff_clay"},
-                              {"kind": "power_law", "surface_velocity": [0.02, -0.01],
-                               "exponent": 0.2})
+    ref_scen = cell_reference(
+        3.0,
+        {"class": "stiff_clay"},
+        {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2},
+    )
     computed = 0
     for j in range(ny):
         for i in range(nx):
@@ -129,6 +139,7 @@ def test_map_file_metadata_and_round_trip(uniform_map):
     assert back["crs"].attrs["grid_mapping_name"] == "latitude_longitude"
     assert back.attrs["random_seed"] == SEED and back.attrs["n_drops_per_cell"] == N
     import json
+
     scen = json.loads(back.attrs["scenario"])
     assert scen["map"]["drops_per_cell"] == N
     assert "environment.water_depth" in scen["map"]["overridden_per_cell"]
@@ -148,8 +159,9 @@ def test_cf_1_11_compliance(uniform_map, tmp_path):
     exe = _checker()
     assert exe, "compliance-checker is not installed"
     for path in files:
-        res = subprocess.run([exe, "-t", "cf:1.11", "-c", "lenient", str(path)],
-                             capture_output=True, text=True, timeout=120)
+        res = subprocess.run(
+            [exe, "-t", "cf:1.11", "-c", "lenient", str(path)], capture_output=True, text=True, timeout=120
+        )
         assert res.returncode == 0, res.stdout + res.stderr
         assert "Errors" not in res.stdout, res.stdout
 
@@ -160,23 +172,33 @@ def projected_environment():
     y = np.array([6040000.0, 6040500.0])
     dims = ("y", "x")
     return xr.Dataset(
-        {"water_depth": (dims, np.array([[3.0], [3.5]]), {"units": "m", "grid_mapping": "utm"}),
-         "sediment_density": (dims, np.array([[1900.0], [1950.0]]), {"units": "kg m-3"}),
-         "sediment_strength": (dims, np.array([[40000.0], [60000.0]]), {"units": "Pa"}),
-         "sediment_strength_gradient": (dims, np.array([[2000.0], [1000.0]]),
-                                        {"units": "Pa m-1"}),
-         "current_speed": (dims, np.array([[0.4], [0.0]]), {"units": "m s-1"}),
-         "current_direction": (dims, np.array([[0.0], [0.0]]), {"units": "degree"}),
-         "utm": ((), 0, {"grid_mapping_name": "transverse_mercator",
-                         "longitude_of_central_meridian": 9.0,
-                         "latitude_of_projection_origin": 0.0,
-                         "scale_factor_at_central_meridian": 0.9996,
-                         "false_easting": 500000.0, "false_northing": 0.0,
-                         "semi_major_axis": 6378137.0, "inverse_flattening": 298.257223563})},
-        coords={"y": ("y", y, {"standard_name": "projection_y_coordinate", "units": "m",
-                               "axis": "Y"}),
-                "x": ("x", x, {"standard_name": "projection_x_coordinate", "units": "m",
-                               "axis": "X"})})
+        {
+            "water_depth": (dims, np.array([[3.0], [3.5]]), {"units": "m", "grid_mapping": "utm"}),
+            "sediment_density": (dims, np.array([[1900.0], [1950.0]]), {"units": "kg m-3"}),
+            "sediment_strength": (dims, np.array([[40000.0], [60000.0]]), {"units": "Pa"}),
+            "sediment_strength_gradient": (dims, np.array([[2000.0], [1000.0]]), {"units": "Pa m-1"}),
+            "current_speed": (dims, np.array([[0.4], [0.0]]), {"units": "m s-1"}),
+            "current_direction": (dims, np.array([[0.0], [0.0]]), {"units": "degree"}),
+            "utm": (
+                (),
+                0,
+                {
+                    "grid_mapping_name": "transverse_mercator",
+                    "longitude_of_central_meridian": 9.0,
+                    "latitude_of_projection_origin": 0.0,
+                    "scale_factor_at_central_meridian": 0.9996,
+                    "false_easting": 500000.0,
+                    "false_northing": 0.0,
+                    "semi_major_axis": 6378137.0,
+                    "inverse_flattening": 298.257223563,
+                },
+            ),
+        },
+        coords={
+            "y": ("y", y, {"standard_name": "projection_y_coordinate", "units": "m", "axis": "Y"}),
+            "x": ("x", x, {"standard_name": "projection_x_coordinate", "units": "m", "axis": "X"}),
+        },
+    )
 
 
 def test_projected_grid_with_profile_values_and_speed_direction_current():
@@ -187,17 +209,21 @@ def test_projected_grid_with_profile_values_and_speed_direction_current():
     # UTM 32N: easting 580 km, northing 6040 km lies near 54.5 N, 10.2 E
     assert abs(float(ds["latitude"][0, 0]) - 54.5) < 0.1
     assert abs(float(ds["longitude"][0, 0]) - 10.23) < 0.1
-    for j, (depth, rho, s0, ks, v) in enumerate(((3.0, 1900.0, 40000.0, 2000.0, 0.4),
-                                                 (3.5, 1950.0, 60000.0, 1000.0, 0.0))):
+    for j, (depth, rho, s0, ks, v) in enumerate(
+        ((3.0, 1900.0, 40000.0, 2000.0, 0.4), (3.5, 1950.0, 60000.0, 1000.0, 0.0))
+    ):
         # direction 0 = towards north = +y; a fixed linear density_gradient is absent -> 0
-        ref = run_ensemble(cell_reference(
-            depth, {"density": rho, "density_gradient": 0.0, "strength": s0,
-                    "strength_gradient": ks},
-            {"kind": "power_law", "surface_velocity": [0.0, v], "exponent": 0.2}),
-            n=3, seed=expected_seed(77, j))
+        ref = run_ensemble(
+            cell_reference(
+                depth,
+                {"density": rho, "density_gradient": 0.0, "strength": s0, "strength_gradient": ks},
+                {"kind": "power_law", "surface_velocity": [0.0, v], "exponent": 0.2},
+            ),
+            n=3,
+            seed=expected_seed(77, j),
+        )
         for name in STAT_NAMES:
-            assert np.array_equal(ds[name].values[..., j, 0], ref[name].values,
-                                  equal_nan=True), (name, j)
+            assert np.array_equal(ds[name].values[..., j, 0], ref[name].values, equal_nan=True), (name, j)
 
 
 def test_interrupted_map_resumes_without_recomputing(tmp_path, monkeypatch):
@@ -218,10 +244,11 @@ def test_interrupted_map_resumes_without_recomputing(tmp_path, monkeypatch):
     assert len(list(Path(str(out) + ".parts").glob("*/chunk-*.npz"))) == 4
     first = list(calls)
     calls.clear()
-    monkeypatch.setattr(engine, "compute_chunk", lambda spec, s, e: (
-        calls.append((spec.seed, s, e)), real(spec, s, e))[1])
+    monkeypatch.setattr(
+        engine, "compute_chunk", lambda spec, s, e: (calls.append((spec.seed, s, e)), real(spec, s, e))[1]
+    )
     ds = run_map(_scenario(), env, n=4, seed=3, chunk_size=2, output=out)
-    assert len(calls) == 2 and not set(calls) & set(first)    # 6 chunks in all, 4 reused
+    assert len(calls) == 2 and not set(calls) & set(first)  # 6 chunks in all, 4 reused
     monkeypatch.setattr(engine, "compute_chunk", real)
     fresh = run_map(_scenario(), env, n=4, seed=3, chunk_size=2)
     for name in STAT_NAMES:
@@ -266,8 +293,21 @@ class = "sand"
 t_max = 0.5
 """)
     out, png = tmp_path / "map.nc", tmp_path / "map.png"
-    rc = main(["map", str(scen), "--environment", str(env), "-o", str(out), "-n", "2",
-               "--plot", str(png), "--quiet"])
+    rc = main(
+        [
+            "map",
+            str(scen),
+            "--environment",
+            str(env),
+            "-o",
+            str(out),
+            "-n",
+            "2",
+            "--plot",
+            str(png),
+            "--quiet",
+        ]
+    )
     assert rc == 0
     text = capsys.readouterr().out
     assert "3 computed, 1 land" in text and f"wrote {out}" in text
@@ -289,8 +329,9 @@ def test_bad_grids_are_rejected_with_clear_messages():
     with pytest.raises(MapError, match="water_depth"):
         read_environment(env.drop_vars("water_depth"))
     bad = env.copy()
-    bad["sediment_class"].attrs["flag_meanings"] = "very_soft_clay soft_clay silty_mud firm_clay " \
-        "stiff_clayy sandy_silt sand"
+    bad["sediment_class"].attrs["flag_meanings"] = (
+        "very_soft_clay soft_clay silty_mud firm_clay stiff_clayy sandy_silt sand"
+    )
     with pytest.raises(MapError, match="did you mean 'stiff_clay'"):
         read_environment(bad)
     nosed = env.drop_vars("sediment_class")
@@ -300,7 +341,7 @@ def test_bad_grids_are_rejected_with_clear_messages():
     feet["water_depth"].attrs["units"] = "ft"
     with pytest.raises(MapError, match="units 'ft'"):
         read_environment(feet)
-    deep = env.copy()      # a release position below the seabed names the cell
+    deep = env.copy()  # a release position below the seabed names the cell
     deep["water_depth"].values[0, 0] = 0.5
     scen = _scenario()
     scen["release"]["position"] = [0.0, 0.0, -1.0]

@@ -24,43 +24,60 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
-from mineburial.ensembles.dataset import build_dataset
 from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels import layout
 from mineburial.kernels import status as S
 
 OUTPUTS = ("penetration_depth", "burial_volume", "final_heading")
-SCENARIO = {"mine": {"mass": np.float64(680.0), "length": 2.0, "shape": "cylinder"},
-            "release": {"z": 5.0}, "ensemble": {"n": np.int64(64), "seed": 7},
-            "sediment": {"strength": [1000.0, 2000.0]}}
-INPUT_META = {"mine.mass": ("kg", "mass of the mine"),
-              "sediment.strength": ("Pa", "undrained shear strength at the seabed"),
-              "current.kind": ("1", "code of the current profile")}
+SCENARIO = {
+    "mine": {"mass": np.float64(680.0), "length": 2.0, "shape": "cylinder"},
+    "release": {"z": 5.0},
+    "ensemble": {"n": np.int64(64), "seed": 7},
+    "sediment": {"strength": [1000.0, 2000.0]},
+}
+INPUT_META = {
+    "mine.mass": ("kg", "mass of the mine"),
+    "sediment.strength": ("Pa", "undrained shear strength at the seabed"),
+    "current.kind": ("1", "code of the current profile"),
+}
 
 
 def synthetic(n=64, seed=11):
     rng = np.random.default_rng(seed)
     summary = rng.normal(2.0, 1.0, size=(n, layout.N_SUMMARY))
     for name in V.PERCENT_OUTPUTS:
-        summary[:, layout.SUMMARY_INDEX[name]] = np.where(rng.random(n) < 0.2, 0.0,
-                                                          rng.uniform(0, 100, n))
+        summary[:, layout.SUMMARY_INDEX[name]] = np.where(rng.random(n) < 0.2, 0.0, rng.uniform(0, 100, n))
     status = rng.choice(5, size=n, p=[0.6, 0.1, 0.1, 0.1, 0.1]).astype(np.int8)
     summary[status == S.INVALID_INPUT] = np.nan  # drops that were not run
-    inputs = {"mine.mass": rng.normal(680.0, 20.0, n),
-              "sediment.strength": rng.uniform(500.0, 5000.0, n),
-              "current.kind": rng.integers(0, 3, n).astype(np.float64)}
+    inputs = {
+        "mine.mass": rng.normal(680.0, 20.0, n),
+        "sediment.strength": rng.uniform(500.0, 5000.0, n),
+        "current.kind": rng.integers(0, 3, n).astype(np.float64),
+    }
     return summary, status, inputs
 
 
 def make_dataset(n=64, **kw):
     summary, status, inputs = synthetic(n)
-    args = dict(inputs=inputs, input_metadata=INPUT_META, scenario=SCENARIO, seed=2**70 + 3,
-                version="0.1.0", sampling_method="latin_hypercube",
-                statistics_options={"outputs": OUTPUTS}, date_created="2024-06-11T10:00:00Z",
-                creator={"name": "Test Author", "email": "test@example.org", "type": "person",
-                         "institution": "Test Institute"})
+    args = dict(
+        inputs=inputs,
+        input_metadata=INPUT_META,
+        scenario=SCENARIO,
+        seed=2**70 + 3,
+        version="0.1.0",
+        sampling_method="latin_hypercube",
+        statistics_options={"outputs": OUTPUTS},
+        date_created="2024-06-11T10:00:00Z",
+        creator={
+            "name": "Test Author",
+            "email": "test@example.org",
+            "type": "person",
+            "institution": "Test Institute",
+        },
+    )
     args.update(kw)
     return build_dataset(summary, status, **args), summary, status, inputs
 
@@ -103,12 +120,23 @@ def test_file_format_compression_and_global_attributes(tmp_path):
         assert nc["status"].flag_values.dtype == nc["status"].dtype
         attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
     assert attrs["Conventions"] == "CF-1.11, ACDD-1.3"
-    for key in ("title", "summary", "keywords", "history", "date_created", "creator_name",
-                "creator_email", "product_version", "source", "id", "references",
-                "standard_name_vocabulary", "sampling_method"):
+    for key in (
+        "title",
+        "summary",
+        "keywords",
+        "history",
+        "date_created",
+        "creator_name",
+        "creator_email",
+        "product_version",
+        "source",
+        "id",
+        "references",
+        "standard_name_vocabulary",
+        "sampling_method",
+    ):
         assert attrs[key], key
-    assert json.loads(attrs["scenario"]) == json.loads(json.dumps(
-        SCENARIO, default=lambda o: o.item()))
+    assert json.loads(attrs["scenario"]) == json.loads(json.dumps(SCENARIO, default=lambda o: o.item()))
     assert attrs["random_seed"] == str(2**70 + 3)  # too large for a 64-bit attribute
     assert attrs["n_drops"] == summary.shape[0]
     assert attrs["n_at_rest"] == np.count_nonzero(status == S.AT_REST)
@@ -189,8 +217,7 @@ def test_failed_first_write_creates_nothing(tmp_path, monkeypatch):
 def test_no_drop_at_rest_builds_and_writes(tmp_path):
     summary, status, _ = synthetic(12)
     status[:] = S.NUMERICAL_FAILURE
-    ds = build_dataset(summary, status, version="0.1.0",
-                       statistics_options={"outputs": ("burial_volume",)})
+    ds = build_dataset(summary, status, version="0.1.0", statistics_options={"outputs": ("burial_volume",)})
     assert "n_at_rest = 0" in ds.attrs["statistics_note"]
     path = write_netcdf(ds, tmp_path / "none.nc")
     with xr.open_dataset(path) as back:
@@ -209,13 +236,16 @@ def test_cf_1_11_compliance_checker_reports_no_errors(tmp_path):
     full = write_netcdf(ds, tmp_path / "full.nc")
     summary, status, _ = synthetic(10)
     status[:] = S.TIME_LIMIT
-    empty = write_netcdf(build_dataset(summary, status, version="0.1.0", statistics_options={
-        "outputs": ("burial_area",)}), tmp_path / "empty.nc")
+    empty = write_netcdf(
+        build_dataset(summary, status, version="0.1.0", statistics_options={"outputs": ("burial_area",)}),
+        tmp_path / "empty.nc",
+    )
     exe = _checker_executable()
     assert exe, "compliance-checker is not installed"
     for path in (full, empty):
-        res = subprocess.run([exe, "-t", "cf:1.11", "-c", "lenient", str(path)],
-                             capture_output=True, text=True, timeout=120)
+        res = subprocess.run(
+            [exe, "-t", "cf:1.11", "-c", "lenient", str(path)], capture_output=True, text=True, timeout=120
+        )
         assert res.returncode == 0, res.stdout + res.stderr
         assert "Errors" not in res.stdout, res.stdout
 
@@ -230,11 +260,16 @@ def test_acdd_1_3_attributes_present(tmp_path):
     path = write_netcdf(ds, tmp_path / "run.nc")
     CheckSuite.load_all_available_checkers()
     report = tmp_path / "acdd.json"
-    ComplianceChecker.run_checker(str(path), ["acdd:1.3"], 0, "lenient",
-                                  output_filename=str(report), output_format="json")
+    ComplianceChecker.run_checker(
+        str(path), ["acdd:1.3"], 0, "lenient", output_filename=str(report), output_format="json"
+    )
     res = json.loads(report.read_text())["acdd:1.3"]
-    failed = [r for level in ("high_priorities", "medium_priorities", "low_priorities")
-              for r in res[level] if r["value"][0] != r["value"][1]]
+    failed = [
+        r
+        for level in ("high_priorities", "medium_priorities", "low_priorities")
+        for r in res[level]
+        if r["value"][0] != r["value"][1]
+    ]
     messages = [m for r in failed for m in r["msgs"]]
     assert messages and all(m == "standard_name" for m in messages), messages
 
@@ -250,11 +285,25 @@ def test_every_declared_unit_is_valid_udunits():
 
 def test_registry_markdown_and_docs_are_in_step():
     md = V.variables_markdown()
-    for name in list(layout.SUMMARY_NAMES) + ["status", "burial_class", "realization",
-                                              "burial_class_probability", "status_count"]:
+    for name in list(layout.SUMMARY_NAMES) + [
+        "status",
+        "burial_class",
+        "realization",
+        "burial_class_probability",
+        "status_count",
+    ]:
         assert f"`{name}`" in md
-    for suffix in ("mean", "std", "stderr", "quantile", "bin", "bin_bounds", "histogram",
-                   "level", "exceedance"):
+    for suffix in (
+        "mean",
+        "std",
+        "stderr",
+        "quantile",
+        "bin",
+        "bin_bounds",
+        "histogram",
+        "level",
+        "exceedance",
+    ):
         assert f"`X_{suffix}`" in md
     full = V.variables_markdown(expand=True)
     assert all(f"`{name}`" in full for name in V.VARIABLES)

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import scenario_dict
+
 from mineburial.config import Scenario
 from mineburial.kernels import layout
 from mineburial.kernels.rest import REST_TIME, held_by_sediment
@@ -35,21 +35,29 @@ AREA = math.pi * R * R
 DEPTH = 10.0
 RHO_S, S0, KS = 1500.0, 3000.0, 2000.0
 NC0 = math.pi + 2.0
-PROBE = 0.01          # m/s, the probe speed (the rest speed)
+PROBE = 0.01  # m/s, the probe speed (the rest speed)
 
 
 def _state(mass, zeta, pitch_deg=90.0, velocity=(0.0, 0.0, 0.0)):
-    d = scenario_dict(mine={"mass": mass},
-                      environment={"water_depth": DEPTH, "gravity": G, "water_density": RHO_W},
-                      release={"position": [0.0, 0.0, -5.0], "pitch_deg": pitch_deg,
-                               "velocity": list(velocity)})
-    d["sediment"] = {"density": RHO_S, "density_gradient": 0.0, "strength": S0,
-                     "strength_gradient": KS, "resistance": "bearing", "rate_law": "none",
-                     "friction": 0.0, "bearing_factor": NC0}
+    d = scenario_dict(
+        mine={"mass": mass},
+        environment={"water_depth": DEPTH, "gravity": G, "water_density": RHO_W},
+        release={"position": [0.0, 0.0, -5.0], "pitch_deg": pitch_deg, "velocity": list(velocity)},
+    )
+    d["sediment"] = {
+        "density": RHO_S,
+        "density_gradient": 0.0,
+        "strength": S0,
+        "strength_gradient": KS,
+        "resistance": "bearing",
+        "rate_law": "none",
+        "friction": 0.0,
+        "bearing_factor": NC0,
+    }
     p, sb, _ = Scenario.from_dict(d).to_params()
     y = np.empty(layout.N_EXT)
     initial_state(p, y)
-    y[layout.Z] = -DEPTH + L / 2 - zeta      # the nose zeta below the seabed
+    y[layout.Z] = -DEPTH + L / 2 - zeta  # the nose zeta below the seabed
     return y, p, pack_law(p, p[layout.P_DIAMETER]), sb
 
 

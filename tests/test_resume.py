@@ -15,8 +15,8 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
-
 from conftest import scenario_dict
+
 from mineburial.config import dumps_toml
 from mineburial.ensembles import engine, store
 from mineburial.ensembles.runner import run_ensemble
@@ -29,12 +29,15 @@ COMPUTE_CHUNK = engine.compute_chunk
 def cheap(**over):
     """Cheap drops (~0.1 s): a small cylinder released 1 m above 2.5-3.5 m of water onto
     stiff clay, 3 s limit, the fast sediment rule; mass, pitch and water depth are random."""
-    d = scenario_dict(environment={"water_depth": {"distribution": "uniform", "low": 2.5,
-                                                   "high": 3.5}},
-                      release={"position": [0.0, 0.0, 1.0],
-                               "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0}},
-                      sediment={"class": "stiff_clay"},
-                      numerics={"t_max": 3.0, "sediment_quadrature": "fast"})
+    d = scenario_dict(
+        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
+        },
+        sediment={"class": "stiff_clay"},
+        numerics={"t_max": 3.0, "sediment_quadrature": "fast"},
+    )
     d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
     d["ensemble"] = {"n": N, "chunk_size": CHUNK, "per_drop": True}
     for key, value in over.items():
@@ -60,8 +63,9 @@ def killed_after(monkeypatch, chunks: int):
 def counting(monkeypatch):
     real = COMPUTE_CHUNK
     calls = []
-    monkeypatch.setattr(engine, "compute_chunk",
-                        lambda spec, s, e: (calls.append((s, e)), real(spec, s, e))[1])
+    monkeypatch.setattr(
+        engine, "compute_chunk", lambda spec, s, e: (calls.append((s, e)), real(spec, s, e))[1]
+    )
     return calls
 
 
@@ -70,8 +74,9 @@ def assert_bit_identical(a: xr.Dataset, b: xr.Dataset):
     for name in a.variables:
         assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
     skip = {"date_created", "history"}
-    assert {k: str(v) for k, v in a.attrs.items() if k not in skip} == \
-        {k: str(v) for k, v in b.attrs.items() if k not in skip}
+    assert {k: str(v) for k, v in a.attrs.items() if k not in skip} == {
+        k: str(v) for k, v in b.attrs.items() if k not in skip
+    }
 
 
 def parts_of(out):
@@ -87,7 +92,7 @@ def test_resume_refuses_chunks_of_another_seed(tmp_path, monkeypatch, capsys):
     calls = counting(monkeypatch)
     mixed = run_ensemble(cheap(), seed=2, output=out)
     assert "discarding 3 finished chunk file(s)" in capsys.readouterr().err
-    assert len(calls) == N // CHUNK                   # nothing of seed 1 was reused
+    assert len(calls) == N // CHUNK  # nothing of seed 1 was reused
     clean = run_ensemble(cheap(), seed=2)
     assert_bit_identical(mixed, clean)
     assert_bit_identical(xr.load_dataset(out), clean)
@@ -118,7 +123,7 @@ def test_a_chunk_file_of_another_run_is_recomputed(tmp_path, monkeypatch, capsys
     with pytest.raises(KeyboardInterrupt):
         run_ensemble(cheap(), seed=5, output=b)
     name = "chunk-000000000000-000000000002.npz"
-    (parts_of(b) / name).write_bytes((parts_of(a) / name).read_bytes())   # seed 4's into b
+    (parts_of(b) / name).write_bytes((parts_of(a) / name).read_bytes())  # seed 4's into b
     capsys.readouterr()
     calls = counting(monkeypatch)
     resumed = run_ensemble(cheap(), seed=5, output=b)
@@ -135,7 +140,7 @@ def test_truncated_chunk_file_is_recomputed_and_reported(tmp_path, monkeypatch, 
         run_ensemble(cheap(), seed=6, output=out)
     chunk = parts_of(out) / "chunk-000000000002-000000000004.npz"
     data = chunk.read_bytes()
-    chunk.write_bytes(data[:len(data) // 2])            # a write cut short
+    chunk.write_bytes(data[: len(data) // 2])  # a write cut short
     garbage = parts_of(out) / "chunk-000000000004-000000000006.npz"
     garbage.write_bytes(b"not a zip file")
     calls = counting(monkeypatch)
@@ -149,7 +154,7 @@ def test_truncated_chunk_file_is_recomputed_and_reported(tmp_path, monkeypatch, 
 
 def test_stray_temporary_files_of_a_killed_write_are_removed(tmp_path, capsys):
     out = tmp_path / "burial.nc"
-    final_tmp = tmp_path / ".burial.nc.0123456789abcdef.tmp"       # write_netcdf's pattern
+    final_tmp = tmp_path / ".burial.nc.0123456789abcdef.tmp"  # write_netcdf's pattern
     final_tmp.write_bytes(b"half a netCDF file")
     parts_of(out).mkdir()
     chunk_tmp = parts_of(out) / ".chunk-000000000000-000000000002.npz.999-abcd.tmp"
@@ -164,8 +169,10 @@ def test_stray_temporary_files_of_a_killed_write_are_removed(tmp_path, capsys):
 
 def write_csv(path, strength_factor=1.0):
     rows = [(0.0, 1500.0, 2000.0), (0.5, 1600.0, 4000.0), (2.0, 1700.0, 8000.0)]
-    path.write_text("depth_m,density_kg_m3,strength_pa\n" + "".join(
-        f"{z},{rho},{su * strength_factor}\n" for z, rho, su in rows))
+    path.write_text(
+        "depth_m,density_kg_m3,strength_pa\n"
+        + "".join(f"{z},{rho},{su * strength_factor}\n" for z, rho, su in rows)
+    )
 
 
 def test_resume_after_the_profile_csv_changed_matches_a_clean_run(tmp_path, monkeypatch, capsys):
@@ -177,7 +184,7 @@ def test_resume_after_the_profile_csv_changed_matches_a_clean_run(tmp_path, monk
     killed_after(monkeypatch, 1)
     with pytest.raises(KeyboardInterrupt):
         run_ensemble(scen, seed=8, output=out)
-    write_csv(csv, strength_factor=10.0)                 # the core was re-measured
+    write_csv(csv, strength_factor=10.0)  # the core was re-measured
     counting(monkeypatch)
     resumed = run_ensemble(scen, seed=8, output=out)
     assert "discarding 1 finished chunk file(s)" in capsys.readouterr().err
@@ -186,6 +193,7 @@ def test_resume_after_the_profile_csv_changed_matches_a_clean_run(tmp_path, monk
     recorded = json.loads(xr.load_dataset(out).attrs["scenario"])["input_files"]
     assert list(recorded) == [str(csv.resolve())]
     import hashlib
+
     assert recorded[str(csv.resolve())] == hashlib.sha256(csv.read_bytes()).hexdigest()
 
 
@@ -212,11 +220,11 @@ def test_a_second_run_on_a_locked_output_is_refused(tmp_path, monkeypatch, capsy
     scen = tmp_path / "scenario.toml"
     scen.write_text(dumps_toml(cheap()))
     out = tmp_path / "burial.nc"
-    live = RunLock(parts_of(out), out).acquire()            # a live run holds the output
+    live = RunLock(parts_of(out), out).acquire()  # a live run holds the output
     try:
         calls = counting(monkeypatch)
         rc = main(["run", str(scen), "-o", str(out), "--quiet"])
-        with pytest.raises(RunLockedError):                  # the library refuses as well
+        with pytest.raises(RunLockedError):  # the library refuses as well
             run_ensemble(cheap(), output=out)
     finally:
         live.release()
@@ -229,11 +237,12 @@ def test_a_second_run_on_a_locked_output_is_refused(tmp_path, monkeypatch, capsy
 
 def test_a_stale_lock_of_a_dead_process_is_taken_over(tmp_path, capsys):
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
-    dead.wait()                                             # its pid is not alive any more
+    dead.wait()  # its pid is not alive any more
     out = tmp_path / "burial.nc"
     parts_of(out).mkdir()
-    (parts_of(out) / "lock").write_text(json.dumps({"pid": dead.pid, "host": os.uname().nodename,
-                                                    "started": "2026-01-01T00:00:00Z"}))
+    (parts_of(out) / "lock").write_text(
+        json.dumps({"pid": dead.pid, "host": os.uname().nodename, "started": "2026-01-01T00:00:00Z"})
+    )
     ds = run_ensemble(cheap(), n=4, seed=10, output=out)
     assert_bit_identical(ds, run_ensemble(cheap(), n=4, seed=10))
     assert out.exists() and not parts_of(out).exists()
@@ -244,7 +253,7 @@ def test_lock_is_released_when_a_run_is_interrupted(tmp_path, monkeypatch):
     killed_after(monkeypatch, 1)
     with pytest.raises(KeyboardInterrupt):
         run_ensemble(cheap(), seed=11, output=out)
-    RunLock(parts_of(out), out).acquire().release()         # free again
+    RunLock(parts_of(out), out).acquire().release()  # free again
 
 
 def test_per_drop_and_class_basis_do_not_change_the_run_identity():
@@ -260,15 +269,14 @@ def test_per_drop_and_class_basis_do_not_change_the_run_identity():
 def write_grid(path, depth):
     from mineburial.synthetic import synthetic_environment
 
-    env = synthetic_environment(ny=2, nx=2, seed=1)          # 3 water cells, 1 land cell
+    env = synthetic_environment(ny=2, nx=2, seed=1)  # 3 water cells, 1 land cell
     wet = np.isfinite(env["water_depth"].values)
     env["water_depth"].values[wet] = depth
-    env["sediment_class"].values[wet] = 4                    # stiff_clay
+    env["sediment_class"].values[wet] = 4  # stiff_clay
     env.to_netcdf(path)
 
 
-def test_map_resume_after_the_environment_grid_changed_matches_a_clean_map(
-        tmp_path, monkeypatch, capsys):
+def test_map_resume_after_the_environment_grid_changed_matches_a_clean_map(tmp_path, monkeypatch, capsys):
     from mineburial.maps import run_map
 
     env, out = tmp_path / "env.nc", tmp_path / "map.nc"
@@ -277,10 +285,10 @@ def test_map_resume_after_the_environment_grid_changed_matches_a_clean_map(
     killed_after(monkeypatch, 3)
     with pytest.raises(KeyboardInterrupt):
         run_map(scen, env, n=2, seed=3, chunk_size=1, output=out)
-    write_grid(env, 3.4)                                     # a new survey of the area
+    write_grid(env, 3.4)  # a new survey of the area
     calls = counting(monkeypatch)
     resumed = run_map(scen, env, n=2, seed=3, chunk_size=1, output=out)
     assert "discarding" in capsys.readouterr().err
-    assert len(calls) == 6                                   # 3 cells x 2 chunks, all new
+    assert len(calls) == 6  # 3 cells x 2 chunks, all new
     assert_bit_identical(resumed, run_map(scen, env, n=2, seed=3, chunk_size=1))
     assert not parts_of(out).exists()

@@ -12,8 +12,8 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
-
 from conftest import scenario_dict
+
 from mineburial.cli import main
 from mineburial.config import dumps_toml
 from mineburial.ensembles import engine, runner
@@ -22,12 +22,15 @@ N = 8
 
 
 def cheap(**ensemble):
-    d = scenario_dict(environment={"water_depth": {"distribution": "uniform", "low": 2.5,
-                                                   "high": 3.5}},
-                      release={"position": [0.0, 0.0, 1.0],
-                               "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0}},
-                      sediment={"class": "soft_clay"},
-                      numerics={"t_max": 3.0, "sediment_quadrature": "fast"})
+    d = scenario_dict(
+        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
+        },
+        sediment={"class": "soft_clay"},
+        numerics={"t_max": 3.0, "sediment_quadrature": "fast"},
+    )
     d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
     d["ensemble"] = {"n": N, "chunk_size": 4, **ensemble}
     return d
@@ -60,8 +63,12 @@ def refused(capsys, argv, *needles):
 
 def test_output_equal_to_the_scenario_file_is_refused(scenario_file, capsys, no_computing):
     before = scenario_file.read_bytes()
-    refused(capsys, ["run", str(scenario_file), "-o", str(scenario_file), "--quiet"],
-            "-o", "is an input of the run")
+    refused(
+        capsys,
+        ["run", str(scenario_file), "-o", str(scenario_file), "--quiet"],
+        "-o",
+        "is an input of the run",
+    )
     assert scenario_file.read_bytes() == before
 
 
@@ -73,49 +80,73 @@ def test_output_equal_to_a_profile_file_is_refused(tmp_path, capsys, no_computin
     d["sediment"] = {"file": "core.csv"}
     scen.write_text(dumps_toml(d))
     before = csv.read_bytes()
-    refused(capsys, ["run", str(scen), "-o", str(tmp_path / "." / "core.csv"), "--quiet"],
-            "is an input of the run", "core.csv")
+    refused(
+        capsys,
+        ["run", str(scen), "-o", str(tmp_path / "." / "core.csv"), "--quiet"],
+        "is an input of the run",
+        "core.csv",
+    )
     assert csv.read_bytes() == before
 
 
 def test_existing_folder_as_output_is_refused(scenario_file, tmp_path, capsys, no_computing):
-    refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path), "--quiet"],
-            "is an existing folder")
+    refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path), "--quiet"], "is an existing folder")
 
 
-def test_output_whose_parent_is_a_file_is_refused(scenario_file, tmp_path, capsys,
-                                                  no_computing):
+def test_output_whose_parent_is_a_file_is_refused(scenario_file, tmp_path, capsys, no_computing):
     blocker = tmp_path / "notes.txt"
     blocker.write_text("a file")
-    refused(capsys, ["run", str(scenario_file), "-o", str(blocker / "out.nc"), "--quiet"],
-            "is a file, not a folder")
-    refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path / "missing" / "out.nc"),
-                     "--quiet"], "does not exist")
+    refused(
+        capsys,
+        ["run", str(scenario_file), "-o", str(blocker / "out.nc"), "--quiet"],
+        "is a file, not a folder",
+    )
+    refused(
+        capsys,
+        ["run", str(scenario_file), "-o", str(tmp_path / "missing" / "out.nc"), "--quiet"],
+        "does not exist",
+    )
 
 
 @pytest.mark.parametrize("threads", ["0", "-3", "100000"])
-def test_threads_outside_one_to_cores_are_refused(scenario_file, tmp_path, capsys, no_computing,
-                                                  threads):
-    refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path / "o.nc"), "--threads",
-                     threads, "--quiet"], "--threads", "outside the allowed range 1..")
+def test_threads_outside_one_to_cores_are_refused(scenario_file, tmp_path, capsys, no_computing, threads):
+    refused(
+        capsys,
+        ["run", str(scenario_file), "-o", str(tmp_path / "o.nc"), "--threads", threads, "--quiet"],
+        "--threads",
+        "outside the allowed range 1..",
+    )
 
 
-def test_unreachable_scheduler_is_refused_after_a_short_timeout(scenario_file, tmp_path,
-                                                               capsys, monkeypatch,
-                                                               no_computing):
+def test_unreachable_scheduler_is_refused_after_a_short_timeout(
+    scenario_file, tmp_path, capsys, monkeypatch, no_computing
+):
     monkeypatch.setattr(runner, "SCHEDULER_TIMEOUT", 1.0)
-    refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path / "o.nc"), "--scheduler",
-                     "tcp://127.0.0.1:9", "--quiet"],
-            "--scheduler tcp://127.0.0.1:9: cannot reach a dask scheduler there within 1 s")
+    refused(
+        capsys,
+        [
+            "run",
+            str(scenario_file),
+            "-o",
+            str(tmp_path / "o.nc"),
+            "--scheduler",
+            "tcp://127.0.0.1:9",
+            "--quiet",
+        ],
+        "--scheduler tcp://127.0.0.1:9: cannot reach a dask scheduler there within 1 s",
+    )
 
 
-def test_huge_n_is_refused_with_the_memory_it_would_need(scenario_file, tmp_path, capsys,
-                                                         no_computing):
-    err = refused(capsys, ["run", str(scenario_file), "-o", str(tmp_path / "o.nc"), "-n",
-                           str(10 ** 15), "--quiet"], "ensemble.n = 1000000000000000",
-                  "would need about")
+def test_huge_n_is_refused_with_the_memory_it_would_need(scenario_file, tmp_path, capsys, no_computing):
+    err = refused(
+        capsys,
+        ["run", str(scenario_file), "-o", str(tmp_path / "o.nc"), "-n", str(10**15), "--quiet"],
+        "ensemble.n = 1000000000000000",
+        "would need about",
+    )
     # the estimate: N_SUMMARY float64 + status + 3 sampled inputs a drop, times 4
     from mineburial.kernels import layout
+
     per_drop = int(re.search(r"\((\d+) bytes a drop", err).group(1))
     assert per_drop == layout.N_SUMMARY * 8 + 1 + 3 * 8
 
@@ -126,7 +157,7 @@ def test_fixed_step_integrator_with_too_many_steps_gets_a_warning(capsys):
     runner.warn_run(engine.load_ensemble(many))
     err = capsys.readouterr().err
     assert "warning: numerics.t_max / numerics.dt" in err and "3e+08 time steps" in err
-    for integrator, dt in (("dopri5", 1e-8), ("rk4", 1e-3)):     # adaptive, or few steps
+    for integrator, dt in (("dopri5", 1e-8), ("rk4", 1e-3)):  # adaptive, or few steps
         ok = cheap()
         ok["numerics"].update(integrator=integrator, dt=dt, t_max=3.0)
         runner.warn_run(engine.load_ensemble(ok))
@@ -144,8 +175,9 @@ def test_scenario_per_drop_true_is_honoured_by_the_cli(tmp_path, capsys):
 
 
 def printed_probabilities(text):
-    return {m.group(1): float(m.group(2))
-            for m in re.finditer(r"^  P\((\w+)\) = ([0-9.]+)", text, flags=re.M)}
+    return {
+        m.group(1): float(m.group(2)) for m in re.finditer(r"^  P\((\w+)\) = ([0-9.]+)", text, flags=re.M)
+    }
 
 
 @pytest.mark.parametrize("per_drop", [[], ["--per-drop"]])
@@ -156,24 +188,26 @@ def test_per_drop_summary_prints_the_files_class_probabilities(tmp_path, capsys,
     d["release"]["position"] = [0.0, 0.0, -1.5]
     scen.write_text(dumps_toml(d))
     out = tmp_path / "o.nc"
-    assert main(["run", str(scen), "-o", str(out), "-n", "12", "--seed", "1", "--quiet",
-                 "--per-drop"]) == 0                       # the reference: per-drop values
+    assert (
+        main(["run", str(scen), "-o", str(out), "-n", "12", "--seed", "1", "--quiet", "--per-drop"]) == 0
+    )  # the reference: per-drop values
     capsys.readouterr()
     ref = xr.load_dataset(out)
-    assert main(["run", str(scen), "-o", str(out), "-n", "12", "--seed", "1", "--quiet",
-                 *per_drop]) == 0
+    assert main(["run", str(scen), "-o", str(out), "-n", "12", "--seed", "1", "--quiet", *per_drop]) == 0
     printed = printed_probabilities(capsys.readouterr().out)
     rest = ref["status"].values == 0
     burial = ref["burial_volume"].values[rest]
-    expected = {"not_buried": np.mean(burial <= 0),
-                "buried_0_to_10_percent": np.mean((burial > 0) & (burial <= 10)),
-                "buried_10_to_20_percent": np.mean((burial > 10) & (burial <= 20)),
-                "buried_20_to_75_percent": np.mean((burial > 20) & (burial <= 75)),
-                "buried_more_than_75_percent": np.mean(burial > 75)}
+    expected = {
+        "not_buried": np.mean(burial <= 0),
+        "buried_0_to_10_percent": np.mean((burial > 0) & (burial <= 10)),
+        "buried_10_to_20_percent": np.mean((burial > 10) & (burial <= 20)),
+        "buried_20_to_75_percent": np.mean((burial > 20) & (burial <= 75)),
+        "buried_more_than_75_percent": np.mean(burial > 75),
+    }
     assert set(printed) == set(expected)
     for name, p in expected.items():
         assert printed[name] == pytest.approx(p, abs=5e-4), name
-    assert len({round(p, 3) for p in expected.values()}) > 1     # the labels matter here
+    assert len({round(p, 3) for p in expected.values()}) > 1  # the labels matter here
 
 
 def test_invalid_sampled_inputs_get_a_warning_with_reason_and_count(tmp_path, capsys):
@@ -212,27 +246,69 @@ def write_grid(path):
     write_synthetic_environment(path, ny=2, nx=2, seed=1)
 
 
-def test_map_output_equal_to_the_environment_grid_is_refused(scenario_file, tmp_path, capsys,
-                                                             no_computing):
+def test_map_output_equal_to_the_environment_grid_is_refused(scenario_file, tmp_path, capsys, no_computing):
     env = tmp_path / "env.nc"
     write_grid(env)
     before = env.read_bytes()
-    refused(capsys, ["map", str(scenario_file), "--environment", str(env), "-o", str(env),
-                     "--quiet"], "-o", "is an input of the run")
+    refused(
+        capsys,
+        ["map", str(scenario_file), "--environment", str(env), "-o", str(env), "--quiet"],
+        "-o",
+        "is an input of the run",
+    )
     assert env.read_bytes() == before
 
 
-def test_map_plot_with_an_unsupported_extension_is_refused(scenario_file, tmp_path, capsys,
-                                                           no_computing):
+def test_map_plot_with_an_unsupported_extension_is_refused(scenario_file, tmp_path, capsys, no_computing):
     pytest.importorskip("matplotlib")
     env = tmp_path / "env.nc"
     write_grid(env)
-    refused(capsys, ["map", str(scenario_file), "--environment", str(env), "-o",
-                     str(tmp_path / "m.nc"), "--plot", str(tmp_path / "m.xyz"), "--quiet"],
-            "--plot", "unsupported image type '.xyz'", ".png")
-    refused(capsys, ["map", str(scenario_file), "--environment", str(env), "-o",
-                     str(tmp_path / "m.png"), "--plot", str(tmp_path / "m.png"), "--quiet"],
-            "--plot", "is also the map's output (-o)")
-    refused(capsys, ["map", str(scenario_file), "--environment", str(env), "-o",
-                     str(tmp_path / "m.nc"), "--plot", str(tmp_path / "nowhere" / "m.png"),
-                     "--quiet"], "--plot", "does not exist")
+    refused(
+        capsys,
+        [
+            "map",
+            str(scenario_file),
+            "--environment",
+            str(env),
+            "-o",
+            str(tmp_path / "m.nc"),
+            "--plot",
+            str(tmp_path / "m.xyz"),
+            "--quiet",
+        ],
+        "--plot",
+        "unsupported image type '.xyz'",
+        ".png",
+    )
+    refused(
+        capsys,
+        [
+            "map",
+            str(scenario_file),
+            "--environment",
+            str(env),
+            "-o",
+            str(tmp_path / "m.png"),
+            "--plot",
+            str(tmp_path / "m.png"),
+            "--quiet",
+        ],
+        "--plot",
+        "is also the map's output (-o)",
+    )
+    refused(
+        capsys,
+        [
+            "map",
+            str(scenario_file),
+            "--environment",
+            str(env),
+            "-o",
+            str(tmp_path / "m.nc"),
+            "--plot",
+            str(tmp_path / "nowhere" / "m.png"),
+            "--quiet",
+        ],
+        "--plot",
+        "does not exist",
+    )

@@ -18,7 +18,12 @@ from scipy import stats
 from mineburial.ensembles import sampling
 from mineburial.ensembles.distributions import Normal
 from mineburial.ensembles.sampling import (
-    SobolBalanceWarning, check_drop_count, field_id, sample_fields, uniforms)
+    SobolBalanceWarning,
+    check_drop_count,
+    field_id,
+    sample_fields,
+    uniforms,
+)
 
 SEED = 987654321
 FIELDS = ["mine.mass", "mine.length", "release.z", "sediment.strength"]
@@ -28,13 +33,17 @@ FIELDS = ["mine.mass", "mine.length", "release.z", "sediment.strength"]
 
 # Random123 tests/kat_vectors, "philox4x64 10": counter (4 words), key (2 words) -> output
 KAT = [
-    ([0, 0, 0, 0], [0, 0],
-     [0x16554d9eca36314c, 0xdb20fe9d672d0fdc, 0xd7e772cee186176b, 0x7e68b68aec7ba23b]),
-    ([2 ** 64 - 1] * 4, [2 ** 64 - 1] * 2,
-     [0x87b092c3013fe90b, 0x438c3c67be8d0224, 0x9cc7d7c69cd777b6, 0xa09caebf594f0ba0]),
-    ([0x243f6a8885a308d3, 0x13198a2e03707344, 0xa4093822299f31d0, 0x082efa98ec4e6c89],
-     [0x452821e638d01377, 0xbe5466cf34e90c6c],
-     [0xa528f45403e61d95, 0x38c72dbd566e9788, 0xa5a1610e72fd18b5, 0x57bd43b5e52b7fe6]),
+    ([0, 0, 0, 0], [0, 0], [0x16554D9ECA36314C, 0xDB20FE9D672D0FDC, 0xD7E772CEE186176B, 0x7E68B68AEC7BA23B]),
+    (
+        [2**64 - 1] * 4,
+        [2**64 - 1] * 2,
+        [0x87B092C3013FE90B, 0x438C3C67BE8D0224, 0x9CC7D7C69CD777B6, 0xA09CAEBF594F0BA0],
+    ),
+    (
+        [0x243F6A8885A308D3, 0x13198A2E03707344, 0xA4093822299F31D0, 0x082EFA98EC4E6C89],
+        [0x452821E638D01377, 0xBE5466CF34E90C6C],
+        [0xA528F45403E61D95, 0x38C72DBD566E9788, 0xA5A1610E72FD18B5, 0x57BD43B5E52B7FE6],
+    ),
 ]
 
 
@@ -48,7 +57,7 @@ def test_mc_stream_is_numpy_philox_keyed_by_seed_and_field():
     for name in ("mine.mass", "environment.water_depth"):
         key = np.array([SEED, field_id(name)], dtype=np.uint64)
         raw = np.random.Philox(key=key).random_raw(1003)
-        ref = ((raw >> np.uint64(12)).astype(np.float64) + 0.5) * 2.0 ** -52
+        ref = ((raw >> np.uint64(12)).astype(np.float64) + 0.5) * 2.0**-52
         u = uniforms(SEED, [name], 0, 1003)[:, 0]
         np.testing.assert_array_equal(u, ref)
         np.testing.assert_array_equal(uniforms(SEED, [name], 517, 1003)[:, 0], ref[517:])
@@ -58,7 +67,7 @@ def test_mc_uniforms_open_interval_53_bit_grid():
     u = uniforms(1, FIELDS, 0, 50_000)
     assert u.shape == (50_000, 4) and u.dtype == np.float64 and u.flags.c_contiguous
     assert np.all((u > 0.0) & (u < 1.0))
-    k = u * 2.0 ** 53                      # exact: odd integers below 2**53
+    k = u * 2.0**53  # exact: odd integers below 2**53
     assert np.all(k == np.round(k)) and np.all(k % 2 == 1)
     assert stats.kstest(u.ravel(), "uniform").pvalue > 0.01
 
@@ -73,13 +82,14 @@ def test_field_id_is_blake2b_of_the_name():
 
 # --- reproducibility --------------------------------------------------------
 
+
 @pytest.mark.parametrize("method", ["mc", "sobol"])
 def test_chunk_invariance_bit_for_bit(method):
     whole = uniforms(SEED, FIELDS, 0, 1000, method)
-    two = np.concatenate([uniforms(SEED, FIELDS, 0, 300, method),
-                          uniforms(SEED, FIELDS, 300, 1000, method)])
-    odd = np.concatenate([uniforms(SEED, FIELDS, a, b, method)
-                          for a, b in [(0, 1), (1, 7), (7, 64), (64, 999), (999, 1000)]])
+    two = np.concatenate([uniforms(SEED, FIELDS, 0, 300, method), uniforms(SEED, FIELDS, 300, 1000, method)])
+    odd = np.concatenate(
+        [uniforms(SEED, FIELDS, a, b, method) for a, b in [(0, 1), (1, 7), (7, 64), (64, 999), (999, 1000)]]
+    )
     assert whole.tobytes() == two.tobytes() == odd.tobytes()
     # any single drop can be re-drawn on its own
     np.testing.assert_array_equal(uniforms(SEED, FIELDS, 613, 614, method)[0], whole[613])
@@ -118,11 +128,16 @@ def test_fields_are_distinct_streams():
 
 
 def test_adding_a_field_leaves_other_mc_draws_unchanged():
-    spec = {"mine.mass": Normal(500.0, 25.0),
-            "sediment.strength": {"distribution": "lognormal", "median": 2e3, "sigma": 0.4}}
+    spec = {
+        "mine.mass": Normal(500.0, 25.0),
+        "sediment.strength": {"distribution": "lognormal", "median": 2e3, "sigma": 0.4},
+    }
     before = sample_fields(spec, SEED, 0, 500)
-    grown = {"release.psi2_deg": {"distribution": "uniform", "low": 0, "high": 90}, **spec,
-             "current.u": {"distribution": "normal", "mean": 0.0, "std": 0.2}}
+    grown = {
+        "release.psi2_deg": {"distribution": "uniform", "low": 0, "high": 90},
+        **spec,
+        "current.u": {"distribution": "normal", "mean": 0.0, "std": 0.2},
+    }
     after = sample_fields(grown, SEED, 0, 500)
     for name in spec:
         np.testing.assert_array_equal(after[name], before[name])
@@ -137,9 +152,10 @@ def test_sobol_depends_on_the_field_set_not_its_order():
 
 # --- Sobol' structure -------------------------------------------------------
 
+
 def test_sobol_open_interval_and_one_point_per_cell():
     m = 12
-    n = 2 ** m
+    n = 2**m
     u = uniforms(SEED, ["a.x", "a.y"], 0, n, "sobol")
     assert np.all((u > 0) & (u < 1))
     # every one-dimensional projection: one point in each [j/n, (j+1)/n)
@@ -147,26 +163,32 @@ def test_sobol_open_interval_and_one_point_per_cell():
         assert np.array_equal(np.sort(np.floor(u[:, k] * n).astype(np.int64)), np.arange(n))
     # first two Sobol' dimensions form a (0, m, 2)-net: one point per elementary box
     for a in range(m + 1):
-        cell = (np.floor(u[:, 0] * 2 ** a).astype(np.int64) * 2 ** (m - a)
-                + np.floor(u[:, 1] * 2 ** (m - a)).astype(np.int64))
+        cell = np.floor(u[:, 0] * 2**a).astype(np.int64) * 2 ** (m - a) + np.floor(
+            u[:, 1] * 2 ** (m - a)
+        ).astype(np.int64)
         assert np.array_equal(np.sort(cell), np.arange(n)), a
 
 
 def test_sobol_marginals_are_continuous_uniform():
-    u = uniforms(SEED, FIELDS, 4096, 4096 + 2 ** 14, "sobol")
-    assert len(np.unique(u)) == u.size              # no 2**-32 grid ties
+    u = uniforms(SEED, FIELDS, 4096, 4096 + 2**14, "sobol")
+    assert len(np.unique(u)) == u.size  # no 2**-32 grid ties
     for k in range(u.shape[1]):
         assert stats.kstest(u[:, k], "uniform").pvalue > 0.01
 
 
 def test_sobol_empirical_choice_is_exactly_balanced():
-    s = sample_fields({"sediment.density": {"distribution": "empirical",
-                                            "values": [1.0, 2.0, 3.0, 4.0]}}, SEED, 0, 4096, "sobol")
+    s = sample_fields(
+        {"sediment.density": {"distribution": "empirical", "values": [1.0, 2.0, 3.0, 4.0]}},
+        SEED,
+        0,
+        4096,
+        "sobol",
+    )
     np.testing.assert_array_equal(np.unique(s["sediment.density"], return_counts=True)[1], [1024] * 4)
 
 
 def test_sobol_integrates_smooth_functions_better_than_mc():
-    n, d = 2 ** 12, 5
+    n, d = 2**12, 5
     names = [f"x.u{k}" for k in range(d)]
     err = {"mc": [], "sobol": []}
     for seed in range(8):
@@ -189,10 +211,11 @@ def test_check_drop_count_warns_for_non_power_of_two():
         warnings.simplefilter("error")
         check_drop_count(1024, "sobol")
         check_drop_count(1000, "mc")
-        uniforms(1, FIELDS, 0, 1000, "sobol")       # chunks never warn
+        uniforms(1, FIELDS, 0, 1000, "sobol")  # chunks never warn
 
 
 # --- errors -------------------------------------------------------
+
 
 def test_argument_errors():
     with pytest.raises(ValueError, match=r"unknown sampling method 'qmc'; available methods are mc, sobol"):

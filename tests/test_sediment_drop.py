@@ -3,13 +3,12 @@
 import math
 
 import pytest
+from conftest import scenario_dict
 
+from mineburial.config import Scenario
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
 from mineburial.validation.references import archimedes_penetration, axial_penetration
-
-from conftest import scenario_dict
-from mineburial.config import Scenario
 
 G = 9.81
 RHO_W = 1025.0
@@ -36,13 +35,19 @@ def _archimedes_case(penetration, t_max):
     r = d / 2
     vol = math.pi * r * r * L
     depth = 10.0
-    sc = _scenario(mine={"mass": rho_mine * vol},
-                   environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
-                   release={"position": [0.0, 0.0, -depth + r - penetration], "pitch_deg": 0.0,
-                            "embedded": True},
-                   sediment={"density": rho_s, "density_gradient": 0.0, "strength": 0.0,
-                             "strength_gradient": 0.0, "resistance": "bearing"},
-                   numerics={"t_max": t_max, "dt": 1e-3})
+    sc = _scenario(
+        mine={"mass": rho_mine * vol},
+        environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
+        release={"position": [0.0, 0.0, -depth + r - penetration], "pitch_deg": 0.0, "embedded": True},
+        sediment={
+            "density": rho_s,
+            "density_gradient": 0.0,
+            "strength": 0.0,
+            "strength_gradient": 0.0,
+            "resistance": "bearing",
+        },
+        numerics={"t_max": t_max, "dt": 1e-3},
+    )
     # closed form: (rho_s - rho_w) V_emb + rho_w V = rho_mine V with V_emb = L * segment(h)
     h = archimedes_penetration(L, d, rho_mine, rho_s, RHO_W)
     return sc, h, depth, r
@@ -65,7 +70,7 @@ def test_oscillates_about_archimedes_depth_from_above():
     ds = simulate_drop(sc, record_interval=0.002)
     pen = r - (ds.z.values + depth)
     late = ds.time.values > 2.0
-    assert pen[late].max() - pen[late].min() > 0.01      # it does oscillate
+    assert pen[late].max() - pen[late].min() > 0.01  # it does oscillate
     assert abs(pen[late].mean() - h) / h < 0.005, (pen[late].mean(), h)
 
 
@@ -79,27 +84,49 @@ def test_vertical_penetration_matches_one_dimensional_solution():
     nc0 = math.pi + 2.0
     beta, rate_ref = 0.1, 2.78e-6
     w0 = -3.0
-    sc = _scenario(mine={"mass": mass},
-                   environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
-                   release={"position": [0.0, 0.0, -depth + L / 2 + 1e-9], "pitch_deg": 90.0,
-                            "velocity": [0.0, 0.0, w0]},
-                   sediment={"density": rho_s, "density_gradient": 0.0, "strength": s0,
-                             "strength_gradient": ks, "resistance": "bearing",
-                             "rate_law": "semilog", "rate_coefficient": beta,
-                             "reference_rate": rate_ref, "friction": 0.0,
-                             "bearing_factor": nc0},
-                   numerics={"t_max": 10.0, "dt": 1e-4, "drag": False})
+    sc = _scenario(
+        mine={"mass": mass},
+        environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
+        release={
+            "position": [0.0, 0.0, -depth + L / 2 + 1e-9],
+            "pitch_deg": 90.0,
+            "velocity": [0.0, 0.0, w0],
+        },
+        sediment={
+            "density": rho_s,
+            "density_gradient": 0.0,
+            "strength": s0,
+            "strength_gradient": ks,
+            "resistance": "bearing",
+            "rate_law": "semilog",
+            "rate_coefficient": beta,
+            "reference_rate": rate_ref,
+            "friction": 0.0,
+            "bearing_factor": nc0,
+        },
+        numerics={"t_max": 10.0, "dt": 1e-4, "drag": False},
+    )
     code, s = _summary(sc)
     assert code == status.AT_REST
 
     # the same force law written for a vertical cylinder penetrating axially
     zeta_ref = axial_penetration(
-        mass=mass, length=L, diameter=d, impact_speed=-w0, strength=s0, strength_gradient=ks,
-        sediment_density=rho_s, water_density=RHO_W, gravity=G, bearing_factor=nc0,
-        rate_coefficient=beta, reference_rate=rate_ref,
-        switch_speed=sc.numerics.switch_speed, rest_speed=sc.numerics.rest_speed)
-    assert abs(s["penetration_depth"] - zeta_ref) / zeta_ref < 0.01, (s["penetration_depth"],
-                                                                      zeta_ref)
+        mass=mass,
+        length=L,
+        diameter=d,
+        impact_speed=-w0,
+        strength=s0,
+        strength_gradient=ks,
+        sediment_density=rho_s,
+        water_density=RHO_W,
+        gravity=G,
+        bearing_factor=nc0,
+        rate_coefficient=beta,
+        reference_rate=rate_ref,
+        switch_speed=sc.numerics.switch_speed,
+        rest_speed=sc.numerics.rest_speed,
+    )
+    assert abs(s["penetration_depth"] - zeta_ref) / zeta_ref < 0.01, (s["penetration_depth"], zeta_ref)
 
 
 # ---------------------------------------------------------------------------
@@ -107,12 +134,18 @@ def test_vertical_penetration_matches_one_dimensional_solution():
 # ---------------------------------------------------------------------------
 def _penetration(**over):
     # nose-down vertical drops (nose-heavy, stable): no toppling after the stop
-    base = dict(mine={"mass": 120.0, "com_offset": 0.05}, environment={"water_depth": 8.0},
-                release={"position": [0.0, 0.0, -7.0], "pitch_deg": 90.0,
-                         "velocity": [0.0, 0.0, -3.0]},
-                sediment={"density": 1500.0, "density_gradient": 0.0, "strength": 3000.0,
-                          "strength_gradient": 2000.0},
-                numerics={"t_max": 20.0})
+    base = dict(
+        mine={"mass": 120.0, "com_offset": 0.05},
+        environment={"water_depth": 8.0},
+        release={"position": [0.0, 0.0, -7.0], "pitch_deg": 90.0, "velocity": [0.0, 0.0, -3.0]},
+        sediment={
+            "density": 1500.0,
+            "density_gradient": 0.0,
+            "strength": 3000.0,
+            "strength_gradient": 2000.0,
+        },
+        numerics={"t_max": 20.0},
+    )
     for k, v in over.items():
         base[k] = {**base[k], **v}
     code, s = _summary(_scenario(**base))
@@ -141,6 +174,7 @@ def test_burial_falls_with_shear_strength():
 @pytest.mark.parametrize("name", ["exp2_barrel", "default_mine"])
 def test_burial_converged_in_time_step(name):
     from mineburial.config import load_example
+
     sc = load_example(name)
     p, sb, cb = sc.to_params()
     out = []

@@ -15,11 +15,11 @@ import math
 import numpy as np
 import pytest
 from scipy import integrate
+from test_sediment_kernel import V_REG, V_REG_N  # the regularisation pinned by params()
+from test_sediment_kernel import params as _kernel_params
 
 from mineburial.kernels import layout as lay
 from mineburial.kernels.sediment import pack_law, sediment_force_torque
-from test_sediment_kernel import V_REG, V_REG_N  # the regularisation pinned by params()
-from test_sediment_kernel import params as _kernel_params
 from mineburial.kernels.sediment.fast import fast_tractions
 from mineburial.kernels.sediment.reference import reference_tractions
 
@@ -28,9 +28,11 @@ RHO_W = 1025.0
 SEABED = -20.0
 EMPTY_BANK = np.full((1, 3, 2), np.nan)
 BANK = np.full((2, 3, 8), np.nan)
-BANK[0, :, :5] = [[0.0, 0.05, 0.15, 0.4, 1.2],
-                  [1300.0, 1450.0, 1600.0, 1700.0, 1800.0],
-                  [300.0, 900.0, 2500.0, 4000.0, 9000.0]]
+BANK[0, :, :5] = [
+    [0.0, 0.05, 0.15, 0.4, 1.2],
+    [1300.0, 1450.0, 1600.0, 1700.0, 1800.0],
+    [300.0, 900.0, 2500.0, 4000.0, 9000.0],
+]
 BANK[1, :, :3] = [[0.02, 0.3, 0.9], [1500.0, 1650.0, 1750.0], [1000.0, 3000.0, 6000.0]]
 
 
@@ -60,23 +62,52 @@ def law_of(p, R):
 def both(L, R, chi, c2, d0, vb, p, bank=EMPTY_BANK):
     """(fast, reference) body-frame (f1, f2, f3, m1, m2, m3)."""
     law = law_of(p, R)
-    args = (float(L), float(R), float(chi), float(c2[0]), float(c2[1]), float(c2[2]),
-            float(d0), tuple(float(v) for v in vb))
-    return (np.array(fast_tractions(*args, law, bank)),
-            np.array(reference_tractions(*args, law, bank)))
+    args = (
+        float(L),
+        float(R),
+        float(chi),
+        float(c2[0]),
+        float(c2[1]),
+        float(c2[2]),
+        float(d0),
+        tuple(float(v) for v in vb),
+    )
+    return (np.array(fast_tractions(*args, law, bank)), np.array(reference_tractions(*args, law, bank)))
 
 
 def fast(L, R, chi, c2, d0, vb, p, bank=EMPTY_BANK):
-    return np.array(fast_tractions(float(L), float(R), float(chi), float(c2[0]), float(c2[1]),
-                                   float(c2[2]), float(d0), tuple(float(v) for v in vb),
-                                   law_of(p, R), bank))
+    return np.array(
+        fast_tractions(
+            float(L),
+            float(R),
+            float(chi),
+            float(c2[0]),
+            float(c2[1]),
+            float(c2[2]),
+            float(d0),
+            tuple(float(v) for v in vb),
+            law_of(p, R),
+            bank,
+        )
+    )
 
 
 def kernel_call(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK):
     """Through the dispatcher: (force E-frame, torque body-frame)."""
-    out = sediment_force_torque(L, R, chi, tuple(float(v) for v in C.ravel()),
-                                tuple(float(v) for v in com), tuple(float(v) for v in vel),
-                                tuple(float(v) for v in omega), SEABED, RHO_W, G, p, bank)
+    out = sediment_force_torque(
+        L,
+        R,
+        chi,
+        tuple(float(v) for v in C.ravel()),
+        tuple(float(v) for v in com),
+        tuple(float(v) for v in vel),
+        tuple(float(v) for v in omega),
+        SEABED,
+        RHO_W,
+        G,
+        p,
+        bank,
+    )
     return np.array(out[:3]), np.array(out[3:6])
 
 
@@ -86,22 +117,22 @@ def _profile(zeta, p, bank):
     row = int(p[lay.P_SED_PROFILE])
     if row < 0:
         s = np.maximum(p[lay.P_SED_S] + p[lay.P_SED_S_GRAD] * zeta, 0.0)
-        sig = G * ((p[lay.P_SED_RHO] - RHO_W) * zeta + 0.5 * p[lay.P_SED_RHO_GRAD] * zeta ** 2)
+        sig = G * ((p[lay.P_SED_RHO] - RHO_W) * zeta + 0.5 * p[lay.P_SED_RHO_GRAD] * zeta**2)
         return s, sig
     d, r, st = bank[row]
     ok = ~np.isnan(d)
     d, r, st = d[ok], r[ok], st[ok]
     fine = np.unique(np.concatenate([np.linspace(0.0, max(d[-1], 1e-9), 2001), d]))
     cum = integrate.cumulative_trapezoid(np.interp(fine, d, r) - RHO_W, fine, initial=0.0)
-    sig = G * np.where(zeta <= d[-1], np.interp(zeta, fine, cum),
-                       cum[-1] + (r[-1] - RHO_W) * (zeta - d[-1]))
+    sig = G * np.where(zeta <= d[-1], np.interp(zeta, fine, cum), cum[-1] + (r[-1] - RHO_W) * (zeta - d[-1]))
     return np.interp(zeta, d, st), sig
 
 
 def _abs_traction(r, n, zeta, vb, om, p, bank, diameter):
     """|t| on points r (3, ...) with normals n (the laws of laws._traction, numpy)."""
-    v = vb.reshape(3, *([1] * (r.ndim - 1))) + np.stack([
-        om[1] * r[2] - om[2] * r[1], om[2] * r[0] - om[0] * r[2], om[0] * r[1] - om[1] * r[0]])
+    v = vb.reshape(3, *([1] * (r.ndim - 1))) + np.stack(
+        [om[1] * r[2] - om[2] * r[1], om[2] * r[0] - om[0] * r[2], om[0] * r[1] - om[1] * r[0]]
+    )
     vn = np.sum(v * n, axis=0)
     vt = v - vn * n
     speed = np.sqrt(np.sum(v * v, axis=0))
@@ -111,11 +142,10 @@ def _abs_traction(r, n, zeta, vb, om, p, bank, diameter):
         a, vr = p[lay.P_SED_A], p[lay.P_SED_VREST]
         gf = a - (a - 1.0) * np.exp(-speed / vr)
     elif law == 1:
-        gf = 1.0 + p[lay.P_SED_BETA] * np.log10(
-            np.maximum(speed / diameter / p[lay.P_SED_RATE_REF], 1.0))
+        gf = 1.0 + p[lay.P_SED_BETA] * np.log10(np.maximum(speed / diameter / p[lay.P_SED_RATE_REF], 1.0))
     else:
         gf = np.ones_like(speed)
-    hn = np.where(vn > 0, vn / np.sqrt(vn * vn + V_REG_N ** 2), 0.0)
+    hn = np.where(vn > 0, vn / np.sqrt(vn * vn + V_REG_N**2), 0.0)
     mu = p[lay.P_SED_MU]
     model = int(p[lay.P_SED_RESISTANCE])
     if model == 0:
@@ -127,7 +157,7 @@ def _abs_traction(r, n, zeta, vb, om, p, bank, diameter):
         pn = p[lay.P_SED_NC] * (1 + 0.4 * np.arctan(zeta / diameter)) * s * gf * hn
         ft = mu * s * gf
     vtn = np.sqrt(np.sum(vt * vt, axis=0))
-    tt = ft * vtn / np.sqrt(vtn ** 2 + V_REG ** 2)
+    tt = ft * vtn / np.sqrt(vtn**2 + V_REG**2)
     return np.sqrt(pn * pn + tt * tt) * (vn >= 0)
 
 
@@ -141,15 +171,25 @@ def scales(L, R, chi, c2, d0, vb, p, bank=EMPTY_BANK, n=160):
     x = xa + (np.arange(n) + 0.5) * L / n
     th = (np.arange(n) + 0.5) * 2 * np.pi / n
     X, TH = np.meshgrid(x, th, indexing="ij")
-    surfaces = [(np.stack([X, R * np.cos(TH), R * np.sin(TH)]),
-                 np.stack([np.zeros_like(X), np.cos(TH), np.sin(TH)]),
-                 R * (L / n) * (2 * np.pi / n), np.ones_like(X))]
+    surfaces = [
+        (
+            np.stack([X, R * np.cos(TH), R * np.sin(TH)]),
+            np.stack([np.zeros_like(X), np.cos(TH), np.sin(TH)]),
+            R * (L / n) * (2 * np.pi / n),
+            np.ones_like(X),
+        )
+    ]
     yy = -R + (np.arange(n) + 0.5) * 2 * R / n
     Y, Z = np.meshgrid(yy, yy, indexing="ij")
     for xc, sgn in ((xa + L, 1.0), (xa, -1.0)):
-        surfaces.append((np.stack([np.full_like(Y, xc), Y, Z]),
-                         np.stack([np.full_like(Y, sgn), 0 * Y, 0 * Y]), (2 * R / n) ** 2,
-                         (Y * Y + Z * Z < R * R).astype(float)))
+        surfaces.append(
+            (
+                np.stack([np.full_like(Y, xc), Y, Z]),
+                np.stack([np.full_like(Y, sgn), 0 * Y, 0 * Y]),
+                (2 * R / n) ** 2,
+                (Y * Y + Z * Z < R * R).astype(float),
+            )
+        )
     for r, nrm, da, inside in surfaces:
         zeta = d0 - (c2[0] * r[0] + c2[1] * r[1] + c2[2] * r[2])
         t = _abs_traction(r, nrm, zeta, vlin, om, p, bank, 2 * R) * (zeta > 0) * inside
@@ -182,7 +222,7 @@ def random_case(rng):
     zlow = min(c2[0] * xa, c2[0] * xb) - R * rp
     zhigh = max(c2[0] * xa, c2[0] * xb) + R * rp
     if rng.uniform() < 1 / 6:
-        d0 = zlow + 10 ** rng.uniform(-3.0, -2.0)        # shallow contact, 1-10 mm
+        d0 = zlow + 10 ** rng.uniform(-3.0, -2.0)  # shallow contact, 1-10 mm
     else:
         d0 = zlow + rng.uniform(0.0, 1.3) * (zhigh - zlow)
     kind = rng.integers(4)
@@ -193,9 +233,9 @@ def random_case(rng):
     if kind == 0:
         om[:] = 0.0
     elif kind == 1:
-        vel *= 0.05                                          # rotation-dominated
+        vel *= 0.05  # rotation-dominated
         om = rng.normal(size=3) * rng.uniform(1.0, 5.0)
-    elif kind == 2:                                          # nearly broadside
+    elif kind == 2:  # nearly broadside
         vb = np.array([rng.normal() * 0.02, rng.normal(), rng.normal()])
         vel = C @ vb * rng.uniform(0.2, 4.0)
         om *= 0.01
@@ -204,8 +244,9 @@ def random_case(rng):
 
 
 def _case_params(i):
-    common = dict(P_SED_RATE_LAW=i % 3, P_SED_MU=0.3 if i % 4 else 0.0,
-                  P_SED_PROFILE=-1 if i % 5 else (i // 5) % 2)
+    common = dict(
+        P_SED_RATE_LAW=i % 3, P_SED_MU=0.3 if i % 4 else 0.0, P_SED_PROFILE=-1 if i % 5 else (i // 5) % 2
+    )
     return [params(P_SED_RESISTANCE=m, **common) for m in range(3)]
 
 
@@ -255,23 +296,30 @@ def test_axial_penetration_of_vertical_cylinder(model):
     harmonic in theta (1e-4)."""
     L, R, chi, V, D = 1.2, 0.2, 0.1, 1.5, 2.0
     rho0, s0, mu, a, vrest = 1600.0, 3000.0, 0.3, 10.0, 0.04
-    C = ypr_matrix(0.3, math.pi / 2, 0.7)          # i_M = -k
+    C = ypr_matrix(0.3, math.pi / 2, 0.7)  # i_M = -k
     xb = 0.5 * L - chi
     com = np.array([0.0, 0.0, SEABED - D + xb])
-    p = params(P_SED_RESISTANCE=model, P_SED_RHO=rho0, P_SED_RHO_GRAD=0.0, P_SED_S=s0,
-               P_SED_S_GRAD=0.0, P_SED_MU=mu, P_SED_A=a, P_SED_VREST=vrest)
+    p = params(
+        P_SED_RESISTANCE=model,
+        P_SED_RHO=rho0,
+        P_SED_RHO_GRAD=0.0,
+        P_SED_S=s0,
+        P_SED_S_GRAD=0.0,
+        P_SED_MU=mu,
+        P_SED_A=a,
+        P_SED_VREST=vrest,
+    )
     F, M = kernel_call(L, R, chi, C, com, (0.0, 0.0, -V), (0.0, 0.0, 0.0), p)
     g_v = a * (1 - (1 - 1 / a) * math.exp(-V / vrest))
-    h_n = V / math.sqrt(V * V + V_REG_N ** 2)
-    slip = V / math.sqrt(V * V + V_REG ** 2)
+    h_n = V / math.sqrt(V * V + V_REG_N**2)
+    slip = V / math.sqrt(V * V + V_REG**2)
     nc0 = math.pi + 2.0
     if model == 0:
         cap, side = (rho0 - RHO_W) * G * D * h_n, mu * g_v * s0 * slip
     elif model == 1:
         cap, side = nc0 * s0 * g_v * h_n, 0.0
     else:
-        cap, side = nc0 * (1 + 0.4 * math.atan(D / (2 * R))) * s0 * g_v * h_n, \
-            mu * s0 * g_v * slip
+        cap, side = nc0 * (1 + 0.4 * math.atan(D / (2 * R))) * s0 * g_v * h_n, mu * s0 * g_v * slip
     fz = math.pi * R * R * cap + 2 * math.pi * R * L * side
     assert F[2] == pytest.approx(fz, rel=2e-5)
     assert abs(F[0]) + abs(F[1]) < 1e-9 * fz
@@ -289,13 +337,14 @@ def test_slow_settling_in_zero_strength_sediment_is_archimedes():
     p = params(P_SED_RHO=rho0, P_SED_RHO_GRAD=0.0, P_SED_S=0.0, P_SED_S_GRAD=0.0)
     for chi, roll in ((0.0, 0.4), (0.12, -1.1)):
         C = ypr_matrix(0.8, 0.0, roll)
-        F, M = kernel_call(L, R, chi, C, np.array([0.0, 0.0, SEABED]), (0.0, 0.0, -V),
-                           (0.0, 0.0, 0.0), p)
+        F, M = kernel_call(L, R, chi, C, np.array([0.0, 0.0, SEABED]), (0.0, 0.0, -V), (0.0, 0.0, 0.0), p)
 
         def f(phi):
             vn = V * math.cos(phi)
-            return (rho0 - RHO_W) * G * R * math.cos(phi) * vn / math.hypot(vn, V_REG_N) \
-                * math.cos(phi) * R * L
+            return (
+                (rho0 - RHO_W) * G * R * math.cos(phi) * vn / math.hypot(vn, V_REG_N) * math.cos(phi) * R * L
+            )
+
         fz = integrate.quad(f, -math.pi / 2, math.pi / 2, epsabs=0, epsrel=1e-12)[0]
         archimedes = (rho0 - RHO_W) * G * math.pi * R * R * L / 2
         assert F[2] == pytest.approx(fz, rel=1e-4)
@@ -314,8 +363,7 @@ def test_symmetric_translation_torque_is_r_cross_f(model):
     for roll, depth, w in ((0.3, 0.05, -2.0), (1.2, 0.3, -0.4), (2.5, 0.5, 0.7)):
         C = ypr_matrix(0.6, 0.0, roll)
         com = np.array([0.3, -0.2, SEABED - depth])
-        F, M = kernel_call(L, R, chi, C, com, (0.0, 0.0, w), (0.0, 0.0, 0.0),
-                           params(P_SED_RESISTANCE=model))
+        F, M = kernel_call(L, R, chi, C, com, (0.0, 0.0, w), (0.0, 0.0, 0.0), params(P_SED_RESISTANCE=model))
         scale = np.linalg.norm(F) + 1e-30
         assert abs(F[0]) + abs(F[1]) < 1e-9 * scale
         assert np.allclose(M, np.cross([-chi, 0.0, 0.0], C.T @ F), atol=1e-9 * scale * R)
@@ -331,8 +379,7 @@ def test_rotation_about_the_vertical_rotates_the_force_only():
         vel = rng.normal(size=3)
         omega = rng.normal(size=3)
         a = rng.uniform(0, 2 * np.pi)
-        Rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0],
-                       [0, 0, 1.0]])
+        Rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1.0]])
         p = _case_params(i)[i % 3]
         F1, M1 = kernel_call(1.3, 0.2, 0.05, C, com, vel, omega, p, BANK)
         F2, M2 = kernel_call(1.3, 0.2, 0.05, Rz @ C, Rz @ com, Rz @ vel, omega, p, BANK)
@@ -357,18 +404,36 @@ def _largest_step(fun, s0, s1, n):
 
 PATHS = {
     # first contact of the nose of a tilted mine: the tip crosses the seabed at s = 0
-    "seabed contact": (lambda s: (2.0, 0.265, 0.05, (-0.8, 0.35, 0.487),
-                                  -0.8 * 0.95 - 0.265 * math.hypot(0.35, 0.487) + s,
-                                  (1.5, 0.4, -0.9, 0.2, -0.5, 0.3)), -4e-3, 6e-3),
+    "seabed contact": (
+        lambda s: (
+            2.0,
+            0.265,
+            0.05,
+            (-0.8, 0.35, 0.487),
+            -0.8 * 0.95 - 0.265 * math.hypot(0.35, 0.487) + s,
+            (1.5, 0.4, -0.9, 0.2, -0.5, 0.3),
+        ),
+        -4e-3,
+        6e-3,
+    ),
     # horizontal-ish mine: the seabed line reaches the upper end and then the top
-    "seabed line at the end": (lambda s: (2.0, 0.265, 0.0, (0.05, 0.6, -0.798), s,
-                                          (0.3, 1.2, -2.0, 0.1, 0.6, -0.4)), 0.0, 0.35),
+    "seabed line at the end": (
+        lambda s: (2.0, 0.265, 0.0, (0.05, 0.6, -0.798), s, (0.3, 1.2, -2.0, 0.1, 0.6, -0.4)),
+        0.0,
+        0.35,
+    ),
     # delta line sweeping the body as the pitch rate changes sign (w2 = 0: parallel)
-    "delta line through the body": (lambda s: (2.0, 0.265, 0.05, (-0.5, 0.3, 0.812), 0.9,
-                                               (0.8, 0.5, -1.0, 0.1, s, 0.2)), -3.0, 3.0),
+    "delta line through the body": (
+        lambda s: (2.0, 0.265, 0.05, (-0.5, 0.3, 0.812), 0.9, (0.8, 0.5, -1.0, 0.1, s, 0.2)),
+        -3.0,
+        3.0,
+    ),
     # broadside slip reversal moving along the body as the yaw rate changes
-    "slip reversal": (lambda s: (2.0, 0.265, 0.0, (0.02, 0.2, 0.98), 0.3,
-                                 (0.05, 0.8, -1.5, 0.05, 0.3, s)), -1.0, 1.0),
+    "slip reversal": (
+        lambda s: (2.0, 0.265, 0.0, (0.02, 0.2, 0.98), 0.3, (0.05, 0.8, -1.5, 0.05, 0.3, s)),
+        -1.0,
+        1.0,
+    ),
 }
 
 
@@ -385,6 +450,7 @@ def test_force_is_continuous_along_paths(name):
         def fun(s, p=p):
             L, R, chi, c2, d0, vb = case(s)
             return fast(L, R, chi, c2, d0, vb, p)
+
         coarse = _largest_step(fun, s0, s1, 300)
         fine = _largest_step(fun, s0, s1, 3000)
         assert fine < 0.25 * coarse, (name, model, coarse, fine)
@@ -397,7 +463,7 @@ def test_force_vanishes_continuously_at_first_contact():
     p = params(P_SED_RESISTANCE=2)
     c2 = (-0.96, 0.1, 0.26)
     L, R, chi = 2.0, 0.265, 0.0
-    tip = -0.96 * 1.0 - R * math.hypot(0.1, 0.26)     # lowest point of the body
+    tip = -0.96 * 1.0 - R * math.hypot(0.1, 0.26)  # lowest point of the body
     vb = (2.0, 0.1, -0.3, 0.0, 0.2, 0.1)
     assert np.all(fast(L, R, chi, c2, tip - 1e-9, vb, p) == 0.0)
     f1 = np.linalg.norm(fast(L, R, chi, c2, tip + 1e-4, vb, p)[:3])
@@ -414,10 +480,21 @@ def test_degenerate_poses_are_finite():
     """Exactly vertical and horizontal bodies, rest, pure spin, fully buried and above the
     seabed: finite, exact zeros out of the sediment or at rest."""
     L, R, chi = 1.0, 0.2, 0.05
-    poses = [ypr_matrix(0, math.pi / 2, 0), ypr_matrix(0, -math.pi / 2, 0.3),
-             ypr_matrix(0.4, 0.0, 0.0), ypr_matrix(0, 0.0, math.pi / 2), np.eye(3)]
-    motions = [(0, 0, 0, 0, 0, 0), (0, 0, -1.0, 0, 0, 0), (0, 0, 0, 3.0, 0, 0),
-               (0.2, 0, -1.0, 0, 0.5, 0), (0, 1e-12, -1e-9, 0, 0, 1e-10), (1.0, 0, 0, 0, 0, 0)]
+    poses = [
+        ypr_matrix(0, math.pi / 2, 0),
+        ypr_matrix(0, -math.pi / 2, 0.3),
+        ypr_matrix(0.4, 0.0, 0.0),
+        ypr_matrix(0, 0.0, math.pi / 2),
+        np.eye(3),
+    ]
+    motions = [
+        (0, 0, 0, 0, 0, 0),
+        (0, 0, -1.0, 0, 0, 0),
+        (0, 0, 0, 3.0, 0, 0),
+        (0.2, 0, -1.0, 0, 0.5, 0),
+        (0, 1e-12, -1e-9, 0, 0, 1e-10),
+        (1.0, 0, 0, 0, 0, 0),
+    ]
     for model in range(3):
         p = params(P_SED_RESISTANCE=model, P_SED_RATE_LAW=1, P_SED_PROFILE=0)
         for C in poses:

@@ -25,8 +25,7 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
-from mineburial.kernels.sediment import (rate_factor,
-                                         sediment_force_torque, sediment_properties)
+from mineburial.kernels.sediment import rate_factor, sediment_force_torque, sediment_properties
 
 # the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
 # advancing switch 0.1 mm/s), independent of numerics.slip_speed / switch_speed defaults
@@ -36,7 +35,7 @@ G = 9.81
 RHO_W = 1025.0
 SEABED = -20.0
 EMPTY_BANK = np.full((1, 3, 2), np.nan)
-TOL = 1e-3      # quadrature error allowed, relative to int |t| dA (and int |r||t| dA)
+TOL = 1e-3  # quadrature error allowed, relative to int |t| dA (and int |r||t| dA)
 
 
 # -----------------------------------------------------------------------------
@@ -66,7 +65,7 @@ def params(**kw):
     # these tests guard the reference quadrature (tight tolerances); the fast rule is
     # tested against it in tests/test_sediment_fast.py
     p[lay.P_SED_QUADRATURE] = 1
-    p[lay.P_SLIP_SPEED] = V_REG            # the regularisation these tests were written for
+    p[lay.P_SLIP_SPEED] = V_REG  # the regularisation these tests were written for
     p[lay.P_SWITCH_SPEED] = V_REG_N
     for key, value in kw.items():
         p[getattr(lay, key)] = value
@@ -75,10 +74,13 @@ def params(**kw):
 
 def quat_matrix(q):
     q0, q1, q2, q3 = q / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-        [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-        [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]])
+    return np.array(
+        [
+            [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+            [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)],
+        ]
+    )
 
 
 def ypr_matrix(yaw, pitch, roll):
@@ -94,9 +96,20 @@ def ypr_matrix(yaw, pitch, roll):
 
 def kernel_call(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK):
     """(force E-frame, torque body-frame, added mass) from the kernel."""
-    out = sediment_force_torque(L, R, chi, tuple(float(v) for v in C.ravel()),
-                                tuple(float(v) for v in com), tuple(float(v) for v in vel),
-                                tuple(float(v) for v in omega), SEABED, RHO_W, G, p, bank)
+    out = sediment_force_torque(
+        L,
+        R,
+        chi,
+        tuple(float(v) for v in C.ravel()),
+        tuple(float(v) for v in com),
+        tuple(float(v) for v in vel),
+        tuple(float(v) for v in omega),
+        SEABED,
+        RHO_W,
+        G,
+        p,
+        bank,
+    )
     return np.array(out[:3]), np.array(out[3:6]), out[6]
 
 
@@ -110,7 +123,7 @@ def ref_profile(zeta, p, bank):
     if row < 0:
         rho = p[lay.P_SED_RHO] + p[lay.P_SED_RHO_GRAD] * zeta
         s = np.maximum(p[lay.P_SED_S] + p[lay.P_SED_S_GRAD] * zeta, 0.0)
-        sig = G * ((p[lay.P_SED_RHO] - RHO_W) * zeta + 0.5 * p[lay.P_SED_RHO_GRAD] * zeta ** 2)
+        sig = G * ((p[lay.P_SED_RHO] - RHO_W) * zeta + 0.5 * p[lay.P_SED_RHO_GRAD] * zeta**2)
         return rho, s, sig
     d, r, st = bank[row]
     ok = ~np.isnan(d)
@@ -121,17 +134,16 @@ def ref_profile(zeta, p, bank):
     # the last tabulated depth, constant density below it
     fine = np.unique(np.concatenate([np.linspace(0.0, d[-1], 40001), d]))
     cum = integrate.cumulative_trapezoid(np.interp(fine, d, r) - RHO_W, fine, initial=0.0)
-    sig = G * np.where(zeta <= d[-1], np.interp(zeta, fine, cum),
-                       cum[-1] + (r[-1] - RHO_W) * (zeta - d[-1]))
+    sig = G * np.where(zeta <= d[-1], np.interp(zeta, fine, cum), cum[-1] + (r[-1] - RHO_W) * (zeta - d[-1]))
     return rho, s, sig
 
 
 def ref_rate(speed, p, diameter):
     law = int(p[lay.P_SED_RATE_LAW])
-    if law == 0:          # seed 000 eq. (70)
+    if law == 0:  # seed 000 eq. (70)
         a, vr = p[lay.P_SED_A], p[lay.P_SED_VREST]
         return a * (1.0 - (1.0 - 1.0 / a) * np.exp(-speed / vr))
-    if law == 1:          # semi-log law, strain rate speed / diameter
+    if law == 1:  # semi-log law, strain rate speed / diameter
         rate = speed / diameter
         return 1.0 + p[lay.P_SED_BETA] * np.log10(np.maximum(rate / p[lay.P_SED_RATE_REF], 1.0))
     return np.ones_like(speed)
@@ -139,8 +151,9 @@ def ref_rate(speed, p, diameter):
 
 def ref_traction(r, n, zeta, vb, om, p, bank, diameter):
     """Traction (body frame) on points r (3, ...) with normals n, where v.n >= 0."""
-    v = vb.reshape(3, *([1] * (r.ndim - 1))) + np.stack([
-        om[1] * r[2] - om[2] * r[1], om[2] * r[0] - om[0] * r[2], om[0] * r[1] - om[1] * r[0]])
+    v = vb.reshape(3, *([1] * (r.ndim - 1))) + np.stack(
+        [om[1] * r[2] - om[2] * r[1], om[2] * r[0] - om[0] * r[2], om[0] * r[1] - om[1] * r[0]]
+    )
     vn = np.sum(v * n, axis=0)
     vt = v - vn * n
     speed = np.sqrt(np.sum(v * v, axis=0))
@@ -148,17 +161,17 @@ def ref_traction(r, n, zeta, vb, om, p, bank, diameter):
     gf = ref_rate(speed, p, diameter)
     mu = p[lay.P_SED_MU]
     model = int(p[lay.P_SED_RESISTANCE])
-    hn = np.where(vn > 0, vn / np.sqrt(vn * vn + V_REG_N ** 2), 0.0)   # regularised delta
-    if model == 0:        # seed 000 eq. (74), effective overburden
+    hn = np.where(vn > 0, vn / np.sqrt(vn * vn + V_REG_N**2), 0.0)  # regularised delta
+    if model == 0:  # seed 000 eq. (74), effective overburden
         pn, ft = sig * hn, mu * gf * s
-    elif model == 1:      # strength part of the normal traction, Coulomb friction
+    elif model == 1:  # strength part of the normal traction, Coulomb friction
         pn = p[lay.P_SED_NC] * s * gf * hn
         ft = mu * pn
-    else:                 # bearing: N_c(zeta) with Brinch Hansen depth factor, adhesion mu S G
+    else:  # bearing: N_c(zeta) with Brinch Hansen depth factor, adhesion mu S G
         nc = p[lay.P_SED_NC] * (1.0 + 0.4 * np.arctan(zeta / diameter))
         pn = nc * s * gf * hn
         ft = mu * s * gf
-    k = ft / np.sqrt(np.sum(vt * vt, axis=0) + V_REG ** 2)
+    k = ft / np.sqrt(np.sum(vt * vt, axis=0) + V_REG**2)
     return -pn * n - k * vt
 
 
@@ -166,8 +179,14 @@ def _moments(r, t, w):
     """Per outer point: weighted sums of force, torque, |t| and |r||t| (8 rows)."""
     tn = np.sqrt(np.sum(t * t, axis=0))
     rn = np.sqrt(np.sum(r * r, axis=0))
-    return np.concatenate([np.sum(t * w, axis=-1), np.sum(np.cross(r, t, axis=0) * w, axis=-1),
-                           np.sum(tn * w, axis=-1)[None], np.sum(rn * tn * w, axis=-1)[None]])
+    return np.concatenate(
+        [
+            np.sum(t * w, axis=-1),
+            np.sum(np.cross(r, t, axis=0) * w, axis=-1),
+            np.sum(tn * w, axis=-1)[None],
+            np.sum(rn * tn * w, axis=-1)[None],
+        ]
+    )
 
 
 def _split_pieces(lo, hi, xt):
@@ -183,34 +202,34 @@ def _lateral_integrand(th, geo, plist, bank, gx, gw):
     c, s = np.cos(th), np.sin(th)
     lo = np.full(th.shape, xa)
     hi = np.full(th.shape, xb)
-    e0 = d0 - R * (k[1] * c + k[2] * s)          # zeta = e0 - k0 x
+    e0 = d0 - R * (k[1] * c + k[2] * s)  # zeta = e0 - k0 x
     if k[0] > 0:
         hi = np.minimum(hi, e0 / k[0])
     elif k[0] < 0:
         lo = np.maximum(lo, e0 / k[0])
     else:
         hi = np.where(e0 > 0, hi, lo)
-    a0 = vb[1] * c + vb[2] * s                   # v.n = a0 + a1 x
+    a0 = vb[1] * c + vb[2] * s  # v.n = a0 + a1 x
     a1 = om[2] * c - om[1] * s
     with np.errstate(divide="ignore", invalid="ignore"):
         xd = -a0 / a1
         lo = np.where(a1 > 0, np.maximum(lo, xd), lo)
         hi = np.where(a1 < 0, np.minimum(hi, xd), hi)
         hi = np.where((a1 == 0) & (a0 < 0), lo, hi)
-        t0 = om[0] * R + vb[2] * c - vb[1] * s   # circumferential slip = t0 + t1 x
+        t0 = om[0] * R + vb[2] * c - vb[1] * s  # circumferential slip = t0 + t1 x
         t1 = -(om[1] * c + om[2] * s)
         xt = np.where(t1 != 0, -t0 / t1, hi)
     out = np.zeros((8 * len(plist), th.size))
     for a, b in _split_pieces(lo, hi, xt):
         x = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx[None, :]
         w = (0.5 * (b - a))[:, None] * gw[None, :] * R
-        r = np.stack([x, np.broadcast_to(R * c[:, None], x.shape),
-                      np.broadcast_to(R * s[:, None], x.shape)])
-        n = np.stack([np.zeros_like(x), np.broadcast_to(c[:, None], x.shape),
-                      np.broadcast_to(s[:, None], x.shape)])
+        r = np.stack([x, np.broadcast_to(R * c[:, None], x.shape), np.broadcast_to(R * s[:, None], x.shape)])
+        n = np.stack(
+            [np.zeros_like(x), np.broadcast_to(c[:, None], x.shape), np.broadcast_to(s[:, None], x.shape)]
+        )
         for i, p in enumerate(plist):
             t = ref_traction(r, n, e0[:, None] - k[0] * x, vb, om, p, bank, 2 * R)
-            out[8 * i:8 * i + 8] += _moments(r, t, w)
+            out[8 * i : 8 * i + 8] += _moments(r, t, w)
     return out
 
 
@@ -221,14 +240,14 @@ def _cap_integrand(u, geo, xc, sgn, plist, bank, gx, gw):
     dydu = R * np.cos(u)
     zlo = -R * np.cos(u)
     zhi = R * np.cos(u)
-    ec = d0 - k[0] * xc - k[1] * y               # zeta = ec - k2 z
+    ec = d0 - k[0] * xc - k[1] * y  # zeta = ec - k2 z
     if k[2] > 0:
         zhi = np.minimum(zhi, ec / k[2])
     elif k[2] < 0:
         zlo = np.maximum(zlo, ec / k[2])
     else:
         zhi = np.where(ec > 0, zhi, zlo)
-    q0 = sgn * (vb[0] - om[2] * y)               # v.n = q0 + q1 z
+    q0 = sgn * (vb[0] - om[2] * y)  # v.n = q0 + q1 z
     q1 = sgn * om[1]
     if q1 > 0:
         zlo = np.maximum(zlo, -q0 / q1)
@@ -238,14 +257,14 @@ def _cap_integrand(u, geo, xc, sgn, plist, bank, gx, gw):
         zhi = np.where(q0 >= 0, zhi, zlo)
     zs = np.full_like(y, (vb[1] + om[2] * xc) / om[0]) if om[0] != 0 else zhi
     out = np.zeros((8 * len(plist), u.size))
-    for a, b in _split_pieces(zlo, zhi, zs):     # split at the stagnation of the in-plane slip
+    for a, b in _split_pieces(zlo, zhi, zs):  # split at the stagnation of the in-plane slip
         z = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx[None, :]
         w = (0.5 * (b - a) * dydu)[:, None] * gw[None, :]
         r = np.stack([np.full_like(z, xc), np.broadcast_to(y[:, None], z.shape), z])
         n = np.stack([np.full_like(z, sgn), np.zeros_like(z), np.zeros_like(z)])
         for i, p in enumerate(plist):
             t = ref_traction(r, n, ec[:, None] - k[2] * z, vb, om, p, bank, 2 * R)
-            out[8 * i:8 * i + 8] += _moments(r, t, w)
+            out[8 * i : 8 * i + 8] += _moments(r, t, w)
     return out
 
 
@@ -266,7 +285,7 @@ def refined_midpoint(fun, a, b, n0, nsub=32, max_frac=0.05, periodic=False):
         off = ~on
         if off.any():
             # start the window after the longest run of empty cells (circularly)
-            first = np.argmax(on)                 # scan from an occupied cell
+            first = np.argmax(on)  # scan from an occupied cell
             best, best_end, cur = 0, 0, 0
             for k in range(1, n0 + 1):
                 j = (first + k) % n0
@@ -292,7 +311,7 @@ def refined_midpoint(fun, a, b, n0, nsub=32, max_frac=0.05, periodic=False):
         for rows in (slice(8 * g, 8 * g + 3), slice(8 * g + 3, 8 * g + 6)):
             scale = np.max(np.abs(vals[rows])) + 1e-300
             d2n = np.maximum(d2n, np.max(d2[rows], axis=0) / scale)
-    order = np.argsort(d2n)[::-1][:int(max_frac * n0)]
+    order = np.argsort(d2n)[::-1][: int(max_frac * n0)]
     flag = np.zeros(n0, bool)
     flag[order[d2n[order] > 1e-5]] = True
     flag[1:] |= flag[:-1].copy()
@@ -305,22 +324,26 @@ def refined_midpoint(fun, a, b, n0, nsub=32, max_frac=0.05, periodic=False):
     return total
 
 
-def reference_force_torque(L, R, chi, C, com, vel, omega, plist, bank=EMPTY_BANK, n_outer=512,
-                           n_inner=16):
+def reference_force_torque(L, R, chi, C, com, vel, omega, plist, bank=EMPTY_BANK, n_outer=512, n_inner=16):
     """For each parameter vector of plist: force (E-frame), torque (body, about the COM)
     and the scales int |t| dA, int |r||t| dA."""
     xa, xb = -0.5 * L - chi, 0.5 * L - chi
-    geo = (R, xa, xb, SEABED - com[2], C[2], C.T @ np.asarray(vel, float),
-           np.asarray(omega, float))
+    geo = (R, xa, xb, SEABED - com[2], C[2], C.T @ np.asarray(vel, float), np.asarray(omega, float))
     gx, gw = np.polynomial.legendre.leggauss(n_inner)
-    tot = refined_midpoint(lambda th: _lateral_integrand(th, geo, plist, bank, gx, gw),
-                           0.0, 2 * np.pi, n_outer, periodic=True)
+    tot = refined_midpoint(
+        lambda th: _lateral_integrand(th, geo, plist, bank, gx, gw), 0.0, 2 * np.pi, n_outer, periodic=True
+    )
     for xc, sgn in ((xb, 1.0), (xa, -1.0)):
-        tot += refined_midpoint(lambda u, xc=xc, sgn=sgn: _cap_integrand(u, geo, xc, sgn, plist, bank,
-                                                                        gx, gw),
-                                -0.5 * np.pi, 0.5 * np.pi, n_outer)
-    return [(C @ tot[8 * i:8 * i + 3], tot[8 * i + 3:8 * i + 6], tot[8 * i + 6],
-             tot[8 * i + 7]) for i in range(len(plist))]
+        tot += refined_midpoint(
+            lambda u, xc=xc, sgn=sgn: _cap_integrand(u, geo, xc, sgn, plist, bank, gx, gw),
+            -0.5 * np.pi,
+            0.5 * np.pi,
+            n_outer,
+        )
+    return [
+        (C @ tot[8 * i : 8 * i + 3], tot[8 * i + 3 : 8 * i + 6], tot[8 * i + 6], tot[8 * i + 7])
+        for i in range(len(plist))
+    ]
 
 
 def midpoint_force_torque(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK, n=800):
@@ -338,8 +361,7 @@ def midpoint_force_torque(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK, n=8
         v = vb.reshape(3, 1, 1) + np.cross(om.reshape(3, 1, 1), r, axis=0)
         on = (zeta > 0) & (np.sum(v * nrm, axis=0) >= 0)
         t = ref_traction(r, nrm, zeta, vb, om, p, bank, 2 * R) * on
-        return ((t * dA).reshape(3, -1).sum(axis=1),
-                (np.cross(r, t, axis=0) * dA).reshape(3, -1).sum(axis=1))
+        return ((t * dA).reshape(3, -1).sum(axis=1), (np.cross(r, t, axis=0) * dA).reshape(3, -1).sum(axis=1))
 
     x = xa + (np.arange(n) + 0.5) * L / n
     th = (np.arange(n) + 0.5) * 2 * np.pi / n
@@ -394,16 +416,19 @@ def random_case(rng):
 
 
 BANK = np.full((2, 3, 8), np.nan)
-BANK[0, :, :5] = [[0.0, 0.05, 0.15, 0.4, 1.2],
-                  [1300.0, 1450.0, 1600.0, 1700.0, 1800.0],
-                  [300.0, 900.0, 2500.0, 4000.0, 9000.0]]
+BANK[0, :, :5] = [
+    [0.0, 0.05, 0.15, 0.4, 1.2],
+    [1300.0, 1450.0, 1600.0, 1700.0, 1800.0],
+    [300.0, 900.0, 2500.0, 4000.0, 9000.0],
+]
 BANK[1, :, :3] = [[0.02, 0.3, 0.9], [1500.0, 1650.0, 1750.0], [1000.0, 3000.0, 6000.0]]
 
 
 def _case_params(i):
     """Rate law, friction and profile cycled over the cases, for the three models."""
-    common = dict(P_SED_RATE_LAW=i % 3, P_SED_MU=0.3 if i % 4 else 0.0,
-                  P_SED_PROFILE=-1 if i % 5 else (i // 5) % 2)
+    common = dict(
+        P_SED_RATE_LAW=i % 3, P_SED_MU=0.3 if i % 4 else 0.0, P_SED_PROFILE=-1 if i % 5 else (i // 5) % 2
+    )
     return [params(P_SED_RESISTANCE=m, **common) for m in range(3)]
 
 
@@ -457,15 +482,23 @@ def test_axial_penetration_of_vertical_cylinder(model):
     whole length; the tail cap recedes; no horizontal force, no torque."""
     L, R, chi, V, D = 1.2, 0.2, 0.1, 1.5, 2.0
     rho0, s0, mu, a, vrest = 1600.0, 3000.0, 0.3, 10.0, 0.04
-    C = ypr_matrix(0.3, math.pi / 2, 0.7)          # i_M = -k
+    C = ypr_matrix(0.3, math.pi / 2, 0.7)  # i_M = -k
     xb = 0.5 * L - chi
-    com = np.array([0.0, 0.0, SEABED - D + xb])    # nose at depth D
-    p = params(P_SED_RESISTANCE=model, P_SED_RHO=rho0, P_SED_RHO_GRAD=0.0, P_SED_S=s0,
-               P_SED_S_GRAD=0.0, P_SED_MU=mu, P_SED_A=a, P_SED_VREST=vrest)
+    com = np.array([0.0, 0.0, SEABED - D + xb])  # nose at depth D
+    p = params(
+        P_SED_RESISTANCE=model,
+        P_SED_RHO=rho0,
+        P_SED_RHO_GRAD=0.0,
+        P_SED_S=s0,
+        P_SED_S_GRAD=0.0,
+        P_SED_MU=mu,
+        P_SED_A=a,
+        P_SED_VREST=vrest,
+    )
     F, M, _ = kernel_call(L, R, chi, C, com, (0.0, 0.0, -V), (0.0, 0.0, 0.0), p)
-    g_v = a * (1 - (1 - 1 / a) * math.exp(-V / vrest))         # seed 000 eq. (70)
-    h_n = V / math.sqrt(V * V + V_REG_N ** 2)                   # advancing switch
-    slip = V / math.sqrt(V * V + V_REG ** 2)                    # regularised slip direction
+    g_v = a * (1 - (1 - 1 / a) * math.exp(-V / vrest))  # seed 000 eq. (70)
+    h_n = V / math.sqrt(V * V + V_REG_N**2)  # advancing switch
+    slip = V / math.sqrt(V * V + V_REG**2)  # regularised slip direction
     nc0 = math.pi + 2.0
     if model == 0:
         cap = (rho0 - RHO_W) * G * D * h_n
@@ -499,8 +532,10 @@ def test_slow_settling_in_zero_strength_sediment_is_archimedes():
 
         def f(phi):
             vn = V * math.cos(phi)
-            return (rho0 - RHO_W) * G * R * math.cos(phi) * vn / math.hypot(vn, V_REG_N) \
-                * math.cos(phi) * R * L
+            return (
+                (rho0 - RHO_W) * G * R * math.cos(phi) * vn / math.hypot(vn, V_REG_N) * math.cos(phi) * R * L
+            )
+
         fz = integrate.quad(f, -math.pi / 2, math.pi / 2, epsabs=0, epsrel=1e-12)[0]
         archimedes = (rho0 - RHO_W) * G * math.pi * R * R * L / 2
         assert F[2] == pytest.approx(fz, rel=1e-6)
@@ -539,8 +574,7 @@ def test_rotation_about_the_vertical_rotates_the_force_only():
     for i in range(6):
         L, R, chi, C, com, vel, omega = random_case(rng)
         a = rng.uniform(0, 2 * np.pi)
-        Rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0],
-                       [0, 0, 1.0]])
+        Rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1.0]])
         p = _case_params(i)[i % 3]
         F1, M1, _ = kernel_call(L, R, chi, C, com, vel, omega, p, BANK)
         F2, M2, _ = kernel_call(L, R, chi, Rz @ C, Rz @ com, Rz @ vel, omega, p, BANK)
@@ -557,7 +591,7 @@ def test_impact35_rate_law():
     p = params(P_SED_RATE_LAW=0, P_SED_A=10.0, P_SED_VREST=0.04)
     assert rate_factor(0.0, 0.5, p) == pytest.approx(1.0, abs=1e-15)
     assert rate_factor(0.04, 0.5, p) == pytest.approx(10.0 - 9.0 / math.e, rel=1e-14)
-    assert rate_factor(0.1, 0.5, p) == pytest.approx(9.26, abs=0.005)   # 10 - 9 exp(-2.5), by hand
+    assert rate_factor(0.1, 0.5, p) == pytest.approx(9.26, abs=0.005)  # 10 - 9 exp(-2.5), by hand
     assert rate_factor(50.0, 0.5, p) == pytest.approx(10.0, rel=1e-14)
 
 
@@ -602,8 +636,7 @@ def test_tabulated_profile():
     assert sig == pytest.approx(((1400 - RHO_W) * 0.1 + (1450 - RHO_W) * 0.1) * G)
     rho, s, sig = sediment_properties(0.9, p, bank)
     assert (rho, s) == (1700.0, 4000.0)
-    expect = (1400 - RHO_W) * 0.1 + (1500 - RHO_W) * 0.2 + (1650 - RHO_W) * 0.2 \
-        + (1700 - RHO_W) * 0.4
+    expect = (1400 - RHO_W) * 0.1 + (1500 - RHO_W) * 0.2 + (1650 - RHO_W) * 0.2 + (1700 - RHO_W) * 0.4
     assert sig == pytest.approx(expect * G)
 
 
@@ -615,25 +648,35 @@ def test_pore_pressure_force_and_added_mass():
     -pi/8 rho_s(zeta_tip) g w / k_p B^3 and added mass pi/8 rho_s (1 + e)/e B^3, with
     B = min(B_set, tip depth, diameter)."""
     L, R, chi = 1.0, 0.15, 0.0
-    C = ypr_matrix(0.0, math.pi / 2, 0.0)                      # nose down
+    C = ypr_matrix(0.0, math.pi / 2, 0.0)  # nose down
     rho0, krho, kp, ev = 1500.0, 400.0, 1e-4, 0.6
     for b_set, tip in ((0.1, 0.05), (0.1, 0.25), (5.0, 0.6)):
         com = np.array([0.0, 0.0, SEABED - tip + 0.5 * L])
-        base = dict(P_SED_RHO=rho0, P_SED_RHO_GRAD=krho, P_SED_S=0.0, P_SED_S_GRAD=0.0,
-                    P_SED_KP=kp, P_SED_EV=ev, P_SED_B=b_set, P_SED_MU=0.0)
+        base = dict(
+            P_SED_RHO=rho0,
+            P_SED_RHO_GRAD=krho,
+            P_SED_S=0.0,
+            P_SED_S_GRAD=0.0,
+            P_SED_KP=kp,
+            P_SED_EV=ev,
+            P_SED_B=b_set,
+            P_SED_MU=0.0,
+        )
         w = -0.7
-        F_on, M_on, m_on = kernel_call(L, R, chi, C, com, (0, 0, w), (0, 0, 0),
-                                       params(P_SED_PORE=1.0, **base))
-        F_off, M_off, m_off = kernel_call(L, R, chi, C, com, (0, 0, w), (0, 0, 0),
-                                          params(P_SED_PORE=0.0, **base))
+        F_on, M_on, m_on = kernel_call(
+            L, R, chi, C, com, (0, 0, w), (0, 0, 0), params(P_SED_PORE=1.0, **base)
+        )
+        F_off, M_off, m_off = kernel_call(
+            L, R, chi, C, com, (0, 0, w), (0, 0, 0), params(P_SED_PORE=0.0, **base)
+        )
         b = min(b_set, tip, 2 * R)
         rho_tip = rho0 + krho * tip
         assert m_off == 0.0
-        assert m_on == pytest.approx(math.pi / 8 * rho_tip * (1 + ev) / ev * b ** 3, rel=1e-12)
-        fpw = -math.pi / 8 * rho_tip * G * w / kp * b ** 3
-        assert fpw > 0                                          # resists penetration
+        assert m_on == pytest.approx(math.pi / 8 * rho_tip * (1 + ev) / ev * b**3, rel=1e-12)
+        fpw = -math.pi / 8 * rho_tip * G * w / kp * b**3
+        assert fpw > 0  # resists penetration
         assert F_on - F_off == pytest.approx([0.0, 0.0, fpw], rel=1e-12, abs=1e-9 * fpw)
-        assert np.allclose(M_on, M_off, atol=1e-9 * fpw * L)   # vertical axis: no arm
+        assert np.allclose(M_on, M_off, atol=1e-9 * fpw * L)  # vertical axis: no arm
 
 
 def test_degenerate_poses_are_finite():
@@ -641,10 +684,20 @@ def test_degenerate_poses_are_finite():
     above the seabed: finite results, zero when out of the sediment or at rest."""
     L, R, chi = 1.0, 0.2, 0.05
     p = params(P_SED_RESISTANCE=2, P_SED_RATE_LAW=1)
-    poses = [ypr_matrix(0, math.pi / 2, 0), ypr_matrix(0, -math.pi / 2, 0.3),
-             ypr_matrix(0.4, 0.0, 0.0), ypr_matrix(0, 0.0, math.pi / 2), np.eye(3)]
-    motions = [((0, 0, 0), (0, 0, 0)), ((0, 0, -1.0), (0, 0, 0)), ((0, 0, 0), (3.0, 0, 0)),
-               ((0.2, 0, -1.0), (0, 0.5, 0)), ((0, 1e-12, -1e-9), (0, 0, 1e-10))]
+    poses = [
+        ypr_matrix(0, math.pi / 2, 0),
+        ypr_matrix(0, -math.pi / 2, 0.3),
+        ypr_matrix(0.4, 0.0, 0.0),
+        ypr_matrix(0, 0.0, math.pi / 2),
+        np.eye(3),
+    ]
+    motions = [
+        ((0, 0, 0), (0, 0, 0)),
+        ((0, 0, -1.0), (0, 0, 0)),
+        ((0, 0, 0), (3.0, 0, 0)),
+        ((0.2, 0, -1.0), (0, 0.5, 0)),
+        ((0, 1e-12, -1e-9), (0, 0, 1e-10)),
+    ]
     for C in poses:
         for depth in (-1.0, 0.0, 0.1, 0.3, 5.0):
             com = np.array([0.0, 0.0, SEABED - depth])

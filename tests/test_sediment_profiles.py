@@ -6,9 +6,19 @@ import numpy as np
 import pytest
 
 from mineburial.sediment_profiles import (
-    CATALOGUE, CATALOGUE_MAX_DEPTH, ScenarioError, SedimentProfile, bearing_capacity_factors,
-    catalogue_profile, class_names, drained_equivalent_strength, load_csv, load_file,
-    load_netcdf, nc_clay_strength_gradient, pack_banks,
+    CATALOGUE,
+    CATALOGUE_MAX_DEPTH,
+    ScenarioError,
+    SedimentProfile,
+    bearing_capacity_factors,
+    catalogue_profile,
+    class_names,
+    drained_equivalent_strength,
+    load_csv,
+    load_file,
+    load_netcdf,
+    nc_clay_strength_gradient,
+    pack_banks,
 )
 
 DEPTH = [0.0, 0.02, 0.06, 0.10, 0.30]
@@ -38,20 +48,35 @@ def test_single_point_profile_is_uniform():
     assert prof.surface_gradients() == (1500.0, 0.0, 1000.0, 0.0)
 
 
-@pytest.mark.parametrize("depth, rho, s, match", [
-    ([0.01, 0.1], [1400, 1500], [100, 200], r"depth\[0\] = 0\.01 m: the first point must be"),
-    ([0.0, 0.1, 0.1], [1400, 1500, 1500], [1, 2, 3],
-     r"depth\[2\] = 0\.1 m: depths must be strictly increasing"),
-    ([0.0, 0.2, 0.1], [1400, 1500, 1500], [1, 2, 3], r"depth\[2\] = 0\.1 m"),
-    ([0.0, 0.1], [900, 1500], [100, 200],
-     r"density\[0\] = 900\.0 kg m-3 is outside the allowed range \[1000, 2700\] kg m-3"),
-    ([0.0, 0.1], [1400, 2800], [100, 200], r"density\[1\] = 2800\.0 kg m-3"),
-    ([0.0, 0.1], [1400, 1500], [100, -1],
-     r"strength\[1\] = -1\.0 Pa is outside the allowed range \[0, 1e\+06\] Pa"),
-    ([0.0, 0.1], [1400, 1500], [100], r"same length"),
-    ([0.0, np.nan], [1400, 1500], [1, 2], r"non-finite"),
-    ([], [], [], r"non-empty"),
-])
+@pytest.mark.parametrize(
+    "depth, rho, s, match",
+    [
+        ([0.01, 0.1], [1400, 1500], [100, 200], r"depth\[0\] = 0\.01 m: the first point must be"),
+        (
+            [0.0, 0.1, 0.1],
+            [1400, 1500, 1500],
+            [1, 2, 3],
+            r"depth\[2\] = 0\.1 m: depths must be strictly increasing",
+        ),
+        ([0.0, 0.2, 0.1], [1400, 1500, 1500], [1, 2, 3], r"depth\[2\] = 0\.1 m"),
+        (
+            [0.0, 0.1],
+            [900, 1500],
+            [100, 200],
+            r"density\[0\] = 900\.0 kg m-3 is outside the allowed range \[1000, 2700\] kg m-3",
+        ),
+        ([0.0, 0.1], [1400, 2800], [100, 200], r"density\[1\] = 2800\.0 kg m-3"),
+        (
+            [0.0, 0.1],
+            [1400, 1500],
+            [100, -1],
+            r"strength\[1\] = -1\.0 Pa is outside the allowed range \[0, 1e\+06\] Pa",
+        ),
+        ([0.0, 0.1], [1400, 1500], [100], r"same length"),
+        ([0.0, np.nan], [1400, 1500], [1, 2], r"non-finite"),
+        ([], [], [], r"non-empty"),
+    ],
+)
 def test_profile_validation_errors(depth, rho, s, match):
     with pytest.raises(ScenarioError, match=match):
         SedimentProfile(depth, rho, s, where="sediment.profile")
@@ -86,8 +111,7 @@ def test_csv_core(tmp_path):
 def test_csv_core_errors(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("depth_m,density_kg_m3,strength_kpa\n0,1400,1\n")
-    with pytest.raises(ScenarioError,
-                       match=r"missing column 'strength_pa' \(found 'strength_kpa'\)"):
+    with pytest.raises(ScenarioError, match=r"missing column 'strength_pa' \(found 'strength_kpa'\)"):
         load_csv(bad)
     bad.write_text("depth_m,density_kg_m3,strength_pa\n0,1400,abc\n")
     with pytest.raises(ScenarioError, match=r"column 'strength_pa': not a number"):
@@ -98,13 +122,14 @@ def test_csv_core_errors(tmp_path):
         load_file(tmp_path / "core.txt")
 
 
-def _write_nc(path, units=("cm", "g cm-3", "kPa"), positive="down", drop=None,
-              scales=(100.0, 1e-3, 1e-3)):
+def _write_nc(path, units=("cm", "g cm-3", "kPa"), positive="down", drop=None, scales=(100.0, 1e-3, 1e-3)):
     import netCDF4
+
     with netCDF4.Dataset(str(path), "w") as ds:
         ds.createDimension("z", len(DEPTH))
-        for name, values, unit, scale in zip(("depth", "density", "strength"),
-                                             (DEPTH, RHO, S), units, scales):
+        for name, values, unit, scale in zip(
+            ("depth", "density", "strength"), (DEPTH, RHO, S), units, scales
+        ):
             if name == drop:
                 continue
             v = ds.createVariable(name, "f8", ("z",))
@@ -117,7 +142,7 @@ def _write_nc(path, units=("cm", "g cm-3", "kPa"), positive="down", drop=None,
 
 def test_netcdf_core_converts_units_to_si(tmp_path):
     path = tmp_path / "core.nc"
-    _write_nc(path)          # depth in cm, density in g cm-3, strength in kPa
+    _write_nc(path)  # depth in cm, density in g cm-3, strength in kPa
     prof = load_netcdf(path)
     np.testing.assert_allclose(prof.depth, DEPTH, rtol=0, atol=1e-15)
     np.testing.assert_allclose(prof.density, RHO, rtol=1e-15)
@@ -168,8 +193,7 @@ def test_equivalent_strength_and_nc_gradient_closed_forms():
 
 def test_catalogue_classes():
     names = class_names()
-    for required in ("very_soft_clay", "soft_clay", "firm_clay", "silty_mud", "sandy_silt",
-                     "sand"):
+    for required in ("very_soft_clay", "soft_clay", "firm_clay", "silty_mud", "sandy_silt", "sand"):
         assert required in names
     for name in names:
         c = CATALOGUE[name]
@@ -195,8 +219,11 @@ def test_catalogue_classes():
 
 
 def test_unknown_class_suggests_nearest():
-    with pytest.raises(ScenarioError, match=r"unknown sediment class 'sof_clay': did you mean "
-                                            r"'soft_clay'\? allowed: .*very_soft_clay"):
+    with pytest.raises(
+        ScenarioError,
+        match=r"unknown sediment class 'sof_clay': did you mean "
+        r"'soft_clay'\? allowed: .*very_soft_clay",
+    ):
         catalogue_profile("sof_clay")
 
 

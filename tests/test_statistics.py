@@ -37,7 +37,7 @@ def synthetic(n=400, seed=20240611):
     summary = rng.normal(1.0, 0.5, size=(n, layout.N_SUMMARY))
     for name in V.PERCENT_OUTPUTS:
         col = rng.uniform(0.0, 100.0, n)
-        col[rng.random(n) < 0.15] = 0.0            # exactly 0 % -> class 0
+        col[rng.random(n) < 0.15] = 0.0  # exactly 0 % -> class 0
         col[:7] = (0.0, 10.0, 20.0, 75.0, 100.0, 1e-300, 75.0000001)
         summary[:, IDX[name]] = col
     summary[:, IDX["penetration_depth"]] = rng.gamma(2.0, 0.3, n)
@@ -58,8 +58,7 @@ def test_moments_and_quantiles_equal_numpy_and_stdlib():
         assert ds[f"{name}_mean"].item() == np.mean(x)
         assert ds[f"{name}_std"].item() == np.std(x, ddof=1)
         assert ds[f"{name}_stderr"].item() == np.std(x, ddof=1) / np.sqrt(x.size)
-        np.testing.assert_array_equal(ds[f"{name}_quantile"].values,
-                                      np.quantile(x, Q, method="linear"))
+        np.testing.assert_array_equal(ds[f"{name}_quantile"].values, np.quantile(x, Q, method="linear"))
         assert ds[f"{name}_mean"].attrs["sample_size"] == x.size
         # independent implementation (Python's statistics module), relative 1e-12
         assert ds[f"{name}_mean"].item() == pytest.approx(pystats.fmean(x), rel=1e-12, abs=1e-12)
@@ -81,8 +80,7 @@ def test_histogram_counts_and_bounds_equal_numpy_histogram():
         np.testing.assert_array_equal(ds[f"{name}_histogram"].values, counts)
         np.testing.assert_array_equal(ds[f"{name}_bin_bounds"].values[:, 0], edges[:-1])
         np.testing.assert_array_equal(ds[f"{name}_bin_bounds"].values[:, 1], edges[1:])
-        np.testing.assert_allclose(ds[f"{name}_bin"].values, 0.5 * (edges[:-1] + edges[1:]),
-                                   rtol=0, atol=0)
+        np.testing.assert_allclose(ds[f"{name}_bin"].values, 0.5 * (edges[:-1] + edges[1:]), rtol=0, atol=0)
         assert ds[f"{name}_bin"].attrs["bounds"] == f"{name}_bin_bounds"
     # percent bins by brute-force counting: [a, b) and the last bin [95, 100]
     x = summary[ok, IDX["burial_volume"]]
@@ -96,15 +94,19 @@ def test_custom_bins_levels_and_values_outside_range():
     summary, status = synthetic()
     ok = status == S.AT_REST
     edges = np.array([0.0, 0.5, 1.0])
-    ds = burial_statistics(summary, status, histogram_bins={"penetration_depth": edges},
-                           exceedance_levels={"penetration_depth": [0.1, 0.2]},
-                           outputs=("penetration_depth", "burial_volume"))
+    ds = burial_statistics(
+        summary,
+        status,
+        histogram_bins={"penetration_depth": edges},
+        exceedance_levels={"penetration_depth": [0.1, 0.2]},
+        outputs=("penetration_depth", "burial_volume"),
+    )
     x = summary[ok, IDX["penetration_depth"]]
-    np.testing.assert_array_equal(ds["penetration_depth_histogram"].values,
-                                  np.histogram(x, bins=edges)[0])
+    np.testing.assert_array_equal(ds["penetration_depth_histogram"].values, np.histogram(x, bins=edges)[0])
     assert ds["penetration_depth_histogram"].attrs["n_outside_range"] == np.sum(x > 1.0)
-    np.testing.assert_array_equal(ds["penetration_depth_exceedance"].values,
-                                  [np.mean(x >= 0.1), np.mean(x >= 0.2)])
+    np.testing.assert_array_equal(
+        ds["penetration_depth_exceedance"].values, [np.mean(x >= 0.1), np.mean(x >= 0.2)]
+    )
     assert "com_depth_mean" not in ds
     with pytest.raises(ValueError, match="strictly increasing"):
         burial_statistics(summary, status, exceedance_levels={"burial_volume": [5.0, 5.0]})
@@ -129,11 +131,25 @@ def test_exceedance_is_the_fraction_of_values_at_or_above_each_level():
     assert ds["burial_volume_exceedance"].values[-1] == np.count_nonzero(x == 100.0) / x.size > 0
 
 
-@pytest.mark.parametrize("value, expected", [
-    (0.0, 0), (-0.0, 0), (-1.0, 0), (5e-324, 1), (1e-300, 1), (10.0, 1),
-    (np.nextafter(10.0, 11.0), 2), (20.0, 2), (np.nextafter(20.0, 21.0), 3), (75.0, 3),
-    (np.nextafter(75.0, 76.0), 4), (100.0, 4), (120.0, 4), (np.nan, -1),
-])
+@pytest.mark.parametrize(
+    "value, expected",
+    [
+        (0.0, 0),
+        (-0.0, 0),
+        (-1.0, 0),
+        (5e-324, 1),
+        (1e-300, 1),
+        (10.0, 1),
+        (np.nextafter(10.0, 11.0), 2),
+        (20.0, 2),
+        (np.nextafter(20.0, 21.0), 3),
+        (75.0, 3),
+        (np.nextafter(75.0, 76.0), 4),
+        (100.0, 4),
+        (120.0, 4),
+        (np.nan, -1),
+    ],
+)
 def test_burial_class_boundaries(value, expected):
     assert burial_class(value) == expected
     assert burial_class(np.array([value]))[0] == expected
@@ -182,8 +198,15 @@ def test_class_probabilities_and_intervals(basis):
     ds = burial_statistics(summary, status, class_basis=basis)
     x = summary[status == S.AT_REST, IDX[basis]]
     n = x.size
-    k = np.array([np.sum(x == 0), np.sum((x > 0) & (x <= 10)), np.sum((x > 10) & (x <= 20)),
-                  np.sum((x > 20) & (x <= 75)), np.sum(x > 75)])
+    k = np.array(
+        [
+            np.sum(x == 0),
+            np.sum((x > 0) & (x <= 10)),
+            np.sum((x > 10) & (x <= 20)),
+            np.sum((x > 20) & (x <= 75)),
+            np.sum(x > 75),
+        ]
+    )
     assert k.sum() == n and k.min() > 0
     np.testing.assert_array_equal(ds["burial_class_count"].values, k)
     np.testing.assert_array_equal(ds["burial_class_probability"].values, k / n)
@@ -266,7 +289,7 @@ def test_nearly_constant_output_does_not_crash_histogram():
     summary[:, layout.SUMMARY_INDEX["impact_time"]] = t
     summary[1, layout.SUMMARY_INDEX["impact_time"]] = np.nextafter(t, 7.0)
     status = np.zeros(12, np.int8)
-    with pytest.raises(ValueError, match="Too many bins"):    # what numpy alone does
+    with pytest.raises(ValueError, match="Too many bins"):  # what numpy alone does
         np.histogram(summary[:, layout.SUMMARY_INDEX["impact_time"]], bins=20)
     ds = burial_statistics(summary, status)
     assert float(ds["impact_time_mean"]) == pytest.approx(t, rel=1e-15)

@@ -34,8 +34,11 @@ def test_quick_report_files(quick):
 
 
 def _quick_rows(text):
-    return [[c.strip() for c in line.strip("|").split(" | ")] for line in text.splitlines()
-            if line.startswith("| ") and line.endswith("| yes |")]
+    return [
+        [c.strip() for c in line.strip("|").split(" | ")]
+        for line in text.splitlines()
+        if line.startswith("| ") and line.endswith("| yes |")
+    ]
 
 
 def _same_value(a, b):

@@ -4,19 +4,19 @@ import math
 
 import numpy as np
 import pytest
+from conftest import make_scenario as _make_scenario
 from scipy.spatial.transform import Rotation
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout
 from mineburial.validation.references import terminal_velocity_axial, terminal_velocity_broadside
 
-from conftest import make_scenario as _make_scenario
-
 
 def make_scenario(**sections):
     """The test scenario with dopri5 at tolerances far below these closed-form checks'."""
     numerics = {"rtol": 1e-10, "atol": 1e-12, **sections.pop("numerics", {})}
     return _make_scenario(numerics=numerics, **sections)
+
 
 G = 9.81
 
@@ -34,15 +34,18 @@ RHO = 1025.0
 L = 1.0
 D = 0.25
 VOL = math.pi * (D / 2) ** 2 * L
-MASS = 52.0          # slightly heavier than the displaced water (50.3 kg)
+MASS = 52.0  # slightly heavier than the displaced water (50.3 kg)
 
 
 def test_terminal_velocity_broadside():
     # seed 000 eq. (44), branch 12 000 < Re <= 150 000 (checked by the reference)
     v_t = terminal_velocity_broadside(MASS, L, D, RHO, G, 1.0e-6)
-    sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
-                       release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-                       numerics={"t_max": 40.0, "dt": 5e-3})
+    sc = make_scenario(
+        mine={"mass": MASS},
+        environment={"gravity": G},
+        release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
+        numerics={"t_max": 40.0, "dt": 5e-3},
+    )
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
     assert abs(w_end - v_t) / v_t < 0.005
@@ -51,10 +54,13 @@ def test_terminal_velocity_broadside():
 
 
 def test_terminal_velocity_axial():
-    v_t = terminal_velocity_axial(MASS, L, D, RHO, G)               # seed 000 eq. (40)
-    sc = make_scenario(mine={"mass": MASS}, environment={"gravity": G},
-                       release={"position": [0, 0, -5.0], "pitch_deg": 90.0},
-                       numerics={"t_max": 40.0, "dt": 5e-3})
+    v_t = terminal_velocity_axial(MASS, L, D, RHO, G)  # seed 000 eq. (40)
+    sc = make_scenario(
+        mine={"mass": MASS},
+        environment={"gravity": G},
+        release={"position": [0, 0, -5.0], "pitch_deg": 90.0},
+        numerics={"t_max": 40.0, "dt": 5e-3},
+    )
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
     assert abs(w_end - v_t) / v_t < 0.005
@@ -67,16 +73,22 @@ def test_terminal_velocity_axial():
 def test_ballistic_without_fluids():
     v0 = np.array([3.0, -2.0, 5.0])
     om0 = np.array([4.0, 0.7, -1.1])
-    sc = make_scenario(environment={"air_density": 0.0, "water_density": 0.0, "gravity": G},
-                       release={"position": [1.0, 2.0, 0.5], "velocity": list(v0),
-                                "pitch_deg": 20.0, "heading_deg": 30.0,
-                                "angular_velocity": list(om0)},
-                       numerics={"t_max": 2.0, "dt": 1e-3})
+    sc = make_scenario(
+        environment={"air_density": 0.0, "water_density": 0.0, "gravity": G},
+        release={
+            "position": [1.0, 2.0, 0.5],
+            "velocity": list(v0),
+            "pitch_deg": 20.0,
+            "heading_deg": 30.0,
+            "angular_velocity": list(om0),
+        },
+        numerics={"t_max": 2.0, "dt": 1e-3},
+    )
     ds = simulate_drop(sc, record_interval=0.1)
     t = ds.time.values
     np.testing.assert_allclose(ds.x, 1.0 + v0[0] * t, rtol=0, atol=1e-10)
     np.testing.assert_allclose(ds.y, 2.0 + v0[1] * t, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(ds.z, 0.5 + v0[2] * t - 0.5 * G * t ** 2, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(ds.z, 0.5 + v0[2] * t - 0.5 * G * t**2, rtol=0, atol=1e-10)
     # torque-free symmetric top: omega1 constant, (omega2, omega3) precess at
     # lambda = (J1 - J2) omega1 / J2 (Euler's equations)
     m = 80.0
@@ -85,10 +97,8 @@ def test_ballistic_without_fluids():
     j2 = m * (3 * r * r + L * L) / 12.0
     lam = (j1 - j2) * om0[0] / j2
     np.testing.assert_allclose(ds.omega1, om0[0], atol=1e-10)
-    np.testing.assert_allclose(ds.omega2, om0[1] * np.cos(lam * t) - om0[2] * np.sin(lam * t),
-                               atol=1e-8)
-    np.testing.assert_allclose(ds.omega3, om0[1] * np.sin(lam * t) + om0[2] * np.cos(lam * t),
-                               atol=1e-8)
+    np.testing.assert_allclose(ds.omega2, om0[1] * np.cos(lam * t) - om0[2] * np.sin(lam * t), atol=1e-8)
+    np.testing.assert_allclose(ds.omega3, om0[1] * np.sin(lam * t) + om0[2] * np.cos(lam * t), atol=1e-8)
     # angular momentum is conserved in the earth frame
     h = []
     for k in range(len(t)):
@@ -100,9 +110,11 @@ def test_ballistic_without_fluids():
 
 
 def test_neutrally_buoyant_at_rest_stays_at_rest():
-    sc = make_scenario(mine={"mass": RHO * VOL},
-                       release={"position": [0, 0, -20.0], "pitch_deg": 30.0},
-                       numerics={"t_max": 5.0})
+    sc = make_scenario(
+        mine={"mass": RHO * VOL},
+        release={"position": [0, 0, -20.0], "pitch_deg": 30.0},
+        numerics={"t_max": 5.0},
+    )
     ds = simulate_drop(sc)
     for c in ("u", "v", "w", "omega1", "omega2", "omega3"):
         assert np.max(np.abs(ds[c].values)) < 1e-12, c
@@ -125,14 +137,28 @@ def test_rotation_about_vertical_rotates_trajectory(integrator, tol):
     # test's tight tolerance dopri5 needs 800 000 steps between 3 s and 6 s (the drag law's
     # jumps at its Reynolds-number breakpoints), 280 before
     common = dict(mine={"com_offset": 0.05}, numerics={"t_max": 3.0, "integrator": integrator})
-    a = make_scenario(release={"position": [pos[0], pos[1], 2.0], "velocity": list(v0),
-                               "pitch_deg": 30.0, "heading_deg": 10.0,
-                               "angular_velocity": [0.3, 0.5, -0.2]}, **common)
+    a = make_scenario(
+        release={
+            "position": [pos[0], pos[1], 2.0],
+            "velocity": list(v0),
+            "pitch_deg": 30.0,
+            "heading_deg": 10.0,
+            "angular_velocity": [0.3, 0.5, -0.2],
+        },
+        **common,
+    )
     pb = rot @ pos
     vb = rot @ v0[:2]
-    b = make_scenario(release={"position": [pb[0], pb[1], 2.0], "velocity": [vb[0], vb[1], v0[2]],
-                               "pitch_deg": 30.0, "heading_deg": 50.0,
-                               "angular_velocity": [0.3, 0.5, -0.2]}, **common)
+    b = make_scenario(
+        release={
+            "position": [pb[0], pb[1], 2.0],
+            "velocity": [vb[0], vb[1], v0[2]],
+            "pitch_deg": 30.0,
+            "heading_deg": 50.0,
+            "angular_velocity": [0.3, 0.5, -0.2],
+        },
+        **common,
+    )
     da = simulate_drop(a, record_interval=0.01)
     db = simulate_drop(b, record_interval=0.01)
     n = min(da.sizes["time"], db.sizes["time"])
@@ -159,10 +185,16 @@ def _final_state(sc, dt, integrator):
 
 @pytest.fixture(scope="module")
 def submerged_rotating():
-    return make_scenario(mine={"mass": 60.0, "com_offset": 0.04},
-                         release={"position": [0, 0, -20.0], "velocity": [0.3, 0.0, -0.3],
-                                  "pitch_deg": 30.0, "angular_velocity": [0.2, 0.5, 0.1]},
-                         numerics={"t_max": 1.0})
+    return make_scenario(
+        mine={"mass": 60.0, "com_offset": 0.04},
+        release={
+            "position": [0, 0, -20.0],
+            "velocity": [0.3, 0.0, -0.3],
+            "pitch_deg": 30.0,
+            "angular_velocity": [0.2, 0.5, 0.1],
+        },
+        numerics={"t_max": 1.0},
+    )
 
 
 def _observed_orders(sc, dts, integrator, reference):
@@ -188,11 +220,17 @@ def test_local_linearisation_converges_at_first_order(submerged_rotating):
 @pytest.mark.parametrize("munk", [0.0, 0.5, 1.0])
 def test_mechanical_energy_conserved_without_drag(munk):
     m, chi = 60.0, 0.05
-    sc = make_scenario(mine={"mass": m, "com_offset": chi},
-                       environment={"gravity": G},
-                       release={"position": [0, 0, -50.0], "velocity": [0.4, -0.2, 0.3],
-                                "pitch_deg": 30.0, "angular_velocity": [0.5, 1.0, -0.7]},
-                       numerics={"t_max": 2.0, "drag": False, "dt": 1e-3, "munk_factor": munk})
+    sc = make_scenario(
+        mine={"mass": m, "com_offset": chi},
+        environment={"gravity": G},
+        release={
+            "position": [0, 0, -50.0],
+            "velocity": [0.4, -0.2, 0.3],
+            "pitch_deg": 30.0,
+            "angular_velocity": [0.5, 1.0, -0.7],
+        },
+        numerics={"t_max": 2.0, "drag": False, "dt": 1e-3, "munk_factor": munk},
+    )
     ds = simulate_drop(sc, record_interval=0.05)
     r = D / 2
     j1 = 0.5 * m * r * r
@@ -200,8 +238,8 @@ def test_mechanical_energy_conserved_without_drag(munk):
     # strip-theory added mass per unit length (seed 001 eqs. (20)-(21)), over the
     # body's axial interval [-L/2 - chi, L/2 - chi]
     a = RHO * math.pi * r * r
-    i0, i1, i2 = L, -chi * L, L ** 3 / 12.0 + chi ** 2 * L
-    a_axial = (1.0 - munk) * a * i0        # axial added mass (docs/physics.md, Munk factor)
+    i0, i1, i2 = L, -chi * L, L**3 / 12.0 + chi**2 * L
+    a_axial = (1.0 - munk) * a * i0  # axial added mass (docs/physics.md, Munk factor)
     energies = []
     for k in range(ds.sizes["time"]):
         rot = _body_rotation([float(ds[c][k]) for c in ("q0", "q1", "q2", "q3")])
@@ -210,13 +248,20 @@ def test_mechanical_energy_conserved_without_drag(munk):
         w = np.array([float(ds[c][k]) for c in ("omega1", "omega2", "omega3")])
         kin = 0.5 * (m * u @ u + j1 * w[0] ** 2 + j2 * (w[1] ** 2 + w[2] ** 2))
         kin += 0.5 * a_axial * u[0] ** 2
-        kin += 0.5 * a * (i0 * (u[1] ** 2 + u[2] ** 2) + 2 * i1 * (u[1] * w[2] - u[2] * w[1])
-                          + i2 * (w[1] ** 2 + w[2] ** 2))
+        kin += (
+            0.5
+            * a
+            * (
+                i0 * (u[1] ** 2 + u[2] ** 2)
+                + 2 * i1 * (u[1] * w[2] - u[2] * w[1])
+                + i2 * (w[1] ** 2 + w[2] ** 2)
+            )
+        )
         z = float(ds.z[k])
-        z_cov = z + rot[2, 0] * (-chi)       # centre of volume lies at -chi i_M
+        z_cov = z + rot[2, 0] * (-chi)  # centre of volume lies at -chi i_M
         pot = m * G * z - RHO * VOL * G * z_cov
         energies.append(kin + pot)
     energies = np.array(energies)
     scale = abs(energies[0]) + m * G * L
-    drift = np.max(np.abs(energies - energies[0])) / scale / 2.0   # per second
+    drift = np.max(np.abs(energies - energies[0])) / scale / 2.0  # per second
     assert drift < 1e-6, drift

@@ -28,8 +28,7 @@ BLOCK_SIZE = 2  # drops a thread takes at a time (drops are long: balance, not o
 
 
 @kernel
-def _run_drops(params, valid, sediment_bank, current_bank, summary, codes, references, start,
-               stop):
+def _run_drops(params, valid, sediment_bank, current_bank, summary, codes, references, start, stop):
     """Run drops ``start`` to ``stop`` (exclusive); each writes only its own row."""
     for i in range(start, stop):
         if valid[i] == 0:
@@ -37,8 +36,7 @@ def _run_drops(params, valid, sediment_bank, current_bank, summary, codes, refer
                 summary[i, k] = np.nan
             codes[i] = st.INVALID_INPUT
             continue
-        code, _ = run_drop(params[i], sediment_bank, current_bank, summary[i], None, 1.0,
-                           references)
+        code, _ = run_drop(params[i], sediment_bank, current_bank, summary[i], None, 1.0, references)
         codes[i] = code
 
 
@@ -54,16 +52,21 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
     n = params.shape[0]
     summary = np.empty((n, N_SUMMARY))
     codes = np.empty(n, dtype=np.int8)
-    args = (params, np.ascontiguousarray(valid, dtype=np.uint8),
-            np.ascontiguousarray(sediment_bank, dtype=np.float64),
-            np.ascontiguousarray(current_bank, dtype=np.float64), summary, codes,
-            reference_paths(params))
+    args = (
+        params,
+        np.ascontiguousarray(valid, dtype=np.uint8),
+        np.ascontiguousarray(sediment_bank, dtype=np.float64),
+        np.ascontiguousarray(current_bank, dtype=np.float64),
+        summary,
+        codes,
+        reference_paths(params),
+    )
     threads = numba.get_num_threads() if threads is None else int(threads)
     threads = max(1, min(threads, -(-n // BLOCK_SIZE)))
     if threads == 1:
         _run_drops(*args, 0, n)
         return summary, codes
-    blocks = itertools.count(0, BLOCK_SIZE)   # next() is atomic under the GIL
+    blocks = itertools.count(0, BLOCK_SIZE)  # next() is atomic under the GIL
 
     def worker():
         for start in blocks:

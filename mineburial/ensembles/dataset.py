@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import hashlib
 import json
-from typing import Any
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -94,8 +94,9 @@ def build_dataset(
 
     parts = [statistics]
     if per_drop:
-        parts.append(_per_drop_dataset(summary, status, inputs, input_metadata, realization,
-                                       class_basis, burial_class))
+        parts.append(
+            _per_drop_dataset(summary, status, inputs, input_metadata, realization, class_basis, burial_class)
+        )
     ds = xr.merge(parts, combine_attrs="override", compat="no_conflicts", join="exact")
     for part in parts:  # merge may drop encodings (fill values): restore them
         for name, da in part.variables.items():
@@ -106,9 +107,11 @@ def build_dataset(
     version_s = str(version) if version is not None else "unknown"
     scen = ncio.scenario_json(scenario) if scenario is not None else None
     ident_src = json.dumps([scen, str(seed), sampling_method, n_total, version_s])
-    line = (f"{created} mineburial {version_s}: Monte Carlo ensemble of {n_total} drops"
-            + (f", {sampling_method} sampling" if sampling_method else "")
-            + (f", seed {seed}" if seed is not None else ""))
+    line = (
+        f"{created} mineburial {version_s}: Monte Carlo ensemble of {n_total} drops"
+        + (f", {sampling_method} sampling" if sampling_method else "")
+        + (f", seed {seed}" if seed is not None else "")
+    )
     cr = dict(creator or {})
     global_attrs = {
         "Conventions": ncio.CONVENTIONS,
@@ -128,10 +131,12 @@ def build_dataset(
         "processing_level": "model output: Monte Carlo ensemble statistics",
         "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
         "references": ncio.REFERENCES,
-        "comment": ("Statistics use only drops with status at_rest or buried_sinking; "
-                    "status_count gives the "
-                    "number of drops with every status code. Variable definitions: "
-                    "docs/notes/output.md of the mineburial sources."),
+        "comment": (
+            "Statistics use only drops with status at_rest or buried_sinking; "
+            "status_count gives the "
+            "number of drops with every status code. Variable definitions: "
+            "docs/notes/output.md of the mineburial sources."
+        ),
         "scenario": scen,
         "random_seed": ncio.seed_attr(seed),
         "sampling_method": sampling_method,
@@ -147,8 +152,9 @@ def build_dataset(
     return ds
 
 
-def _per_drop_dataset(summary, status, inputs, input_metadata, realization, class_basis,
-                      burial_class) -> xr.Dataset:
+def _per_drop_dataset(
+    summary, status, inputs, input_metadata, realization, class_basis, burial_class
+) -> xr.Dataset:
     n = summary.shape[0]
     idx = np.arange(n, dtype=np.int64) if realization is None else np.asarray(realization)
     if idx.shape != (n,):
@@ -158,10 +164,8 @@ def _per_drop_dataset(summary, status, inputs, input_metadata, realization, clas
         data[name] = V.variable(name).data_array(summary[:, j])
     data["status"] = V.variable("status").data_array(status)
     cls = burial_class(summary[:, layout.SUMMARY_INDEX[class_basis]])
-    cls = np.where(np.isin(status, status_codes.IN_STATISTICS), cls,
-                   np.int8(V.UNCLASSIFIED)).astype(np.int8)
-    data["burial_class"] = V.variable("burial_class").data_array(
-        cls, burial_class_basis=class_basis)
+    cls = np.where(np.isin(status, status_codes.IN_STATISTICS), cls, np.int8(V.UNCLASSIFIED)).astype(np.int8)
+    data["burial_class"] = V.variable("burial_class").data_array(cls, burial_class_basis=class_basis)
     meta = dict(input_metadata or {})
     for path, values in (inputs or {}).items():
         units, desc = meta.get(path, (None, None))

@@ -52,14 +52,19 @@ from collections.abc import Iterable, Iterator
 from mineburial.ensembles import engine
 from mineburial.ensembles.store import notice
 
-__all__ = ["warm_up", "chunk_task", "numba_threads_per_task", "run_tasks_distributed",
-           "RETRIES", "WAITING_INTERVAL"]
+__all__ = [
+    "warm_up",
+    "chunk_task",
+    "numba_threads_per_task",
+    "run_tasks_distributed",
+    "RETRIES",
+    "WAITING_INTERVAL",
+]
 
 #: retries of a chunk whose task raised (a lost worker is rescheduled by the scheduler)
 RETRIES = 2
 #: seconds between the checks for a cluster without workers (and the waiting messages)
 WAITING_INTERVAL = 30.0
-
 
 
 def _available_cores() -> int:
@@ -154,20 +159,23 @@ def _watch_workers(client, stop: threading.Event, interval: float):
     while not stop.wait(interval):
         try:
             n = len(client.scheduler_info(n_workers=-1).get("workers", {}))
-        except Exception:   # the scheduler itself is unreachable: the client reports that
+        except Exception:  # the scheduler itself is unreachable: the client reports that
             continue
         if n == 0:
             since = since or time.monotonic()
-            notice(f"waiting for dask workers: the cluster at {client.scheduler.address} has "
-                   f"none (for {time.monotonic() - since:.0f} s); the run goes on when workers "
-                   f"join. Ctrl-C stops it; finished chunks are kept and a rerun resumes")
+            notice(
+                f"waiting for dask workers: the cluster at {client.scheduler.address} has "
+                f"none (for {time.monotonic() - since:.0f} s); the run goes on when workers "
+                f"join. Ctrl-C stops it; finished chunks are kept and a rerun resumes"
+            )
         elif since is not None:
             notice(f"{n} dask worker(s) joined; the run goes on")
             since = None
 
 
-def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
-                          numba_threads: int | None = None) -> Iterator:
+def run_tasks_distributed(
+    client, items: Iterable, *, warm: bool = True, numba_threads: int | None = None
+) -> Iterator:
     """Run chunks of possibly different ensembles on a dask cluster.
 
     ``items``: iterable of ``(tag, spec, start, stop, store)`` (``tag`` is any label
@@ -201,17 +209,29 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
         stops.append(int(stop))
         stores.append(store)
     # chunk_task is looked up here, at call time, so that tests can replace it
-    futures = client.map(chunk_task, specs, starts, stops, stores,
-                         [numba_threads] * len(keys), key=keys, pure=False, retries=RETRIES)
+    futures = client.map(
+        chunk_task,
+        specs,
+        starts,
+        stops,
+        stores,
+        [numba_threads] * len(keys),
+        key=keys,
+        pure=False,
+        retries=RETRIES,
+    )
     pending = {f.key: f for f in futures}
     del futures
     stop_watch = threading.Event()
-    watcher = threading.Thread(target=_watch_workers, args=(client, stop_watch, WAITING_INTERVAL),
-                               name="mineburial-worker-watch", daemon=True)
+    watcher = threading.Thread(
+        target=_watch_workers,
+        args=(client, stop_watch, WAITING_INTERVAL),
+        name="mineburial-worker-watch",
+        daemon=True,
+    )
     watcher.start()
     try:
-        for fut, res in as_completed(list(pending.values()), with_results=True,
-                                     raise_errors=False):
+        for fut, res in as_completed(list(pending.values()), with_results=True, raise_errors=False):
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
             if fut.status == "error":
@@ -219,11 +239,12 @@ def run_tasks_distributed(client, items: Iterable, *, warm: bool = True,
                 what = "the ensemble" if tag is None else str(tag)
                 raise RuntimeError(
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
-                    f"after {RETRIES} retries: {exc!r}") from exc
+                    f"after {RETRIES} retries: {exc!r}"
+                ) from exc
             fut.release()
             store = stores_of.pop(fut.key)
             if store is not None and not store.has(*bounds):
-                store.save(res)            # no filesystem shared with the workers
+                store.save(res)  # no filesystem shared with the workers
             yield tag, bounds, res
     finally:
         stop_watch.set()

@@ -40,9 +40,9 @@ from __future__ import annotations
 import csv
 import difflib
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
-from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -55,7 +55,9 @@ def _stats():
     """scipy.stats, imported on first use: importing it costs ~0.5 s, a third of the
     start-up of every run, and only the truncated-normal and lognormal families need it."""
     from scipy import stats
+
     return stats
+
 
 __all__ = [
     "DistributionError",
@@ -86,23 +88,21 @@ class DistributionError(ScenarioError):
 # validation helpers
 # ---------------------------------------------------------------------------
 
+
 def _nearest(name: str, options) -> str:
     close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.5)
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-def _number(d: Mapping, key: str, field: str, family: str, *, default=None,
-            allow_inf: bool = False) -> float:
+def _number(d: Mapping, key: str, field: str, family: str, *, default=None, allow_inf: bool = False) -> float:
     """Read ``d[key]`` as a float; reject bools, strings, NaN (and inf unless allowed)."""
     if key not in d:
         if default is not None:
             return default
-        raise DistributionError(
-            f"{field}: {family} distribution needs '{key}' (missing)")
+        raise DistributionError(f"{field}: {family} distribution needs '{key}' (missing)")
     raw = d[key]
     if isinstance(raw, bool) or not isinstance(raw, (int, float, np.integer, np.floating)):
-        raise DistributionError(
-            f"{field}: {key} = {raw!r} must be a number, got {type(raw).__name__}")
+        raise DistributionError(f"{field}: {key} = {raw!r} must be a number, got {type(raw).__name__}")
     val = float(raw)
     if math.isnan(val) or (math.isinf(val) and not allow_inf):
         raise DistributionError(f"{field}: {key} = {raw} must be a finite number")
@@ -115,19 +115,20 @@ def _check_keys(d: Mapping, field: str, family: str, allowed: tuple[str, ...]) -
         key = unknown[0]
         raise DistributionError(
             f"{field}: unknown parameter {key!r} for the {family} distribution; "
-            f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}")
+            f"allowed parameters are {', '.join(allowed)}{_nearest(key, allowed)}"
+        )
     if unknown:
         names = ", ".join(f"{key!r}{_nearest(key, allowed)}" for key in unknown)
         raise DistributionError(
             f"{field}: unknown parameters {names} for the {family} distribution; "
-            f"allowed parameters are {', '.join(allowed)}")
+            f"allowed parameters are {', '.join(allowed)}"
+        )
 
 
 def _check_family(d: Mapping, field: str, family: str) -> None:
     name = d.get("distribution", family)
     if name != family:
-        raise DistributionError(
-            f"{field}: distribution = {name!r} given to the {family} parser")
+        raise DistributionError(f"{field}: distribution = {name!r} given to the {family} parser")
 
 
 def _as_u(u) -> np.ndarray:
@@ -136,13 +137,13 @@ def _as_u(u) -> np.ndarray:
 
 def _inside(values, low, high, low_inclusive, high_inclusive) -> np.ndarray:
     v = np.asarray(values, dtype=np.float64)
-    return (((v >= low) if low_inclusive else (v > low))
-            & ((v <= high) if high_inclusive else (v < high)))
+    return ((v >= low) if low_inclusive else (v > low)) & ((v <= high) if high_inclusive else (v < high))
 
 
 # ---------------------------------------------------------------------------
 # families
 # ---------------------------------------------------------------------------
+
 
 class Distribution:
     """Base class: a frozen dataclass per family with a vectorised inverse CDF.
@@ -160,8 +161,9 @@ class Distribution:
     discrete: ClassVar[bool] = False
 
     @classmethod
-    def from_dict(cls, d: Mapping[str, Any], field: str, *,
-                  base_dir: str | Path | None = None) -> Distribution:  # pragma: no cover
+    def from_dict(
+        cls, d: Mapping[str, Any], field: str, *, base_dir: str | Path | None = None
+    ) -> Distribution:  # pragma: no cover
         raise NotImplementedError
 
     def ppf(self, u) -> np.ndarray:  # pragma: no cover
@@ -174,8 +176,9 @@ class Distribution:
     def support(self) -> tuple[float, float]:  # pragma: no cover
         raise NotImplementedError
 
-    def probability_outside(self, low: float, high: float, low_inclusive: bool = True,
-                            high_inclusive: bool = True) -> float:  # pragma: no cover
+    def probability_outside(
+        self, low: float, high: float, low_inclusive: bool = True, high_inclusive: bool = True
+    ) -> float:  # pragma: no cover
         """Probability that a draw lies outside the interval from ``low`` to ``high``
         (each end closed or open as given; it matters only for the discrete families).
         Used to check a distribution against a field's allowed range when a scenario
@@ -208,8 +211,7 @@ class Uniform(Distribution):
         low = _number(d, "low", field, cls.family)
         high = _number(d, "high", field, cls.family)
         if not high > low:
-            raise DistributionError(
-                f"{field}: high = {d['high']} must be > low = {d['low']}")
+            raise DistributionError(f"{field}: high = {d['high']} must be > low = {d['low']}")
         return cls(low, high)
 
     def ppf(self, u):
@@ -233,7 +235,7 @@ class Uniform(Distribution):
 class Normal(Distribution):
     """Normal with mean ``mean`` and standard deviation ``std``."""
 
-    mu: float   #: the mean (TOML key ``mean``)
+    mu: float  #: the mean (TOML key ``mean``)
     std: float
     family: ClassVar[str] = "normal"
 
@@ -257,8 +259,9 @@ class Normal(Distribution):
         return (-math.inf, math.inf)
 
     def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
-        return min(float(special.ndtr((low - self.mu) / self.std)
-                         + special.ndtr((self.mu - high) / self.std)), 1.0)
+        return min(
+            float(special.ndtr((low - self.mu) / self.std) + special.ndtr((self.mu - high) / self.std)), 1.0
+        )
 
     def to_dict(self):
         return {"distribution": self.family, "mean": self.mu, "std": self.std}
@@ -273,7 +276,7 @@ class TruncatedNormal(Distribution):
     truncation).
     """
 
-    mu: float   #: mean of the parent normal (TOML key ``mean``)
+    mu: float  #: mean of the parent normal (TOML key ``mean``)
     std: float  #: standard deviation of the parent normal
     low: float
     high: float
@@ -290,20 +293,23 @@ class TruncatedNormal(Distribution):
         if "low" not in d and "high" not in d:
             raise DistributionError(
                 f"{field}: truncated_normal needs at least one of 'low', 'high' "
-                "(use distribution = \"normal\" for no truncation)")
+                '(use distribution = "normal" for no truncation)'
+            )
         low = _number(d, "low", field, cls.family, default=-math.inf, allow_inf=True)
         high = _number(d, "high", field, cls.family, default=math.inf, allow_inf=True)
         if not high > low:
             raise DistributionError(
-                f"{field}: high = {d.get('high', math.inf)} must be > low = {d.get('low', -math.inf)}")
+                f"{field}: high = {d.get('high', math.inf)} must be > low = {d.get('low', -math.inf)}"
+            )
         # scipy's truncnorm works in log space, so even far-tail intervals are
         # fine; refuse only an interval whose inverse CDF is not finite.
         a, b = (low - mean) / std, (high - mean) / std
-        probe = _stats().truncnorm.ppf([2.0 ** -53, 0.5, 1.0 - 2.0 ** -53], a, b)
+        probe = _stats().truncnorm.ppf([2.0**-53, 0.5, 1.0 - 2.0**-53], a, b)
         if not np.all(np.isfinite(probe)):
             raise DistributionError(
                 f"{field}: [low, high] = [{low}, {high}] carries no probability that "
-                f"double precision resolves under normal(mean={mean}, std={std})")
+                f"double precision resolves under normal(mean={mean}, std={std})"
+            )
         return cls(mean, std, low, high)
 
     @property
@@ -325,8 +331,9 @@ class TruncatedNormal(Distribution):
     def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
         a, b = self._ab
         kw = {"loc": self.mu, "scale": self.std}
-        return min(float(_stats().truncnorm.cdf(low, a, b, **kw)
-                         + _stats().truncnorm.sf(high, a, b, **kw)), 1.0)
+        return min(
+            float(_stats().truncnorm.cdf(low, a, b, **kw) + _stats().truncnorm.sf(high, a, b, **kw)), 1.0
+        )
 
     def to_dict(self):
         out = {"distribution": self.family, "mean": self.mu, "std": self.std}
@@ -360,16 +367,19 @@ class LogNormal(Distribution):
                 s = float(d["std"])
                 if m > 0 and s > 0:
                     cv2 = (s / m) ** 2
-                    hint = (f"; for mean = {d['mean']}, std = {d['std']} of X use "
-                            f"median = {m / math.sqrt(1.0 + cv2):.6g}, "
-                            f"sigma = {math.sqrt(math.log1p(cv2)):.6g}")
+                    hint = (
+                        f"; for mean = {d['mean']}, std = {d['std']} of X use "
+                        f"median = {m / math.sqrt(1.0 + cv2):.6g}, "
+                        f"sigma = {math.sqrt(math.log1p(cv2)):.6g}"
+                    )
             except (KeyError, TypeError, ValueError):
                 pass
             raise DistributionError(
                 f"{field}: lognormal is parameterised by median (of X) and sigma "
                 f"(standard deviation of ln X), not by mean/std; "
                 f"median = mean/sqrt(1 + (std/mean)^2), sigma = sqrt(ln(1 + (std/mean)^2))"
-                f"{hint}")
+                f"{hint}"
+            )
         _check_keys(d, field, cls.family, ("median", "sigma"))
         median = _number(d, "median", field, cls.family)
         sigma = _number(d, "sigma", field, cls.family)
@@ -383,7 +393,7 @@ class LogNormal(Distribution):
         return self.median * np.exp(self.sigma * special.ndtri(_as_u(u)))
 
     def mean(self):
-        return self.median * math.exp(0.5 * self.sigma ** 2)
+        return self.median * math.exp(0.5 * self.sigma**2)
 
     def support(self):
         return (0.0, math.inf)
@@ -417,7 +427,8 @@ class Choice(Distribution):
         raw = d["values"]
         if isinstance(raw, (str, bytes)) or not hasattr(raw, "__len__") or len(raw) == 0:
             raise DistributionError(
-                f"{field}: values = {raw!r} must be a non-empty list of numbers or strings")
+                f"{field}: values = {raw!r} must be a non-empty list of numbers or strings"
+            )
         raw = list(raw)
         if all(isinstance(v, str) for v in raw):
             values = tuple(raw)
@@ -427,7 +438,8 @@ class Choice(Distribution):
                 if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
                     raise DistributionError(
                         f"{field}: values[{j}] = {v!r} must be a number, or all values "
-                        "must be strings (numbers and strings cannot be mixed)")
+                        "must be strings (numbers and strings cannot be mixed)"
+                    )
                 if not math.isfinite(float(v)):
                     raise DistributionError(f"{field}: values[{j}] = {v} must be finite")
                 values.append(float(v))
@@ -439,14 +451,14 @@ class Choice(Distribution):
             w_raw = list(w_raw)
             if len(w_raw) != len(values):
                 raise DistributionError(
-                    f"{field}: weights has {len(w_raw)} entries but values has {len(values)}")
+                    f"{field}: weights has {len(w_raw)} entries but values has {len(values)}"
+                )
             w = []
             for j, x in enumerate(w_raw):
                 if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
                     raise DistributionError(f"{field}: weights[{j}] = {x!r} must be a number")
                 if not (math.isfinite(float(x)) and float(x) >= 0):
-                    raise DistributionError(
-                        f"{field}: weights[{j}] = {x} must be finite and >= 0")
+                    raise DistributionError(f"{field}: weights[{j}] = {x} must be finite and >= 0")
                 w.append(float(x))
             total = math.fsum(w)
             if not total > 0:
@@ -524,21 +536,19 @@ class Empirical(Distribution):
         if has_values == has_file:
             raise DistributionError(
                 f"{field}: empirical distribution needs exactly one of "
-                "values = [...] or file = \"...\" (with column = \"...\")")
+                'values = [...] or file = "..." (with column = "...")'
+            )
         if has_values:
             if "column" in d:
-                raise DistributionError(f"{field}: column is only used with file = \"...\"")
+                raise DistributionError(f'{field}: column is only used with file = "..."')
             raw = d["values"]
             if isinstance(raw, (str, bytes)) or not hasattr(raw, "__len__") or len(raw) == 0:
-                raise DistributionError(
-                    f"{field}: values = {raw!r} must be a non-empty list of numbers")
+                raise DistributionError(f"{field}: values = {raw!r} must be a non-empty list of numbers")
             vals = []
             for j, v in enumerate(raw):
                 if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                    hint = (" (use distribution = \"choice\" for labels)"
-                            if isinstance(v, str) else "")
-                    raise DistributionError(
-                        f"{field}: values[{j}] = {v!r} must be a number{hint}")
+                    hint = ' (use distribution = "choice" for labels)' if isinstance(v, str) else ""
+                    raise DistributionError(f"{field}: values[{j}] = {v!r} must be a number{hint}")
                 if not math.isfinite(float(v)):
                     raise DistributionError(f"{field}: values[{j}] = {v} must be finite")
                 vals.append(float(v))
@@ -579,29 +589,32 @@ class Empirical(Distribution):
         return out
 
 
-def _read_column(field: str, file: str, column: str | None,
-                 base_dir: str | Path | None) -> list[float]:
+def _read_column(field: str, file: str, column: str | None, base_dir: str | Path | None) -> list[float]:
     path = Path(file)
     if not path.is_absolute() and base_dir is not None:
         path = Path(base_dir) / path
     if not path.is_file():
         raise DistributionError(f"{field}: file = {file!r} not found (looked for {path})")
     with open(path, newline="") as fh:
-        rows = [(lineno, row) for lineno, row in enumerate(csv.reader(fh), start=1)
-                if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")]
+        rows = [
+            (lineno, row)
+            for lineno, row in enumerate(csv.reader(fh), start=1)
+            if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")
+        ]
     if not rows:
         raise DistributionError(f"{field}: file {str(path)!r} has no header row")
     header = [h.strip() for h in rows[0][1]]
     if column is None:
         if len(header) != 1:
             raise DistributionError(
-                f"{field}: file {str(path)!r} has columns {', '.join(header)}; "
-                "name one with column = \"...\"")
+                f'{field}: file {str(path)!r} has columns {", ".join(header)}; name one with column = "..."'
+            )
         col = 0
     elif column not in header:
         raise DistributionError(
             f"{field}: column = {column!r} not in {str(path)!r}; available columns are "
-            f"{', '.join(header)}{_nearest(column, header)}")
+            f"{', '.join(header)}{_nearest(column, header)}"
+        )
     else:
         col = header.index(column)
     vals = []
@@ -611,11 +624,10 @@ def _read_column(field: str, file: str, column: str | None,
             x = float(cell)
         except ValueError:
             raise DistributionError(
-                f"{field}: {str(path)!r} line {lineno}, column {header[col]!r}: "
-                f"{cell!r} is not a number") from None
+                f"{field}: {str(path)!r} line {lineno}, column {header[col]!r}: {cell!r} is not a number"
+            ) from None
         if not math.isfinite(x):
-            raise DistributionError(
-                f"{field}: {str(path)!r} line {lineno}: {cell!r} must be finite")
+            raise DistributionError(f"{field}: {str(path)!r} line {lineno}: {cell!r} must be finite")
         vals.append(x)
     if not vals:
         raise DistributionError(f"{field}: file {str(path)!r} has no values below its header")
@@ -633,27 +645,26 @@ def is_distribution_table(value: Any) -> bool:
     return isinstance(value, Mapping) and "distribution" in value
 
 
-def from_dict(d: Mapping[str, Any], field: str, *,
-              base_dir: str | Path | None = None) -> Distribution:
+def from_dict(d: Mapping[str, Any], field: str, *, base_dir: str | Path | None = None) -> Distribution:
     """Build the distribution named by ``d["distribution"]``; errors name ``field``."""
     if not isinstance(d, Mapping):
         raise DistributionError(f"{field}: expected an inline table, got {d!r}")
     available = ", ".join(DISTRIBUTIONS)
     if "distribution" not in d:
         raise DistributionError(
-            f"{field}: an inline table must name its family with distribution = \"...\"; "
-            f"available distributions are {available}")
+            f'{field}: an inline table must name its family with distribution = "..."; '
+            f"available distributions are {available}"
+        )
     name = d["distribution"]
     if not isinstance(name, str) or name not in DISTRIBUTIONS:
         hint = _nearest(name, DISTRIBUTIONS) if isinstance(name, str) else ""
         raise DistributionError(
-            f"{field}: unknown distribution {name!r}; available distributions are "
-            f"{available}{hint}")
+            f"{field}: unknown distribution {name!r}; available distributions are {available}{hint}"
+        )
     return DISTRIBUTIONS[name].from_dict(d, field, base_dir=base_dir)
 
 
-def parse_value(value: Any, field: str, *,
-                base_dir: str | Path | None = None) -> float | str | Distribution:
+def parse_value(value: Any, field: str, *, base_dir: str | Path | None = None) -> float | str | Distribution:
     """A scenario value: a fixed float, a fixed string, or a distribution object.
 
     Numbers become ``float`` (must be finite); strings stay strings (labels);
@@ -676,7 +687,8 @@ def parse_value(value: Any, field: str, *,
     if isinstance(value, (list, tuple)):
         raise DistributionError(
             f"{field}: a list {value!r} is not a value; write a choice as "
-            "{distribution = \"choice\", values = [...]}")
+            '{distribution = "choice", values = [...]}'
+        )
     raise DistributionError(
-        f"{field}: {value!r} ({type(value).__name__}) must be a number, a string or a "
-        "distribution table")
+        f"{field}: {value!r} ({type(value).__name__}) must be a number, a string or a distribution table"
+    )

@@ -38,11 +38,18 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
 
-DEFAULT_SCENARIO = (pathlib.Path(__file__).resolve().parent.parent / "data" / "ensembles"
-                    / "default_soft_mud.toml")
+DEFAULT_SCENARIO = (
+    pathlib.Path(__file__).resolve().parent.parent / "data" / "ensembles" / "default_soft_mud.toml"
+)
 
-ENSEMBLE_DEFAULTS = {"n": 1000, "seed": 0, "sampling": "mc", "chunk_size": 256,
-                     "per_drop": False, "class_basis": "burial_volume"}
+ENSEMBLE_DEFAULTS = {
+    "n": 1000,
+    "seed": 0,
+    "sampling": "mc",
+    "chunk_size": 256,
+    "per_drop": False,
+    "class_basis": "burial_volume",
+}
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
 _INERTIA_INPUTS = ("mine.mass", "mine.length", "mine.diameter")
@@ -92,9 +99,10 @@ def _representative(d: dist.Distribution):
 @dataclasses.dataclass(frozen=True)
 class EnsembleSpec:
     """Everything needed to compute any chunk of an ensemble (picklable)."""
-    raw: dict                      # the scenario as given (distributions as tables)
-    base: cfg.Scenario             # scenario with each distribution at a representative value
-    random: dict                   # path -> Distribution
+
+    raw: dict  # the scenario as given (distributions as tables)
+    base: cfg.Scenario  # scenario with each distribution at a representative value
+    random: dict  # path -> Distribution
     n: int
     seed: int
     sampling: str
@@ -104,21 +112,28 @@ class EnsembleSpec:
     base_params: np.ndarray
     sediment_bank: np.ndarray
     current_bank: np.ndarray
-    sediment_labels: tuple         # labels of a sediment choice, in bank-row order
-    sediment_choice: str | None    # "sediment.class" or "sediment.file" when it varies
+    sediment_labels: tuple  # labels of a sediment choice, in bank-row order
+    sediment_choice: str | None  # "sediment.class" or "sediment.file" when it varies
     recompute_inertia: bool
-    angles_deg: tuple              # (roll, pitch, heading) of the base scenario
-    input_files: tuple = ()        # ((path, SHA-256 of its contents), ...) of the files read
+    angles_deg: tuple  # (roll, pitch, heading) of the base scenario
+    input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
 
     def resolved(self) -> dict:
         """The resolved scenario written into outputs: the base scenario fully
         resolved, the distributions of the random inputs, the files read (with the
         SHA-256 of their contents) and the run settings."""
-        out = {"scenario": self.base.to_dict(),
-               "random_inputs": {k: v.to_dict() for k, v in self.random.items()},
-               "ensemble": {"n": self.n, "seed": self.seed, "sampling": self.sampling,
-                            "chunk_size": self.chunk_size, "per_drop": self.per_drop,
-                            "class_basis": self.class_basis}}
+        out = {
+            "scenario": self.base.to_dict(),
+            "random_inputs": {k: v.to_dict() for k, v in self.random.items()},
+            "ensemble": {
+                "n": self.n,
+                "seed": self.seed,
+                "sampling": self.sampling,
+                "chunk_size": self.chunk_size,
+                "per_drop": self.per_drop,
+                "class_basis": self.class_basis,
+            },
+        }
         if self.input_files:
             out["input_files"] = {path: digest for path, digest in self.input_files}
         return out
@@ -157,8 +172,17 @@ def _input_files(raw: Mapping, random: Mapping, base_dir) -> tuple:
     return tuple((f, file_digest(f)) for f in files)
 
 
-def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=None,
-                  per_drop=None, class_basis=None, base_dir=None) -> EnsembleSpec:
+def load_ensemble(
+    source=None,
+    *,
+    n=None,
+    seed=None,
+    sampling=None,
+    chunk_size=None,
+    per_drop=None,
+    class_basis=None,
+    base_dir=None,
+) -> EnsembleSpec:
     """Parse an ensemble scenario (path, TOML text dict, or None for the embedded default).
 
     Keyword arguments override the ``[ensemble]`` table.
@@ -184,16 +208,21 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     ens = dict(ENSEMBLE_DEFAULTS)
     given = raw.pop("ensemble", {})
     if not isinstance(given, Mapping):
-        raise cfg.ScenarioError(f"ensemble = {given!r} must be a table: [ensemble] with "
-                                f"{', '.join(_ENSEMBLE_KEYS)}")
+        raise cfg.ScenarioError(
+            f"ensemble = {given!r} must be a table: [ensemble] with {', '.join(_ENSEMBLE_KEYS)}"
+        )
     unknown = [key for key in given if key not in _ENSEMBLE_KEYS]
     if unknown:
-        raise cfg.ScenarioError("[ensemble]: " + cfg.unknown_names_message(
-            "key", unknown, _ENSEMBLE_KEYS))
+        raise cfg.ScenarioError("[ensemble]: " + cfg.unknown_names_message("key", unknown, _ENSEMBLE_KEYS))
     ens.update(given)
-    for key, value in (("n", n), ("seed", seed), ("sampling", sampling),
-                       ("chunk_size", chunk_size), ("per_drop", per_drop),
-                       ("class_basis", class_basis)):
+    for key, value in (
+        ("n", n),
+        ("seed", seed),
+        ("sampling", sampling),
+        ("chunk_size", chunk_size),
+        ("per_drop", per_drop),
+        ("class_basis", class_basis),
+    ):
         if value is not None:
             ens[key] = value
     _check_ensemble(ens)
@@ -205,8 +234,9 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
     for path, table in leaves.items():
         d = dist.from_dict(table, path, base_dir=base_dir)
         if path in ("sediment.class", "sediment.file") and not isinstance(d, dist.Choice):
-            raise EnsembleError(f"{path} can only vary as a 'choice' distribution, "
-                                f"got {type(d).__name__.lower()}")
+            raise EnsembleError(
+                f"{path} can only vary as a 'choice' distribution, got {type(d).__name__.lower()}"
+            )
         cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
@@ -228,50 +258,73 @@ def load_ensemble(source=None, *, n=None, seed=None, sampling=None, chunk_size=N
         if path in (choice,) or path in _ANGLE_FIELDS:
             continue
         slot = cfg.ALIASES.get(path, path)
-        if slot not in layout.INDEX or slot not in cfg.FIELDS:   # not a number: a name, a code
+        if slot not in layout.INDEX or slot not in cfg.FIELDS:  # not a number: a name, a code
             raise EnsembleError(
                 f"{path} cannot vary in an ensemble: only numeric inputs of the kernels "
-                f"(docs/scenario.md), the release angles and sediment.class/sediment.file can")
+                f"(docs/scenario.md), the release angles and sediment.class/sediment.file can"
+            )
         if isinstance(random[path], dist.Choice) and not all(
-                isinstance(v, (int, float)) for v in random[path].values):
+            isinstance(v, (int, float)) for v in random[path].values
+        ):
             raise EnsembleError(f"{path}: a choice for a numeric input needs numeric values")
     rel = raw.get("release", {})
     explicit_inertia = any(k in raw.get("mine", {}) for k in ("inertia_axial", "inertia_transverse"))
     recompute = (not explicit_inertia) and any(k in random for k in _INERTIA_INPUTS)
-    angles = tuple(float(rel.get(k.split(".")[1], 0.0)) if not isinstance(rel.get(k.split(".")[1]), Mapping)
-                   else 0.0 for k in _ANGLE_FIELDS)
+    angles = tuple(
+        float(rel.get(k.split(".")[1], 0.0)) if not isinstance(rel.get(k.split(".")[1]), Mapping) else 0.0
+        for k in _ANGLE_FIELDS
+    )
     if any(k in random for k in _ANGLE_FIELDS) and "quaternion" in rel:
         raise EnsembleError("release: random angles cannot be combined with a fixed quaternion")
-    return EnsembleSpec(raw=raw, base=base, random=random, n=int(ens["n"]), seed=int(ens["seed"]),
-                        sampling=str(ens["sampling"]), chunk_size=int(ens["chunk_size"]),
-                        per_drop=bool(ens["per_drop"]), class_basis=str(ens["class_basis"]),
-                        base_params=p, sediment_bank=sed_bank, current_bank=cur_bank,
-                        sediment_labels=labels, sediment_choice=choice,
-                        recompute_inertia=recompute, angles_deg=angles,
-                        input_files=_input_files(raw, random, base_dir))
+    return EnsembleSpec(
+        raw=raw,
+        base=base,
+        random=random,
+        n=int(ens["n"]),
+        seed=int(ens["seed"]),
+        sampling=str(ens["sampling"]),
+        chunk_size=int(ens["chunk_size"]),
+        per_drop=bool(ens["per_drop"]),
+        class_basis=str(ens["class_basis"]),
+        base_params=p,
+        sediment_bank=sed_bank,
+        current_bank=cur_bank,
+        sediment_labels=labels,
+        sediment_choice=choice,
+        recompute_inertia=recompute,
+        angles_deg=angles,
+        input_files=_input_files(raw, random, base_dir),
+    )
 
 
 def _check_ensemble(ens):
     def bad(key, allowed):
-        raise cfg.ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range "
-                                f"{allowed}")
+        raise cfg.ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range {allowed}")
+
     if not isinstance(ens["n"], (int, np.integer)) or isinstance(ens["n"], bool) or ens["n"] < 1:
         bad("n", "[1, inf) (an integer number of drops)")
-    if not isinstance(ens["seed"], (int, np.integer)) or isinstance(ens["seed"], bool) \
-            or not 0 <= ens["seed"] < 2 ** 64:
+    if (
+        not isinstance(ens["seed"], (int, np.integer))
+        or isinstance(ens["seed"], bool)
+        or not 0 <= ens["seed"] < 2**64
+    ):
         bad("seed", "[0, 2**64) (an integer)")
     if ens["sampling"] not in ("mc", "sobol"):
-        raise cfg.ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"],
-                                                         ("mc", "sobol")))
-    if not isinstance(ens["chunk_size"], (int, np.integer)) or isinstance(
-            ens["chunk_size"], bool) or ens["chunk_size"] < 1:
+        raise cfg.ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"], ("mc", "sobol")))
+    if (
+        not isinstance(ens["chunk_size"], (int, np.integer))
+        or isinstance(ens["chunk_size"], bool)
+        or ens["chunk_size"] < 1
+    ):
         bad("chunk_size", "[1, inf) (an integer number of drops)")
     if not isinstance(ens["per_drop"], (bool, np.bool_)):
         raise cfg.ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
     if ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
-        raise cfg.ScenarioError(unknown_name_message(
-            "ensemble.class_basis", ens["class_basis"],
-            ("burial_volume", "burial_height", "burial_area")))
+        raise cfg.ScenarioError(
+            unknown_name_message(
+                "ensemble.class_basis", ens["class_basis"], ("burial_volume", "burial_height", "burial_area")
+            )
+        )
 
 
 # ---------------------------------------------------------------------------
@@ -305,17 +358,20 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
             P[:, layout.INDEX[slot]] = values
             inputs[path] = values.astype(np.float64)
         if any(k in spec.random for k in _ANGLE_FIELDS):
-            ang = [inputs.get(k, np.full(n, spec.angles_deg[j]))
-                   for j, k in enumerate(_ANGLE_FIELDS)]
+            ang = [inputs.get(k, np.full(n, spec.angles_deg[j])) for j, k in enumerate(_ANGLE_FIELDS)]
             q = cfg.quaternion_from_angles(*(np.radians(a) for a in ang))
-            P[:, layout.P_Q00:layout.P_Q30 + 1] = q
+            P[:, layout.P_Q00 : layout.P_Q30 + 1] = q
         if spec.recompute_inertia:
             P[:, layout.P_J1], P[:, layout.P_J2] = cfg.uniform_cylinder_inertia(
-                P[:, layout.P_MASS], P[:, layout.P_DIAMETER], P[:, layout.P_LENGTH])
-    valid = cfg.check_params(P, n_sediment=spec.sediment_bank.shape[0],
-                             n_current=spec.current_bank.shape[0],
-                             embedded=spec.base.release.embedded)
-    valid &= cfg.check_samples(inputs, n)   # also the release angles, not in P
+                P[:, layout.P_MASS], P[:, layout.P_DIAMETER], P[:, layout.P_LENGTH]
+            )
+    valid = cfg.check_params(
+        P,
+        n_sediment=spec.sediment_bank.shape[0],
+        n_current=spec.current_bank.shape[0],
+        embedded=spec.base.release.embedded,
+    )
+    valid &= cfg.check_samples(inputs, n)  # also the release angles, not in P
     return P, valid, inputs
 
 
@@ -327,10 +383,13 @@ def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
 
     P, valid, inputs = chunk_inputs(spec, start, stop)
     summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
-    out = {"start": np.int64(start), "stop": np.int64(stop), "summary": summary,
-           "status": status,
-           "invalid_inputs": np.array(json.dumps(invalid_reasons(spec, P, valid),
-                                                 sort_keys=True))}
+    out = {
+        "start": np.int64(start),
+        "stop": np.int64(stop),
+        "summary": summary,
+        "status": status,
+        "invalid_inputs": np.array(json.dumps(invalid_reasons(spec, P, valid), sort_keys=True)),
+    }
     for k, v in inputs.items():
         out["input:" + k] = v
     return out
@@ -355,9 +414,10 @@ def invalid_reasons(spec: EnsembleSpec, P, valid) -> dict:
     or size itself is the reason)."""
     reasons: dict = {}
     for i in np.flatnonzero(~np.asarray(valid, dtype=bool)):
-        texts = cfg.explain_params(P[i], n_sediment=spec.sediment_bank.shape[0],
-                                   n_current=spec.current_bank.shape[0])
-        if spec.recompute_inertia:   # inertia computed from a bad mass/size: not a reason
+        texts = cfg.explain_params(
+            P[i], n_sediment=spec.sediment_bank.shape[0], n_current=spec.current_bank.shape[0]
+        )
+        if spec.recompute_inertia:  # inertia computed from a bad mass/size: not a reason
             texts = [t for t in texts if "inertia" not in t.partition(" (got ")[0]] or texts
         for text in texts:
             rule, _, got = text.partition(" (got ")

@@ -23,8 +23,8 @@ import os
 import pathlib
 import sys
 import time
-from typing import Any
 from collections.abc import Iterable, Iterator
+from typing import Any
 
 import numpy as np
 
@@ -34,8 +34,19 @@ from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
 from mineburial.kernels import layout
 
-__all__ = ["Job", "run_jobs", "run_ensemble", "summarize", "run_ensemble_cli", "Progress",
-           "check_run", "warn_run", "check_threads", "connect_scheduler", "STEPS_WARNING"]
+__all__ = [
+    "Job",
+    "run_jobs",
+    "run_ensemble",
+    "summarize",
+    "run_ensemble_cli",
+    "Progress",
+    "check_run",
+    "warn_run",
+    "check_threads",
+    "connect_scheduler",
+    "STEPS_WARNING",
+]
 
 #: time steps a drop above which a fixed-step integrator gets a warning
 STEPS_WARNING = 1e8
@@ -77,8 +88,10 @@ class Progress:
         rate = (done - self.done0) / elapsed
         left = (self.total - done) / rate if rate > 0 else math.inf
         eta = "--" if not math.isfinite(left) else time.strftime("%H:%M:%S", time.gmtime(left))
-        line = (f"drops {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
-                f"{rate:.1f} drops/s, time left {eta}")
+        line = (
+            f"drops {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
+            f"{rate:.1f} drops/s, time left {eta}"
+        )
         if self.tty:
             end = "\n" if final else ""
             self.stream.write("\r" + line + end)
@@ -144,7 +157,8 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
             f"ensemble.n = {spec.n} drops: {what} would need about {_bytes(need)} of memory for "
             f"the per-drop values ({_bytes_a_drop(spec)} bytes a drop, kept until the "
             f"statistics are computed), more than this machine's {_bytes(have)}; run fewer "
-            f"drops (several runs with different seeds can be combined)")
+            f"drops (several runs with different seeds can be combined)"
+        )
 
 
 def warn_run(spec) -> None:
@@ -156,10 +170,12 @@ def warn_run(spec) -> None:
         _, t_hi = _extremes(spec, "numerics.t_max", num.t_max)
         steps = t_hi / dt_lo if dt_lo > 0 else math.inf
         if steps > STEPS_WARNING:
-            notice(f"warning: numerics.t_max / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
-                   f"{steps:.3g} time steps a drop with the fixed-step integrator "
-                   f"'{num.integrator}': a drop that does not come to rest early may run for "
-                   f"hours; use the adaptive integrator 'dopri5' or a larger dt")
+            notice(
+                f"warning: numerics.t_max / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
+                f"{steps:.3g} time steps a drop with the fixed-step integrator "
+                f"'{num.integrator}': a drop that does not come to rest early may run for "
+                f"hours; use the adaptive integrator 'dopri5' or a larger dt"
+            )
 
 
 def check_threads(threads, what: str = "threads") -> int | None:
@@ -169,10 +185,11 @@ def check_threads(threads, what: str = "threads") -> int | None:
     import numba
 
     cores = int(numba.config.NUMBA_NUM_THREADS)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) \
-            or not 1 <= threads <= cores:
-        raise RunError(f"{what} = {threads!r} is outside the allowed range 1..{cores} "
-                       f"(the cores numba can use on this machine)")
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= cores:
+        raise RunError(
+            f"{what} = {threads!r} is outside the allowed range 1..{cores} "
+            f"(the cores numba can use on this machine)"
+        )
     return int(threads)
 
 
@@ -186,8 +203,9 @@ def connect_scheduler(address: str, timeout: float | None = None):
         return Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError, TypeError) as exc:
         reason = " ".join(str(exc).split()) or type(exc).__name__
-        raise RunError(f"--scheduler {address}: cannot reach a dask scheduler there within "
-                       f"{timeout:g} s ({reason})") from None
+        raise RunError(
+            f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s ({reason})"
+        ) from None
 
 
 # ---------------------------------------------------------------------------
@@ -197,6 +215,7 @@ def connect_scheduler(address: str, timeout: float | None = None):
 class Job:
     """One ensemble of a run: ``tag`` names it (None for a lone ensemble, the cell index
     of a map), ``store`` keeps its finished chunks (None: nothing on disk)."""
+
     tag: Any
     spec: Any
     store: ChunkStore | None = None
@@ -237,8 +256,12 @@ def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Ite
         got = results.pop(tag)
         return [got[b] for b in bounds[tag]]
 
-    todo = [(job.tag, job.spec, s, e, job.store) for job in jobs
-            for s, e in bounds[job.tag] if (s, e) not in results[job.tag]]
+    todo = [
+        (job.tag, job.spec, s, e, job.store)
+        for job in jobs
+        for s, e in bounds[job.tag]
+        if (s, e) not in results[job.tag]
+    ]
     for job in jobs:
         if len(results[job.tag]) == len(bounds[job.tag]):
             yield job.tag, complete(job.tag)
@@ -272,9 +295,10 @@ def input_paths(scenario, spec) -> list:
 
 def invalid_inputs_text(reasons: dict) -> str:
     """One line for the drops whose sampled inputs were invalid (empty if none)."""
-    return "; ".join(f"{rule}: {count} drop{'s' * (count != 1)} (e.g. {example})"
-                     for rule, (count, example) in sorted(reasons.items(),
-                                                          key=lambda kv: -kv[1][0]))
+    return "; ".join(
+        f"{rule}: {count} drop{'s' * (count != 1)} (e.g. {example})"
+        for rule, (count, example) in sorted(reasons.items(), key=lambda kv: -kv[1][0])
+    )
 
 
 def ensemble_dataset(spec, chunks):
@@ -283,23 +307,43 @@ def ensemble_dataset(spec, chunks):
 
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
-    inputs = {key[6:]: np.concatenate([r[key] for r in chunks])
-              for key in chunks[0] if key.startswith("input:")}
+    inputs = {
+        key[6:]: np.concatenate([r[key] for r in chunks]) for key in chunks[0] if key.startswith("input:")
+    }
     meta = {path: engine.input_metadata(spec, path) for path in inputs}
     invalid = invalid_inputs_text(engine.merge_invalid_reasons(chunks))
     attrs = {"invalid_inputs": invalid} if invalid else None
-    return build_dataset(summary, status, inputs=inputs, input_metadata=meta,
-                         scenario=spec.resolved(), seed=spec.seed, version=__version__,
-                         sampling_method=spec.sampling, n_drops=spec.n, per_drop=spec.per_drop,
-                         statistics_options={"class_basis": spec.class_basis},
-                         title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
-                         attrs=attrs)
+    return build_dataset(
+        summary,
+        status,
+        inputs=inputs,
+        input_metadata=meta,
+        scenario=spec.resolved(),
+        seed=spec.seed,
+        version=__version__,
+        sampling_method=spec.sampling,
+        n_drops=spec.n,
+        per_drop=spec.per_drop,
+        statistics_options={"class_basis": spec.class_basis},
+        title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
+        attrs=attrs,
+    )
 
 
-def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *,
-                 sampling: str | None = None, chunk_size: int | None = None,
-                 output=None, per_drop: bool | None = None, threads: int | None = None,
-                 progress: bool = False, client=None, class_basis: str | None = None):
+def run_ensemble(
+    scenario=None,
+    n: int | None = None,
+    seed: int | None = None,
+    *,
+    sampling: str | None = None,
+    chunk_size: int | None = None,
+    output=None,
+    per_drop: bool | None = None,
+    threads: int | None = None,
+    progress: bool = False,
+    client=None,
+    class_basis: str | None = None,
+):
     """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
 
     Parameters
@@ -320,9 +364,15 @@ def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *
     client : dask.distributed.Client, optional
         Spread chunks over a dask cluster (:mod:`mineburial.ensembles.distributed`).
     """
-    spec = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling,
-                                chunk_size=chunk_size, per_drop=per_drop,
-                                class_basis=class_basis)
+    spec = engine.load_ensemble(
+        scenario,
+        n=n,
+        seed=seed,
+        sampling=sampling,
+        chunk_size=chunk_size,
+        per_drop=per_drop,
+        class_basis=class_basis,
+    )
     threads = check_threads(threads)
     check_run(spec)
     warn_run(spec)
@@ -331,11 +381,10 @@ def run_ensemble(scenario=None, n: int | None = None, seed: int | None = None, *
 
         numba.set_num_threads(threads)
     if output is None:
-        (_, chunks), = run_jobs([Job(None, spec)], client=client, progress=progress)
+        ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress)
         return ensemble_dataset(spec, chunks)
     with OutputRun(output, input_paths(scenario, spec)) as out:
-        (_, chunks), = run_jobs([Job(None, spec, out.store(spec))], client=client,
-                                progress=progress)
+        ((_, chunks),) = run_jobs([Job(None, spec, out.store(spec))], client=client, progress=progress)
         ds = ensemble_dataset(spec, chunks)
         out.commit(ds)
     return ds
@@ -347,18 +396,31 @@ def run_ensemble_cli(args) -> int:
     from mineburial.ensembles.store import check_output_path
 
     check_threads(args.threads, "--threads")
-    spec = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed,
-                                sampling=args.sampling, chunk_size=args.chunk_size,
-                                per_drop=args.per_drop)
+    spec = engine.load_ensemble(
+        args.scenario,
+        n=args.drops,
+        seed=args.seed,
+        sampling=args.sampling,
+        chunk_size=args.chunk_size,
+        per_drop=args.per_drop,
+    )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
     check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
-        ds = run_ensemble(args.scenario, n=args.drops, seed=args.seed, sampling=args.sampling,
-                          chunk_size=args.chunk_size, output=args.output,
-                          per_drop=args.per_drop, threads=args.threads,
-                          progress=not args.quiet, client=client)
+        ds = run_ensemble(
+            args.scenario,
+            n=args.drops,
+            seed=args.seed,
+            sampling=args.sampling,
+            chunk_size=args.chunk_size,
+            output=args.output,
+            per_drop=args.per_drop,
+            threads=args.threads,
+            progress=not args.quiet,
+            client=client,
+        )
     finally:
         if client is not None:
             client.close()
@@ -390,28 +452,36 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
         parts = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
         lines.append(f"drops: {n} (" + ", ".join(parts) + ")")
         used = int(sum(int(counts[k]) for k in st.IN_STATISTICS if k < len(counts)))
-        lines.append(f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
-                     f"a buried_sinking penetration is a lower bound)")
-        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts)
-                if c and k not in st.IN_STATISTICS]
+        lines.append(
+            f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
+            f"a buried_sinking penetration is a lower bound)"
+        )
+        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k not in st.IN_STATISTICS]
         if left:
-            lines.append("warning: left out of the burial statistics: " + ", ".join(left)
-                         + " (floated: lighter than the water, never reached the seabed)"
-                         * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0))
+            lines.append(
+                "warning: left out of the burial statistics: "
+                + ", ".join(left)
+                + " (floated: lighter than the water, never reached the seabed)"
+                * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0)
+            )
     invalid = ds.attrs.get("invalid_inputs")
     if invalid:
         k = int(counts[st.INVALID_INPUT]) if counts is not None else 0
-        lines.append(f"warning: {k} of {n} drops were not run because their sampled inputs are "
-                     f"invalid: {invalid}")
-    for name, label, unit in (("burial_volume", "burial by volume", "%"),
-                              ("penetration_depth", "penetration depth", "m")):
+        lines.append(
+            f"warning: {k} of {n} drops were not run because their sampled inputs are invalid: {invalid}"
+        )
+    for name, label, unit in (
+        ("burial_volume", "burial by volume", "%"),
+        ("penetration_depth", "penetration depth", "m"),
+    ):
         mean = ds.get(f"{name}_mean")
         if mean is not None:
             q = ds.get(f"{name}_quantile")
             qtxt = ""
             if q is not None:
                 qtxt = ", 5-50-95 % quantiles " + " / ".join(
-                    f"{float(v):.3g}" for v in q.sel(quantile=[0.05, 0.5, 0.95]).values)
+                    f"{float(v):.3g}" for v in q.sel(quantile=[0.05, 0.5, 0.95]).values
+                )
             lines.append(f"{label}: mean {float(mean):.3g} {unit}{qtxt} {unit}")
     if "burial_class_probability" in ds:
         p = ds["burial_class_probability"].values

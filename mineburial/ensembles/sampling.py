@@ -61,7 +61,7 @@ METHODS = ("mc", "sobol")
 #: Bits of the Sobol' net (scipy's fast_forward supports at most 32); at most
 #: 2**32 drops per run.
 SOBOL_BITS = 32
-_SOBOL_SCALE = 2.0 ** -SOBOL_BITS
+_SOBOL_SCALE = 2.0**-SOBOL_BITS
 
 _MASK32 = np.uint64(0xFFFFFFFF)
 _SH32 = np.uint64(32)
@@ -69,8 +69,8 @@ _SH12 = np.uint64(12)
 # Philox4x64 constants (Salmon et al. 2011; Random123 philox.h)
 _PHILOX_M0 = np.uint64(0xD2E7470EE14C6C93)
 _PHILOX_M1 = np.uint64(0xCA5A826395121157)
-_PHILOX_W0 = np.uint64(0x9E3779B97F4A7C15)   # golden ratio
-_PHILOX_W1 = np.uint64(0xBB67AE8584CAA73B)   # sqrt(3) - 1
+_PHILOX_W0 = np.uint64(0x9E3779B97F4A7C15)  # golden ratio
+_PHILOX_W1 = np.uint64(0xBB67AE8584CAA73B)  # sqrt(3) - 1
 _ZERO = np.uint64(0)
 _ONE = np.uint64(1)
 
@@ -82,6 +82,7 @@ class SobolBalanceWarning(UserWarning):
 # ---------------------------------------------------------------------------
 # numba kernels: Philox4x64-10 and the conversion to open (0, 1)
 # ---------------------------------------------------------------------------
+
 
 @kernel
 def _mulhilo64(a, b):
@@ -103,7 +104,7 @@ def _mulhilo64(a, b):
 def _philox4x64_10(c0, c1, c2, c3, k0, k1):
     """One Philox4x64-10 block (Salmon et al. 2011, Random123 ``philox4x64_R`` with R = 10)."""
     for r in range(10):
-        if r > 0:                      # key schedule: bump before rounds 1..9
+        if r > 0:  # key schedule: bump before rounds 1..9
             k0 = k0 + _PHILOX_W0
             k1 = k1 + _PHILOX_W1
         hi0, lo0 = _mulhilo64(_PHILOX_M0, c0)
@@ -161,6 +162,7 @@ def _philox_fill(seed, fids, ctr1, start, out):
 # public API
 # ---------------------------------------------------------------------------
 
+
 def field_id(name: str) -> int:
     """Stable 64-bit id of a field: the first 8 bytes (little-endian) of BLAKE2b(name).
 
@@ -177,7 +179,7 @@ def _check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise TypeError(f"seed = {seed!r} must be an integer in [0, 2**64)")
     seed = int(seed)
-    if not 0 <= seed < 2 ** 64:
+    if not 0 <= seed < 2**64:
         raise ValueError(f"seed = {seed} must be in [0, 2**64)")
     return seed
 
@@ -189,7 +191,7 @@ def _check_range(start, stop) -> tuple[int, int]:
     start, stop = int(start), int(stop)
     if not 0 <= start <= stop:
         raise ValueError(f"drop range [start, stop) = [{start}, {stop}) needs 0 <= start <= stop")
-    if stop > 2 ** 62:
+    if stop > 2**62:
         raise ValueError(f"stop = {stop} must be <= 2**62")
     return start, stop
 
@@ -199,7 +201,7 @@ def _ids(field_ids: Iterable[int | str]) -> np.ndarray:
     for f in field_ids:
         if isinstance(f, str):
             ids.append(field_id(f))
-        elif isinstance(f, (int, np.integer)) and not isinstance(f, bool) and 0 <= int(f) < 2 ** 64:
+        elif isinstance(f, (int, np.integer)) and not isinstance(f, bool) and 0 <= int(f) < 2**64:
             ids.append(int(f))
         else:
             raise TypeError(f"field id {f!r} must be a field name or an integer in [0, 2**64)")
@@ -216,18 +218,18 @@ def _philox(seed: int, ids: np.ndarray, start: int, stop: int, ctr1: int) -> np.
 
 
 def _sobol_engine(d: int, seed: int):
-    from scipy.stats import qmc   # here, not at import: scipy.stats costs ~0.5 s of start-up
+    from scipy.stats import qmc  # here, not at import: scipy.stats costs ~0.5 s of start-up
 
     rng = np.random.default_rng(seed)
     try:
         return qmc.Sobol(d, scramble=True, bits=SOBOL_BITS, rng=rng)
-    except TypeError:            # scipy < 1.15 names the argument ``seed``
+    except TypeError:  # scipy < 1.15 names the argument ``seed``
         return qmc.Sobol(d, scramble=True, bits=SOBOL_BITS, seed=rng)
 
 
 def _sobol(seed: int, ids: np.ndarray, start: int, stop: int) -> np.ndarray:
     n, d = stop - start, ids.size
-    if stop > 2 ** SOBOL_BITS:
+    if stop > 2**SOBOL_BITS:
         raise ValueError(f"a Sobol' run has at most 2**{SOBOL_BITS} drops; stop = {stop}")
     if n == 0 or d == 0:
         return np.empty((n, d), dtype=np.float64)
@@ -244,8 +246,8 @@ def _sobol(seed: int, ids: np.ndarray, start: int, stop: int) -> np.ndarray:
     order = np.argsort(ids, kind="stable")
     rank = np.empty_like(order)
     rank[order] = np.arange(d)
-    q = pts[:, rank] * 2.0 ** SOBOL_BITS                    # exact integers
-    jitter = _philox(seed, ids, start, stop, ctr1=1)        # digits below 2**-32
+    q = pts[:, rank] * 2.0**SOBOL_BITS  # exact integers
+    jitter = _philox(seed, ids, start, stop, ctr1=1)  # digits below 2**-32
     u = (q + jitter) * _SOBOL_SCALE
     # q + v may round up to q + 1: keep the point strictly inside its cell
     # [q, q + 1) 2**-32 (this also keeps u < 1)
@@ -253,8 +255,9 @@ def _sobol(seed: int, ids: np.ndarray, start: int, stop: int) -> np.ndarray:
     return u
 
 
-def uniforms(seed: int, field_ids: Sequence[int | str], start: int, stop: int,
-             method: str = "mc") -> np.ndarray:
+def uniforms(
+    seed: int, field_ids: Sequence[int | str], start: int, stop: int, method: str = "mc"
+) -> np.ndarray:
     """Uniforms in (0, 1) for drops ``start..stop-1`` and the given fields.
 
     Returns a C-contiguous float64 array of shape ``(stop - start, len(field_ids))``;
@@ -272,8 +275,7 @@ def uniforms(seed: int, field_ids: Sequence[int | str], start: int, stop: int,
         return _philox(seed, ids, start, stop, ctr1=0)
     if method == "sobol":
         return _sobol(seed, ids, start, stop)
-    raise ValueError(f"unknown sampling method {method!r}; available methods are "
-                     f"{', '.join(METHODS)}")
+    raise ValueError(f"unknown sampling method {method!r}; available methods are {', '.join(METHODS)}")
 
 
 def check_drop_count(n_drops: int, method: str) -> None:
@@ -283,18 +285,19 @@ def check_drop_count(n_drops: int, method: str) -> None:
     2**m points; call this once per run, before drawing chunks.
     """
     if method not in METHODS:
-        raise ValueError(f"unknown sampling method {method!r}; available methods are "
-                         f"{', '.join(METHODS)}")
+        raise ValueError(f"unknown sampling method {method!r}; available methods are {', '.join(METHODS)}")
     if method == "sobol":
         n = int(n_drops)
-        if n > 2 ** SOBOL_BITS:
+        if n > 2**SOBOL_BITS:
             raise ValueError(f"a Sobol' run has at most 2**{SOBOL_BITS} drops; got {n}")
         if n < 1 or n & (n - 1):
             lo = 1 << max(n.bit_length() - 1, 0)
             warnings.warn(
                 f"n_drops = {n} is not a power of two: the Sobol' points lose their "
                 f"balance properties (use {lo} or {lo * 2})",
-                SobolBalanceWarning, stacklevel=2)
+                SobolBalanceWarning,
+                stacklevel=2,
+            )
 
 
 class SampleTable(dict):
@@ -314,8 +317,9 @@ class SampleTable(dict):
         return np.asarray(self.labels[field])[self[field]]
 
 
-def sample_fields(spec: Mapping[str, Any], seed: int, start: int, stop: int,
-                  method: str = "mc") -> SampleTable:
+def sample_fields(
+    spec: Mapping[str, Any], seed: int, start: int, stop: int, method: str = "mc"
+) -> SampleTable:
     """Draw every field of ``spec`` for drops ``start..stop-1``.
 
     ``spec`` maps dotted field names to fixed values (number or string),

@@ -122,7 +122,8 @@ def status_counts(status) -> np.ndarray:
     if np.any(bad):
         raise ValueError(
             f"unknown status code(s) {sorted(set(np.asarray(s[bad]).tolist()))}; known codes are "
-            + ", ".join(f"{i} {nm}" for i, nm in enumerate(status_codes.NAMES)))
+            + ", ".join(f"{i} {nm}" for i, nm in enumerate(status_codes.NAMES))
+        )
     return np.bincount(s.astype(np.int64), minlength=n_codes).astype(np.int64)
 
 
@@ -188,11 +189,14 @@ def _per_output(option, output: str, default):
 def _check_levels(levels, output: str) -> np.ndarray:
     lv = np.asarray(levels, dtype=np.float64)
     if lv.ndim != 1 or lv.size == 0 or not np.all(np.isfinite(lv)):
-        raise ValueError(f"exceedance levels of {output!r} must be a non-empty 1-D array of finite "
-                         f"numbers, got {levels!r}")
+        raise ValueError(
+            f"exceedance levels of {output!r} must be a non-empty 1-D array of finite numbers, got {levels!r}"
+        )
     if np.any(np.diff(lv) <= 0):
-        raise ValueError(f"exceedance levels of {output!r} must be strictly increasing "
-                         "(they become a CF coordinate variable)")
+        raise ValueError(
+            f"exceedance levels of {output!r} must be strictly increasing "
+            "(they become a CF coordinate variable)"
+        )
     return lv
 
 
@@ -235,19 +239,18 @@ def burial_statistics(
     """
     summary = np.asarray(summary, dtype=np.float64)
     if summary.ndim != 2 or summary.shape[1] != layout.N_SUMMARY:
-        raise ValueError(f"summary must have shape (n, {layout.N_SUMMARY}) with columns "
-                         f"layout.SUMMARY_NAMES, got {summary.shape}")
+        raise ValueError(
+            f"summary must have shape (n, {layout.N_SUMMARY}) with columns "
+            f"layout.SUMMARY_NAMES, got {summary.shape}"
+        )
     counts = status_counts(status)
     if np.asarray(status).shape[0] != summary.shape[0]:
-        raise ValueError(f"status has {np.asarray(status).shape[0]} drops but summary has "
-                         f"{summary.shape[0]}")
+        raise ValueError(f"status has {np.asarray(status).shape[0]} drops but summary has {summary.shape[0]}")
     if class_basis not in V.BURIAL_CLASS_BASES:
-        raise ValueError(f"class_basis must be one of {', '.join(V.BURIAL_CLASS_BASES)}; "
-                         f"got {class_basis!r}")
+        raise ValueError(f"class_basis must be one of {', '.join(V.BURIAL_CLASS_BASES)}; got {class_basis!r}")
     q = np.asarray(quantiles, dtype=np.float64)
     if q.ndim != 1 or q.size == 0 or np.any((q < 0) | (q > 1)) or np.any(np.diff(q) <= 0):
-        raise ValueError(f"quantiles must be strictly increasing probabilities in [0, 1], "
-                         f"got {quantiles!r}")
+        raise ValueError(f"quantiles must be strictly increasing probabilities in [0, 1], got {quantiles!r}")
     outputs = tuple(layout.SUMMARY_NAMES if outputs is None else outputs)
     for o in outputs:
         if o not in V.SUMMARY_OUTPUTS:
@@ -277,18 +280,26 @@ def burial_statistics(
     coords["impact_burial_class"] = V.variable("impact_burial_class").data_array(np.arange(5))
     cls_attrs = dict(burial_class_basis=class_basis, sample_size=np.int64(n_cls))
     data_vars["burial_class_lower_percent"] = V.variable("burial_class_lower_percent").data_array(
-        V.BURIAL_CLASS_LOWER)
+        V.BURIAL_CLASS_LOWER
+    )
     data_vars["burial_class_upper_percent"] = V.variable("burial_class_upper_percent").data_array(
-        V.BURIAL_CLASS_UPPER)
+        V.BURIAL_CLASS_UPPER
+    )
     data_vars["burial_class_count"] = V.variable("burial_class_count").data_array(k, **cls_attrs)
     data_vars["burial_class_probability"] = V.variable("burial_class_probability").data_array(
-        prob, **cls_attrs)
-    ci_attrs = dict(cls_attrs, confidence_level=float(confidence_level),
-                    interval_method="Wilson score interval (Wilson 1927)")
-    data_vars["burial_class_probability_lower"] = V.variable(
-        "burial_class_probability_lower").data_array(lo, **ci_attrs)
-    data_vars["burial_class_probability_upper"] = V.variable(
-        "burial_class_probability_upper").data_array(hi, **ci_attrs)
+        prob, **cls_attrs
+    )
+    ci_attrs = dict(
+        cls_attrs,
+        confidence_level=float(confidence_level),
+        interval_method="Wilson score interval (Wilson 1927)",
+    )
+    data_vars["burial_class_probability_lower"] = V.variable("burial_class_probability_lower").data_array(
+        lo, **ci_attrs
+    )
+    data_vars["burial_class_probability_upper"] = V.variable("burial_class_probability_upper").data_array(
+        hi, **ci_attrs
+    )
 
     # --- status counts -------------------------------------------------------
     coords["status_code"] = V.variable("status_code").data_array(np.arange(counts.size))
@@ -299,19 +310,22 @@ def burial_statistics(
         "n_at_rest": np.int64(n_at_rest),
         "n_in_statistics": np.int64(n_used),
         "burial_class_basis": class_basis,
-        "burial_class_definition": "0: exactly 0 %; 1: (0, 10] %; 2: (10, 20] %; 3: (20, 75] %; "
-                                   "4: > 75 %",
+        "burial_class_definition": "0: exactly 0 %; 1: (0, 10] %; 2: (10, 20] %; 3: (20, 75] %; 4: > 75 %",
         "confidence_level": float(confidence_level),
         "quantile_method": "numpy.quantile method 'linear' (Hyndman & Fan 1996 type 7), exact "
-                           "from the stored per-drop values",
-        "statistics_basis": ("drops with status at_rest or buried_sinking (fully buried, still "
-                             "sinking at the time limit: penetration is a lower bound) and a "
-                             "finite value of the output"),
+        "from the stored per-drop values",
+        "statistics_basis": (
+            "drops with status at_rest or buried_sinking (fully buried, still "
+            "sinking at the time limit: penetration is a lower bound) and a "
+            "finite value of the output"
+        ),
     }
     if n_used == 0:
-        attrs["statistics_note"] = ("no drop came to rest or was buried (n_at_rest = 0, "
-                                    "n_in_statistics = 0): every burial statistic is NaN and "
-                                    "every count is 0; see status_count")
+        attrs["statistics_note"] = (
+            "no drop came to rest or was buried (n_at_rest = 0, "
+            "n_in_statistics = 0): every burial statistic is NaN and "
+            "every count is 0; see status_count"
+        )
     ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
     # xarray keeps encodings on the variables; restore them in case construction dropped any
     for name, da in {**data_vars, **coords}.items():
@@ -354,7 +368,9 @@ def _describe_output(name, values, q, exceedance_levels, histogram_bins, data_va
     data_vars[f"{name}_stderr"] = var(f"{name}_stderr").data_array(stderr, **size_attr)
     data_vars[f"{name}_quantile"] = var(f"{name}_quantile").data_array(quant, **size_attr)
     data_vars[f"{name}_bin_bounds"] = var(f"{name}_bin_bounds").data_array(
-        np.stack([edges[:-1], edges[1:]], axis=1))
+        np.stack([edges[:-1], edges[1:]], axis=1)
+    )
     data_vars[f"{name}_histogram"] = var(f"{name}_histogram").data_array(
-        counts, n_outside_range=np.int64(n_outside), **size_attr)
+        counts, n_outside_range=np.int64(n_outside), **size_attr
+    )
     data_vars[f"{name}_exceedance"] = var(f"{name}_exceedance").data_array(exceed, **size_attr)

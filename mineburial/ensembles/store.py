@@ -47,8 +47,16 @@ from mineburial.config import ScenarioError
 from mineburial.io.files import atomic_path, atomic_write_bytes
 from mineburial.kernels import layout
 
-__all__ = ["RunError", "RunLockedError", "ChunkStore", "RunLock", "OutputRun", "run_identity",
-           "check_output_path", "notice"]
+__all__ = [
+    "RunError",
+    "RunLockedError",
+    "ChunkStore",
+    "RunLock",
+    "OutputRun",
+    "run_identity",
+    "check_output_path",
+    "notice",
+]
 
 _MANIFEST = "manifest.json"
 _LOCK = "lock"
@@ -85,8 +93,13 @@ def code_digest() -> str:
 
 def _settings(spec) -> dict:
     """The run settings that decide a chunk's results, for the identity and messages."""
-    return {"seed": spec.seed, "n": spec.n, "sampling": spec.sampling,
-            "chunk_size": spec.chunk_size, "version": __version__}
+    return {
+        "seed": spec.seed,
+        "n": spec.n,
+        "sampling": spec.sampling,
+        "chunk_size": spec.chunk_size,
+        "version": __version__,
+    }
 
 
 def run_identity(spec, extra_files=()) -> str:
@@ -111,8 +124,9 @@ def run_identity(spec, extra_files=()) -> str:
     for name in ("base_params", "sediment_bank", "current_bank"):
         arr = np.ascontiguousarray(getattr(spec, name), dtype=np.float64)
         add(name, f"{arr.shape}".encode() + arr.tobytes())
-    add("options", repr((spec.sediment_labels, spec.sediment_choice, spec.recompute_inertia,
-                         spec.angles_deg)))
+    add(
+        "options", repr((spec.sediment_labels, spec.sediment_choice, spec.recompute_inertia, spec.angles_deg))
+    )
     for path, digest in sorted(tuple(spec.input_files) + tuple(extra_files)):
         add(f"file:{path}", digest)
     return h.hexdigest()
@@ -134,6 +148,7 @@ class ChunkStore:
 
     Picklable (it travels with the chunk tasks to dask workers).
     """
+
     folder: str
     identity: str
     settings: dict = dataclasses.field(default_factory=dict, compare=False)
@@ -164,24 +179,29 @@ class ChunkStore:
                 old = {}
         chunks = [f for f in folder.iterdir() if _CHUNK.match(f.name)]
         if chunks and (old is None or old.get("identity") != self.identity):
-            why = _differences(old.get("settings", {}), self.settings) if old else \
-                "no record of the run that wrote them"
-            notice(f"discarding {len(chunks)} finished chunk file(s) in {folder} of another "
-                   f"run ({why}); they are recomputed for this run")
+            why = (
+                _differences(old.get("settings", {}), self.settings)
+                if old
+                else "no record of the run that wrote them"
+            )
+            notice(
+                f"discarding {len(chunks)} finished chunk file(s) in {folder} of another "
+                f"run ({why}); they are recomputed for this run"
+            )
             for f in chunks:
                 f.unlink(missing_ok=True)
-        for f in folder.glob(".*.tmp"):   # left by a run killed while writing
+        for f in folder.glob(".*.tmp"):  # left by a run killed while writing
             f.unlink(missing_ok=True)
-        atomic_write_bytes(manifest, json.dumps({"identity": self.identity,
-                                                 "settings": self.settings}).encode())
+        atomic_write_bytes(
+            manifest, json.dumps({"identity": self.identity, "settings": self.settings}).encode()
+        )
         return self
 
     def shared(self) -> bool:
         """Whether this process sees the store opened by the run's client (a dask worker
         on a filesystem shared with the client)."""
         try:
-            return json.loads((self.path / _MANIFEST).read_text()).get("identity") == \
-                self.identity
+            return json.loads((self.path / _MANIFEST).read_text()).get("identity") == self.identity
         except (OSError, ValueError):
             return False
 
@@ -224,10 +244,14 @@ class ChunkStore:
         if str(data.get("identity", "")) != self.identity:
             return "was written by another run"
         try:
-            ok = (int(data["start"]) == start and int(data["stop"]) == stop
-                  and data["summary"].shape == (n, layout.N_SUMMARY)
-                  and data["status"].shape == (n,) and "invalid_inputs" in data
-                  and all(v.shape == (n,) for k, v in data.items() if k.startswith("input__")))
+            ok = (
+                int(data["start"]) == start
+                and int(data["stop"]) == stop
+                and data["summary"].shape == (n, layout.N_SUMMARY)
+                and data["status"].shape == (n,)
+                and "invalid_inputs" in data
+                and all(v.shape == (n,) for k, v in data.items() if k.startswith("input__"))
+            )
         except (KeyError, TypeError, ValueError):
             ok = False
         return None if ok else "is incomplete or of the wrong shape"
@@ -273,11 +297,18 @@ class RunLock:
             return {}
 
     def _refuse(self, owner: dict):
-        who = (f"process {owner.get('pid', '?')} on {owner.get('host', '?')}, started "
-               f"{owner.get('started', '?')}") if owner else "another process"
+        who = (
+            (
+                f"process {owner.get('pid', '?')} on {owner.get('host', '?')}, started "
+                f"{owner.get('started', '?')}"
+            )
+            if owner
+            else "another process"
+        )
         raise RunLockedError(
             f"output '{self.output}' is being written by another mineburial run ({who}); "
-            f"wait for it to finish or choose another output path (lock: {self.path})")
+            f"wait for it to finish or choose another output path (lock: {self.path})"
+        )
 
     def acquire(self) -> RunLock:
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -289,7 +320,7 @@ class RunLock:
                         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
                     except BlockingIOError:
                         self._refuse(self._owner())
-                    except OSError:   # a filesystem without flock: the recorded owner
+                    except OSError:  # a filesystem without flock: the recorded owner
                         self._check_owner()
                 else:  # pragma: no cover
                     self._check_owner()
@@ -302,8 +333,11 @@ class RunLock:
                 os.close(fd)
                 raise
             os.close(fd)
-        owner = {"pid": os.getpid(), "host": socket.gethostname(),
-                 "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+        owner = {
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+        }
         os.ftruncate(fd, 0)
         os.pwrite(fd, json.dumps(owner).encode(), 0)
         self.fd = fd
@@ -311,8 +345,11 @@ class RunLock:
 
     def _check_owner(self):
         owner = self._owner()
-        if owner.get("pid") and owner.get("pid") != os.getpid() and (
-                owner.get("host") != socket.gethostname() or _alive(int(owner["pid"]))):
+        if (
+            owner.get("pid")
+            and owner.get("pid") != os.getpid()
+            and (owner.get("host") != socket.gethostname() or _alive(int(owner["pid"])))
+        ):
             self._refuse(owner)
 
     def release(self, remove: bool = True):
@@ -342,8 +379,7 @@ def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
     output there would destroy it). ``what`` names the path in messages (``-o``)."""
     out = pathlib.Path(output)
     if out.is_dir():
-        raise RunError(f"{what} '{out}' is an existing folder; give a file name "
-                       f"(e.g. {out / 'burial.nc'})")
+        raise RunError(f"{what} '{out}' is an existing folder; give a file name (e.g. {out / 'burial.nc'})")
     parent = out.parent if str(out.parent) else pathlib.Path(".")
     if not parent.exists():
         raise RunError(f"{what} '{out}': the folder '{parent}' does not exist")
@@ -351,8 +387,10 @@ def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
         raise RunError(f"{what} '{out}': '{parent}' is a file, not a folder")
     for path in inputs:
         if path is not None and same_file(out, pathlib.Path(path)):
-            raise RunError(f"{what} '{out}' is an input of the run ('{path}'); writing the "
-                           f"output there would destroy it: choose another path")
+            raise RunError(
+                f"{what} '{out}' is an input of the run ('{path}'); writing the "
+                f"output there would destroy it: choose another path"
+            )
     if out.exists() and not os.access(out, os.W_OK):
         raise RunError(f"{what} '{out}' exists and is not writable")
     if not os.access(parent, os.W_OK):
@@ -376,8 +414,10 @@ class OutputRun:
 
     def __enter__(self) -> OutputRun:
         if self.parts.exists() and not self.parts.is_dir():
-            raise RunError(f"'{self.parts}' (the folder of finished chunks of output "
-                           f"'{self.output}') is a file; remove it or choose another output")
+            raise RunError(
+                f"'{self.parts}' (the folder of finished chunks of output "
+                f"'{self.output}') is a file; remove it or choose another output"
+            )
         self.lock.acquire()
         try:
             pattern = re.compile(r"^\." + re.escape(self.output.name) + r"\.[0-9a-f]{16}\.tmp$")
@@ -412,6 +452,6 @@ class OutputRun:
         self.lock.release(remove=True)
         try:
             self.parts.rmdir()
-        except OSError:   # a new run took the folder in the meantime
+        except OSError:  # a new run took the folder in the meantime
             pass
         return self.output

@@ -13,8 +13,8 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import json
-from pathlib import Path
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,8 +23,7 @@ import xarray as xr
 from mineburial.io import variables as V
 from mineburial.io.files import atomic_path
 
-__all__ = ["write_netcdf", "scenario_json", "seed_attr", "utc_now", "clean_attrs",
-           "CONVENTIONS"]
+__all__ = ["write_netcdf", "scenario_json", "seed_attr", "utc_now", "clean_attrs", "CONVENTIONS"]
 
 CONVENTIONS = "CF-1.11, ACDD-1.3"
 #: the CF standard-name table the only standard name used (``realization``) was checked against
@@ -38,13 +37,18 @@ DEFAULT_SUMMARY = (
     "burial depth and percent burial by volume, height and area, and the probabilities of the "
     "naval impact-burial classes 0 %, 0-10 %, 10-20 %, 20-75 %, > 75 % with Wilson 95 % "
     "intervals), the count of every drop status, and optionally the per-drop results and "
-    "sampled inputs along the realization dimension.")
-KEYWORDS = ("naval mines, mine burial, impact burial, Monte Carlo, ensemble, sediment "
-            "penetration, seabed, rigid body dynamics")
-REFERENCES = ("Chu, P. C. and Fan, C. W. (2006), Prediction of falling cylinder through "
-              "air-water-sediment columns, doi:10.1115/1.2125975; Wilson, E. B. (1927), J. Am. "
-              "Stat. Assoc. 22(158), 209-212; Hyndman, R. J. and Fan, Y. (1996), Am. Stat. 50(4), "
-              "361-365")
+    "sampled inputs along the realization dimension."
+)
+KEYWORDS = (
+    "naval mines, mine burial, impact burial, Monte Carlo, ensemble, sediment "
+    "penetration, seabed, rigid body dynamics"
+)
+REFERENCES = (
+    "Chu, P. C. and Fan, C. W. (2006), Prediction of falling cylinder through "
+    "air-water-sediment columns, doi:10.1115/1.2125975; Wilson, E. B. (1927), J. Am. "
+    "Stat. Assoc. 22(158), 209-212; Hyndman, R. J. and Fan, Y. (1996), Am. Stat. 50(4), "
+    "361-365"
+)
 
 _INT64 = np.iinfo(np.int64)
 
@@ -145,6 +149,5 @@ def write_netcdf(ds: xr.Dataset, path, *, complevel: int = 4) -> Path:
     """
     path = Path(path)
     with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4",
-                     encoding=_encoding(ds, complevel))
+        ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=_encoding(ds, complevel))
     return path

@@ -36,8 +36,8 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import re
-from dataclasses import dataclass, field
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -79,81 +79,130 @@ class _Output:
 
 SUMMARY_OUTPUTS: dict[str, _Output] = {
     "penetration_depth": _Output(
-        "m", "penetration depth of the lowest point of the mine",
+        "m",
+        "penetration depth of the lowest point of the mine",
         "Depth of the lowest point of the mine below the seabed when it came to rest "
-        "(0 when it rests on the seabed without penetrating).", "depth"),
+        "(0 when it rests on the seabed without penetrating).",
+        "depth",
+    ),
     "com_depth": _Output(
-        "m", "depth of the centre of mass below the seabed",
+        "m",
+        "depth of the centre of mass below the seabed",
         "Depth of the centre of mass below the seabed at rest; negative when the centre of "
-        "mass lies above the seabed.", "depth"),
+        "mass lies above the seabed.",
+        "depth",
+    ),
     "burial_volume": _Output(
-        "percent", "percentage of the mine volume below the seabed",
+        "percent",
+        "percentage of the mine volume below the seabed",
         "Burial by volume: percentage of the mine volume lying below the seabed plane at rest.",
-        "percent"),
+        "percent",
+    ),
     "burial_height": _Output(
-        "percent", "percentage of the vertical extent of the mine below the seabed",
+        "percent",
+        "percentage of the vertical extent of the mine below the seabed",
         "Burial by height: percentage of the vertical extent (lowest to highest point) of the "
-        "mine lying below the seabed at rest.", "percent"),
+        "mine lying below the seabed at rest.",
+        "percent",
+    ),
     "burial_area": _Output(
-        "percent", "percentage of the mine surface area below the seabed",
+        "percent",
+        "percentage of the mine surface area below the seabed",
         "Burial by area: percentage of the outer surface area of the mine lying below the "
-        "seabed at rest (100 minus the percentage of surface area proud).", "percent"),
+        "seabed at rest (100 minus the percentage of surface area proud).",
+        "percent",
+    ),
     "height_proud": _Output(
-        "m", "height of the highest point of the mine above the seabed",
-        "Height of the highest point of the mine above the seabed at rest (0 when fully "
-        "buried).", "depth"),
+        "m",
+        "height of the highest point of the mine above the seabed",
+        "Height of the highest point of the mine above the seabed at rest (0 when fully buried).",
+        "depth",
+    ),
     "final_pitch": _Output(
-        "degree", "dip of the mine axis below the horizontal at rest",
+        "degree",
+        "dip of the mine axis below the horizontal at rest",
         "Pitch angle psi2 at rest: dip of the nose below the horizontal (+90 is nose-down "
-        "vertical); docs/design.md.", "other"),
+        "vertical); docs/design.md.",
+        "other",
+    ),
     "final_roll": _Output(
-        "degree", "roll angle of the mine about its axis at rest",
-        "Roll angle psi1 about the main axis at rest (Z-Y-X angles, docs/design.md).", "other"),
+        "degree",
+        "roll angle of the mine about its axis at rest",
+        "Roll angle psi1 about the main axis at rest (Z-Y-X angles, docs/design.md).",
+        "other",
+    ),
     "final_heading": _Output(
-        "degree", "heading of the mine nose at rest",
+        "degree",
+        "heading of the mine nose at rest",
         "Heading psi3 of the nose at rest, counter-clockwise from the E-frame x axis. Its "
-        "statistics are linear (not circular) statistics.", "other"),
+        "statistics are linear (not circular) statistics.",
+        "other",
+    ),
     "final_x": _Output(
-        "m", "x position of the centre of mass at rest",
-        "E-frame x coordinate of the centre of mass at rest (same origin as the release "
-        "position).", "other"),
+        "m",
+        "x position of the centre of mass at rest",
+        "E-frame x coordinate of the centre of mass at rest (same origin as the release position).",
+        "other",
+    ),
     "final_y": _Output(
-        "m", "y position of the centre of mass at rest",
-        "E-frame y coordinate of the centre of mass at rest (same origin as the release "
-        "position).", "other"),
+        "m",
+        "y position of the centre of mass at rest",
+        "E-frame y coordinate of the centre of mass at rest (same origin as the release position).",
+        "other",
+    ),
     "impact_speed": _Output(
-        "m s-1", "speed of the centre of mass at first contact with the seabed",
-        "Speed of the centre of mass at the first contact of the mine with the seabed.", "other"),
+        "m s-1",
+        "speed of the centre of mass at first contact with the seabed",
+        "Speed of the centre of mass at the first contact of the mine with the seabed.",
+        "other",
+    ),
     "impact_pitch": _Output(
-        "degree", "dip of the mine axis below the horizontal at first seabed contact",
-        "Pitch angle psi2 at the first contact with the seabed.", "other"),
+        "degree",
+        "dip of the mine axis below the horizontal at first seabed contact",
+        "Pitch angle psi2 at the first contact with the seabed.",
+        "other",
+    ),
     "impact_angle": _Output(
-        "degree", "angle of the velocity below the horizontal at first seabed contact",
+        "degree",
+        "angle of the velocity below the horizontal at first seabed contact",
         "Angle of the centre-of-mass velocity below the horizontal at the first contact with "
-        "the seabed (90 is a vertical fall).", "other"),
+        "the seabed (90 is a vertical fall).",
+        "other",
+    ),
     "impact_time": _Output(
-        "s", "time of first contact with the seabed",
-        "Time from release to the first contact of the mine with the seabed.", "other"),
+        "s",
+        "time of first contact with the seabed",
+        "Time from release to the first contact of the mine with the seabed.",
+        "other",
+    ),
     "water_entry_time": _Output(
-        "s", "time of first contact with the water surface",
-        "Time from release to the first contact of the mine with the water surface.", "other"),
+        "s",
+        "time of first contact with the water surface",
+        "Time from release to the first contact of the mine with the water surface.",
+        "other",
+    ),
     "total_time": _Output(
-        "s", "time from release to rest",
-        "Simulated time from release to the end of the drop.", "other"),
+        "s", "time from release to rest", "Simulated time from release to the end of the drop.", "other"
+    ),
     "max_deceleration": _Output(
-        "m s-2", "largest deceleration in the sediment",
-        "Largest magnitude of the deceleration of the centre of mass while in contact with the "
-        "sediment.", "other"),
+        "m s-2",
+        "largest deceleration in the sediment",
+        "Largest magnitude of the deceleration of the centre of mass while in contact with the sediment.",
+        "other",
+    ),
     "n_steps": _Output(
-        "1", "number of time steps",
-        "Number of integrator time steps taken for the drop (stored as float64 like every "
-        "summary column).", "other"),
+        "1",
+        "number of time steps",
+        "Number of integrator time steps taken for the drop (stored as float64 like every summary column).",
+        "other",
+    ),
 }
 
 if tuple(SUMMARY_OUTPUTS) != tuple(layout.SUMMARY_NAMES):  # pragma: no cover - guards the layout
     raise RuntimeError(
         "mineburial.io.variables.SUMMARY_OUTPUTS is out of step with "
-        f"layout.SUMMARY_NAMES: {tuple(SUMMARY_OUTPUTS)} != {layout.SUMMARY_NAMES}")
+        f"layout.SUMMARY_NAMES: {tuple(SUMMARY_OUTPUTS)} != {layout.SUMMARY_NAMES}"
+    )
 
 PERCENT_OUTPUTS = tuple(k for k, v in SUMMARY_OUTPUTS.items() if v.kind == "percent")
 DEPTH_OUTPUTS = tuple(k for k, v in SUMMARY_OUTPUTS.items() if v.kind == "depth")
@@ -168,8 +217,13 @@ BURIAL_OUTPUTS = tuple(k for k in SUMMARY_OUTPUTS if k in PERCENT_OUTPUTS + DEPT
 #: (EDGES[k-1], EDGES[k]], class 0 is "exactly 0 %" (p <= 0) and class 4 is p > 75.
 BURIAL_CLASS_EDGES = (0.0, 10.0, 20.0, 75.0)
 BURIAL_CLASS_NAMES = ("0 %", "(0, 10] %", "(10, 20] %", "(20, 75] %", "(75, 100] %")
-BURIAL_CLASS_MEANINGS = ("not_buried", "buried_0_to_10_percent", "buried_10_to_20_percent",
-                         "buried_20_to_75_percent", "buried_more_than_75_percent")
+BURIAL_CLASS_MEANINGS = (
+    "not_buried",
+    "buried_0_to_10_percent",
+    "buried_10_to_20_percent",
+    "buried_20_to_75_percent",
+    "buried_more_than_75_percent",
+)
 #: lower/upper percent bounds of each class (class 0 is the single point 0)
 BURIAL_CLASS_LOWER = (0.0, 0.0, 10.0, 20.0, 75.0)
 BURIAL_CLASS_UPPER = (0.0, 10.0, 20.0, 75.0, 100.0)
@@ -246,18 +300,19 @@ class Variable:
         if arr.ndim != len(self.dims):
             raise ValueError(
                 f"variable {self.name!r} is declared with dims {self.dims} but got an array "
-                f"of shape {arr.shape}")
+                f"of shape {arr.shape}"
+            )
         if arr.dtype != np.dtype(self.dtype):
             arr = arr.astype(self.dtype)
-        da = xr.DataArray(arr, dims=self.dims, coords=coords, name=self.name,
-                          attrs=self.cf_attrs(**extra_attrs))
+        da = xr.DataArray(
+            arr, dims=self.dims, coords=coords, name=self.name, attrs=self.cf_attrs(**extra_attrs)
+        )
         da.encoding.update(self.encoding())
         return da
 
 
 def _flag_attrs(values, meanings) -> dict[str, Any]:
-    return {"flag_values": np.asarray(values, dtype=np.int8),
-            "flag_meanings": " ".join(meanings)}
+    return {"flag_values": np.asarray(values, dtype=np.int8), "flag_meanings": " ".join(meanings)}
 
 
 def _declare() -> dict[str, Variable]:
@@ -269,74 +324,199 @@ def _declare() -> dict[str, Variable]:
         v[var.name] = var
 
     # --- per-drop -------------------------------------------------------------
-    add(Variable("realization", ("realization",), "int64", "1", "index of the drop in the ensemble",
-                 "Index i of the drop in the Monte Carlo ensemble; every random input of drop i is a "
-                 "pure function of (seed, i), so a single drop can be re-run from it.",
-                 standard_name="realization", fill_value=_NO_FILL))
+    add(
+        Variable(
+            "realization",
+            ("realization",),
+            "int64",
+            "1",
+            "index of the drop in the ensemble",
+            "Index i of the drop in the Monte Carlo ensemble; every random input of drop i is a "
+            "pure function of (seed, i), so a single drop can be re-run from it.",
+            standard_name="realization",
+            fill_value=_NO_FILL,
+        )
+    )
     for name, out in SUMMARY_OUTPUTS.items():
-        add(Variable(name, ("realization",), "float64", out.units, out.long_name,
-                     out.description + " Reported for every drop; only drops with status "
-                     "at_rest or buried_sinking enter the statistics.",
-                     attrs={"coverage_content_type": "modelResult"}))
-    add(Variable("status", ("realization",), "int8", None, "termination status of the drop",
-                 "How the drop ended: " + "; ".join(
-                     f"{code} {name}: {desc}" for code, (name, desc) in
-                     enumerate(zip(status_codes.NAMES, status_codes.DESCRIPTIONS))) + ".",
-                 attrs={**_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
-                        "coverage_content_type": "qualityInformation"}))
-    add(Variable("burial_class", ("realization",), "int8", None, "impact-burial class of the drop",
-                 "Impact-burial class on the basis named by the attribute burial_class_basis "
-                 "(burial_volume by default): 0 is exactly 0 %, class k = 1..3 the half-open interval "
-                 "(lower, upper] of 0-10, 10-20, 20-75 %, class 4 more than 75 %; -1 for drops that "
-                 "did not come to rest or whose basis value is not finite.",
-                 attrs={**_flag_attrs((UNCLASSIFIED,) + tuple(range(5)),
-                                      ("unclassified",) + BURIAL_CLASS_MEANINGS),
-                        "coverage_content_type": "modelResult"}))
+        add(
+            Variable(
+                name,
+                ("realization",),
+                "float64",
+                out.units,
+                out.long_name,
+                out.description + " Reported for every drop; only drops with status "
+                "at_rest or buried_sinking enter the statistics.",
+                attrs={"coverage_content_type": "modelResult"},
+            )
+        )
+    add(
+        Variable(
+            "status",
+            ("realization",),
+            "int8",
+            None,
+            "termination status of the drop",
+            "How the drop ended: "
+            + "; ".join(
+                f"{code} {name}: {desc}"
+                for code, (name, desc) in enumerate(zip(status_codes.NAMES, status_codes.DESCRIPTIONS))
+            )
+            + ".",
+            attrs={
+                **_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+                "coverage_content_type": "qualityInformation",
+            },
+        )
+    )
+    add(
+        Variable(
+            "burial_class",
+            ("realization",),
+            "int8",
+            None,
+            "impact-burial class of the drop",
+            "Impact-burial class on the basis named by the attribute burial_class_basis "
+            "(burial_volume by default): 0 is exactly 0 %, class k = 1..3 the half-open interval "
+            "(lower, upper] of 0-10, 10-20, 20-75 %, class 4 more than 75 %; -1 for drops that "
+            "did not come to rest or whose basis value is not finite.",
+            attrs={
+                **_flag_attrs((UNCLASSIFIED,) + tuple(range(5)), ("unclassified",) + BURIAL_CLASS_MEANINGS),
+                "coverage_content_type": "modelResult",
+            },
+        )
+    )
 
     # --- statistics shared coordinates ----------------------------------------
-    add(Variable("quantile", ("quantile",), "float64", "1", "probability level of the quantile",
-                 "Probability p of the quantiles X_quantile: P(X <= X_quantile) = p, linear "
-                 "interpolation between order statistics (Hyndman & Fan 1996 type 7, numpy "
-                 "method 'linear').", fill_value=_NO_FILL, group="statistics"))
-    add(Variable("impact_burial_class", ("impact_burial_class",), "int8", None,
-                 "impact-burial class",
-                 "Impact-burial classes of naval symbology: 0 is exactly 0 %, 1 is (0, 10] %, 2 is "
-                 "(10, 20] %, 3 is (20, 75] %, 4 is (75, 100] %.",
-                 attrs=_flag_attrs(range(5), BURIAL_CLASS_MEANINGS), fill_value=_NO_FILL,
-                 group="statistics"))
-    add(Variable("burial_class_lower_percent", ("impact_burial_class",), "float64", "percent",
-                 "lower bound of the impact-burial class",
-                 "Lower bound of the class (exclusive, except class 0 which is the point 0 %).",
-                 fill_value=_NO_FILL, group="statistics"))
-    add(Variable("burial_class_upper_percent", ("impact_burial_class",), "float64", "percent",
-                 "upper bound of the impact-burial class",
-                 "Upper bound of the class (inclusive).", fill_value=_NO_FILL, group="statistics"))
-    add(Variable("burial_class_count", ("impact_burial_class",), "int64", "1",
-                 "number of drops at rest in the impact-burial class",
-                 "Number of drops with status at_rest or buried_sinking and a finite basis value in "
-                 "each class.",
-                 fill_value=_NO_FILL, group="statistics"))
-    add(Variable("burial_class_probability", ("impact_burial_class",), "float64", "1",
-                 "probability of the impact-burial class",
-                 "Fraction k/n of the drops at rest (with a finite basis value) falling in the class; "
-                 "NaN when n = 0.", group="statistics",
-                 attrs={"ancillary_variables": "burial_class_probability_lower "
-                        "burial_class_probability_upper burial_class_count"}))
-    add(Variable("burial_class_probability_lower", ("impact_burial_class",), "float64", "1",
-                 "lower confidence limit of the impact-burial class probability",
-                 "Lower limit of the Wilson score interval (Wilson 1927) at the confidence level "
-                 "given by the attribute confidence_level.", group="statistics"))
-    add(Variable("burial_class_probability_upper", ("impact_burial_class",), "float64", "1",
-                 "upper confidence limit of the impact-burial class probability",
-                 "Upper limit of the Wilson score interval (Wilson 1927) at the confidence level "
-                 "given by the attribute confidence_level.", group="statistics"))
-    add(Variable("status_code", ("status_code",), "int8", None, "termination status code",
-                 "Status codes of mineburial.kernels.status.",
-                 attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
-                 fill_value=_NO_FILL, group="statistics"))
-    add(Variable("status_count", ("status_code",), "int64", "1", "number of drops with the status",
-                 "Number of drops of the ensemble that ended with each status code.",
-                 fill_value=_NO_FILL, group="statistics"))
+    add(
+        Variable(
+            "quantile",
+            ("quantile",),
+            "float64",
+            "1",
+            "probability level of the quantile",
+            "Probability p of the quantiles X_quantile: P(X <= X_quantile) = p, linear "
+            "interpolation between order statistics (Hyndman & Fan 1996 type 7, numpy "
+            "method 'linear').",
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "impact_burial_class",
+            ("impact_burial_class",),
+            "int8",
+            None,
+            "impact-burial class",
+            "Impact-burial classes of naval symbology: 0 is exactly 0 %, 1 is (0, 10] %, 2 is "
+            "(10, 20] %, 3 is (20, 75] %, 4 is (75, 100] %.",
+            attrs=_flag_attrs(range(5), BURIAL_CLASS_MEANINGS),
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "burial_class_lower_percent",
+            ("impact_burial_class",),
+            "float64",
+            "percent",
+            "lower bound of the impact-burial class",
+            "Lower bound of the class (exclusive, except class 0 which is the point 0 %).",
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "burial_class_upper_percent",
+            ("impact_burial_class",),
+            "float64",
+            "percent",
+            "upper bound of the impact-burial class",
+            "Upper bound of the class (inclusive).",
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "burial_class_count",
+            ("impact_burial_class",),
+            "int64",
+            "1",
+            "number of drops at rest in the impact-burial class",
+            "Number of drops with status at_rest or buried_sinking and a finite basis value in each class.",
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "burial_class_probability",
+            ("impact_burial_class",),
+            "float64",
+            "1",
+            "probability of the impact-burial class",
+            "Fraction k/n of the drops at rest (with a finite basis value) falling in the class; "
+            "NaN when n = 0.",
+            group="statistics",
+            attrs={
+                "ancillary_variables": "burial_class_probability_lower "
+                "burial_class_probability_upper burial_class_count"
+            },
+        )
+    )
+    add(
+        Variable(
+            "burial_class_probability_lower",
+            ("impact_burial_class",),
+            "float64",
+            "1",
+            "lower confidence limit of the impact-burial class probability",
+            "Lower limit of the Wilson score interval (Wilson 1927) at the confidence level "
+            "given by the attribute confidence_level.",
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "burial_class_probability_upper",
+            ("impact_burial_class",),
+            "float64",
+            "1",
+            "upper confidence limit of the impact-burial class probability",
+            "Upper limit of the Wilson score interval (Wilson 1927) at the confidence level "
+            "given by the attribute confidence_level.",
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "status_code",
+            ("status_code",),
+            "int8",
+            None,
+            "termination status code",
+            "Status codes of mineburial.kernels.status.",
+            attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
+    add(
+        Variable(
+            "status_count",
+            ("status_code",),
+            "int64",
+            "1",
+            "number of drops with the status",
+            "Number of drops of the ensemble that ended with each status code.",
+            fill_value=_NO_FILL,
+            group="statistics",
+        )
+    )
 
     # --- statistics of every summary output (templates) --------------------
     for name, out in SUMMARY_OUTPUTS.items():
@@ -364,44 +544,115 @@ def _statistics_of(name: str, out: _Output) -> list[Variable]:
     basis = "over the drops with status at_rest or buried_sinking and a finite value"
     bin_, lev = f"{name}_bin", f"{name}_level"
     return [
-        Variable(f"{name}_mean", (), "float64", u, f"mean of {ln}",
-                 f"Arithmetic mean of {name} {basis}.",
-                 attrs={"cell_methods": "realization: mean"}, group="statistics"),
-        Variable(f"{name}_std", (), "float64", u, f"standard deviation of {ln}",
-                 f"Sample standard deviation (ddof = 1) of {name} {basis}; NaN for fewer than 2 values.",
-                 attrs={"cell_methods": "realization: standard_deviation"}, group="statistics"),
-        Variable(f"{name}_stderr", (), "float64", u, f"standard error of the mean of {ln}",
-                 f"Standard error of the mean, std / sqrt(n), of {name} {basis}.", group="statistics"),
-        Variable(f"{name}_quantile", ("quantile",), "float64", u, f"quantiles of {ln}",
-                 f"Quantiles of {name} {basis}, computed exactly from the stored per-drop values "
-                 "(numpy method 'linear', Hyndman & Fan 1996 type 7).", group="statistics"),
-        Variable(bin_, (bin_,), "float64", u, f"centre of the histogram bin of {ln}",
-                 f"Centre of each histogram bin of {name}; the bin edges are in {name}_bin_bounds.",
-                 attrs={"bounds": f"{name}_bin_bounds"}, fill_value=_NO_FILL, group="statistics"),
-        Variable(f"{name}_bin_bounds", (bin_, "nv"), "float64", u,
-                 f"edges of the histogram bin of {ln}",
-                 "Lower and upper edge of each bin; bins are half-open [lower, upper) except the last, "
-                 "which is closed [lower, upper] (numpy.histogram).", fill_value=_NO_FILL,
-                 group="statistics", is_bounds=True),
-        Variable(f"{name}_histogram", (bin_,), "int64", "1", f"histogram of {ln}",
-                 f"Number of values of {name} {basis} in each bin; values outside the outer edges are "
-                 "not counted (their number is the attribute n_outside_range).",
-                 fill_value=_NO_FILL, group="statistics"),
-        Variable(lev, (lev,), "float64", u, f"threshold of {ln}",
-                 f"Threshold x of the exceedance probability P({name} >= x).",
-                 fill_value=_NO_FILL, group="statistics"),
-        Variable(f"{name}_exceedance", (lev,), "float64", "1",
-                 f"probability that {ln} reaches or exceeds the threshold",
-                 f"Exceedance probability P({name} >= {name}_level) {basis}: the fraction of values "
-                 "greater than or equal to the threshold; NaN when there is no value.",
-                 group="statistics"),
+        Variable(
+            f"{name}_mean",
+            (),
+            "float64",
+            u,
+            f"mean of {ln}",
+            f"Arithmetic mean of {name} {basis}.",
+            attrs={"cell_methods": "realization: mean"},
+            group="statistics",
+        ),
+        Variable(
+            f"{name}_std",
+            (),
+            "float64",
+            u,
+            f"standard deviation of {ln}",
+            f"Sample standard deviation (ddof = 1) of {name} {basis}; NaN for fewer than 2 values.",
+            attrs={"cell_methods": "realization: standard_deviation"},
+            group="statistics",
+        ),
+        Variable(
+            f"{name}_stderr",
+            (),
+            "float64",
+            u,
+            f"standard error of the mean of {ln}",
+            f"Standard error of the mean, std / sqrt(n), of {name} {basis}.",
+            group="statistics",
+        ),
+        Variable(
+            f"{name}_quantile",
+            ("quantile",),
+            "float64",
+            u,
+            f"quantiles of {ln}",
+            f"Quantiles of {name} {basis}, computed exactly from the stored per-drop values "
+            "(numpy method 'linear', Hyndman & Fan 1996 type 7).",
+            group="statistics",
+        ),
+        Variable(
+            bin_,
+            (bin_,),
+            "float64",
+            u,
+            f"centre of the histogram bin of {ln}",
+            f"Centre of each histogram bin of {name}; the bin edges are in {name}_bin_bounds.",
+            attrs={"bounds": f"{name}_bin_bounds"},
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            f"{name}_bin_bounds",
+            (bin_, "nv"),
+            "float64",
+            u,
+            f"edges of the histogram bin of {ln}",
+            "Lower and upper edge of each bin; bins are half-open [lower, upper) except the last, "
+            "which is closed [lower, upper] (numpy.histogram).",
+            fill_value=_NO_FILL,
+            group="statistics",
+            is_bounds=True,
+        ),
+        Variable(
+            f"{name}_histogram",
+            (bin_,),
+            "int64",
+            "1",
+            f"histogram of {ln}",
+            f"Number of values of {name} {basis} in each bin; values outside the outer edges are "
+            "not counted (their number is the attribute n_outside_range).",
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            lev,
+            (lev,),
+            "float64",
+            u,
+            f"threshold of {ln}",
+            f"Threshold x of the exceedance probability P({name} >= x).",
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            f"{name}_exceedance",
+            (lev,),
+            "float64",
+            "1",
+            f"probability that {ln} reaches or exceeds the threshold",
+            f"Exceedance probability P({name} >= {name}_level) {basis}: the fraction of values "
+            "greater than or equal to the threshold; NaN when there is no value.",
+            group="statistics",
+        ),
     ]
 
 
 VARIABLES: dict[str, Variable] = _declare()
 
-_STATISTIC_SUFFIXES = ("mean", "std", "stderr", "quantile", "bin", "bin_bounds", "histogram",
-                       "level", "exceedance")
+_STATISTIC_SUFFIXES = (
+    "mean",
+    "std",
+    "stderr",
+    "quantile",
+    "bin",
+    "bin_bounds",
+    "histogram",
+    "level",
+    "exceedance",
+)
 
 
 def statistic_names(output: str) -> tuple[str, ...]:
@@ -423,8 +674,10 @@ def input_variable_name(path: str) -> str:
     "input_mine_mass", "release.velocity[0]" -> "input_release_velocity_0")."""
     name = "input_" + path.replace(".", "_").replace("[", "_").replace("]", "")
     if not _NAME_RE.match(name):
-        raise ValueError(f"scenario path {path!r} cannot be turned into a CF variable name "
-                         "(letters, digits, underscores and dots only)")
+        raise ValueError(
+            f"scenario path {path!r} cannot be turned into a CF variable name "
+            "(letters, digits, underscores and dots only)"
+        )
     return name
 
 
@@ -439,10 +692,16 @@ def input_variable(path: str, units: str | None, description: str | None = None)
     desc = description or f"sampled value of the scenario field {path}"
     if units is None:
         desc += " (units not provided by the caller)"
-    return Variable(name, ("realization",), "float64", units,
-                    f"sampled {path}", f"Value of the scenario field {path} sampled for each drop: {desc}",
-                    attrs={"scenario_path": path, "coverage_content_type": "auxiliaryInformation"},
-                    group="input")
+    return Variable(
+        name,
+        ("realization",),
+        "float64",
+        units,
+        f"sampled {path}",
+        f"Value of the scenario field {path} sampled for each drop: {desc}",
+        attrs={"scenario_path": path, "coverage_content_type": "auxiliaryInformation"},
+        group="input",
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -476,12 +735,15 @@ def _md_row(var: Variable, name: str | None = None) -> str:
     if "flag_values" in var.attrs:
         pairs = zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split())
         extra = " Flags: " + ", ".join(f"{v} `{m}`" for v, m in pairs) + "."
-    return (f"| `{name or var.name}` | {dims} | {var.dtype} | {units} | {cf} | "
-            f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |")
+    return (
+        f"| `{name or var.name}` | {dims} | {var.dtype} | {units} | {cf} | "
+        f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |"
+    )
 
 
-_MD_HEADER = ("| name | dims | dtype | units | standard_name | long_name | description |\n"
-              "|---|---|---|---|---|---|---|")
+_MD_HEADER = (
+    "| name | dims | dtype | units | standard_name | long_name | description |\n|---|---|---|---|---|---|---|"
+)
 
 
 def variables_markdown(expand: bool = False) -> str:
@@ -493,11 +755,19 @@ def variables_markdown(expand: bool = False) -> str:
     """
     per_drop = [_md_row(v) for v in VARIABLES.values() if v.group == "per-drop"]
     example = input_variable("mine.mass", "kg", "mass of the mine")
-    per_drop.append(_md_row(dataclasses.replace(
-        example, name="input_<path>", units="as given", long_name="sampled <path>",
-        description="Value of the scenario field <path> (dots become underscores: mine.mass -> "
-                    "input_mine_mass) sampled for each drop; attribute scenario_path holds the "
-                    "dotted path, units and description are those handed to build_dataset.")))
+    per_drop.append(
+        _md_row(
+            dataclasses.replace(
+                example,
+                name="input_<path>",
+                units="as given",
+                long_name="sampled <path>",
+                description="Value of the scenario field <path> (dots become underscores: mine.mass -> "
+                "input_mine_mass) sampled for each drop; attribute scenario_path holds the "
+                "dotted path, units and description are those handed to build_dataset.",
+            )
+        )
+    )
     stat_vars = [v for v in VARIABLES.values() if v.group == "statistics"]
     if expand:
         stats = [_md_row(v) for v in stat_vars]
@@ -508,16 +778,24 @@ def variables_markdown(expand: bool = False) -> str:
         for v in stat_vars:
             if v.name in template:
                 tv = dataclasses.replace(
-                    v, name=v.name.replace("penetration_depth", "X"),
+                    v,
+                    name=v.name.replace("penetration_depth", "X"),
                     dims=tuple(d.replace("penetration_depth", "X") for d in v.dims),
                     units="units of X" if v.units == "m" else v.units,
-                    long_name=v.long_name.replace(
-                        "penetration depth of the lowest point of the mine", "X"),
-                    description=v.description.replace("penetration_depth", "X"))
+                    long_name=v.long_name.replace("penetration depth of the lowest point of the mine", "X"),
+                    description=v.description.replace("penetration_depth", "X"),
+                )
                 stats.append(_md_row(tv))
             elif v.name not in others:
                 stats.append(_md_row(v))
-    return ("### Per-drop variables (dimension `realization`)\n\n" + _MD_HEADER + "\n"
-            + "\n".join(per_drop) + "\n\n### Statistics variables\n\n" + _MD_HEADER + "\n"
-            + "\n".join(stats) + "\n")
-
+    return (
+        "### Per-drop variables (dimension `realization`)\n\n"
+        + _MD_HEADER
+        + "\n"
+        + "\n".join(per_drop)
+        + "\n\n### Statistics variables\n\n"
+        + _MD_HEADER
+        + "\n"
+        + "\n".join(stats)
+        + "\n"
+    )

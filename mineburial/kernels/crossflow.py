@@ -77,9 +77,11 @@ def _root_moments(sa, sb, m):
     m2 = m * m
     j0 = 0.5 * ((sb * rb - sa * ra) + (ab - aa))
     j1 = (rb * rb * rb - ra * ra * ra) / 3.0
-    j2 = ((sb * rb * rb * rb - sa * ra * ra * ra) * 0.25
-          - m2 * (sb * rb - sa * ra) * 0.125
-          - m2 * (ab - aa) * 0.125)
+    j2 = (
+        (sb * rb * rb * rb - sa * ra * ra * ra) * 0.25
+        - m2 * (sb * rb - sa * ra) * 0.125
+        - m2 * (ab - aa) * 0.125
+    )
     return j0, j1, j2
 
 
@@ -103,10 +105,10 @@ def _unit_interval(vy, vz, wy, wz):
             x = 0.0
         # Gegenbauer C_n^(alpha) with alpha = -1/2:
         # n C_n = 2 x (n + alpha - 1) C_{n-1} - (n + 2 alpha - 2) C_{n-2}
-        c_prev = 1.0          # C_0
-        c_cur = -x            # C_1 = 2 alpha x
-        k0 = 1.0              # n = 0 term of sum_{n even} C_n lam^n / (n + 1)
-        k2 = 1.0 / 3.0        # n = 0 term of sum_{n even} C_n lam^n / (n + 3)
+        c_prev = 1.0  # C_0
+        c_cur = -x  # C_1 = 2 alpha x
+        k0 = 1.0  # n = 0 term of sum_{n even} C_n lam^n / (n + 1)
+        k2 = 1.0 / 3.0  # n = 0 term of sum_{n even} C_n lam^n / (n + 3)
         k1 = c_cur * lam / 3.0  # n = 1 term of sum_{n odd} C_n lam^n / (n + 2)
         lam_n = lam
         for n in range(2, N_SERIES + 1):
@@ -122,11 +124,10 @@ def _unit_interval(vy, vz, wy, wz):
                 k2 += t / (n + 3.0)
             else:
                 k1 += t / (n + 2.0)
-        k0 *= 2.0 * vv        # int |v| du
-        k1 *= 2.0 * vv        # int u |v| du
-        k2 *= 2.0 * vv        # int u^2 |v| du
-        return (vy * k0 + wy * k1, vz * k0 + wz * k1,
-                vy * k1 + wy * k2, vz * k1 + wz * k2)
+        k0 *= 2.0 * vv  # int |v| du
+        k1 *= 2.0 * vv  # int u |v| du
+        k2 *= 2.0 * vv  # int u^2 |v| du
+        return (vy * k0 + wy * k1, vz * k0 + wz * k1, vy * k1 + wy * k2, vz * k1 + wz * k2)
     # --- closed-form branch in the shifted variable s = W (u - u_min).
     w2 = ww * ww
     u_min = -(vy * wy + vz * wz) / w2
@@ -138,9 +139,9 @@ def _unit_interval(vy, vz, wy, wz):
     sa = ww * (-1.0 - u_min)
     sb = ww * (1.0 - u_min)
     j0, j1, j2 = _root_moments(sa, sb, m)
-    i0 = j0 / ww              # int |v| dt
-    i1 = j1 / w2              # int t |v| dt
-    i2 = j2 / (w2 * ww)       # int t^2 |v| dt
+    i0 = j0 / ww  # int |v| dt
+    i1 = j1 / w2  # int t |v| dt
+    i2 = j2 / (w2 * ww)  # int t^2 |v| dt
     fy = vmy * i0 + wy * i1
     fz = vmz * i0 + wz * i1
     # u = u_min + t, v = v_min + w t

@@ -27,24 +27,42 @@ same scheme so that energy bookkeeping closes to the integration error.
 
 import math
 
-
 from mineburial._numba import kernel
-from mineburial.kernels.coefficients import (axial_drag_coefficient, cross_drag_coefficient,
-                                             lift_coefficient)
+from mineburial.kernels.coefficients import axial_drag_coefficient, cross_drag_coefficient, lift_coefficient
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
-from mineburial.kernels.geometry import (cut_cylinder, e_down_body, equivalent_of_part,
-                                         vertical_extent)
+from mineburial.kernels.geometry import cut_cylinder, e_down_body, equivalent_of_part, vertical_extent
+
 # the extended state, the scratch and diagnostics sizes (N_EXT, I_WORK_*, N_WORK, N_DIAG,
 # re-exported for the driver) and the phase codes live in kernels.layout
-from mineburial.kernels.layout import (I_WORK_FLUID, I_WORK_SEDIMENT, N_DIAG,  # noqa: F401
-                                       N_EXT, N_WORK, P_CHI, P_DEPTH, P_DIAMETER, P_DRAG,
-                                       P_GRAVITY, P_J1, P_J2, P_LENGTH, P_MASS, P_MODEL, P_MUNK,
-                                       P_NU_AIR, P_NU_WATER, P_RHO_AIR, P_RHO_WATER,
-                                       P_SED_RESISTANCE, PHASE_AIR, PHASE_EMBEDDED, PHASE_SEABED,
-                                       PHASE_SURFACE, PHASE_WATER)
-from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
+from mineburial.kernels.layout import (
+    I_WORK_FLUID,
+    I_WORK_SEDIMENT,
+    N_DIAG,  # noqa: F401
+    P_CHI,
+    P_DEPTH,
+    P_DIAMETER,
+    P_DRAG,
+    P_GRAVITY,
+    P_J1,
+    P_J2,
+    P_LENGTH,
+    P_MASS,
+    P_MODEL,
+    P_MUNK,
+    P_NU_AIR,
+    P_NU_WATER,
+    P_RHO_AIR,
+    P_RHO_WATER,
+    P_SED_RESISTANCE,
+    PHASE_AIR,
+    PHASE_EMBEDDED,
+    PHASE_SEABED,
+    PHASE_SURFACE,
+    PHASE_WATER,
+)
 from mineburial.kernels.overburden import overburden_force
+from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
@@ -57,8 +75,7 @@ def vertical_load(f, fx, fe, dn2, dn3, kb1, kb2, kb3):
     e_down = (0, dn2, dn3); k in the body frame is (kb1, kb2, kb3)."""
     r2 = fe * dn2
     r3 = fe * dn3
-    return (f * kb1, f * kb2, f * kb3,
-            r2 * kb3 - r3 * kb2, r3 * kb1 - fx * kb3, fx * kb2 - r2 * kb1)
+    return (f * kb1, f * kb2, f * kb3, r2 * kb3 - r3 * kb2, r3 * kb1 - fx * kb3, fx * kb2 - r2 * kb1)
 
 
 @kernel
@@ -136,10 +153,10 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     d = 2.0 * R
     l = b - a
-    c = 0.5 * (a + b)           # centre of the strip = -chi of eq. (42)
+    c = 0.5 * (a + b)  # centre of the strip = -chi of eq. (42)
     aspect = L / d
     cd1 = axial_drag_coefficient(aspect)
-    f1 = 0.5 * rho * cd1 * math.pi * R * R * abs(ur1) * ur1 * (l / L)     # eq. (39)
+    f1 = 0.5 * rho * cd1 * math.pi * R * R * abs(ur1) * ur1 * (l / L)  # eq. (39)
     v2 = math.sqrt(ur2 * ur2 + ur3 * ur3)
     if v2 > 1e-12:
         jy = ur2 / v2
@@ -147,9 +164,9 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
     else:  # fallback F-frame when the cross-flow vanishes (docs/physics.md): j_F = j_M
         jy = 1.0
         jz = 0.0
-    ky = -jz                    # k_F = e1 x j_F
+    ky = -jz  # k_F = e1 x j_F
     kz = jy
-    om2f = w2 * jy + w3 * jz    # eq. (18)
+    om2f = w2 * jy + w3 * jz  # eq. (18)
     om3f = w2 * ky + w3 * kz
     # moments of eta over the strip
     s0 = l
@@ -193,16 +210,17 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
 
 
 @kernel
-def add_strip_forces(impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on,
-                     f1, f2, f3, m1, m2, m3):
+def add_strip_forces(
+    impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, f1, f2, f3, m1, m2, m3
+):
     """Add the fluid force and torque on the strip [a, b] of the selected model
     (:func:`impact35_strip_forces` or :func:`strip_forces`) to the accumulators."""
     if impact35:
-        h1, h2, h3, h4, h5, h6 = impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3,
-                                                       w1, w2, w3, drag_on)
+        h1, h2, h3, h4, h5, h6 = impact35_strip_forces(
+            rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on
+        )
     else:
-        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3,
-                                              drag_on)
+        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on)
     return f1 + h1, f2 + h2, f3 + h3, m1 + h4, m2 + h5, m3 + h6
 
 
@@ -276,11 +294,11 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     w3 = y[12]
     r = rotation_matrix(q0, q1, q2, q3)
     # body components of a world vector: R^T v ; rows of R^T are columns of R
-    a_z = r[6]                       # i_M . k
-    kb1 = r[6]                       # k in body frame
+    a_z = r[6]  # i_M . k
+    kb1 = r[6]  # k in body frame
     kb2 = r[7]
     kb3 = r[8]
-    u1 = r[0] * vx + r[3] * vy + r[6] * vz      # body-frame COM velocity
+    u1 = r[0] * vx + r[3] * vy + r[6] * vz  # body-frame COM velocity
     u2 = r[1] * vx + r[4] * vy + r[7] * vz
     u3 = r[2] * vx + r[5] * vy + r[8] * vz
 
@@ -314,8 +332,15 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     fw = rho_w * g * vs
     fa = rho_a * g * va
     fb1, fb2, fb3, mb1, mb2, mb3 = vertical_load(
-        fw + fa, fw * xs + rho_a * g * (v_total * (-chi) - vs * xs),
-        fw * es - rho_a * g * vs * es, dn2, dn3, kb1, kb2, kb3)
+        fw + fa,
+        fw * xs + rho_a * g * (v_total * (-chi) - vs * xs),
+        fw * es - rho_a * g * vs * es,
+        dn2,
+        dn3,
+        kb1,
+        kb2,
+        kb3,
+    )
 
     # ---- drag, lift and added mass of the water part and of the air part ----
     # water part: below the surface and above the seabed, as an equivalent cylinder
@@ -331,8 +356,27 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         ur2 = r[1] * cu + r[4] * cv - u2
         ur3 = r[2] * cu + r[5] * cv - u3
         fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
-            impact35, rho_w, p[P_NU_WATER], R, L, wa, wb, ur1, ur2, ur3, w1, w2, w3, drag_on,
-            fb1, fb2, fb3, mb1, mb2, mb3)
+            impact35,
+            rho_w,
+            p[P_NU_WATER],
+            R,
+            L,
+            wa,
+            wb,
+            ur1,
+            ur2,
+            ur3,
+            w1,
+            w2,
+            w3,
+            drag_on,
+            fb1,
+            fb2,
+            fb3,
+            mb1,
+            mb2,
+            mb3,
+        )
         cur1 = r[0] * cu + r[3] * cv
         cur2 = r[1] * cu + r[4] * cv
         cur3 = r[2] * cu + r[5] * cv
@@ -346,8 +390,27 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         xa_c = (v_total * (-chi) - vs * xs) / va
         _, aa, ab, _ = equivalent_of_part(L, R, chi, va, xa_c, 0.0)
         fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
-            impact35, rho_a, p[P_NU_AIR], R, L, aa, ab, -u1, -u2, -u3, w1, w2, w3, drag_on,
-            fb1, fb2, fb3, mb1, mb2, mb3)
+            impact35,
+            rho_a,
+            p[P_NU_AIR],
+            R,
+            L,
+            aa,
+            ab,
+            -u1,
+            -u2,
+            -u3,
+            w1,
+            w2,
+            w3,
+            drag_on,
+            fb1,
+            fb2,
+            fb3,
+            mb1,
+            mb2,
+            mb3,
+        )
 
     # ---- sediment tractions (seed 000 section 6) ----
     sf1 = 0.0
@@ -359,11 +422,11 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     added_pore = 0.0
     if z_lo < -depth:
         sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_tractions(
-            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank)
+            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank
+        )
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
-            fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p,
-                                            sediment_bank)
+            fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank)
             sf3 += fo
             _, _, _, t1, t2, t3 = vertical_load(fo, fox, foe, dn2, dn3, kb1, kb2, kb3)
             sm1 += t1
@@ -455,7 +518,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     cr2 = m * (w3 * u1 - w1 * u3)
     cr3 = m * (w1 * u2 - w2 * u1)
     if impact35:
-        cr4 = 0.0   # apparent torque neglected, seed 000 eq. (22)
+        cr4 = 0.0  # apparent torque neglected, seed 000 eq. (22)
         cr5 = 0.0
         cr6 = 0.0
     else:

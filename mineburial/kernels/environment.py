@@ -3,8 +3,14 @@
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels.layout import (P_CURRENT_EXPONENT, P_CURRENT_KIND, P_CURRENT_TABLE,
-                                       P_CURRENT_U, P_CURRENT_V, P_DEPTH)
+from mineburial.kernels.layout import (
+    P_CURRENT_EXPONENT,
+    P_CURRENT_KIND,
+    P_CURRENT_TABLE,
+    P_CURRENT_U,
+    P_CURRENT_V,
+    P_DEPTH,
+)
 
 
 @kernel
@@ -60,5 +66,4 @@ def current_velocity(z, p, current_bank):
         f = (h / depth) ** p[P_CURRENT_EXPONENT] if h > 0.0 else 0.0
         return f * p[P_CURRENT_U], f * p[P_CURRENT_V]
     row = int(p[P_CURRENT_TABLE])
-    return (interpolate_row(current_bank, row, 1, -z),
-            interpolate_row(current_bank, row, 2, -z))
+    return (interpolate_row(current_bank, row, 1, -z), interpolate_row(current_bank, row, 2, -z))

@@ -137,23 +137,23 @@ def _cut_raw_up(L, R, chi, a, c):
     bR = b * R
     xt = -0.5 * L - chi
     xn = 0.5 * L - chi
-    dt = c + a * xt          # tail section centre above the plane
-    dn = c + a * xn          # nose section centre (dn >= dt since a >= 0)
+    dt = c + a * xt  # tail section centre above the plane
+    dn = c + a * xn  # nose section centre (dn >= dt since a >= 0)
     cap_t = _cap_area(dt, bR, R)
     cap_n = _cap_area(dn, bR, R)
     area = PI * R * R
 
-    if dt >= bR:             # whole body above the plane
+    if dt >= bR:  # whole body above the plane
         return 0.0, 0.0, 0.0, 0.0, cap_n, cap_t
-    if dn <= -bR:            # whole body below the plane
+    if dn <= -bR:  # whole body below the plane
         return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, cap_n, cap_t
 
     # -- full sections: x in [xt, xt + full_len] (d <= -bR) --------------
-    tang1 = dt < -bR         # partial part starts at a tangency (kappa = -1)
-    tang2 = dn > bR          # partial part ends at a tangency (kappa = +1)
+    tang1 = dt < -bR  # partial part starts at a tangency (kappa = -1)
+    tang2 = dn > bR  # partial part ends at a tangency (kappa = +1)
     full_len = 0.0
     if tang1:
-        full_len = -(bR + dt) / a      # a > 0 here since dn > -bR > dt
+        full_len = -(bR + dt) / a  # a > 0 here since dn > -bR > dt
         if full_len > L:
             full_len = L
     V = area * full_len
@@ -205,7 +205,7 @@ def _cut_raw_up(L, R, chi, a, c):
         s2 = math.sqrt((1.0 - k2) * (1.0 + k2))
         a1, b1, m1, l1 = _antiderivatives(k1, th1, s1)
         a2, b2, m2, l2 = _antiderivatives(k2, th2, s2)
-        jx = w / dk                      # dx/dkappa = bR/a
+        jx = w / dk  # dx/dkappa = bR/a
         d0 = a2 - a1
         km = 0.5 * (k1 + k2)
         vp = R * R * jx * d0
@@ -217,7 +217,7 @@ def _cut_raw_up(L, R, chi, a, c):
 
     # Gauss-Legendre in theta, theta from th1 (x = p1) down to th2 (x = p1 + w)
     if tang1:
-        dth = math.acos(-k2)             # pi - acos(k2) without cancellation
+        dth = math.acos(-k2)  # pi - acos(k2) without cancellation
         thm = PI - 0.5 * dth
     elif tang2:
         dth = math.acos(k1)
@@ -231,11 +231,11 @@ def _cut_raw_up(L, R, chi, a, c):
             r = dk / (2.0 * sm)
             if r > 1.0:
                 r = 1.0
-            dth = 2.0 * math.asin(r)     # cos th2 - cos th1 = 2 sin(thm) sin(dth/2)
+            dth = 2.0 * math.asin(r)  # cos th2 - cos th1 = 2 sin(thm) sin(dth/2)
         else:
             dth = th1 - th2
     sm = math.sin(thm)
-    den = sm * math.sin(0.5 * dth)       # = (k2 - k1)/2
+    den = sm * math.sin(0.5 * dth)  # = (k2 - k1)/2
     degenerate = not (den > 1e-280)
     sv = 0.0
     sx = 0.0
@@ -249,8 +249,7 @@ def _cut_raw_up(L, R, chi, a, c):
             jac = 0.5
         else:
             # fraction along x: (cos th1 - cos thk)/(cos th1 - cos th2)
-            phi = (math.sin(thm + 0.25 * dth * (1.0 - t))
-                   * math.sin(0.25 * dth * (1.0 + t))) / den
+            phi = (math.sin(thm + 0.25 * dth * (1.0 - t)) * math.sin(0.25 * dth * (1.0 + t))) / den
             # d(phi)/dt = sin(thk) (dth/2)/(cos th2 - cos th1)
             jac = math.sin(thk) * 0.25 * dth / den
         wk = _GL_W[i] * jac
@@ -379,7 +378,7 @@ def equivalent_of_part(L, R, chi, V, x_c, eta):
     xb = x_c + 0.5 * l
     xt = -0.5 * L - chi
     xn = 0.5 * L - chi
-    if xa < xt:                # shift, not shrink, to stay inside the body
+    if xa < xt:  # shift, not shrink, to stay inside the body
         xa = xt
         xb = xt + l
     elif xb > xn:

@@ -47,7 +47,7 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
     """(F, F*x, F*eta): upward force [N] of the effective overburden and its first
     moments about the COM in the body frame (x along the axis, eta along e_down):
     the torque is (F*x i_M + F*eta e_down) x k."""
-    depth_max = seabed_z - z_lo          # deepest embedded point below the seabed
+    depth_max = seabed_z - z_lo  # deepest embedded point below the seabed
     if depth_max <= 0.0:
         return 0.0, 0.0, 0.0
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))

@@ -40,8 +40,16 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels.dynamics import vertical_load
 from mineburial.kernels.geometry import cut_cylinder, e_down_body, vertical_extent
-from mineburial.kernels.layout import (P_CHI, P_DEPTH, P_DIAMETER, P_GRAVITY, P_LENGTH, P_MASS,
-                                       P_RHO_WATER, P_SED_RESISTANCE)
+from mineburial.kernels.layout import (
+    P_CHI,
+    P_DEPTH,
+    P_DIAMETER,
+    P_GRAVITY,
+    P_LENGTH,
+    P_MASS,
+    P_RHO_WATER,
+    P_SED_RESISTANCE,
+)
 from mineburial.kernels.overburden import overburden_force
 from mineburial.kernels.rotation import rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
@@ -94,9 +102,9 @@ def _resisted(y, p, law, bank, r, v1, v2, v3, w1, w2, w3, load_power, tol_power)
     vx = r[0] * v1 + r[1] * v2 + r[2] * v3
     vy = r[3] * v1 + r[4] * v2 + r[5] * v3
     vz = r[6] * v1 + r[7] * v2 + r[8] * v3
-    fx, fy, fz, m1, m2, m3, _ = sediment_tractions(L, R, p[P_CHI], r, (y[0], y[1], y[2]),
-                                                   (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH],
-                                                   law, bank)
+    fx, fy, fz, m1, m2, m3, _ = sediment_tractions(
+        L, R, p[P_CHI], r, (y[0], y[1], y[2]), (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH], law, bank
+    )
     dissipated = -(fx * vx + fy * vy + fz * vz + m1 * w1 + m2 * w2 + m3 * w3)
     return dissipated >= load_power - tol_power
 
@@ -131,14 +139,14 @@ def held_by_sediment(y, p, law, bank, probe_speed):
     # 1. translation along the load force
     if fn > tol:
         s = probe_speed / fn
-        if not _resisted(y, p, law, bank, r, f1 * s, f2 * s, f3 * s, 0.0, 0.0, 0.0,
-                         fn * probe_speed, tol_power):
+        if not _resisted(
+            y, p, law, bank, r, f1 * s, f2 * s, f3 * s, 0.0, 0.0, 0.0, fn * probe_speed, tol_power
+        ):
             return False
     if mn > tol * lc:
         # 2. rotation about the COM along the load torque (farthest point at probe speed)
         s = probe_speed / (mn * lc)
-        if not _resisted(y, p, law, bank, r, 0.0, 0.0, 0.0, m1 * s, m2 * s, m3 * s,
-                         mn * mn * s, tol_power):
+        if not _resisted(y, p, law, bank, r, 0.0, 0.0, 0.0, m1 * s, m2 * s, m3 * s, mn * mn * s, tol_power):
             return False
         # 4. toppling about the deepest point of the body: the end of the axis that is
         # lower, on the rim towards e_down
@@ -170,7 +178,8 @@ def held_by_sediment(y, p, law, bank, probe_speed):
         vmax = math.sqrt(a1 * a1 + a2 * a2 + a3 * a3) + lc * math.sqrt(b1 * b1 + b2 * b2 + b3 * b3)
         s = probe_speed / vmax
         power = (f1 * a1 + f2 * a2 + f3 * a3 + m1 * b1 + m2 * b2 + m3 * b3) * s
-        if not _resisted(y, p, law, bank, r, a1 * s, a2 * s, a3 * s, b1 * s, b2 * s, b3 * s,
-                         power, tol_power):
+        if not _resisted(
+            y, p, law, bank, r, a1 * s, a2 * s, a3 * s, b1 * s, b2 * s, b3 * s, power, tol_power
+        ):
             return False
     return True

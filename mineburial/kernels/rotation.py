@@ -35,19 +35,23 @@ def rotation_matrix(q0, q1, q2, q3):
 @kernel
 def quaternion_rate(q0, q1, q2, q3, w1, w2, w3):
     """dq/dt = q (x) (0, omega)/2 with omega in the body frame (seed 004 eq. (28))."""
-    return (0.5 * (-q1 * w1 - q2 * w2 - q3 * w3),
-            0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
-            0.5 * (q0 * w2 + q3 * w1 - q1 * w3),
-            0.5 * (q0 * w3 + q1 * w2 - q2 * w1))
+    return (
+        0.5 * (-q1 * w1 - q2 * w2 - q3 * w3),
+        0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
+        0.5 * (q0 * w2 + q3 * w1 - q1 * w3),
+        0.5 * (q0 * w3 + q1 * w2 - q2 * w1),
+    )
 
 
 @kernel
 def quaternion_multiply(a0, a1, a2, a3, b0, b1, b2, b3):
     """Hamilton product a (x) b."""
-    return (a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0)
+    return (
+        a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+        a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+        a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+        a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+    )
 
 
 @kernel

@@ -17,8 +17,15 @@ INVALID_INPUT = 4
 FLOATED = 5
 BURIED_SINKING = 6
 
-NAMES = ("at_rest", "time_limit", "left_domain", "numerical_failure", "invalid_input",
-         "floated", "buried_sinking")
+NAMES = (
+    "at_rest",
+    "time_limit",
+    "left_domain",
+    "numerical_failure",
+    "invalid_input",
+    "floated",
+    "buried_sinking",
+)
 
 DESCRIPTIONS = (
     "the mine came to rest in or on the sediment (seed 000 eq. (89) speed criterion and "

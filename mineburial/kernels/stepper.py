@@ -29,7 +29,7 @@ Integrators (``numerics.integrator``):
     The recursive local-linearisation scheme of seed 000 eqs. (83)-(87): each
     velocity component obeys dv/dt = -d v + beta with d and beta frozen at t_n
     and is advanced exactly; positions by eq. (86); rotation-angle increments by
-    eq. (87) with its typos fixed (PHYSICS.md §3), composed onto the quaternion.
+    eq. (87) with its typos fixed (docs/physics.md), composed onto the quaternion.
     The diagonal damping d of eqs. (81)-(82) is the diagonal of the Jacobian of
     the acceleration with respect to the velocity, evaluated by a one-sided
     difference so that the same scheme serves both physics models. First order.
@@ -38,7 +38,6 @@ Integrators (``numerics.integrator``):
 import math
 
 import numpy as np
-
 from numba.core import types
 from numba.extending import overload
 
@@ -46,24 +45,82 @@ from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels import status as st
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
-from mineburial.kernels.integrators import (N_STAGES, dense_state, dopri_dense, dopri_solution,
-                                            dopri_stage_state, error_norm, hermite_dense,
-                                            illinois_next, illinois_update, next_step_size)
-from mineburial.kernels.layout import (I_WORK_FLUID, I_WORK_SEDIMENT, INTEGRATOR_NAMES, N_DIAG,
-                                       N_EXT, N_PARAMS, N_SUMMARY, N_WORK, P_ATOL, P_CHI,
-                                       P_DEPTH, P_DIAMETER, P_DT, P_INTEGRATOR, P_LENGTH, P_MASS,
-                                       P_OM10, P_OM20, P_OM30, P_Q00, P_Q10, P_Q20, P_Q30,
-                                       P_REST_SPEED, P_REST_SPIN, P_RHO_WATER, P_RTOL,
-                                       P_SED_QUADRATURE, P_TMAX,
-                                       P_U0, P_V0, P_W0, P_X0, P_Y0, P_Z0, S_BURIAL_AREA,
-                                       S_BURIAL_HEIGHT, S_BURIAL_VOLUME, S_COM_DEPTH,
-                                       S_ENTRY_TIME, S_FINAL_HEADING, S_FINAL_PITCH, S_FINAL_ROLL,
-                                       S_FINAL_X, S_FINAL_Y, S_HEIGHT_PROUD, S_IMPACT_ANGLE,
-                                       S_IMPACT_PITCH, S_IMPACT_SPEED, S_IMPACT_TIME, S_MAX_DECEL,
-                                       S_N_STEPS, S_PENETRATION, S_TOTAL_TIME)
+from mineburial.kernels.integrators import (
+    N_STAGES,
+    dense_state,
+    dopri_dense,
+    dopri_solution,
+    dopri_stage_state,
+    error_norm,
+    hermite_dense,
+    illinois_next,
+    illinois_update,
+    next_step_size,
+)
+from mineburial.kernels.layout import (
+    I_WORK_FLUID,
+    I_WORK_SEDIMENT,
+    INTEGRATOR_NAMES,
+    N_DIAG,
+    N_EXT,
+    N_PARAMS,
+    N_SUMMARY,
+    N_WORK,
+    P_ATOL,
+    P_CHI,
+    P_DEPTH,
+    P_DIAMETER,
+    P_DT,
+    P_INTEGRATOR,
+    P_LENGTH,
+    P_MASS,
+    P_OM10,
+    P_OM20,
+    P_OM30,
+    P_Q00,
+    P_Q10,
+    P_Q20,
+    P_Q30,
+    P_REST_SPEED,
+    P_REST_SPIN,
+    P_RHO_WATER,
+    P_RTOL,
+    P_SED_QUADRATURE,
+    P_TMAX,
+    P_U0,
+    P_V0,
+    P_W0,
+    P_X0,
+    P_Y0,
+    P_Z0,
+    S_BURIAL_AREA,
+    S_BURIAL_HEIGHT,
+    S_BURIAL_VOLUME,
+    S_COM_DEPTH,
+    S_ENTRY_TIME,
+    S_FINAL_HEADING,
+    S_FINAL_PITCH,
+    S_FINAL_ROLL,
+    S_FINAL_X,
+    S_FINAL_Y,
+    S_HEIGHT_PROUD,
+    S_IMPACT_ANGLE,
+    S_IMPACT_PITCH,
+    S_IMPACT_SPEED,
+    S_IMPACT_TIME,
+    S_MAX_DECEL,
+    S_N_STEPS,
+    S_PENETRATION,
+    S_TOTAL_TIME,
+)
 from mineburial.kernels.rest import held_by_sediment
-from mineburial.kernels.rotation import (euler_angles, normalize_quaternion, quaternion_multiply,
-                                         rotation_matrix, rotation_vector_quaternion)
+from mineburial.kernels.rotation import (
+    euler_angles,
+    normalize_quaternion,
+    quaternion_multiply,
+    rotation_matrix,
+    rotation_vector_quaternion,
+)
 from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
 
 INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
@@ -72,17 +129,17 @@ INTEGRATOR_DOPRI5 = INTEGRATOR_NAMES.index("dopri5")
 
 #: vector groups of the error norm: position, velocity, attitude quaternion, angular velocity
 ERROR_GROUPS = ((0, 3), (3, 6), (6, 10), (10, 13))
-N_EVENTS = 5                  # 4 interfaces + the rest measure
+N_EVENTS = 5  # 4 interfaces + the rest measure
 EVENT_REST = 4
 MAX_STEPS = 50_000_000
-EVENT_TOLERANCE = 1e-12       # fraction of a step: events are located to this accuracy
+EVENT_TOLERANCE = 1e-12  # fraction of a step: events are located to this accuracy
 MAX_EVENT_ITERATIONS = 60
-REDO_MARGIN = 1e-6            # a step ending at an interface is retaken 1e-6 of a step past it
-MAX_REDO = 2                  # at most this many retakes per accepted step
-MIN_REDO_STEP = 1e-9          # s: a crossing closer than this to the step's start is cut, not retaken
-DOMAIN_RADIUS = 1e5           # m: a drop that drifts further has left the domain
-MAX_STEP = 0.5                # s: largest adaptive step (events are detected per step)
-MIN_STEP = 1e-12              # s: an adaptive step below this is a numerical failure
+REDO_MARGIN = 1e-6  # a step ending at an interface is retaken 1e-6 of a step past it
+MAX_REDO = 2  # at most this many retakes per accepted step
+MIN_REDO_STEP = 1e-9  # s: a crossing closer than this to the step's start is cut, not retaken
+DOMAIN_RADIUS = 1e5  # m: a drop that drifts further has left the domain
+MAX_STEP = 0.5  # s: largest adaptive step (events are detected per step)
+MIN_STEP = 1e-12  # s: an adaptive step below this is a numerical failure
 
 
 @kernel
@@ -121,7 +178,7 @@ def event_values(y, p, g):
     L = p[P_LENGTH]
     R = 0.5 * p[P_DIAMETER]
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
-    a_z = 2.0 * (y[7] * y[9] - y[6] * y[8]) / (qn * qn)   # R[2,0] = i_M . k
+    a_z = 2.0 * (y[7] * y[9] - y[6] * y[8]) / (qn * qn)  # R[2,0] = i_M . k
     lo, hi = vertical_extent(L, R, p[P_CHI], a_z, y[2])
     depth = p[P_DEPTH]
     g[0] = lo
@@ -182,7 +239,7 @@ def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp,
     n = y.shape[0]
     # velocity slots: u v w (E-frame) and omega1..3 (body)
     for s in range(6):
-        i = 3 + s if s < 3 else 7 + s   # 3,4,5,10,11,12
+        i = 3 + s if s < 3 else 7 + s  # 3,4,5,10,11,12
         h = 1e-6 * max(1.0, abs(y[i]))
         for j in range(n):
             ytmp[j] = y[j]
@@ -195,9 +252,9 @@ def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp,
         vnew, integral = _exact_linear(y[i], d, beta, dt)
         out[i] = vnew
         if s < 3:
-            out[s] = y[s] + integral        # eq. (86)
+            out[s] = y[s] + integral  # eq. (86)
         else:
-            k3[s - 3] = integral            # rotation-angle increments, eq. (87)
+            k3[s - 3] = integral  # rotation-angle increments, eq. (87)
     q0, q1, q2, q3 = rotation_vector_quaternion(k3[0], k3[1], k3[2])
     a0, a1, a2, a3 = quaternion_multiply(y[6], y[7], y[8], y[9], q0, q1, q2, q3)
     a0, a1, a2, a3 = normalize_quaternion(a0, a1, a2, a3)
@@ -275,36 +332,36 @@ def reference_paths(params):
     then all are compiled and chosen per drop by its parameters.
     """
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
-    uses_reference = ((params[:, P_INTEGRATOR] != INTEGRATOR_DOPRI5)
-                      | (params[:, P_SED_QUADRATURE] != QUADRATURE_FAST))
+    uses_reference = (params[:, P_INTEGRATOR] != INTEGRATOR_DOPRI5) | (
+        params[:, P_SED_QUADRATURE] != QUADRATURE_FAST
+    )
     return True if np.any(uses_reference) else None
 
 
-def _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp,
-                diag, out):
+def _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
     """One step of a fixed-step reference integrator (``rk4``, ``local_linear``); compiled
     through the overload below only when ``reference_paths`` is not ``None``."""
     raise NotImplementedError("compiled code only")
 
 
 @overload(_fixed_step, jit_options=JIT_OPTIONS)
-def _fixed_step_impl(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp,
-                     diag, out):
+def _fixed_step_impl(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
     if isinstance(reference_paths, (types.NoneType, types.Omitted)):
-        def not_compiled(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k,
-                         ytmp, diag, out):
+
+        def not_compiled(
+            reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out
+        ):
             # never reached: reference_paths() is True whenever a drop asks for these
             out[:] = np.nan
+
         return not_compiled
 
-    def step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag,
-             out):
+    def step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
         if integrator == INTEGRATOR_LOCAL_LINEAR:
-            local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp,
-                              diag, out)
+            local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp, diag, out)
         else:
-            rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp, diag,
-                     out)
+            rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp, diag, out)
+
     return step
 
 
@@ -352,8 +409,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     t = 0.0
     next_record = 0.0
     status = st.TIME_LIMIT
-    h_adapt = p[P_DT]           # next trial step of dopri5 (its first: numerics.dt)
-    h_cap = math.inf            # cap of the next step (a step taken again to end at an interface)
+    h_adapt = p[P_DT]  # next trial step of dopri5 (its first: numerics.dt)
+    h_cap = math.inf  # cap of the next step (a step taken again to end at an interface)
     redo = 0
     err_prev = 1e-4
     accepted_before = True
@@ -392,8 +449,9 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             h_adapt = h_next
         else:
             h = min(p[P_DT], t_max - t, h_cap)
-            _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k,
-                        ytmp, diag, ynew)
+            _fixed_step(
+                reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew
+            )
             derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
             hermite_dense(y, ynew, k[0], k[6], h, r)
         event_values(ynew, p, g1)
@@ -412,8 +470,13 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             if th < theta:
                 theta = th
                 first = e
-        if (first >= 0 and first < EVENT_REST and theta < 1.0 - REDO_MARGIN and redo < MAX_REDO
-                and theta * h > MIN_REDO_STEP):
+        if (
+            first >= 0
+            and first < EVENT_REST
+            and theta < 1.0 - REDO_MARGIN
+            and redo < MAX_REDO
+            and theta * h > MIN_REDO_STEP
+        ):
             # an interface inside the step: the step's continuous extension has seen the
             # forces beyond it; take the step again, ending just past the located crossing,
             # so that the state at the interface comes from the forces before it

@@ -38,17 +38,27 @@ from mineburial.io import variables as V
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 
-__all__ = ["ComparisonError", "SHORT_NAMES", "parse_vary", "run_comparison",
-           "comparison_table", "plot_comparison", "run_compare_cli"]
+__all__ = [
+    "ComparisonError",
+    "SHORT_NAMES",
+    "parse_vary",
+    "run_comparison",
+    "comparison_table",
+    "plot_comparison",
+    "run_compare_cli",
+]
 
 #: Short names accepted by ``--vary`` for the model choices.
-SHORT_NAMES = {"model": "numerics.model", "resistance": "sediment.resistance",
-               "rate_law": "sediment.rate_law", "integrator": "numerics.integrator",
-               "sediment_quadrature": "numerics.sediment_quadrature"}
+SHORT_NAMES = {
+    "model": "numerics.model",
+    "resistance": "sediment.resistance",
+    "rate_law": "sediment.rate_law",
+    "integrator": "numerics.integrator",
+    "sediment_quadrature": "numerics.sediment_quadrature",
+}
 
 #: Outputs whose statistics are compared.
-OUTPUTS = ("penetration_depth", "burial_volume", "burial_height", "burial_area",
-           "height_proud")
+OUTPUTS = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
 #: Per-drop outputs stored for every variant.
 PER_DROP = ("penetration_depth", "burial_volume")
 
@@ -81,8 +91,10 @@ def parse_vary(text: str):
     ``release.z``) or one of :data:`SHORT_NAMES` (``model``, ``resistance``, ``rate_law``).
     """
     if not isinstance(text, str) or "=" not in text:
-        raise ComparisonError(f"--vary {text!r}: expected FIELD=A,B,... (for example "
-                              f"sediment.resistance=bearing,friction,delta)")
+        raise ComparisonError(
+            f"--vary {text!r}: expected FIELD=A,B,... (for example "
+            f"sediment.resistance=bearing,friction,delta)"
+        )
     field, _, values = text.partition("=")
     field = SHORT_NAMES.get(field.strip(), field.strip())
     vals = [_value(v) for v in values.split(",") if v.strip()]
@@ -115,8 +127,7 @@ def _set_field(raw: dict, location: str, value) -> None:
         key, idx = last[:-1].split("[")
         seq = node.get(key)
         if not isinstance(seq, list) or not int(idx) < len(seq):
-            raise ComparisonError(f"--vary {location}: the scenario has no list '{key}' with "
-                                  f"an entry {idx}")
+            raise ComparisonError(f"--vary {location}: the scenario has no list '{key}' with an entry {idx}")
         seq[int(idx)] = value
     else:
         node[last] = value
@@ -126,14 +137,21 @@ def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: in
     raw = copy.deepcopy(base.raw)
     _set_field(raw, _location(field), value)
     try:
-        spec = engine.load_ensemble(raw, n=n, seed=seed, sampling=base.sampling,
-                                    chunk_size=base.chunk_size, class_basis=base.class_basis,
-                                    per_drop=False)
+        spec = engine.load_ensemble(
+            raw,
+            n=n,
+            seed=seed,
+            sampling=base.sampling,
+            chunk_size=base.chunk_size,
+            class_basis=base.class_basis,
+            per_drop=False,
+        )
     except cfg.ScenarioError as exc:
         raise ComparisonError(f"--vary {field}={value!r}: {exc}") from None
     if set(spec.random) != set(base.random):
-        raise ComparisonError(f"--vary {field}={value!r} changes which inputs are random; "
-                              f"compare varies fixed fields only")
+        raise ComparisonError(
+            f"--vary {field}={value!r} changes which inputs are random; compare varies fixed fields only"
+        )
     return spec
 
 
@@ -159,10 +177,18 @@ def _differs(a, b):
 # ---------------------------------------------------------------------------
 # the comparison
 # ---------------------------------------------------------------------------
-def run_comparison(scenario=None, field: str = "sediment.resistance", values=None, *,
-                   n: int | None = None, seed: int | None = None, sampling: str | None = None,
-                   threads: int | None = None, progress: bool = False,
-                   confidence_level: float = 0.95) -> xr.Dataset:
+def run_comparison(
+    scenario=None,
+    field: str = "sediment.resistance",
+    values=None,
+    *,
+    n: int | None = None,
+    seed: int | None = None,
+    sampling: str | None = None,
+    threads: int | None = None,
+    progress: bool = False,
+    confidence_level: float = 0.95,
+) -> xr.Dataset:
     """Run the same sampled drops under ``field = value`` for each of ``values``.
 
     Returns a Dataset with a ``variant`` dimension (statistics per variant, paired
@@ -180,14 +206,14 @@ def run_comparison(scenario=None, field: str = "sediment.resistance", values=Non
     if values is None or len(values) < 2:
         raise ComparisonError("compare needs at least two values of the varied field")
     if field.startswith("ensemble."):
-        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied "
-                              f"(use -n and --seed)")
+        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
     base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
     loc = _location(field)
     if field in base.random or loc in base.random:
         raise ComparisonError(
             f"--vary {field}: this input is random in the scenario (a distribution); compare "
-            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}")
+            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}"
+        )
     if base.sampling == "sobol":
         check_drop_count(base.n, "sobol")
     if threads is not None:
@@ -218,13 +244,16 @@ def run_comparison(scenario=None, field: str = "sediment.resistance", values=Non
                     inputs_all.setdefault(key, []).append(val)
             else:
                 if inputs.keys() != inputs0.keys() or not all(
-                        np.array_equal(inputs[key], inputs0[key]) for key in inputs):
+                    np.array_equal(inputs[key], inputs0[key]) for key in inputs
+                ):
                     raise RuntimeError("sampled inputs differ between variants")
                 cols = set(np.flatnonzero(_differs(P, rows0).any(axis=0)).tolist())
                 if not cols <= allowed[k]:
                     bad = [layout.PARAM_NAMES[i] for i in sorted(cols - allowed[k])]
-                    raise RuntimeError(f"variant {values[k]!r} changed parameters other than "
-                                       f"the varied field's: {', '.join(bad)}")
+                    raise RuntimeError(
+                        f"variant {values[k]!r} changed parameters other than "
+                        f"the varied field's: {', '.join(bad)}"
+                    )
                 changed[k] |= cols
             summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
             summaries[k].append(summary)
@@ -236,22 +265,23 @@ def run_comparison(scenario=None, field: str = "sediment.resistance", values=Non
     summaries = [np.concatenate(x) for x in summaries]
     statuses = [np.concatenate(x) for x in statuses]
     inputs = {k: np.concatenate(v) for k, v in inputs_all.items()}
-    ds = _assemble(base, field, values, summaries, statuses, inputs, changed,
-                   confidence_level)
-    ds.attrs.update({
-        "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
-                 + ", ".join(str(v) for v in values),
-        "varied_field": field,
-        "scenario": json.dumps(base.resolved(), default=str),
-        "random_seed": str(base.seed),
-        "sampling_method": base.sampling,
-        "n_drops": np.int64(base.n),
-        "mineburial_version": __version__,
-        "inputs_identical_across_variants": "yes (checked chunk by chunk: the same sampled "
-                                            "inputs, and only the varied field's parameter "
-                                            "slots differ)",
-        "elapsed_seconds": float(elapsed),
-    })
+    ds = _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level)
+    ds.attrs.update(
+        {
+            "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
+            + ", ".join(str(v) for v in values),
+            "varied_field": field,
+            "scenario": json.dumps(base.resolved(), default=str),
+            "random_seed": str(base.seed),
+            "sampling_method": base.sampling,
+            "n_drops": np.int64(base.n),
+            "mineburial_version": __version__,
+            "inputs_identical_across_variants": "yes (checked chunk by chunk: the same sampled "
+            "inputs, and only the varied field's parameter "
+            "slots differ)",
+            "elapsed_seconds": float(elapsed),
+        }
+    )
     return ds
 
 
@@ -260,8 +290,13 @@ def _assemble(base, field, values, summaries, statuses, inputs, changed, confide
     labels = [str(v) for v in values]
     per_variant = []
     for k in range(len(values)):
-        stats = burial_statistics(summaries[k], statuses[k], class_basis=base.class_basis,
-                                  outputs=OUTPUTS, confidence_level=confidence_level)
+        stats = burial_statistics(
+            summaries[k],
+            statuses[k],
+            class_basis=base.class_basis,
+            outputs=OUTPUTS,
+            confidence_level=confidence_level,
+        )
         drop = [v for v in stats.variables if v.endswith(("_bin", "_bin_bounds", "_histogram"))]
         stats = stats.drop_vars(drop)
         for name in OUTPUTS:
@@ -271,22 +306,33 @@ def _assemble(base, field, values, summaries, statuses, inputs, changed, confide
             stats[f"{name}_mean_upper"] = mean + z * se
         stats["n_in_statistics"] = np.int64(stats.attrs["n_in_statistics"])
         per_variant.append(stats)
-    ds = xr.concat(per_variant, dim="variant", coords="minimal", compat="override",
-                   combine_attrs="drop_conflicts", data_vars="all")
-    for name in ("quantile", "impact_burial_class", "status_code",
-                 "burial_class_lower_percent", "burial_class_upper_percent"):
+    ds = xr.concat(
+        per_variant,
+        dim="variant",
+        coords="minimal",
+        compat="override",
+        combine_attrs="drop_conflicts",
+        data_vars="all",
+    )
+    for name in (
+        "quantile",
+        "impact_burial_class",
+        "status_code",
+        "burial_class_lower_percent",
+        "burial_class_upper_percent",
+    ):
         if name in ds and "variant" in ds[name].dims:
             ds[name] = ds[name].isel(variant=0, drop=True)
-    ds = ds.assign_coords(variant=("variant", np.array(labels, dtype=object),
-                                   {"long_name": f"value of {field}"}))
+    ds = ds.assign_coords(
+        variant=("variant", np.array(labels, dtype=object), {"long_name": f"value of {field}"})
+    )
     # paired differences to the first variant over drops in the statistics of both
     used = [np.isin(s, st.IN_STATISTICS) for s in statuses]
     for name in ("penetration_depth", "burial_volume"):
         col = layout.SUMMARY_INDEX[name]
         diff, lo, hi, npair = [], [], [], []
         for k in range(len(values)):
-            both = used[0] & used[k] & np.isfinite(summaries[0][:, col]) \
-                & np.isfinite(summaries[k][:, col])
+            both = used[0] & used[k] & np.isfinite(summaries[0][:, col]) & np.isfinite(summaries[k][:, col])
             d = summaries[k][both, col] - summaries[0][both, col]
             m = d.mean() if d.size else np.nan
             se = d.std(ddof=1) / math.sqrt(d.size) if d.size > 1 else np.nan
@@ -295,37 +341,69 @@ def _assemble(base, field, values, summaries, statuses, inputs, changed, confide
             hi.append(m + z * se)
             npair.append(d.size)
         units = "m" if name == "penetration_depth" else "percent"
-        ds[f"{name}_mean_difference"] = ("variant", np.array(diff), {
-            "units": units, "long_name": f"mean paired difference of {name} to variant "
-                                         f"{labels[0]} (same drops)"})
-        ds[f"{name}_mean_difference_lower"] = ("variant", np.array(lo), {
-            "units": units, "long_name": f"lower {confidence_level:.0%} bound of the paired "
-                                         f"difference (normal approximation)"})
-        ds[f"{name}_mean_difference_upper"] = ("variant", np.array(hi), {
-            "units": units, "long_name": f"upper {confidence_level:.0%} bound of the paired "
-                                         f"difference (normal approximation)"})
-        ds[f"{name}_n_paired"] = ("variant", np.array(npair, dtype=np.int64), {
-            "units": "1", "long_name": "drops in the statistics of this and the first variant"})
+        ds[f"{name}_mean_difference"] = (
+            "variant",
+            np.array(diff),
+            {
+                "units": units,
+                "long_name": f"mean paired difference of {name} to variant {labels[0]} (same drops)",
+            },
+        )
+        ds[f"{name}_mean_difference_lower"] = (
+            "variant",
+            np.array(lo),
+            {
+                "units": units,
+                "long_name": f"lower {confidence_level:.0%} bound of the paired "
+                f"difference (normal approximation)",
+            },
+        )
+        ds[f"{name}_mean_difference_upper"] = (
+            "variant",
+            np.array(hi),
+            {
+                "units": units,
+                "long_name": f"upper {confidence_level:.0%} bound of the paired "
+                f"difference (normal approximation)",
+            },
+        )
+        ds[f"{name}_n_paired"] = (
+            "variant",
+            np.array(npair, dtype=np.int64),
+            {"units": "1", "long_name": "drops in the statistics of this and the first variant"},
+        )
     # per-drop values, and the sampled inputs once
     n = summaries[0].shape[0]
     for name in PER_DROP:
         col = layout.SUMMARY_INDEX[name]
-        ds[f"drop_{name}"] = (("variant", "realization"),
-                              np.stack([s[:, col] for s in summaries]),
-                              {"units": "m" if name == "penetration_depth" else "percent",
-                               "long_name": f"{name} of each drop"})
-    ds["drop_status"] = (("variant", "realization"), np.stack(statuses).astype(np.int8), {
-        "long_name": "drop status", "flag_values": np.arange(len(st.NAMES), dtype=np.int8),
-        "flag_meanings": " ".join(st.NAMES)})
-    ds = ds.assign_coords(realization=("realization", np.arange(n, dtype=np.int64),
-                                       {"long_name": "drop index"}))
+        ds[f"drop_{name}"] = (
+            ("variant", "realization"),
+            np.stack([s[:, col] for s in summaries]),
+            {"units": "m" if name == "penetration_depth" else "percent", "long_name": f"{name} of each drop"},
+        )
+    ds["drop_status"] = (
+        ("variant", "realization"),
+        np.stack(statuses).astype(np.int8),
+        {
+            "long_name": "drop status",
+            "flag_values": np.arange(len(st.NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(st.NAMES),
+        },
+    )
+    ds = ds.assign_coords(
+        realization=("realization", np.arange(n, dtype=np.int64), {"long_name": "drop index"})
+    )
     for path, vals in inputs.items():
         ds[V.input_variable_name(path)] = (
-            "realization", vals, {"long_name": f"sampled {path} (the same for every variant)",
-                                  "scenario_path": path})
-    ds["changed_parameters"] = ("variant", np.array(
-        [" ".join(layout.PARAM_NAMES[i] for i in sorted(c)) for c in changed], dtype=object),
-        {"long_name": "packed parameter slots that differ from the first variant"})
+            "realization",
+            vals,
+            {"long_name": f"sampled {path} (the same for every variant)", "scenario_path": path},
+        )
+    ds["changed_parameters"] = (
+        "variant",
+        np.array([" ".join(layout.PARAM_NAMES[i] for i in sorted(c)) for c in changed], dtype=object),
+        {"long_name": "packed parameter slots that differ from the first variant"},
+    )
     return ds
 
 
@@ -346,33 +424,44 @@ def comparison_table(ds: xr.Dataset) -> str:
 
     def ci(name, fmt, k):
         m = float(ds[f"{name}_mean"][k])
-        return (f"{m:{fmt}} [{float(ds[f'{name}_mean_lower'][k]):{fmt}}, "
-                f"{float(ds[f'{name}_mean_upper'][k]):{fmt}}]")
+        return (
+            f"{m:{fmt}} [{float(ds[f'{name}_mean_lower'][k]):{fmt}}, "
+            f"{float(ds[f'{name}_mean_upper'][k]):{fmt}}]"
+        )
 
     def diff(name, fmt, k):
         if k == 0:
             return "(reference)"
-        return (f"{float(ds[f'{name}_mean_difference'][k]):+{fmt}} "
-                f"[{float(ds[f'{name}_mean_difference_lower'][k]):+{fmt}}, "
-                f"{float(ds[f'{name}_mean_difference_upper'][k]):+{fmt}}]")
+        return (
+            f"{float(ds[f'{name}_mean_difference'][k]):+{fmt}} "
+            f"[{float(ds[f'{name}_mean_difference_lower'][k]):+{fmt}}, "
+            f"{float(ds[f'{name}_mean_difference_upper'][k]):+{fmt}}]"
+        )
 
     def quant(name, fmt, k):
         q = ds[f"{name}_quantile"][k].sel(quantile=[0.05, 0.5, 0.95]).values
         return " / ".join(f"{x:{fmt}}" for x in q)
 
     nv = len(labels)
-    for name, label, fmt in (("burial_volume", "burial by volume, %", ".1f"),
-                             ("penetration_depth", "penetration, m", ".3f")):
+    for name, label, fmt in (
+        ("burial_volume", "burial by volume, %", ".1f"),
+        ("penetration_depth", "penetration, m", ".3f"),
+    ):
         rows.append((f"{label}: mean [95 % CI]", [ci(name, fmt, k) for k in range(nv)]))
         rows.append((f"{label}: 5 / 50 / 95 % quantiles", [quant(name, fmt, k) for k in range(nv)]))
-        rows.append((f"{label}: paired difference to {labels[0]} [95 % CI]",
-                     [diff(name, fmt, k) for k in range(nv)]))
+        rows.append(
+            (f"{label}: paired difference to {labels[0]} [95 % CI]", [diff(name, fmt, k) for k in range(nv)])
+        )
     p = ds.burial_class_probability.values
     lo = ds.burial_class_probability_lower.values
     hi = ds.burial_class_probability_upper.values
     for c, cname in enumerate(_CLASS_NAMES):
-        rows.append((f"P(burial class {cname}) [95 % Wilson]",
-                     [f"{p[k, c]:.3f} [{lo[k, c]:.3f}, {hi[k, c]:.3f}]" for k in range(nv)]))
+        rows.append(
+            (
+                f"P(burial class {cname}) [95 % Wilson]",
+                [f"{p[k, c]:.3f} [{lo[k, c]:.3f}, {hi[k, c]:.3f}]" for k in range(nv)],
+            )
+        )
     head = f"| {ds.attrs.get('varied_field', 'variant')} | " + " | ".join(labels) + " |"
     sep = "|---|" + "---|" * nv
     body = [f"| {r} | " + " | ".join(v) + " |" for r, v in rows]
@@ -384,9 +473,11 @@ def _pyplot():
         import matplotlib
     except ImportError:
         from mineburial.config import ScenarioError
+
         raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -399,13 +490,16 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
     nv = len(labels)
     x = np.arange(nv)
     fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), gridspec_kw={"width_ratios": [1, 1, 2]})
-    for ax, name, ylabel in ((axes[0], "burial_volume", "mean burial by volume (%)"),
-                             (axes[1], "penetration_depth", "mean penetration (m)")):
+    for ax, name, ylabel in (
+        (axes[0], "burial_volume", "mean burial by volume (%)"),
+        (axes[1], "penetration_depth", "mean penetration (m)"),
+    ):
         m = ds[f"{name}_mean"].values
         # clipped: a constant output (every drop 100 % buried) has bounds equal to the mean
         # up to rounding, and matplotlib refuses negative error bars
-        err = np.clip(np.vstack([m - ds[f"{name}_mean_lower"].values,
-                                 ds[f"{name}_mean_upper"].values - m]), 0.0, None)
+        err = np.clip(
+            np.vstack([m - ds[f"{name}_mean_lower"].values, ds[f"{name}_mean_upper"].values - m]), 0.0, None
+        )
         ax.bar(x, m, yerr=err, capsize=4, color="C0")
         q = ds[f"{name}_quantile"].sel(quantile=[0.05, 0.95]).values
         ax.plot(np.repeat(x, 2).reshape(-1, 2).T, q.T, "k_", ms=14)
@@ -419,15 +513,23 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
     w = 0.8 / nv
     for k in range(nv):
         xc = np.arange(5) + (k - (nv - 1) / 2) * w
-        ax.bar(xc, p[k], w, yerr=np.clip(np.vstack([p[k] - lo[k], hi[k] - p[k]]), 0.0, None),
-               capsize=3,
-               label=labels[k])
+        ax.bar(
+            xc,
+            p[k],
+            w,
+            yerr=np.clip(np.vstack([p[k] - lo[k], hi[k] - p[k]]), 0.0, None),
+            capsize=3,
+            label=labels[k],
+        )
     ax.set_xticks(np.arange(5), _CLASS_NAMES)
     ax.set_xlabel(f"impact-burial class ({ds.attrs.get('burial_class_basis', 'burial_volume')})")
     ax.set_ylabel("probability (95 % Wilson interval)")
     ax.legend(title=ds.attrs.get("varied_field", ""), fontsize=8)
-    fig.suptitle(ds.attrs.get("title", "mineburial comparison") + f" ({int(ds.attrs['n_drops'])} "
-                 "drops, the same sampled inputs)", fontsize=10)
+    fig.suptitle(
+        ds.attrs.get("title", "mineburial comparison") + f" ({int(ds.attrs['n_drops'])} "
+        "drops, the same sampled inputs)",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -438,11 +540,20 @@ def run_compare_cli(args) -> int:
     from mineburial.io.netcdf import write_netcdf
 
     field, values = parse_vary(args.vary)
-    ds = run_comparison(args.scenario, field, values, n=args.drops, seed=args.seed,
-                        threads=args.threads, progress=not args.quiet)
+    ds = run_comparison(
+        args.scenario,
+        field,
+        values,
+        n=args.drops,
+        seed=args.seed,
+        threads=args.threads,
+        progress=not args.quiet,
+    )
     print(ds.attrs["title"])
-    print(f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
-          f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s")
+    print(
+        f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
+        f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
+    )
     print(comparison_table(ds))
     if args.output:
         write_netcdf(_for_netcdf(ds), args.output)

@@ -15,9 +15,15 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-__all__ = ["broadside_drag_coefficient", "axial_drag_coefficient", "terminal_velocity_broadside",
-           "terminal_velocity_axial", "archimedes_penetration", "axial_penetration",
-           "work_energy_residual"]
+__all__ = [
+    "broadside_drag_coefficient",
+    "axial_drag_coefficient",
+    "terminal_velocity_broadside",
+    "terminal_velocity_axial",
+    "archimedes_penetration",
+    "axial_penetration",
+    "work_energy_residual",
+]
 
 
 def broadside_drag_coefficient(length: float, diameter: float) -> float:
@@ -32,7 +38,7 @@ def broadside_drag_coefficient(length: float, diameter: float) -> float:
 def axial_drag_coefficient(length: float, diameter: float) -> float:
     """C_d1 of seed 000 eq. (40): 0.75 + delta/32.1934 + 0.09612/delta^2, delta = L/d."""
     delta = length / diameter
-    return 0.75 + delta / 32.1934 + 0.09612 / delta ** 2
+    return 0.75 + delta / 32.1934 + 0.09612 / delta**2
 
 
 def terminal_velocity_broadside(mass, length, diameter, water_density, gravity, viscosity):
@@ -41,8 +47,7 @@ def terminal_velocity_broadside(mass, length, diameter, water_density, gravity, 
     v d / nu is outside the branch of C_d2 used."""
     vol = math.pi * (diameter / 2) ** 2 * length
     cd2 = broadside_drag_coefficient(length, diameter)
-    v = math.sqrt((mass - water_density * vol) * gravity
-                  / (0.5 * water_density * cd2 * diameter * length))
+    v = math.sqrt((mass - water_density * vol) * gravity / (0.5 * water_density * cd2 * diameter * length))
     re = v * diameter / viscosity
     if not 12_000 < re <= 150_000:
         raise ValueError(f"Re = {re:.0f} is outside the branch 12 000 < Re <= 150 000 of eq. (44)")
@@ -74,9 +79,23 @@ def archimedes_penetration(length, diameter, mine_density, sediment_density, wat
     return brentq(lambda h: length * segment(h) - v_emb, 0.0, diameter, xtol=1e-14, rtol=1e-14)
 
 
-def axial_penetration(*, mass, length, diameter, impact_speed, strength, strength_gradient,
-                      sediment_density, water_density, gravity, bearing_factor,
-                      rate_coefficient, reference_rate, switch_speed, rest_speed):
+def axial_penetration(
+    *,
+    mass,
+    length,
+    diameter,
+    impact_speed,
+    strength,
+    strength_gradient,
+    sediment_density,
+    water_density,
+    gravity,
+    bearing_factor,
+    rate_coefficient,
+    reference_rate,
+    switch_speed,
+    rest_speed,
+):
     """Final penetration (m) of a vertical cylinder entering the seabed nose first at
     ``impact_speed`` (m/s, > 0 downwards), from ``solve_ivp`` on the ``bearing`` law written
     for this case (docs/notes/sediment.md), with no fluid drag and no side friction:
@@ -98,8 +117,8 @@ def axial_penetration(*, mass, length, diameter, impact_speed, strength, strengt
     def rhs(t, y):
         zeta, v = y
         emb = min(max(zeta, 0.0), L)
-        nc = bearing_factor * (1.0 + 0.4 * math.atan(zeta / d))      # Brinch Hansen depth factor
-        h = v / math.sqrt(v * v + switch_speed ** 2) if v > 0 else 0.0
+        nc = bearing_factor * (1.0 + 0.4 * math.atan(zeta / d))  # Brinch Hansen depth factor
+        h = v / math.sqrt(v * v + switch_speed**2) if v > 0 else 0.0
         bearing = nc * (strength + strength_gradient * zeta) * g_rate(v) * area * h
         overburden = (sediment_density - water_density) * gravity * area * emb
         m_eff = mass + water_density * area * (L - emb)
@@ -107,10 +126,12 @@ def axial_penetration(*, mass, length, diameter, impact_speed, strength, strengt
 
     def stopped(t, y):
         return y[1] - rest_speed
+
     stopped.terminal = True
     stopped.direction = -1
-    sol = solve_ivp(rhs, (0.0, 10.0), [0.0, impact_speed], events=stopped, rtol=1e-10,
-                    atol=1e-12, max_step=1e-3)
+    sol = solve_ivp(
+        rhs, (0.0, 10.0), [0.0, impact_speed], events=stopped, rtol=1e-10, atol=1e-12, max_step=1e-3
+    )
     if sol.status != 1:
         raise RuntimeError("the 1-D reference did not come to rest within 10 s")
     return float(sol.y[0, -1])
@@ -121,11 +142,13 @@ def work_energy_residual(ds, mass, inertia_axial, inertia_transverse, gravity):
     ``(E1 - E0 - W, scale)`` with E = kinetic + m g z and W the work of the fluid and
     sediment forces recorded by the drop (``work_fluid``, ``work_sediment``); ``scale`` is
     the initial kinetic energy plus the potential energy released."""
+
     def kinetic(k):
         v = np.array([float(ds[c][k]) for c in ("u", "v", "w")])
         w = np.array([float(ds[c][k]) for c in ("omega1", "omega2", "omega3")])
-        return 0.5 * mass * v @ v + 0.5 * (inertia_axial * w[0] ** 2
-                                           + inertia_transverse * (w[1] ** 2 + w[2] ** 2))
+        return 0.5 * mass * v @ v + 0.5 * (
+            inertia_axial * w[0] ** 2 + inertia_transverse * (w[1] ** 2 + w[2] ** 2)
+        )
 
     e0 = kinetic(0) + mass * gravity * float(ds.z[0])
     e1 = kinetic(-1) + mass * gravity * float(ds.z[-1])

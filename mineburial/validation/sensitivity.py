@@ -40,12 +40,19 @@ from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 
-__all__ = ["sobol_analysis", "run_sensitivity", "sensitivity_table", "plot_sensitivity",
-           "ranking", "run_sensitivity_cli", "OUTPUTS"]
+__all__ = [
+    "sobol_analysis",
+    "run_sensitivity",
+    "sensitivity_table",
+    "plot_sensitivity",
+    "ranking",
+    "run_sensitivity_cli",
+    "OUTPUTS",
+]
 
 #: Outputs whose indices are computed.
 OUTPUTS = ("penetration_depth", "burial_volume")
-_TINY = 2.0 ** -53
+_TINY = 2.0**-53
 
 
 class _OnUnitInterval:
@@ -62,8 +69,16 @@ class _OnUnitInterval:
         return np.asarray(self.distribution.ppf(u), dtype=np.float64)
 
 
-def sobol_analysis(func, inputs: dict, n: int, seed: int, outputs=("y",), *,
-                   confidence_level: float = 0.95, n_resamples: int = 999) -> xr.Dataset:
+def sobol_analysis(
+    func,
+    inputs: dict,
+    n: int,
+    seed: int,
+    outputs=("y",),
+    *,
+    confidence_level: float = 0.95,
+    n_resamples: int = 999,
+) -> xr.Dataset:
     """First-order and total Sobol' indices of ``func`` with bootstrap intervals.
 
     ``inputs`` maps each input's name to a distribution (an object with ``ppf``, e.g.
@@ -82,15 +97,15 @@ def sobol_analysis(func, inputs: dict, n: int, seed: int, outputs=("y",), *,
     evaluations = []
 
     def wrapped(x):
-        y = np.atleast_2d(np.asarray(func({k: x[i] for i, k in enumerate(names)}),
-                                     dtype=np.float64))
+        y = np.atleast_2d(np.asarray(func({k: x[i] for i, k in enumerate(names)}), dtype=np.float64))
         if y.shape != (len(outputs), x.shape[1]):
-            raise ValueError(f"func returned shape {y.shape}, expected "
-                             f"({len(outputs)}, {x.shape[1]})")
+            raise ValueError(f"func returned shape {y.shape}, expected ({len(outputs)}, {x.shape[1]})")
         if not np.all(np.isfinite(y)):
-            raise ValueError(f"func returned {int(np.count_nonzero(~np.isfinite(y)))} "
-                             "non-finite values; Sobol' indices need every point")
-        evaluations.append(y.copy())       # scipy centres its arrays in place
+            raise ValueError(
+                f"func returned {int(np.count_nonzero(~np.isfinite(y)))} "
+                "non-finite values; Sobol' indices need every point"
+            )
+        evaluations.append(y.copy())  # scipy centres its arrays in place
         return y
 
     res = stats.sobol_indices(func=wrapped, n=n, dists=dists, rng=np.random.default_rng(seed))
@@ -99,47 +114,81 @@ def sobol_analysis(func, inputs: dict, n: int, seed: int, outputs=("y",), *,
     f_ab = np.moveaxis(f_ab.reshape((-1, n, d)), -1, 0)
 
     def indices(idx):
-        r = stats.sobol_indices(func={"f_A": f_a[:, idx], "f_B": f_b[:, idx],
-                                      "f_AB": f_ab[..., idx]}, n=len(idx))
+        r = stats.sobol_indices(
+            func={"f_A": f_a[:, idx], "f_B": f_b[:, idx], "f_AB": f_ab[..., idx]}, n=len(idx)
+        )
         shape = (len(outputs), d)
         return np.stack([np.reshape(r.first_order, shape), np.reshape(r.total_order, shape)])
 
     point = indices(np.arange(n))
     # the same estimates to rounding (the summation order may differ)
-    same_first = np.allclose(point[0], np.reshape(res.first_order, point[0].shape), rtol=1e-9,
-                             atol=1e-12)
-    same_total = np.allclose(point[1], np.reshape(res.total_order, point[1].shape), rtol=1e-9,
-                             atol=1e-12)
+    same_first = np.allclose(point[0], np.reshape(res.first_order, point[0].shape), rtol=1e-9, atol=1e-12)
+    same_total = np.allclose(point[1], np.reshape(res.total_order, point[1].shape), rtol=1e-9, atol=1e-12)
     if not (same_first and same_total):  # pragma: no cover
-        raise RuntimeError("scipy.stats.sobol_indices arranged its evaluations differently "
-                           "from what the bootstrap assumes")
-    boot = stats.bootstrap((np.arange(n),), lambda idx: indices(idx), vectorized=False,
-                           n_resamples=n_resamples, confidence_level=confidence_level,
-                           method="percentile", rng=np.random.default_rng([seed, 1]))
+        raise RuntimeError(
+            "scipy.stats.sobol_indices arranged its evaluations differently from what the bootstrap assumes"
+        )
+    boot = stats.bootstrap(
+        (np.arange(n),),
+        lambda idx: indices(idx),
+        vectorized=False,
+        n_resamples=n_resamples,
+        confidence_level=confidence_level,
+        method="percentile",
+        rng=np.random.default_rng([seed, 1]),
+    )
     lo, hi = boot.confidence_interval
     dims = ("output", "input")
-    ci = {"confidence_level": confidence_level,
-          "interval_method": f"percentile bootstrap, {n_resamples} resamples of the design rows"}
+    ci = {
+        "confidence_level": confidence_level,
+        "interval_method": f"percentile bootstrap, {n_resamples} resamples of the design rows",
+    }
     ds = xr.Dataset(
-        {"first_order": (dims, point[0], {"long_name": "first-order Sobol' index S_i",
-                                          "estimator": "Saltelli et al. 2010"}),
-         "first_order_lower": (dims, lo[0], ci), "first_order_upper": (dims, hi[0], ci),
-         "total_order": (dims, point[1], {"long_name": "total Sobol' index S_Ti",
-                                          "estimator": "Jansen 1999"}),
-         "total_order_lower": (dims, lo[1], ci), "total_order_upper": (dims, hi[1], ci),
-         "output_variance": ("output", np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
-                             {"long_name": "variance of the output over A and B"})},
-        coords={"output": ("output", np.array(outputs, dtype=object)),
-                "input": ("input", np.array(names, dtype=object))},
-        attrs={"base_sample_size": np.int64(n), "n_evaluations": np.int64(n * (d + 2)),
-               "design_seed": str(seed), "confidence_level": confidence_level,
-               "method": "scipy.stats.sobol_indices (saltelli_2010) on a scrambled Sobol' "
-                         "design; percentile bootstrap intervals"})
+        {
+            "first_order": (
+                dims,
+                point[0],
+                {"long_name": "first-order Sobol' index S_i", "estimator": "Saltelli et al. 2010"},
+            ),
+            "first_order_lower": (dims, lo[0], ci),
+            "first_order_upper": (dims, hi[0], ci),
+            "total_order": (
+                dims,
+                point[1],
+                {"long_name": "total Sobol' index S_Ti", "estimator": "Jansen 1999"},
+            ),
+            "total_order_lower": (dims, lo[1], ci),
+            "total_order_upper": (dims, hi[1], ci),
+            "output_variance": (
+                "output",
+                np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
+                {"long_name": "variance of the output over A and B"},
+            ),
+        },
+        coords={
+            "output": ("output", np.array(outputs, dtype=object)),
+            "input": ("input", np.array(names, dtype=object)),
+        },
+        attrs={
+            "base_sample_size": np.int64(n),
+            "n_evaluations": np.int64(n * (d + 2)),
+            "design_seed": str(seed),
+            "confidence_level": confidence_level,
+            "method": "scipy.stats.sobol_indices (saltelli_2010) on a scrambled Sobol' "
+            "design; percentile bootstrap intervals",
+        },
+    )
     return ds
 
 
-def run_sensitivity(scenario=None, n: int = 256, seed: int | None = None, *,
-                    threads: int | None = None, progress: bool = False) -> xr.Dataset:
+def run_sensitivity(
+    scenario=None,
+    n: int = 256,
+    seed: int | None = None,
+    *,
+    threads: int | None = None,
+    progress: bool = False,
+) -> xr.Dataset:
     """Sobol' indices of penetration and burial by volume for every random input of an
     ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run."""
     import numba
@@ -165,8 +214,7 @@ def run_sensitivity(scenario=None, n: int = 256, seed: int | None = None, *,
             table = {}
             for k in names:
                 v = values[k][s:e]
-                table[k] = v.astype(np.int64) if getattr(spec.random[k], "categorical", False) \
-                    else v
+                table[k] = v.astype(np.int64) if getattr(spec.random[k], "categorical", False) else v
             P, valid, _ = engine.chunk_inputs(spec, 0, e - s, table=table)
             summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
             counts[:] += np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
@@ -179,14 +227,19 @@ def run_sensitivity(scenario=None, n: int = 256, seed: int | None = None, *,
     ds = sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS)
     bar.update(done[0], final=True)
     from mineburial import __version__
+
     left = int(sum(c for k, c in enumerate(counts) if k not in st.IN_STATISTICS))
-    ds.attrs.update({
-        "title": f"mineburial Sobol' sensitivity: {spec.base.mine.name}",
-        "scenario": json.dumps(spec.resolved(), default=str),
-        "random_seed": str(spec.seed), "mineburial_version": __version__,
-        "n_not_in_statistics": np.int64(left),
-        "status_counts": ", ".join(f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c),
-        "elapsed_seconds": time.monotonic() - t0})
+    ds.attrs.update(
+        {
+            "title": f"mineburial Sobol' sensitivity: {spec.base.mine.name}",
+            "scenario": json.dumps(spec.resolved(), default=str),
+            "random_seed": str(spec.seed),
+            "mineburial_version": __version__,
+            "n_not_in_statistics": np.int64(left),
+            "status_counts": ", ".join(f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c),
+            "elapsed_seconds": time.monotonic() - t0,
+        }
+    )
     return ds
 
 
@@ -205,9 +258,11 @@ def sensitivity_table(ds: xr.Dataset) -> str:
         lines.append("|---|---|---|")
         for name in ranking(ds, str(out)):
             r = ds.sel(output=out, input=name)
-            lines.append(f"| {name} | {float(r.first_order):.3f} [{float(r.first_order_lower):.3f}, "
-                         f"{float(r.first_order_upper):.3f}] | {float(r.total_order):.3f} "
-                         f"[{float(r.total_order_lower):.3f}, {float(r.total_order_upper):.3f}] |")
+            lines.append(
+                f"| {name} | {float(r.first_order):.3f} [{float(r.first_order_lower):.3f}, "
+                f"{float(r.first_order_upper):.3f}] | {float(r.total_order):.3f} "
+                f"[{float(r.total_order_lower):.3f}, {float(r.total_order_upper):.3f}] |"
+            )
     return "\n".join(lines).lstrip("\n")
 
 
@@ -216,9 +271,11 @@ def _pyplot():
         import matplotlib
     except ImportError:
         from mineburial.config import ScenarioError
+
         raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -232,19 +289,20 @@ def plot_sensitivity(ds: xr.Dataset, path) -> None:
         order = ranking(ds, out)
         r = ds.sel(output=out, input=order)
         x = np.arange(len(order))
-        for j, (key, label) in enumerate((("first_order", "first order S_i"),
-                                          ("total_order", "total S_Ti"))):
+        for j, (key, label) in enumerate((("first_order", "first order S_i"), ("total_order", "total S_Ti"))):
             v = r[key].values
             err = np.vstack([v - r[f"{key}_lower"].values, r[f"{key}_upper"].values - v])
-            ax.bar(x + (j - 0.5) * 0.4, v, 0.4, yerr=np.clip(err, 0, None), capsize=3,
-                   label=label)
+            ax.bar(x + (j - 0.5) * 0.4, v, 0.4, yerr=np.clip(err, 0, None), capsize=3, label=label)
         ax.set_xticks(x, order, rotation=35, ha="right", fontsize=8)
         ax.set_ylabel("Sobol' index (95 % bootstrap interval)")
         ax.set_title(out)
         ax.axhline(0, color="k", lw=0.5)
         ax.legend()
-    fig.suptitle(f"{ds.attrs.get('title', 'Sobol indices')} (n = {int(ds.attrs['base_sample_size'])}, "
-                 f"{int(ds.attrs['n_evaluations'])} drops)", fontsize=10)
+    fig.suptitle(
+        f"{ds.attrs.get('title', 'Sobol indices')} (n = {int(ds.attrs['base_sample_size'])}, "
+        f"{int(ds.attrs['n_evaluations'])} drops)",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -257,13 +315,16 @@ def run_sensitivity_cli(args) -> int:
 
     n = 256 if args.drops is None else args.drops
     if n < 2 or n & (n - 1):
-        raise ScenarioError(f"-n {n}: the base sample size must be a power of two >= 2 "
-                            f"(the Sobol' design); n (d + 2) drops are run")
-    ds = run_sensitivity(args.scenario, n, args.seed, threads=args.threads,
-                         progress=not args.quiet)
+        raise ScenarioError(
+            f"-n {n}: the base sample size must be a power of two >= 2 "
+            f"(the Sobol' design); n (d + 2) drops are run"
+        )
+    ds = run_sensitivity(args.scenario, n, args.seed, threads=args.threads, progress=not args.quiet)
     print(ds.attrs["title"])
-    print(f"n = {n}, {int(ds.attrs['n_evaluations'])} drops ({ds.attrs['status_counts']}), "
-          f"seed {ds.attrs['random_seed']}, {ds.attrs['elapsed_seconds']:.1f} s")
+    print(
+        f"n = {n}, {int(ds.attrs['n_evaluations'])} drops ({ds.attrs['status_counts']}), "
+        f"seed {ds.attrs['random_seed']}, {ds.attrs['elapsed_seconds']:.1f} s"
+    )
     print(sensitivity_table(ds))
     if args.output:
         out = ds.copy()

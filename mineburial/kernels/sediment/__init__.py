@@ -20,21 +20,47 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels.sediment.fast import fast_tractions
-from mineburial.kernels.sediment.laws import (DEPTH_FACTOR, LAW_PORE, LAW_QUADRATURE,
-                                              LAW_REFERENCE_PATHS, RATE_IMPACT35,
-                                              RATE_NONE, RATE_SEMILOG, RES_BEARING, RES_DELTA,
-                                              RES_FRICTION, V_REG, V_REG_N,
-                                              pack_law, rate_factor, sediment_properties)
+from mineburial.kernels.sediment.laws import (
+    DEPTH_FACTOR,
+    LAW_PORE,
+    LAW_QUADRATURE,
+    LAW_REFERENCE_PATHS,
+    RATE_IMPACT35,
+    RATE_NONE,
+    RATE_SEMILOG,
+    RES_BEARING,
+    RES_DELTA,
+    RES_FRICTION,
+    V_REG,
+    V_REG_N,
+    pack_law,
+    rate_factor,
+    sediment_properties,
+)
 from mineburial.kernels.sediment.pore import pore_pressure
 from mineburial.kernels.sediment.reference import reference_tractions
 
 QUADRATURE_FAST = 0
 QUADRATURE_REFERENCE = 1
 
-__all__ = ["sediment_tractions", "sediment_force_torque", "pack_law", "sediment_properties",
-           "rate_factor", "RES_DELTA", "RES_FRICTION", "RES_BEARING",
-           "RATE_IMPACT35", "RATE_SEMILOG", "RATE_NONE", "V_REG", "V_REG_N", "DEPTH_FACTOR",
-           "QUADRATURE_FAST", "QUADRATURE_REFERENCE"]
+__all__ = [
+    "sediment_tractions",
+    "sediment_force_torque",
+    "pack_law",
+    "sediment_properties",
+    "rate_factor",
+    "RES_DELTA",
+    "RES_FRICTION",
+    "RES_BEARING",
+    "RATE_IMPACT35",
+    "RATE_SEMILOG",
+    "RATE_NONE",
+    "V_REG",
+    "V_REG_N",
+    "DEPTH_FACTOR",
+    "QUADRATURE_FAST",
+    "QUADRATURE_REFERENCE",
+]
 
 
 def _surface_tractions(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
@@ -52,14 +78,17 @@ def _surface_tractions(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law
 @overload(_surface_tractions, jit_options=JIT_OPTIONS)
 def _surface_tractions_impl(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     if isinstance(reference_paths, (types.NoneType, types.Omitted)):
+
         def fast_only(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
             return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+
         return fast_only
 
     def by_name(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
         if law[LAW_QUADRATURE] == QUADRATURE_REFERENCE:
             return reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
         return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
+
     return by_name
 
 
@@ -96,8 +125,9 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
     w3 = omega[2]
     # velocity components at the rounding level of the others are zero (an axial motion
     # stays exactly tangential to the lateral surface, so delta = 1 holds there)
-    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3)
-                     + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    vtiny = 1e-13 * (
+        math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R)
+    )
     if abs(v1) < vtiny:
         v1 = 0.0
     if abs(v2) < vtiny:
@@ -111,15 +141,15 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
     if abs(w3) * (L + R) < vtiny:
         w3 = 0.0
     vbody = (v1, v2, v3, w1, w2, w3)
-    f1, f2, f3, m1, m2, m3 = _surface_tractions(law[LAW_REFERENCE_PATHS], L, R, chi, c20, c21,
-                                                c22, d0, vbody, law, bank)
+    f1, f2, f3, m1, m2, m3 = _surface_tractions(
+        law[LAW_REFERENCE_PATHS], L, R, chi, c20, c21, c22, d0, vbody, law, bank
+    )
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
     fz = rot[6] * f1 + rot[7] * f2 + rot[8] * f3
     added = 0.0
     if law[LAW_PORE]:
-        fpw, t2, t3, added = pore_pressure(L, R, chi, c20, c21, c22, d0, zeta_tip, vel[2], law,
-                                           bank)
+        fpw, t2, t3, added = pore_pressure(L, R, chi, c20, c21, c22, d0, zeta_tip, vel[2], law, bank)
         fz += fpw
         m2 += t2
         m3 += t3
@@ -127,8 +157,9 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
 
 
 @kernel
-def sediment_force_torque(L, R, chi, rot, com, vel, omega, seabed_z, water_density, gravity, p,
-                          sediment_bank):
+def sediment_force_torque(
+    L, R, chi, rot, com, vel, omega, seabed_z, water_density, gravity, p, sediment_bank
+):
     """:func:`sediment_tractions` with the law packed from the parameter vector ``p``
     (``water_density`` and ``gravity`` as given, for tests that vary them)."""
     law = pack_law(p, 2.0 * R)

@@ -42,8 +42,7 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
-from mineburial.kernels.sediment.laws import add_point_traction, add_weighted
-from mineburial.kernels.sediment.laws import _traction
+from mineburial.kernels.sediment.laws import _traction, add_point_traction, add_weighted
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
 #: cap (N_U), per cap chord (N_S) (the depth is constant along a chord).
@@ -146,10 +145,8 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     for i in range(N_X):
         x = mid + h * _GL_NODES[N_X, i]
         wgt = h * _GL_WEIGHTS[N_X, i]
-        g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law,
-                               bank)
-        f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y,
-                                                    z, g1, g2, g3)
+        g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law, bank)
+        f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
 
 
@@ -164,8 +161,8 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
     m2 = 0.0
     m3 = 0.0
     rp = R * math.sqrt(c21 * c21 + c22 * c22)
-    zhi = d0 - min(c20 * xa, c20 * xb)   # depth of the axis at its deeper end
-    zlo = d0 - max(c20 * xa, c20 * xb)   # ... at its shallower end
+    zhi = d0 - min(c20 * xa, c20 * xb)  # depth of the axis at its deeper end
+    zlo = d0 - max(c20 * xa, c20 * xb)  # ... at its shallower end
     # zeta = (d0 - c20 x) + rp cos(phi), phi = t - tdeep
     if rp > 0.0:
         a_any = math.acos(_clip1(-zhi / rp))
@@ -196,8 +193,20 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         q3 = _local(r3, tdeep, a_any)
     # and, so that no panel is wider than pi/2, the quarter points of the circle
     hq = min(_HALF_PI, a_any)
-    bps = (-a_all, a_all, _local(pa0, tdeep, a_any), _local(pa1, tdeep, a_any),
-           _local(pb0, tdeep, a_any), _local(pb1, tdeep, a_any), q0, q1, q2, q3, -hq, hq)
+    bps = (
+        -a_all,
+        a_all,
+        _local(pa0, tdeep, a_any),
+        _local(pa1, tdeep, a_any),
+        _local(pb0, tdeep, a_any),
+        _local(pb1, tdeep, a_any),
+        q0,
+        q1,
+        q2,
+        q3,
+        -hq,
+        hq,
+    )
     # advancing arc: union of the half-circles where v.n >= 0 at x = xa and at x = xb
     # (v.n is linear along a generator), centre dc, half-width dw
     amp_a = math.hypot(v2 + w3 * xa, v3 - w2 * xa)
@@ -230,10 +239,10 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
             for i in range(N_T):
                 t = tdeep + mid + h * _GL_NODES[N_T, i]
                 wgt = R * h * _GL_WEIGHTS[N_T, i]
-                g1, g2, g3, h1, h2, h3 = _generator(math.cos(t), math.sin(t), R, xa, xb, d0,
-                                                    c20, c21, c22, vbody, law, bank)
-                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt,
-                                                      (g1, g2, g3, h1, h2, h3))
+                g1, g2, g3, h1, h2, h3 = _generator(
+                    math.cos(t), math.sin(t), R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                )
+                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
     return f1, f2, f3, m1, m2, m3
 
@@ -307,10 +316,10 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
                 y = sv * dy + t * ty
                 z = sv * dz + t * tz
-                g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3,
-                                       law, bank)
-                f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, xc, y,
-                                                            z, g1, g2, g3)
+                g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law, bank)
+                f1, f2, f3, m1, m2, m3 = add_point_traction(
+                    (f1, f2, f3, m1, m2, m3), wgt, xc, y, z, g1, g2, g3
+                )
         cur = nxt
     return f1, f2, f3, m1, m2, m3
 
@@ -327,8 +336,7 @@ def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     xa = -0.5 * L - chi
     xb = 0.5 * L - chi
     tangential = law[6] != 0.0
-    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank,
-                                      tangential)
+    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential)
     for k in range(2):
         xc = xb if k == 0 else xa
         sgn = 1.0 if k == 0 else -1.0

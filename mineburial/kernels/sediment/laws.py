@@ -47,12 +47,30 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
-from mineburial.kernels.layout import (P_GRAVITY, P_RHO_WATER, P_SED_A, P_SED_B, P_SED_BETA,
-                                       P_SED_EV, P_SED_KP, P_SED_MU, P_SED_NC, P_SED_PORE,
-                                       P_SED_PROFILE, P_SED_QUADRATURE, P_SED_RATE_LAW,
-                                       P_SED_RATE_REF, P_SED_RESISTANCE, P_SED_RHO,
-                                       P_SED_RHO_GRAD, P_SED_S, P_SED_S_GRAD, P_SED_VREST, P_SLIP_SPEED,
-                                       P_SWITCH_SPEED)
+from mineburial.kernels.layout import (
+    P_GRAVITY,
+    P_RHO_WATER,
+    P_SED_A,
+    P_SED_B,
+    P_SED_BETA,
+    P_SED_EV,
+    P_SED_KP,
+    P_SED_MU,
+    P_SED_NC,
+    P_SED_PORE,
+    P_SED_PROFILE,
+    P_SED_QUADRATURE,
+    P_SED_RATE_LAW,
+    P_SED_RATE_REF,
+    P_SED_RESISTANCE,
+    P_SED_RHO,
+    P_SED_RHO_GRAD,
+    P_SED_S,
+    P_SED_S_GRAD,
+    P_SED_VREST,
+    P_SLIP_SPEED,
+    P_SWITCH_SPEED,
+)
 
 # --- model codes (layout.RESISTANCE_NAMES, layout.RATE_LAW_NAMES) -----------
 RES_DELTA = 0
@@ -87,8 +105,6 @@ del _n, _xg, _wg
 
 #: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
 DEPTH_FACTOR = 0.4
-
-
 
 
 # =============================================================================
@@ -154,8 +170,17 @@ def sediment_properties(zeta, p, bank):
     000 eq. (68)). ``p[P_SED_PROFILE] < 0``: linear profile rho0 + k_rho zeta,
     S0 + k_S zeta; otherwise piecewise-linear interpolation of that bank row.
     """
-    return _properties(zeta, p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
-                       int(p[P_SED_PROFILE]), bank, p[P_RHO_WATER], p[P_GRAVITY])
+    return _properties(
+        zeta,
+        p[P_SED_RHO],
+        p[P_SED_RHO_GRAD],
+        p[P_SED_S],
+        p[P_SED_S_GRAD],
+        int(p[P_SED_PROFILE]),
+        bank,
+        p[P_RHO_WATER],
+        p[P_GRAVITY],
+    )
 
 
 # =============================================================================
@@ -185,8 +210,9 @@ def rate_factor(speed, diameter, p):
     Law ``int(p[P_SED_RATE_LAW])``: 0 seed 000 eq. (70) (G(0) = 1, G(inf) = A, eq. (71));
     1 semi-log law with strain rate speed/diameter; 2 G = 1.
     """
-    return _rate(speed, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-                 p[P_SED_RATE_REF], diameter)
+    return _rate(
+        speed, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA], p[P_SED_RATE_REF], diameter
+    )
 
 
 # =============================================================================
@@ -211,8 +237,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    _, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank,
-                            law[9], law[10])
+    _, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank, law[9], law[10])
     gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
     mu = law[6]
     # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
@@ -243,9 +268,32 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 # the law of one drop, packed once
 # =============================================================================
 #: Slots of the packed law tuple (:func:`pack_law`).
-(LAW_MODEL, LAW_RATE, LAW_A, LAW_VREST, LAW_BETA, LAW_RATE_REF, LAW_MU, LAW_N0, LAW_DIAMETER,
- LAW_RHO_W, LAW_G, LAW_RHO0, LAW_KRHO, LAW_S0, LAW_KS, LAW_ROW, LAW_QUADRATURE, LAW_PORE,
- LAW_B, LAW_KP, LAW_EV, LAW_VREG, LAW_VREG_N, LAW_REFERENCE_PATHS) = range(24)
+(
+    LAW_MODEL,
+    LAW_RATE,
+    LAW_A,
+    LAW_VREST,
+    LAW_BETA,
+    LAW_RATE_REF,
+    LAW_MU,
+    LAW_N0,
+    LAW_DIAMETER,
+    LAW_RHO_W,
+    LAW_G,
+    LAW_RHO0,
+    LAW_KRHO,
+    LAW_S0,
+    LAW_KS,
+    LAW_ROW,
+    LAW_QUADRATURE,
+    LAW_PORE,
+    LAW_B,
+    LAW_KP,
+    LAW_EV,
+    LAW_VREG,
+    LAW_VREG_N,
+    LAW_REFERENCE_PATHS,
+) = range(24)
 
 
 @kernel
@@ -269,19 +317,48 @@ def pack_law(p, diameter, reference_paths=True):
     n0 = p[P_SED_NC]
     if not (n0 > 0.0):
         n0 = math.pi + 2.0  # Prandtl (1920)
-    return (model, int(p[P_SED_RATE_LAW]), p[P_SED_A], p[P_SED_VREST], p[P_SED_BETA],
-            p[P_SED_RATE_REF], p[P_SED_MU], n0, diameter, p[P_RHO_WATER], p[P_GRAVITY],
-            p[P_SED_RHO], p[P_SED_RHO_GRAD], p[P_SED_S], p[P_SED_S_GRAD],
-            int(p[P_SED_PROFILE]), int(p[P_SED_QUADRATURE]), p[P_SED_PORE] > 0.0,
-            p[P_SED_B], p[P_SED_KP], p[P_SED_EV], p[P_SLIP_SPEED], p[P_SWITCH_SPEED],
-            reference_paths)
+    return (
+        model,
+        int(p[P_SED_RATE_LAW]),
+        p[P_SED_A],
+        p[P_SED_VREST],
+        p[P_SED_BETA],
+        p[P_SED_RATE_REF],
+        p[P_SED_MU],
+        n0,
+        diameter,
+        p[P_RHO_WATER],
+        p[P_GRAVITY],
+        p[P_SED_RHO],
+        p[P_SED_RHO_GRAD],
+        p[P_SED_S],
+        p[P_SED_S_GRAD],
+        int(p[P_SED_PROFILE]),
+        int(p[P_SED_QUADRATURE]),
+        p[P_SED_PORE] > 0.0,
+        p[P_SED_B],
+        p[P_SED_KP],
+        p[P_SED_EV],
+        p[P_SLIP_SPEED],
+        p[P_SWITCH_SPEED],
+        reference_paths,
+    )
 
 
 @kernel
 def _law_properties(zeta, law, bank):
     """(rho_s, S, sigma'_eff) at depth zeta for the packed law."""
-    return _properties(zeta, law[LAW_RHO0], law[LAW_KRHO], law[LAW_S0], law[LAW_KS],
-                       law[LAW_ROW], bank, law[LAW_RHO_W], law[LAW_G])
+    return _properties(
+        zeta,
+        law[LAW_RHO0],
+        law[LAW_KRHO],
+        law[LAW_S0],
+        law[LAW_KS],
+        law[LAW_ROW],
+        bank,
+        law[LAW_RHO_W],
+        law[LAW_G],
+    )
 
 
 @kernel
@@ -289,12 +366,24 @@ def add_point_traction(acc, wgt, x, y, z, g1, g2, g3):
     """The accumulator ``acc`` = (F1, F2, F3, M1, M2, M3) plus ``wgt`` times the traction
     (g1, g2, g3) at body point (x, y, z) and its moment r x g about the COM (body frame)."""
     f1, f2, f3, m1, m2, m3 = acc
-    return (f1 + wgt * g1, f2 + wgt * g2, f3 + wgt * g3, m1 + wgt * (y * g3 - z * g2),
-            m2 + wgt * (z * g1 - x * g3), m3 + wgt * (x * g2 - y * g1))
+    return (
+        f1 + wgt * g1,
+        f2 + wgt * g2,
+        f3 + wgt * g3,
+        m1 + wgt * (y * g3 - z * g2),
+        m2 + wgt * (z * g1 - x * g3),
+        m3 + wgt * (x * g2 - y * g1),
+    )
 
 
 @kernel
 def add_weighted(acc, wgt, part):
     """The 6-tuple ``acc`` plus ``wgt`` times the 6-tuple ``part`` (a line's force and torque)."""
-    return (acc[0] + wgt * part[0], acc[1] + wgt * part[1], acc[2] + wgt * part[2],
-            acc[3] + wgt * part[3], acc[4] + wgt * part[4], acc[5] + wgt * part[5])
+    return (
+        acc[0] + wgt * part[0],
+        acc[1] + wgt * part[1],
+        acc[2] + wgt * part[2],
+        acc[3] + wgt * part[3],
+        acc[4] + wgt * part[4],
+        acc[5] + wgt * part[5],
+    )

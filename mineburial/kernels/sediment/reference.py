@@ -25,9 +25,15 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
-from mineburial.kernels.sediment.laws import add_point_traction, add_weighted
-from mineburial.kernels.sediment.laws import (LAW_VREG, LAW_VREG_N, RATE_IMPACT35, RATE_SEMILOG,
-                                              _traction)
+from mineburial.kernels.sediment.laws import (
+    LAW_VREG,
+    LAW_VREG_N,
+    RATE_IMPACT35,
+    RATE_SEMILOG,
+    _traction,
+    add_point_traction,
+    add_weighted,
+)
 
 # --- quadrature constants -----------------------------------------------------
 #: Lateral surface, per theta-panel: Gauss-Legendre points = ceil(width * NODES_PER_RAD)
@@ -66,6 +72,7 @@ _SAMPLE_S2 = np.sin(2.0 * _SAMPLE_T)
 
 _TWO_PI = 2.0 * math.pi
 _NAN = math.nan
+
 
 # =============================================================================
 # breakpoints
@@ -109,8 +116,9 @@ def _crossing_roots(f, g, xa, xb):
     h2 = a0 * b2 + a2 * b0 - k0 * l2 - k2 * l0
     h3 = 0.5 * (a1 * b1 - a2 * b2) - 0.5 * (k1 * l1 - k2 * l2)
     h4 = 0.5 * (a1 * b2 + a2 * b1) - 0.5 * (k1 * l2 + k2 * l1)
-    scale = ((abs(f[0]) + abs(f[1]) + abs(f[2])) * (abs(g[3]) + abs(g[4]) + abs(g[5]))
-             + (abs(g[0]) + abs(g[1]) + abs(g[2])) * (abs(f[3]) + abs(f[4]) + abs(f[5])))
+    scale = (abs(f[0]) + abs(f[1]) + abs(f[2])) * (abs(g[3]) + abs(g[4]) + abs(g[5])) + (
+        abs(g[0]) + abs(g[1]) + abs(g[2])
+    ) * (abs(f[3]) + abs(f[4]) + abs(f[5]))
     r0 = _NAN
     r1 = _NAN
     r2 = _NAN
@@ -120,8 +128,13 @@ def _crossing_roots(f, g, xa, xb):
     nfound = 0
     prev = h0 + h1 + h3  # t = 0
     for j in range(N_SAMPLE):
-        cur = (h0 + h1 * _SAMPLE_C[j + 1] + h2 * _SAMPLE_S[j + 1] + h3 * _SAMPLE_C2[j + 1]
-               + h4 * _SAMPLE_S2[j + 1])
+        cur = (
+            h0
+            + h1 * _SAMPLE_C[j + 1]
+            + h2 * _SAMPLE_S[j + 1]
+            + h3 * _SAMPLE_C2[j + 1]
+            + h4 * _SAMPLE_S2[j + 1]
+        )
         if (prev < 0.0 and cur >= 0.0) or (prev > 0.0 and cur <= 0.0):
             lo = _SAMPLE_T[j]
             hi = _SAMPLE_T[j + 1]
@@ -392,7 +405,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
             if eps > 0.0:
                 edge = anchor + side * LAYER_WIDTHS * eps
                 if (side > 0.0 and edge <= sa0) or (side < 0.0 and edge >= sb0):
-                    eps = 0.0          # the layer lies outside the part
+                    eps = 0.0  # the layer lies outside the part
                     side = 0.0
                     npts = n
                 elif edge > sa0 and edge < sb0:
@@ -400,10 +413,10 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
             lay_side = side
             for sp in range(nsp):
                 if nsp == 2:
-                    if sp == 0:        # the layer, mapped
+                    if sp == 0:  # the layer, mapped
                         sa = sa0 if lay_side > 0.0 else edge
                         sb = edge if lay_side > 0.0 else sb0
-                    else:              # the rest, plain
+                    else:  # the rest, plain
                         sa = edge if lay_side > 0.0 else sa0
                         sb = sb0 if lay_side > 0.0 else edge
                         eps = 0.0
@@ -421,7 +434,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
                 zb = z0 + z1 * sb
                 zlo = min(za, zb)
                 zhi = max(za, zb)
-                up = (z1 > 0.0) == (side >= 0.0)   # depth increases with u
+                up = (z1 > 0.0) == (side >= 0.0)  # depth increases with u
                 total = ub - ua
                 u0 = ua
                 for jj in range(nlev + 1):
@@ -452,13 +465,15 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
                         x = px + r * dx
                         y = py + r * dy
                         z = pz + r * dz
-                        g1, g2, g3 = _traction(x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1,
-                                               w2, w3, law, bank)
+                        g1, g2, g3 = _traction(
+                            x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1, w2, w3, law, bank
+                        )
                         wgt = hu * _GL_WEIGHTS[kk, i] * jac
                         if polar:
                             wgt *= r
-                        f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y,
-                                                                    z, g1, g2, g3)
+                        f1, f2, f3, m1, m2, m3 = add_point_traction(
+                            (f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3
+                        )
                     u0 = u1
     return f1, f2, f3, m1, m2, m3
 
@@ -467,8 +482,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
 # panels in the angle (theta on the lateral surface, phi on a cap)
 # =============================================================================
 @kernel
-def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, epsr,
-             vtol):
+def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, epsr, vtol):
     """Moments over one surface (kind 0 lateral, 1 end cap), integrated in the angle.
 
     Panels run between consecutive breakpoints (and, on the lateral surface with a
@@ -495,7 +509,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
     xa = sg[1]
     xb = sg[2]
     zmax = fe[0] + max(fe[3] * xa, fe[3] * xb) + math.sqrt(fe[1] * fe[1] + fe[2] * fe[2])
-    scale = sg[0] if kind == 0 else 1.0      # R dtheta on the lateral surface
+    scale = sg[0] if kind == 0 else 1.0  # R dtheta on the lateral surface
     nr = rule[6] if (kind == 0 or sg[12] <= 0.0) else rule[7]
     while cur < _TWO_PI:
         nxt, e_nxt, er_nxt = _next_break(bps, eps, epsr, cur)
@@ -604,12 +618,13 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                         lo, hi = _line_interval(kind, c, s, sg, fe, fd)
                         if not (hi > lo):
                             continue
-                        g1, g2, g3, h1, h2, h3 = _inner(kind, c, s, lo, hi, sg, fe, fd, ft,
-                                                        vel, law, bank, tangential, dip, nr,
-                                                        rule[7])
+                        g1, g2, g3, h1, h2, h3 = _inner(
+                            kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, nr, rule[7]
+                        )
                         wt = hw * _GL_WEIGHTS[n, i] * scale * jac
-                        f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wt,
-                                                              (g1, g2, g3, h1, h2, h3))
+                        f1, f2, f3, m1, m2, m3 = add_weighted(
+                            (f1, f2, f3, m1, m2, m3), wt, (g1, g2, g3, h1, h2, h3)
+                        )
                 if last:
                     break
                 pos = pnext
@@ -645,12 +660,11 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
     """
     R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
     inf = math.inf
-    vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(
-        w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
+    vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
     ztol = 1e-9 * (xb - xa + R)
     vtol = 1e-9 * vscale
-    pd = _roots_lin(fd[3], fd[4], fd[5])     # poles of x_delta
-    pt = _roots_lin(ft[3], ft[4], ft[5])     # poles of x_T
+    pd = _roots_lin(fd[3], fd[4], fd[5])  # poles of x_delta
+    pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
     no4 = (_NAN, _NAN, _NAN, _NAN)
     inf4 = (inf, inf, inf, inf)
     g0 = no4
@@ -675,8 +689,7 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
     for group in range(7):
         if not tangential and (group == 2 or group == 4 or group == 5):
             continue
-        f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or
-                                                                      group == 5) else ft)
+        f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or group == 5) else ft)
         g = fd if group == 3 else ft
         # candidate angles r and, per candidate, the x where the condition is checked
         r = no4
@@ -756,15 +769,15 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
                     if a1 != 0.0:
                         x = -a0 / a1
                         if which == 0:
-                            sl = -((-hh[1] * s + hh[2] * c) * a1
-                                   - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
+                            sl = -((-hh[1] * s + hh[2] * c) * a1 - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
                         break
             e = inf
             er = inf
             if group == 6 and k < 2:
                 # zero of the axial slip on a generator that meets the domain
-                lo, hi = _line_interval(0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-                                                  0.0, 0.0, 0.0, 0.0), fe, fd)
+                lo, hi = _line_interval(
+                    0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), fe, fd
+                )
                 if not (hi > lo):
                     continue
                 a0 = ft[0] + ft[1] * c + ft[2] * s
@@ -848,16 +861,97 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
         else:
             g6 = tt
             h6 = ee
-    bps = (g0[0], g0[1], g0[2], g0[3], g1[0], g1[1], g1[2], g1[3], g2[0], g2[1], g2[2], g2[3],
-           g3[0], g3[1], g3[2], g3[3], g4[0], g4[1], g4[2], g4[3], g5[0], g5[1], g5[2], g5[3],
-           g6[0], g6[1], g6[2], g6[3])
-    eps = (h0[0], h0[1], h0[2], h0[3], h1[0], h1[1], h1[2], h1[3], h2[0], h2[1], h2[2], h2[3],
-           h3[0], h3[1], h3[2], h3[3], h4[0], h4[1], h4[2], h4[3], h5[0], h5[1], h5[2], h5[3],
-           h6[0], h6[1], h6[2], h6[3])
+    bps = (
+        g0[0],
+        g0[1],
+        g0[2],
+        g0[3],
+        g1[0],
+        g1[1],
+        g1[2],
+        g1[3],
+        g2[0],
+        g2[1],
+        g2[2],
+        g2[3],
+        g3[0],
+        g3[1],
+        g3[2],
+        g3[3],
+        g4[0],
+        g4[1],
+        g4[2],
+        g4[3],
+        g5[0],
+        g5[1],
+        g5[2],
+        g5[3],
+        g6[0],
+        g6[1],
+        g6[2],
+        g6[3],
+    )
+    eps = (
+        h0[0],
+        h0[1],
+        h0[2],
+        h0[3],
+        h1[0],
+        h1[1],
+        h1[2],
+        h1[3],
+        h2[0],
+        h2[1],
+        h2[2],
+        h2[3],
+        h3[0],
+        h3[1],
+        h3[2],
+        h3[3],
+        h4[0],
+        h4[1],
+        h4[2],
+        h4[3],
+        h5[0],
+        h5[1],
+        h5[2],
+        h5[3],
+        h6[0],
+        h6[1],
+        h6[2],
+        h6[3],
+    )
     inf = math.inf
-    epsr = (inf, inf, inf, inf, r1[0], r1[1], r1[2], r1[3], inf, inf, inf, inf,
-            r3[0], r3[1], r3[2], r3[3], inf, inf, inf, inf, r5[0], r5[1], r5[2], r5[3],
-            inf, inf, inf, inf)
+    epsr = (
+        inf,
+        inf,
+        inf,
+        inf,
+        r1[0],
+        r1[1],
+        r1[2],
+        r1[3],
+        inf,
+        inf,
+        inf,
+        inf,
+        r3[0],
+        r3[1],
+        r3[2],
+        r3[3],
+        inf,
+        inf,
+        inf,
+        inf,
+        r5[0],
+        r5[1],
+        r5[2],
+        r5[3],
+        inf,
+        inf,
+        inf,
+        inf,
+    )
     return bps, eps, epsr, vtol
 
 
@@ -956,17 +1050,105 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
             cx = _wrap(math.atan2(pz - oz, py - oy))
             pe = math.atan2(ez, ey) + 0.5 * math.pi
             pq = math.atan2(qz, qy) + 0.5 * math.pi
-            ex = min(_adist(cx, (_wrap(pe), _wrap(pe + math.pi))),
-                     _adist(cx, (_wrap(pq), _wrap(pq + math.pi))))
+            ex = min(
+                _adist(cx, (_wrap(pe), _wrap(pe + math.pi))), _adist(cx, (_wrap(pq), _wrap(pq + math.pi)))
+            )
     n = _NAN
-    bps = (ce[0], ce[1], cd[0], cd[1], cx, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n, n,
-           n, n, n, n, n, n)
-    eps = (ce[2], ce[3], cd[2], cd[3], ex, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf,
-           inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
-    return sg, bps, eps, (inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf,
-                          inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf)
-
-
+    bps = (
+        ce[0],
+        ce[1],
+        cd[0],
+        cd[1],
+        cx,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+        n,
+    )
+    eps = (
+        ce[2],
+        ce[3],
+        cd[2],
+        cd[3],
+        ex,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+        inf,
+    )
+    return (
+        sg,
+        bps,
+        eps,
+        (
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+            inf,
+        ),
+    )
 
 
 # =============================================================================
@@ -999,9 +1181,9 @@ def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
         dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
     geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
     # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
-    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)        # zeta
-    fd = (0.0, v2, v3, 0.0, w3, -w2)                      # v.n
-    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)                 # v_theta
+    fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)  # zeta
+    fd = (0.0, v2, v3, 0.0, w3, -w2)  # v.n
+    ft = (w1 * R, v3, -v2, 0.0, -w2, -w3)  # v_theta
     f1 = 0.0
     f2 = 0.0
     f3 = 0.0
@@ -1010,8 +1192,9 @@ def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     m3 = 0.0
     for surf in range(3):
         if surf == 0:
-            bps, eps, epsr, vtol = _lateral_breaks(geo, fe, fd, ft, tangential, dip,
-                                                        law[LAW_VREG], law[LAW_VREG_N])
+            bps, eps, epsr, vtol = _lateral_breaks(
+                geo, fe, fd, ft, tangential, dip, law[LAW_VREG], law[LAW_VREG_N]
+            )
             sg = (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             kind = 0
             rule = LATERAL_RULE
@@ -1020,12 +1203,14 @@ def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
             xc = xb if surf == 1 else xa
             if not (d0 - c20 * xc + R * rperp > 0.0):
                 continue
-            sg, bps, eps, epsr = _cap_breaks(xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21,
-                                             c22, vbody, tangential, dip)
+            sg, bps, eps, epsr = _cap_breaks(
+                xc, 1.0 if surf == 1 else -1.0, R, d0, c20, c21, c22, vbody, tangential, dip
+            )
             kind = 1
             rule = CAP_RULE
-        g1, g2, g3, h1, h2, h3 = _surface(kind, sg, fe, fd, ft, vbody, law, bank,
-                                          tangential, dip, rule, bps, eps, epsr, vtol)
+        g1, g2, g3, h1, h2, h3 = _surface(
+            kind, sg, fe, fd, ft, vbody, law, bank, tangential, dip, rule, bps, eps, epsr, vtol
+        )
         f1 += g1
         f2 += g2
         f3 += g3
