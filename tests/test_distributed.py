@@ -257,7 +257,7 @@ def test_the_client_says_it_is_waiting_when_no_worker_is_left(monkeypatch):
     spec = engine.load_ensemble(_scenario(), n=2, seed=3, chunk_size=2)
     messages = []
     with (
-        LocalCluster(n_workers=0, processes=False, dashboard_address=None, silence_logs=50) as cluster,
+        LocalCluster(n_workers=0, processes=False, dashboard_address=":0", silence_logs=50) as cluster,
         Client(cluster) as c,
     ):
 
