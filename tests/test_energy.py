@@ -13,40 +13,11 @@ import math
 
 import numpy as np
 from conftest import make_scenario, scenario_dict
+from printed_laws import AREA, RHO, VOL, D, G, L, broadside_drag
 from scipy.integrate import cumulative_trapezoid
 
 from mineburial.config import Scenario
 from mineburial.drop import simulate_drop
-
-G = 9.81
-RHO = 1025.0
-NU = 1.0e-6
-L, D = 1.0, 0.25
-R = D / 2
-AREA = math.pi * R * R
-VOL = AREA * L
-
-
-def cd2_eq44(re, delta):
-    """Cross-flow drag coefficient, seed 000 eq. (44), written out from the paper."""
-    re = max(re, 1e-6)
-    if re <= 12:
-        return 1.9276 + 8 / re
-    if re <= 180:
-        return 1.261 + 16 / re
-    if re <= 2000:
-        return 0.855 + 89 / re
-    if re <= 12000:
-        return 0.84 + 0.00003 * re
-    if re <= 150000:
-        if delta >= 10:
-            return 1.2 - 4 / delta
-        if delta >= 2:
-            return 0.835 - 0.35 / delta
-        return max(0.0, 0.7 - 0.08 / delta)
-    if re <= 350000:
-        return 1.875 - 0.0000045 * re
-    return 1 / (641550 / re + 1.5)
 
 
 def test_water_column_energy_balance_with_the_drag_of_the_printed_law():
@@ -65,7 +36,7 @@ def test_water_column_energy_balance_with_the_drag_of_the_printed_law():
     )
     ds = simulate_drop(sc, record_interval=0.002)
     t, z, w = ds.time.values, ds.z.values, ds.w.values
-    drag = np.array([-0.5 * RHO * cd2_eq44(abs(x) * D / NU, L / D) * D * L * abs(x) * x for x in w])
+    drag = np.array([broadside_drag(x) for x in w])
     w_drag = cumulative_trapezoid(drag * w, t, initial=0.0)
     energy = 0.5 * (m + m_a) * w**2 + (m - RHO * VOL) * G * z
     scale = abs(w_drag[-1])

@@ -8,7 +8,8 @@ from conftest import scenario_dict
 from mineburial.config import Scenario
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
-from mineburial.validation.references import archimedes_penetration, axial_penetration
+from mineburial.validation import cases
+from mineburial.validation.references import archimedes_penetration
 
 G = 9.81
 RHO_W = 1025.0
@@ -78,55 +79,12 @@ def test_oscillates_about_archimedes_depth_from_above():
 # vertical axial penetration against a 1-D solution of the same force law
 # ---------------------------------------------------------------------------
 def test_vertical_penetration_matches_one_dimensional_solution():
-    L, d, mass = 1.0, 0.25, 150.0
-    depth = 10.0
-    s0, ks, rho_s = 3000.0, 2000.0, 1500.0
-    nc0 = math.pi + 2.0
-    beta, rate_ref = 0.1, 2.78e-6
-    w0 = -3.0
-    sc = _scenario(
-        mine={"mass": mass},
-        environment={"water_depth": depth, "gravity": G, "water_density": RHO_W},
-        release={
-            "position": [0.0, 0.0, -depth + L / 2 + 1e-9],
-            "pitch_deg": 90.0,
-            "velocity": [0.0, 0.0, w0],
-        },
-        sediment={
-            "density": rho_s,
-            "density_gradient": 0.0,
-            "strength": s0,
-            "strength_gradient": ks,
-            "resistance": "bearing",
-            "rate_law": "semilog",
-            "rate_coefficient": beta,
-            "reference_rate": rate_ref,
-            "friction": 0.0,
-            "bearing_factor": nc0,
-        },
-        numerics={"t_max": 10.0, "dt": 1e-4, "drag": False},
-    )
-    code, s = _summary(sc)
-    assert code == status.AT_REST
-
-    # the same force law written for a vertical cylinder penetrating axially
-    zeta_ref = axial_penetration(
-        mass=mass,
-        length=L,
-        diameter=d,
-        impact_speed=-w0,
-        strength=s0,
-        strength_gradient=ks,
-        sediment_density=rho_s,
-        water_density=RHO_W,
-        gravity=G,
-        bearing_factor=nc0,
-        rate_coefficient=beta,
-        reference_rate=rate_ref,
-        switch_speed=sc.numerics.switch_speed,
-        rest_speed=sc.numerics.rest_speed,
-    )
-    assert abs(s["penetration_depth"] - zeta_ref) / zeta_ref < 0.01, (s["penetration_depth"], zeta_ref)
+    """A vertical cylinder hitting the seabed axially at 3 m/s (bearing law, semi-log rate,
+    S = 3 + 2 z kPa) against scipy.integrate.solve_ivp on the same force law in 1-D: the
+    case of ``mineburial validate`` (validation/cases.py, references.axial_penetration)."""
+    (row,) = cases.axial_penetration()
+    assert row.passed, row  # at rest, within its 1 % tolerance
+    assert abs(row.model - row.reference) / row.reference < 0.01, (row.model, row.reference)
 
 
 # ---------------------------------------------------------------------------

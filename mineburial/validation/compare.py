@@ -468,7 +468,9 @@ def comparison_table(ds: xr.Dataset) -> str:
     return "\n".join([head, sep, *body])
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib.pyplot on the Agg backend, or a one-line error when matplotlib is missing
+    (the plots of ``compare`` and ``sensitivity``)."""
     try:
         import matplotlib
     except ImportError:
@@ -484,7 +486,7 @@ def _pyplot():
 def plot_comparison(ds: xr.Dataset, path) -> None:
     """Bar charts: mean burial by volume and penetration (95 % CI) and the class
     probabilities (Wilson 95 %) of every variant."""
-    plt = _pyplot()
+    plt = pyplot()
 
     labels = [str(v) for v in ds.variant.values]
     nv = len(labels)

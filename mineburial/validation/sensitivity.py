@@ -39,6 +39,7 @@ from scipy import stats
 from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.validation.compare import pyplot
 
 __all__ = [
     "sobol_analysis",
@@ -266,22 +267,9 @@ def sensitivity_table(ds: xr.Dataset) -> str:
     return "\n".join(lines).lstrip("\n")
 
 
-def _pyplot():
-    try:
-        import matplotlib
-    except ImportError:
-        from mineburial.config import ScenarioError
-
-        raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def plot_sensitivity(ds: xr.Dataset, path) -> None:
     """Bar chart of S_i and S_Ti with their bootstrap intervals, one panel per output."""
-    plt = _pyplot()
+    plt = pyplot()
 
     outs = [str(o) for o in ds.output.values]
     fig, axes = plt.subplots(1, len(outs), figsize=(6 * len(outs), 4.5), squeeze=False)
