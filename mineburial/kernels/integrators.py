@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import small_kernel
 
 # --- Dormand-Prince 5(4) tableau -------------------------------------------------
 N_STAGES = 7
@@ -78,7 +78,7 @@ MAX_SHRINK = 0.2
 ERR_FLOOR = 1e-4
 
 
-@kernel
+@small_kernel
 def dopri_stage_state(y, k, s, h, out):
     """out = y + h sum_{j<s} A[s, j] k[j]: the state at which stage ``s`` is evaluated."""
     n = y.shape[0]
@@ -89,7 +89,7 @@ def dopri_stage_state(y, k, s, h, out):
         out[i] = y[i] + h * acc
 
 
-@kernel
+@small_kernel
 def dopri_solution(y, k, h, out, err):
     """5th-order solution ``out`` and local error estimate ``err`` from the 7 stages
     (stage 6 is f(out) only after the system has evaluated it; its weight in the
@@ -105,7 +105,7 @@ def dopri_solution(y, k, h, out, err):
         err[i] = h * e
 
 
-@kernel
+@small_kernel
 def error_norm(y, ynew, err, groups, rtol, atol):
     """RMS over the vector groups of |err_g| / (atol + rtol max(|y_g|, |ynew_g|)).
 
@@ -128,7 +128,7 @@ def error_norm(y, ynew, err, groups, rtol, atol):
     return math.sqrt(acc / len(groups))
 
 
-@kernel
+@small_kernel
 def next_step_size(h, err, err_prev, accepted_before):
     """Step-size factor of the PI controller: returns (h_next, accept, err_memory).
 
@@ -151,7 +151,7 @@ def next_step_size(h, err, err_prev, accepted_before):
     return h / fac, False, err_prev
 
 
-@kernel
+@small_kernel
 def dopri_dense(y, ynew, k, h, r):
     """Coefficients ``r`` (5 x n) of the 4th-order continuous extension of an accepted
     Dormand-Prince step (k[6] = f(ynew))."""
@@ -169,7 +169,7 @@ def dopri_dense(y, ynew, k, h, r):
         r[4, i] = h * acc
 
 
-@kernel
+@small_kernel
 def hermite_dense(y, ynew, f0, f1, h, r):
     """Coefficients ``r`` (5 x n) of the cubic Hermite interpolant through (y, f0) and
     (ynew, f1), in the same form as :func:`dopri_dense` (r[4] = 0)."""
@@ -184,7 +184,7 @@ def hermite_dense(y, ynew, f0, f1, h, r):
         r[4, i] = 0.0
 
 
-@kernel
+@small_kernel
 def dense_state(r, theta, out):
     """State at fraction ``theta`` of the step from the continuous extension ``r``:
     y = r0 + theta (r1 + (1 - theta) (r2 + theta (r3 + (1 - theta) r4)))."""
@@ -195,7 +195,7 @@ def dense_state(r, theta, out):
 
 
 # --- event location: Illinois regula falsi, reverse communication -----------------
-@kernel
+@small_kernel
 def illinois_next(a, ga, b, gb):
     """Next trial fraction in the bracket [a, b] with event values ga, gb of opposite
     sign (regula falsi; the midpoint if the secant leaves the bracket)."""
@@ -206,7 +206,7 @@ def illinois_next(a, ga, b, gb):
     return 0.5 * (a + b)
 
 
-@kernel
+@small_kernel
 def illinois_update(a, ga, b, gb, t, gt, side):
     """Shrink the bracket with the value ``gt`` at ``t``; the end kept twice in a row has
     its value halved (Illinois). ``side``: which end was kept last (-1 a, +1 b, 0 none).
@@ -227,7 +227,7 @@ def illinois_update(a, ga, b, gb, t, gt, side):
     return a, ga, b, gb, side
 
 
-@kernel
+@small_kernel
 def next_step_size_order(h, err, err_prev, accepted_before, k):
     """:func:`next_step_size` for an error estimate of local order ``k`` (err ~ h^k):
     the PI exponents are 1/k - 0.75 beta and beta (Hairer & Wanner, *Solving ODEs II*,
@@ -274,13 +274,15 @@ ROS_GAMMA = np.array(
         [2.4212380706095346e-01, -1.2232505839045147e00, 5.4526025533510214e-01],
     ]
 )
-ROS_B = np.array([2.4212380706095346e-01, -1.2232505839045147e00, 1.5452602553351020e00, 4.3586652150845900e-01])
+ROS_B = np.array(
+    [2.4212380706095346e-01, -1.2232505839045147e00, 1.5452602553351020e00, 4.3586652150845900e-01]
+)
 ROS_B_HAT = np.array([3.7810903145819369e-01, -9.6042292212423178e-02, 5.0e-01, 2.1793326075422950e-01])
 #: local order of the error estimate (embedded order 2): err ~ h^3
 ROS_ERROR_ORDER = 3.0
 
 
-@kernel
+@small_kernel
 def ros_stage_state(y, kr, s, out):
     """out = y + sum_{j<s} ALPHA[s, j] k_j: the state of stage ``s``."""
     n = y.shape[0]
@@ -291,7 +293,7 @@ def ros_stage_state(y, kr, s, out):
         out[i] = y[i] + acc
 
 
-@kernel
+@small_kernel
 def ros_coupling(kr, s, out):
     """out = sum_{j<s} GAMMA[s, j] k_j (multiplied by h J by the caller)."""
     n = out.shape[0]
@@ -302,7 +304,7 @@ def ros_coupling(kr, s, out):
         out[i] = acc
 
 
-@kernel
+@small_kernel
 def ros_solution(y, kr, out, err):
     """The order-3 solution and the difference to the embedded order-2 one."""
     n = y.shape[0]
@@ -323,7 +325,7 @@ def ros_solution(y, kr, out, err):
 # x = b + c J[:, cols] z. ``jc`` holds J[:, cols] (n x m).
 
 
-@kernel
+@small_kernel
 def lu_factor_small(a, piv):
     """In-place LU factorisation with partial pivoting of the m x m matrix ``a``.
     Returns False when a pivot is zero or not finite (singular W: the caller shrinks h)."""
@@ -352,7 +354,7 @@ def lu_factor_small(a, piv):
     return True
 
 
-@kernel
+@small_kernel
 def lu_solve_small(a, piv, b):
     """Solve in place with the factors of :func:`lu_factor_small`."""
     m = a.shape[0]
@@ -374,7 +376,7 @@ def lu_solve_small(a, piv, b):
         b[r] = acc / a[r, r]
 
 
-@kernel
+@small_kernel
 def w_factor(jc, cols, c, wa, piv):
     """Factor the reduced W: wa = I - c J[cols, cols]; returns lu_factor_small's flag."""
     m = cols.shape[0]
@@ -385,7 +387,7 @@ def w_factor(jc, cols, c, wa, piv):
     return lu_factor_small(wa, piv)
 
 
-@kernel
+@small_kernel
 def w_solve(jc, cols, c, wa, piv, b, z):
     """Solve W x = b in place (b becomes x) with the factors of :func:`w_factor`."""
     m = cols.shape[0]
@@ -400,7 +402,7 @@ def w_solve(jc, cols, c, wa, piv, b, z):
         b[i] += c * acc
 
 
-@kernel
+@small_kernel
 def j_times(jc, cols, v, out):
     """out = J v for J non-zero in the columns ``cols`` only."""
     n = out.shape[0]

@@ -47,15 +47,15 @@ from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
     N_STAGES,
+    ROS_ERROR_ORDER,
+    ROS_GAMMA_DIAG,
+    ROS_STAGES,
     dense_state,
     dopri_dense,
     dopri_solution,
     dopri_stage_state,
     error_norm,
     hermite_dense,
-    ROS_ERROR_ORDER,
-    ROS_GAMMA_DIAG,
-    ROS_STAGES,
     illinois_next,
     illinois_update,
     j_times,
@@ -318,7 +318,9 @@ def velocity_jacobian(y, f0, p, law, sed_bank, cur_bank, work, ytmp, ftmp, diag,
 
 
 @kernel
-def ros34pw2_step(y, h, p, law, sed_bank, cur_bank, work, f0, jc, wa, piv, kr, ytmp, vtmp, ztmp, diag, out, err):
+def ros34pw2_step(
+    y, h, p, law, sed_bank, cur_bank, work, f0, jc, wa, piv, kr, ytmp, vtmp, ztmp, diag, out, err
+):
     """One Rosenbrock-W step (ROS34PW2, :mod:`.integrators`) with the velocity Jacobian
     ``jc`` (possibly from an earlier step; f0 = f(y)). Fills ``out`` and ``err``; returns
     False when W is singular."""
@@ -517,8 +519,24 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
                     velocity_jacobian(y, k[0], p, law, sed_bank, cur_bank, work, ytmp, dy, diag, jc)
                     jac_age = 0
                 ok = ros34pw2_step(
-                    y, h, p, law, sed_bank, cur_bank, work, k[0], jc, wa, piv, kr, ytmp, vtmp, ztmp, diag,
-                    ynew, err,
+                    y,
+                    h,
+                    p,
+                    law,
+                    sed_bank,
+                    cur_bank,
+                    work,
+                    k[0],
+                    jc,
+                    wa,
+                    piv,
+                    kr,
+                    ytmp,
+                    vtmp,
+                    ztmp,
+                    diag,
+                    ynew,
+                    err,
                 )
                 enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol) if ok else np.nan
                 h_next, accept, err_prev = next_step_size_order(
