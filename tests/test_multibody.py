@@ -266,6 +266,36 @@ def test_generalised_mass_equals_sum_over_partial_velocities():
     np.testing.assert_allclose(f0, np.einsum("kil,ki->l", v, f), rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.parametrize("root_free", [[1, 1, 1], [1, 0, 0], [0, 0, 1], [0, 0, 0], [1, 1, 0]])
+def test_recursive_solution_equals_assembled_kane_equations(root_free):
+    """accelerations (O(N) recursion) solves the same equations as the assembled A du = f (Cholesky)."""
+    tree = branched_tree()
+    desc = mbp.Description(
+        tree.parent, tree.joint_on_parent, tree.joint_on_body, tree.mass_matrix, root_free, tree.root_pose
+    )
+    d = desc.arrays()
+    rng = np.random.default_rng(7)
+    for _ in range(3):
+        q = rng.uniform(-2, 2, desc.n_dof)
+        u = rng.uniform(-2, 2, desc.n_dof)
+        f = rng.uniform(-5, 5, (desc.n_bodies, 3))
+        du = mb.accelerations(q, u, f, d)
+        a, rhs_f = mb.generalised_mass_and_force(q, u, f, d)
+        np.testing.assert_allclose(a @ du, rhs_f, rtol=0, atol=1e-11 * np.abs(rhs_f).max())
+        np.testing.assert_allclose(du, mb.accelerations_assembled(q, u, f, d), rtol=1e-10, atol=1e-12)
+
+
+def test_morison_terms_vanish_for_rigid_bodies():
+    """The velocity terms of a rotating mass are zero for diag(m, m, I), not for an added mass."""
+    desc, q0 = mbp.chain(3, 0.5, rod(1.0, 0.5), [0.3, -0.2, 0.5], pinned=False)
+    u = np.array([0.4, -0.3, 1.0, -2.0, 1.5])
+    np.testing.assert_allclose(mb.inertia_velocity_terms(q0, u, desc.arrays()), 0.0, atol=1e-14)
+    g = mb.inertia_velocity_terms(
+        branched_tree().coordinates([0.1, 0.2, 0.3, 0.4]), np.ones(7), branched_tree().arrays()
+    )
+    assert np.abs(g).max() > 0.1
+
+
 def test_energy_and_momentum_of_free_tree_with_added_mass_are_conserved():
     """No friction, no drag: kinetic (with added mass) + potential energy conserved to 1e-6 relative,
     and the horizontal impulse sum (M_k w_k)_x (no horizontal force) conserved."""
