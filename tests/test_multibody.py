@@ -503,6 +503,24 @@ def test_numerical_failure_ends_with_finite_records():
         assert res.times[-1] <= res.t_stop
 
 
+@pytest.mark.parametrize("method", ["dopri5", "rk4"])
+def test_records_at_output_times_and_at_an_off_grid_end(method):
+    m, length = 1.0, 1.0
+    desc, q0 = mbp.chain(1, length, rod(m, length), [-0.3])
+    y0 = desc.initial_state(q0, [1.0])
+    res = run(desc, y0, 0.35, extra(), method=method, dt=0.02, record_dt=0.1)
+    np.testing.assert_allclose(res.times, [0.0, 0.1, 0.2, 0.3, 0.35], atol=1e-15)
+    assert res.t_stop == 0.35 and res.status_name == "time_limit"
+    inertia = m * length**2 / 3.0
+
+    def f(t, y):
+        return [y[1], -m * G * length / 2.0 * math.cos(y[0]) / inertia]
+
+    ref = solve_ivp(f, (0.0, 0.35), y0, t_eval=res.times, rtol=1e-12, atol=1e-12, method="DOP853")
+    # rk4 at 20 ms: the records between steps come from the cubic Hermite interpolant (error ~ h^4)
+    np.testing.assert_allclose(res.states, ref.y.T, atol=1e-5 if method == "rk4" else 1e-8)
+
+
 def test_invalid_settings():
     desc, q0 = mbp.chain(1, 1.0, rod(1.0, 1.0), [-0.3])
     y0 = desc.initial_state(q0)
@@ -566,6 +584,14 @@ def test_builder_helpers_reject_bad_values():
         mbp.chain(0, 1.0, rod(1.0, 1.0), [0.0])
     with pytest.raises(mbp.DescriptionError, match="angles must give one angle per link"):
         mbp.chain(3, 1.0, rod(1.0, 1.0), [0.0, 1.0])
+    with pytest.raises(mbp.DescriptionError, match=r"link_length\[1\] = -0.5 m must be finite and > 0"):
+        mbp.chain(2, [1.0, -0.5], rod(1.0, 1.0), [0.0, 1.0])
+    # links of different lengths laid out end to end: the far pin of the last link
+    desc, q0 = mbp.chain(3, [1.0, 0.5, 2.0], rod(1.0, 1.0), [0.0, -math.pi / 2, math.pi], start=(1.0, 2.0))
+    pos, _ = mb.body_states(q0, np.zeros(desc.n_dof), desc.arrays())
+    np.testing.assert_allclose(pos[3, :2] + [-1.0, 0.0], [0.0, 1.5], atol=1e-14)
+    free, qf = mbp.chain(2, [1.0, 0.5], rod(1.0, 1.0), [0.0, 0.0], start=(1.0, 2.0), pinned=False)
+    np.testing.assert_allclose(mb.body_states(qf, np.zeros(free.n_dof), free.arrays())[0][:, 0], [1.5, 2.25])
     # the segment's added mass acts on the normal only (seed 004 eq. (46))
     mm = mbp.segment_mass_matrix(2.0, 0.5, radius=0.1, added_mass_coefficient=1.0, water_density=1000.0)
     ma = 1000.0 * math.pi * 0.01 * 0.5

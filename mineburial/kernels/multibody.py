@@ -39,9 +39,11 @@ P = (M_k w_k)[0:2] (for a rigid body's diag(m, m, I) both vanish; for an added m
 Lagrange's equations of the kinetic energy 1/2 sum w^T M w, so that energy is conserved exactly; see
 docs/multibody.md for the comparison with the Morison-type added-mass force of seed 004 eq. (46)).
 
-A is assembled in O(N^2) from the partial velocities without forming them (a body's partial velocity with
-respect to an ancestor's angle is the same for its whole subtree, so the sums over bodies become subtree
-sums) and solved by Cholesky; :func:`partial_velocities` forms them explicitly for systems and tests.
+:func:`generalised_mass_and_force` assembles A and f in O(N^2) from the partial velocities without forming
+them (a body's partial velocity with respect to an ancestor's angle is the same for its whole subtree, so the
+sums over bodies become subtree sums); :func:`accelerations_assembled` solves them by Cholesky and
+:func:`accelerations` solves the same equations in O(N) by the tree recursion; :func:`partial_velocities`
+forms the partial velocities explicitly for systems and tests.
 """
 
 import math
@@ -780,8 +782,8 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             t_new = t_end if t + h >= t_end else t + h
         else:
             t_new = t0 + (i_step + 1) * dt
-            if t_new >= t_end * (1.0 - 1e-14) - 1e-300 or t_new > t_end:
-                t_new = t_end
+            if t_end - t_new <= 1e-9 * dt:
+                t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
             # classical Runge-Kutta; k[0] = f(t, y), k[1..3] the other stages, k[6] = f(t_new, y_new)
             for i in range(n):
@@ -806,7 +808,10 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             h_next = dt
         i_step += 1
         g_new = system_event(t_new, ynew, params)
-        if armed and not (g_new > 0.0):
+        if not math.isfinite(g_new):
+            status = NUMERICAL_FAILURE
+            break
+        if armed and g_new <= 0.0:
             th = _locate_event(system_event, r, t, h, g, g_new, params, ytmp)
             t_ev = t + th * h
             i_rec = _record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
