@@ -268,7 +268,7 @@ def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
         mjw2 = -mi[k, 2, 0] * vz + mi[k, 2, 1] * vx
         gterm[k, 0] = om * (-pz - mjw0)
         gterm[k, 1] = om * (px - mjw1)
-        # the Munk moment vx Pz - vz Px (d T / d th of Lagrange's equations)
+        # the Munk moment vx Pz - vz Px = -dT_k/d(th_k), the configuration term of Lagrange's equations
         gterm[k, 2] = -om * mjw2 + (vx * pz - vz * px)
 
 
