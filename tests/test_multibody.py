@@ -32,7 +32,8 @@ LIN_DAMP, ROT_DAMP = 0, 1  # linear damping on every body: -c v, -c_r om
 SPRING_BODY, SPRING_A, SPRING_X, SPRING_Z, SPRING_K, SPRING_C = 2, 3, 4, 5, 6, 7  # spring from body point
 CONTACT_ON, CONTACT_B, CONTACT_K, CONTACT_C, CONTACT_MU, CONTACT_VREG = 8, 9, 10, 11, 12, 13  # body 0 point
 EVENT_INDEX, EVENT_LEVEL, T_FAIL = 14, 15, 16
-N_EXTRA = 17
+SEGMENT_HALF, SEGMENT_K = 17, 18  # segment contact of every body with mass (half length; 0: off)
+N_EXTRA = 19
 
 
 def extra(**kw):
@@ -90,6 +91,26 @@ def forces_of(t, q, u, desc, weight, ex):
         f[0, 0] += fx
         f[0, 1] += fz
         f[0, 2] += my
+    if ex[SEGMENT_HALF] > 0.0:
+        for k in range(n):
+            if weight[k] > 0.0:
+                fx, fz, my = sc.segment_contact(
+                    pos[k, 0],
+                    pos[k, 1],
+                    pos[k, 2],
+                    vel[k, 0],
+                    vel[k, 1],
+                    vel[k, 2],
+                    ex[SEGMENT_HALF],
+                    0.0,
+                    ex[SEGMENT_K],
+                    0.0,
+                    0.0,
+                    1e-3,
+                )
+                f[k, 0] += fx
+                f[k, 1] += fz
+                f[k, 2] += my
     return f
 
 
@@ -283,6 +304,11 @@ def test_recursive_solution_equals_assembled_kane_equations(root_free):
         a, rhs_f = mb.generalised_mass_and_force(q, u, f, d)
         np.testing.assert_allclose(a @ du, rhs_f, rtol=0, atol=1e-11 * np.abs(rhs_f).max())
         np.testing.assert_allclose(du, mb.accelerations_assembled(q, u, f, d), rtol=1e-10, atol=1e-12)
+        # Newton's second law for the whole tree: no reaction on a free root coordinate
+        hf = mb.joint_forces(q, u, du, f, d)
+        for c in range(2):
+            if root_free[c]:
+                assert abs(hf[0, c]) < 1e-11 * np.abs(f).max()
 
 
 def test_morison_terms_vanish_for_rigid_bodies():
@@ -449,6 +475,30 @@ def test_chain_between_two_pins_relaxes_to_the_catenary():
         assert -hf[1, 0] == pytest.approx(wl * a, rel=link**2 / (12 * a**2))
         assert hf[1, 1] == pytest.approx(wl * total / 2.0, rel=1e-4)
     assert 3.0 < deviation[12] / deviation[24] < 5.0
+
+
+def test_chain_bouncing_on_elastic_seabed_conserves_energy():
+    """Three free links dropped, tilted and spinning, onto an undamped frictionless Winkler seabed: the
+    kinetic + potential + foundation energy (closed form, segment_foundation_energy) is conserved, which
+    checks the quadrature of the contact force and moment against the exact energy they derive from."""
+    length, m, k = 0.6, 2.0, 2e5
+    desc, q0 = mbp.chain(3, length, rod(m, length), [-0.4, 0.3, -0.2], start=(0.0, 0.5), pinned=False)
+    weight = weights_of(desc)
+    y0 = desc.initial_state(q0, [1.0, -1.0, 2.0, -1.0, 0.5])
+    res = run(desc, y0, 1.5, extra(segment_half=length / 2, segment_k=k), weight=weight, rtol=1e-11)
+    assert res.status_name == "time_limit"
+    d = desc.arrays()
+    nd = desc.n_dof
+    energy, foundation = [], []
+    for y in res.states:
+        pos, _ = mb.body_states(y[:nd], y[nd:], d)
+        ef = sum(sc.segment_foundation_energy(pos[i, 1], pos[i, 2], length / 2, 0.0, k) for i in range(3))
+        foundation.append(ef)
+        energy.append(mb.kinetic_energy(y[:nd], y[nd:], d) + weight @ pos[:, 1] + ef)
+    energy = np.array(energy)
+    scale = mb.kinetic_energy(y0[:nd], y0[nd:], d) + weight.sum() * 0.5
+    assert max(foundation) > 0.1 * scale  # it hit the seabed hard
+    assert np.abs(energy - energy[0]).max() < 1e-6 * scale
 
 
 # --- seabed-contact kernels against closed-form integrals -------------------------------------------
