@@ -1,0 +1,692 @@
+"""Planar finite-segment multibody core: Kane's equations in Huston's form (seed 004 sec. 2.3).
+
+A *description* (data, built by :mod:`mineburial.multibody`) is the tuple::
+
+    desc = (parent, joint_on_parent, joint_on_body, mass_matrix, root_free, root_pose)
+
+    parent           int64[N]       parent body of each body; -1 for body 0 (the root) only; parent[k] < k
+    joint_on_parent  float64[N, 2]  body-frame (a, b) of the pin joining k to its parent, from the parent's
+                                    centroid (row 0 unused)
+    joint_on_body    float64[N, 2]  body-frame (a, b) of the same pin, from body k's centroid (row 0 unused)
+    mass_matrix      float64[N,3,3] body-frame generalised mass at the centroid in the order (a, b, theta):
+                                    the rigid body's diag(m, m, I) plus any added mass
+    root_free        int64[3]       1 where the root's x, z, theta are generalised coordinates
+    root_pose        float64[3]     the root's x, z, theta; the locked ones keep these values
+
+Planar conventions: x horizontal, z vertical up; a body's attitude theta turns +x toward +z; a body-frame
+vector (a, b) is (a cos th - b sin th, a sin th + b cos th) in the inertial frame. A body's state at its
+centroid is (x, z, th) and (vx, vz, om); applied forces are (Fx, Fz, My) at the centroid, My = rx Fz - rz Fx.
+
+Generalised coordinates (see docs/multibody.md for why they differ from seed 004's Euler parameters): q = the
+root's free coordinates in the order x, z, th, then the absolute angles th_1 .. th_{N-1}; generalised speeds
+u = dq/dt; the state of an integration is y = concat(q, u). In the plane the Euler parameters of seed 004
+eq. (2) reduce to (sin(beta/2), cos(beta/2)) of one angle and eq. (28) to d(beta)/dt = omega, so the angle
+itself is the coordinate: no normalisation drift, no singularity (the Cardan singularity of eq. (5) does not
+exist for one rotation axis). Absolute rather than relative (seed 004 eq. (8)) angles make each partial
+angular velocity a unit vector (eq. (10) reduces to a Kronecker delta) and leave the joint-space mass matrix
+the same up to a congruence with a constant triangular matrix.
+
+Kane's equations (seed 004 eqs. (21)-(26)): with the partial velocities V_k = d(vx, vz, om)_k / du
+(eqs. (10), (15)), the generalised active forces F_l = sum_k V_k[:, l] . F_k (eq. (23)) and the generalised
+inertia forces F*_l = -sum_k V_k[:, l] . (M_k a_k + g_k) (eqs. (20)-(22)), F_l + F*_l = 0 (eq. (24)) gives
+
+    A du/dt = f,   A = sum_k V_k^T M_k V_k  (eq. (26)),   f = sum_k V_k^T (F_k - M_k b_k - g_k)  (eq. (25))
+
+where a_k = V_k du/dt + b_k (eq. (17): b_k = dV_k/dt u, the velocity-product accelerations), M_k the
+inertial-frame generalised mass (eq. (19) generalised to a full 3 x 3 with added mass) and g_k the velocity
+terms of a rotating anisotropic mass: dM_k/dt w_k plus the Munk moment (0, 0, vx Pz - vz Px) with
+P = (M_k w_k)[0:2] (for a rigid body's diag(m, m, I) both vanish; for an added mass they make the equations
+Lagrange's equations of the kinetic energy 1/2 sum w^T M w, so that energy is conserved exactly; see
+docs/multibody.md for the comparison with the Morison-type added-mass force of seed 004 eq. (46)).
+
+A is assembled in O(N^2) from the partial velocities without forming them (a body's partial velocity with
+respect to an ancestor's angle is the same for its whole subtree, so the sums over bodies become subtree
+sums) and solved by Cholesky; :func:`partial_velocities` forms them explicitly for systems and tests.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mineburial._numba import JIT_OPTIONS, kernel
+from mineburial.kernels.integrators import (
+    DP_C,
+    N_STAGES,
+    dense_state,
+    dopri_dense,
+    dopri_solution,
+    dopri_stage_state,
+    error_norm,
+    hermite_dense,
+    illinois_next,
+    illinois_update,
+    next_step_size,
+)
+
+# --- status codes of an integration (the drop statuses of kernels/status.py are the falling mine's) ------
+STOPPED = 0
+TIME_LIMIT = 1
+NUMERICAL_FAILURE = 2
+INVALID_INPUT = 3
+
+STATUS_NAMES = ("stopped", "time_limit", "numerical_failure", "invalid_input")
+STATUS_DESCRIPTIONS = (
+    "the system's event function crossed zero from above (e.g. the ship stopped); the run ends there",
+    "the time limit was reached before the event",
+    "a non-finite value appeared in the state or its rate, or the step size underflowed",
+    "the integration settings were invalid (method, step, tolerances, record interval); nothing was run",
+)
+
+#: integration methods of :func:`integrate`
+METHODS = ("dopri5", "rk4")
+
+
+# --- description helpers ------------------------------------------------------------------------------
+@kernel
+def dof_map(desc):
+    """(root_dof[3], angle_dof[N], n_dof): the index in q of the root's x, z, th (-1 where locked) and of
+    each body's angle (body 0: the root's th)."""
+    parent = desc[0]
+    root_free = desc[4]
+    n = parent.shape[0]
+    root_dof = np.full(3, -1, np.int64)
+    i = 0
+    for c in range(3):
+        if root_free[c] != 0:
+            root_dof[c] = i
+            i += 1
+    angle_dof = np.empty(n, np.int64)
+    angle_dof[0] = root_dof[2]
+    for k in range(1, n):
+        angle_dof[k] = i + k - 1
+    return root_dof, angle_dof, i + n - 1
+
+
+@kernel
+def n_dof(desc):
+    """Number of generalised coordinates of a description."""
+    return dof_map(desc)[2]
+
+
+@kernel
+def _rot(th, a, b):
+    """Body-frame (a, b) in the inertial frame at attitude th."""
+    c = math.cos(th)
+    s = math.sin(th)
+    return c * a - s * b, s * a + c * b
+
+
+@kernel
+def _inertial_mass(mb, th, out):
+    """out = T mb T^T with T = [[c, -s, 0], [s, c, 0], [0, 0, 1]] (seed 004 eq. (19))."""
+    c = math.cos(th)
+    s = math.sin(th)
+    t = np.zeros((3, 3))
+    t[0, 0] = c
+    t[0, 1] = -s
+    t[1, 0] = s
+    t[1, 1] = c
+    t[2, 2] = 1.0
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for p in range(3):
+                for r in range(3):
+                    acc += t[i, p] * mb[p, r] * t[j, r]
+            out[i, j] = acc
+
+
+@kernel
+def _kinematics(q, u, desc, pos, vel, lever, rel):
+    """Centroid poses and velocities of every body, and per body k >= 1 the inertial vectors
+    ``lever[k]`` = R_j (c_k - d_j) (parent's pin to k's pin; d_0 = 0: the root turns about its centroid)
+    and ``rel[k]`` = -R_k d_k (k's pin to k's centroid); seed 004 eq. (13) with s = 0."""
+    parent = desc[0]
+    jp = desc[1]
+    jb = desc[2]
+    root_pose = desc[5]
+    n = parent.shape[0]
+    root_dof, angle_dof, nd = dof_map(desc)
+    for c in range(3):
+        d = root_dof[c]
+        if d >= 0:
+            pos[0, c] = q[d]
+            vel[0, c] = u[d]
+        else:
+            pos[0, c] = root_pose[c]
+            vel[0, c] = 0.0
+    rel[0, 0] = 0.0
+    rel[0, 1] = 0.0
+    lever[0, 0] = 0.0
+    lever[0, 1] = 0.0
+    for k in range(1, n):
+        j = parent[k]
+        d = angle_dof[k]
+        th = q[d]
+        om = u[d]
+        rcx, rcz = _rot(pos[j, 2], jp[k, 0], jp[k, 1])
+        rdx, rdz = _rot(th, jb[k, 0], jb[k, 1])
+        pos[k, 0] = pos[j, 0] + rcx - rdx
+        pos[k, 1] = pos[j, 1] + rcz - rdz
+        pos[k, 2] = th
+        # v_k = v_j + om_j J R_j c - om_k J R_k d, J (x, z) = (-z, x)
+        vel[k, 0] = vel[j, 0] - vel[j, 2] * rcz + om * rdz
+        vel[k, 1] = vel[j, 1] + vel[j, 2] * rcx - om * rdx
+        vel[k, 2] = om
+        rel[k, 0] = -rdx
+        rel[k, 1] = -rdz
+        # lever from the parent's pin (its centroid for the root): rc - R_j d_j = rc + rel[j]
+        lever[k, 0] = rcx + rel[j, 0]
+        lever[k, 1] = rcz + rel[j, 1]
+
+
+@kernel
+def body_states(q, u, desc):
+    """Kinematics of every centroid: pos[N, 3] = (x, z, th), vel[N, 3] = (vx, vz, om)
+    (seed 004 eqs. (13)-(14))."""
+    n = desc[0].shape[0]
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    return pos, vel
+
+
+@kernel
+def partial_velocities(q, desc):
+    """V[N, 3, n_dof]: d(vx, vz, om)_k / du_l, Kane's partial velocities and partial angular velocities
+    (seed 004 eqs. (10) and (15) in the plane: the partial angular velocity of body k with respect to an
+    absolute angle is 1 for its own angle and 0 otherwise; the partial velocity of its centroid with
+    respect to an ancestor j's angle is J R_j (c - d_j), the arm from j's pin to the next pin on the path,
+    turned by 90 degrees, and with respect to its own angle J R_k (-d_k))."""
+    parent = desc[0]
+    n = parent.shape[0]
+    root_dof, angle_dof, nd = dof_map(desc)
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    u = np.zeros(nd)
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    v = np.zeros((n, 3, nd))
+    for c in range(3):
+        if root_dof[c] >= 0:
+            v[0, c, root_dof[c]] = 1.0
+    for k in range(1, n):
+        j = parent[k]
+        for i in range(2):
+            for l in range(nd):
+                v[k, i, l] = v[j, i, l]
+        dj = angle_dof[j]
+        if dj >= 0:
+            # replace the parent's own column (arm to its centroid) by the arm to k's pin
+            v[k, 0, dj] = -lever[k, 1]
+            v[k, 1, dj] = lever[k, 0]
+        dk = angle_dof[k]
+        v[k, 0, dk] = -rel[k, 1]
+        v[k, 1, dk] = rel[k, 0]
+        v[k, 2, dk] = 1.0
+    return v
+
+
+@kernel
+def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
+    """Per body: inertial mass mi[k] (eq. (19)), velocity-product acceleration bias[k] = dV_k/dt u
+    (eqs. (16)-(17); translational only, the angular part is zero for absolute angles) and the velocity
+    terms gterm[k] = dM_k/dt w_k + (0, 0, vx Pz - vz Px) of a rotating anisotropic mass."""
+    parent = desc[0]
+    mass = desc[3]
+    n = parent.shape[0]
+    bias[0, 0] = 0.0
+    bias[0, 1] = 0.0
+    for k in range(n):
+        _inertial_mass(mass[k], pos[k, 2], mi[k])
+        if k > 0:
+            j = parent[k]
+            omj = vel[j, 2]
+            omk = vel[k, 2]
+            # a_k = a_j + al_j J(arm_j) - om_j^2 arm_j + al_k J(rel_k) - om_k^2 rel_k, arm_j = R_j c
+            armx = lever[k, 0] - rel[j, 0]
+            armz = lever[k, 1] - rel[j, 1]
+            bias[k, 0] = bias[j, 0] - omj * omj * armx - omk * omk * rel[k, 0]
+            bias[k, 1] = bias[j, 1] - omj * omj * armz - omk * omk * rel[k, 1]
+        vx = vel[k, 0]
+        vz = vel[k, 1]
+        om = vel[k, 2]
+        # P = M w; dM/dt w = om (J3 M w - M J3 w) with J3 (x, z, th) = (-z, x, 0)
+        px = mi[k, 0, 0] * vx + mi[k, 0, 1] * vz + mi[k, 0, 2] * om
+        pz = mi[k, 1, 0] * vx + mi[k, 1, 1] * vz + mi[k, 1, 2] * om
+        mjw0 = -mi[k, 0, 0] * vz + mi[k, 0, 1] * vx
+        mjw1 = -mi[k, 1, 0] * vz + mi[k, 1, 1] * vx
+        mjw2 = -mi[k, 2, 0] * vz + mi[k, 2, 1] * vx
+        gterm[k, 0] = om * (-pz - mjw0)
+        gterm[k, 1] = om * (px - mjw1)
+        # the Munk moment vx Pz - vz Px (d T / d th of Lagrange's equations)
+        gterm[k, 2] = -om * mjw2 + (vx * pz - vz * px)
+
+
+@kernel
+def _cholesky_solve(a, b, x):
+    """Solve a x = b for symmetric positive definite a (overwritten by its Cholesky factor); False if a
+    pivot is not positive."""
+    n = a.shape[0]
+    for j in range(n):
+        s = a[j, j]
+        for p in range(j):
+            s -= a[j, p] * a[j, p]
+        if not (s > 0.0):
+            return False
+        d = math.sqrt(s)
+        a[j, j] = d
+        for i in range(j + 1, n):
+            s = a[i, j]
+            for p in range(j):
+                s -= a[i, p] * a[j, p]
+            a[i, j] = s / d
+    for i in range(n):
+        s = b[i]
+        for p in range(i):
+            s -= a[i, p] * x[p]
+        x[i] = s / a[i, i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for p in range(i + 1, n):
+            s -= a[p, i] * x[p]
+        x[i] = s / a[i, i]
+    return True
+
+
+@kernel
+def generalised_mass_and_force(q, u, forces, desc):
+    """Kane's equations as assembled (seed 004 eqs. (25)-(26)): the generalised mass matrix
+    A = sum_k V_k^T M_k V_k and the right-hand side f = sum_k V_k^T (F_k - M_k b_k - g_k).
+
+    Assembled from the description in O(N^2): for an ancestor j of body k, V_k[:, dof j] = (J lever_m, 0)
+    with m the child of j on the path to k, the same for every body of m's subtree, so sums over bodies
+    become subtree sums; the explicit sum over :func:`partial_velocities` gives the same matrix."""
+    parent = desc[0]
+    n = parent.shape[0]
+    root_dof, angle_dof, nd = dof_map(desc)
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    mi = np.empty((n, 3, 3))
+    bias = np.empty((n, 2))
+    gterm = np.empty((n, 3))
+    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    a = np.zeros((nd, nd))
+    f = np.zeros(nd)
+    # h_k = F_k - M_k b_k - g_k, and its translational subtree sums
+    h = np.empty((n, 3))
+    for k in range(n):
+        for i in range(3):
+            h[k, i] = forces[k, i] - mi[k, i, 0] * bias[k, 0] - mi[k, i, 1] * bias[k, 1] - gterm[k, i]
+    hs = np.empty((n, 2))
+    for k in range(n):
+        hs[k, 0] = h[k, 0]
+        hs[k, 1] = h[k, 1]
+    for k in range(n - 1, 0, -1):
+        hs[parent[k], 0] += hs[k, 0]
+        hs[parent[k], 1] += hs[k, 1]
+    # generalised forces (eq. (23) for the applied part)
+    rx = root_dof[0]
+    rz = root_dof[1]
+    if rx >= 0:
+        f[rx] += hs[0, 0]
+    if rz >= 0:
+        f[rz] += hs[0, 1]
+    for k in range(n):
+        dk = angle_dof[k]
+        if dk >= 0:
+            f[dk] += -rel[k, 1] * h[k, 0] + rel[k, 0] * h[k, 1] + h[k, 2]
+        if k > 0:
+            dj = angle_dof[parent[k]]
+            if dj >= 0:
+                f[dj] += -lever[k, 1] * hs[k, 0] + lever[k, 0] * hs[k, 1]
+    # root translations: V_k[:, x] = (1, 0, 0), V_k[:, z] = (0, 1, 0) for every body
+    for k in range(n):
+        if rx >= 0:
+            a[rx, rx] += mi[k, 0, 0]
+        if rz >= 0:
+            a[rz, rz] += mi[k, 1, 1]
+        if rx >= 0 and rz >= 0:
+            a[rx, rz] += mi[k, 0, 1]
+    if rx >= 0 and rz >= 0:
+        a[rz, rx] = a[rx, rz]
+    # angle columns: subtree momentum G_p generated by a unit rate of p's angle
+    branch = np.empty(n, np.int64)
+    for p in range(n):
+        dp = angle_dof[p]
+        if dp < 0:
+            continue
+        g0 = 0.0
+        g1 = 0.0
+        app = 0.0
+        # body p itself: column (J rel_p, 1)
+        cx = -rel[p, 1]
+        cz = rel[p, 0]
+        m0 = mi[p, 0, 0] * cx + mi[p, 0, 1] * cz + mi[p, 0, 2]
+        m1 = mi[p, 1, 0] * cx + mi[p, 1, 1] * cz + mi[p, 1, 2]
+        m2 = mi[p, 2, 0] * cx + mi[p, 2, 1] * cz + mi[p, 2, 2]
+        g0 += m0
+        g1 += m1
+        app += cx * m0 + cz * m1 + m2
+        branch[p] = p
+        for k in range(p + 1, n):
+            j = parent[k]
+            if j == p:
+                branch[k] = k
+            elif j > p and branch[j] >= 0:
+                branch[k] = branch[j]
+            else:
+                branch[k] = -1
+                continue
+            m = branch[k]
+            cx = -lever[m, 1]
+            cz = lever[m, 0]
+            m0 = mi[k, 0, 0] * cx + mi[k, 0, 1] * cz
+            m1 = mi[k, 1, 0] * cx + mi[k, 1, 1] * cz
+            g0 += m0
+            g1 += m1
+            app += cx * m0 + cz * m1
+        a[dp, dp] = app
+        if rx >= 0:
+            a[rx, dp] = g0
+            a[dp, rx] = g0
+        if rz >= 0:
+            a[rz, dp] = g1
+            a[dp, rz] = g1
+        m = p
+        j = parent[p] if p > 0 else -1
+        while j >= 0:
+            dj = angle_dof[j]
+            if dj >= 0:
+                v = -lever[m, 1] * g0 + lever[m, 0] * g1
+                a[dj, dp] = v
+                a[dp, dj] = v
+            m = j
+            j = parent[j] if j > 0 else -1
+    return a, f
+
+
+@kernel
+def accelerations(q, u, forces, desc):
+    """du/dt from Kane's equations A du/dt = f (seed 004 eqs. (24)-(27)) for the applied centroid forces
+    ``forces[N, 3]`` = (Fx, Fz, My); NaN where A is not positive definite (a bad description)."""
+    a, f = generalised_mass_and_force(q, u, forces, desc)
+    du = np.empty(f.shape[0])
+    if not _cholesky_solve(a, f, du):
+        du[:] = np.nan
+    return du
+
+
+@kernel
+def body_accelerations(q, u, du, desc):
+    """Centroid accelerations acc[N, 3] = (ax, az, alpha) for the generalised accelerations du
+    (seed 004 eq. (17))."""
+    parent = desc[0]
+    n = parent.shape[0]
+    root_dof, angle_dof, nd = dof_map(desc)
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    acc = np.empty((n, 3))
+    for c in range(3):
+        acc[0, c] = du[root_dof[c]] if root_dof[c] >= 0 else 0.0
+    for k in range(1, n):
+        j = parent[k]
+        alj = acc[j, 2]
+        omj = vel[j, 2]
+        alk = du[angle_dof[k]]
+        omk = vel[k, 2]
+        armx = lever[k, 0] - rel[j, 0]
+        armz = lever[k, 1] - rel[j, 1]
+        acc[k, 0] = acc[j, 0] - alj * armz - omj * omj * armx - alk * rel[k, 1] - omk * omk * rel[k, 0]
+        acc[k, 1] = acc[j, 1] + alj * armx - omj * omj * armz + alk * rel[k, 0] - omk * omk * rel[k, 1]
+        acc[k, 2] = alk
+    return acc
+
+
+@kernel
+def joint_forces(q, u, du, forces, desc):
+    """Constraint force (Hx, Hz)[N, 2] that each pin exerts on body k (from its parent), seed 004
+    eqs. (48)-(52): the equations of the degrees of freedom the pins remove give F^C_k = M_k a_k + g_k - F_k
+    at each centroid (eq. (51)) and the pin force is the sum over the body's subtree (eq. (52): in a chain,
+    the bodies outboard of the pin). Row 0 is the reaction of the root's locked coordinates (zero for a
+    free root). Smooth pins carry no moment."""
+    parent = desc[0]
+    n = parent.shape[0]
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    mi = np.empty((n, 3, 3))
+    bias = np.empty((n, 2))
+    gterm = np.empty((n, 3))
+    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    acc = body_accelerations(q, u, du, desc)
+    hf = np.empty((n, 2))
+    for k in range(n):
+        for i in range(2):
+            hf[k, i] = (
+                mi[k, i, 0] * acc[k, 0] + mi[k, i, 1] * acc[k, 1] + mi[k, i, 2] * acc[k, 2] + gterm[k, i]
+            ) - forces[k, i]
+    for k in range(n - 1, 0, -1):
+        hf[parent[k], 0] += hf[k, 0]
+        hf[parent[k], 1] += hf[k, 1]
+    return hf
+
+
+@kernel
+def kinetic_energy(q, u, desc):
+    """E^K = 1/2 sum_k w_k^T M_k w_k, w_k = (vx, vz, om) (seed 004 eq. (64), with the added mass)."""
+    parent = desc[0]
+    mass = desc[3]
+    n = parent.shape[0]
+    pos, vel = body_states(q, u, desc)
+    mi = np.empty((3, 3))
+    e = 0.0
+    for k in range(n):
+        _inertial_mass(mass[k], pos[k, 2], mi)
+        for i in range(3):
+            for j in range(3):
+                e += 0.5 * vel[k, i] * mi[i, j] * vel[k, j]
+    return e
+
+
+# --- time integration -----------------------------------------------------------------------------------
+@kernel
+def _all_finite(y):
+    for i in range(y.shape[0]):
+        if not math.isfinite(y[i]):
+            return False
+    return True
+
+
+@kernel
+def _locate_event(system_event, r, t, h, ga, gb, params, ytmp):
+    """Fraction theta of the step at which the event crosses zero from above, by the Illinois root finder
+    on the continuous extension ``r``; returns the end of the final bracket where the event is <= 0."""
+    a = 0.0
+    b = 1.0
+    side = 0
+    tol = 1e-13 * max(1.0, abs(t) / max(h, 1e-300))
+    for _ in range(200):
+        if b - a <= tol:
+            break
+        th = illinois_next(a, ga, b, gb)
+        dense_state(r, th, ytmp)
+        gt = system_event(t + th * h, ytmp, params)
+        if not math.isfinite(gt):
+            break
+        if gt == 0.0:
+            return th
+        a, ga, b, gb, side = illinois_update(a, ga, b, gb, th, gt, side)
+    return b
+
+
+@kernel
+def _record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
+    """Record the output times ``t_out[i] <= t_stop`` (those in (t, t + h]) on the continuous extension
+    ``r`` of the step; returns the next output index."""
+    while i_rec < t_out.shape[0] and t_out[i_rec] <= t_stop:
+        th = min(1.0, max(0.0, (t_out[i_rec] - t) / h))
+        dense_state(r, th, ytmp)
+        times[i_rec] = t_out[i_rec]
+        states[i_rec, :] = ytmp
+        i_rec += 1
+    return i_rec
+
+
+@njit(**JIT_OPTIONS)
+def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol, atol, record_dt):
+    """Integrate dy/dt = system_rhs(t, y, params, dy) from t0 to t_end, stopping where
+    system_event(t, y, params) crosses zero from above (the event is armed once it has been positive).
+
+    method: "dopri5" -- Dormand-Prince 5(4), PI step-size control on the mixed tolerance
+    atol + rtol |y| per component, first step ``dt``, 4th-order continuous extension; "rk4" -- classical
+    Runge-Kutta with the fixed step ``dt`` (seed 004 sec. 4.1: 2 ms), cubic Hermite continuous extension.
+    Both reuse kernels/integrators.py. The state is recorded at the exact times t0 + i record_dt on the
+    continuous extension, and the event is located on it (Illinois); when the run stops early the located
+    event state is the last record.
+
+    Returns (times, states, status, t_stop): status STOPPED, TIME_LIMIT, NUMERICAL_FAILURE (a non-finite
+    state or rate, or a step-size underflow: the records end at the last finite state) or INVALID_INPUT;
+    t_stop is the time the run ended (the event time when STOPPED). Never returns NaN.
+
+    Not cached on disk: a kernel that takes functions as arguments gets a new cache entry in every
+    process (numba 0.6x), so it is compiled in memory; the kernels it calls are cached.
+    """
+    n = y0.shape[0]
+    if method == "dopri5":
+        use_dopri = True
+    elif method == "rk4":
+        use_dopri = False
+    else:
+        return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
+    ok = (
+        math.isfinite(t0)
+        and math.isfinite(t_end)
+        and t_end > t0
+        and dt > 0.0
+        and math.isfinite(dt)
+        and record_dt > 0.0
+        and math.isfinite(record_dt)
+        and rtol > 0.0
+        and atol > 0.0
+        and _all_finite(y0)
+    )
+    if not ok:
+        return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
+    # output times t0 + i record_dt, ending exactly at t_end (recorded even off the grid)
+    n_out = int(math.floor((t_end - t0) / record_dt * (1.0 + 1e-12))) + 1
+    if t0 + (n_out - 1) * record_dt < t_end - 1e-12 * max(abs(t_end), record_dt):
+        n_out += 1
+    t_out = np.empty(n_out)
+    for i in range(n_out):
+        t_out[i] = min(t0 + i * record_dt, t_end)
+    t_out[n_out - 1] = t_end
+    times = np.zeros(n_out + 1)
+    states = np.zeros((n_out + 1, n))
+    y = y0.copy()
+    ynew = np.empty(n)
+    ytmp = np.empty(n)
+    err = np.empty(n)
+    k = np.empty((N_STAGES, n))
+    r = np.zeros((5, n))
+    groups = np.empty((n, 2), np.int64)
+    for i in range(n):
+        groups[i, 0] = i
+        groups[i, 1] = i + 1
+    times[0] = t0
+    states[0, :] = y
+    i_rec = 1
+    t = t0
+    system_rhs(t, y, params, k[0])
+    if not _all_finite(k[0]):
+        return times[:1].copy(), states[:1].copy(), NUMERICAL_FAILURE, t
+    g = system_event(t, y, params)
+    armed = g > 0.0
+    h = min(dt, t_end - t0)
+    err_prev = 1e-4
+    accepted_before = True
+    i_step = 0
+    status = TIME_LIMIT
+    while True:
+        if use_dopri:
+            h = min(h, t_end - t)
+            if h <= 1e-14 * max(1.0, abs(t)):
+                status = NUMERICAL_FAILURE
+                break
+            for s in range(1, N_STAGES):
+                dopri_stage_state(y, k, s, h, ytmp)
+                system_rhs(t + DP_C[s] * h, ytmp, params, k[s])
+            dopri_solution(y, k, h, ynew, err)
+            if _all_finite(ynew) and _all_finite(k[N_STAGES - 1]):
+                en = error_norm(y, ynew, err, groups, rtol, atol)
+            else:
+                en = np.nan
+            h_next, accept, err_prev = next_step_size(h, en, err_prev, accepted_before)
+            if not accept:
+                h = h_next
+                accepted_before = False
+                continue
+            accepted_before = True
+            dopri_dense(y, ynew, k, h, r)
+            t_new = t_end if t + h >= t_end else t + h
+        else:
+            t_new = t0 + (i_step + 1) * dt
+            if t_new >= t_end * (1.0 - 1e-14) - 1e-300 or t_new > t_end:
+                t_new = t_end
+            h = t_new - t
+            # classical Runge-Kutta; k[0] = f(t, y), k[1..3] the other stages, k[6] = f(t_new, y_new)
+            for i in range(n):
+                ytmp[i] = y[i] + 0.5 * h * k[0, i]
+            system_rhs(t + 0.5 * h, ytmp, params, k[1])
+            for i in range(n):
+                ytmp[i] = y[i] + 0.5 * h * k[1, i]
+            system_rhs(t + 0.5 * h, ytmp, params, k[2])
+            for i in range(n):
+                ytmp[i] = y[i] + h * k[2, i]
+            system_rhs(t_new, ytmp, params, k[3])
+            for i in range(n):
+                ynew[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
+            if not _all_finite(ynew):
+                status = NUMERICAL_FAILURE
+                break
+            system_rhs(t_new, ynew, params, k[N_STAGES - 1])
+            if not _all_finite(k[N_STAGES - 1]):
+                status = NUMERICAL_FAILURE
+                break
+            hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
+            h_next = dt
+        i_step += 1
+        g_new = system_event(t_new, ynew, params)
+        if armed and not (g_new > 0.0):
+            th = _locate_event(system_event, r, t, h, g, g_new, params, ytmp)
+            t_ev = t + th * h
+            i_rec = _record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
+            if times[i_rec - 1] < t_ev:
+                dense_state(r, th, ytmp)
+                times[i_rec] = t_ev
+                states[i_rec, :] = ytmp
+                i_rec += 1
+            return times[:i_rec].copy(), states[:i_rec].copy(), STOPPED, t_ev
+        i_rec = _record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
+        if g_new > 0.0:
+            armed = True
+        g = g_new
+        y[:] = ynew
+        k[0, :] = k[N_STAGES - 1]
+        t = t_new
+        h = h_next
+        if t >= t_end:
+            break
+    return times[:i_rec].copy(), states[:i_rec].copy(), status, t
