@@ -23,8 +23,11 @@ deviation from the printed equations and every assumed value.
 
 import math
 
+import numpy as np
+
 from mineburial._numba import kernel
 from mineburial.kernels.crossflow import quadratic_drag_integrals
+from mineburial.kernels.multibody import accelerations, body_states, joint_forces, kinetic_energy
 
 #: 4-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 25.4.30)
 _GL_X = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -214,3 +217,207 @@ def ship_hydrostatics(heave, pitch, rho, g, waterplane_area, volume, gm_long):
     kz = rho * g * waterplane_area
     kp = rho * g * volume * gm_long
     return -kz * heave, -kp * pitch, 0.5 * (kz * heave * heave + kp * pitch * pitch)
+
+
+# ---------------------------------------------------------------------------
+# the system: applied forces of every body, right-hand side, stop event
+# ---------------------------------------------------------------------------
+#: body kinds (params[2])
+ANCHOR = 0
+ELEMENT = 1  # chain link or cable element, in the water
+ROD = 2  # the auxiliary rod, in the air (§3.2.2)
+SHIP = 3
+
+#: indices of the scalar parameter vector (params[1])
+P_G = 0
+P_RHO = 1
+P_NU = 2
+P_MU = 3
+P_VSCALE = 4
+P_CD_ANCHOR = 5
+P_ANCHOR_W = 6
+P_ANCHOR_H = 7
+P_CD = 8
+P_CF = 9
+P_KZ = 10
+P_USURF = 11
+P_DEPTH = 12
+P_SHIP_L = 13
+P_SHIP_SW = 14
+P_SHIP_KS = 15
+P_HALF = 16
+P_AW = 17
+P_VOL = 18
+P_GML = 19
+P_ZW = 20
+P_FRICTION = 21
+P_DRAG = 22
+N_PARAMS = 23
+
+
+@kernel
+def applied_forces(q, u, params):
+    """Applied forces (Fx, Fz, My)[N, 3] at every centroid, except the anchor's friction.
+
+    ``params = (desc, p, kind, length, diameter, weight, buoyancy)``: the multibody
+    description, the scalar parameters (``P_*``), and per body its kind, length, diameter,
+    weight ``m g`` and full buoyancy ``rho V g``. Returns ``(forces, pos, vel, water_power,
+    potential_g, potential_s, potential_e)``: the power of the water forces (eqs. (39),
+    (45)-(47), (62)) and the potentials of gravity with buoyancy (eq. (65)), of the seabed
+    foundation (eqs. (41), (68)) and of the ship's hydrostatic restoring (eq. (66)).
+    """
+    desc = params[0]
+    p = params[1]
+    kind = params[2]
+    length = params[3]
+    diameter = params[4]
+    weight = params[5]
+    buoy = params[6]
+    pos, vel = body_states(q, u, desc)
+    n = pos.shape[0]
+    forces = np.zeros((n, 3))
+    rho = p[P_RHO]
+    g = p[P_G]
+    drag_on = p[P_DRAG] != 0.0
+    k_eff = p[P_KZ] - rho * g
+    power = 0.0
+    eg = 0.0
+    es = 0.0
+    ee = 0.0
+    for k in range(n):
+        x, z, th = pos[k, 0], pos[k, 1], pos[k, 2]
+        vx, vz, om = vel[k, 0], vel[k, 1], vel[k, 2]
+        kk = kind[k]
+        if kk == SHIP:
+            fz, my, pot = ship_hydrostatics(z - p[P_ZW], th, rho, g, p[P_AW], p[P_VOL], p[P_GML])
+            forces[k, 1] += fz
+            forces[k, 2] += my
+            ee += pot
+            if drag_on:
+                fx = ship_resistance(
+                    vx, p[P_USURF], p[P_SHIP_L], p[P_SHIP_SW], p[P_SHIP_KS], rho, p[P_NU], p[P_HALF]
+                )
+                forces[k, 0] += fx
+                power += fx * vx
+            continue
+        net = weight[k] - buoy[k]
+        forces[k, 1] -= net
+        eg += net * z
+        if kk == ANCHOR:
+            if drag_on:
+                cur = current_speed(z, p[P_USURF], p[P_DEPTH])
+                fx = anchor_drag(vx, cur, rho, p[P_CD_ANCHOR], p[P_ANCHOR_W], p[P_ANCHOR_H])
+                forces[k, 0] += fx
+                power += fx * vx
+        elif kk == ELEMENT:
+            r = 0.5 * diameter[k]
+            fz, my, pot, _ = element_foundation(z, th, length[k], r, k_eff)
+            forces[k, 1] += fz
+            forces[k, 2] += my
+            es += pot
+            if drag_on:
+                cur = current_speed(z, p[P_USURF], p[P_DEPTH])
+                fx, fz, my = element_fluid_force(
+                    th, vx, vz, om, length[k], diameter[k], rho, p[P_CD], p[P_CF], cur
+                )
+                forces[k, 0] += fx
+                forces[k, 1] += fz
+                forces[k, 2] += my
+                power += fx * vx + fz * vz + my * om
+    return forces, pos, vel, power, eg, es, ee
+
+
+@kernel
+def solve_with_friction(q, u, params):
+    """Accelerations with the anchor's Coulomb friction of eqs. (36)-(37).
+
+    The normal force ``N`` of eq. (37) is the seabed's reaction on the anchor, i.e. the
+    reaction of its locked vertical coordinate (row 0 of the core's joint forces), which
+    contains the chain's pull ``F_2^H sin(beta_2)`` at the same instant. Accelerations and
+    reactions are affine in the friction force ``f``, so ``f = -mu s N(f)`` (``s``: the
+    regularised sign of the anchor's velocity) is solved exactly from two evaluations
+    (seed 004 takes the previous step's tension instead).
+
+    Returns ``(du, forces, hf, normal, friction, water_power, eg, es, ee, pos, vel)``.
+    """
+    desc = params[0]
+    p = params[1]
+    forces, pos, vel, power, eg, es, ee = applied_forces(q, u, params)
+    du = accelerations(q, u, forces, desc)
+    hf = joint_forces(q, u, du, forces, desc)
+    normal = hf[0, 1]
+    friction = 0.0
+    if p[P_FRICTION] != 0.0 and p[P_MU] > 0.0:
+        s = regularised_sign(vel[0, 0], p[P_VSCALE])
+        if s != 0.0:
+            forces[0, 0] += 1.0
+            du1 = accelerations(q, u, forces, desc)
+            hf1 = joint_forces(q, u, du1, forces, desc)
+            forces[0, 0] -= 1.0
+            dn = hf1[0, 1] - normal
+            denom = 1.0 + p[P_MU] * s * dn
+            if denom > 0.0:
+                f = -p[P_MU] * s * normal / denom
+                if normal + f * dn > 0.0:
+                    friction = f
+            if friction != 0.0:
+                for i in range(du.shape[0]):
+                    du[i] += friction * (du1[i] - du[i])
+                for k in range(hf.shape[0]):
+                    for i in range(2):
+                        hf[k, i] += friction * (hf1[k, i] - hf[k, i])
+                forces[0, 0] += friction
+            normal = normal + friction * dn
+    return du, forces, hf, normal, friction, power, eg, es, ee, pos, vel
+
+
+@kernel
+def restraint_rhs(t, y, params, dy):
+    """dy/dt of the state ``y = (q, u, W^F, W^W)``: the generalised coordinates and speeds
+    of the core and the work done on the system by the anchor friction (eq. (67)) and by
+    the water (eq. (69)), integrated with the motion."""
+    nd = (y.shape[0] - 2) // 2
+    q = y[:nd]
+    u = y[nd : 2 * nd]
+    du, forces, hf, normal, friction, power, eg, es, ee, pos, vel = solve_with_friction(q, u, params)
+    for i in range(nd):
+        dy[i] = u[i]
+        dy[nd + i] = du[i]
+    dy[2 * nd] = friction * vel[0, 0]
+    dy[2 * nd + 1] = power
+
+
+@kernel
+def restraint_event(t, y, params):
+    """The stop event: the ship's surge speed (x velocity of the last body's centroid);
+    the run ends where it first reaches zero from above."""
+    nd = (y.shape[0] - 2) // 2
+    pos, vel = body_states(y[:nd], y[nd : 2 * nd], params[0])
+    return vel[vel.shape[0] - 1, 0]
+
+
+@kernel
+def record_diagnostics(states, params):
+    """Per recorded state: centroid poses and velocities, pin forces, the anchor's normal
+    and friction forces, and the energy terms (E^K, E^G, E^E, E^S)."""
+    n_rec = states.shape[0]
+    nd = (states.shape[1] - 2) // 2
+    n = params[2].shape[0]
+    pos_all = np.empty((n_rec, n, 3))
+    vel_all = np.empty((n_rec, n, 3))
+    hf_all = np.empty((n_rec, n, 2))
+    scal = np.empty((n_rec, 6))
+    for r in range(n_rec):
+        q = states[r, :nd].copy()
+        u = states[r, nd : 2 * nd].copy()
+        du, forces, hf, normal, friction, power, eg, es, ee, pos, vel = solve_with_friction(q, u, params)
+        pos_all[r] = pos
+        vel_all[r] = vel
+        hf_all[r] = hf
+        scal[r, 0] = kinetic_energy(q, u, params[0])
+        scal[r, 1] = eg
+        scal[r, 2] = ee
+        scal[r, 3] = es
+        scal[r, 4] = normal
+        scal[r, 5] = friction
+    return pos_all, vel_all, hf_all, scal

@@ -524,3 +524,356 @@ def example_text(name: str) -> str:
         unit = f" [{spec.unit}]" if spec.unit and spec.unit != "1" else ""
         lines.append(f"{spec.name} = {_toml_value(value)}  #{unit} {source}")
     return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------
+# initial configuration: seed 004 §3.1, eqs. (30)-(35)
+# ---------------------------------------------------------------------------
+
+
+def catenary_parameter(length: float, horizontal: float, vertical: float) -> tuple[float, float]:
+    """``(b, a)`` of the complete catenary, seed 004 eqs. (30)-(31): ``b`` solves
+    ``(cosh b - 1)(L_c - x_L) = h_L (sinh b - b)`` and ``a = T_h / w_c = (L_c - x_L) / (sinh b - b)``.
+
+    The ratio ``(cosh b - 1) / (sinh b - b)`` falls from +inf (b -> 0) to 1 (b -> inf), so a
+    root exists exactly when ``h_L > L_c - x_L`` (checked by :class:`RestraintCase`); it is
+    bracketed and found by bisection on ``log b`` in closed form-free arithmetic.
+    """
+    slack = length - horizontal
+    ratio = vertical / slack
+    if not ratio > 1.0:
+        raise ScenarioError(
+            f"cable.vertical = {vertical:g} m must exceed cable.length - cable.horizontal = {slack:g} m"
+        )
+
+    def g(b):
+        return (math.cosh(b) - 1.0) - ratio * (math.sinh(b) - b)
+
+    lo, hi = 1e-6, 1.0
+    while g(hi) > 0.0:
+        hi *= 2.0
+        if hi > 700.0:
+            raise ScenarioError(f"the catenary of cable.vertical = {vertical:g} m has no solution")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if g(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-15 * hi:
+            break
+    b = 0.5 * (lo + hi)
+    return b, slack / (math.sinh(b) - b)
+
+
+def _segment_area(z, r):
+    if z >= r:
+        return 0.0
+    if z <= -r:
+        return math.pi * r * r
+    return r * r * math.acos(z / r) - z * math.sqrt(r * r - z * z)
+
+
+def resting_height(radius: float, density: float, case: RestraintCase) -> float:
+    """Height of the axis of a long horizontal cylinder resting on the elastic seabed:
+    ``(k_z - rho g) A(z) = (rho_s - rho) g pi r^2`` (eqs. (41)-(42); A: the disc's area
+    below the seabed), solved by bisection."""
+    rho = case["water.density"]
+    g = case["water.gravity"]
+    need = (density - rho) * g * math.pi * radius**2 / (case["seabed.foundation_stiffness"] - rho * g)
+    lo, hi = -radius, radius
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if _segment_area(mid, radius) > need:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Bodies of the system in seed 004's order (anchor, chain links, cable stages 1-3,
+    rod, ship) with their lengths and radii, and the initial node points of the chain and
+    cable (x, z of every pin from the anchor's to the rod's lower end)."""
+
+    kinds: np.ndarray
+    names: tuple
+    lengths: np.ndarray
+    radii: np.ndarray
+    angles: np.ndarray
+    nodes: np.ndarray
+    catenary_b: float
+    catenary_a: float
+    chain_height: float
+    cable_height: float
+
+
+def initial_configuration(case: RestraintCase) -> Layout:
+    """The initial layout of seed 004 §3.1: the anchor on the seabed, the chain straight
+    along the seabed (angles 0), the cable continuing it on the seabed and then rising as
+    the complete catenary of eqs. (30)-(34) to height ``h_L``, each element the chord
+    between the catenary points at its end arc lengths (eq. (35), with its OCR-damaged
+    denominator read as ``X_{k+1} - X_k``), the rod vertical.
+
+    Chain and cable axes rest at their equilibrium sinkage in the elastic seabed
+    (:func:`resting_height`); the first cable element steps down from the chain's axis
+    height to the cable's (a few centimetres over 2 m).
+    """
+    from mineburial.kernels.restraint_forces import ANCHOR, ELEMENT, ROD, SHIP
+
+    zc = resting_height(case["chain.radius"], case["chain.density"], case)
+    zr = resting_height(case["cable.radius"], case["cable.density"], case)
+    b, a = catenary_parameter(case["cable.length"], case["cable.horizontal"], case["cable.vertical"])
+    xs = a * b
+    flat = case["cable.horizontal"] - xs
+    first = case["cable.stage1_element_length"] if case["cable.stage1_elements"] else 0.0
+    if flat < first:
+        raise ScenarioError(
+            f"cable.horizontal = {case['cable.horizontal']:g} m leaves {flat:.3g} m of cable on the seabed "
+            f"before the catenary (x_s = {xs:.3g} m, eqs. (30)-(34)); at least one first-stage element "
+            f"({first:g} m) must lie on the seabed"
+        )
+    n_links = case["chain.links"]
+    ll = case["chain.link_length"]
+    el = (
+        [case["cable.stage1_element_length"]] * case["cable.stage1_elements"]
+        + [case["cable.stage2_element_length"]] * case.stage2_elements
+        + [case["cable.stage3_element_length"]] * case["cable.stage3_elements"]
+    )
+    x0 = 0.5 * case["anchor.length"]
+    nodes = [(x0 + i * ll, zc) for i in range(n_links + 1)]
+    xc0 = nodes[-1][0]
+    arc = 0.0
+    for length in el:
+        arc += length
+        if arc <= flat:
+            nodes.append((xc0 + arc, zr))
+        else:
+            sk = arc - flat
+            xk = a * math.asinh(sk / a)
+            nodes.append((xc0 + flat + xk, zr + a * (math.cosh(xk / a) - 1.0)))
+    nodes = np.array(nodes)
+    d = np.diff(nodes, axis=0)
+    angles = np.arctan2(d[:, 1], d[:, 0])
+    angles[:n_links] = 0.0
+    n_el = len(el)
+    kinds = np.array([ANCHOR] + [ELEMENT] * (n_links + n_el) + [ROD, SHIP], dtype=np.int64)
+    lengths = np.array([case["anchor.length"]] + [ll] * n_links + el + [case["cable.rod_length"], case["ship.length"]])
+    radii = np.array(
+        [0.0] + [case["chain.radius"]] * n_links + [case["cable.radius"]] * (n_el + 1) + [0.0]
+    )
+    names = (
+        ("anchor",)
+        + tuple(f"chain link {i + 1}" for i in range(n_links))
+        + tuple(f"cable element {i + 1}" for i in range(n_el))
+        + ("auxiliary rod", "ship")
+    )
+    angles = np.concatenate([[0.0], angles, [0.5 * math.pi, 0.0]])  # body 0 (anchor) .. N-1 (ship)
+    return Layout(kinds, names, lengths, radii, angles, nodes, b, a, zc, zr)
+
+
+# ---------------------------------------------------------------------------
+# the multibody description and the run
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class System:
+    """Everything a run needs: the case, its layout, the core's description, the jitted
+    parameters and the initial state."""
+
+    case: RestraintCase
+    layout: Layout
+    description: Any
+    params: tuple
+    y0: np.ndarray
+    water_depth: float
+    derived: dict
+
+
+def build_system(case: RestraintCase) -> System:
+    """The multibody description of a case (a chain of N bodies is N bodies), the
+    parameters of its forces and its initial state (ship at x = 0, speed ``ship.speed``,
+    rod turning with it, everything else at rest, seed 004 §2.2 assumption (2))."""
+    from mineburial import multibody as mb
+    from mineburial.kernels import restraint_forces as rf
+
+    lay = initial_configuration(case)
+    n = lay.kinds.size
+    rho = case["water.density"]
+    g = case["water.gravity"]
+    ca = case["water.added_mass"]
+    ma = case["anchor.mass"]
+    la, wa, ha = case["anchor.length"], case["anchor.width"], case["anchor.height"]
+    ms = case["ship.mass"]
+    ls, bs, ds = case["ship.length"], case["ship.beam"], case["ship.depth"]
+    draught = case.ship_draught
+    d_s = 0.5 * ds - draught  # eq. (18): geometric centre to water plane
+    parent = np.arange(-1, n - 1)
+    jp = np.zeros((n, 2))
+    jb = np.zeros((n, 2))
+    mass = np.zeros((n, 3, 3))
+    weight = np.zeros(n)
+    buoy = np.zeros(n)
+    diameter = 2.0 * lay.radii
+    mass[0] = mb.rigid_mass_matrix(ma, ma / 12.0 * (la**2 + ha**2))  # eq. (18), k = 1
+    weight[0] = ma * g
+    buoy[0] = rho * la * wa * ha * g
+    for k in range(1, n - 1):
+        length = lay.lengths[k]
+        r = lay.radii[k]
+        dens = case["chain.density"] if k <= case["chain.links"] else case["cable.density"]
+        m = dens * math.pi * r**2 * length
+        if lay.kinds[k] == rf.ELEMENT:
+            mass[k] = mb.segment_mass_matrix(m, length, r, ca, rho)
+            buoy[k] = rho * math.pi * r**2 * length * g
+        else:
+            mass[k] = mb.segment_mass_matrix(m, length)
+        weight[k] = m * g
+        jb[k] = (-0.5 * length, 0.0)
+        jp[k] = (0.5 * lay.lengths[k - 1], 0.0)
+    jp[1] = (0.5 * la, lay.chain_height - 0.5 * ha)
+    mass[n - 1] = mb.rigid_mass_matrix(ms, ms / 12.0 * (ls**2 + ds**2 + 12.0 * d_s**2))  # eq. (18), k = N
+    jp[n - 1] = (0.5 * lay.lengths[n - 2], 0.0)
+    jb[n - 1] = (case["ship.joint_dx"], case["ship.joint_dz"])
+    root_pose = np.array([0.0, 0.5 * ha, 0.0])
+    desc = mb.Description(parent, jp, jb, mass, np.array([1, 0, 0]), root_pose, names=lay.names)
+    q0 = desc.coordinates(lay.angles[1:])
+    from mineburial.kernels.multibody import body_states
+
+    pos, _ = body_states(q0, np.zeros_like(q0), desc.arrays())
+    # shift x so that the ship's centroid starts at x = 0 (seed 004's origin o_0)
+    root_pose[0] = -pos[n - 1, 0]
+    desc = mb.Description(parent, jp, jb, mass, np.array([1, 0, 0]), root_pose, names=lay.names)
+    q0 = desc.coordinates(lay.angles[1:])
+    u0 = np.zeros_like(q0)
+    # generalised speeds: q = (x_anchor, th_1 .. th_{N-1}); the rod is body N-2 (dof N-2)
+    u0[n - 2] = -case["ship.speed"] / lay.lengths[n - 2]
+    pos, vel = body_states(q0, u0, desc.arrays())
+    z_water = float(pos[n - 1, 1])  # the ship floats at its equilibrium at t = 0
+    volume = ms / rho
+    gm_long = ls**3 * bs / (12.0 * volume) - 0.5 * draught  # eq. (57), z_B = T/2, z_G = T (assumption (8))
+    wetted = ls * bs + 2.0 * (ls + bs) * draught
+    p = np.zeros(rf.N_PARAMS)
+    p[rf.P_G] = g
+    p[rf.P_RHO] = rho
+    p[rf.P_NU] = case["water.kinematic_viscosity"]
+    p[rf.P_MU] = case["anchor.friction"]
+    p[rf.P_VSCALE] = case["anchor.friction_velocity_scale"]
+    p[rf.P_CD_ANCHOR] = case["anchor.drag_coefficient"]
+    p[rf.P_ANCHOR_W] = wa
+    p[rf.P_ANCHOR_H] = ha
+    p[rf.P_CD] = case["water.normal_drag"]
+    p[rf.P_CF] = case["water.tangential_drag"]
+    p[rf.P_KZ] = case["seabed.foundation_stiffness"]
+    p[rf.P_USURF] = case["water.current_speed"]
+    p[rf.P_DEPTH] = z_water
+    p[rf.P_SHIP_L] = ls
+    p[rf.P_SHIP_SW] = wetted
+    p[rf.P_SHIP_KS] = case["ship.roughness"]
+    p[rf.P_HALF] = 1.0 if case["ship.resistance_form"] == "printed" else 0.5
+    p[rf.P_AW] = ls * bs
+    p[rf.P_VOL] = volume
+    p[rf.P_GML] = gm_long
+    p[rf.P_ZW] = z_water
+    p[rf.P_FRICTION] = 1.0 if case["model.friction"] else 0.0
+    p[rf.P_DRAG] = 1.0 if case["model.drag"] else 0.0
+    params = (desc.arrays(), p, lay.kinds, lay.lengths.copy(), diameter, weight, buoy)
+    y0 = np.concatenate([q0, u0, [0.0, 0.0]])
+    derived = {
+        "water_depth": z_water,
+        "ship_draught": draught,
+        "ship_wetted_area": wetted,
+        "ship_gm_longitudinal": gm_long,
+        "catenary_b": lay.catenary_b,
+        "catenary_a": lay.catenary_a,
+        "catenary_horizontal_tension": lay.catenary_a
+        * (case["cable.density"] - rho)
+        * g
+        * math.pi
+        * case["cable.radius"] ** 2,
+        "n_bodies": n,
+        "cable_stage2_elements": case.stage2_elements,
+        "chain_axis_height": lay.chain_height,
+        "cable_axis_height": lay.cable_height,
+    }
+    return System(case, lay, desc, params, y0, z_water, derived)
+
+
+@dataclass(frozen=True)
+class RestraintResult:
+    """A run: the records, the status, the stopping time (NaN-free: the end time when the
+    ship did not stop) and the diagnostics of every record."""
+
+    system: System
+    times: np.ndarray
+    states: np.ndarray
+    status: int
+    status_name: str
+    t_end: float
+    stopping_time: float | None
+    pos: np.ndarray
+    vel: np.ndarray
+    pin_force: np.ndarray
+    scalars: np.ndarray
+
+    @property
+    def energy(self) -> dict:
+        """Energy terms of eqs. (63)-(69) at every record, J: ``kinetic`` (E^K, eq. (64),
+        with the added mass), ``gravity`` (E^G, eq. (65), with buoyancy), ``hydrostatic``
+        (E^E, eq. (66)), ``foundation`` (elastic energy of the seabed, the W^S of eq. (68)
+        with the opposite sign), ``friction_dissipated`` (-W^F, eq. (67)),
+        ``water_dissipated`` (-W^W, eq. (69)) and ``total`` (their sum: constant)."""
+        nd = self.system.description.n_dof
+        ek, eg, ee, es = (self.scalars[:, i] for i in range(4))
+        dfric = -self.states[:, 2 * nd]
+        dwater = -self.states[:, 2 * nd + 1]
+        total = ek + eg + ee + es + dfric + dwater
+        return {
+            "kinetic": ek,
+            "gravity": eg,
+            "hydrostatic": ee,
+            "foundation": es,
+            "friction_dissipated": dfric,
+            "water_dissipated": dwater,
+            "total": total,
+        }
+
+    def energy_closure(self) -> float:
+        """max |E(t) - E(0)| / E(0): the energy balance of seed 004 §4.2 (E(0): the initial
+        total energy relative to the resting potential energy of the system, i.e. the ship's
+        kinetic energy plus the small potential energy of the layout)."""
+        e = self.energy["total"]
+        ref = self.energy["kinetic"][0] + abs(self.energy["hydrostatic"][0])
+        return float(np.max(np.abs(e - e[0])) / ref)
+
+
+def simulate(case: RestraintCase, record_interval: float | None = None) -> RestraintResult:
+    """Run a case until the ship's surge speed first reaches zero (the stopping time,
+    located on the integrator's continuous extension) or ``numerics.t_max``."""
+    from mineburial import multibody as mb
+    from mineburial.kernels import restraint_forces as rf
+
+    system = build_system(case)
+    dt_rec = case["numerics.record_interval"] if record_interval is None else record_interval
+    res = mb.integrate(
+        rf.restraint_rhs,
+        rf.restraint_event,
+        system.y0,
+        0.0,
+        case["numerics.t_max"],
+        system.params,
+        method=case["numerics.method"],
+        dt=case["numerics.dt"],
+        rtol=case["numerics.rtol"],
+        atol=case["numerics.atol"],
+        record_dt=dt_rec,
+    )
+    pos, vel, hf, scal = rf.record_diagnostics(np.ascontiguousarray(res.states), system.params)
+    from mineburial.kernels.multibody import STOPPED
+
+    stop = res.t_stop if res.status == STOPPED else None
+    return RestraintResult(
+        system, res.times, res.states, res.status, res.status_name, res.t_stop, stop, pos, vel, hf, scal
+    )
