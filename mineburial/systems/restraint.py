@@ -519,8 +519,10 @@ def example_text(name: str) -> str:
             lines += ["", f"[{section}]"]
         value = case[spec.path]
         source = spec.source
-        if spec.path in set_by_table:
-            source = f"seed 004 Table 2 case {number}; {spec.source}"
+        if spec.path == "anchor.length":
+            source = f"seed 004 §4.1: {value:g} m for the {case['anchor.mass'] / 1000:g} t anchor"
+        elif spec.path in set_by_table:
+            source = f"seed 004 Table 2 case {number} (column: {spec.source})"
         unit = f" [{spec.unit}]" if spec.unit and spec.unit != "1" else ""
         lines.append(f"{spec.name} = {_toml_value(value)}  #{unit} {source}")
     return "\n".join(lines) + "\n"
@@ -877,3 +879,162 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
     return RestraintResult(
         system, res.times, res.states, res.status, res.status_name, res.t_stop, stop, pos, vel, hf, scal
     )
+
+
+# ---------------------------------------------------------------------------
+# output: CF NetCDF
+# ---------------------------------------------------------------------------
+
+
+def to_dataset(result: RestraintResult):
+    """The time series of a run as a CF-1.11 dataset: every body's centroid position,
+    attitude and velocities, the pin forces (eq. (52)), the anchor's normal and friction
+    forces (eq. (37)), the energy terms of eqs. (64)-(69); the resolved case and the
+    mineburial version in the attributes. Write it with
+    :func:`mineburial.io.netcdf.write_netcdf` (atomic)."""
+    import json
+
+    import xarray as xr
+
+    from mineburial._version import __version__
+    from mineburial.io.netcdf import CONVENTIONS, utc_now
+    from mineburial.kernels import multibody as kmb
+
+    sysm = result.system
+    lay = sysm.layout
+    case = sysm.case
+    n = lay.kinds.size
+    kind_names = np.array(["anchor", "element", "rod", "ship"])[lay.kinds]
+    tdims = ("time",)
+    bdims = ("time", "body")
+
+    def var(dims, data, units, long_name, **extra):
+        attrs = {"units": units, "long_name": long_name}
+        attrs.update(extra)
+        return (dims, np.asarray(data, dtype=np.float64), attrs)
+
+    ship = n - 1
+    e = result.energy
+    data = {
+        "x": var(bdims, result.pos[:, :, 0], "m", "horizontal position of the body's centroid"),
+        "z": var(bdims, result.pos[:, :, 1], "m", "height of the body's centroid above the seabed"),
+        "theta": var(
+            bdims, result.pos[:, :, 2], "rad", "attitude of the body, counter-clockwise from +x toward +z"
+        ),
+        "vx": var(bdims, result.vel[:, :, 0], "m s-1", "horizontal velocity of the body's centroid"),
+        "vz": var(bdims, result.vel[:, :, 1], "m s-1", "vertical velocity of the body's centroid"),
+        "omega": var(bdims, result.vel[:, :, 2], "rad s-1", "angular velocity of the body"),
+        "pin_force_x": var(
+            bdims,
+            result.pin_force[:, :, 0],
+            "N",
+            "horizontal force of the pin joining the body to the previous one, on the body",
+            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's reaction on its locked coordinates",
+        ),
+        "pin_force_z": var(
+            bdims,
+            result.pin_force[:, :, 1],
+            "N",
+            "vertical force of the pin joining the body to the previous one, on the body",
+            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's normal reaction",
+        ),
+        "pin_tension": var(
+            bdims,
+            np.hypot(result.pin_force[:, :, 0], result.pin_force[:, :, 1]),
+            "N",
+            "magnitude of the pin force (joint constraint force)",
+        ),
+        "ship_x": var(tdims, result.pos[:, ship, 0], "m", "ship surge position (centroid)"),
+        "ship_speed": var(tdims, result.vel[:, ship, 0], "m s-1", "ship surge speed"),
+        "ship_heave": var(tdims, result.pos[:, ship, 1] - sysm.water_depth, "m", "ship heave"),
+        "ship_pitch": var(tdims, result.pos[:, ship, 2], "rad", "ship pitch angle"),
+        "anchor_x": var(tdims, result.pos[:, 0, 0], "m", "anchor position (centroid)"),
+        "anchor_speed": var(tdims, result.vel[:, 0, 0], "m s-1", "anchor speed along the seabed"),
+        "anchor_normal_force": var(tdims, result.scalars[:, 4], "N", "seabed normal reaction on the anchor"),
+        "anchor_friction": var(
+            tdims, result.scalars[:, 5], "N", "seabed friction on the anchor", comment="seed 004 eq. (37)"
+        ),
+        "kinetic_energy": var(tdims, e["kinetic"], "J", "kinetic energy (with the added mass)", comment="eq. (64)"),
+        "gravitational_energy": var(
+            tdims, e["gravity"], "J", "potential energy of weight and buoyancy above the seabed", comment="eq. (65)"
+        ),
+        "hydrostatic_energy": var(
+            tdims, e["hydrostatic"], "J", "elastic energy of the ship's heave and pitch restoring", comment="eq. (66)"
+        ),
+        "foundation_energy": var(
+            tdims,
+            e["foundation"],
+            "J",
+            "elastic energy stored in the seabed foundation",
+            comment="eq. (68): W^S with the opposite sign",
+        ),
+        "friction_dissipation": var(
+            tdims, e["friction_dissipated"], "J", "energy dissipated by the anchor's seabed friction", comment="-W^F, eq. (67)"
+        ),
+        "water_dissipation": var(
+            tdims,
+            e["water_dissipated"],
+            "J",
+            "energy taken from the system by the water (drag, ship resistance)",
+            comment="-W^W, eq. (69); negative where a current feeds energy in",
+        ),
+        "total_energy": var(
+            tdims, e["total"], "J", "kinetic + potential + dissipated energy (constant)", comment="eq. (63)"
+        ),
+    }
+    coords = {
+        "time": ("time", np.asarray(result.times, dtype=np.float64), {"units": "s", "standard_name": "time", "long_name": "time since the start of the restraint"}),
+        "body": ("body", np.arange(1, n + 1, dtype=np.int32), {"long_name": "body number (seed 004: 1 = anchor, N = ship)"}),
+        "body_name": ("body", np.array(lay.names, dtype=object), {"long_name": "body"}),
+        "body_kind": ("body", kind_names.astype(object), {"long_name": "kind of body"}),
+        "body_length": ("body", lay.lengths, {"units": "m", "long_name": "body length"}),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds["status"] = ((), np.int8(result.status), {
+        "long_name": "run status",
+        "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
+        "flag_meanings": " ".join(kmb.STATUS_NAMES),
+    })
+    if result.stopping_time is not None:
+        ds["stopping_time"] = ((), float(result.stopping_time), {
+            "units": "s",
+            "long_name": "time at which the ship's surge speed first reaches zero",
+        })
+    ds.attrs.update(
+        {
+            "Conventions": CONVENTIONS,
+            "title": f"mineburial restraining system (seed 004): {case.name}",
+            "summary": "Planar Kane-method multibody model of a powerless ship stopped by an overhead "
+            "restraining system (Liu, Hearn, Chen et al.): ship, auxiliary rod, restraining cable, "
+            "anchor chain and a gravity anchor dragged over the seabed; docs/restraint.md.",
+            "source": f"mineburial {__version__}",
+            "date_created": utc_now(),
+            "status": result.status_name,
+            "status_description": kmb.STATUS_DESCRIPTIONS[result.status],
+            "end_time": float(result.t_end),
+            "case": json.dumps(case.to_dict()),
+            "mineburial_version": __version__,
+            "energy_closure": result.energy_closure(),
+            **{k: (float(v) if isinstance(v, float) else int(v)) for k, v in sysm.derived.items()},
+        }
+    )
+    if result.stopping_time is not None:
+        ds.attrs["stopping_time"] = float(result.stopping_time)
+    return ds
+
+
+def run_case_file(path, output) -> RestraintResult:
+    """``mineburial restrain``: read, run, write atomically; returns the result."""
+    from mineburial.io.netcdf import write_netcdf
+
+    case = RestraintCase.from_toml(path)
+    output = pathlib.Path(output)
+    if output.is_dir():
+        raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
+    if not output.resolve().parent.is_dir():
+        raise ScenarioError(f"-o/--output '{output}': the folder '{output.parent}' does not exist")
+    if output.exists() and pathlib.Path(path).exists() and output.samefile(path):
+        raise ScenarioError(f"-o/--output '{output}' is the case file; writing there would overwrite it")
+    result = simulate(case)
+    write_netcdf(to_dataset(result), output)
+    return result
