@@ -78,9 +78,14 @@ def test_element_drag_of_a_rotating_element_against_quadrature(om):
 @pytest.mark.parametrize("z", [-0.09, -0.03, 0.0, 0.02, 0.07])
 def test_segment_area_against_quadrature(z):
     r = 0.0763
-    # width of the disc at height y (relative to its centre), integrated below the seabed
-    ref = integrate.quad(lambda y: 2.0 * math.sqrt(max(r * r - y * y, 0.0)), -r, min(r, max(-r, -z)))[0]
-    assert rf.segment_area_below(z, r) == pytest.approx(ref, abs=1e-12)
+    assert rf.segment_area_below(z, r) == pytest.approx(_embedded_area(z, r), abs=1e-15)
+
+
+def _embedded_area(z, r):
+    """Area of a disc (centre at height z, radius r) below z = 0 by quadrature of its width
+    2 r cos(phi) over y = r sin(phi) (smooth in phi)."""
+    top = math.asin(min(1.0, max(-1.0, -z / r)))
+    return integrate.quad(lambda p: 2.0 * r * r * math.cos(p) ** 2, -0.5 * math.pi, top, epsabs=1e-16)[0]
 
 
 def test_foundation_is_eq41_when_flat_and_conservative_when_tilted():
@@ -159,8 +164,8 @@ def test_resting_height_balances_weight_and_foundation():
     r, rho_s = case["chain.radius"], case["chain.density"]
     k, rho, g = case["seabed.foundation_stiffness"], case["water.density"], case["water.gravity"]
 
-    def area(z):  # embedded area by quadrature of the disc's width
-        return integrate.quad(lambda y: 2.0 * math.sqrt(max(r * r - y * y, 0.0)), -r, min(r, max(-r, -z)))[0]
+    def area(z):
+        return _embedded_area(z, r)
 
     # per metre: weight = water buoyancy of the free part + foundation (k) on the embedded part
     z_ref = optimize.brentq(

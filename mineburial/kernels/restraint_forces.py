@@ -350,22 +350,25 @@ def solve_with_friction(q, u, params):
     if p[P_FRICTION] != 0.0 and p[P_MU] > 0.0:
         s = regularised_sign(vel[0, 0], p[P_VSCALE])
         if s != 0.0:
-            forces[0, 0] += 1.0
+            # a probe force of the friction's own size keeps the differences well conditioned
+            probe = max(1.0, p[P_MU] * abs(normal))
+            forces[0, 0] -= probe * s
             du1 = accelerations(q, u, forces, desc)
             hf1 = joint_forces(q, u, du1, forces, desc)
-            forces[0, 0] -= 1.0
-            dn = hf1[0, 1] - normal
+            forces[0, 0] += probe * s
+            dn = (hf1[0, 1] - normal) / (-probe * s)  # dN/df
             denom = 1.0 + p[P_MU] * s * dn
             if denom > 0.0:
                 f = -p[P_MU] * s * normal / denom
                 if normal + f * dn > 0.0:
                     friction = f
             if friction != 0.0:
+                w = friction / (-probe * s)
                 for i in range(du.shape[0]):
-                    du[i] += friction * (du1[i] - du[i])
+                    du[i] += w * (du1[i] - du[i])
                 for k in range(hf.shape[0]):
                     for i in range(2):
-                        hf[k, i] += friction * (hf1[k, i] - hf[k, i])
+                        hf[k, i] += w * (hf1[k, i] - hf[k, i])
                 forces[0, 0] += friction
             normal = normal + friction * dn
     return du, forces, hf, normal, friction, power, eg, es, ee, pos, vel

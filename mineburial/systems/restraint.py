@@ -197,10 +197,11 @@ FIELDS: tuple[FieldSpec, ...] = (
     # --- seabed
     _f("seabed", "foundation_stiffness", 5.0e6, "N m-3", 0.0, 1e12, source="seed 004 eq. (41): k_z = 5e6 N/m3 for soft soil (Ma et al. 2012)"),
     # --- model switches (for checks; both on in every seed 004 case)
-    _f("model", "friction", True, "", kind="bool", source="seabed friction on the anchor, eq. (37)"),
-    _f("model", "drag", True, "", kind="bool", source="water drag: ship eq. (62), anchor eq. (39), elements eqs. (45)-(47)"),
+    _f("model", "friction", True, "", kind="bool", source="seed 004 eq. (37): seabed friction on the anchor (on in every case of the seed; off only for checks)"),
+    _f("model", "drag", True, "", kind="bool", source="seed 004 eqs. (39), (45)-(47), (62): water drag on anchor, elements and ship (on in every case of the seed)"),
     # --- numerics
-    _f("numerics", "method", "dopri5", "", kind="dopri5|rk4", source="adaptive Dormand-Prince 5(4) with dense output; 'rk4': seed 004's fixed-step Runge-Kutta"),
+    _f("numerics", "method", "dopri5", "", kind="dopri5|rk4", source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
+        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice)"),
     _f("numerics", "rtol", 1e-7, "1", 0.0, 1.0, source="ASSUMPTION: relative tolerance of dopri5", assumption=True),
     _f("numerics", "atol", 1e-9, "1", 0.0, 1.0, source="ASSUMPTION: absolute tolerance of dopri5 (m, rad, m/s, rad/s)", assumption=True),
     _f("numerics", "dt", 0.002, "s", 0.0, 1.0, source=f"{_S41}: Delta t = 0.002 s (the rk4 step; dopri5's first trial step)"),
