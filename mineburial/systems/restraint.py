@@ -844,9 +844,10 @@ class RestraintResult:
         }
 
     def energy_closure(self) -> float:
-        """max |E(t) - E(0)| / E(0): the energy balance of seed 004 §4.2 (E(0): the initial
-        total energy relative to the resting potential energy of the system, i.e. the ship's
-        kinetic energy plus the small potential energy of the layout)."""
+        """max |E(t) - E(0)| / (E^K(0) + E^E(0)): the energy balance of seed 004 §4.2,
+        measured against the energy the ship brings (its initial kinetic energy; the
+        gravitational potential, counted from the seabed, would only inflate the
+        denominator)."""
         e = self.energy["total"]
         ref = self.energy["kinetic"][0] + abs(self.energy["hydrostatic"][0])
         return float(np.max(np.abs(e - e[0])) / ref)
