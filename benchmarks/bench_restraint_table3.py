@@ -106,10 +106,12 @@ def main(argv=None):
     within = [k for k in rows if rows[k] is not None and abs(rows[k] / R.TABLE3[k - 1] - 1.0) <= 0.05]
     text = "\n".join(
         [
-            "Seed 004 Table 3: stopping time of the restraining system (benchmarks/bench_restraint_table3.py)",
+            "Seed 004 Table 3: stopping time of the restraining system "
+            "(benchmarks/bench_restraint_table3.py)",
             f"mineburial {__version__}; {machine()}",
             "method dopri5 (rtol 1e-7, atol 1e-9), stop located on the continuous extension; "
-            "energy closure = max |E(t) - E(0)| / E^K(0), E = kinetic + potential + dissipated (eqs. (63)-(69))",
+            "energy closure = max |E(t) - E(0)| / E^K(0), "
+            "E = kinetic + potential + dissipated (eqs. (63)-(69))",
             f"fields changed from the case files: {overrides or 'none'}",
             "",
             header,

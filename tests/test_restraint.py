@@ -98,8 +98,12 @@ def test_foundation_is_eq41_when_flat_and_conservative_when_tilted():
     # tilted and partly embedded: force and moment are minus the gradient of the potential
     z0, th0, h = 0.03, 0.08, 1e-7
     fz, my, pot, vol = rf.element_foundation(z0, th0, l, r, k)
-    dpz = (rf.element_foundation(z0 + h, th0, l, r, k)[2] - rf.element_foundation(z0 - h, th0, l, r, k)[2]) / (2 * h)
-    dpt = (rf.element_foundation(z0, th0 + h, l, r, k)[2] - rf.element_foundation(z0, th0 - h, l, r, k)[2]) / (2 * h)
+    dpz = (
+        rf.element_foundation(z0 + h, th0, l, r, k)[2] - rf.element_foundation(z0 - h, th0, l, r, k)[2]
+    ) / (2 * h)
+    dpt = (
+        rf.element_foundation(z0, th0 + h, l, r, k)[2] - rf.element_foundation(z0, th0 - h, l, r, k)[2]
+    ) / (2 * h)
     assert fz == pytest.approx(-dpz, rel=1e-6)
     assert my == pytest.approx(-dpt, rel=1e-6)
 
@@ -169,7 +173,10 @@ def test_resting_height_balances_weight_and_foundation():
 
     # per metre: weight = water buoyancy of the free part + foundation (k) on the embedded part
     z_ref = optimize.brentq(
-        lambda z: rho_s * g * math.pi * r * r - rho * g * (math.pi * r * r - area(z)) - k * area(z), -r, r, xtol=1e-14
+        lambda z: rho_s * g * math.pi * r * r - rho * g * (math.pi * r * r - area(z)) - k * area(z),
+        -r,
+        r,
+        xtol=1e-14,
     )
     assert R.resting_height(r, rho_s, case) == pytest.approx(z_ref, abs=1e-10)
 
@@ -199,7 +206,13 @@ def test_anchor_friction_solves_eq37_at_the_same_instant():
 @pytest.fixture(scope="module")
 def conservative_run():
     case = R.table2_case(1).replace(
-        **{"model.friction": False, "model.drag": False, "numerics.t_max": 3.0, "numerics.rtol": 1e-10, "numerics.atol": 1e-12}
+        **{
+            "model.friction": False,
+            "model.drag": False,
+            "numerics.t_max": 3.0,
+            "numerics.rtol": 1e-10,
+            "numerics.atol": 1e-12,
+        }
     )
     return R.simulate(case)
 
@@ -284,7 +297,9 @@ def test_example_files_round_trip(number, tmp_path, capsys):
     # every value line names its source; the unprinted ones are marked as assumptions
     for line in text.splitlines():
         if "=" in line and not line.startswith(("#", "name", "description")):
-            assert "#" in line and ("seed 004" in line or "ASSUMPTION" in line or "output interval" in line), line
+            assert "#" in line and (
+                "seed 004" in line or "ASSUMPTION" in line or "output interval" in line
+            ), line
     assert text.count("ASSUMPTION") >= 5
     # Table 2's row, read back
     mu, ma, rc, lc, xl, hl, v0, ms, u = R.TABLE2[number - 1]
@@ -295,13 +310,25 @@ def test_example_files_round_trip(number, tmp_path, capsys):
 
 
 BAD = {
-    "friction out of range": ("[anchor]\nfriction = -0.1\n", r"anchor\.friction = -0\.1 is outside the allowed range \[0, 2\]"),
+    "friction out of range": (
+        "[anchor]\nfriction = -0.1\n",
+        r"anchor\.friction = -0\.1 is outside the allowed range \[0, 2\]",
+    ),
     "ship sinks": ("[ship]\nmass = 3e6\n", r"ship\.mass = 3e\+06 kg sinks the cuboid ship"),
     "unknown field": ("[ship]\nspeeed = 3.0\n", r"unknown field of \[ship\] 'speeed': did you mean 'speed'"),
     "unknown section": ("[anchr]\nmass = 1.0\n", r"unknown section 'anchr'"),
-    "no catenary": ("[cable]\nvertical = 3.0\n", r"cable\.vertical = 3 m must exceed cable\.length - cable\.horizontal = 4 m"),
-    "bad stages": ("[cable]\nlength = 155.0\nhorizontal = 151.0\n", r"cable\.length = 155 m must be the first stage"),
-    "not a number": ('[ship]\nspeed = "fast"\n', r"ship\.speed = 'fast' is not a number; allowed range \(0, 50\] m s-1"),
+    "no catenary": (
+        "[cable]\nvertical = 3.0\n",
+        r"cable\.vertical = 3 m must exceed cable\.length - cable\.horizontal = 4 m",
+    ),
+    "bad stages": (
+        "[cable]\nlength = 155.0\nhorizontal = 151.0\n",
+        r"cable\.length = 155 m must be the first stage",
+    ),
+    "not a number": (
+        '[ship]\nspeed = "fast"\n',
+        r"ship\.speed = 'fast' is not a number; allowed range \(0, 50\] m s-1",
+    ),
     "method": ('[numerics]\nmethod = "euler"\n', r"unknown numerics\.method 'euler'"),
     "links": ("[chain]\nlinks = 2.5\n", r"chain\.links = 2\.5 must be a whole number"),
     "switch": ("[model]\nfriction = 1\n", r"model\.friction = 1 must be true or false"),

@@ -285,7 +285,7 @@ def applied_forces(q, u, params):
     es = 0.0
     ee = 0.0
     for k in range(n):
-        x, z, th = pos[k, 0], pos[k, 1], pos[k, 2]
+        z, th = pos[k, 1], pos[k, 2]
         vx, vz, om = vel[k, 0], vel[k, 1], vel[k, 2]
         kk = kind[k]
         if kk == SHIP:

@@ -19,7 +19,6 @@ Parts (docs/restraint.md explains the model, its sources and its assumptions):
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import pathlib
 from dataclasses import dataclass
@@ -112,12 +111,38 @@ _S41 = "seed 004 §4.1"
 #: every field of a case file, in file order
 FIELDS: tuple[FieldSpec, ...] = (
     # --- gravity anchor (body 1)
-    _f("anchor", "mass", 40000.0, "kg", 0.0, 1e7, source="seed 004 Table 2 (40 t; 50 t and 60 t in cases 4, 5)"),
+    _f(
+        "anchor",
+        "mass",
+        40000.0,
+        "kg",
+        0.0,
+        1e7,
+        source="seed 004 Table 2 (40 t; 50 t and 60 t in cases 4, 5)",
+    ),
     _f("anchor", "length", 2.0, "m", 0.0, 100.0, source=f"{_S41}: 2.0, 2.5, 3.0 m for 40, 50, 60 t"),
     _f("anchor", "width", 4.0, "m", 0.0, 100.0, source=f"{_S41}: width 4.0 m"),
     _f("anchor", "height", 2.1, "m", 0.0, 100.0, source=f"{_S41}: height 2.1 m"),
-    _f("anchor", "friction", 0.3, "1", 0.0, 2.0, source="seed 004 Table 2 (0.3; 0.5, 0.7 in cases 2, 3)", lo_open=False),
-    _f("anchor", "drag_coefficient", 1.05, "1", 0.0, 10.0, source="seed 004 §3.2.1 after eq. (39) (Saleh 2002)", lo_open=False),
+    _f(
+        "anchor",
+        "friction",
+        0.3,
+        "1",
+        0.0,
+        2.0,
+        source="seed 004 Table 2 (0.3; 0.5, 0.7 in cases 2, 3)",
+        lo_open=False,
+    ),
+    _f(
+        "anchor",
+        "drag_coefficient",
+        1.05,
+        "1",
+        0.0,
+        10.0,
+        source="seed 004 §3.2.1 after eq. (39) (Saleh 2002)",
+        lo_open=False,
+    ),
     _f(
         "anchor",
         "friction_velocity_scale",
@@ -130,24 +155,126 @@ FIELDS: tuple[FieldSpec, ...] = (
         assumption=True,
     ),
     # --- anchor chain (bodies 2..16)
-    _f("chain", "links", 15, "1", 1, 1000, kind="int", lo_open=False, source=f"{_S41}: 15 links, 1 m each, 15 m"),
+    _f(
+        "chain",
+        "links",
+        15,
+        "1",
+        1,
+        1000,
+        kind="int",
+        lo_open=False,
+        source=f"{_S41}: 15 links, 1 m each, 15 m",
+    ),
     _f("chain", "link_length", 1.0, "m", 0.0, 100.0, source=f"{_S41}: each link 1 m"),
-    _f("chain", "radius", 0.0763, "m", 0.0, 1.0, source="seed 004 Tables 1, 2: equivalent radius R_CE (0.0863, 0.0970 in cases 6, 7)"),
+    _f(
+        "chain",
+        "radius",
+        0.0763,
+        "m",
+        0.0,
+        1.0,
+        source="seed 004 Tables 1, 2: equivalent radius R_CE (0.0863, 0.0970 in cases 6, 7)",
+    ),
     _f("chain", "density", 7850.0, "kg m-3", 0.0, 30000.0, source=f"{_S41}: steel 7850 kg/m3"),
     # --- restraining cable (three stages) and auxiliary rod
-    _f("cable", "length", 152.0, "m", 0.0, 10000.0, source="seed 004 Table 2 (152 m; 172, 192 m in cases 8, 9)"),
-    _f("cable", "horizontal", 148.0, "m", 0.0, 10000.0, source="seed 004 Table 2 'cable horizontal component' x_L (149, 150 m in cases 10, 11)"),
-    _f("cable", "vertical", 6.0, "m", 0.0, 1000.0, source="seed 004 Table 2 'cable vertical component' h_L (8, 10 m in cases 12, 13)"),
-    _f("cable", "radius", 0.0237, "m", 0.0, 1.0, source=f"{_S41}: R_RE = sqrt(2 m_RU / (pi rho_s)) = 0.0237 m"),
-    _f("cable", "density", 7850.0, "kg m-3", 0.0, 30000.0, source=f"{_S41}: steel (R_RE is defined with rho_s)"),
-    _f("cable", "stage1_elements", 3, "1", 0, 10000, kind="int", lo_open=False, source="seed 004 §4.2: elements 17 to 19 (3 x 2 m)"),
+    _f(
+        "cable",
+        "length",
+        152.0,
+        "m",
+        0.0,
+        10000.0,
+        source="seed 004 Table 2 (152 m; 172, 192 m in cases 8, 9)",
+    ),
+    _f(
+        "cable",
+        "horizontal",
+        148.0,
+        "m",
+        0.0,
+        10000.0,
+        source="seed 004 Table 2 'cable horizontal component' x_L (149, 150 m in cases 10, 11)",
+    ),
+    _f(
+        "cable",
+        "vertical",
+        6.0,
+        "m",
+        0.0,
+        1000.0,
+        source="seed 004 Table 2 'cable vertical component' h_L (8, 10 m in cases 12, 13)",
+    ),
+    _f(
+        "cable",
+        "radius",
+        0.0237,
+        "m",
+        0.0,
+        1.0,
+        source=f"{_S41}: R_RE = sqrt(2 m_RU / (pi rho_s)) = 0.0237 m",
+    ),
+    _f(
+        "cable",
+        "density",
+        7850.0,
+        "kg m-3",
+        0.0,
+        30000.0,
+        source=f"{_S41}: steel (R_RE is defined with rho_s)",
+    ),
+    _f(
+        "cable",
+        "stage1_elements",
+        3,
+        "1",
+        0,
+        10000,
+        kind="int",
+        lo_open=False,
+        source="seed 004 §4.2: elements 17 to 19 (3 x 2 m)",
+    ),
     _f("cable", "stage1_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
-    _f("cable", "stage2_element_length", 10.0, "m", 0.0, 1000.0, source=f"{_S41}: 10 m (12, 14, 16 elements for 152, 172, 192 m, §4.2)"),
-    _f("cable", "stage3_elements", 13, "1", 0, 10000, kind="int", lo_open=False, source="seed 004 §4.2: elements 32 to 44 (13 x 2 m)"),
+    _f(
+        "cable",
+        "stage2_element_length",
+        10.0,
+        "m",
+        0.0,
+        1000.0,
+        source=f"{_S41}: 10 m (12, 14, 16 elements for 152, 172, 192 m, §4.2)",
+    ),
+    _f(
+        "cable",
+        "stage3_elements",
+        13,
+        "1",
+        0,
+        10000,
+        kind="int",
+        lo_open=False,
+        source="seed 004 §4.2: elements 32 to 44 (13 x 2 m)",
+    ),
     _f("cable", "stage3_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
-    _f("cable", "rod_length", 1.0, "m", 0.0, 100.0, source=f"{_S41}: auxiliary rod 1 m (OCR 'Im'), same material and radius as the cable"),
+    _f(
+        "cable",
+        "rod_length",
+        1.0,
+        "m",
+        0.0,
+        100.0,
+        source=f"{_S41}: auxiliary rod 1 m (OCR 'Im'), same material and radius as the cable",
+    ),
     # --- ship (body N)
-    _f("ship", "mass", 500000.0, "kg", 0.0, 1e10, source="seed 004 Table 2 (500 t; 750, 1000 t in cases 16, 17)"),
+    _f(
+        "ship",
+        "mass",
+        500000.0,
+        "kg",
+        0.0,
+        1e10,
+        source="seed 004 Table 2 (500 t; 750, 1000 t in cases 16, 17)",
+    ),
     _f("ship", "length", 50.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
     _f("ship", "beam", 10.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
     _f("ship", "depth", 5.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
@@ -176,7 +303,16 @@ FIELDS: tuple[FieldSpec, ...] = (
         "surface (§3.2.2) and the water depth equals the cable's vertical component (§4.3.3)",
         assumption=True,
     ),
-    _f("ship", "roughness", 150e-6, "m", 0.0, 1.0, lo_open=False, source="seed 004 eq. (61): k_s = 150e-6 m (Molland et al. 2011)"),
+    _f(
+        "ship",
+        "roughness",
+        150e-6,
+        "m",
+        0.0,
+        1.0,
+        lo_open=False,
+        source="seed 004 eq. (61): k_s = 150e-6 m (Molland et al. 2011)",
+    ),
     _f(
         "ship",
         "resistance_form",
@@ -190,23 +326,133 @@ FIELDS: tuple[FieldSpec, ...] = (
     _f("water", "density", 1025.0, "kg m-3", 0.0, 2000.0, source=f"{_S41}: 1025 kg/m3"),
     _f("water", "kinematic_viscosity", 1.05e-6, "m2 s-1", 0.0, 1.0, source=f"{_S41}: 1.05e-6 m2/s"),
     _f("water", "gravity", 9.81, "m s-2", 0.0, 100.0, source=f"{_S41}: 9.81 m/s2"),
-    _f("water", "current_speed", 0.0, "m s-1", -10.0, 10.0, lo_open=False, source="seed 004 Table 2 seawater velocity U_ST along +x (1, 2 m/s in cases 18, 19), eq. (38)"),
-    _f("water", "normal_drag", 1.21, "1", 0.0, 10.0, lo_open=False, source="seed 004 §3.2.2: C_D = 1.21 (Huston 1981)"),
-    _f("water", "tangential_drag", 0.062, "1", 0.0, 10.0, lo_open=False, source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981)"),
-    _f("water", "added_mass", 1.0, "1", 0.0, 10.0, lo_open=False, source="seed 004 §3.2.2: C_M = 1 (Huston 1981)"),
+    _f(
+        "water",
+        "current_speed",
+        0.0,
+        "m s-1",
+        -10.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 Table 2 seawater velocity U_ST along +x (1, 2 m/s in cases 18, 19), eq. (38)",
+    ),
+    _f(
+        "water",
+        "normal_drag",
+        1.21,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_D = 1.21 (Huston 1981)",
+    ),
+    _f(
+        "water",
+        "tangential_drag",
+        0.062,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981)",
+    ),
+    _f(
+        "water",
+        "added_mass",
+        1.0,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_M = 1 (Huston 1981)",
+    ),
     # --- seabed
-    _f("seabed", "foundation_stiffness", 5.0e6, "N m-3", 0.0, 1e12, source="seed 004 eq. (41): k_z = 5e6 N/m3 for soft soil (Ma et al. 2012)"),
+    _f(
+        "seabed",
+        "foundation_stiffness",
+        5.0e6,
+        "N m-3",
+        0.0,
+        1e12,
+        source="seed 004 eq. (41): k_z = 5e6 N/m3 for soft soil (Ma et al. 2012)",
+    ),
     # --- model switches (for checks; both on in every seed 004 case)
-    _f("model", "friction", True, "", kind="bool", source="seed 004 eq. (37): seabed friction on the anchor (on in every case of the seed; off only for checks)"),
-    _f("model", "drag", True, "", kind="bool", source="seed 004 eqs. (39), (45)-(47), (62): water drag on anchor, elements and ship (on in every case of the seed)"),
+    _f(
+        "model",
+        "friction",
+        True,
+        "",
+        kind="bool",
+        source="seed 004 eq. (37): seabed friction on the anchor (on in every case of the seed; "
+        "off only for checks)",
+    ),
+    _f(
+        "model",
+        "drag",
+        True,
+        "",
+        kind="bool",
+        source="seed 004 eqs. (39), (45)-(47), (62): water drag on anchor, elements and ship "
+        "(on in every case of the seed)",
+    ),
     # --- numerics
-    _f("numerics", "method", "dopri5", "", kind="dopri5|rk4", source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
-        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice)"),
-    _f("numerics", "rtol", 1e-7, "1", 0.0, 1.0, source="ASSUMPTION: relative tolerance of dopri5", assumption=True),
-    _f("numerics", "atol", 1e-9, "1", 0.0, 1.0, source="ASSUMPTION: absolute tolerance of dopri5 (m, rad, m/s, rad/s)", assumption=True),
-    _f("numerics", "dt", 0.002, "s", 0.0, 1.0, source=f"{_S41}: Delta t = 0.002 s (the rk4 step; dopri5's first trial step)"),
-    _f("numerics", "t_max", 120.0, "s", 0.0, 1e5, source="ASSUMPTION: time limit; a case not stopped by then ends with status time_limit", assumption=True),
-    _f("numerics", "record_interval", 0.1, "s", 0.0, 1e4, source="output interval of the time series (not a model value)"),
+    _f(
+        "numerics",
+        "method",
+        "dopri5",
+        "",
+        kind="dopri5|rk4",
+        source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
+        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice)",
+    ),
+    _f(
+        "numerics",
+        "rtol",
+        1e-7,
+        "1",
+        0.0,
+        1.0,
+        source="ASSUMPTION: relative tolerance of dopri5",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "atol",
+        1e-9,
+        "1",
+        0.0,
+        1.0,
+        source="ASSUMPTION: absolute tolerance of dopri5 (m, rad, m/s, rad/s)",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "dt",
+        0.002,
+        "s",
+        0.0,
+        1.0,
+        source=f"{_S41}: Delta t = 0.002 s (the rk4 step; dopri5's first trial step)",
+    ),
+    _f(
+        "numerics",
+        "t_max",
+        120.0,
+        "s",
+        0.0,
+        1e5,
+        source="ASSUMPTION: time limit; a case not stopped by then ends with status time_limit",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "record_interval",
+        0.1,
+        "s",
+        0.0,
+        1e4,
+        source="output interval of the time series (not a model value)",
+    ),
 )
 
 SECTIONS = tuple(dict.fromkeys(f.section for f in FIELDS))
@@ -271,7 +517,8 @@ class RestraintCase:
         if rest <= 0.0 or abs(n2 - round(n2)) > 1e-9 * max(1.0, n2) or round(n2) < 1:
             raise ScenarioError(
                 f"cable.length = {self['cable.length']:g} m must be the first stage "
-                f"({self['cable.stage1_elements']} x {self['cable.stage1_element_length']:g} m) plus the third "
+                f"({self['cable.stage1_elements']} x {self['cable.stage1_element_length']:g} m) "
+                f"plus the third "
                 f"({self['cable.stage3_elements']} x {self['cable.stage3_element_length']:g} m) plus a whole "
                 f"number (>= 1) of second-stage elements of {self['cable.stage2_element_length']:g} m"
             )
@@ -283,19 +530,24 @@ class RestraintCase:
             )
         if self["cable.vertical"] <= slack:
             raise ScenarioError(
-                f"cable.vertical = {self['cable.vertical']:g} m must exceed cable.length - cable.horizontal = "
+                f"cable.vertical = {self['cable.vertical']:g} m must exceed "
+                f"cable.length - cable.horizontal = "
                 f"{slack:g} m: only then has the complete catenary of seed 004 eq. (30) a solution"
             )
+        max_mass = self["water.density"] * self["ship.length"] * self["ship.beam"] * self["ship.depth"]
         if self.ship_draught >= self["ship.depth"]:
             raise ScenarioError(
                 f"ship.mass = {self['ship.mass']:g} kg sinks the cuboid ship: its draught "
-                f"{self.ship_draught:.3g} m must be less than ship.depth = {self['ship.depth']:g} m, i.e. the mass "
-                f"less than {self['water.density'] * self['ship.length'] * self['ship.beam'] * self['ship.depth']:g} kg"
+                f"{self.ship_draught:.3g} m must be less than ship.depth = {self['ship.depth']:g} m, "
+                f"i.e. the mass less than {max_mass:g} kg"
             )
-        rho_anchor = self["anchor.mass"] / (self["anchor.length"] * self["anchor.width"] * self["anchor.height"])
+        rho_anchor = self["anchor.mass"] / (
+            self["anchor.length"] * self["anchor.width"] * self["anchor.height"]
+        )
         if rho_anchor <= self["water.density"]:
             raise ScenarioError(
-                f"anchor.mass = {self['anchor.mass']:g} kg floats: the anchor's density {rho_anchor:.4g} kg/m3 "
+                f"anchor.mass = {self['anchor.mass']:g} kg floats: the anchor's density "
+                f"{rho_anchor:.4g} kg/m3 "
                 f"(mass / (length width height)) must exceed water.density = {self['water.density']:g} kg/m3"
             )
         for part in ("chain", "cable"):
@@ -307,7 +559,8 @@ class RestraintCase:
         if self["seabed.foundation_stiffness"] <= self["water.density"] * self["water.gravity"]:
             raise ScenarioError(
                 f"seabed.foundation_stiffness = {self['seabed.foundation_stiffness']:g} N/m3 must exceed "
-                f"rho g = {self['water.density'] * self['water.gravity']:g} N/m3 (the seabed must carry more than "
+                f"rho g = {self['water.density'] * self['water.gravity']:g} N/m3 "
+                f"(the seabed must carry more than "
                 f"the buoyancy it takes away, eqs. (41)-(42))"
             )
 
@@ -505,7 +758,8 @@ def example_text(name: str) -> str:
     set_by_table = table2_values(number)
     lines = [
         f"# Seed 004 (Liu, Hearn, Chen et al., restraining system, Kane method), Table 2 case {number}:",
-        f"# {TABLE3_CHANGE[number - 1]} (against case 1). Seed 004 Table 3 stopping time: {TABLE3[number - 1]} s.",
+        f"# {TABLE3_CHANGE[number - 1]} (against case 1). "
+        f"Seed 004 Table 3 stopping time: {TABLE3[number - 1]} s.",
         "# Run with: mineburial restrain THIS_FILE.toml -o OUT.nc   (SI units; docs/restraint.md)",
         "# Every value names its source; values seed 004 does not print are marked ASSUMPTION.",
         "",
@@ -662,10 +916,10 @@ def initial_configuration(case: RestraintCase) -> Layout:
     angles[:n_links] = 0.0
     n_el = len(el)
     kinds = np.array([ANCHOR] + [ELEMENT] * (n_links + n_el) + [ROD, SHIP], dtype=np.int64)
-    lengths = np.array([case["anchor.length"]] + [ll] * n_links + el + [case["cable.rod_length"], case["ship.length"]])
-    radii = np.array(
-        [0.0] + [case["chain.radius"]] * n_links + [case["cable.radius"]] * (n_el + 1) + [0.0]
+    lengths = np.array(
+        [case["anchor.length"]] + [ll] * n_links + el + [case["cable.rod_length"], case["ship.length"]]
     )
+    radii = np.array([0.0] + [case["chain.radius"]] * n_links + [case["cable.radius"]] * (n_el + 1) + [0.0])
     names = (
         ("anchor",)
         + tuple(f"chain link {i + 1}" for i in range(n_links))
@@ -956,12 +1210,22 @@ def to_dataset(result: RestraintResult):
         "anchor_friction": var(
             tdims, result.scalars[:, 5], "N", "seabed friction on the anchor", comment="seed 004 eq. (37)"
         ),
-        "kinetic_energy": var(tdims, e["kinetic"], "J", "kinetic energy (with the added mass)", comment="eq. (64)"),
+        "kinetic_energy": var(
+            tdims, e["kinetic"], "J", "kinetic energy (with the added mass)", comment="eq. (64)"
+        ),
         "gravitational_energy": var(
-            tdims, e["gravity"], "J", "potential energy of weight and buoyancy above the seabed", comment="eq. (65)"
+            tdims,
+            e["gravity"],
+            "J",
+            "potential energy of weight and buoyancy above the seabed",
+            comment="eq. (65)",
         ),
         "hydrostatic_energy": var(
-            tdims, e["hydrostatic"], "J", "elastic energy of the ship's heave and pitch restoring", comment="eq. (66)"
+            tdims,
+            e["hydrostatic"],
+            "J",
+            "elastic energy of the ship's heave and pitch restoring",
+            comment="eq. (66)",
         ),
         "foundation_energy": var(
             tdims,
@@ -971,7 +1235,11 @@ def to_dataset(result: RestraintResult):
             comment="eq. (68): W^S with the opposite sign",
         ),
         "friction_dissipation": var(
-            tdims, e["friction_dissipated"], "J", "energy dissipated by the anchor's seabed friction", comment="-W^F, eq. (67)"
+            tdims,
+            e["friction_dissipated"],
+            "J",
+            "energy dissipated by the anchor's seabed friction",
+            comment="-W^F, eq. (67)",
         ),
         "water_dissipation": var(
             tdims,
@@ -985,23 +1253,39 @@ def to_dataset(result: RestraintResult):
         ),
     }
     coords = {
-        "time": ("time", np.asarray(result.times, dtype=np.float64), {"units": "s", "standard_name": "time", "long_name": "time since the start of the restraint"}),
-        "body": ("body", np.arange(1, n + 1, dtype=np.int32), {"long_name": "body number (seed 004: 1 = anchor, N = ship)"}),
+        "time": (
+            "time",
+            np.asarray(result.times, dtype=np.float64),
+            {"units": "s", "standard_name": "time", "long_name": "time since the start of the restraint"},
+        ),
+        "body": (
+            "body",
+            np.arange(1, n + 1, dtype=np.int32),
+            {"long_name": "body number (seed 004: 1 = anchor, N = ship)"},
+        ),
         "body_name": ("body", np.array(lay.names, dtype=object), {"long_name": "body"}),
         "body_kind": ("body", kind_names.astype(object), {"long_name": "kind of body"}),
         "body_length": ("body", lay.lengths, {"units": "m", "long_name": "body length"}),
     }
     ds = xr.Dataset(data, coords=coords)
-    ds["status"] = ((), np.int8(result.status), {
-        "long_name": "run status",
-        "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
-        "flag_meanings": " ".join(kmb.STATUS_NAMES),
-    })
+    ds["status"] = (
+        (),
+        np.int8(result.status),
+        {
+            "long_name": "run status",
+            "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(kmb.STATUS_NAMES),
+        },
+    )
     if result.stopping_time is not None:
-        ds["stopping_time"] = ((), float(result.stopping_time), {
-            "units": "s",
-            "long_name": "time at which the ship's surge speed first reaches zero",
-        })
+        ds["stopping_time"] = (
+            (),
+            float(result.stopping_time),
+            {
+                "units": "s",
+                "long_name": "time at which the ship's surge speed first reaches zero",
+            },
+        )
     ds.attrs.update(
         {
             "Conventions": CONVENTIONS,
