@@ -211,18 +211,27 @@ def segment_mass_matrix(mass, length, radius=0.0, added_mass_coefficient=0.0, wa
 
 
 def chain(n_links, link_length, mass_matrix, angles, start=(0.0, 0.0), pinned=True, names=None):
-    """A chain of ``n_links`` equal straight links laid out end to end from ``start``.
+    """A chain of ``n_links`` straight links laid out end to end from ``start``.
 
-    Each link has its pins at its ends (a = -L/2 and +L/2 on its axis); link i points along ``angles[i]``
-    (rad, from +x toward +z). ``mass_matrix`` is one link's (3, 3) body-frame mass or one per link.
+    Each link has its pins at its ends (a = -L/2 and +L/2 on its axis); ``link_length`` is one length (m) or
+    one per link; link i points along ``angles[i]`` (rad, from +x toward +z; one value: all links).
+    ``mass_matrix`` is one link's (3, 3) body-frame mass or one per link.
     ``pinned=True``: body 0 is a fixed massless ground at ``start`` and the first link turns about it
     (N = n_links + 1 bodies); ``pinned=False``: body 0 is the first link, free in x, z, theta.
     Returns (description, q0): the description and the generalised coordinates of the layout.
     """
     if not (isinstance(n_links, (int, np.integer)) and n_links >= 1):
         raise DescriptionError(f"n_links = {n_links!r} must be an integer >= 1")
-    if not (math.isfinite(link_length) and link_length > 0.0):
-        raise DescriptionError(f"link_length = {link_length} m must be finite and > 0")
+    lengths = np.asarray(link_length, dtype=np.float64).reshape(-1)
+    if lengths.size == 1:
+        lengths = np.full(n_links, lengths[0])
+    if lengths.size != n_links:
+        raise DescriptionError(
+            f"link_length must give one length or one per link ({n_links}), got {lengths.size}"
+        )
+    for i, length in enumerate(lengths):
+        if not (math.isfinite(length) and length > 0.0):
+            raise DescriptionError(f"link_length[{i}] = {length} m must be finite and > 0")
     angles = np.asarray(angles, dtype=np.float64).reshape(-1)
     if angles.size == 1:
         angles = np.full(n_links, angles[0])
@@ -236,7 +245,7 @@ def chain(n_links, link_length, mass_matrix, angles, start=(0.0, 0.0), pinned=Tr
     if mm.shape != (n_links, 3, 3):
         raise DescriptionError(f"mass_matrix must have shape (3, 3) or ({n_links}, 3, 3), got {mm.shape}")
     x0, z0 = (float(v) for v in start)
-    half = 0.5 * link_length
+    half = np.concatenate([[0.0] if pinned else [], 0.5 * lengths])  # half length of each body
     n = n_links + 1 if pinned else n_links
     off = 1 if pinned else 0
     parent = np.arange(-1, n - 1)
@@ -245,8 +254,8 @@ def chain(n_links, link_length, mass_matrix, angles, start=(0.0, 0.0), pinned=Tr
     masses = np.zeros((n, 3, 3))
     masses[off:] = mm
     for k in range(1, n):
-        jp[k] = (0.0, 0.0) if (pinned and k == 1) else (half, 0.0)
-        jb[k] = (-half, 0.0)
+        jp[k] = (half[k - 1], 0.0)
+        jb[k] = (-half[k], 0.0)
     if pinned:
         root_free = (0, 0, 0)
         root_pose = (x0, z0, 0.0)
@@ -254,7 +263,7 @@ def chain(n_links, link_length, mass_matrix, angles, start=(0.0, 0.0), pinned=Tr
     else:
         root_free = (1, 1, 1)
         c, s = math.cos(angles[0]), math.sin(angles[0])
-        root_pose = (x0 + half * c, z0 + half * s, angles[0])
+        root_pose = (x0 + half[0] * c, z0 + half[0] * s, angles[0])
         q0 = np.concatenate([root_pose, angles[1:]])
     if names is None:
         names = (("ground",) if pinned else ()) + tuple(f"link {i + 1}" for i in range(n_links))

@@ -39,9 +39,11 @@ P = (M_k w_k)[0:2] (for a rigid body's diag(m, m, I) both vanish; for an added m
 Lagrange's equations of the kinetic energy 1/2 sum w^T M w, so that energy is conserved exactly; see
 docs/multibody.md for the comparison with the Morison-type added-mass force of seed 004 eq. (46)).
 
-A is assembled in O(N^2) from the partial velocities without forming them (a body's partial velocity with
-respect to an ancestor's angle is the same for its whole subtree, so the sums over bodies become subtree
-sums) and solved by Cholesky; :func:`partial_velocities` forms them explicitly for systems and tests.
+:func:`generalised_mass_and_force` assembles A and f in O(N^2) from the partial velocities without forming
+them (a body's partial velocity with respect to an ancestor's angle is the same for its whole subtree, so the
+sums over bodies become subtree sums); :func:`accelerations_assembled` solves them by Cholesky and
+:func:`accelerations` solves the same equations in O(N) by the tree recursion; :func:`partial_velocities`
+forms the partial velocities explicitly for systems and tests.
 """
 
 import math
@@ -414,13 +416,130 @@ def generalised_mass_and_force(q, u, forces, desc):
 
 
 @kernel
-def accelerations(q, u, forces, desc):
+def accelerations_assembled(q, u, forces, desc):
     """du/dt from Kane's equations A du/dt = f (seed 004 eqs. (24)-(27)) for the applied centroid forces
-    ``forces[N, 3]`` = (Fx, Fz, My); NaN where A is not positive definite (a bad description)."""
+    ``forces[N, 3]`` = (Fx, Fz, My), with A and f assembled by :func:`generalised_mass_and_force` and solved
+    by Cholesky (O(N^3) for a chain); NaN where A is not positive definite. The reference for
+    :func:`accelerations`."""
     a, f = generalised_mass_and_force(q, u, forces, desc)
     du = np.empty(f.shape[0])
     if not _cholesky_solve(a, f, du):
         du[:] = np.nan
+    return du
+
+
+@kernel
+def _xt_m_x(m, ax, az, out):
+    """out = X^T m X for X = [[1, 0, -az], [0, 1, ax], [0, 0, 0]] (the map from a parent's centroid
+    motion to its child's centroid motion at fixed absolute child angle; arm (ax, az) from the parent's
+    centroid to the pin)."""
+    x = np.zeros((3, 3))
+    x[0, 0] = 1.0
+    x[1, 1] = 1.0
+    x[0, 2] = -az
+    x[1, 2] = ax
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for p in range(3):
+                for r in range(3):
+                    acc += x[p, i] * m[p, r] * x[r, j]
+            out[i, j] += acc
+
+
+@kernel
+def accelerations(q, u, forces, desc):
+    """du/dt from Kane's equations (seed 004 eqs. (24)-(27)) for the applied centroid forces
+    ``forces[N, 3]`` = (Fx, Fz, My); NaN where the equations are singular.
+
+    The same equations as :func:`accelerations_assembled`, solved in O(N) by eliminating the tree from
+    its leaves inward (the articulated-body recursion, Featherstone 2008, *Rigid Body Dynamics
+    Algorithms*, ch. 7, written for absolute angles): with the centroid motion w_k = X_k w_j + s_k u_k,
+    s_k = (J rel_k, 1), each subtree is reduced to an articulated inertia and bias force at its root
+    body's centroid, then the accelerations are found outward."""
+    parent = desc[0]
+    n = parent.shape[0]
+    root_dof, angle_dof, nd = dof_map(desc)
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    ia = np.empty((n, 3, 3))
+    bias = np.empty((n, 2))
+    gterm = np.empty((n, 3))
+    _inertia_terms(desc, pos, vel, lever, rel, ia, bias, gterm)
+    pa = np.empty((n, 3))
+    for k in range(n):
+        for i in range(3):
+            pa[k, i] = gterm[k, i] - forces[k, i]
+    uvec = np.empty((n, 3))
+    dinv = np.zeros(n)
+    uu = np.zeros(n)
+    cb = np.zeros((n, 3))  # velocity-product acceleration of k relative to its parent's motion
+    arm = np.zeros((n, 2))
+    tmp = np.empty((3, 3))
+    pk = np.empty(3)
+    du = np.empty(nd)
+    for k in range(n - 1, 0, -1):
+        j = parent[k]
+        arm[k, 0] = lever[k, 0] - rel[j, 0]
+        arm[k, 1] = lever[k, 1] - rel[j, 1]
+        omj = vel[j, 2]
+        omk = vel[k, 2]
+        cb[k, 0] = -omj * omj * arm[k, 0] - omk * omk * rel[k, 0]
+        cb[k, 1] = -omj * omj * arm[k, 1] - omk * omk * rel[k, 1]
+        sx = -rel[k, 1]
+        sz = rel[k, 0]
+        for i in range(3):
+            uvec[k, i] = ia[k, i, 0] * sx + ia[k, i, 1] * sz + ia[k, i, 2]
+        d = sx * uvec[k, 0] + sz * uvec[k, 1] + uvec[k, 2]
+        if not (d > 0.0):
+            du[:] = np.nan
+            return du
+        dinv[k] = 1.0 / d
+        uu[k] = -(sx * pa[k, 0] + sz * pa[k, 1] + pa[k, 2])
+        # articulated inertia and bias force passed to the parent
+        for i in range(3):
+            for l in range(3):
+                tmp[i, l] = ia[k, i, l] - uvec[k, i] * uvec[k, l] * dinv[k]
+        for i in range(3):
+            pk[i] = pa[k, i] + tmp[i, 0] * cb[k, 0] + tmp[i, 1] * cb[k, 1] + uvec[k, i] * uu[k] * dinv[k]
+        _xt_m_x(tmp, arm[k, 0], arm[k, 1], ia[j])
+        pa[j, 0] += pk[0]
+        pa[j, 1] += pk[1]
+        pa[j, 2] += -arm[k, 1] * pk[0] + arm[k, 0] * pk[1]
+    # the root: its free coordinates solve (S^T I S) a = -S^T p
+    acc = np.zeros((n, 3))
+    nr = 0
+    idx = np.empty(3, np.int64)
+    for c in range(3):
+        if root_dof[c] >= 0:
+            idx[nr] = c
+            nr += 1
+    if nr > 0:
+        a0 = np.zeros((nr, nr))
+        b0 = np.empty(nr)
+        x0 = np.empty(nr)
+        for i in range(nr):
+            b0[i] = -pa[0, idx[i]]
+            for l in range(nr):
+                a0[i, l] = ia[0, idx[i], idx[l]]
+        if not _cholesky_solve(a0, b0, x0):
+            du[:] = np.nan
+            return du
+        for i in range(nr):
+            acc[0, idx[i]] = x0[i]
+            du[root_dof[idx[i]]] = x0[i]
+    for k in range(1, n):
+        j = parent[k]
+        ax = acc[j, 0] - acc[j, 2] * arm[k, 1] + cb[k, 0]
+        az = acc[j, 1] + acc[j, 2] * arm[k, 0] + cb[k, 1]
+        ddk = (uu[k] - uvec[k, 0] * ax - uvec[k, 1] * az) * dinv[k]
+        acc[k, 0] = ax - rel[k, 1] * ddk
+        acc[k, 1] = az + rel[k, 0] * ddk
+        acc[k, 2] = ddk
+        du[angle_dof[k]] = ddk
     return du
 
 
@@ -482,6 +601,26 @@ def joint_forces(q, u, du, forces, desc):
         hf[parent[k], 0] += hf[k, 0]
         hf[parent[k], 1] += hf[k, 1]
     return hf
+
+
+@kernel
+def inertia_velocity_terms(q, u, desc):
+    """g[N, 3] = dM_k/dt w_k + (0, 0, vx Pz - vz Px) per body: the velocity terms of the inertia of a
+    rotating anisotropic (added) mass that the core includes (zero for a rigid body's diag(m, m, I)).
+    A system that wants the Morison-type added-mass force of seed 004 eq. (46), -m_a n (n . a) with
+    nothing else, adds these to its applied forces (docs/multibody.md); energy is then not conserved."""
+    parent = desc[0]
+    n = parent.shape[0]
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    mi = np.empty((n, 3, 3))
+    bias = np.empty((n, 2))
+    gterm = np.empty((n, 3))
+    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    return gterm
 
 
 @kernel
@@ -643,8 +782,8 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             t_new = t_end if t + h >= t_end else t + h
         else:
             t_new = t0 + (i_step + 1) * dt
-            if t_new >= t_end * (1.0 - 1e-14) - 1e-300 or t_new > t_end:
-                t_new = t_end
+            if t_end - t_new <= 1e-9 * dt:
+                t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
             # classical Runge-Kutta; k[0] = f(t, y), k[1..3] the other stages, k[6] = f(t_new, y_new)
             for i in range(n):
@@ -669,7 +808,10 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             h_next = dt
         i_step += 1
         g_new = system_event(t_new, ynew, params)
-        if armed and not (g_new > 0.0):
+        if not math.isfinite(g_new):
+            status = NUMERICAL_FAILURE
+            break
+        if armed and g_new <= 0.0:
             th = _locate_event(system_event, r, t, h, g, g_new, params, ytmp)
             t_ev = t + th * h
             i_rec = _record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
