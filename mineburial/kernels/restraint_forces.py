@@ -27,7 +27,13 @@ import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels.crossflow import quadratic_drag_integrals
-from mineburial.kernels.multibody import accelerations, body_states, joint_forces, kinetic_energy
+from mineburial.kernels.multibody import (
+    accelerations,
+    body_states,
+    inertia_velocity_terms,
+    joint_forces,
+    kinetic_energy,
+)
 
 #: 4-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 25.4.30)
 _GL_X = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -252,7 +258,8 @@ P_GML = 19
 P_ZW = 20
 P_FRICTION = 21
 P_DRAG = 22
-N_PARAMS = 23
+P_MORISON = 23
+N_PARAMS = 24
 
 
 @kernel
@@ -324,6 +331,14 @@ def applied_forces(q, u, params):
                 forces[k, 1] += fz
                 forces[k, 2] += my
                 power += fx * vx + fz * vz + my * om
+    if p[P_MORISON] != 0.0:
+        # seed 004 eq. (46) as printed (Morison type, -m_a n (n . a) only): cancel the core's
+        # velocity terms of the rotating added mass; their power is counted as the water's
+        gv = inertia_velocity_terms(q, u, desc)
+        for k in range(n):
+            for i in range(3):
+                forces[k, i] += gv[k, i]
+                power += gv[k, i] * vel[k, i]
     return forces, pos, vel, power, eg, es, ee
 
 

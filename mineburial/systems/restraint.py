@@ -366,6 +366,15 @@ FIELDS: tuple[FieldSpec, ...] = (
         lo_open=False,
         source="seed 004 §3.2.2: C_M = 1 (Huston 1981)",
     ),
+    _f(
+        "water",
+        "added_mass_form",
+        "lagrange",
+        "",
+        kind="lagrange|morison",
+        source="seed 004 eq. (46) is Morison's -m_a n (n . a) ('morison'); the default 'lagrange' adds the "
+        "velocity terms of a rotating added mass that make the energy of eq. (64) exact (docs/multibody.md)",
+    ),
     # --- seabed
     _f(
         "seabed",
@@ -462,9 +471,8 @@ _BY_PATH = {f.path: f for f in FIELDS}
 @dataclass(frozen=True)
 class RestraintCase:
     """A validated case of the restraining system (SI units). ``values`` maps
-    ``section.field`` to its value; read one with ``case['anchor.mass']`` or
-    ``case.anchor_mass``. Constructing it checks every field and the relations between
-    them (:meth:`_check_relations`)."""
+    ``section.field`` to its value; read one with ``case['anchor.mass']``. Constructing it
+    checks every field and the relations between them (:meth:`_check_relations`)."""
 
     name: str
     description: str
@@ -482,14 +490,6 @@ class RestraintCase:
 
     def __getitem__(self, path):
         return self.values[path]
-
-    def __getattr__(self, name):
-        if "_" in name:
-            section, _, key = name.partition("_")
-            path = f"{section}.{key}"
-            if path in _BY_PATH:
-                return self.values[path]
-        raise AttributeError(name)
 
     # -- derived quantities ---------------------------------------------------
     @property
@@ -1036,6 +1036,7 @@ def build_system(case: RestraintCase) -> System:
     p[rf.P_ZW] = z_water
     p[rf.P_FRICTION] = 1.0 if case["model.friction"] else 0.0
     p[rf.P_DRAG] = 1.0 if case["model.drag"] else 0.0
+    p[rf.P_MORISON] = 1.0 if case["water.added_mass_form"] == "morison" else 0.0
     params = (desc.arrays(), p, lay.kinds, lay.lengths.copy(), diameter, weight, buoy)
     y0 = np.concatenate([q0, u0, [0.0, 0.0]])
     derived = {
