@@ -292,8 +292,21 @@ def test_restrain_cli_writes_cf_netcdf(tmp_path, capsys):
             R.table2_case(3).replace(**{"numerics.t_max": 1.5}).values
         )
         assert ds.attrs["mineburial_version"]
-        assert ds.sizes["body"] == 46
+        assert ds.sizes["body"] == 46 and ds.sizes["elapsed_time"] == 16
         assert float(ds.ship_speed[0]) == 3.0
+    # CF-1.11 by the compliance checker (as tests/test_netcdf.py does for the ensemble files)
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    exe = Path(sys.executable).with_name("compliance-checker")
+    exe = str(exe) if exe.exists() else shutil.which("compliance-checker")
+    assert exe, "compliance-checker is not installed"
+    res = subprocess.run(
+        [exe, "-t", "cf:1.11", "-c", "lenient", str(out)], capture_output=True, text=True, timeout=120
+    )
+    assert res.returncode == 0 and "Errors" not in res.stdout, res.stdout + res.stderr
 
 
 @pytest.mark.parametrize("number", range(1, R.N_CASES + 1))

@@ -1143,6 +1143,20 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
 # ---------------------------------------------------------------------------
 
 
+#: derived quantities of a case written as scalar variables: units, long name
+_DERIVED = {
+    "water_depth": ("m", "water depth d of eq. (38): height of the ship's water plane above the seabed"),
+    "ship_draught": ("m", "draught of the cuboid ship, m / (rho L B)"),
+    "ship_wetted_area": ("m2", "wetted surface S_W of the cuboid ship, eq. (62)"),
+    "ship_gm_longitudinal": ("m", "longitudinal metacentric height G_y^M, eq. (57)"),
+    "catenary_b": ("1", "catenary parameter b = x_s / a, eq. (30)"),
+    "catenary_a": ("m", "catenary parameter a = T_h / w_c, eq. (31)"),
+    "catenary_horizontal_tension": ("N", "horizontal tension T_h of the initial catenary, eq. (31)"),
+    "chain_axis_height": ("m", "initial height of the chain's axis above the seabed (equilibrium sinkage)"),
+    "cable_axis_height": ("m", "initial height of the cable's axis above the seabed (equilibrium sinkage)"),
+}
+
+
 def to_dataset(result: RestraintResult):
     """The time series of a run as a CF-1.11 dataset: every body's centroid position,
     attitude and velocities, the pin forces (eq. (52)), the anchor's normal and friction
@@ -1162,8 +1176,8 @@ def to_dataset(result: RestraintResult):
     case = sysm.case
     n = lay.kinds.size
     kind_names = np.array(["anchor", "element", "rod", "ship"])[lay.kinds]
-    tdims = ("time",)
-    bdims = ("time", "body")
+    tdims = ("elapsed_time",)
+    bdims = ("elapsed_time", "body")
 
     def var(dims, data, units, long_name, **extra):
         attrs = {"units": units, "long_name": long_name}
@@ -1254,10 +1268,10 @@ def to_dataset(result: RestraintResult):
         ),
     }
     coords = {
-        "time": (
-            "time",
+        "elapsed_time": (
+            "elapsed_time",
             np.asarray(result.times, dtype=np.float64),
-            {"units": "s", "standard_name": "time", "long_name": "time since the start of the restraint"},
+            {"units": "s", "long_name": "time since the start of the restraint (elapsed time)"},
         ),
         "body": (
             "body",
@@ -1302,9 +1316,12 @@ def to_dataset(result: RestraintResult):
             "case": json.dumps(case.to_dict()),
             "mineburial_version": __version__,
             "energy_closure": result.energy_closure(),
-            **{k: (float(v) if isinstance(v, float) else int(v)) for k, v in sysm.derived.items()},
+            "n_bodies": int(sysm.derived["n_bodies"]),
+            "cable_stage2_elements": int(sysm.derived["cable_stage2_elements"]),
         }
     )
+    for name, (units, long_name) in _DERIVED.items():
+        ds[name] = ((), float(sysm.derived[name]), {"units": units, "long_name": long_name})
     if result.stopping_time is not None:
         ds.attrs["stopping_time"] = float(result.stopping_time)
     return ds
