@@ -237,6 +237,22 @@ def test_morison_added_mass_books_its_power_with_the_water():
     assert res.vel[-1, 0, 0] > 0.5  # through the snatch of the anchor
 
 
+def test_seed_rk4_converges_to_dopri5_at_fourth_order(conservative_run):
+    # two independent integrators through the snatch of the chain: seed 004's fixed-step RK4
+    # (§4.1) at 1 ms and 0.5 ms against the adaptive run of the conservative fixture (rtol 1e-10)
+    base = R.table2_case(1).replace(
+        **{"model.friction": False, "model.drag": False, "numerics.t_max": 3.0, "numerics.method": "rk4"}
+    )
+    ref = conservative_run.vel[-1, -1, 0]  # ship speed at 3 s
+    err = []
+    for dt in (1e-3, 5e-4):
+        res = R.simulate(base.replace(**{"numerics.dt": dt}))
+        assert res.times[-1] == 3.0
+        err.append(abs(res.vel[-1, -1, 0] - ref))
+    assert err[1] < 1e-4
+    assert 8.0 < err[0] / err[1] < 32.0  # 2^4 = 16
+
+
 @pytest.fixture(scope="module")
 def case3():
     return R.simulate(R.table2_case(3))
