@@ -32,7 +32,8 @@ LIN_DAMP, ROT_DAMP = 0, 1  # linear damping on every body: -c v, -c_r om
 SPRING_BODY, SPRING_A, SPRING_X, SPRING_Z, SPRING_K, SPRING_C = 2, 3, 4, 5, 6, 7  # spring from body point
 CONTACT_ON, CONTACT_B, CONTACT_K, CONTACT_C, CONTACT_MU, CONTACT_VREG = 8, 9, 10, 11, 12, 13  # body 0 point
 EVENT_INDEX, EVENT_LEVEL, T_FAIL = 14, 15, 16
-N_EXTRA = 17
+SEGMENT_HALF, SEGMENT_K = 17, 18  # segment contact of every body with mass (half length; 0: off)
+N_EXTRA = 19
 
 
 def extra(**kw):
@@ -90,6 +91,26 @@ def forces_of(t, q, u, desc, weight, ex):
         f[0, 0] += fx
         f[0, 1] += fz
         f[0, 2] += my
+    if ex[SEGMENT_HALF] > 0.0:
+        for k in range(n):
+            if weight[k] > 0.0:
+                fx, fz, my = sc.segment_contact(
+                    pos[k, 0],
+                    pos[k, 1],
+                    pos[k, 2],
+                    vel[k, 0],
+                    vel[k, 1],
+                    vel[k, 2],
+                    ex[SEGMENT_HALF],
+                    0.0,
+                    ex[SEGMENT_K],
+                    0.0,
+                    0.0,
+                    1e-3,
+                )
+                f[k, 0] += fx
+                f[k, 1] += fz
+                f[k, 2] += my
     return f
 
 
@@ -283,6 +304,11 @@ def test_recursive_solution_equals_assembled_kane_equations(root_free):
         a, rhs_f = mb.generalised_mass_and_force(q, u, f, d)
         np.testing.assert_allclose(a @ du, rhs_f, rtol=0, atol=1e-11 * np.abs(rhs_f).max())
         np.testing.assert_allclose(du, mb.accelerations_assembled(q, u, f, d), rtol=1e-10, atol=1e-12)
+        # Newton's second law for the whole tree: no reaction on a free root coordinate
+        hf = mb.joint_forces(q, u, du, f, d)
+        for c in range(2):
+            if root_free[c]:
+                assert abs(hf[0, c]) < 1e-11 * np.abs(f).max()
 
 
 def test_morison_terms_vanish_for_rigid_bodies():
@@ -392,23 +418,17 @@ def test_hanging_chain_pin_forces_carry_the_weight_below():
     np.testing.assert_allclose(h[1:, 0], 0.0, atol=1e-12)
 
 
-def test_chain_between_two_pins_relaxes_to_the_catenary():
+def chain_at_rest_between_two_pins(n, total=2.0, span=1.5, mass_per_length=1.6):
     """A chain of n links pinned at (0, 0) and, by a stiff spring, at (span, 0), released from a V shape
-    and relaxed by linear damping until at rest, lies on y = a cosh((x - span/2)/a) + const with
-    2 a sinh(span/(2a)) = length. The pins of a chain of rigid links sample the catenary with the midpoint
-    rule in arc length (each link is parallel to the catenary's tangent at its middle), so they lie within
-    about length * L_link^2 / (24 a^2) of it; the spring stretches by the end tension / k."""
-    n, link, m = 16, 0.125, 0.2
-    total = n * link
-    span = 1.5
-    a = brentq(lambda a: 2 * a * math.sinh(span / (2 * a)) - total, 0.05, 100.0)
-    # V shape: the two halves straight, meeting below the middle
+    (the two halves straight) and relaxed by linear damping until at rest. Returns the description, the
+    rest state, the forces there, and the catenary parameter a: 2 a sinh(span/(2a)) = total."""
+    link = total / n
+    m = mass_per_length * link
     half = total / 2.0
     phi = math.acos((span / 2.0) / half)
     angles = np.array([-phi] * (n // 2) + [phi] * (n // 2))
     desc, q0 = mbp.chain(n, link, rod(m, link), angles)
-    w = m * G
-    k_spring = 1e4 * n * w / link
+    k_spring = 1e4 * n * m * G / link
     ex = extra(
         lin_damp=8.0 * m,
         rot_damp=8.0 * m * link**2 / 12,
@@ -419,28 +439,66 @@ def test_chain_between_two_pins_relaxes_to_the_catenary():
         spring_k=k_spring,
         spring_c=0.5 * math.sqrt(k_spring * m),
     )
-    y0 = desc.initial_state(q0)
-    res = run(desc, y0, 12.0, ex, rtol=1e-8, atol=1e-10, record_dt=1.0)
+    res = run(desc, desc.initial_state(q0), 12.0, ex, rtol=1e-8, atol=1e-10, record_dt=1.0)
     assert res.status_name == "time_limit"
     y = res.states[-1]
     nd = desc.n_dof
     assert np.abs(y[nd:]).max() < 1e-6  # at rest
-    pos, _ = mb.body_states(y[:nd], y[nd:], desc.arrays())
-    pins = np.array([pos[1:, 0] - np.cos(pos[1:, 2]) * link / 2, pos[1:, 1] - np.sin(pos[1:, 2]) * link / 2])
-    x = pins[0]
-    catenary = a * np.cosh((x - span / 2) / a) - a * math.cosh(span / (2 * a))
-    tol = total * link**2 / (24 * a**2) + 1e-4
-    assert np.abs(pins[1] - catenary).max() < tol
-    # the sag is O(1) of the tolerance away from a straight line: the comparison has teeth
-    assert -catenary.min() > 20 * tol
-    # end tension: horizontal w' a, vertical half the weight (w' = weight per length)
     f = forces_of(0.0, y[:nd], y[nd:], desc.arrays(), weights_of(desc), ex)
-    du = mb.accelerations(y[:nd], y[nd:], f, desc.arrays())
-    hf = mb.joint_forces(y[:nd], y[nd:], du, f, desc.arrays())
-    wl = w / link
-    # (the discrete chain's horizontal tension differs from the catenary's by the same midpoint-rule order)
-    assert -hf[1, 0] == pytest.approx(wl * a, rel=link**2 / (12 * a**2))
-    assert hf[1, 1] == pytest.approx(n * w / 2.0, rel=1e-4)
+    a = brentq(lambda a: 2 * a * math.sinh(span / (2 * a)) - total, 0.05, 100.0)
+    return desc, y, f, a
+
+
+def test_chain_between_two_pins_relaxes_to_the_catenary():
+    """At rest the chain lies on y = a cosh((x - span/2)/a) + const. The pins of a chain of rigid links
+    sample the catenary with the midpoint rule in arc length (each link is parallel to the catenary's
+    tangent at its middle), so they lie within about total * L_link^2 / (24 a^2) of it, and the deviation
+    falls as L_link^2 (checked: halving the links divides it by about 4); the spring stretches by only
+    (end tension)/k = O(1e-5) m. End tension: horizontal w' a, vertical half the weight."""
+    total, span, wl = 2.0, 1.5, 1.6 * G
+    deviation = {}
+    for n in (12, 24):
+        desc, y, f, a = chain_at_rest_between_two_pins(n, total, span)
+        link = total / n
+        nd = desc.n_dof
+        pos, _ = mb.body_states(y[:nd], y[nd:], desc.arrays())
+        pins_x = pos[1:, 0] - np.cos(pos[1:, 2]) * link / 2
+        pins_z = pos[1:, 1] - np.sin(pos[1:, 2]) * link / 2
+        catenary = a * np.cosh((pins_x - span / 2) / a) - a * math.cosh(span / (2 * a))
+        deviation[n] = np.abs(pins_z - catenary).max()
+        tol = total * link**2 / (24 * a**2)
+        assert deviation[n] < tol
+        assert -catenary.min() > 50 * tol  # the sag is far larger: the comparison has teeth
+        du = mb.accelerations(y[:nd], y[nd:], f, desc.arrays())
+        hf = mb.joint_forces(y[:nd], y[nd:], du, f, desc.arrays())
+        # (the discrete chain's horizontal tension differs from the catenary's by the same midpoint order)
+        assert -hf[1, 0] == pytest.approx(wl * a, rel=link**2 / (12 * a**2))
+        assert hf[1, 1] == pytest.approx(wl * total / 2.0, rel=1e-4)
+    assert 3.0 < deviation[12] / deviation[24] < 5.0
+
+
+def test_chain_bouncing_on_elastic_seabed_conserves_energy():
+    """Three free links dropped, tilted and spinning, onto an undamped frictionless Winkler seabed: the
+    kinetic + potential + foundation energy (closed form, segment_foundation_energy) is conserved, which
+    checks the quadrature of the contact force and moment against the exact energy they derive from."""
+    length, m, k = 0.6, 2.0, 2e5
+    desc, q0 = mbp.chain(3, length, rod(m, length), [-0.4, 0.3, -0.2], start=(0.0, 0.5), pinned=False)
+    weight = weights_of(desc)
+    y0 = desc.initial_state(q0, [1.0, -1.0, 2.0, -1.0, 0.5])
+    res = run(desc, y0, 1.5, extra(segment_half=length / 2, segment_k=k), weight=weight, rtol=1e-11)
+    assert res.status_name == "time_limit"
+    d = desc.arrays()
+    nd = desc.n_dof
+    energy, foundation = [], []
+    for y in res.states:
+        pos, _ = mb.body_states(y[:nd], y[nd:], d)
+        ef = sum(sc.segment_foundation_energy(pos[i, 1], pos[i, 2], length / 2, 0.0, k) for i in range(3))
+        foundation.append(ef)
+        energy.append(mb.kinetic_energy(y[:nd], y[nd:], d) + weight @ pos[:, 1] + ef)
+    energy = np.array(energy)
+    scale = mb.kinetic_energy(y0[:nd], y0[nd:], d) + weight.sum() * 0.5
+    assert max(foundation) > 0.1 * scale  # it hit the seabed hard
+    assert np.abs(energy - energy[0]).max() < 1e-6 * scale
 
 
 # --- seabed-contact kernels against closed-form integrals -------------------------------------------

@@ -124,19 +124,22 @@ def _inertial_mass(mb, th, out):
     """out = T mb T^T with T = [[c, -s, 0], [s, c, 0], [0, 0, 1]] (seed 004 eq. (19))."""
     c = math.cos(th)
     s = math.sin(th)
-    t = np.zeros((3, 3))
-    t[0, 0] = c
-    t[0, 1] = -s
-    t[1, 0] = s
-    t[1, 1] = c
-    t[2, 2] = 1.0
-    for i in range(3):
-        for j in range(3):
-            acc = 0.0
-            for p in range(3):
-                for r in range(3):
-                    acc += t[i, p] * mb[p, r] * t[j, r]
-            out[i, j] = acc
+    # rows of T mb
+    a00 = c * mb[0, 0] - s * mb[1, 0]
+    a01 = c * mb[0, 1] - s * mb[1, 1]
+    a02 = c * mb[0, 2] - s * mb[1, 2]
+    a10 = s * mb[0, 0] + c * mb[1, 0]
+    a11 = s * mb[0, 1] + c * mb[1, 1]
+    a12 = s * mb[0, 2] + c * mb[1, 2]
+    out[0, 0] = a00 * c - a01 * s
+    out[0, 1] = a00 * s + a01 * c
+    out[0, 2] = a02
+    out[1, 0] = a10 * c - a11 * s
+    out[1, 1] = a10 * s + a11 * c
+    out[1, 2] = a12
+    out[2, 0] = mb[2, 0] * c - mb[2, 1] * s
+    out[2, 1] = mb[2, 0] * s + mb[2, 1] * c
+    out[2, 2] = mb[2, 2]
 
 
 @kernel
@@ -265,7 +268,7 @@ def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
         mjw2 = -mi[k, 2, 0] * vz + mi[k, 2, 1] * vx
         gterm[k, 0] = om * (-pz - mjw0)
         gterm[k, 1] = om * (px - mjw1)
-        # the Munk moment vx Pz - vz Px (d T / d th of Lagrange's equations)
+        # the Munk moment vx Pz - vz Px = -dT_k/d(th_k), the configuration term of Lagrange's equations
         gterm[k, 2] = -om * mjw2 + (vx * pz - vz * px)
 
 
@@ -430,21 +433,21 @@ def accelerations_assembled(q, u, forces, desc):
 
 @kernel
 def _xt_m_x(m, ax, az, out):
-    """out = X^T m X for X = [[1, 0, -az], [0, 1, ax], [0, 0, 0]] (the map from a parent's centroid
+    """out += X^T m X for X = [[1, 0, -az], [0, 1, ax], [0, 0, 0]] (the map from a parent's centroid
     motion to its child's centroid motion at fixed absolute child angle; arm (ax, az) from the parent's
     centroid to the pin)."""
-    x = np.zeros((3, 3))
-    x[0, 0] = 1.0
-    x[1, 1] = 1.0
-    x[0, 2] = -az
-    x[1, 2] = ax
-    for i in range(3):
-        for j in range(3):
-            acc = 0.0
-            for p in range(3):
-                for r in range(3):
-                    acc += x[p, i] * m[p, r] * x[r, j]
-            out[i, j] += acc
+    # m X: columns 0, 1 of m, and column 2 = -az m[:, 0] + ax m[:, 1]
+    c0 = -az * m[0, 0] + ax * m[0, 1]
+    c1 = -az * m[1, 0] + ax * m[1, 1]
+    out[0, 0] += m[0, 0]
+    out[0, 1] += m[0, 1]
+    out[1, 0] += m[1, 0]
+    out[1, 1] += m[1, 1]
+    out[0, 2] += c0
+    out[1, 2] += c1
+    out[2, 0] += -az * m[0, 0] + ax * m[1, 0]
+    out[2, 1] += -az * m[0, 1] + ax * m[1, 1]
+    out[2, 2] += -az * c0 + ax * c1
 
 
 @kernel
