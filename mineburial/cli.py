@@ -1,4 +1,4 @@
-"""Command-line interface: ``mineburial {run,drop,example,map}``.
+"""Command-line interface: ``mineburial {run,drop,example,map,compare,sensitivity,validate,restrain}``.
 
 Every error a user can cause ends the command with one line on stderr,
 ``mineburial: error: ...`` naming the field or option, and exit status 2 (bad
@@ -75,15 +75,37 @@ def _cmd_drop(args):
 
 def _cmd_example(args):
     from mineburial.config import ensemble_example_names, example_names, example_path
+    from mineburial.systems import restraint
 
     if args.name is None:
-        for name in example_names() + ensemble_example_names():
+        for name in example_names() + ensemble_example_names() + restraint.example_names():
             print(name)
         return 0
-    source = example_path(args.name)
+    if args.name.startswith(restraint.EXAMPLE_PREFIX):
+        text = restraint.example_text(args.name)
+        what = "restraint case"
+    else:
+        text = Path(example_path(args.name)).read_text()
+        what = "scenario"
     target = Path(args.output or f"{args.name}.toml")
-    target.write_text(Path(source).read_text())
-    print(f"wrote example scenario {args.name!r} to {target}")
+    target.write_text(text)
+    print(f"wrote example {what} {args.name!r} to {target}")
+    return 0
+
+
+def _cmd_restrain(args):
+    from mineburial.systems.restraint import run_case_file
+
+    result = run_case_file(args.case, args.output)
+    stop = (
+        f"stopping time {result.stopping_time:.3f} s"
+        if result.stopping_time is not None
+        else f"the ship had not stopped at {result.t_end:.3f} s"
+    )
+    print(
+        f"{result.system.case.name}: status {result.status_name}, {stop}, "
+        f"energy closure {result.energy_closure():.1e}; wrote {args.output}"
+    )
     return 0
 
 
@@ -219,6 +241,14 @@ def build_parser() -> argparse.ArgumentParser:
     sens.add_argument("--threads", type=int, default=None, help="numba threads")
     sens.add_argument("--quiet", action="store_true", help="no progress lines")
     sens.set_defaults(func=_cmd_sensitivity)
+
+    rs = sub.add_parser(
+        "restrain",
+        help="run one case of seed 004's ship restraining system and write its time series (NetCDF)",
+    )
+    rs.add_argument("case", help="restraint case TOML (e.g. from 'mineburial example restraint_case1')")
+    rs.add_argument("-o", "--output", default="restraint.nc", help="output NetCDF (default restraint.nc)")
+    rs.set_defaults(func=_cmd_restrain)
 
     val = sub.add_parser(
         "validate", help="run every validation case and write the report (Markdown, PNG, JSON)"

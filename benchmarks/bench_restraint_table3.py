@@ -1,0 +1,134 @@
+"""Seed 004 Table 3: the stopping time of the 19 cases of Table 2, computed and compared.
+
+Run:  python benchmarks/bench_restraint_table3.py [--cases 1,2,3] [--set FIELD=VALUE ...] [--out FILE]
+
+``--set`` changes a field of every case (a sensitivity, e.g. ``--set ship.resistance_form=ittc``;
+the committed table is the run without it).
+
+Each case of Table 2 (``mineburial example restraint_caseN``; every value the seed does
+not print is an assumption stated in the case file and in docs/restraint.md, chosen
+before any result was seen) is run to the instant the ship's surge speed first reaches
+zero. Written to benchmarks/results/restraint_table3.txt: case, computed stopping time,
+seed 004's Table 3 value, relative difference, status, energy-balance closure (max
+|E(t) - E(0)| over the initial kinetic energy, E = kinetic + potential + dissipated,
+eqs. (63)-(69)), and
+the trends of seed 004 §4.3 (friction, anchor mass, ship speed, ship mass, current): the
+sign and the order of each group's change against case 1, computed and printed.
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from _common import machine
+
+TREND_GROUPS = (
+    ("seabed friction 0.3 -> 0.5 -> 0.7", (1, 2, 3)),
+    ("anchor mass 40 -> 50 -> 60 t", (1, 4, 5)),
+    ("chain radius 0.0763 -> 0.0863 -> 0.0970 m", (1, 6, 7)),
+    ("cable length 152 -> 172 -> 192 m", (1, 8, 9)),
+    ("cable horizontal 148 -> 149 -> 150 m", (1, 10, 11)),
+    ("cable vertical 6 -> 8 -> 10 m", (1, 12, 13)),
+    ("ship speed 3 -> 4 -> 5 m/s", (1, 14, 15)),
+    ("ship mass 500 -> 750 -> 1000 t", (1, 16, 17)),
+    ("current 0 -> 1 -> 2 m/s", (1, 18, 19)),
+)
+
+
+def _direction(values):
+    d = [b - a for a, b in zip(values[:-1], values[1:])]
+    if all(x > 0 for x in d):
+        return "rising"
+    if all(x < 0 for x in d):
+        return "falling"
+    return "not monotonic"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", default=None, help="comma-separated case numbers (default all 19)")
+    ap.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE", help="override a case field")
+    ap.add_argument("--out", default=None, help="output file (default results/restraint_table3.txt)")
+    args = ap.parse_args(argv)
+    import tomllib
+
+    overrides = {}
+    for item in args.set:
+        key, _, value = item.partition("=")
+        try:  # a TOML value (number, true/false, quoted string); else the bare text
+            overrides[key] = tomllib.loads(f"v = {value}")["v"]
+        except tomllib.TOMLDecodeError:
+            overrides[key] = value
+    default_out = Path(__file__).parent / "results" / "restraint_table3.txt"
+    out = Path(args.out) if args.out else (None if overrides else default_out)
+    from mineburial import __version__
+    from mineburial.systems import restraint as R
+
+    numbers = range(1, R.N_CASES + 1) if args.cases is None else [int(c) for c in args.cases.split(",")]
+    rows = {}
+    lines = []
+    header = (
+        f"{'case':>4}  {'computed s':>10}  {'Table 3 s':>9}  {'diff %':>7}  {'status':<10}  "
+        f"{'energy closure':>14}  {'wall s':>6}  change against case 1"
+    )
+    print(header, flush=True)
+    for k in numbers:
+        case = R.table2_case(k)
+        if overrides:
+            case = case.replace(**overrides)
+        t0 = time.perf_counter()
+        res = R.simulate(case)
+        wall = time.perf_counter() - t0
+        t_ref = R.TABLE3[k - 1]
+        t_stop = res.stopping_time
+        diff = "" if t_stop is None else f"{100.0 * (t_stop - t_ref) / t_ref:+7.2f}"
+        shown = f"{res.t_end:10.3f}" if t_stop is None else f"{t_stop:10.3f}"
+        line = (
+            f"{k:>4}  {shown}  {t_ref:9.3f}  {diff:>7}  {res.status_name:<10}  "
+            f"{res.energy_closure():14.2e}  {wall:6.1f}  {R.TABLE3_CHANGE[k - 1]}"
+        )
+        print(line, flush=True)
+        lines.append(line)
+        rows[k] = t_stop
+    trend_lines = []
+    for label, group in TREND_GROUPS:
+        if not all(rows.get(k) is not None for k in group):
+            continue
+        ours = [rows[k] for k in group]
+        seed = [R.TABLE3[k - 1] for k in group]
+        d_ours, d_seed = _direction(ours), _direction(seed)
+        agree = "same" if d_ours == d_seed else "DIFFERENT"
+        trend_lines.append(
+            f"{label:<42} computed {d_ours:<13} ({' -> '.join(f'{t:.3f}' for t in ours)}); "
+            f"seed {d_seed:<13} ({' -> '.join(f'{t:.3f}' for t in seed)}): {agree}"
+        )
+    within = [k for k in rows if rows[k] is not None and abs(rows[k] / R.TABLE3[k - 1] - 1.0) <= 0.05]
+    text = "\n".join(
+        [
+            "Seed 004 Table 3: stopping time of the restraining system "
+            "(benchmarks/bench_restraint_table3.py)",
+            f"mineburial {__version__}; {machine()}",
+            "method dopri5 (rtol 1e-7, atol 1e-9), stop located on the continuous extension; "
+            "energy closure = max |E(t) - E(0)| / E^K(0), "
+            "E = kinetic + potential + dissipated (eqs. (63)-(69))",
+            f"fields changed from the case files: {overrides or 'none'}",
+            "",
+            header,
+            *lines,
+            "",
+            f"within 5 % of Table 3: {len(within)} of {len(rows)} cases",
+            "",
+            "Trends of seed 004 §4.3 (direction of the stopping time along each group):",
+            *trend_lines,
+        ]
+    )
+    print("\n".join(["", *trend_lines]))
+    if out is not None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text + "\n")
+        print(f"wrote {out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

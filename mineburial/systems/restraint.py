@@ -1,0 +1,1344 @@
+"""Seed 004's restraining system (Liu, Hearn, Chen et al., Kane method): a powerless ship
+stopped by a gravity anchor dragged over the seabed through an anchor chain, a
+restraining cable and an auxiliary rod.
+
+Parts (docs/restraint.md explains the model, its sources and its assumptions):
+
+* the case: :class:`RestraintCase`, read from TOML (:meth:`RestraintCase.from_toml`)
+  and validated field by field against :data:`FIELDS` (name, unit, allowed range,
+  source in seed 004 or the assumption made); :func:`table2_case` gives Table 2's 19
+  cases and :func:`example_text` writes one as a commented scenario file;
+* the initial configuration: :func:`catenary_parameter` and :func:`initial_configuration`
+  (seed 004 §3.1, eqs. (30)-(35));
+* the multibody description (anchor, 15 chain links, the three cable stages, the rod,
+  the ship: a chain of N bodies is N bodies) and the run (:func:`simulate`), through the
+  core's ``integrate`` with the jitted right-hand side and stop event of this module;
+* the result as a CF NetCDF dataset (:func:`to_dataset`, written atomically by
+  :func:`mineburial.io.netcdf.write_netcdf`).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+try:  # Python >= 3.11
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
+
+# ---------------------------------------------------------------------------
+# the case: fields, units, ranges, sources
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """One field of a case file: its default, unit, allowed range and source."""
+
+    section: str
+    name: str
+    default: Any
+    unit: str
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = True
+    hi_open: bool = False
+    kind: str = "float"  # float, int, bool, or the allowed strings joined by '|'
+    source: str = ""
+    assumption: bool = False
+
+    @property
+    def path(self) -> str:
+        return f"{self.section}.{self.name}"
+
+    def range_text(self) -> str:
+        if self.kind == "bool":
+            return "true or false"
+        if "|" in self.kind:
+            return " or ".join(repr(v) for v in self.kind.split("|"))
+        lo = "-inf" if self.lo is None else f"{self.lo:g}"
+        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        left = "(" if (self.lo is None or self.lo_open) else "["
+        right = ")" if (self.hi is None or self.hi_open) else "]"
+        unit = f" {self.unit}" if self.unit and self.unit != "1" else ""
+        return f"{left}{lo}, {hi}{right}{unit}"
+
+    def check(self, value):
+        """The value converted to the field's type; ScenarioError naming the field, the
+        value and the allowed range otherwise."""
+        unit = f" {self.unit}" if self.unit and self.unit != "1" else ""
+        if self.kind == "bool":
+            if not isinstance(value, bool):
+                raise ScenarioError(f"{self.path} = {value!r} must be true or false")
+            return value
+        if "|" in self.kind:
+            allowed = self.kind.split("|")
+            if value not in allowed:
+                raise ScenarioError(unknown_name_message(self.path, value, allowed))
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ScenarioError(f"{self.path} = {value!r} is not a number; allowed range {self.range_text()}")
+        if self.kind == "int":
+            if float(value) != int(value):
+                raise ScenarioError(f"{self.path} = {value!r} must be a whole number in {self.range_text()}")
+            value = int(value)
+        else:
+            value = float(value)
+        ok = math.isfinite(value)
+        if ok and self.lo is not None:
+            ok = value > self.lo if self.lo_open else value >= self.lo
+        if ok and self.hi is not None:
+            ok = value < self.hi if self.hi_open else value <= self.hi
+        if not ok:
+            raise ScenarioError(
+                f"{self.path} = {value:g}{unit} is outside the allowed range {self.range_text()}"
+            )
+        return value
+
+
+def _f(section, name, default, unit, lo=None, hi=None, source="", assumption=False, **kw):
+    return FieldSpec(section, name, default, unit, lo, hi, source=source, assumption=assumption, **kw)
+
+
+_S41 = "seed 004 §4.1"
+#: every field of a case file, in file order
+FIELDS: tuple[FieldSpec, ...] = (
+    # --- gravity anchor (body 1)
+    _f(
+        "anchor",
+        "mass",
+        40000.0,
+        "kg",
+        0.0,
+        1e7,
+        source="seed 004 Table 2 (40 t; 50 t and 60 t in cases 4, 5)",
+    ),
+    _f("anchor", "length", 2.0, "m", 0.0, 100.0, source=f"{_S41}: 2.0, 2.5, 3.0 m for 40, 50, 60 t"),
+    _f("anchor", "width", 4.0, "m", 0.0, 100.0, source=f"{_S41}: width 4.0 m"),
+    _f("anchor", "height", 2.1, "m", 0.0, 100.0, source=f"{_S41}: height 2.1 m"),
+    _f(
+        "anchor",
+        "friction",
+        0.3,
+        "1",
+        0.0,
+        2.0,
+        source="seed 004 Table 2 (0.3; 0.5, 0.7 in cases 2, 3)",
+        lo_open=False,
+    ),
+    _f(
+        "anchor",
+        "drag_coefficient",
+        1.05,
+        "1",
+        0.0,
+        10.0,
+        source="seed 004 §3.2.1 after eq. (39) (Saleh 2002)",
+        lo_open=False,
+    ),
+    _f(
+        "anchor",
+        "friction_velocity_scale",
+        1.0e-3,
+        "m s-1",
+        0.0,
+        1.0,
+        source="ASSUMPTION: the sign of eq. (37) smoothed as tanh(v / scale); 1 mm/s = 0.03 % of the ship "
+        "speed (seed 004 switches stick/slip on the previous step's tension instead)",
+        assumption=True,
+    ),
+    # --- anchor chain (bodies 2..16)
+    _f(
+        "chain",
+        "links",
+        15,
+        "1",
+        1,
+        1000,
+        kind="int",
+        lo_open=False,
+        source=f"{_S41}: 15 links, 1 m each, 15 m",
+    ),
+    _f("chain", "link_length", 1.0, "m", 0.0, 100.0, source=f"{_S41}: each link 1 m"),
+    _f(
+        "chain",
+        "radius",
+        0.0763,
+        "m",
+        0.0,
+        1.0,
+        source="seed 004 Tables 1, 2: equivalent radius R_CE (0.0863, 0.0970 in cases 6, 7)",
+    ),
+    _f("chain", "density", 7850.0, "kg m-3", 0.0, 30000.0, source=f"{_S41}: steel 7850 kg/m3"),
+    # --- restraining cable (three stages) and auxiliary rod
+    _f(
+        "cable",
+        "length",
+        152.0,
+        "m",
+        0.0,
+        10000.0,
+        source="seed 004 Table 2 (152 m; 172, 192 m in cases 8, 9)",
+    ),
+    _f(
+        "cable",
+        "horizontal",
+        148.0,
+        "m",
+        0.0,
+        10000.0,
+        source="seed 004 Table 2 'cable horizontal component' x_L (149, 150 m in cases 10, 11)",
+    ),
+    _f(
+        "cable",
+        "vertical",
+        6.0,
+        "m",
+        0.0,
+        1000.0,
+        source="seed 004 Table 2 'cable vertical component' h_L (8, 10 m in cases 12, 13)",
+    ),
+    _f(
+        "cable",
+        "radius",
+        0.0237,
+        "m",
+        0.0,
+        1.0,
+        source=f"{_S41}: R_RE = sqrt(2 m_RU / (pi rho_s)) = 0.0237 m",
+    ),
+    _f(
+        "cable",
+        "density",
+        7850.0,
+        "kg m-3",
+        0.0,
+        30000.0,
+        source=f"{_S41}: steel (R_RE is defined with rho_s)",
+    ),
+    _f(
+        "cable",
+        "stage1_elements",
+        3,
+        "1",
+        0,
+        10000,
+        kind="int",
+        lo_open=False,
+        source="seed 004 §4.2: elements 17 to 19 (3 x 2 m)",
+    ),
+    _f("cable", "stage1_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
+    _f(
+        "cable",
+        "stage2_element_length",
+        10.0,
+        "m",
+        0.0,
+        1000.0,
+        source=f"{_S41}: 10 m (12, 14, 16 elements for 152, 172, 192 m, §4.2)",
+    ),
+    _f(
+        "cable",
+        "stage3_elements",
+        13,
+        "1",
+        0,
+        10000,
+        kind="int",
+        lo_open=False,
+        source="seed 004 §4.2: elements 32 to 44 (13 x 2 m)",
+    ),
+    _f("cable", "stage3_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
+    _f(
+        "cable",
+        "rod_length",
+        1.0,
+        "m",
+        0.0,
+        100.0,
+        source=f"{_S41}: auxiliary rod 1 m (OCR 'Im'), same material and radius as the cable",
+    ),
+    # --- ship (body N)
+    _f(
+        "ship",
+        "mass",
+        500000.0,
+        "kg",
+        0.0,
+        1e10,
+        source="seed 004 Table 2 (500 t; 750, 1000 t in cases 16, 17)",
+    ),
+    _f("ship", "length", 50.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
+    _f("ship", "beam", 10.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
+    _f("ship", "depth", 5.0, "m", 0.0, 1000.0, source=f"{_S41}: cuboid 50 m x 10 m x 5 m"),
+    _f("ship", "speed", 3.0, "m s-1", 0.0, 50.0, source="seed 004 Table 2 (3 m/s; 4, 5 m/s in cases 14, 15)"),
+    _f(
+        "ship",
+        "joint_dx",
+        0.0,
+        "m",
+        -500.0,
+        500.0,
+        lo_open=False,
+        source="ASSUMPTION: d_x (seed 004 §4.1, Figure 2) is not printed; 0 = the rod hangs from the "
+        "ship's midship section (the pitch it drives is negligible, GM_L ~ 200 m)",
+        assumption=True,
+    ),
+    _f(
+        "ship",
+        "joint_dz",
+        1.0,
+        "m",
+        -500.0,
+        500.0,
+        lo_open=False,
+        source="ASSUMPTION: d_z is not printed; = rod length, so that the rod is just above the free "
+        "surface (§3.2.2) and the water depth equals the cable's vertical component (§4.3.3)",
+        assumption=True,
+    ),
+    _f(
+        "ship",
+        "roughness",
+        150e-6,
+        "m",
+        0.0,
+        1.0,
+        lo_open=False,
+        source="seed 004 eq. (61): k_s = 150e-6 m (Molland et al. 2011)",
+    ),
+    _f(
+        "ship",
+        "resistance_form",
+        "printed",
+        "",
+        kind="printed|ittc",
+        source="seed 004 eq. (62) as printed, (C_f + C_sf) rho S_W v|v| ('printed'); 'ittc' adds the "
+        "textbook 1/2 (Molland et al. 2011)",
+    ),
+    # --- water
+    _f("water", "density", 1025.0, "kg m-3", 0.0, 2000.0, source=f"{_S41}: 1025 kg/m3"),
+    _f("water", "kinematic_viscosity", 1.05e-6, "m2 s-1", 0.0, 1.0, source=f"{_S41}: 1.05e-6 m2/s"),
+    _f("water", "gravity", 9.81, "m s-2", 0.0, 100.0, source=f"{_S41}: 9.81 m/s2"),
+    _f(
+        "water",
+        "current_speed",
+        0.0,
+        "m s-1",
+        -10.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 Table 2 seawater velocity U_ST along +x (1, 2 m/s in cases 18, 19), eq. (38)",
+    ),
+    _f(
+        "water",
+        "normal_drag",
+        1.21,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_D = 1.21 (Huston 1981)",
+    ),
+    _f(
+        "water",
+        "tangential_drag",
+        0.062,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981)",
+    ),
+    _f(
+        "water",
+        "added_mass",
+        1.0,
+        "1",
+        0.0,
+        10.0,
+        lo_open=False,
+        source="seed 004 §3.2.2: C_M = 1 (Huston 1981)",
+    ),
+    _f(
+        "water",
+        "added_mass_form",
+        "lagrange",
+        "",
+        kind="lagrange|morison",
+        source="seed 004 eq. (46) is Morison's -m_a n (n . a) ('morison'); the default 'lagrange' adds the "
+        "velocity terms of a rotating added mass that make the energy of eq. (64) exact (docs/multibody.md)",
+    ),
+    # --- seabed
+    _f(
+        "seabed",
+        "foundation_stiffness",
+        5.0e6,
+        "N m-3",
+        0.0,
+        1e12,
+        source="seed 004 eq. (41): k_z = 5e6 N/m3 for soft soil (Ma et al. 2012)",
+    ),
+    # --- model switches (for checks; both on in every seed 004 case)
+    _f(
+        "model",
+        "friction",
+        True,
+        "",
+        kind="bool",
+        source="seed 004 eq. (37): seabed friction on the anchor (on in every case of the seed; "
+        "off only for checks)",
+    ),
+    _f(
+        "model",
+        "drag",
+        True,
+        "",
+        kind="bool",
+        source="seed 004 eqs. (39), (45)-(47), (62): water drag on anchor, elements and ship "
+        "(on in every case of the seed)",
+    ),
+    # --- numerics
+    _f(
+        "numerics",
+        "method",
+        "dopri5",
+        "",
+        kind="dopri5|rk4",
+        source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
+        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice)",
+    ),
+    _f(
+        "numerics",
+        "rtol",
+        1e-7,
+        "1",
+        0.0,
+        1.0,
+        source="ASSUMPTION: relative tolerance of dopri5",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "atol",
+        1e-9,
+        "1",
+        0.0,
+        1.0,
+        source="ASSUMPTION: absolute tolerance of dopri5 (m, rad, m/s, rad/s)",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "dt",
+        0.002,
+        "s",
+        0.0,
+        1.0,
+        source=f"{_S41}: Delta t = 0.002 s (the rk4 step; dopri5's first trial step)",
+    ),
+    _f(
+        "numerics",
+        "t_max",
+        120.0,
+        "s",
+        0.0,
+        1e5,
+        source="ASSUMPTION: time limit; a case not stopped by then ends with status time_limit",
+        assumption=True,
+    ),
+    _f(
+        "numerics",
+        "record_interval",
+        0.1,
+        "s",
+        0.0,
+        1e4,
+        source="output interval of the time series (not a model value)",
+    ),
+)
+
+SECTIONS = tuple(dict.fromkeys(f.section for f in FIELDS))
+_BY_PATH = {f.path: f for f in FIELDS}
+
+
+@dataclass(frozen=True)
+class RestraintCase:
+    """A validated case of the restraining system (SI units). ``values`` maps
+    ``section.field`` to its value; read one with ``case['anchor.mass']``. Constructing it
+    checks every field and the relations between them (:meth:`_check_relations`)."""
+
+    name: str
+    description: str
+    values: dict
+
+    def __post_init__(self):
+        for spec in FIELDS:
+            if spec.path not in self.values:
+                self.values[spec.path] = spec.default
+            self.values[spec.path] = spec.check(self.values[spec.path])
+        unknown = [k for k in self.values if k not in _BY_PATH]
+        if unknown:
+            raise ScenarioError(unknown_names_message("case field", unknown, _BY_PATH))
+        self._check_relations()
+
+    def __getitem__(self, path):
+        return self.values[path]
+
+    # -- derived quantities ---------------------------------------------------
+    @property
+    def stage2_elements(self) -> int:
+        """Elements of the cable's second stage: what is left of the length (§4.2)."""
+        rest = (
+            self["cable.length"]
+            - self["cable.stage1_elements"] * self["cable.stage1_element_length"]
+            - self["cable.stage3_elements"] * self["cable.stage3_element_length"]
+        )
+        return int(round(rest / self["cable.stage2_element_length"]))
+
+    @property
+    def ship_draught(self) -> float:
+        """Draught of the cuboid ship floating at its mass (m / (rho L B))."""
+        return self["ship.mass"] / (self["water.density"] * self["ship.length"] * self["ship.beam"])
+
+    def _check_relations(self):
+        rest = (
+            self["cable.length"]
+            - self["cable.stage1_elements"] * self["cable.stage1_element_length"]
+            - self["cable.stage3_elements"] * self["cable.stage3_element_length"]
+        )
+        n2 = rest / self["cable.stage2_element_length"]
+        if rest <= 0.0 or abs(n2 - round(n2)) > 1e-9 * max(1.0, n2) or round(n2) < 1:
+            raise ScenarioError(
+                f"cable.length = {self['cable.length']:g} m must be the first stage "
+                f"({self['cable.stage1_elements']} x {self['cable.stage1_element_length']:g} m) "
+                f"plus the third "
+                f"({self['cable.stage3_elements']} x {self['cable.stage3_element_length']:g} m) plus a whole "
+                f"number (>= 1) of second-stage elements of {self['cable.stage2_element_length']:g} m"
+            )
+        slack = self["cable.length"] - self["cable.horizontal"]
+        if slack <= 0.0:
+            raise ScenarioError(
+                f"cable.horizontal = {self['cable.horizontal']:g} m must be less than cable.length = "
+                f"{self['cable.length']:g} m"
+            )
+        if self["cable.vertical"] <= slack:
+            raise ScenarioError(
+                f"cable.vertical = {self['cable.vertical']:g} m must exceed "
+                f"cable.length - cable.horizontal = "
+                f"{slack:g} m: only then has the complete catenary of seed 004 eq. (30) a solution"
+            )
+        max_mass = self["water.density"] * self["ship.length"] * self["ship.beam"] * self["ship.depth"]
+        if self.ship_draught >= self["ship.depth"]:
+            raise ScenarioError(
+                f"ship.mass = {self['ship.mass']:g} kg sinks the cuboid ship: its draught "
+                f"{self.ship_draught:.3g} m must be less than ship.depth = {self['ship.depth']:g} m, "
+                f"i.e. the mass less than {max_mass:g} kg"
+            )
+        rho_anchor = self["anchor.mass"] / (
+            self["anchor.length"] * self["anchor.width"] * self["anchor.height"]
+        )
+        if rho_anchor <= self["water.density"]:
+            raise ScenarioError(
+                f"anchor.mass = {self['anchor.mass']:g} kg floats: the anchor's density "
+                f"{rho_anchor:.4g} kg/m3 "
+                f"(mass / (length width height)) must exceed water.density = {self['water.density']:g} kg/m3"
+            )
+        for part in ("chain", "cable"):
+            if self[f"{part}.density"] <= self["water.density"]:
+                raise ScenarioError(
+                    f"{part}.density = {self[f'{part}.density']:g} kg/m3 must exceed water.density = "
+                    f"{self['water.density']:g} kg/m3 (the {part} must sink)"
+                )
+        if self["seabed.foundation_stiffness"] <= self["water.density"] * self["water.gravity"]:
+            raise ScenarioError(
+                f"seabed.foundation_stiffness = {self['seabed.foundation_stiffness']:g} N/m3 must exceed "
+                f"rho g = {self['water.density'] * self['water.gravity']:g} N/m3 "
+                f"(the seabed must carry more than "
+                f"the buoyancy it takes away, eqs. (41)-(42))"
+            )
+
+    # -- reading and writing --------------------------------------------------
+    @classmethod
+    def from_dict(cls, d: dict, name: str = "case") -> RestraintCase:
+        if not isinstance(d, dict):
+            raise ScenarioError("a restraint case must be a table of sections")
+        d = dict(d)
+        meta = d.pop("case", {})
+        if not isinstance(meta, dict):
+            raise ScenarioError("[case] must be a table with 'name' and 'description'")
+        unknown_meta = [k for k in meta if k not in ("name", "description")]
+        if unknown_meta:
+            raise ScenarioError(unknown_names_message("key of [case]", unknown_meta, ("name", "description")))
+        unknown = [s for s in d if s not in SECTIONS]
+        if unknown:
+            raise ScenarioError(unknown_names_message("section", unknown, SECTIONS + ("case",)))
+        values = {}
+        for section, table in d.items():
+            if not isinstance(table, dict):
+                raise ScenarioError(f"[{section}] must be a table of fields, not {table!r}")
+            allowed = [f.name for f in FIELDS if f.section == section]
+            bad = [k for k in table if k not in allowed]
+            if bad:
+                raise ScenarioError(unknown_names_message(f"field of [{section}]", bad, allowed))
+            for key, value in table.items():
+                values[f"{section}.{key}"] = value
+        return cls(
+            name=str(meta.get("name", name)), description=str(meta.get("description", "")), values=values
+        )
+
+    @classmethod
+    def from_toml(cls, path) -> RestraintCase:
+        path = pathlib.Path(path)
+        try:
+            with open(path, "rb") as fh:
+                d = tomllib.load(fh)
+        except OSError as exc:
+            raise ScenarioError(f"cannot read case file '{path}': {exc.strerror}") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise ScenarioError(f"case file '{path}' is not valid TOML: {exc}") from None
+        return cls.from_dict(d, name=path.stem)
+
+    @classmethod
+    def from_toml_string(cls, text: str, name: str = "case") -> RestraintCase:
+        try:
+            d = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ScenarioError(f"case is not valid TOML: {exc}") from None
+        return cls.from_dict(d, name=name)
+
+    def to_dict(self) -> dict:
+        """The fully resolved case as nested sections (defaults filled)."""
+        out: dict = {"case": {"name": self.name, "description": self.description}}
+        for spec in FIELDS:
+            out.setdefault(spec.section, {})[spec.name] = self.values[spec.path]
+        return out
+
+    def replace(self, **changes) -> RestraintCase:
+        """A copy with ``section.field`` values changed (``replace(**{'anchor.mass': 5e4})``)."""
+        values = dict(self.values)
+        values.update(changes)
+        return RestraintCase(self.name, self.description, values)
+
+
+# ---------------------------------------------------------------------------
+# Table 2 of seed 004
+# ---------------------------------------------------------------------------
+
+#: Table 2 columns: friction, anchor mass (t), chain radius (m), cable length, horizontal,
+#: vertical (m), ship speed (m/s), ship mass (t), seawater velocity (m/s)
+TABLE2 = (
+    (0.3, 40, 0.0763, 152, 148, 6, 3, 500, 0),
+    (0.5, 40, 0.0763, 152, 148, 6, 3, 500, 0),
+    (0.7, 40, 0.0763, 152, 148, 6, 3, 500, 0),
+    (0.3, 50, 0.0763, 152, 148, 6, 3, 500, 0),
+    (0.3, 60, 0.0763, 152, 148, 6, 3, 500, 0),
+    (0.3, 40, 0.0863, 152, 148, 6, 3, 500, 0),
+    (0.3, 40, 0.0970, 152, 148, 6, 3, 500, 0),
+    (0.3, 40, 0.0763, 172, 168, 6, 3, 500, 0),
+    (0.3, 40, 0.0763, 192, 188, 6, 3, 500, 0),
+    (0.3, 40, 0.0763, 152, 149, 6, 3, 500, 0),
+    (0.3, 40, 0.0763, 152, 150, 6, 3, 500, 0),
+    (0.3, 40, 0.0763, 152, 148, 8, 3, 500, 0),
+    (0.3, 40, 0.0763, 152, 148, 10, 3, 500, 0),
+    (0.3, 40, 0.0763, 152, 148, 6, 4, 500, 0),
+    (0.3, 40, 0.0763, 152, 148, 6, 5, 500, 0),
+    (0.3, 40, 0.0763, 152, 148, 6, 3, 750, 0),
+    (0.3, 40, 0.0763, 152, 148, 6, 3, 1000, 0),
+    (0.3, 40, 0.0763, 152, 148, 6, 3, 500, 1),
+    (0.3, 40, 0.0763, 152, 148, 6, 3, 500, 2),
+)
+#: Table 3 of seed 004: stopping time (s) of each case (the case numbers of rows 4-19
+#: were lost in the OCR; the rows are in order)
+TABLE3 = (
+    20.010,
+    13.228,
+    10.054,
+    16.774,
+    14.498,
+    19.992,
+    19.976,
+    19.972,
+    19.936,
+    19.702,
+    19.386,
+    19.908,
+    19.798,
+    23.654,
+    26.516,
+    29.134,
+    38.242,
+    22.122,
+    24.126,
+)
+#: the parameter each case changes against case 1 (Table 3's last column)
+TABLE3_CHANGE = (
+    "none",
+    "seabed friction increased",
+    "seabed friction increased",
+    "anchor mass increased",
+    "anchor mass increased",
+    "anchor chain radius increased",
+    "anchor chain radius increased",
+    "overall cable length increased",
+    "overall cable length increased",
+    "horizontal projection of the cable changed",
+    "horizontal projection of the cable changed",
+    "cable vertical length changed",
+    "cable vertical length changed",
+    "initial ship speed increased",
+    "initial ship speed increased",
+    "ship displaced mass increased",
+    "ship displaced mass increased",
+    "current introduced",
+    "current introduced",
+)
+#: anchor length by anchor mass (seed 004 §4.1)
+ANCHOR_LENGTH = {40: 2.0, 50: 2.5, 60: 3.0}
+N_CASES = len(TABLE2)
+EXAMPLE_PREFIX = "restraint_case"
+
+
+def table2_values(number: int) -> dict:
+    """The ``section.field`` values that Table 2 sets for case ``number`` (1..19)."""
+    if not 1 <= number <= N_CASES:
+        raise ScenarioError(f"seed 004 Table 2 case = {number} is outside 1..{N_CASES}")
+    mu, ma, rc, lc, xl, hl, v0, ms, u = TABLE2[number - 1]
+    return {
+        "anchor.friction": float(mu),
+        "anchor.mass": ma * 1000.0,
+        "anchor.length": ANCHOR_LENGTH[ma],
+        "chain.radius": float(rc),
+        "cable.length": float(lc),
+        "cable.horizontal": float(xl),
+        "cable.vertical": float(hl),
+        "ship.speed": float(v0),
+        "ship.mass": ms * 1000.0,
+        "water.current_speed": float(u),
+    }
+
+
+def table2_case(number: int) -> RestraintCase:
+    """Seed 004 Table 2 case ``number`` (1..19) with every other field at its default."""
+    return RestraintCase(
+        name=f"{EXAMPLE_PREFIX}{number}",
+        description=f"seed 004 Table 2 case {number} ({TABLE3_CHANGE[number - 1]})",
+        values=table2_values(number),
+    )
+
+
+def example_names() -> tuple[str, ...]:
+    """``restraint_case1`` ... ``restraint_case19``."""
+    return tuple(f"{EXAMPLE_PREFIX}{k}" for k in range(1, N_CASES + 1))
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, int):
+        return str(value)
+    return repr(float(value))
+
+
+def example_text(name: str) -> str:
+    """Case file of example ``name`` (``restraint_caseN``): every value with its source in
+    seed 004, every value the seed does not print marked ASSUMPTION."""
+    if name not in example_names():
+        raise ScenarioError(unknown_name_message("restraint example", name, example_names()))
+    number = int(name[len(EXAMPLE_PREFIX) :])
+    case = table2_case(number)
+    set_by_table = table2_values(number)
+    lines = [
+        f"# Seed 004 (Liu, Hearn, Chen et al., restraining system, Kane method), Table 2 case {number}:",
+        f"# {TABLE3_CHANGE[number - 1]} (against case 1). "
+        f"Seed 004 Table 3 stopping time: {TABLE3[number - 1]} s.",
+        "# Run with: mineburial restrain THIS_FILE.toml -o OUT.nc   (SI units; docs/restraint.md)",
+        "# Every value names its source; values seed 004 does not print are marked ASSUMPTION.",
+        "",
+        "[case]",
+        f'name = "{case.name}"',
+        f'description = "{case.description}"',
+    ]
+    section = None
+    for spec in FIELDS:
+        if spec.section != section:
+            section = spec.section
+            lines += ["", f"[{section}]"]
+        value = case[spec.path]
+        source = spec.source
+        if spec.path == "anchor.length":
+            source = f"seed 004 §4.1: {value:g} m for the {case['anchor.mass'] / 1000:g} t anchor"
+        elif spec.path in set_by_table:
+            source = f"seed 004 Table 2 case {number} (column: {spec.source})"
+        unit = f" [{spec.unit}]" if spec.unit and spec.unit != "1" else ""
+        lines.append(f"{spec.name} = {_toml_value(value)}  #{unit} {source}")
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------
+# initial configuration: seed 004 §3.1, eqs. (30)-(35)
+# ---------------------------------------------------------------------------
+
+
+def catenary_parameter(length: float, horizontal: float, vertical: float) -> tuple[float, float]:
+    """``(b, a)`` of the complete catenary, seed 004 eqs. (30)-(31): ``b`` solves
+    ``(cosh b - 1)(L_c - x_L) = h_L (sinh b - b)`` and ``a = T_h / w_c = (L_c - x_L) / (sinh b - b)``.
+
+    The ratio ``(cosh b - 1) / (sinh b - b)`` falls from +inf (b -> 0) to 1 (b -> inf), so a
+    root exists exactly when ``h_L > L_c - x_L`` (checked by :class:`RestraintCase`); it is
+    bracketed and found by bisection on ``log b`` in closed form-free arithmetic.
+    """
+    slack = length - horizontal
+    ratio = vertical / slack
+    if not ratio > 1.0:
+        raise ScenarioError(
+            f"cable.vertical = {vertical:g} m must exceed cable.length - cable.horizontal = {slack:g} m"
+        )
+
+    def g(b):
+        return (math.cosh(b) - 1.0) - ratio * (math.sinh(b) - b)
+
+    lo, hi = 1e-6, 1.0
+    while g(hi) > 0.0:
+        hi *= 2.0
+        if hi > 700.0:
+            raise ScenarioError(f"the catenary of cable.vertical = {vertical:g} m has no solution")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if g(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-15 * hi:
+            break
+    b = 0.5 * (lo + hi)
+    return b, slack / (math.sinh(b) - b)
+
+
+def _segment_area(z, r):
+    if z >= r:
+        return 0.0
+    if z <= -r:
+        return math.pi * r * r
+    return r * r * math.acos(z / r) - z * math.sqrt(r * r - z * z)
+
+
+def resting_height(radius: float, density: float, case: RestraintCase) -> float:
+    """Height of the axis of a long horizontal cylinder resting on the elastic seabed:
+    ``(k_z - rho g) A(z) = (rho_s - rho) g pi r^2`` (eqs. (41)-(42); A: the disc's area
+    below the seabed), solved by bisection."""
+    rho = case["water.density"]
+    g = case["water.gravity"]
+    need = (density - rho) * g * math.pi * radius**2 / (case["seabed.foundation_stiffness"] - rho * g)
+    lo, hi = -radius, radius
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if _segment_area(mid, radius) > need:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Bodies of the system in seed 004's order (anchor, chain links, cable stages 1-3,
+    rod, ship) with their lengths and radii, and the initial node points of the chain and
+    cable (x, z of every pin from the anchor's to the rod's lower end)."""
+
+    kinds: np.ndarray
+    names: tuple
+    lengths: np.ndarray
+    radii: np.ndarray
+    angles: np.ndarray
+    nodes: np.ndarray
+    catenary_b: float
+    catenary_a: float
+    chain_height: float
+    cable_height: float
+
+
+def initial_configuration(case: RestraintCase) -> Layout:
+    """The initial layout of seed 004 §3.1: the anchor on the seabed, the chain straight
+    along the seabed (angles 0), the cable continuing it on the seabed and then rising as
+    the complete catenary of eqs. (30)-(34) to height ``h_L``, each element the chord
+    between the catenary points at its end arc lengths (eq. (35), with its OCR-damaged
+    denominator read as ``X_{k+1} - X_k``), the rod vertical.
+
+    Chain and cable axes rest at their equilibrium sinkage in the elastic seabed
+    (:func:`resting_height`); the first cable element steps down from the chain's axis
+    height to the cable's (a few centimetres over 2 m).
+    """
+    from mineburial.kernels.restraint_forces import ANCHOR, ELEMENT, ROD, SHIP
+
+    zc = resting_height(case["chain.radius"], case["chain.density"], case)
+    zr = resting_height(case["cable.radius"], case["cable.density"], case)
+    b, a = catenary_parameter(case["cable.length"], case["cable.horizontal"], case["cable.vertical"])
+    xs = a * b
+    flat = case["cable.horizontal"] - xs
+    first = case["cable.stage1_element_length"] if case["cable.stage1_elements"] else 0.0
+    if flat < first:
+        raise ScenarioError(
+            f"cable.horizontal = {case['cable.horizontal']:g} m leaves {flat:.3g} m of cable on the seabed "
+            f"before the catenary (x_s = {xs:.3g} m, eqs. (30)-(34)); at least one first-stage element "
+            f"({first:g} m) must lie on the seabed"
+        )
+    n_links = case["chain.links"]
+    ll = case["chain.link_length"]
+    el = (
+        [case["cable.stage1_element_length"]] * case["cable.stage1_elements"]
+        + [case["cable.stage2_element_length"]] * case.stage2_elements
+        + [case["cable.stage3_element_length"]] * case["cable.stage3_elements"]
+    )
+    x0 = 0.5 * case["anchor.length"]
+    nodes = [(x0 + i * ll, zc) for i in range(n_links + 1)]
+    xc0 = nodes[-1][0]
+    arc = 0.0
+    for length in el:
+        arc += length
+        if arc <= flat:
+            nodes.append((xc0 + arc, zr))
+        else:
+            sk = arc - flat
+            xk = a * math.asinh(sk / a)
+            nodes.append((xc0 + flat + xk, zr + a * (math.cosh(xk / a) - 1.0)))
+    nodes = np.array(nodes)
+    d = np.diff(nodes, axis=0)
+    angles = np.arctan2(d[:, 1], d[:, 0])
+    angles[:n_links] = 0.0
+    n_el = len(el)
+    kinds = np.array([ANCHOR] + [ELEMENT] * (n_links + n_el) + [ROD, SHIP], dtype=np.int64)
+    lengths = np.array(
+        [case["anchor.length"]] + [ll] * n_links + el + [case["cable.rod_length"], case["ship.length"]]
+    )
+    radii = np.array([0.0] + [case["chain.radius"]] * n_links + [case["cable.radius"]] * (n_el + 1) + [0.0])
+    names = (
+        ("anchor",)
+        + tuple(f"chain link {i + 1}" for i in range(n_links))
+        + tuple(f"cable element {i + 1}" for i in range(n_el))
+        + ("auxiliary rod", "ship")
+    )
+    angles = np.concatenate([[0.0], angles, [0.5 * math.pi, 0.0]])  # body 0 (anchor) .. N-1 (ship)
+    return Layout(kinds, names, lengths, radii, angles, nodes, b, a, zc, zr)
+
+
+# ---------------------------------------------------------------------------
+# the multibody description and the run
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class System:
+    """Everything a run needs: the case, its layout, the core's description, the jitted
+    parameters and the initial state."""
+
+    case: RestraintCase
+    layout: Layout
+    description: Any
+    params: tuple
+    y0: np.ndarray
+    water_depth: float
+    derived: dict
+
+
+def build_system(case: RestraintCase) -> System:
+    """The multibody description of a case (a chain of N bodies is N bodies), the
+    parameters of its forces and its initial state (ship at x = 0, speed ``ship.speed``,
+    rod turning with it, everything else at rest, seed 004 §2.2 assumption (2))."""
+    from mineburial import multibody as mb
+    from mineburial.kernels import restraint_forces as rf
+
+    lay = initial_configuration(case)
+    n = lay.kinds.size
+    rho = case["water.density"]
+    g = case["water.gravity"]
+    ca = case["water.added_mass"]
+    ma = case["anchor.mass"]
+    la, wa, ha = case["anchor.length"], case["anchor.width"], case["anchor.height"]
+    ms = case["ship.mass"]
+    ls, bs, ds = case["ship.length"], case["ship.beam"], case["ship.depth"]
+    draught = case.ship_draught
+    d_s = 0.5 * ds - draught  # eq. (18): geometric centre to water plane
+    parent = np.arange(-1, n - 1)
+    jp = np.zeros((n, 2))
+    jb = np.zeros((n, 2))
+    mass = np.zeros((n, 3, 3))
+    weight = np.zeros(n)
+    buoy = np.zeros(n)
+    diameter = 2.0 * lay.radii
+    mass[0] = mb.rigid_mass_matrix(ma, ma / 12.0 * (la**2 + ha**2))  # eq. (18), k = 1
+    weight[0] = ma * g
+    buoy[0] = rho * la * wa * ha * g
+    for k in range(1, n - 1):
+        length = lay.lengths[k]
+        r = lay.radii[k]
+        dens = case["chain.density"] if k <= case["chain.links"] else case["cable.density"]
+        m = dens * math.pi * r**2 * length
+        if lay.kinds[k] == rf.ELEMENT:
+            mass[k] = mb.segment_mass_matrix(m, length, r, ca, rho)
+            buoy[k] = rho * math.pi * r**2 * length * g
+        else:
+            mass[k] = mb.segment_mass_matrix(m, length)
+        weight[k] = m * g
+        jb[k] = (-0.5 * length, 0.0)
+        jp[k] = (0.5 * lay.lengths[k - 1], 0.0)
+    jp[1] = (0.5 * la, lay.chain_height - 0.5 * ha)
+    mass[n - 1] = mb.rigid_mass_matrix(ms, ms / 12.0 * (ls**2 + ds**2 + 12.0 * d_s**2))  # eq. (18), k = N
+    jp[n - 1] = (0.5 * lay.lengths[n - 2], 0.0)
+    jb[n - 1] = (case["ship.joint_dx"], case["ship.joint_dz"])
+    root_pose = np.array([0.0, 0.5 * ha, 0.0])
+    desc = mb.Description(parent, jp, jb, mass, np.array([1, 0, 0]), root_pose, names=lay.names)
+    q0 = desc.coordinates(lay.angles[1:])
+    from mineburial.kernels.multibody import body_states
+
+    pos, _ = body_states(q0, np.zeros_like(q0), desc.arrays())
+    # shift x so that the ship's centroid starts at x = 0 (seed 004's origin o_0)
+    root_pose[0] = -pos[n - 1, 0]
+    desc = mb.Description(parent, jp, jb, mass, np.array([1, 0, 0]), root_pose, names=lay.names)
+    q0 = desc.coordinates(lay.angles[1:])
+    u0 = np.zeros_like(q0)
+    # generalised speeds: q = (x_anchor, th_1 .. th_{N-1}); the rod is body N-2 (dof N-2)
+    u0[n - 2] = -case["ship.speed"] / lay.lengths[n - 2]
+    pos, vel = body_states(q0, u0, desc.arrays())
+    z_water = float(pos[n - 1, 1])  # the ship floats at its equilibrium at t = 0
+    volume = ms / rho
+    gm_long = ls**3 * bs / (12.0 * volume) - 0.5 * draught  # eq. (57), z_B = T/2, z_G = T (assumption (8))
+    wetted = ls * bs + 2.0 * (ls + bs) * draught
+    p = np.zeros(rf.N_PARAMS)
+    p[rf.P_G] = g
+    p[rf.P_RHO] = rho
+    p[rf.P_NU] = case["water.kinematic_viscosity"]
+    p[rf.P_MU] = case["anchor.friction"]
+    p[rf.P_VSCALE] = case["anchor.friction_velocity_scale"]
+    p[rf.P_CD_ANCHOR] = case["anchor.drag_coefficient"]
+    p[rf.P_ANCHOR_W] = wa
+    p[rf.P_ANCHOR_H] = ha
+    p[rf.P_CD] = case["water.normal_drag"]
+    p[rf.P_CF] = case["water.tangential_drag"]
+    p[rf.P_KZ] = case["seabed.foundation_stiffness"]
+    p[rf.P_USURF] = case["water.current_speed"]
+    p[rf.P_DEPTH] = z_water
+    p[rf.P_SHIP_L] = ls
+    p[rf.P_SHIP_SW] = wetted
+    p[rf.P_SHIP_KS] = case["ship.roughness"]
+    p[rf.P_HALF] = 1.0 if case["ship.resistance_form"] == "printed" else 0.5
+    p[rf.P_AW] = ls * bs
+    p[rf.P_VOL] = volume
+    p[rf.P_GML] = gm_long
+    p[rf.P_ZW] = z_water
+    p[rf.P_FRICTION] = 1.0 if case["model.friction"] else 0.0
+    p[rf.P_DRAG] = 1.0 if case["model.drag"] else 0.0
+    p[rf.P_MORISON] = 1.0 if case["water.added_mass_form"] == "morison" else 0.0
+    params = (desc.arrays(), p, lay.kinds, lay.lengths.copy(), diameter, weight, buoy)
+    y0 = np.concatenate([q0, u0, [0.0, 0.0]])
+    derived = {
+        "water_depth": z_water,
+        "ship_draught": draught,
+        "ship_wetted_area": wetted,
+        "ship_gm_longitudinal": gm_long,
+        "catenary_b": lay.catenary_b,
+        "catenary_a": lay.catenary_a,
+        "catenary_horizontal_tension": lay.catenary_a
+        * (case["cable.density"] - rho)
+        * g
+        * math.pi
+        * case["cable.radius"] ** 2,
+        "n_bodies": n,
+        "cable_stage2_elements": case.stage2_elements,
+        "chain_axis_height": lay.chain_height,
+        "cable_axis_height": lay.cable_height,
+    }
+    return System(case, lay, desc, params, y0, z_water, derived)
+
+
+@dataclass(frozen=True)
+class RestraintResult:
+    """A run: the records, the status, the stopping time (NaN-free: the end time when the
+    ship did not stop) and the diagnostics of every record."""
+
+    system: System
+    times: np.ndarray
+    states: np.ndarray
+    status: int
+    status_name: str
+    t_end: float
+    stopping_time: float | None
+    pos: np.ndarray
+    vel: np.ndarray
+    pin_force: np.ndarray
+    scalars: np.ndarray
+
+    @property
+    def energy(self) -> dict:
+        """Energy terms of eqs. (63)-(69) at every record, J: ``kinetic`` (E^K, eq. (64),
+        with the added mass), ``gravity`` (E^G, eq. (65), with buoyancy), ``hydrostatic``
+        (E^E, eq. (66)), ``foundation`` (elastic energy of the seabed, the W^S of eq. (68)
+        with the opposite sign), ``friction_dissipated`` (-W^F, eq. (67)),
+        ``water_dissipated`` (-W^W, eq. (69)) and ``total`` (their sum: constant)."""
+        nd = self.system.description.n_dof
+        ek, eg, ee, es = (self.scalars[:, i] for i in range(4))
+        dfric = -self.states[:, 2 * nd]
+        dwater = -self.states[:, 2 * nd + 1]
+        total = ek + eg + ee + es + dfric + dwater
+        return {
+            "kinetic": ek,
+            "gravity": eg,
+            "hydrostatic": ee,
+            "foundation": es,
+            "friction_dissipated": dfric,
+            "water_dissipated": dwater,
+            "total": total,
+        }
+
+    def energy_closure(self) -> float:
+        """max |E(t) - E(0)| / (E^K(0) + E^E(0)): the energy balance of seed 004 §4.2,
+        measured against the energy the ship brings (its initial kinetic energy; the
+        gravitational potential, counted from the seabed, would only inflate the
+        denominator)."""
+        e = self.energy["total"]
+        ref = self.energy["kinetic"][0] + abs(self.energy["hydrostatic"][0])
+        return float(np.max(np.abs(e - e[0])) / ref)
+
+
+def simulate(case: RestraintCase, record_interval: float | None = None) -> RestraintResult:
+    """Run a case until the ship's surge speed first reaches zero (the stopping time,
+    located on the integrator's continuous extension) or ``numerics.t_max``."""
+    from mineburial import multibody as mb
+    from mineburial.kernels import restraint_forces as rf
+
+    system = build_system(case)
+    dt_rec = case["numerics.record_interval"] if record_interval is None else record_interval
+    res = mb.integrate(
+        rf.restraint_rhs,
+        rf.restraint_event,
+        system.y0,
+        0.0,
+        case["numerics.t_max"],
+        system.params,
+        method=case["numerics.method"],
+        dt=case["numerics.dt"],
+        rtol=case["numerics.rtol"],
+        atol=case["numerics.atol"],
+        record_dt=dt_rec,
+    )
+    pos, vel, hf, scal = rf.record_diagnostics(np.ascontiguousarray(res.states), system.params)
+    from mineburial.kernels.multibody import STOPPED
+
+    stop = res.t_stop if res.status == STOPPED else None
+    return RestraintResult(
+        system, res.times, res.states, res.status, res.status_name, res.t_stop, stop, pos, vel, hf, scal
+    )
+
+
+# ---------------------------------------------------------------------------
+# output: CF NetCDF
+# ---------------------------------------------------------------------------
+
+
+#: derived quantities of a case written as scalar variables: units, long name
+_DERIVED = {
+    "water_depth": ("m", "water depth d of eq. (38): height of the ship's water plane above the seabed"),
+    "ship_draught": ("m", "draught of the cuboid ship, m / (rho L B)"),
+    "ship_wetted_area": ("m2", "wetted surface S_W of the cuboid ship, eq. (62)"),
+    "ship_gm_longitudinal": ("m", "longitudinal metacentric height G_y^M, eq. (57)"),
+    "catenary_b": ("1", "catenary parameter b = x_s / a, eq. (30)"),
+    "catenary_a": ("m", "catenary parameter a = T_h / w_c, eq. (31)"),
+    "catenary_horizontal_tension": ("N", "horizontal tension T_h of the initial catenary, eq. (31)"),
+    "chain_axis_height": ("m", "initial height of the chain's axis above the seabed (equilibrium sinkage)"),
+    "cable_axis_height": ("m", "initial height of the cable's axis above the seabed (equilibrium sinkage)"),
+}
+
+
+def to_dataset(result: RestraintResult):
+    """The time series of a run as a CF-1.11 dataset: every body's centroid position,
+    attitude and velocities, the pin forces (eq. (52)), the anchor's normal and friction
+    forces (eq. (37)), the energy terms of eqs. (64)-(69); the resolved case and the
+    mineburial version in the attributes. Write it with
+    :func:`mineburial.io.netcdf.write_netcdf` (atomic)."""
+    import json
+
+    import xarray as xr
+
+    from mineburial._version import __version__
+    from mineburial.io.netcdf import CONVENTIONS, utc_now
+    from mineburial.kernels import multibody as kmb
+
+    sysm = result.system
+    lay = sysm.layout
+    case = sysm.case
+    n = lay.kinds.size
+    kind_names = np.array(["anchor", "element", "rod", "ship"])[lay.kinds]
+    tdims = ("elapsed_time",)
+    bdims = ("elapsed_time", "body")
+
+    def var(dims, data, units, long_name, **extra):
+        attrs = {"units": units, "long_name": long_name}
+        attrs.update(extra)
+        return (dims, np.asarray(data, dtype=np.float64), attrs)
+
+    ship = n - 1
+    e = result.energy
+    data = {
+        "x": var(bdims, result.pos[:, :, 0], "m", "horizontal position of the body's centroid"),
+        "z": var(bdims, result.pos[:, :, 1], "m", "height of the body's centroid above the seabed"),
+        "theta": var(
+            bdims, result.pos[:, :, 2], "rad", "attitude of the body, counter-clockwise from +x toward +z"
+        ),
+        "vx": var(bdims, result.vel[:, :, 0], "m s-1", "horizontal velocity of the body's centroid"),
+        "vz": var(bdims, result.vel[:, :, 1], "m s-1", "vertical velocity of the body's centroid"),
+        "omega": var(bdims, result.vel[:, :, 2], "rad s-1", "angular velocity of the body"),
+        "pin_force_x": var(
+            bdims,
+            result.pin_force[:, :, 0],
+            "N",
+            "horizontal force of the pin joining the body to the previous one, on the body",
+            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's reaction on its locked coordinates",
+        ),
+        "pin_force_z": var(
+            bdims,
+            result.pin_force[:, :, 1],
+            "N",
+            "vertical force of the pin joining the body to the previous one, on the body",
+            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's normal reaction",
+        ),
+        "pin_tension": var(
+            bdims,
+            np.hypot(result.pin_force[:, :, 0], result.pin_force[:, :, 1]),
+            "N",
+            "magnitude of the pin force (joint constraint force)",
+        ),
+        "ship_x": var(tdims, result.pos[:, ship, 0], "m", "ship surge position (centroid)"),
+        "ship_speed": var(tdims, result.vel[:, ship, 0], "m s-1", "ship surge speed"),
+        "ship_heave": var(tdims, result.pos[:, ship, 1] - sysm.water_depth, "m", "ship heave"),
+        "ship_pitch": var(tdims, result.pos[:, ship, 2], "rad", "ship pitch angle"),
+        "anchor_x": var(tdims, result.pos[:, 0, 0], "m", "anchor position (centroid)"),
+        "anchor_speed": var(tdims, result.vel[:, 0, 0], "m s-1", "anchor speed along the seabed"),
+        "anchor_normal_force": var(tdims, result.scalars[:, 4], "N", "seabed normal reaction on the anchor"),
+        "anchor_friction": var(
+            tdims, result.scalars[:, 5], "N", "seabed friction on the anchor", comment="seed 004 eq. (37)"
+        ),
+        "kinetic_energy": var(
+            tdims, e["kinetic"], "J", "kinetic energy (with the added mass)", comment="eq. (64)"
+        ),
+        "gravitational_energy": var(
+            tdims,
+            e["gravity"],
+            "J",
+            "potential energy of weight and buoyancy above the seabed",
+            comment="eq. (65)",
+        ),
+        "hydrostatic_energy": var(
+            tdims,
+            e["hydrostatic"],
+            "J",
+            "elastic energy of the ship's heave and pitch restoring",
+            comment="eq. (66)",
+        ),
+        "foundation_energy": var(
+            tdims,
+            e["foundation"],
+            "J",
+            "elastic energy stored in the seabed foundation",
+            comment="eq. (68): W^S with the opposite sign",
+        ),
+        "friction_dissipation": var(
+            tdims,
+            e["friction_dissipated"],
+            "J",
+            "energy dissipated by the anchor's seabed friction",
+            comment="-W^F, eq. (67)",
+        ),
+        "water_dissipation": var(
+            tdims,
+            e["water_dissipated"],
+            "J",
+            "energy taken from the system by the water (drag, ship resistance)",
+            comment="-W^W, eq. (69); negative where a current feeds energy in",
+        ),
+        "total_energy": var(
+            tdims, e["total"], "J", "kinetic + potential + dissipated energy (constant)", comment="eq. (63)"
+        ),
+    }
+    coords = {
+        "elapsed_time": (
+            "elapsed_time",
+            np.asarray(result.times, dtype=np.float64),
+            {"units": "s", "long_name": "time since the start of the restraint (elapsed time)"},
+        ),
+        "body": (
+            "body",
+            np.arange(1, n + 1, dtype=np.int32),
+            {"long_name": "body number (seed 004: 1 = anchor, N = ship)"},
+        ),
+        "body_name": ("body", np.array(lay.names, dtype=object), {"long_name": "body"}),
+        "body_kind": ("body", kind_names.astype(object), {"long_name": "kind of body"}),
+        "body_length": ("body", lay.lengths, {"units": "m", "long_name": "body length"}),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds["status"] = (
+        (),
+        np.int8(result.status),
+        {
+            "long_name": "run status",
+            "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
+            "flag_meanings": " ".join(kmb.STATUS_NAMES),
+        },
+    )
+    if result.stopping_time is not None:
+        ds["stopping_time"] = (
+            (),
+            float(result.stopping_time),
+            {
+                "units": "s",
+                "long_name": "time at which the ship's surge speed first reaches zero",
+            },
+        )
+    ds.attrs.update(
+        {
+            "Conventions": CONVENTIONS,
+            "title": f"mineburial restraining system (seed 004): {case.name}",
+            "summary": "Planar Kane-method multibody model of a powerless ship stopped by an overhead "
+            "restraining system (Liu, Hearn, Chen et al.): ship, auxiliary rod, restraining cable, "
+            "anchor chain and a gravity anchor dragged over the seabed; docs/restraint.md.",
+            "source": f"mineburial {__version__}",
+            "date_created": utc_now(),
+            "status": result.status_name,
+            "status_description": kmb.STATUS_DESCRIPTIONS[result.status],
+            "end_time": float(result.t_end),
+            "case": json.dumps(case.to_dict()),
+            "mineburial_version": __version__,
+            "energy_closure": result.energy_closure(),
+            "n_bodies": int(sysm.derived["n_bodies"]),
+            "cable_stage2_elements": int(sysm.derived["cable_stage2_elements"]),
+        }
+    )
+    for name, (units, long_name) in _DERIVED.items():
+        ds[name] = ((), float(sysm.derived[name]), {"units": units, "long_name": long_name})
+    if result.stopping_time is not None:
+        ds.attrs["stopping_time"] = float(result.stopping_time)
+    return ds
+
+
+def run_case_file(path, output) -> RestraintResult:
+    """``mineburial restrain``: read, run, write atomically; returns the result."""
+    from mineburial.io.netcdf import write_netcdf
+
+    case = RestraintCase.from_toml(path)
+    output = pathlib.Path(output)
+    if output.is_dir():
+        raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
+    if not output.resolve().parent.is_dir():
+        raise ScenarioError(f"-o/--output '{output}': the folder '{output.parent}' does not exist")
+    if output.exists() and pathlib.Path(path).exists() and output.samefile(path):
+        raise ScenarioError(f"-o/--output '{output}' is the case file; writing there would overwrite it")
+    result = simulate(case)
+    write_netcdf(to_dataset(result), output)
+    return result

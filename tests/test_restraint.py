@@ -1,0 +1,398 @@
+"""Seed 004's restraining system (mineburial.systems.restraint, kernels/restraint_forces.py).
+
+References, each independent of the code under test:
+* the initial catenary: eqs. (30)-(34) solved here with scipy (fsolve on a and x_s), the
+  arc length of the curve between element ends by scipy quadrature;
+* the force kernels: closed forms (uniform drag, the disc segment area), scipy quadrature
+  of the distributed drag of a rotating element and of the embedded area, a finite-difference
+  gradient of the foundation's potential;
+* energy: conservation with friction and drag off (1e-6), the balance kinetic + potential
+  + dissipated with them on (seed 004 §4.2: 0.5 %); the anchor's friction solves eq. (37)
+  at the same instant (its reaction recomputed by the core from the final accelerations);
+* the Table 3 value of the shortest case (seed 004, case 3: 10.054 s) with a 10 % band;
+* bad input: one line naming the field, exit 2; the example files read back as Table 2.
+"""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy import integrate, optimize
+
+from mineburial.cli import main
+from mineburial.kernels import restraint_forces as rf
+from mineburial.kernels.multibody import joint_forces
+from mineburial.systems import restraint as R
+
+# ---------------------------------------------------------------------------
+# force kernels against closed forms and quadrature
+# ---------------------------------------------------------------------------
+
+
+def test_current_profile_is_the_one_seventh_power_law():
+    # eq. (38) at mid-depth: U_s 0.5^(1/7)
+    assert rf.current_speed(3.0, 2.0, 6.0) == pytest.approx(2.0 * 0.5 ** (1.0 / 7.0), rel=1e-14)
+    assert rf.current_speed(0.0, 2.0, 6.0) == 0.0
+    assert rf.current_speed(7.0, 2.0, 6.0) == 2.0
+
+
+def test_element_drag_without_rotation_is_the_uniform_drag():
+    rho, d, l, cd, cf = 1025.0, 0.05, 10.0, 1.21, 0.062
+    th = 0.3
+    v = np.array([1.5, -0.4])
+    fx, fz, my = rf.element_fluid_force(th, v[0], v[1], 0.0, l, d, rho, cd, cf, 0.0)
+    e = np.array([math.cos(th), math.sin(th)])
+    n = np.array([-math.sin(th), math.cos(th)])
+    w = -v  # water relative to the element
+    wt, wn = w @ e, w @ n
+    ref = 0.5 * rho * d * l * (math.pi * cf * abs(wt) * wt * e + cd * abs(wn) * wn * n)
+    assert np.allclose([fx, fz], ref, rtol=1e-13)
+    assert abs(my) < 1e-9 * np.abs(ref).max()
+
+
+@pytest.mark.parametrize("om", [0.05, 0.8, 5.0, -3.0])
+def test_element_drag_of_a_rotating_element_against_quadrature(om):
+    rho, d, l, cd, cf, cur = 1025.0, 0.0474, 10.0, 1.21, 0.062, 0.7
+    th, vx, vz = -0.4, 0.9, 0.3
+    fx, fz, my = rf.element_fluid_force(th, vx, vz, om, l, d, rho, cd, cf, cur)
+    e = np.array([math.cos(th), math.sin(th)])
+    n = np.array([-math.sin(th), math.cos(th)])
+
+    def load(s):  # force per unit length at station s (eq. (44))
+        vpt = np.array([vx, vz]) + om * s * n
+        w = np.array([cur, 0.0]) - vpt
+        wt, wn = w @ e, w @ n
+        return 0.5 * rho * d * (math.pi * cf * abs(wt) * wt * e + cd * abs(wn) * wn * n)
+
+    opts = dict(limit=200, epsabs=1e-12, epsrel=1e-12)
+    fx_ref = integrate.quad(lambda s: load(s)[0], -l / 2, l / 2, **opts)[0]
+    fz_ref = integrate.quad(lambda s: load(s)[1], -l / 2, l / 2, **opts)[0]
+    my_ref = integrate.quad(lambda s: s * (load(s) @ n), -l / 2, l / 2, **opts)[0]
+    scale = max(abs(fx_ref), abs(fz_ref))
+    assert fx == pytest.approx(fx_ref, abs=1e-9 * scale)
+    assert fz == pytest.approx(fz_ref, abs=1e-9 * scale)
+    assert my == pytest.approx(my_ref, abs=1e-9 * scale * l)
+
+
+@pytest.mark.parametrize("z", [-0.09, -0.03, 0.0, 0.02, 0.07])
+def test_segment_area_against_quadrature(z):
+    r = 0.0763
+    assert rf.segment_area_below(z, r) == pytest.approx(_embedded_area(z, r), abs=1e-15)
+
+
+def _embedded_area(z, r):
+    """Area of a disc (centre at height z, radius r) below z = 0 by quadrature of its width
+    2 r cos(phi) over y = r sin(phi) (smooth in phi)."""
+    top = math.asin(min(1.0, max(-1.0, -z / r)))
+    return integrate.quad(lambda p: 2.0 * r * r * math.cos(p) ** 2, -0.5 * math.pi, top, epsabs=1e-16)[0]
+
+
+def test_foundation_is_eq41_when_flat_and_conservative_when_tilted():
+    r, l, k = 0.0763, 1.0, 5e6 - 1025 * 9.81
+    fz, my, pot, vol = rf.element_foundation(0.05, 0.0, l, r, k)
+    a = r * r * math.acos(0.05 / r) - 0.05 * math.sqrt(r * r - 0.05**2)
+    assert vol == pytest.approx(a * l, rel=1e-13)  # V^S of a flat element
+    assert fz == pytest.approx(k * a * l, rel=1e-13)  # eq. (41) less the lost buoyancy (42)
+    assert abs(my) < 1e-12 * fz
+    # tilted and partly embedded: force and moment are minus the gradient of the potential
+    z0, th0, h = 0.03, 0.08, 1e-7
+    fz, my, pot, vol = rf.element_foundation(z0, th0, l, r, k)
+    dpz = (
+        rf.element_foundation(z0 + h, th0, l, r, k)[2] - rf.element_foundation(z0 - h, th0, l, r, k)[2]
+    ) / (2 * h)
+    dpt = (
+        rf.element_foundation(z0, th0 + h, l, r, k)[2] - rf.element_foundation(z0, th0 - h, l, r, k)[2]
+    ) / (2 * h)
+    assert fz == pytest.approx(-dpz, rel=1e-6)
+    assert my == pytest.approx(-dpt, rel=1e-6)
+
+
+def test_ship_resistance_follows_the_ittc_line():
+    # eqs. (59)-(62) for the 50 m cuboid at 3 m/s, the coefficients evaluated here
+    re = 3.0 * 50.0 / 1.05e-6
+    cf = 0.075 / (math.log10(re) - 2.0) ** 2
+    csf = (105.0 * (150e-6 / 50.0) ** (1.0 / 3.0) - 0.64) * 1e-3
+    s = 617.0
+    f = rf.ship_resistance(3.0, 0.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 1.0)
+    assert f == pytest.approx(-(cf + csf) * 1025.0 * s * 9.0, rel=1e-13)
+    # relative to a following current the resistance reverses (the current drives the ship)
+    assert rf.ship_resistance(0.5, 1.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 1.0) > 0.0
+
+
+# ---------------------------------------------------------------------------
+# the initial configuration against the catenary solved independently
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("number", [1, 8, 11, 13])
+def test_initial_layout_is_the_catenary_of_eqs_30_to_34(number):
+    case = R.table2_case(number)
+    lc, xl, hl = case["cable.length"], case["cable.horizontal"], case["cable.vertical"]
+
+    # eqs. (33)-(34) and the length balance, unknowns a and x_s
+    def eqs(v):
+        a, xs = v
+        return [a * (math.cosh(xs / a) - 1.0) - hl, (xl - xs) + a * math.sinh(xs / a) - lc]
+
+    a_ref, xs_ref = optimize.fsolve(eqs, [2.0, 3.0], xtol=1e-14)
+    assert np.allclose(eqs([a_ref, xs_ref]), 0.0, atol=1e-9)
+    b, a = R.catenary_parameter(lc, xl, hl)
+    assert a == pytest.approx(a_ref, rel=1e-9)
+    assert a * b == pytest.approx(xs_ref, rel=1e-9)
+
+    lay = R.initial_configuration(case)
+    nodes = lay.nodes
+    n_links = case["chain.links"]
+    assert np.all(lay.angles[1 : n_links + 1] == 0.0)  # chain straight on the seabed (§2.3.5)
+    cable = nodes[n_links:] - [nodes[n_links, 0], lay.cable_height]
+    foot = xl - xs_ref
+    # every node beyond the foot lies on z = a (cosh((x - foot)/a) - 1); the last one is (x_L, h_L)
+    up = cable[:, 0] > foot
+    assert np.allclose(cable[up, 1], a_ref * (np.cosh((cable[up, 0] - foot) / a_ref) - 1.0), atol=1e-9)
+    assert cable[-1] == pytest.approx([xl, hl], abs=1e-9)
+    # the arc length of the curve between successive nodes is the element length
+    lengths = lay.lengths[n_links + 1 : -2]
+
+    def arc(x0, x1):
+        f = lambda x: math.sqrt(1.0 + (math.sinh((x - foot) / a_ref) if x > foot else 0.0) ** 2)  # noqa: E731
+        return integrate.quad(f, x0, x1, points=[foot] if x0 < foot < x1 else None, epsabs=1e-11)[0]
+
+    arcs = [arc(cable[i, 0], cable[i + 1, 0]) for i in range(1, len(cable) - 1)]
+    assert np.allclose(arcs, lengths[1:], atol=1e-7)
+    assert lay.angles[-2] == pytest.approx(math.pi / 2)  # the rod starts vertical
+
+
+def test_resting_height_balances_weight_and_foundation():
+    case = R.table2_case(1)
+    r, rho_s = case["chain.radius"], case["chain.density"]
+    k, rho, g = case["seabed.foundation_stiffness"], case["water.density"], case["water.gravity"]
+
+    def area(z):
+        return _embedded_area(z, r)
+
+    # per metre: weight = water buoyancy of the free part + foundation (k) on the embedded part
+    z_ref = optimize.brentq(
+        lambda z: rho_s * g * math.pi * r * r - rho * g * (math.pi * r * r - area(z)) - k * area(z),
+        -r,
+        r,
+        xtol=1e-14,
+    )
+    assert R.resting_height(r, rho_s, case) == pytest.approx(z_ref, abs=1e-10)
+
+
+# ---------------------------------------------------------------------------
+# dynamics: friction at the same instant, energy, Table 3 (shortest case)
+# ---------------------------------------------------------------------------
+
+
+def test_anchor_friction_solves_eq37_at_the_same_instant():
+    system = R.build_system(R.table2_case(1))
+    nd = system.description.n_dof
+    y = system.y0.copy()
+    y[nd] = 0.4  # the anchor sliding
+    y[2 * nd - 2] = -2.0  # the rod turning
+    q, u = y[:nd], y[nd : 2 * nd]
+    du, forces, hf, normal, friction, *_ = rf.solve_with_friction(q, u, system.params)
+    # the core's reaction of the anchor's locked height, from the final accelerations and forces
+    hf_again = joint_forces(q, u, du, forces, system.description.arrays())
+    assert hf_again[0, 1] == pytest.approx(normal, rel=1e-10)
+    assert friction == pytest.approx(-0.3 * math.tanh(0.4 / 1e-3) * normal, rel=1e-10)
+    # and the normal force is eq. (37)'s m g - rho V g less the chain's upward pull on the anchor
+    m, v = 40000.0, 2.0 * 4.0 * 2.1
+    assert normal == pytest.approx(m * 9.81 - 1025.0 * v * 9.81 + hf_again[1, 1], rel=1e-9)
+
+
+@pytest.fixture(scope="module")
+def conservative_run():
+    case = R.table2_case(1).replace(
+        **{
+            "model.friction": False,
+            "model.drag": False,
+            "numerics.t_max": 3.0,
+            "numerics.rtol": 1e-10,
+            "numerics.atol": 1e-12,
+        }
+    )
+    return R.simulate(case)
+
+
+def test_energy_is_conserved_without_friction_and_drag(conservative_run):
+    res = conservative_run
+    e = res.energy
+    assert res.status_name == "time_limit"
+    assert np.all(e["friction_dissipated"] == 0.0) and np.all(e["water_dissipated"] == 0.0)
+    # the run includes the snatch of the chain (the anchor moves; kinetic energy is exchanged)
+    assert res.vel[-1, 0, 0] > 0.5
+    drift = np.max(np.abs(e["total"] - e["total"][0])) / e["total"][0]
+    assert drift < 1e-6
+
+
+def test_morison_added_mass_books_its_power_with_the_water():
+    # seed 004 eq. (46) as printed drops the velocity terms of the rotating added mass; their
+    # power is then the water's, and the balance still closes
+    case = R.table2_case(1).replace(**{"water.added_mass_form": "morison", "numerics.t_max": 2.0})
+    res = R.simulate(case)
+    assert res.energy_closure() < 1e-6
+    assert res.vel[-1, 0, 0] > 0.5  # through the snatch of the anchor
+
+
+def test_seed_rk4_converges_to_dopri5_at_fourth_order(conservative_run):
+    # two independent integrators through the snatch of the chain: seed 004's fixed-step RK4
+    # (§4.1) at 1 ms and 0.5 ms against the adaptive run of the conservative fixture (rtol 1e-10)
+    base = R.table2_case(1).replace(
+        **{"model.friction": False, "model.drag": False, "numerics.t_max": 3.0, "numerics.method": "rk4"}
+    )
+    ref = conservative_run.vel[-1, -1, 0]  # ship speed at 3 s
+    err = []
+    for dt in (1e-3, 5e-4):
+        res = R.simulate(base.replace(**{"numerics.dt": dt}))
+        assert res.times[-1] == 3.0
+        err.append(abs(res.vel[-1, -1, 0] - ref))
+    assert err[1] < 1e-4
+    assert 8.0 < err[0] / err[1] < 32.0  # 2^4 = 16
+
+
+@pytest.fixture(scope="module")
+def case3():
+    return R.simulate(R.table2_case(3))
+
+
+def test_energy_balance_closes_with_friction_and_drag(case3):
+    e = case3.energy
+    assert e["friction_dissipated"][-1] > 0.5 * e["kinetic"][0]  # friction took most of it
+    assert e["water_dissipated"][-1] > 0.0
+    closure = np.max(np.abs(e["total"] - e["total"][0])) / e["total"][0]
+    assert closure < 5e-3  # seed 004 §4.2
+
+
+def test_shortest_case_stops_near_table3(case3):
+    assert case3.status_name == "stopped"
+    assert case3.stopping_time == pytest.approx(R.TABLE3[2], rel=0.10)
+    # the stop is where the ship's surge speed reaches zero (last record, on the interpolant)
+    assert case3.times[-1] == case3.stopping_time
+    assert abs(case3.vel[-1, -1, 0]) < 1e-6
+    assert np.all(case3.vel[:-1, -1, 0] > 0.0)
+
+
+def test_a_case_that_does_not_stop_gets_a_status_not_nan(tmp_path):
+    case = R.table2_case(3).replace(**{"numerics.t_max": 1.0})
+    res = R.simulate(case)
+    assert res.status_name == "time_limit"
+    assert res.stopping_time is None
+    ds = R.to_dataset(res)
+    assert ds.attrs["status"] == "time_limit" and "stopping_time" not in ds
+    assert all(np.isfinite(ds[v]).all() for v in ds.data_vars)
+
+
+# ---------------------------------------------------------------------------
+# command line, files
+# ---------------------------------------------------------------------------
+
+
+def test_restrain_cli_writes_cf_netcdf(tmp_path, capsys):
+    case_file = tmp_path / "c.toml"
+    assert main(["example", "restraint_case3", "-o", str(case_file)]) == 0
+    text = case_file.read_text().replace("t_max = 120.0", "t_max = 1.5")
+    case_file.write_text(text)
+    out = tmp_path / "out.nc"
+    assert main(["restrain", str(case_file), "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "status time_limit" in printed and "had not stopped at 1.500 s" in printed
+    with xr.open_dataset(out) as ds:
+        for name in ds.data_vars:
+            if name != "status":
+                assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
+        assert ds.attrs["Conventions"].startswith("CF-")
+        assert R.RestraintCase.from_dict(__import__("json").loads(ds.attrs["case"])).values == (
+            R.table2_case(3).replace(**{"numerics.t_max": 1.5}).values
+        )
+        assert ds.attrs["mineburial_version"]
+        assert ds.sizes["body"] == 46 and ds.sizes["elapsed_time"] == 16
+        assert float(ds.ship_speed[0]) == 3.0
+    # CF-1.11 by the compliance checker (as tests/test_netcdf.py does for the ensemble files)
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    exe = Path(sys.executable).with_name("compliance-checker")
+    exe = str(exe) if exe.exists() else shutil.which("compliance-checker")
+    assert exe, "compliance-checker is not installed"
+    res = subprocess.run(
+        [exe, "-t", "cf:1.11", "-c", "lenient", str(out)], capture_output=True, text=True, timeout=120
+    )
+    assert res.returncode == 0 and "Errors" not in res.stdout, res.stdout + res.stderr
+
+
+@pytest.mark.parametrize("number", range(1, R.N_CASES + 1))
+def test_example_files_round_trip(number, tmp_path, capsys):
+    target = tmp_path / "case.toml"
+    assert main(["example", f"restraint_case{number}", "-o", str(target)]) == 0
+    text = target.read_text()
+    case = R.RestraintCase.from_toml(target)
+    assert case.values == R.table2_case(number).values
+    # every value line names its source; the unprinted ones are marked as assumptions
+    for line in text.splitlines():
+        if "=" in line and not line.startswith(("#", "name", "description")):
+            assert "#" in line and (
+                "seed 004" in line or "ASSUMPTION" in line or "output interval" in line
+            ), line
+    assert text.count("ASSUMPTION") >= 5
+    # Table 2's row, read back
+    mu, ma, rc, lc, xl, hl, v0, ms, u = R.TABLE2[number - 1]
+    assert (case["anchor.friction"], case["anchor.mass"], case["chain.radius"]) == (mu, ma * 1e3, rc)
+    assert (case["cable.length"], case["cable.horizontal"], case["cable.vertical"]) == (lc, xl, hl)
+    assert (case["ship.speed"], case["ship.mass"], case["water.current_speed"]) == (v0, ms * 1e3, u)
+    assert R.RestraintCase.from_dict(case.to_dict()).values == case.values
+
+
+BAD = {
+    "friction out of range": (
+        "[anchor]\nfriction = -0.1\n",
+        r"anchor\.friction = -0\.1 is outside the allowed range \[0, 2\]",
+    ),
+    "ship sinks": ("[ship]\nmass = 3e6\n", r"ship\.mass = 3e\+06 kg sinks the cuboid ship"),
+    "unknown field": ("[ship]\nspeeed = 3.0\n", r"unknown field of \[ship\] 'speeed': did you mean 'speed'"),
+    "unknown section": ("[anchr]\nmass = 1.0\n", r"unknown section 'anchr'"),
+    "no catenary": (
+        "[cable]\nvertical = 3.0\n",
+        r"cable\.vertical = 3 m must exceed cable\.length - cable\.horizontal = 4 m",
+    ),
+    "bad stages": (
+        "[cable]\nlength = 155.0\nhorizontal = 151.0\n",
+        r"cable\.length = 155 m must be the first stage",
+    ),
+    "not a number": (
+        '[ship]\nspeed = "fast"\n',
+        r"ship\.speed = 'fast' is not a number; allowed range \(0, 50\] m s-1",
+    ),
+    "method": ('[numerics]\nmethod = "euler"\n', r"unknown numerics\.method 'euler'"),
+    "links": ("[chain]\nlinks = 2.5\n", r"chain\.links = 2\.5 must be a whole number"),
+    "switch": ("[model]\nfriction = 1\n", r"model\.friction = 1 must be true or false"),
+    "not toml": ("[ship\n", r"is not valid TOML"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_case_is_one_line_exit_2(name, tmp_path, capsys):
+    text, pattern = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert main(["restrain", str(path), "-o", str(tmp_path / "o.nc")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("mineburial: error: ")
+    import re
+
+    assert re.search(pattern, err), err
+    assert not (tmp_path / "o.nc").exists()
+
+
+def test_restrain_missing_file_and_bad_output(tmp_path, capsys):
+    assert main(["restrain", str(tmp_path / "nope.toml")]) == 2
+    assert "cannot read case file" in capsys.readouterr().err
+    good = tmp_path / "c.toml"
+    main(["example", "restraint_case1", "-o", str(good)])
+    capsys.readouterr()
+    assert main(["restrain", str(good), "-o", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
