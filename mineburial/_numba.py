@@ -56,3 +56,10 @@ JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy")
 def kernel(fn):
     """Compile ``fn`` as a serial numba kernel with the project's options."""
     return njit(**_OPTIONS)(fn)
+
+
+def small_kernel(fn):
+    """A kernel inlined into its callers at numba's IR level (``inline="always"``): no
+    compile unit of its own. For small helpers (a few loops over a state vector) whose
+    separate compile, link and cache cost more than their body (docs/design.md)."""
+    return njit(inline="always", **_OPTIONS)(fn)

@@ -17,7 +17,7 @@ from conftest import scenario_dict
 from printed_laws import AREA, NU, RHO, VOL, D, G, L, R, broadside_drag
 from scipy.integrate import quad, solve_ivp
 
-from mineburial.config import Scenario
+from mineburial.config import Numerics, Scenario
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
 from mineburial.kernels.overburden import overburden_force
@@ -155,10 +155,12 @@ def test_impact_values_of_a_vertical_drop_through_air():
     code, s = _summary(sc)
     assert s["water_entry_time"] == pytest.approx(math.sqrt(2 * h / G), abs=1e-10)
     assert s["impact_time"] == pytest.approx(math.sqrt(2 * (h + depth) / G), abs=1e-10)
-    # 1e-7 relative, not 1e-10: the flat nose meets the seabed over its whole face, the force
-    # jumps there, and the step retaken to end 1e-6 of a step past the crossing lets the
-    # continuous extension at the crossing feel it (1.4e-8 relative, measured)
-    assert s["impact_speed"] == pytest.approx(math.sqrt(2 * G * (h + depth)), rel=1e-7)
+    # to the integrator's tolerance, not 1e-10: the flat nose meets the seabed over its whole
+    # face, the force jumps there, and the step retaken to end 1e-6 of a step past the
+    # crossing feels it through its last stages; the error control bounds what it leaves in
+    # the speed (measured: 1.4e-8 relative at rtol 1e-5, 1.9e-4 at the default 1e-4)
+    rtol = Numerics().rtol
+    assert s["impact_speed"] == pytest.approx(math.sqrt(2 * G * (h + depth)), rel=3 * rtol)
     assert s["impact_angle"] == pytest.approx(90.0, abs=1e-9)
     assert s["impact_pitch"] == pytest.approx(90.0, abs=1e-6)
 

@@ -109,6 +109,95 @@ def test_step_size_controller_follows_the_tolerance():
     assert 2.5 < ratio < 6.0, (n5, n8)  # 10^(3/5) = 3.98
 
 
+# ---------------------------------------------------------------------------
+# ROS34PW2 (Rosenbrock-W), driven from Python on closed-form problems
+# ---------------------------------------------------------------------------
+def _ros_step(f, y, h, jac, cols):
+    """One ROS34PW2 step with the Jacobian columns ``jac`` (n x len(cols)) of ``cols``."""
+    n = y.size
+    m = cols.size
+    c = h * it.ROS_GAMMA_DIAG
+    wa = np.empty((m, m))
+    piv = np.empty(m, dtype=np.int64)
+    assert it.w_factor(jac, cols, c, wa, piv)
+    kr = np.zeros((it.ROS_STAGES, n))
+    ys, fy, tmp, z = np.empty(n), np.empty(n), np.empty(n), np.empty(m)
+    for s in range(it.ROS_STAGES):
+        it.ros_stage_state(y, kr, s, ys)
+        f(ys, fy)
+        it.ros_coupling(kr, s, tmp)
+        it.j_times(jac, cols, tmp, kr[s])
+        kr[s] = h * (fy + kr[s])
+        it.w_solve(jac, cols, c, wa, piv, kr[s], z)
+    out, err = np.empty(n), np.empty(n)
+    it.ros_solution(y, kr, out, err)
+    return out, err
+
+
+def _oscillator_jacobian(scale):
+    return scale * np.array([[0.0, 1.0], [-1.0, 0.0]])
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.0, 3.0])
+def test_rosenbrock_w_is_third_order_whatever_the_jacobian(scale):
+    """ROS34PW2 on the harmonic oscillator: the local error falls as h^4 (order 3) with the
+    exact Jacobian, with none (J = 0) and with a wrong one (3 J): the W-method property of
+    Rang & Angermann (2005) that lets the stepper reuse a Jacobian over many steps; the
+    embedded estimate falls as h^3."""
+    y0 = np.array([1.0, 0.0])
+    cols = np.array([0, 1], dtype=np.int64)
+    jac = _oscillator_jacobian(scale)
+    errs, ests = [], []
+    for h in (0.1, 0.05, 0.025):
+        out, err = _ros_step(_oscillator, y0, h, jac, cols)
+        errs.append(np.linalg.norm(out - [math.cos(h), -math.sin(h)]))
+        ests.append(np.linalg.norm(err))
+    order_sol = math.log2(errs[1] / errs[2])
+    order_est = math.log2(ests[1] / ests[2])
+    assert 3.6 < order_sol < 4.6, order_sol
+    assert 2.6 < order_est < 3.5, order_est
+
+
+def test_rosenbrock_w_step_solves_a_stiff_relaxation_in_one_step():
+    """y' = -k (y - cos t) as an autonomous pair (y, t) with k = 1e6 and one step of
+    h = 0.1 (h k = 1e5, far outside any explicit method's stability region): the method is
+    L-stable and stiffly accurate, so y lands on the slow manifold y ~ cos t + sin(t)/k,
+    with the Jacobian of the stiff column only (columns = [0])."""
+    k = 1e6
+
+    def f(y, dy):
+        dy[0] = -k * (y[0] - math.cos(y[1]))
+        dy[1] = 1.0
+
+    y0 = np.array([5.0, 0.0])  # far from the slow manifold
+    jac = np.array([[-k], [0.0]])
+    h = 0.1
+    out, _ = _ros_step(f, y0, h, jac, np.array([0], dtype=np.int64))
+    assert out[1] == pytest.approx(h, abs=1e-15)
+    assert out[0] == pytest.approx(math.cos(h) + math.sin(h) / k, abs=2e-4)
+
+
+def test_reduced_w_solve_matches_the_dense_solve():
+    """W x = b solved through the len(cols) x len(cols) system equals numpy's dense solve of
+    (I - c J) x = b with J zero outside the columns."""
+    rng = np.random.default_rng(3)
+    n, cols = 9, np.array([1, 4, 5, 8], dtype=np.int64)
+    jc = rng.normal(size=(n, cols.size))
+    full = np.zeros((n, n))
+    full[:, cols] = jc
+    c = 0.37
+    b = rng.normal(size=n)
+    wa, piv, z = np.empty((4, 4)), np.empty(4, dtype=np.int64), np.empty(4)
+    assert it.w_factor(jc, cols, c, wa, piv)
+    x = b.copy()
+    it.w_solve(jc, cols, c, wa, piv, x, z)
+    np.testing.assert_allclose(x, np.linalg.solve(np.eye(n) - c * full, b), rtol=1e-12, atol=1e-12)
+    v = rng.normal(size=n)
+    out = np.empty(n)
+    it.j_times(jc, cols, v, out)
+    np.testing.assert_allclose(out, full @ v, rtol=1e-13, atol=1e-13)
+
+
 def test_illinois_finds_a_root():
     def f(x):
         return math.cos(x) - x  # root 0.7390851332151607
@@ -165,11 +254,15 @@ def test_recorder_samples_exact_output_times():
 # ---------------------------------------------------------------------------
 # a full drop: dopri5 + fast rule against RK4 at small dt + reference quadrature
 # ---------------------------------------------------------------------------
-def test_default_path_matches_rk4_reference_on_the_default_mine():
+@pytest.mark.parametrize("integrator", ["dopri5_ros34pw2", "dopri5"])
+def test_default_path_matches_rk4_reference_on_the_default_mine(integrator):
+    """The default path (dopri5 in air and water, the Rosenbrock-W step in the sediment, fast
+    rule) and dopri5 throughout, both at the default tolerances, against RK4 at 0.25 ms with
+    the reference quadrature."""
     from mineburial.config import Scenario, load_example
 
     d = load_example("default_mine").to_dict()
-    d["numerics"] = dict(d["numerics"], integrator="dopri5", sediment_quadrature="fast")
+    d["numerics"] = dict(d["numerics"], integrator=integrator, sediment_quadrature="fast")
     fast = Scenario.from_dict(d)
     d["numerics"] = dict(d["numerics"], integrator="rk4", dt=2.5e-4, sediment_quadrature="reference")
     ref = Scenario.from_dict(d)

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import small_kernel
 
 # --- Dormand-Prince 5(4) tableau -------------------------------------------------
 N_STAGES = 7
@@ -78,7 +78,7 @@ MAX_SHRINK = 0.2
 ERR_FLOOR = 1e-4
 
 
-@kernel
+@small_kernel
 def dopri_stage_state(y, k, s, h, out):
     """out = y + h sum_{j<s} A[s, j] k[j]: the state at which stage ``s`` is evaluated."""
     n = y.shape[0]
@@ -89,7 +89,7 @@ def dopri_stage_state(y, k, s, h, out):
         out[i] = y[i] + h * acc
 
 
-@kernel
+@small_kernel
 def dopri_solution(y, k, h, out, err):
     """5th-order solution ``out`` and local error estimate ``err`` from the 7 stages
     (stage 6 is f(out) only after the system has evaluated it; its weight in the
@@ -105,7 +105,7 @@ def dopri_solution(y, k, h, out, err):
         err[i] = h * e
 
 
-@kernel
+@small_kernel
 def error_norm(y, ynew, err, groups, rtol, atol):
     """RMS over the vector groups of |err_g| / (atol + rtol max(|y_g|, |ynew_g|)).
 
@@ -128,7 +128,7 @@ def error_norm(y, ynew, err, groups, rtol, atol):
     return math.sqrt(acc / len(groups))
 
 
-@kernel
+@small_kernel
 def next_step_size(h, err, err_prev, accepted_before):
     """Step-size factor of the PI controller: returns (h_next, accept, err_memory).
 
@@ -151,7 +151,7 @@ def next_step_size(h, err, err_prev, accepted_before):
     return h / fac, False, err_prev
 
 
-@kernel
+@small_kernel
 def dopri_dense(y, ynew, k, h, r):
     """Coefficients ``r`` (5 x n) of the 4th-order continuous extension of an accepted
     Dormand-Prince step (k[6] = f(ynew))."""
@@ -169,7 +169,7 @@ def dopri_dense(y, ynew, k, h, r):
         r[4, i] = h * acc
 
 
-@kernel
+@small_kernel
 def hermite_dense(y, ynew, f0, f1, h, r):
     """Coefficients ``r`` (5 x n) of the cubic Hermite interpolant through (y, f0) and
     (ynew, f1), in the same form as :func:`dopri_dense` (r[4] = 0)."""
@@ -184,7 +184,7 @@ def hermite_dense(y, ynew, f0, f1, h, r):
         r[4, i] = 0.0
 
 
-@kernel
+@small_kernel
 def dense_state(r, theta, out):
     """State at fraction ``theta`` of the step from the continuous extension ``r``:
     y = r0 + theta (r1 + (1 - theta) (r2 + theta (r3 + (1 - theta) r4)))."""
@@ -195,7 +195,7 @@ def dense_state(r, theta, out):
 
 
 # --- event location: Illinois regula falsi, reverse communication -----------------
-@kernel
+@small_kernel
 def illinois_next(a, ga, b, gb):
     """Next trial fraction in the bracket [a, b] with event values ga, gb of opposite
     sign (regula falsi; the midpoint if the secant leaves the bracket)."""
@@ -206,7 +206,7 @@ def illinois_next(a, ga, b, gb):
     return 0.5 * (a + b)
 
 
-@kernel
+@small_kernel
 def illinois_update(a, ga, b, gb, t, gt, side):
     """Shrink the bracket with the value ``gt`` at ``t``; the end kept twice in a row has
     its value halved (Illinois). ``side``: which end was kept last (-1 a, +1 b, 0 none).
@@ -225,3 +225,190 @@ def illinois_update(a, ga, b, gb, t, gt, side):
             gb *= 0.5
         side = 1
     return a, ga, b, gb, side
+
+
+@small_kernel
+def next_step_size_order(h, err, err_prev, accepted_before, k):
+    """:func:`next_step_size` for an error estimate of local order ``k`` (err ~ h^k):
+    the PI exponents are 1/k - 0.75 beta and beta (Hairer & Wanner, *Solving ODEs II*,
+    sec. IV.2, after Gustafsson 1991). ``k = 5`` is Dormand-Prince 5(4), ``k = 3`` the
+    Rosenbrock-W pair ROS34PW2 3(2)."""
+    if not (err == err):
+        return h * MAX_SHRINK, False, err_prev
+    e = max(err, 1e-12)
+    fac11 = e ** (1.0 / k - 0.75 * BETA)
+    if err <= 1.0:
+        fac = fac11 / err_prev**BETA / SAFETY
+        fac = min(1.0 / MAX_SHRINK, max(1.0 / MAX_GROWTH, fac))
+        hn = h / fac
+        if not accepted_before:
+            hn = min(hn, h)
+        return hn, True, max(err, ERR_FLOOR)
+    fac = min(1.0 / MAX_SHRINK, fac11 / SAFETY)
+    return h / fac, False, err_prev
+
+
+# --- ROS34PW2: a Rosenbrock-W method for the stiff phases ----------------------------
+# Rang & Angermann (2005), BIT Numer. Math. 45:761, "New Rosenbrock W-methods of order 3
+# for partial differential algebraic equations of index 1", method ROS34PW2: 4 stages,
+# order 3 with an embedded order-2 solution, L-stable, stiffly accurate, and of order 3
+# for ANY matrix J in W = I - h gamma J (a W-method), so that a Jacobian may be reused
+# over many steps. One step, in the form of Hairer & Wanner, Solving ODEs II, sec. IV.7:
+#     (I - h gamma J) k_i = h f(y + sum_j ALPHA[i, j] k_j) + h J sum_j GAMMA[i, j] k_j
+#     y_new = y + sum_i B[i] k_i,    err = sum_i (B[i] - B_HAT[i]) k_i.
+ROS_STAGES = 4
+ROS_GAMMA_DIAG = 4.3586652150845900e-01
+ROS_ALPHA = np.array(
+    [
+        [0.0, 0.0, 0.0],
+        [8.7173304301691801e-01, 0.0, 0.0],
+        [8.4457060015369423e-01, -1.1299064236484185e-01, 0.0],
+        [0.0, 0.0, 1.0],
+    ]
+)
+ROS_GAMMA = np.array(
+    [
+        [0.0, 0.0, 0.0],
+        [-8.7173304301691801e-01, 0.0, 0.0],
+        [-9.0338057013044082e-01, 5.4180672388095326e-02, 0.0],
+        [2.4212380706095346e-01, -1.2232505839045147e00, 5.4526025533510214e-01],
+    ]
+)
+ROS_B = np.array(
+    [2.4212380706095346e-01, -1.2232505839045147e00, 1.5452602553351020e00, 4.3586652150845900e-01]
+)
+ROS_B_HAT = np.array([3.7810903145819369e-01, -9.6042292212423178e-02, 5.0e-01, 2.1793326075422950e-01])
+#: local order of the error estimate (embedded order 2): err ~ h^3
+ROS_ERROR_ORDER = 3.0
+
+
+@small_kernel
+def ros_stage_state(y, kr, s, out):
+    """out = y + sum_{j<s} ALPHA[s, j] k_j: the state of stage ``s``."""
+    n = y.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for j in range(s):
+            acc += ROS_ALPHA[s, j] * kr[j, i]
+        out[i] = y[i] + acc
+
+
+@small_kernel
+def ros_coupling(kr, s, out):
+    """out = sum_{j<s} GAMMA[s, j] k_j (multiplied by h J by the caller)."""
+    n = out.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for j in range(s):
+            acc += ROS_GAMMA[s, j] * kr[j, i]
+        out[i] = acc
+
+
+@small_kernel
+def ros_solution(y, kr, out, err):
+    """The order-3 solution and the difference to the embedded order-2 one."""
+    n = y.shape[0]
+    for i in range(n):
+        acc = 0.0
+        e = 0.0
+        for j in range(ROS_STAGES):
+            acc += ROS_B[j] * kr[j, i]
+            e += (ROS_B[j] - ROS_B_HAT[j]) * kr[j, i]
+        out[i] = y[i] + acc
+        err[i] = e
+
+
+# --- W = I - c J with J non-zero in a few columns only -------------------------------
+# When only the columns ``cols`` of J are non-zero (the Jacobian with respect to the
+# velocities of a mechanical system), W x = b reduces to a system of len(cols)
+# unknowns: with z = x[cols], (I - c J[cols, cols]) z = b[cols], and then
+# x = b + c J[:, cols] z. ``jc`` holds J[:, cols] (n x m).
+
+
+@small_kernel
+def lu_factor_small(a, piv):
+    """In-place LU factorisation with partial pivoting of the m x m matrix ``a``.
+    Returns False when a pivot is zero or not finite (singular W: the caller shrinks h)."""
+    m = a.shape[0]
+    for c in range(m):
+        p = c
+        big = abs(a[c, c])
+        for r in range(c + 1, m):
+            if abs(a[r, c]) > big:
+                big = abs(a[r, c])
+                p = r
+        if not (big > 0.0) or not math.isfinite(big):
+            return False
+        piv[c] = p
+        if p != c:
+            for j in range(m):
+                tmp = a[c, j]
+                a[c, j] = a[p, j]
+                a[p, j] = tmp
+        inv = 1.0 / a[c, c]
+        for r in range(c + 1, m):
+            f = a[r, c] * inv
+            a[r, c] = f
+            for j in range(c + 1, m):
+                a[r, j] -= f * a[c, j]
+    return True
+
+
+@small_kernel
+def lu_solve_small(a, piv, b):
+    """Solve in place with the factors of :func:`lu_factor_small`."""
+    m = a.shape[0]
+    for c in range(m):
+        p = piv[c]
+        if p != c:
+            tmp = b[c]
+            b[c] = b[p]
+            b[p] = tmp
+    for r in range(m):
+        acc = b[r]
+        for j in range(r):
+            acc -= a[r, j] * b[j]
+        b[r] = acc
+    for r in range(m - 1, -1, -1):
+        acc = b[r]
+        for j in range(r + 1, m):
+            acc -= a[r, j] * b[j]
+        b[r] = acc / a[r, r]
+
+
+@small_kernel
+def w_factor(jc, cols, c, wa, piv):
+    """Factor the reduced W: wa = I - c J[cols, cols]; returns lu_factor_small's flag."""
+    m = cols.shape[0]
+    for r in range(m):
+        for j in range(m):
+            wa[r, j] = -c * jc[cols[r], j]
+        wa[r, r] += 1.0
+    return lu_factor_small(wa, piv)
+
+
+@small_kernel
+def w_solve(jc, cols, c, wa, piv, b, z):
+    """Solve W x = b in place (b becomes x) with the factors of :func:`w_factor`."""
+    m = cols.shape[0]
+    for r in range(m):
+        z[r] = b[cols[r]]
+    lu_solve_small(wa, piv, z)
+    n = b.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for j in range(m):
+            acc += jc[i, j] * z[j]
+        b[i] += c * acc
+
+
+@small_kernel
+def j_times(jc, cols, v, out):
+    """out = J v for J non-zero in the columns ``cols`` only."""
+    n = out.shape[0]
+    m = cols.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for j in range(m):
+            acc += jc[i, j] * v[cols[j]]
+        out[i] = acc

@@ -199,7 +199,7 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
 
 # model and integrator codes
 MODEL_NAMES = ("mineburial", "impact35")
-INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5")
+INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
 SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
 

@@ -47,6 +47,9 @@ from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
     N_STAGES,
+    ROS_ERROR_ORDER,
+    ROS_GAMMA_DIAG,
+    ROS_STAGES,
     dense_state,
     dopri_dense,
     dopri_solution,
@@ -55,7 +58,14 @@ from mineburial.kernels.integrators import (
     hermite_dense,
     illinois_next,
     illinois_update,
+    j_times,
     next_step_size,
+    next_step_size_order,
+    ros_coupling,
+    ros_solution,
+    ros_stage_state,
+    w_factor,
+    w_solve,
 )
 from mineburial.kernels.layout import (
     I_WORK_FLUID,
@@ -126,6 +136,20 @@ from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
 INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
 INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
 INTEGRATOR_DOPRI5 = INTEGRATOR_NAMES.index("dopri5")
+INTEGRATOR_STIFF = INTEGRATOR_NAMES.index("dopri5_ros34pw2")
+
+#: state slots of the velocities (u, v, w, omega1..3): the columns of the Jacobian that
+#: the Rosenbrock-W step uses (the stiffness of the sediment phase is in them)
+VELOCITY_SLOTS = np.array([3, 4, 5, 10, 11, 12], dtype=np.int64)
+N_VEL = 6
+#: relative and smallest absolute difference of the one-sided Jacobian columns
+JAC_REL_STEP = 1e-7
+JAC_MIN_STEP = 1e-9
+#: accepted Rosenbrock steps before the Jacobian is evaluated again, and the age above
+#: which a rejected step has it evaluated again (measured on the default ensemble:
+#: fewest right-hand sides per drop; docs/design.md)
+JAC_MAX_AGE = 50
+JAC_AGE_AT_REJECTION = 2
 
 #: vector groups of the error norm: position, velocity, attitude quaternion, angular velocity
 ERROR_GROUPS = ((0, 3), (3, 6), (6, 10), (10, 13))
@@ -277,6 +301,50 @@ def dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out, err)
 
 
 @kernel
+def velocity_jacobian(y, f0, p, law, sed_bank, cur_bank, work, ytmp, ftmp, diag, jc):
+    """Columns of df/dy for the velocity slots (VELOCITY_SLOTS) by one-sided differences
+    from f0 = f(y): jc[:, j] = (f(y + d e_j) - f0) / d."""
+    n = y.shape[0]
+    for j in range(N_VEL):
+        c = VELOCITY_SLOTS[j]
+        d = max(JAC_REL_STEP * abs(y[c]), JAC_MIN_STEP)
+        for i in range(n):
+            ytmp[i] = y[i]
+        ytmp[c] = y[c] + d
+        d = ytmp[c] - y[c]  # the difference actually represented
+        derivatives(ytmp, p, law, sed_bank, cur_bank, work, ftmp, diag)
+        for i in range(n):
+            jc[i, j] = (ftmp[i] - f0[i]) / d
+
+
+@kernel
+def ros34pw2_step(
+    y, h, p, law, sed_bank, cur_bank, work, f0, jc, wa, piv, kr, ytmp, vtmp, ztmp, diag, out, err
+):
+    """One Rosenbrock-W step (ROS34PW2, :mod:`.integrators`) with the velocity Jacobian
+    ``jc`` (possibly from an earlier step; f0 = f(y)). Fills ``out`` and ``err``; returns
+    False when W is singular."""
+    n = y.shape[0]
+    c = h * ROS_GAMMA_DIAG
+    if not w_factor(jc, VELOCITY_SLOTS, c, wa, piv):
+        return False
+    for s in range(ROS_STAGES):
+        if s == 0:
+            for i in range(n):
+                vtmp[i] = f0[i]
+        else:
+            ros_stage_state(y, kr, s, ytmp)
+            derivatives(ytmp, p, law, sed_bank, cur_bank, work, vtmp, diag)
+        ros_coupling(kr, s, ytmp)
+        j_times(jc, VELOCITY_SLOTS, ytmp, kr[s])
+        for i in range(n):
+            kr[s, i] = h * (vtmp[i] + kr[s, i])
+        w_solve(jc, VELOCITY_SLOTS, c, wa, piv, kr[s], ztmp)
+    ros_solution(y, kr, out, err)
+    return True
+
+
+@kernel
 def _crossed(g0, g1):
     return (g0 > 0.0 and g1 <= 0.0) or (g0 <= 0.0 and g1 > 0.0)
 
@@ -332,9 +400,8 @@ def reference_paths(params):
     then all are compiled and chosen per drop by its parameters.
     """
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
-    uses_reference = (params[:, P_INTEGRATOR] != INTEGRATOR_DOPRI5) | (
-        params[:, P_SED_QUADRATURE] != QUADRATURE_FAST
-    )
+    adaptive = (params[:, P_INTEGRATOR] == INTEGRATOR_DOPRI5) | (params[:, P_INTEGRATOR] == INTEGRATOR_STIFF)
+    uses_reference = ~adaptive | (params[:, P_SED_QUADRATURE] != QUADRATURE_FAST)
     return True if np.any(uses_reference) else None
 
 
@@ -389,9 +456,17 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     g0 = np.empty(N_EVENTS)
     g1 = np.empty(N_EVENTS)
     gtmp = np.empty(N_EVENTS)
+    jc = np.zeros((N_EXT, N_VEL))
+    wa = np.empty((N_VEL, N_VEL))
+    piv = np.empty(N_VEL, dtype=np.int64)
+    kr = np.empty((ROS_STAGES, N_EXT))
+    vtmp = np.empty(N_EXT)
+    ztmp = np.empty(N_VEL)
     initial_state(p, y)
     integrator = int(p[P_INTEGRATOR])
-    adaptive = integrator == INTEGRATOR_DOPRI5
+    adaptive = integrator == INTEGRATOR_DOPRI5 or integrator == INTEGRATOR_STIFF
+    stiff_in_sediment = integrator == INTEGRATOR_STIFF
+    jac_age = JAC_MAX_AGE  # accepted steps since the Jacobian was evaluated (>= max: evaluate)
     rtol = p[P_RTOL]
     atol = p[P_ATOL]
     t_max = p[P_TMAX]
@@ -438,14 +513,53 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             if h < MIN_STEP * max(1.0, t):
                 status = st.NUMERICAL_FAILURE
                 break
-            dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew, err)
-            enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol)
-            h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
-            accepted_before = accept
-            if not accept:
-                h_adapt = h_next
-                continue
-            dopri_dense(y, ynew, k, h, r)
+            if stiff_in_sediment and g0[2] < 0.0:
+                # in contact with the sediment: the linearly implicit Rosenbrock-W step
+                if jac_age >= JAC_MAX_AGE:
+                    velocity_jacobian(y, k[0], p, law, sed_bank, cur_bank, work, ytmp, dy, diag, jc)
+                    jac_age = 0
+                ok = ros34pw2_step(
+                    y,
+                    h,
+                    p,
+                    law,
+                    sed_bank,
+                    cur_bank,
+                    work,
+                    k[0],
+                    jc,
+                    wa,
+                    piv,
+                    kr,
+                    ytmp,
+                    vtmp,
+                    ztmp,
+                    diag,
+                    ynew,
+                    err,
+                )
+                enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol) if ok else np.nan
+                h_next, accept, err_prev = next_step_size_order(
+                    h, enorm, err_prev, accepted_before, ROS_ERROR_ORDER
+                )
+                accepted_before = accept
+                if not accept:
+                    h_adapt = h_next
+                    if jac_age > JAC_AGE_AT_REJECTION:
+                        jac_age = JAC_MAX_AGE  # a stale Jacobian may be why: evaluate it again
+                    continue
+                derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
+                hermite_dense(y, ynew, k[0], k[6], h, r)
+                jac_age += 1
+            else:
+                dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew, err)
+                enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol)
+                h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
+                accepted_before = accept
+                if not accept:
+                    h_adapt = h_next
+                    continue
+                dopri_dense(y, ynew, k, h, r)
             h_adapt = h_next
         else:
             h = min(p[P_DT], t_max - t, h_cap)

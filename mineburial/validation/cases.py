@@ -356,7 +356,7 @@ def convergence(quick_only=False, figures=None):
         rows.append(
             _rel(
                 "convergence",
-                f"{name}: penetration at rtol {n.rtol:g} against rtol {n.rtol / 100:g} (dopri5)",
+                f"{name}: penetration at rtol {n.rtol:g} against rtol {n.rtol / 100:g} ({n.integrator})",
                 "the same model at 1/100 of the tolerances",
                 s1["penetration_depth"],
                 s0["penetration_depth"],
@@ -385,7 +385,7 @@ def convergence(quick_only=False, figures=None):
         rows.append(
             _rel(
                 "convergence",
-                f"{name}: penetration, dopri5 (default) against rk4 at dt 0.25 ms",
+                f"{name}: penetration, {n.integrator} (default) against rk4 at dt 0.25 ms",
                 "an independent integrator of the same equations",
                 r1["penetration_depth"],
                 s0["penetration_depth"],
