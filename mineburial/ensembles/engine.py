@@ -7,6 +7,12 @@ be a distribution (``mass = {distribution = "normal", mean = 750, std = 20}``),
 classes or core files, and an optional ``[ensemble]`` table sets ``n``, ``seed``,
 ``sampling``, ``chunk_size``, ``per_drop`` and ``class_basis``.
 
+The optional top-level key ``system`` names the system the ensemble runs (:data:`SYSTEMS`):
+``"mine"`` (the default, this module: the falling mine) or ``"restraint"`` (seed 004's
+restraining system: the scenario is then a restraint case file with distributions,
+:mod:`mineburial.ensembles.restraint`). :func:`load_ensemble` reads either; the run driver
+computes, stores and writes the chunks of both alike.
+
 Drops are processed in chunks ``[start, stop)`` (:func:`compute_chunk`). Every
 random input of drop *i* is a pure function of ``(seed, i)``
 (:mod:`mineburial.ensembles.sampling`) and each drop writes only its own result
@@ -24,6 +30,7 @@ import hashlib
 import json
 import pathlib
 from collections.abc import Mapping
+from typing import ClassVar
 
 import numpy as np
 
@@ -51,6 +58,8 @@ ENSEMBLE_DEFAULTS = {
     "class_basis": "burial_volume",
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
+#: the systems an ensemble scenario may name with its top-level ``system`` key
+SYSTEMS = ("mine", "restraint")
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
 _INERTIA_INPUTS = ("mine.mass", "mine.length", "mine.diameter")
 
@@ -118,6 +127,28 @@ class EnsembleSpec:
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
 
+    system: ClassVar[str] = "mine"
+    #: columns of a chunk's ``summary``
+    summary_width: ClassVar[int] = layout.N_SUMMARY
+    #: what one realization is, in messages
+    unit: ClassVar[str] = "drops"
+
+    def identity_items(self) -> list:
+        """What decides the per-drop results beside the resolved scenario, the
+        distributions and the settings (:func:`mineburial.ensembles.store.run_identity`):
+        the packed parameters and banks handed to the kernels and the derived options."""
+        items = []
+        for name in ("base_params", "sediment_bank", "current_bank"):
+            arr = np.ascontiguousarray(getattr(self, name), dtype=np.float64)
+            items.append((name, f"{arr.shape}".encode() + arr.tobytes()))
+        items.append(
+            (
+                "options",
+                repr((self.sediment_labels, self.sediment_choice, self.recompute_inertia, self.angles_deg)),
+            )
+        )
+        return items
+
     def resolved(self) -> dict:
         """The resolved scenario written into outputs: the base scenario fully
         resolved, the distributions of the random inputs, the files read (with the
@@ -156,7 +187,7 @@ def _resolve(path, base_dir) -> pathlib.Path:
     return p.resolve()
 
 
-def _input_files(raw: Mapping, random: Mapping, base_dir) -> tuple:
+def input_files_of(raw: Mapping, random: Mapping, base_dir) -> tuple:
     """((path, SHA-256), ...) of every file the scenario reads: a fixed ``sediment.file``,
     the files of a ``sediment.file`` choice, and the files of empirical distributions."""
     names = []
@@ -182,10 +213,15 @@ def load_ensemble(
     per_drop=None,
     class_basis=None,
     base_dir=None,
-) -> EnsembleSpec:
+    systems=("mine",),
+):
     """Parse an ensemble scenario (path, TOML text dict, or None for the embedded default).
 
-    Keyword arguments override the ``[ensemble]`` table.
+    Keyword arguments override the ``[ensemble]`` table. ``systems``: the values of the
+    scenario's ``system`` key the caller can run (default only ``"mine"``, the falling
+    mine: maps, comparisons and sensitivity indices are of burial); ``mineburial run``
+    passes :data:`SYSTEMS`. Returns an :class:`EnsembleSpec`, or for
+    ``system = "restraint"`` a :class:`mineburial.ensembles.restraint.RestraintEnsembleSpec`.
     """
     if source is None:
         source = DEFAULT_SCENARIO
@@ -205,6 +241,20 @@ def load_ensemble(
         except tomllib.TOMLDecodeError as exc:
             raise cfg.ScenarioError(f"scenario file '{path}' is not valid TOML: {exc}") from None
         base_dir = base_dir or path.resolve().parent
+    system = raw.pop("system", "mine")
+    if system not in SYSTEMS:
+        raise cfg.ScenarioError(unknown_name_message("system", system, SYSTEMS))
+    if system not in systems:
+        raise cfg.ScenarioError(
+            f"system = {system!r}: this command runs only {' or '.join(repr(s) for s in systems)} "
+            f"ensembles; run a {system!r} ensemble with 'mineburial run'"
+        )
+    if system == "restraint":
+        from mineburial.ensembles import restraint
+
+        overrides = {"n": n, "seed": seed, "sampling": sampling, "chunk_size": chunk_size}
+        overrides.update(per_drop=per_drop, class_basis=class_basis)
+        return restraint.load(raw, overrides, base_dir)
     ens = dict(ENSEMBLE_DEFAULTS)
     given = raw.pop("ensemble", {})
     if not isinstance(given, Mapping):
@@ -225,7 +275,7 @@ def load_ensemble(
     ):
         if value is not None:
             ens[key] = value
-    _check_ensemble(ens)
+    check_ensemble_settings(ens)
 
     leaves = {}
     _walk(raw, "", leaves)
@@ -293,11 +343,14 @@ def load_ensemble(
         sediment_choice=choice,
         recompute_inertia=recompute,
         angles_deg=angles,
-        input_files=_input_files(raw, random, base_dir),
+        input_files=input_files_of(raw, random, base_dir),
     )
 
 
-def _check_ensemble(ens):
+def check_ensemble_settings(ens: Mapping) -> None:
+    """Check the ``[ensemble]`` settings ``ens`` (after defaults and overrides); a key
+    the system does not have (``class_basis`` of a restraint ensemble) is not checked."""
+
     def bad(key, allowed):
         raise cfg.ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range {allowed}")
 
@@ -319,7 +372,7 @@ def _check_ensemble(ens):
         bad("chunk_size", "[1, inf) (an integer number of drops)")
     if not isinstance(ens["per_drop"], (bool, np.bool_)):
         raise cfg.ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
-    if ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
+    if "class_basis" in ens and ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
         raise cfg.ScenarioError(
             unknown_name_message(
                 "ensemble.class_basis", ens["class_basis"], ("burial_volume", "burial_height", "burial_area")
@@ -375,10 +428,15 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
     return P, valid, inputs
 
 
-def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
+def compute_chunk(spec, start: int, stop: int) -> dict:
     """Run drops [start, stop): returns a dict of per-drop arrays (``summary``,
     ``status``, ``input:<path>`` of every sampled input) and ``invalid_inputs``, the
-    reasons why drops were not run (:func:`invalid_reasons`)."""
+    reasons why drops were not run (:func:`invalid_reasons`). A restraint ensemble's
+    cases are run by :func:`mineburial.ensembles.restraint.compute_chunk` (the same dict)."""
+    if spec.system == "restraint":
+        from mineburial.ensembles import restraint
+
+        return restraint.compute_chunk(spec, start, stop)
     from mineburial.ensembles.batch import run_batch
 
     P, valid, inputs = chunk_inputs(spec, start, stop)
