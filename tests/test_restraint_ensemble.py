@@ -255,3 +255,19 @@ def test_run_command_prints_the_stopping_time_statistics(tmp_path, capsys):
         assert ds.attrs["n_cases"] == 2 and ds.sizes["realization"] == 2
         assert list(ds.status_count.values) == [0, 2, 0, 0]
     assert path.read_text() == raw_before
+
+
+def test_sobol_cases_stratify_and_do_not_depend_on_the_chunking():
+    """The first 4 points of a (scrambled) Sobol' net put one point in each quarter of every
+    input's range (the (0, m, s)-net property, Dick & Pillichshammer 2010 Thm 4.10)."""
+    raw = _scenario(t_max=0.05, n=4, sampling="sobol")
+    raw["anchor"]["friction"] = _uniform(0.3, 0.7)
+    raw["ship"]["speed"] = _uniform(3.0, 5.0)
+    whole = run_ensemble(raw, threads=1, chunk_size=4)
+    split = run_ensemble(raw, threads=2, chunk_size=1)
+    for name, values in _per_case(whole).items():
+        np.testing.assert_array_equal(split[name].values, values, err_msg=name)
+    for name, (low, high) in {"input_anchor_friction": (0.3, 0.7), "input_ship_speed": (3.0, 5.0)}.items():
+        quarter = np.floor((whole[name].values - low) / (high - low) * 4).astype(int)
+        assert sorted(quarter) == [0, 1, 2, 3], (name, whole[name].values)
+    assert whole.attrs["sampling_method"] == "sobol"
