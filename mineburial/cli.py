@@ -156,7 +156,8 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser(
         "run",
         help="run a Monte Carlo ensemble and write burial statistics "
-        "(NetCDF); with no scenario, the embedded default",
+        "(NetCDF); with no scenario, the embedded default; a scenario with "
+        'system = "restraint" gives the stopping-time statistics of seed 004\'s restraining system',
     )
     run.add_argument("scenario", nargs="?", help="scenario TOML (default: embedded soft-mud case)")
     run.add_argument("-n", "--drops", type=int, default=None, help="number of drops")

@@ -271,3 +271,18 @@ def test_sobol_cases_stratify_and_do_not_depend_on_the_chunking():
         quarter = np.floor((whole[name].values - low) / (high - low) * 4).astype(int)
         assert sorted(quarter) == [0, 1, 2, 3], (name, whole[name].values)
     assert whole.attrs["sampling_method"] == "sobol"
+
+
+def test_a_sampled_anchor_that_floats_is_not_run_and_is_reported():
+    """Anchor mass uniform on [10, 30] t at the fixed 2.0 m x 4.0 m x 2.1 m size: the cases
+    lighter than the displaced water (1025 kg/m3 x 16.8 m3 = 17.22 t) get invalid_input."""
+    raw = _scenario(t_max=0.05, n=6)
+    raw["anchor"]["mass"] = _uniform(10000.0, 30000.0)
+    ds = run_ensemble(raw, threads=1)
+    floats = ds.input_anchor_mass.values <= 1025.0 * 2.0 * 4.0 * 2.1
+    assert 0 < floats.sum() < 6, ds.input_anchor_mass.values
+    np.testing.assert_array_equal(ds.case_status.values == kmb.INVALID_INPUT, floats)
+    assert np.all(np.isnan(ds.end_time.values[floats])) and np.all(ds.end_time.values[~floats] == 0.05)
+    assert ds.status_count.values[kmb.INVALID_INPUT] == floats.sum()
+    assert ds.attrs["invalid_inputs"].startswith(f"anchor.mass: {floats.sum()} case")
+    assert float(ds.stopped_fraction) == 0.0  # of the cases run (all hit the 0.05 s limit)

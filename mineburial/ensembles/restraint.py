@@ -208,7 +208,7 @@ def _median(d: dist.Distribution) -> float:
 
 
 def _check_settings(ens: dict) -> None:
-    from mineburial.ensembles.engine import check_ensemble_settings
+    from mineburial.ensembles.settings import check_ensemble_settings
 
     check_ensemble_settings(ens)
 
@@ -217,7 +217,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> RestraintEnsembleSp
     """A restraint ensemble from the parsed scenario ``raw`` (without its ``system`` key;
     its ``[ensemble]`` table, if any, still in it); ``overrides``: the run's settings given
     on the command line (None where not given)."""
-    from mineburial.ensembles.engine import input_files_of
+    from mineburial.ensembles.settings import input_files_of
 
     raw = dict(raw)
     given = raw.pop("ensemble", {})
@@ -415,7 +415,7 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     import xarray as xr
 
     from mineburial._version import __version__
-    from mineburial.ensembles.engine import merge_invalid_reasons
+    from mineburial.ensembles.settings import merge_invalid_reasons
     from mineburial.io import netcdf as ncio
     from mineburial.io.variables import input_variable_name
 

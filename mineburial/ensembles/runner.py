@@ -31,6 +31,7 @@ import numpy as np
 from mineburial._version import __version__
 from mineburial.ensembles import engine
 from mineburial.ensembles.sampling import check_drop_count
+from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
 
 __all__ = [
@@ -320,7 +321,7 @@ def ensemble_dataset(spec, chunks):
         key[6:]: np.concatenate([r[key] for r in chunks]) for key in chunks[0] if key.startswith("input:")
     }
     meta = {path: engine.input_metadata(spec, path) for path in inputs}
-    invalid = invalid_inputs_text(engine.merge_invalid_reasons(chunks))
+    invalid = invalid_inputs_text(merge_invalid_reasons(chunks))
     attrs = {"invalid_inputs": invalid} if invalid else None
     return build_dataset(
         summary,
