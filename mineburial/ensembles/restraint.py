@@ -39,6 +39,7 @@ import numpy as np
 from mineburial.config import SUPPORT_TOLERANCE, ScenarioError, unknown_names_message
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.sampling import sample_fields
+from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.kernels import multibody as kmb
 from mineburial.systems import restraint as rs
 
@@ -207,18 +208,10 @@ def _median(d: dist.Distribution) -> float:
     return float(d.ppf(np.array([0.5]))[0])
 
 
-def _check_settings(ens: dict) -> None:
-    from mineburial.ensembles.settings import check_ensemble_settings
-
-    check_ensemble_settings(ens)
-
-
 def load(raw: Mapping, overrides: Mapping, base_dir=None) -> RestraintEnsembleSpec:
     """A restraint ensemble from the parsed scenario ``raw`` (without its ``system`` key;
     its ``[ensemble]`` table, if any, still in it); ``overrides``: the run's settings given
     on the command line (None where not given)."""
-    from mineburial.ensembles.settings import input_files_of
-
     raw = dict(raw)
     given = raw.pop("ensemble", {})
     if not isinstance(given, Mapping):
@@ -238,7 +231,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> RestraintEnsembleSp
         if key not in _ENSEMBLE_KEYS:
             raise ScenarioError(f"{key} does not apply to a restraint ensemble (system = {SYSTEM!r})")
         ens[key] = value
-    _check_settings(ens)
+    check_ensemble_settings(ens)
 
     random = {}
     fixed: dict = {}
@@ -415,14 +408,12 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     import xarray as xr
 
     from mineburial._version import __version__
-    from mineburial.ensembles.settings import merge_invalid_reasons
     from mineburial.io import netcdf as ncio
     from mineburial.io.variables import input_variable_name
 
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     st = statistics(summary, status)
-    t_units = "s"
     data = {
         "status_count": (
             ("status",),
@@ -453,7 +444,7 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
             st[f"stopping_time_{stat}"],
             {
                 "long_name": f"{what} of the stopping time over the cases that stopped",
-                "units": t_units,
+                "units": "s",
                 "cell_methods": f"realization: {method} where stopped",
             },
         )
@@ -462,7 +453,7 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
         st["stopping_time_quantile"],
         {
             "long_name": "quantiles of the stopping time over the cases that stopped",
-            "units": t_units,
+            "units": "s",
             "comment": "numpy.quantile method 'linear' (Hyndman & Fan 1996 type 7)",
         },
     )
