@@ -75,13 +75,18 @@ def _cmd_drop(args):
 
 def _cmd_example(args):
     from mineburial.config import ensemble_example_names, example_names, example_path
+    from mineburial.ensembles import restraint as restraint_ensemble
     from mineburial.systems import restraint
 
     if args.name is None:
-        for name in example_names() + ensemble_example_names() + restraint.example_names():
+        names = example_names() + ensemble_example_names()
+        for name in names + (restraint_ensemble.EXAMPLE_NAME,) + restraint.example_names():
             print(name)
         return 0
-    if args.name.startswith(restraint.EXAMPLE_PREFIX):
+    if args.name == restraint_ensemble.EXAMPLE_NAME:
+        text = restraint_ensemble.example_text()
+        what = "restraint ensemble"
+    elif args.name.startswith(restraint.EXAMPLE_PREFIX):
         text = restraint.example_text(args.name)
         what = "restraint case"
     else:
@@ -151,7 +156,8 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser(
         "run",
         help="run a Monte Carlo ensemble and write burial statistics "
-        "(NetCDF); with no scenario, the embedded default",
+        "(NetCDF); with no scenario, the embedded default; a scenario with "
+        'system = "restraint" gives the stopping-time statistics of seed 004\'s restraining system',
     )
     run.add_argument("scenario", nargs="?", help="scenario TOML (default: embedded soft-mud case)")
     run.add_argument("-n", "--drops", type=int, default=None, help="number of drops")

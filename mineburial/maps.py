@@ -35,6 +35,7 @@ import xarray as xr
 from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.ensembles import engine, runner
+from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
@@ -547,7 +548,7 @@ def run_map(
             j, i = divmod(k, nx)
             for name in _CELL_VARIABLES:
                 arrays[name][..., j, i] = st[name].values
-            for rule, (count, example) in engine.merge_invalid_reasons(chunks).items():
+            for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
 
     def finish():
@@ -567,7 +568,7 @@ def run_map(
         )
         return finish()
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
-    env_files = ((str(env_path.resolve()), engine.file_digest(env_path)),) if env_path else ()
+    env_files = ((str(env_path.resolve()), file_digest(env_path)),) if env_path else ()
     inputs = (
         runner.input_paths(scenario, base)
         + ([env_path] if env_path else [])

@@ -7,6 +7,12 @@ be a distribution (``mass = {distribution = "normal", mean = 750, std = 20}``),
 classes or core files, and an optional ``[ensemble]`` table sets ``n``, ``seed``,
 ``sampling``, ``chunk_size``, ``per_drop`` and ``class_basis``.
 
+The optional top-level key ``system`` names the system the ensemble runs (:data:`SYSTEMS`):
+``"mine"`` (the default, this module: the falling mine) or ``"restraint"`` (seed 004's
+restraining system: the scenario is then a restraint case file with distributions,
+:mod:`mineburial.ensembles.restraint`). :func:`load_ensemble` reads either; the run driver
+computes, stores and writes the chunks of both alike.
+
 Drops are processed in chunks ``[start, stop)`` (:func:`compute_chunk`). Every
 random input of drop *i* is a pure function of ``(seed, i)``
 (:mod:`mineburial.ensembles.sampling`) and each drop writes only its own result
@@ -20,16 +26,17 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import hashlib
 import json
 import pathlib
 from collections.abc import Mapping
+from typing import ClassVar
 
 import numpy as np
 
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.sampling import sample_fields
+from mineburial.ensembles.settings import check_ensemble_settings, input_files_of
 from mineburial.kernels import layout
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks, unknown_name_message
 
@@ -51,6 +58,8 @@ ENSEMBLE_DEFAULTS = {
     "class_basis": "burial_volume",
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
+#: the systems an ensemble scenario may name with its top-level ``system`` key
+SYSTEMS = ("mine", "restraint")
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
 _INERTIA_INPUTS = ("mine.mass", "mine.length", "mine.diameter")
 
@@ -118,6 +127,28 @@ class EnsembleSpec:
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
 
+    system: ClassVar[str] = "mine"
+    #: columns of a chunk's ``summary``
+    summary_width: ClassVar[int] = layout.N_SUMMARY
+    #: what one realization is, in messages
+    unit: ClassVar[str] = "drops"
+
+    def identity_items(self) -> list:
+        """What decides the per-drop results beside the resolved scenario, the
+        distributions and the settings (:func:`mineburial.ensembles.store.run_identity`):
+        the packed parameters and banks handed to the kernels and the derived options."""
+        items = []
+        for name in ("base_params", "sediment_bank", "current_bank"):
+            arr = np.ascontiguousarray(getattr(self, name), dtype=np.float64)
+            items.append((name, f"{arr.shape}".encode() + arr.tobytes()))
+        items.append(
+            (
+                "options",
+                repr((self.sediment_labels, self.sediment_choice, self.recompute_inertia, self.angles_deg)),
+            )
+        )
+        return items
+
     def resolved(self) -> dict:
         """The resolved scenario written into outputs: the base scenario fully
         resolved, the distributions of the random inputs, the files read (with the
@@ -139,39 +170,6 @@ class EnsembleSpec:
         return out
 
 
-def file_digest(path) -> str:
-    """SHA-256 (hex) of the contents of the file ``path``."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
-def _resolve(path, base_dir) -> pathlib.Path:
-    """A file name of the scenario as its loaders resolve it (relative to ``base_dir``)."""
-    p = pathlib.Path(path)
-    if not p.is_absolute() and base_dir is not None:
-        p = pathlib.Path(base_dir) / p
-    return p.resolve()
-
-
-def _input_files(raw: Mapping, random: Mapping, base_dir) -> tuple:
-    """((path, SHA-256), ...) of every file the scenario reads: a fixed ``sediment.file``,
-    the files of a ``sediment.file`` choice, and the files of empirical distributions."""
-    names = []
-    sed = raw.get("sediment")
-    if isinstance(sed, Mapping) and isinstance(sed.get("file"), str):
-        names.append(sed["file"])
-    for path, d in random.items():
-        if path == "sediment.file" and isinstance(d, dist.Choice):
-            names.extend(str(v) for v in d.values)
-        elif getattr(d, "file", None):
-            names.append(d.file)
-    files = sorted({str(_resolve(name, base_dir)) for name in names})
-    return tuple((f, file_digest(f)) for f in files)
-
-
 def load_ensemble(
     source=None,
     *,
@@ -182,10 +180,15 @@ def load_ensemble(
     per_drop=None,
     class_basis=None,
     base_dir=None,
-) -> EnsembleSpec:
+    systems=("mine",),
+):
     """Parse an ensemble scenario (path, TOML text dict, or None for the embedded default).
 
-    Keyword arguments override the ``[ensemble]`` table.
+    Keyword arguments override the ``[ensemble]`` table. ``systems``: the values of the
+    scenario's ``system`` key the caller can run (default only ``"mine"``, the falling
+    mine: maps, comparisons and sensitivity indices are of burial); ``mineburial run``
+    passes :data:`SYSTEMS`. Returns an :class:`EnsembleSpec`, or for
+    ``system = "restraint"`` a :class:`mineburial.ensembles.restraint.RestraintEnsembleSpec`.
     """
     if source is None:
         source = DEFAULT_SCENARIO
@@ -205,6 +208,20 @@ def load_ensemble(
         except tomllib.TOMLDecodeError as exc:
             raise cfg.ScenarioError(f"scenario file '{path}' is not valid TOML: {exc}") from None
         base_dir = base_dir or path.resolve().parent
+    system = raw.pop("system", "mine")
+    if system not in SYSTEMS:
+        raise cfg.ScenarioError(unknown_name_message("system", system, SYSTEMS))
+    if system not in systems:
+        raise cfg.ScenarioError(
+            f"system = {system!r}: this command runs only {' or '.join(repr(s) for s in systems)} "
+            f"ensembles; run a {system!r} ensemble with 'mineburial run'"
+        )
+    if system == "restraint":
+        from mineburial.ensembles import restraint
+
+        overrides = {"n": n, "seed": seed, "sampling": sampling, "chunk_size": chunk_size}
+        overrides.update(per_drop=per_drop, class_basis=class_basis)
+        return restraint.load(raw, overrides, base_dir)
     ens = dict(ENSEMBLE_DEFAULTS)
     given = raw.pop("ensemble", {})
     if not isinstance(given, Mapping):
@@ -225,7 +242,7 @@ def load_ensemble(
     ):
         if value is not None:
             ens[key] = value
-    _check_ensemble(ens)
+    check_ensemble_settings(ens)
 
     leaves = {}
     _walk(raw, "", leaves)
@@ -293,38 +310,8 @@ def load_ensemble(
         sediment_choice=choice,
         recompute_inertia=recompute,
         angles_deg=angles,
-        input_files=_input_files(raw, random, base_dir),
+        input_files=input_files_of(raw, random, base_dir),
     )
-
-
-def _check_ensemble(ens):
-    def bad(key, allowed):
-        raise cfg.ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range {allowed}")
-
-    if not isinstance(ens["n"], (int, np.integer)) or isinstance(ens["n"], bool) or ens["n"] < 1:
-        bad("n", "[1, inf) (an integer number of drops)")
-    if (
-        not isinstance(ens["seed"], (int, np.integer))
-        or isinstance(ens["seed"], bool)
-        or not 0 <= ens["seed"] < 2**64
-    ):
-        bad("seed", "[0, 2**64) (an integer)")
-    if ens["sampling"] not in ("mc", "sobol"):
-        raise cfg.ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"], ("mc", "sobol")))
-    if (
-        not isinstance(ens["chunk_size"], (int, np.integer))
-        or isinstance(ens["chunk_size"], bool)
-        or ens["chunk_size"] < 1
-    ):
-        bad("chunk_size", "[1, inf) (an integer number of drops)")
-    if not isinstance(ens["per_drop"], (bool, np.bool_)):
-        raise cfg.ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
-    if ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
-        raise cfg.ScenarioError(
-            unknown_name_message(
-                "ensemble.class_basis", ens["class_basis"], ("burial_volume", "burial_height", "burial_area")
-            )
-        )
 
 
 # ---------------------------------------------------------------------------
@@ -375,10 +362,15 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
     return P, valid, inputs
 
 
-def compute_chunk(spec: EnsembleSpec, start: int, stop: int) -> dict:
+def compute_chunk(spec, start: int, stop: int) -> dict:
     """Run drops [start, stop): returns a dict of per-drop arrays (``summary``,
     ``status``, ``input:<path>`` of every sampled input) and ``invalid_inputs``, the
-    reasons why drops were not run (:func:`invalid_reasons`)."""
+    reasons why drops were not run (:func:`invalid_reasons`). A restraint ensemble's
+    cases are run by :func:`mineburial.ensembles.restraint.compute_chunk` (the same dict)."""
+    if spec.system == "restraint":
+        from mineburial.ensembles import restraint
+
+        return restraint.compute_chunk(spec, start, stop)
     from mineburial.ensembles.batch import run_batch
 
     P, valid, inputs = chunk_inputs(spec, start, stop)
@@ -424,16 +416,6 @@ def invalid_reasons(spec: EnsembleSpec, P, valid) -> dict:
             entry = reasons.setdefault(rule, [0, got.rstrip(")")])
             entry[0] += 1
     return reasons
-
-
-def merge_invalid_reasons(chunks) -> dict:
-    """The :func:`invalid_reasons` of several chunk results added up (first example kept)."""
-    total: dict = {}
-    for chunk in chunks:
-        for rule, (count, example) in json.loads(str(chunk["invalid_inputs"])).items():
-            entry = total.setdefault(rule, [0, example])
-            entry[0] += int(count)
-    return total
 
 
 def chunk_bounds(n: int, chunk_size: int):

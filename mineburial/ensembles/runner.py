@@ -31,8 +31,8 @@ import numpy as np
 from mineburial._version import __version__
 from mineburial.ensembles import engine
 from mineburial.ensembles.sampling import check_drop_count
+from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
-from mineburial.kernels import layout
 
 __all__ = [
     "Job",
@@ -64,8 +64,9 @@ class Progress:
     Every 2 s on a terminal (rewriting one line), every 30 s in a batch log.
     """
 
-    def __init__(self, total: int, enabled: bool = True, stream=None):
+    def __init__(self, total: int, enabled: bool = True, stream=None, unit: str = "drops"):
         self.total = total
+        self.unit = unit
         self.stream = stream or sys.stderr
         self.enabled = enabled
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
@@ -89,8 +90,8 @@ class Progress:
         left = (self.total - done) / rate if rate > 0 else math.inf
         eta = "--" if not math.isfinite(left) else time.strftime("%H:%M:%S", time.gmtime(left))
         line = (
-            f"drops {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
-            f"{rate:.1f} drops/s, time left {eta}"
+            f"{self.unit} {done}/{self.total} ({100.0 * done / max(self.total, 1):.1f} %), "
+            f"{rate:.{1 if rate >= 1 else 2}f} {self.unit}/s, time left {eta}"
         )
         if self.tty:
             end = "\n" if final else ""
@@ -133,7 +134,7 @@ def memory_needed(spec) -> int:
 
 
 def _bytes_a_drop(spec) -> int:
-    return layout.N_SUMMARY * 8 + 1 + 8 * len(spec.random)
+    return spec.summary_width * 8 + 1 + 8 * len(spec.random)
 
 
 def _extremes(spec, path, fixed):
@@ -163,7 +164,10 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
 
 def warn_run(spec) -> None:
     """A warning when a fixed-step integrator would take more than :data:`STEPS_WARNING`
-    steps a drop (the adaptive default ``dopri5`` is not warned about)."""
+    steps a drop (the adaptive default ``dopri5`` is not warned about). A restraint case's
+    fixed step is checked by its own field ranges."""
+    if spec.system != "mine":
+        return
     num = spec.base.numerics
     if num.integrator in _FIXED_STEP:
         dt_lo, _ = _extremes(spec, "numerics.dt", num.dt)
@@ -249,7 +253,8 @@ def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Ite
                 if res is not None:
                     results[job.tag][(s, e)] = res
     done = sum(e - s for r in results.values() for s, e in r)
-    bar = Progress(sum(job.spec.n for job in jobs), enabled=progress)
+    unit = jobs[0].spec.unit if jobs else "drops"
+    bar = Progress(sum(job.spec.n for job in jobs), enabled=progress, unit=unit)
     bar.update(done)
 
     def complete(tag):
@@ -302,7 +307,12 @@ def invalid_inputs_text(reasons: dict) -> str:
 
 
 def ensemble_dataset(spec, chunks):
-    """The output Dataset of ensemble ``spec`` from its chunk results in drop order."""
+    """The output Dataset of ensemble ``spec`` from its chunk results in drop order (of a
+    restraint ensemble: :func:`mineburial.ensembles.restraint.dataset`)."""
+    if spec.system == "restraint":
+        from mineburial.ensembles import restraint
+
+        return restraint.dataset(spec, chunks)
     from mineburial.ensembles.dataset import build_dataset
 
     summary = np.concatenate([r["summary"] for r in chunks])
@@ -311,7 +321,7 @@ def ensemble_dataset(spec, chunks):
         key[6:]: np.concatenate([r[key] for r in chunks]) for key in chunks[0] if key.startswith("input:")
     }
     meta = {path: engine.input_metadata(spec, path) for path in inputs}
-    invalid = invalid_inputs_text(engine.merge_invalid_reasons(chunks))
+    invalid = invalid_inputs_text(merge_invalid_reasons(chunks))
     attrs = {"invalid_inputs": invalid} if invalid else None
     return build_dataset(
         summary,
@@ -349,7 +359,9 @@ def run_ensemble(
     Parameters
     ----------
     scenario : path, dict, :class:`~mineburial.config.Scenario` or None
-        Ensemble scenario (None: the embedded default soft-mud scenario).
+        Ensemble scenario (None: the embedded default soft-mud scenario); with
+        ``system = "restraint"`` an ensemble of seed 004's restraining system
+        (:mod:`mineburial.ensembles.restraint`: its statistics are of the stopping time).
     n, seed, sampling, chunk_size, per_drop, class_basis
         Override the scenario's ``[ensemble]`` table.
     output : path, optional
@@ -372,6 +384,7 @@ def run_ensemble(
         chunk_size=chunk_size,
         per_drop=per_drop,
         class_basis=class_basis,
+        systems=engine.SYSTEMS,
     )
     threads = check_threads(threads)
     check_run(spec)
@@ -403,6 +416,7 @@ def run_ensemble_cli(args) -> int:
         sampling=args.sampling,
         chunk_size=args.chunk_size,
         per_drop=args.per_drop,
+        systems=engine.SYSTEMS,
     )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
     check_run(spec)
@@ -425,7 +439,12 @@ def run_ensemble_cli(args) -> int:
         if client is not None:
             client.close()
     elapsed = time.monotonic() - t0
-    print(summarize(ds, elapsed, args.output))
+    if spec.system == "restraint":
+        from mineburial.ensembles import restraint
+
+        print(restraint.summarize(ds, elapsed, args.output))
+    else:
+        print(summarize(ds, elapsed, args.output))
     return 0
 
 

@@ -16,7 +16,8 @@ A run with an output path ``OUT.nc`` keeps its working state in the folder
 The run identity (:func:`run_identity`) is a SHA-256 over everything that decides the
 per-drop results: the resolved scenario, the distributions of the random inputs with
 the values they hold (an empirical distribution's data, not only its file name), the
-packed parameters and sediment/current banks handed to the kernels, the seed, the
+packed parameters and sediment/current banks handed to the kernels (the system's
+``identity_items``), the seed, the
 sampling method, ``n``, the chunk size, the package version and a digest of its Python
 sources, and the SHA-256 of the contents of every input file the run reads (sediment
 profile files, empirical-distribution files, the environment grid of a map). On
@@ -121,12 +122,8 @@ def run_identity(spec, extra_files=()) -> str:
     add("scenario", json.dumps(spec.base.to_dict(), sort_keys=True, default=repr))
     for path in sorted(spec.random):
         add(f"random:{path}", repr(spec.random[path]))
-    for name in ("base_params", "sediment_bank", "current_bank"):
-        arr = np.ascontiguousarray(getattr(spec, name), dtype=np.float64)
-        add(name, f"{arr.shape}".encode() + arr.tobytes())
-    add(
-        "options", repr((spec.sediment_labels, spec.sediment_choice, spec.recompute_inertia, spec.angles_deg))
-    )
+    for tag, data in spec.identity_items():  # the system's own inputs (the mine: packed parameters)
+        add(tag, data)
     for path, digest in sorted(tuple(spec.input_files) + tuple(extra_files)):
         add(f"file:{path}", digest)
     return h.hexdigest()
@@ -152,10 +149,12 @@ class ChunkStore:
     folder: str
     identity: str
     settings: dict = dataclasses.field(default_factory=dict, compare=False)
+    #: columns of a chunk's ``summary`` (the system's ``summary_width``)
+    width: int = layout.N_SUMMARY
 
     @classmethod
     def for_spec(cls, spec, folder, extra_files=()) -> ChunkStore:
-        return cls(str(folder), run_identity(spec, extra_files), _settings(spec))
+        return cls(str(folder), run_identity(spec, extra_files), _settings(spec), spec.summary_width)
 
     @property
     def path(self) -> pathlib.Path:
@@ -247,7 +246,7 @@ class ChunkStore:
             ok = (
                 int(data["start"]) == start
                 and int(data["stop"]) == stop
-                and data["summary"].shape == (n, layout.N_SUMMARY)
+                and data["summary"].shape == (n, self.width)
                 and data["status"].shape == (n,)
                 and "invalid_inputs" in data
                 and all(v.shape == (n,) for k, v in data.items() if k.startswith("input__"))
