@@ -224,7 +224,7 @@ def test_model_dependent_defaults():
     assert (s.sediment.resistance, s.sediment.rate_law, s.numerics.integrator) == (
         "delta",
         "impact35",
-        "dopri5_ros34pw2",
+        "dopri5",
     )
     d["sediment"]["resistance"] = "bearing"  # explicit choices win
     d["numerics"]["integrator"] = "rk4"
