@@ -119,7 +119,8 @@ def main(argv=None):
     within = [k for k in rows if rows[k] is not None and abs(rows[k] / R.TABLE3[k - 1] - 1.0) <= 0.05]
     text = "\n".join(
         [
-            "Seed 004 Table 3: stopping time of the restraining system "
+            ("SENSITIVITY (fields changed, see below; not the model's Table 3): " if overrides else "")
+            + "Seed 004 Table 3: stopping time of the restraining system "
             "(benchmarks/bench_restraint_table3.py)",
             f"mineburial {__version__}; {machine()}",
             f"method {first['numerics.method']} (rtol {first['numerics.rtol']:g}, atol "
