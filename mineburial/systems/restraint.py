@@ -1160,7 +1160,9 @@ class RestraintResult:
         """max |E(t) - E(0)| / (E^K(0) + E^E(0)): the energy balance of seed 004 §4.2,
         measured against the energy the ship brings (its initial kinetic energy; the
         gravitational potential, counted from the seabed, would only inflate the
-        denominator). inf where a record is not finite."""
+        denominator). inf where a record is not finite or there is none."""
+        if self.times.size == 0:
+            return math.inf
         e = self.energy["total"]
         ref = self.energy["kinetic"][0] + abs(self.energy["hydrostatic"][0])
         if not (np.all(np.isfinite(e)) and math.isfinite(ref) and ref > 0.0):
