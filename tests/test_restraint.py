@@ -594,3 +594,28 @@ def test_restrain_missing_file_and_bad_output(tmp_path, capsys):
     capsys.readouterr()
     assert main(["restrain", str(good), "-o", str(tmp_path)]) == 2
     assert "is a directory" in capsys.readouterr().err
+
+
+def test_restrain_cli_reports_zero_friction_instants(tmp_path, capsys, monkeypatch):
+    # a run with lifted / unsolvable friction instants (counts put on a real short run): the
+    # CLI prints a warning line and the file carries the counts
+    import dataclasses
+
+    case_file = tmp_path / "c.toml"
+    assert main(["example", "restraint_case3", "-o", str(case_file)]) == 0
+    case_file.write_text(case_file.read_text().replace("t_max = 120.0", "t_max = 0.5"))
+    real = R.simulate
+
+    def with_events(case, record_interval=None):
+        return dataclasses.replace(real(case, record_interval), contact_counts=(100, 3, 1))
+
+    monkeypatch.setattr(R, "simulate", with_events)
+    capsys.readouterr()
+    out = tmp_path / "out.nc"
+    assert main(["restrain", str(case_file), "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mineburial: warning: the anchor's friction was set to zero in 3 " in err
+    assert "and 1 where eq. (37) had no solution" in err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["anchor_lifted_evaluations"] == 3
+        assert ds.attrs["anchor_friction_unsolvable_evaluations"] == 1
