@@ -271,6 +271,13 @@ def chain(n_links, link_length, mass_matrix, angles, start=(0.0, 0.0), pinned=Tr
     return desc, q0
 
 
+def record_bytes(duration, record_dt, values_per_record):
+    """Bytes of the records :func:`integrate` preallocates: ``duration / record_dt + 2`` rows of
+    ``values_per_record`` float64 (inf where the count overflows)."""
+    rows = duration / record_dt + 2.0
+    return rows * values_per_record * 8.0
+
+
 @dataclass(frozen=True)
 class IntegrationResult:
     """Records of :func:`integrate`: times (n,), states (n, len(y0)), status code and name, end time."""
@@ -297,12 +304,15 @@ def integrate(
     rtol=1e-8,
     atol=1e-10,
     record_dt=None,
+    max_steps=_mb.MAX_STEPS,
 ):
     """Integrate a system with :func:`mineburial.kernels.multibody.integrate`, checking the settings first.
 
     ``system_rhs(t, y, params, dy)`` and ``system_event(t, y, params) -> float`` are numba-compiled functions;
     ``method`` is one of ``"dopri5"`` (adaptive, first step ``dt``) or ``"rk4"`` (fixed step ``dt``);
-    ``record_dt`` defaults to ``dt``."""
+    ``record_dt`` defaults to ``dt``; ``max_steps`` is the step budget (a run that spends it ends as
+    numerical_failure). The records are preallocated: a ``record_dt`` whose records would take more than
+    half of this machine's memory is refused before the run."""
     if method not in _mb.METHODS:
         raise DescriptionError(f"method = {method!r} is not known; the methods are {', '.join(_mb.METHODS)}")
     record_dt = dt if record_dt is None else record_dt
@@ -311,9 +321,21 @@ def integrate(
             raise DescriptionError(f"{name} = {value} must be finite and > 0")
     if not (math.isfinite(t0) and math.isfinite(t_end) and t_end > t0):
         raise DescriptionError(f"t_end = {t_end} s must be finite and later than t0 = {t0} s")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
+        raise DescriptionError(f"max_steps = {max_steps!r} must be an integer >= 1")
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
     if not np.all(np.isfinite(y0)):
         raise DescriptionError(f"y0 = {y0.tolist()} must be finite")
+    from mineburial.drop import _memory_bytes  # the machine's memory, as the drop's trajectory check
+
+    need = record_bytes(t_end - t0, record_dt, y0.size)
+    memory = _memory_bytes()
+    if memory is not None and need > memory / 2:
+        raise DescriptionError(
+            f"record_dt = {record_dt:g} s would record {(t_end - t0) / record_dt:.3g} states over "
+            f"{t_end - t0:g} s, {need / 2**30:.3g} GiB, more than half of this machine's memory "
+            f"({memory / 2**30:.3g} GiB): give a larger record_dt"
+        )
     times, states, status, t_stop = _mb.integrate(
         system_rhs,
         system_event,
@@ -326,5 +348,6 @@ def integrate(
         float(rtol),
         float(atol),
         float(record_dt),
+        int(max_steps),
     )
     return IntegrationResult(times, states, int(status), float(t_stop))

@@ -583,7 +583,9 @@ def test_invalid_settings():
     desc, q0 = mbp.chain(1, 1.0, rod(1.0, 1.0), [-0.3])
     y0 = desc.initial_state(q0)
     p = (desc.arrays(), weights_of(desc), extra())
-    times, states, status, _ = mb.integrate(rhs, event, y0, 0.0, 1.0, p, "euler", 1e-3, 1e-8, 1e-10, 0.1)
+    times, states, status, _ = mb.integrate(
+        rhs, event, y0, 0.0, 1.0, p, "euler", 1e-3, 1e-8, 1e-10, 0.1, 1000
+    )
     assert status == mb.INVALID_INPUT and times.size == 0
     with pytest.raises(
         mbp.DescriptionError, match="method = 'euler' is not known; the methods are dopri5, rk4"
@@ -593,6 +595,33 @@ def test_invalid_settings():
         mbp.integrate(rhs, event, y0, 0.0, 1.0, p, record_dt=-1.0)
     with pytest.raises(mbp.DescriptionError, match="t_end"):
         mbp.integrate(rhs, event, y0, 1.0, 1.0, p)
+
+
+def test_step_budget_ends_in_numerical_failure():
+    # a pendulum that needs ~100 steps at rtol 1e-10: a budget of 20 ends it as a numerical failure at the
+    # last accepted state (never a silent run for hours), the default budget lets it finish
+    desc, q0 = mbp.chain(1, 1.0, rod(1.0, 1.0), [-0.3])
+    y0 = desc.initial_state(q0)
+    p = (desc.arrays(), weights_of(desc), extra())
+    full = mbp.integrate(rhs, event, y0, 0.0, 1.0, p, rtol=1e-10, atol=1e-12, record_dt=0.01)
+    assert full.status_name == "time_limit"
+    short = mbp.integrate(rhs, event, y0, 0.0, 1.0, p, rtol=1e-10, atol=1e-12, record_dt=0.01, max_steps=20)
+    assert short.status_name == "numerical_failure"
+    assert 0.0 < short.t_stop < 1.0 and np.all(np.isfinite(short.states))
+    # the records it kept are those of the full run
+    n = short.times.size
+    np.testing.assert_allclose(short.states, full.states[:n], rtol=0, atol=1e-12)
+    with pytest.raises(mbp.DescriptionError, match="max_steps = 0 must be an integer >= 1"):
+        mbp.integrate(rhs, event, y0, 0.0, 1.0, p, max_steps=0)
+
+
+def test_records_that_do_not_fit_in_memory_are_refused():
+    desc, q0 = mbp.chain(1, 1.0, rod(1.0, 1.0), [-0.3])
+    y0 = desc.initial_state(q0)
+    p = (desc.arrays(), weights_of(desc), extra())
+    # 1e5 s every 1e-9 s: 1e14 records of 2 values, 1.6e15 bytes
+    with pytest.raises(mbp.DescriptionError, match=r"record_dt = 1e-09 s would record 1e\+14 states"):
+        mbp.integrate(rhs, event, y0, 0.0, 1e5, p, record_dt=1e-9)
 
 
 # --- bad descriptions ---------------------------------------------------------------------------------

@@ -9,7 +9,7 @@ References, each independent of the code under test:
 * energy: conservation with friction and drag off (1e-6), the balance kinetic + potential
   + dissipated with them on (seed 004 §4.2: 0.5 %); the anchor's friction solves eq. (37)
   at the same instant (its reaction recomputed by the core from the final accelerations);
-* the Table 3 value of the shortest case (seed 004, case 3: 10.054 s) with a 10 % band;
+* the Table 3 value of the shortest case (seed 004, case 3: 10.054 s) within the 5 % target;
 * bad input: one line naming the field, exit 2; the example files read back as Table 2.
 """
 
@@ -120,6 +120,94 @@ def test_ship_resistance_follows_the_ittc_line():
     assert rf.ship_resistance(0.5, 1.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 1.0) > 0.0
 
 
+def _submerged_section(length, depth, keel_below_g, heave, pitch):
+    """Area and centroid (x, z) of the part below z = 0 of the ship's L x D rectangle,
+    turned by ``pitch`` about its reference point G (keel ``keel_below_g`` below G) raised
+    by ``heave``: polygon clipping (Sutherland-Hodgman) and the shoelace formulas."""
+    c, s = math.cos(pitch), math.sin(pitch)
+    corners = [(-length / 2, -keel_below_g), (length / 2, -keel_below_g)]
+    corners += [(length / 2, depth - keel_below_g), (-length / 2, depth - keel_below_g)]
+    poly = [(c * a - s * b, heave + s * a + c * b) for a, b in corners]
+    out = []
+    for p1, p2 in zip(poly, poly[1:] + poly[:1]):
+        in1, in2 = p1[1] <= 0.0, p2[1] <= 0.0
+        if in1:
+            out.append(p1)
+        if in1 != in2:
+            t = p1[1] / (p1[1] - p2[1])
+            out.append((p1[0] + t * (p2[0] - p1[0]), 0.0))
+    area = cx = cz = 0.0
+    for (x1, z1), (x2, z2) in zip(out, out[1:] + out[:1]):
+        cr = x1 * z2 - x2 * z1
+        area += cr / 2
+        cx += (x1 + x2) * cr / 6
+        cz += (z1 + z2) * cr / 6
+    return area, cx / area, cz / area
+
+
+def test_ship_hydrostatics_is_the_small_motion_limit_of_the_floating_cuboid():
+    # eq. (58) for case 1's ship (50 x 10 x 5 m, 500 t; reference point G at the water plane,
+    # docs/restraint.md) against the buoyancy of the heaved and pitched cuboid computed here
+    # exactly (its submerged section, clipped at the water plane): F_z = rho g B A - m g and
+    # M_y = x_B F_B about G
+    rho, g, ls, bs, ds, m = 1025.0, 9.81, 50.0, 10.0, 5.0, 500000.0
+    system = R.build_system(R.table2_case(1))
+    p = system.params[1]
+    draught = m / (rho * ls * bs)
+    for heave, pitch in ((2e-3, 0.0), (0.0, 2e-5), (-1e-3, -1e-5)):
+        area, xb, _ = _submerged_section(ls, ds, draught, heave, pitch)
+        fz_ref = rho * g * bs * area - m * g
+        my_ref = xb * rho * g * bs * area
+        fz, my, pot = rf.ship_hydrostatics(heave, pitch, rho, g, p[rf.P_AW], p[rf.P_VOL], p[rf.P_GML])
+        if heave:
+            assert fz == pytest.approx(fz_ref, rel=1e-9)  # linear in heave: exact
+        if pitch:
+            assert my == pytest.approx(my_ref, rel=1e-3)  # the linearisation of eq. (58)
+    # by hand: rho g A_W per metre of heave, and GM_L = L^2 / (12 T) - T / 2 for the cuboid
+    assert rf.ship_hydrostatics(1.0, 0.0, rho, g, 500.0, 1.0, 1.0)[0] == -rho * g * 500.0
+    assert p[rf.P_GML] == pytest.approx(ls**2 / (12 * draught) - draught / 2, rel=1e-12)
+
+
+def test_ittc_resistance_form_is_half_the_printed_one():
+    # the textbook ITTC form 1/2 (C_f + C_sf) rho S v^2 (Molland et al. 2011) by hand, and the
+    # case field that selects it
+    re = 4.0 * 50.0 / 1.05e-6
+    cf = 0.075 / (math.log10(re) - 2.0) ** 2
+    csf = (105.0 * (150e-6 / 50.0) ** (1.0 / 3.0) - 0.64) * 1e-3
+    s = 617.0
+    f = rf.ship_resistance(4.0, 0.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 0.5)
+    assert f == pytest.approx(-0.5 * (cf + csf) * 1025.0 * s * 16.0, rel=1e-13)
+    ittc = R.build_system(R.table2_case(1).replace(**{"ship.resistance_form": "ittc"}))
+    printed = R.build_system(R.table2_case(1))
+    assert ittc.params[1][rf.P_HALF] == 0.5 and printed.params[1][rf.P_HALF] == 1.0
+    # the wetted area of the cuboid: bottom plus sides to the draught
+    t = 500000.0 / (1025.0 * 500.0)
+    assert ittc.params[1][rf.P_SHIP_SW] == pytest.approx(500.0 + 2 * 60.0 * t, rel=1e-14)
+
+
+@pytest.mark.parametrize("th", [0.0, 0.4, -1.2])
+def test_current_correction_is_kirchhoffs_force_of_the_relative_velocity(th):
+    # an element with added mass m_n on its normal n only: fluid momentum P(w) = m_n (w.n) n;
+    # at zero acceleration the velocity part of -dP/dt is om m_n [(w.t) n + (w.n) t] and the
+    # Munk moment -(w x P) = -m_n (w.n)(w.t) (Newman 1977 sec. 4.13). The core carries them
+    # for the absolute velocity v; in a uniform current they belong to w = v - U.
+    mn, length, cur = 37.0, 2.0, 1.3
+    vx, vz, om = 0.7, -0.2, 0.9
+    t = np.array([math.cos(th), math.sin(th)])
+    n = np.array([-math.sin(th), math.cos(th)])
+
+    def kirchhoff(w):  # the fluid's force on the element (velocity terms only)
+        f = om * mn * ((w @ t) * n + (w @ n) * t)
+        return np.array([f[0], f[1], -mn * (w @ n) * (w @ t)])
+
+    v = np.array([vx, vz])
+    w = v - np.array([cur, 0.0])
+    ref = kirchhoff(w) - kirchhoff(v)
+    got = rf.current_added_mass_correction(th, vx, vz, om, mn, length, cur)
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
+    assert rf.current_added_mass_correction(th, vx, vz, om, mn, length, 0.0) == (0.0, 0.0, 0.0)
+
+
 # ---------------------------------------------------------------------------
 # the initial configuration against the catenary solved independently
 # ---------------------------------------------------------------------------
@@ -197,7 +285,8 @@ def test_anchor_friction_solves_eq37_at_the_same_instant():
     # the core's reaction of the anchor's locked height, from the final accelerations and forces
     hf_again = joint_forces(q, u, du, forces, system.description.arrays())
     assert hf_again[0, 1] == pytest.approx(normal, rel=1e-10)
-    assert friction == pytest.approx(-0.3 * math.tanh(0.4 / 1e-3) * normal, rel=1e-10)
+    # the regularised Coulomb law of kernels/seabed_contact.py: -mu N v / sqrt(v^2 + v_reg^2)
+    assert friction == pytest.approx(-0.3 * 0.4 / math.sqrt(0.4**2 + 1e-3**2) * normal, rel=1e-10)
     # and the normal force is eq. (37)'s m g - rho V g less the chain's upward pull on the anchor
     m, v = 40000.0, 2.0 * 4.0 * 2.1
     assert normal == pytest.approx(m * 9.81 - 1025.0 * v * 9.81 + hf_again[1, 1], rel=1e-9)
@@ -263,12 +352,15 @@ def test_energy_balance_closes_with_friction_and_drag(case3):
     assert e["friction_dissipated"][-1] > 0.5 * e["kinetic"][0]  # friction took most of it
     assert e["water_dissipated"][-1] > 0.0
     closure = np.max(np.abs(e["total"] - e["total"][0])) / e["total"][0]
-    assert closure < 5e-3  # seed 004 §4.2
+    # seed 004 §4.2 reports 0.5 %; the adaptive run (rtol 1e-7) closes it to ~3e-9 of the
+    # total and ~1e-8 of the ship's kinetic energy
+    assert closure < 1e-6
+    assert case3.energy_closure() < 1e-6
 
 
 def test_shortest_case_stops_near_table3(case3):
     assert case3.status_name == "stopped"
-    assert case3.stopping_time == pytest.approx(R.TABLE3[2], rel=0.10)
+    assert case3.stopping_time == pytest.approx(R.TABLE3[2], rel=0.05)  # the issue's 5 % target
     # the stop is where the ship's surge speed reaches zero (last record, on the interpolant)
     assert case3.times[-1] == case3.stopping_time
     assert abs(case3.vel[-1, -1, 0]) < 1e-6
@@ -283,6 +375,88 @@ def test_a_case_that_does_not_stop_gets_a_status_not_nan(tmp_path):
     ds = R.to_dataset(res)
     assert ds.attrs["status"] == "time_limit" and "stopping_time" not in ds
     assert all(np.isfinite(ds[v]).all() for v in ds.data_vars)
+
+
+def test_a_blown_up_run_is_a_numerical_failure_not_stopped():
+    # rk4 at 0.5 s (refused by the dt range since; put back here past the check) blows up:
+    # before the energy check it was reported "stopped, 0.527 s, energy closure 1.2e+247"
+    case = R.table2_case(1).replace(**{"numerics.method": "rk4", "numerics.t_max": 5.0})
+    case.values["numerics.dt"] = 0.5  # past the field check, to reach the run's own check
+    res = R.simulate(case)
+    assert res.status_name == "numerical_failure" and res.stopping_time is None
+    assert res.failure
+    ds = R.to_dataset(res)
+    assert ds.attrs["status"] == "numerical_failure" and "stopping_time" not in ds
+    assert all(np.isfinite(ds[v]).all() for v in ds.data_vars)
+
+
+def test_to_dataset_never_writes_a_silent_nan(case3):
+    import dataclasses
+
+    pos = case3.pos.copy()
+    pos[-1, 3, 1] = np.nan
+    ds = R.to_dataset(dataclasses.replace(case3, pos=pos))
+    assert ds.attrs["status"] == "numerical_failure" and int(ds.status) == 2
+    assert "z" in ds.attrs["failure"] and "stopping_time" not in ds
+
+
+def test_a_lifted_anchor_is_counted_not_silent():
+    # an anchor made buoyant (weight below its buoyancy by 1e5 N): the seabed's solved normal
+    # reaction is negative, the friction is zero, and the instant is counted
+    system = R.build_system(R.table2_case(1))
+    desc, p, kind, length, diameter, weight, buoy, counts = system.params
+    weight = weight.copy()
+    weight[0] = buoy[0] - 1e5
+    params = (desc, p, kind, length, diameter, weight, buoy, np.zeros_like(counts))
+    nd = system.description.n_dof
+    q, u = system.y0[:nd].copy(), system.y0[nd : 2 * nd].copy()
+    u[0] = 0.4  # sliding
+    out = rf.solve_with_friction(q, u, params)
+    assert out[3] <= 0.0 and out[4] == 0.0 and out[-1] == rf.CONTACT_LIFTED
+    assert params[7][rf.CONTACT_LIFTED] == 1 and params[7][rf.CONTACT_ON_SEABED] == 0
+
+
+def test_a_normal_case_reports_its_contact_counts(case3):
+    assert case3.contact_events == {"lifted": 0, "friction_unsolvable": 0}
+    assert case3.contact_counts[0] > 1000
+    ds = R.to_dataset(case3)
+    assert ds.attrs["anchor_lifted_evaluations"] == 0
+    assert ds.attrs["anchor_friction_unsolvable_evaluations"] == 0
+    assert np.all(ds.anchor_contact.values == 0)
+    assert "seabed's reaction" in ds.pin_tension.attrs["long_name"]
+
+
+def test_case_does_not_change_the_callers_dict():
+    values = {"anchor.mass": 50000.0, "anchor.length": 2.5}
+    R.RestraintCase("c", "", values)
+    assert values == {"anchor.mass": 50000.0, "anchor.length": 2.5}
+
+
+def test_both_kane_solvers_give_the_same_trajectory():
+    # the O(N) recursion against the assembled Kane equations A du/dt = f (Cholesky), through
+    # the snatch of the chain
+    base = R.table2_case(1).replace(**{"numerics.t_max": 2.0})
+    rec = R.simulate(base)
+    kane = R.simulate(base.replace(**{"numerics.solver": "kane"}))
+    assert rec.status_name == kane.status_name == "time_limit"
+    np.testing.assert_allclose(kane.times, rec.times, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(kane.vel, rec.vel, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(kane.pos, rec.pos, rtol=0, atol=1e-7)
+    assert rec.vel[-1, 0, 0] > 0.5  # the anchor is being dragged
+
+
+def test_energy_balance_closes_in_a_current():
+    # case 19 (2 m/s surface current): the current drives the elements and the added-mass
+    # correction, and the ship's resistance acts on its relative velocity, so the water's net
+    # work differs from still water's; kinetic + potential + the water's and the friction's
+    # work stays constant
+    res = R.simulate(R.table2_case(19).replace(**{"numerics.t_max": 3.0}))
+    still = R.simulate(R.table2_case(1).replace(**{"numerics.t_max": 3.0}))
+    assert res.status_name == "time_limit"
+    e, e1 = res.energy, still.energy
+    # the current changes the water's work by more than a tenth of it
+    assert abs(e["water_dissipated"][-1] - e1["water_dissipated"][-1]) > 0.1 * e1["water_dissipated"][-1]
+    assert res.energy_closure() < 1e-6
 
 
 # ---------------------------------------------------------------------------
@@ -301,7 +475,7 @@ def test_restrain_cli_writes_cf_netcdf(tmp_path, capsys):
     assert "status time_limit" in printed and "had not stopped at 1.500 s" in printed
     with xr.open_dataset(out) as ds:
         for name in ds.data_vars:
-            if name != "status":
+            if "flag_values" not in ds[name].attrs:  # CF flags have no units
                 assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
         assert ds.attrs["Conventions"].startswith("CF-")
         assert R.RestraintCase.from_dict(__import__("json").loads(ds.attrs["case"])).values == (
@@ -371,6 +545,30 @@ BAD = {
     "links": ("[chain]\nlinks = 2.5\n", r"chain\.links = 2\.5 must be a whole number"),
     "switch": ("[model]\nfriction = 1\n", r"model\.friction = 1 must be true or false"),
     "not toml": ("[ship\n", r"is not valid TOML"),
+    "links inf": ("[chain]\nlinks = inf\n", r"chain\.links = inf is not a finite whole number"),
+    "links nan": ("[chain]\nlinks = nan\n", r"chain\.links = nan is not a finite whole number"),
+    "ship aground": (
+        "[ship]\njoint_dz = 10.0\n",
+        r"ship\.joint_dz = 10 m .* water plane -2\.95 m above the seabed .* water depth must be > 0",
+    ),
+    "keel on the seabed": (
+        "[ship]\njoint_dz = 6.5\n",
+        r"ship\.joint_dz = 6\.5 m .* water plane 0\.553 m .* keel above the seabed",
+    ),
+    "records beyond memory": (
+        "[numerics]\nrecord_interval = 1e-4\nt_max = 1e5\n",
+        r"numerics\.record_interval = 0\.0001 s would record 1e\+09 states .* give a larger "
+        r"numerics\.record_interval",
+    ),
+    "friction scale": (
+        "[anchor]\nfriction_velocity_scale = 1e-9\n",
+        r"anchor\.friction_velocity_scale = 1e-09 m s-1 is outside the allowed range \[1e-05, 1\]",
+    ),
+    "rtol": ("[numerics]\nrtol = 0.9\n", r"numerics\.rtol = 0\.9 is outside the allowed range \(0, 0\.001\]"),
+    "rk4 step": (
+        "[numerics]\ndt = 0.5\n",
+        r"numerics\.dt = 0\.5 s is outside the allowed range \(0, 0\.01\]",
+    ),
 }
 
 
@@ -396,3 +594,28 @@ def test_restrain_missing_file_and_bad_output(tmp_path, capsys):
     capsys.readouterr()
     assert main(["restrain", str(good), "-o", str(tmp_path)]) == 2
     assert "is a directory" in capsys.readouterr().err
+
+
+def test_restrain_cli_reports_zero_friction_instants(tmp_path, capsys, monkeypatch):
+    # a run with lifted / unsolvable friction instants (counts put on a real short run): the
+    # CLI prints a warning line and the file carries the counts
+    import dataclasses
+
+    case_file = tmp_path / "c.toml"
+    assert main(["example", "restraint_case3", "-o", str(case_file)]) == 0
+    case_file.write_text(case_file.read_text().replace("t_max = 120.0", "t_max = 0.5"))
+    real = R.simulate
+
+    def with_events(case, record_interval=None):
+        return dataclasses.replace(real(case, record_interval), contact_counts=(100, 3, 1))
+
+    monkeypatch.setattr(R, "simulate", with_events)
+    capsys.readouterr()
+    out = tmp_path / "out.nc"
+    assert main(["restrain", str(case_file), "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mineburial: warning: the anchor's friction was set to zero in 3 " in err
+    assert "and 1 where eq. (37) had no solution" in err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["anchor_lifted_evaluations"] == 3
+        assert ds.attrs["anchor_friction_unsolvable_evaluations"] == 1

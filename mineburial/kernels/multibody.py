@@ -76,12 +76,19 @@ STATUS_NAMES = ("stopped", "time_limit", "numerical_failure", "invalid_input")
 STATUS_DESCRIPTIONS = (
     "the system's event function crossed zero from above (e.g. the ship stopped); the run ends there",
     "the time limit was reached before the event",
-    "a non-finite value appeared in the state or its rate, or the step size underflowed",
+    "a non-finite value appeared in the state or its rate, the step size underflowed, the step budget "
+    "(max_steps) was spent, or the system's own check of the run failed (e.g. its energy balance)",
     "the integration settings were invalid (method, step, tolerances, record interval); nothing was run",
 )
 
 #: integration methods of :func:`integrate`
 METHODS = ("dopri5", "rk4")
+
+#: default step budget of :func:`integrate` (accepted plus rejected steps): a run that needs more has
+#: equations too stiff for its settings (e.g. a tiny friction regularisation) and ends as
+#: NUMERICAL_FAILURE instead of running for hours; seed 004's longest case takes ~1e4 dopri5 steps and
+#: its 120 s limit at the seed's rk4 step of 2 ms 6e4
+MAX_STEPS = 2_000_000
 
 
 # --- description helpers ------------------------------------------------------------------------------
@@ -237,6 +244,30 @@ def partial_velocities(q, desc):
 
 
 @kernel
+def rotating_mass_velocity_terms(mi, vx, vz, om):
+    """The velocity terms g = dM/dt w + (0, 0, vx Pz - vz Px) of the inertia of a rotating anisotropic
+    mass: ``mi`` the inertial-frame generalised mass (eq. (19)), w = (vx, vz, om) the velocity it moves
+    with, P = M w its momentum. Zero for diag(m, m, I)."""
+    # P = M w; dM/dt w = om (J3 M w - M J3 w) with J3 (x, z, th) = (-z, x, 0)
+    px = mi[0, 0] * vx + mi[0, 1] * vz + mi[0, 2] * om
+    pz = mi[1, 0] * vx + mi[1, 1] * vz + mi[1, 2] * om
+    mjw0 = -mi[0, 0] * vz + mi[0, 1] * vx
+    mjw1 = -mi[1, 0] * vz + mi[1, 1] * vx
+    mjw2 = -mi[2, 0] * vz + mi[2, 1] * vx
+    # the Munk moment vx Pz - vz Px = -dT/d(th), the configuration term of Lagrange's equations
+    return om * (-pz - mjw0), om * (px - mjw1), -om * mjw2 + (vx * pz - vz * px)
+
+
+@kernel
+def inertial_mass(mb, th):
+    """The inertial-frame generalised mass T mb T^T of the body-frame mass ``mb`` at attitude th
+    (seed 004 eq. (19))."""
+    out = np.empty((3, 3))
+    _inertial_mass(mb, th, out)
+    return out
+
+
+@kernel
 def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
     """Per body: inertial mass mi[k] (eq. (19)), velocity-product acceleration bias[k] = dV_k/dt u
     (eqs. (16)-(17); translational only, the angular part is zero for absolute angles) and the velocity
@@ -257,19 +288,10 @@ def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
             armz = lever[k, 1] - rel[j, 1]
             bias[k, 0] = bias[j, 0] - omj * omj * armx - omk * omk * rel[k, 0]
             bias[k, 1] = bias[j, 1] - omj * omj * armz - omk * omk * rel[k, 1]
-        vx = vel[k, 0]
-        vz = vel[k, 1]
-        om = vel[k, 2]
-        # P = M w; dM/dt w = om (J3 M w - M J3 w) with J3 (x, z, th) = (-z, x, 0)
-        px = mi[k, 0, 0] * vx + mi[k, 0, 1] * vz + mi[k, 0, 2] * om
-        pz = mi[k, 1, 0] * vx + mi[k, 1, 1] * vz + mi[k, 1, 2] * om
-        mjw0 = -mi[k, 0, 0] * vz + mi[k, 0, 1] * vx
-        mjw1 = -mi[k, 1, 0] * vz + mi[k, 1, 1] * vx
-        mjw2 = -mi[k, 2, 0] * vz + mi[k, 2, 1] * vx
-        gterm[k, 0] = om * (-pz - mjw0)
-        gterm[k, 1] = om * (px - mjw1)
-        # the Munk moment vx Pz - vz Px = -dT_k/d(th_k), the configuration term of Lagrange's equations
-        gterm[k, 2] = -om * mjw2 + (vx * pz - vz * px)
+        g0, g1, g2 = rotating_mass_velocity_terms(mi[k], vel[k, 0], vel[k, 1], vel[k, 2])
+        gterm[k, 0] = g0
+        gterm[k, 1] = g1
+        gterm[k, 2] = g2
 
 
 @kernel
@@ -688,7 +710,7 @@ def _record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
 
 
 @njit(**JIT_OPTIONS)
-def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol, atol, record_dt):
+def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps):
     """Integrate dy/dt = system_rhs(t, y, params, dy) from t0 to t_end, stopping where
     system_event(t, y, params) crosses zero from above (the event is armed once it has been positive).
 
@@ -699,8 +721,11 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     continuous extension, and the event is located on it (Illinois); when the run stops early the located
     event state is the last record.
 
+    At most ``max_steps`` steps (accepted and rejected) are taken (:data:`MAX_STEPS` is the Python default).
+
     Returns (times, states, status, t_stop): status STOPPED, TIME_LIMIT, NUMERICAL_FAILURE (a non-finite
-    state or rate, or a step-size underflow: the records end at the last finite state) or INVALID_INPUT;
+    state or rate, a step-size underflow or the step budget spent: the records end at the last finite
+    state) or INVALID_INPUT;
     t_stop is the time the run ended (the event time when STOPPED). Never returns NaN.
 
     Not cached on disk: a kernel that takes functions as arguments gets a new cache entry in every
@@ -723,6 +748,7 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
         and math.isfinite(record_dt)
         and rtol > 0.0
         and atol > 0.0
+        and max_steps > 0
         and _all_finite(y0)
     )
     if not ok:
@@ -760,8 +786,13 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     err_prev = 1e-4
     accepted_before = True
     i_step = 0
+    n_tried = 0
     status = TIME_LIMIT
     while True:
+        if n_tried >= max_steps:
+            status = NUMERICAL_FAILURE
+            break
+        n_tried += 1
         if use_dopri:
             h = min(h, t_end - t)
             if h <= 1e-14 * max(1.0, abs(t)):

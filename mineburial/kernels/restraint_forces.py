@@ -16,9 +16,13 @@ deviation from the printed equations and every assumed value.
   buoyancy of eq. (42): upward force ``(k_z - rho g) V^S`` at the centroid of the embedded
   volume, i.e. Archimedes in a heavy fluid of specific weight ``k_z - rho g``, which has
   an exact potential (the elastic energy of the foundation).
-* :func:`anchor_drag` -- eq. (39); :func:`anchor_friction` -- eqs. (36)-(37) with a
-  regularised sign; :func:`ship_resistance` -- eqs. (59)-(62);
-  :func:`ship_hydrostatics` -- eqs. (55)-(58) (heave and pitch restoring).
+* :func:`anchor_drag` -- eq. (39); :func:`ship_resistance` -- eqs. (59)-(62);
+  :func:`ship_hydrostatics` -- eqs. (55)-(58) (heave and pitch restoring);
+  :func:`current_added_mass_correction` -- the velocity terms of an element's added mass
+  taken with its velocity relative to the current.
+* :func:`solve_with_friction` -- the accelerations with the anchor's Coulomb friction of
+  eqs. (36)-(37), regularised by the generic seabed-contact law
+  (:func:`mineburial.kernels.seabed_contact.regularised_friction`).
 """
 
 import math
@@ -29,11 +33,15 @@ from mineburial._numba import kernel
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.multibody import (
     accelerations,
+    accelerations_assembled,
     body_states,
     inertia_velocity_terms,
+    inertial_mass,
     joint_forces,
     kinetic_energy,
+    rotating_mass_velocity_terms,
 )
+from mineburial.kernels.seabed_contact import regularised_friction
 
 #: 4-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 25.4.30)
 _GL_X = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -159,30 +167,6 @@ def anchor_drag(v_anchor, current, rho, cd, width, height):
 
 
 @kernel
-def regularised_sign(v, v_scale):
-    """``tanh(v / v_scale)``: the sign of the Coulomb friction of eq. (37), smoothed over
-    ``v_scale`` so that the anchor's stick phase is an ordinary ODE (``v_scale = 0``:
-    the plain sign)."""
-    if v_scale <= 0.0:
-        if v > 0.0:
-            return 1.0
-        if v < 0.0:
-            return -1.0
-        return 0.0
-    return math.tanh(v / v_scale)
-
-
-@kernel
-def anchor_friction(normal_force, v_anchor, mu, v_scale):
-    """Eq. (37) with eq. (36)'s direction: ``-mu N sign(v)``; ``N`` is the seabed's normal
-    reaction ``m g - rho V g - (upward chain pull)``, never negative (a lifted anchor
-    has no friction)."""
-    if normal_force <= 0.0:
-        return 0.0
-    return -mu * normal_force * regularised_sign(v_anchor, v_scale)
-
-
-@kernel
 def ittc_friction(reynolds):
     """Eq. (60), the ITTC-1957 line ``C_f = 0.075 / (log10 Re - 2)^2`` (held at RE_MIN
     below RE_MIN)."""
@@ -225,6 +209,34 @@ def ship_hydrostatics(heave, pitch, rho, g, waterplane_area, volume, gm_long):
     return -kz * heave, -kp * pitch, 0.5 * (kz * heave * heave + kp * pitch * pitch)
 
 
+@kernel
+def current_added_mass_correction(theta, vx, vz, om, added_mass, length, current):
+    """Force (Fx, Fz, My) that turns the core's added-mass velocity terms of a cable or chain
+    element, taken with its absolute velocity, into the same terms taken with its velocity
+    relative to the water ``w = (vx - current, vz, om)``.
+
+    In a steady uniform current the flow around the element, seen from a frame drifting with
+    the water, is the still-water problem with the body velocity ``w``; the added-mass force
+    is Galilean-invariant, so it is Kirchhoff's force of ``w``: ``-(M_a dw/dt + g_a(w))``
+    with ``dw/dt = dv/dt`` (Newman 1977, *Marine Hydrodynamics*, sec. 4.13; ``g_a`` the
+    velocity terms of :func:`mineburial.kernels.multibody.rotating_mass_velocity_terms`,
+    including the Munk moment). The core puts ``-(M_a dv/dt + g_a(v))`` in the equations
+    (added mass in the mass matrix), so the correction is ``g_a(v) - g_a(w)``. The added
+    mass is seed 004 eq. (46)'s: ``added_mass`` = rho pi r^2 L C_M on the element's normal,
+    ``added_mass L^2 / 12`` in rotation. The 1/7-power current of eq. (38) is sheared: it
+    is taken as uniform at its value at the centroid (the gradient term, of order
+    ``m_a vz dU/dz``, is left out; docs/restraint.md)."""
+    if current == 0.0 or added_mass == 0.0:
+        return 0.0, 0.0, 0.0
+    mb = np.zeros((3, 3))
+    mb[1, 1] = added_mass
+    mb[2, 2] = added_mass * length * length / 12.0
+    mi = inertial_mass(mb, theta)
+    a0, a1, a2 = rotating_mass_velocity_terms(mi, vx, vz, om)
+    b0, b1, b2 = rotating_mass_velocity_terms(mi, vx - current, vz, om)
+    return a0 - b0, a1 - b1, a2 - b2
+
+
 # ---------------------------------------------------------------------------
 # the system: applied forces of every body, right-hand side, stop event
 # ---------------------------------------------------------------------------
@@ -255,22 +267,36 @@ P_HALF = 16
 P_AW = 17
 P_VOL = 18
 P_GML = 19
-P_ZW = 20
+P_CM = 20
 P_FRICTION = 21
 P_DRAG = 22
 P_MORISON = 23
-N_PARAMS = 24
+P_SOLVER = 24
+N_PARAMS = 25
+
+#: values of params[1][P_SOLVER]: how the Kane equations are solved (numerics.solver)
+SOLVER_RECURSIVE = 0.0  # kernels.multibody.accelerations, O(N) tree recursion
+SOLVER_KANE = 1.0  # kernels.multibody.accelerations_assembled: A du/dt = f assembled, Cholesky
+
+#: codes of the anchor's seabed contact in :func:`solve_with_friction`
+CONTACT_ON_SEABED = 0  # normal reaction > 0 and the friction solved (or switched off, or v = 0)
+CONTACT_LIFTED = 1  # the solved normal reaction is <= 0: the anchor would leave the seabed
+CONTACT_UNSOLVABLE = 2  # 1 + mu s dN/df <= 0: eq. (37) has no solution at this instant
+#: indices of the contact counters (params[7]): right-hand-side evaluations with each code
+N_CONTACT_CODES = 3
 
 
 @kernel
 def applied_forces(q, u, params):
     """Applied forces (Fx, Fz, My)[N, 3] at every centroid, except the anchor's friction.
 
-    ``params = (desc, p, kind, length, diameter, weight, buoyancy)``: the multibody
-    description, the scalar parameters (``P_*``), and per body its kind, length, diameter,
-    weight ``m g`` and full buoyancy ``rho V g``. Returns ``(forces, pos, vel, water_power,
+    ``params = (desc, p, kind, length, diameter, weight, buoyancy, contact_counts)``: the
+    multibody description, the scalar parameters (``P_*``), per body its kind, length,
+    diameter, weight ``m g`` and full buoyancy ``rho V g``, and the counters of
+    :func:`solve_with_friction`. Returns ``(forces, pos, vel, water_power,
     potential_g, potential_s, potential_e)``: the power of the water forces (eqs. (39),
-    (45)-(47), (62)) and the potentials of gravity with buoyancy (eq. (65)), of the seabed
+    (45)-(47), (62), and in a current :func:`current_added_mass_correction`) and the
+    potentials of gravity with buoyancy (eq. (65)), of the seabed
     foundation (eqs. (41), (68)) and of the ship's hydrostatic restoring (eq. (66)).
     """
     desc = params[0]
@@ -296,7 +322,7 @@ def applied_forces(q, u, params):
         vx, vz, om = vel[k, 0], vel[k, 1], vel[k, 2]
         kk = kind[k]
         if kk == SHIP:
-            fz, my, pot = ship_hydrostatics(z - p[P_ZW], th, rho, g, p[P_AW], p[P_VOL], p[P_GML])
+            fz, my, pot = ship_hydrostatics(z - p[P_DEPTH], th, rho, g, p[P_AW], p[P_VOL], p[P_GML])
             forces[k, 1] += fz
             forces[k, 2] += my
             ee += pot
@@ -322,8 +348,15 @@ def applied_forces(q, u, params):
             forces[k, 1] += fz
             forces[k, 2] += my
             es += pot
+            cur = current_speed(z, p[P_USURF], p[P_DEPTH])
+            if cur != 0.0 and p[P_MORISON] == 0.0:
+                ma = rho * math.pi * r * r * length[k] * p[P_CM]
+                fx, fz, my = current_added_mass_correction(th, vx, vz, om, ma, length[k], cur)
+                forces[k, 0] += fx
+                forces[k, 1] += fz
+                forces[k, 2] += my
+                power += fx * vx + fz * vz + my * om
             if drag_on:
-                cur = current_speed(z, p[P_USURF], p[P_DEPTH])
                 fx, fz, my = element_fluid_force(
                     th, vx, vz, om, length[k], diameter[k], rho, p[P_CD], p[P_CF], cur
                 )
@@ -343,32 +376,51 @@ def applied_forces(q, u, params):
 
 
 @kernel
+def _kane_accelerations(q, u, forces, desc, solver):
+    """du/dt of the core by the selected solver (P_SOLVER): the O(N) recursion or the assembled
+    Kane equations A du/dt = f; both solve the same equations."""
+    if solver == SOLVER_KANE:
+        return accelerations_assembled(q, u, forces, desc)
+    return accelerations(q, u, forces, desc)
+
+
+@kernel
 def solve_with_friction(q, u, params):
     """Accelerations with the anchor's Coulomb friction of eqs. (36)-(37).
 
     The normal force ``N`` of eq. (37) is the seabed's reaction on the anchor, i.e. the
     reaction of its locked vertical coordinate (row 0 of the core's joint forces), which
-    contains the chain's pull ``F_2^H sin(beta_2)`` at the same instant. Accelerations and
-    reactions are affine in the friction force ``f``, so ``f = -mu s N(f)`` (``s``: the
-    regularised sign of the anchor's velocity) is solved exactly from two evaluations
-    (seed 004 takes the previous step's tension instead).
+    contains the chain's pull ``F_2^H sin(beta_2)`` at the same instant. The friction is the
+    generic regularised Coulomb law of :mod:`mineburial.kernels.seabed_contact`,
+    ``f = -mu N s``, ``s = v / sqrt(v^2 + v_reg^2)`` (``v``: the anchor's velocity,
+    ``v_reg``: anchor.friction_velocity_scale). Accelerations and reactions are affine in
+    ``f``, so ``f = -mu s N(f)`` is solved exactly from two evaluations (seed 004 takes the
+    previous step's tension instead).
 
-    Returns ``(du, forces, hf, normal, friction, water_power, eg, es, ee, pos, vel)``.
+    Where eq. (37) has no solution at the instant (``1 + mu s dN/df <= 0``) or the solved
+    normal reaction is not positive (the chain would lift the anchor, which the model's
+    locked anchor height cannot follow), the friction is set to zero and the instant is
+    counted in ``params[7]`` (CONTACT_UNSOLVABLE, CONTACT_LIFTED); the run reports the counts.
+
+    Returns ``(du, forces, hf, normal, friction, water_power, eg, es, ee, pos, vel, code)``.
     """
     desc = params[0]
     p = params[1]
+    counts = params[7]
+    solver = p[P_SOLVER]
     forces, pos, vel, power, eg, es, ee = applied_forces(q, u, params)
-    du = accelerations(q, u, forces, desc)
+    du = _kane_accelerations(q, u, forces, desc, solver)
     hf = joint_forces(q, u, du, forces, desc)
     normal = hf[0, 1]
     friction = 0.0
+    code = CONTACT_ON_SEABED
     if p[P_FRICTION] != 0.0 and p[P_MU] > 0.0:
-        s = regularised_sign(vel[0, 0], p[P_VSCALE])
+        s = -regularised_friction(vel[0, 0], 1.0, 1.0, p[P_VSCALE])
         if s != 0.0:
             # a probe force of the friction's own size keeps the differences well conditioned
             probe = max(1.0, p[P_MU] * abs(normal))
             forces[0, 0] -= probe * s
-            du1 = accelerations(q, u, forces, desc)
+            du1 = _kane_accelerations(q, u, forces, desc, solver)
             hf1 = joint_forces(q, u, du1, forces, desc)
             forces[0, 0] += probe * s
             dn = (hf1[0, 1] - normal) / (-probe * s)  # dN/df
@@ -377,6 +429,10 @@ def solve_with_friction(q, u, params):
                 f = -p[P_MU] * s * normal / denom
                 if normal + f * dn > 0.0:
                     friction = f
+                else:
+                    code = CONTACT_LIFTED
+            else:
+                code = CONTACT_UNSOLVABLE
             if friction != 0.0:
                 w = friction / (-probe * s)
                 for i in range(du.shape[0]):
@@ -386,7 +442,10 @@ def solve_with_friction(q, u, params):
                         hf[k, i] += w * (hf1[k, i] - hf[k, i])
                 forces[0, 0] += friction
             normal = normal + friction * dn
-    return du, forces, hf, normal, friction, power, eg, es, ee, pos, vel
+    if code == CONTACT_ON_SEABED and normal <= 0.0:
+        code = CONTACT_LIFTED
+    counts[code] += 1
+    return du, forces, hf, normal, friction, power, eg, es, ee, pos, vel, code
 
 
 @kernel
@@ -397,7 +456,7 @@ def restraint_rhs(t, y, params, dy):
     nd = (y.shape[0] - 2) // 2
     q = y[:nd]
     u = y[nd : 2 * nd]
-    du, forces, hf, normal, friction, power, eg, es, ee, pos, vel = solve_with_friction(q, u, params)
+    du, forces, hf, normal, friction, power, eg, es, ee, pos, vel, code = solve_with_friction(q, u, params)
     for i in range(nd):
         dy[i] = u[i]
         dy[nd + i] = du[i]
@@ -417,18 +476,22 @@ def restraint_event(t, y, params):
 @kernel
 def record_diagnostics(states, params):
     """Per recorded state: centroid poses and velocities, pin forces, the anchor's normal
-    and friction forces, and the energy terms (E^K, E^G, E^E, E^S)."""
+    and friction forces, the energy terms (E^K, E^G, E^E, E^S) and the anchor's contact code
+    (CONTACT_*). Adds to the contact counters of params[7]; reset them after a run's counts
+    are read."""
     n_rec = states.shape[0]
     nd = (states.shape[1] - 2) // 2
     n = params[2].shape[0]
     pos_all = np.empty((n_rec, n, 3))
     vel_all = np.empty((n_rec, n, 3))
     hf_all = np.empty((n_rec, n, 2))
-    scal = np.empty((n_rec, 6))
+    scal = np.empty((n_rec, 7))
     for r in range(n_rec):
         q = states[r, :nd].copy()
         u = states[r, nd : 2 * nd].copy()
-        du, forces, hf, normal, friction, power, eg, es, ee, pos, vel = solve_with_friction(q, u, params)
+        du, forces, hf, normal, friction, power, eg, es, ee, pos, vel, code = solve_with_friction(
+            q, u, params
+        )
         pos_all[r] = pos
         vel_all[r] = vel
         hf_all[r] = hf
@@ -438,4 +501,5 @@ def record_diagnostics(states, params):
         scal[r, 3] = es
         scal[r, 4] = normal
         scal[r, 5] = friction
+        scal[r, 6] = code
     return pos_all, vel_all, hf_all, scal
