@@ -129,19 +129,17 @@ def error_norm(y, ynew, err, groups, rtol, atol):
 
 
 @small_kernel
-def next_step_size(h, err, err_prev, accepted_before):
-    """Step-size factor of the PI controller: returns (h_next, accept, err_memory).
-
-    Accepted (err <= 1): h (err^-0.17 err_prev^0.04) * 0.9, within [0.2, 10] h.
-    Rejected: h err^-0.17 * 0.9, at least 0.2 h, and never more than h.
-    ``accepted_before``: False right after a rejection (then no growth).
-    """
+def next_step_size_order(h, err, err_prev, accepted_before, k):
+    """:func:`next_step_size` for an error estimate of local order ``k`` (err ~ h^k):
+    the PI exponents are 1/k - 0.75 beta and beta (Hairer & Wanner, *Solving ODEs II*,
+    sec. IV.2, after Gustafsson 1991). ``k = 5`` is Dormand-Prince 5(4), ``k = 3`` the
+    Rosenbrock-W pair ROS34PW2 3(2)."""
     if not (err == err):
         return h * MAX_SHRINK, False, err_prev
     e = max(err, 1e-12)
-    fac11 = e ** (0.2 - 0.75 * BETA)
+    fac11 = e ** (1.0 / k - 0.75 * BETA)
     if err <= 1.0:
-        fac = fac11 / err_prev**BETA / SAFETY  # h_new = h / fac
+        fac = fac11 / err_prev**BETA / SAFETY
         fac = min(1.0 / MAX_SHRINK, max(1.0 / MAX_GROWTH, fac))
         hn = h / fac
         if not accepted_before:
@@ -149,6 +147,18 @@ def next_step_size(h, err, err_prev, accepted_before):
         return hn, True, max(err, ERR_FLOOR)
     fac = min(1.0 / MAX_SHRINK, fac11 / SAFETY)
     return h / fac, False, err_prev
+
+
+@small_kernel
+def next_step_size(h, err, err_prev, accepted_before):
+    """Step-size factor of the PI controller for Dormand-Prince 5(4) (error order 5):
+    returns (h_next, accept, err_memory).
+
+    Accepted (err <= 1): h (err^-0.17 err_prev^0.04) * 0.9, within [0.2, 10] h.
+    Rejected: h err^-0.17 * 0.9, at least 0.2 h, and never more than h.
+    ``accepted_before``: False right after a rejection (then no growth).
+    """
+    return next_step_size_order(h, err, err_prev, accepted_before, 5.0)
 
 
 @small_kernel
@@ -225,27 +235,6 @@ def illinois_update(a, ga, b, gb, t, gt, side):
             gb *= 0.5
         side = 1
     return a, ga, b, gb, side
-
-
-@small_kernel
-def next_step_size_order(h, err, err_prev, accepted_before, k):
-    """:func:`next_step_size` for an error estimate of local order ``k`` (err ~ h^k):
-    the PI exponents are 1/k - 0.75 beta and beta (Hairer & Wanner, *Solving ODEs II*,
-    sec. IV.2, after Gustafsson 1991). ``k = 5`` is Dormand-Prince 5(4), ``k = 3`` the
-    Rosenbrock-W pair ROS34PW2 3(2)."""
-    if not (err == err):
-        return h * MAX_SHRINK, False, err_prev
-    e = max(err, 1e-12)
-    fac11 = e ** (1.0 / k - 0.75 * BETA)
-    if err <= 1.0:
-        fac = fac11 / err_prev**BETA / SAFETY
-        fac = min(1.0 / MAX_SHRINK, max(1.0 / MAX_GROWTH, fac))
-        hn = h / fac
-        if not accepted_before:
-            hn = min(hn, h)
-        return hn, True, max(err, ERR_FLOOR)
-    fac = min(1.0 / MAX_SHRINK, fac11 / SAFETY)
-    return h / fac, False, err_prev
 
 
 # --- ROS34PW2: a Rosenbrock-W method for the stiff phases ----------------------------

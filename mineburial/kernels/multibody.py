@@ -295,6 +295,23 @@ def _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm):
 
 
 @kernel
+def _state_terms(q, u, desc):
+    """The kinematics (:func:`_kinematics`) and inertia terms (:func:`_inertia_terms`) of every
+    body at state (q, u): (pos, vel, lever, rel, M_k, bias, g_k)."""
+    n = desc[0].shape[0]
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
+    _kinematics(q, u, desc, pos, vel, lever, rel)
+    mi = np.empty((n, 3, 3))
+    bias = np.empty((n, 2))
+    gterm = np.empty((n, 3))
+    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    return pos, vel, lever, rel, mi, bias, gterm
+
+
+@kernel
 def _cholesky_solve(a, b, x):
     """Solve a x = b for symmetric positive definite a (overwritten by its Cholesky factor); False if a
     pivot is not positive."""
@@ -336,15 +353,7 @@ def generalised_mass_and_force(q, u, forces, desc):
     parent = desc[0]
     n = parent.shape[0]
     root_dof, angle_dof, nd = dof_map(desc)
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
-    mi = np.empty((n, 3, 3))
-    bias = np.empty((n, 2))
-    gterm = np.empty((n, 3))
-    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    pos, vel, lever, rel, mi, bias, gterm = _state_terms(q, u, desc)
     a = np.zeros((nd, nd))
     f = np.zeros(nd)
     # h_k = F_k - M_k b_k - g_k, and its translational subtree sums
@@ -485,15 +494,7 @@ def accelerations(q, u, forces, desc):
     parent = desc[0]
     n = parent.shape[0]
     root_dof, angle_dof, nd = dof_map(desc)
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
-    ia = np.empty((n, 3, 3))
-    bias = np.empty((n, 2))
-    gterm = np.empty((n, 3))
-    _inertia_terms(desc, pos, vel, lever, rel, ia, bias, gterm)
+    pos, vel, lever, rel, ia, bias, gterm = _state_terms(q, u, desc)
     pa = np.empty((n, 3))
     for k in range(n):
         for i in range(3):
@@ -606,15 +607,7 @@ def joint_forces(q, u, du, forces, desc):
     free root). Smooth pins carry no moment."""
     parent = desc[0]
     n = parent.shape[0]
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
-    mi = np.empty((n, 3, 3))
-    bias = np.empty((n, 2))
-    gterm = np.empty((n, 3))
-    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
+    pos, vel, lever, rel, mi, bias, gterm = _state_terms(q, u, desc)
     acc = body_accelerations(q, u, du, desc)
     hf = np.empty((n, 2))
     for k in range(n):
@@ -634,18 +627,7 @@ def inertia_velocity_terms(q, u, desc):
     rotating anisotropic (added) mass that the core includes (zero for a rigid body's diag(m, m, I)).
     A system that wants the Morison-type added-mass force of seed 004 eq. (46), -m_a n (n . a) with
     nothing else, adds these to its applied forces (docs/multibody.md); energy is then not conserved."""
-    parent = desc[0]
-    n = parent.shape[0]
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
-    mi = np.empty((n, 3, 3))
-    bias = np.empty((n, 2))
-    gterm = np.empty((n, 3))
-    _inertia_terms(desc, pos, vel, lever, rel, mi, bias, gterm)
-    return gterm
+    return _state_terms(q, u, desc)[6]
 
 
 @kernel
