@@ -103,6 +103,71 @@ def counts(status):
     return ", ".join(f"{S.NAMES[k]} {int((status == k).sum())}" for k in np.unique(status))
 
 
+def _series(name):
+    """The method a work-precision point belongs to (points of one method are joined)."""
+    if name.startswith("rk4 dt="):
+        return "rk4 (" + name.rsplit(" ", 1)[1] + " rule)"
+    if name.startswith("dopri5_ros34pw2 rtol="):
+        return "dopri5_ros34pw2 (" + name.rsplit(" ", 1)[1] + " rule)"
+    if name.startswith("dopri5 rtol="):
+        return "dopri5 (" + name.rsplit(" ", 1)[1] + " rule)"
+    return name
+
+
+def plot_work_precision(rows, png):
+    """Error (p95 of the penetration difference) against CPU time per drop, one panel per family,
+    one line per method through its step sizes or tolerances."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fams = sorted({r[0] for r in rows})
+    fig, axes = plt.subplots(1, len(fams), figsize=(5.2 * len(fams), 4.6), squeeze=False)
+    styles = {}
+    for ax, fam in zip(axes[0], fams):
+        series = {}
+        for r in rows:
+            if r[0] == fam and r[1] not in ("truth", "converged"):
+                series.setdefault(_series(r[1]), []).append((r[3], max(r[4], 1e-3)))
+        for name, pts in series.items():
+            pts.sort()
+            if name not in styles:
+                styles[name] = dict(marker="os^vDP*X"[len(styles) % 8], color=f"C{len(styles) % 10}")
+            ax.loglog(*zip(*pts), ls="-" if len(pts) > 1 else "none", label=name, **styles[name])
+        ax.set_xlabel("CPU time per drop [ms]")
+        ax.set_ylabel("p95 penetration error [%]")
+        ax.set_title(f"{fam}: error vs RK4 0.25 ms + reference rule\n(< 5 mm drawn at 1e-3 %)", fontsize=9)
+        ax.grid(True, which="major", alpha=0.3)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    for ax in axes[0][1:]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.14, 1, 1))
+    fig.savefig(png, dpi=120)
+    print(f"wrote {png}")
+
+
+def rows_from_table(path):
+    """The (family, path, drops/s, ms/drop, p95, max, class, dP) rows of a saved run's table."""
+    rows, fam = [], None
+    for line in pathlib.Path(path).read_text().splitlines():
+        if line.startswith("== "):
+            fam = line[3:].split(":")[0]
+        elif fam and line and not line.startswith(("path", "#", "speed-up", "machine", "wrote")):
+            head, _, _ = line.partition("|")
+            parts = head.split()
+            try:
+                nums = [float(x) for x in parts[-6:]]
+            except ValueError:
+                continue
+            rows.append((fam, " ".join(parts[:-6]), *nums))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-n", type=int, default=200, help="drops per family")
@@ -114,12 +179,16 @@ def main():
         help="paths to time besides the two references (default: default,reference)",
     )
     ap.add_argument("--png", default="work_precision.png")
+    ap.add_argument("--plot-from", default=None, help="redraw the PNG from a saved --work-precision table")
     ap.add_argument(
         "--no-converged",
         action="store_true",
         help="skip the dopri5 rtol 1e-8 reference (slow on the small-cylinder family's delta law)",
     )
     args = ap.parse_args()
+    if args.plot_from:
+        plot_work_precision(rows_from_table(args.plot_from), args.png)
+        return
     import numba
 
     from mineburial.ensembles.engine import chunk_inputs, load_ensemble
@@ -180,25 +249,7 @@ def main():
             r_ref = args.n / results["reference"][0]
             print(f"speed-up default / reference (RK4 1 ms, reference quadrature): {r_def / r_ref:.1f}x")
     if args.work_precision:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fams = sorted({r[0] for r in rows})
-        fig, axes = plt.subplots(1, len(fams), figsize=(5 * len(fams), 4), squeeze=False)
-        for ax, fam in zip(axes[0], fams):
-            for r in rows:
-                if r[0] != fam or r[1] in ("truth", "converged"):
-                    continue
-                ax.loglog(max(r[3], 1e-3), max(r[4], 1e-3), "o")
-                ax.annotate(r[1], (max(r[3], 1e-3), max(r[4], 1e-3)), fontsize=6)
-            ax.set_xlabel("CPU time per drop [ms]")
-            ax.set_ylabel("p95 penetration error vs RK4 0.25 ms [%] (< 5 mm plotted at 1e-3)")
-            ax.set_title(fam)
-        fig.tight_layout()
-        fig.savefig(args.png, dpi=120)
-        print(f"wrote {args.png}")
+        plot_work_precision(rows, args.png)
 
 
 if __name__ == "__main__":
