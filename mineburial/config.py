@@ -394,7 +394,7 @@ _FIELD_LIST = [
         0.1,
         "relative tolerance of the adaptive integrators (dopri5, dopri5_ros34pw2), per step on "
         "position, velocity, attitude and angular velocity",
-        1e-4,
+        3e-4,
         incl=_OPEN_LOW,
     ),
     _spec(
@@ -403,7 +403,7 @@ _FIELD_LIST = [
         0,
         1.0,
         "absolute tolerance of the adaptive integrators, in m, m s-1, 1 (quaternion) and rad s-1",
-        1e-5,
+        3e-5,
         incl=_OPEN_LOW,
     ),
     _spec(
@@ -1171,8 +1171,8 @@ class Numerics:
     rest_spin: float = 5e-2
     drag: bool = True
     munk_factor: float = 0.0
-    rtol: float = 1e-4
-    atol: float = 1e-5
+    rtol: float = 3e-4
+    atol: float = 3e-5
     sediment_quadrature: str = "fast"
     slip_speed: float = 5e-3
     switch_speed: float = 5e-3

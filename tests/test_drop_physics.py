@@ -158,7 +158,7 @@ def test_impact_values_of_a_vertical_drop_through_air():
     # to the integrator's tolerance, not 1e-10: the flat nose meets the seabed over its whole
     # face, the force jumps there, and the step retaken to end 1e-6 of a step past the
     # crossing feels it through its last stages; the error control bounds what it leaves in
-    # the speed (measured: 1.4e-8 relative at rtol 1e-5, 1.9e-4 at the default 1e-4)
+    # the speed (measured: 1.4e-8 relative at rtol 1e-5, 1.9e-4 at rtol 1e-4)
     rtol = Numerics().rtol
     assert s["impact_speed"] == pytest.approx(math.sqrt(2 * G * (h + depth)), rel=3 * rtol)
     assert s["impact_angle"] == pytest.approx(90.0, abs=1e-9)
