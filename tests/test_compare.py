@@ -60,8 +60,10 @@ def test_paired_difference_is_the_mean_of_per_drop_differences(resistances):
 
 def test_model_variant_switches_the_model_defaults_only():
     ds = run_comparison(short_default(n=4), "model", ["mineburial", "impact35"], seed=2)
+    # the model defaults: resistance, rate law and integrator (impact35 keeps dopri5)
     assert set(ds.changed_parameters.values[1].split()) == {
         "numerics.model",
+        "numerics.integrator",
         "sediment.resistance",
         "sediment.rate_law",
     }
