@@ -226,6 +226,9 @@ def test_model_dependent_defaults():
         "impact35",
         "dopri5",
     )
+    assert (s.numerics.rtol, s.numerics.atol) == (1e-5, 1e-6)
+    mb = Scenario.from_dict(base()).numerics
+    assert (mb.rtol, mb.atol) == (3e-4, 3e-5)
     d["sediment"]["resistance"] = "bearing"  # explicit choices win
     d["numerics"]["integrator"] = "rk4"
     s = Scenario.from_dict(d)
@@ -610,8 +613,9 @@ def test_to_params_puts_each_value_in_its_named_slot():
     )
     expected.update(
         {
-            "numerics.rtol": 3e-4,
-            "numerics.atol": 3e-5,
+            # full() is an impact35 scenario: its model's tolerances
+            "numerics.rtol": 1e-5,
+            "numerics.atol": 1e-6,
             "numerics.slip_speed": 5e-3,
             "numerics.switch_speed": 5e-3,
             "numerics.sediment_quadrature": 0,
