@@ -41,7 +41,7 @@ import numpy as np
 from numba.core import types
 from numba.extending import overload
 
-from mineburial._numba import JIT_OPTIONS, kernel
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import status as st
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
@@ -166,7 +166,7 @@ MAX_STEP = 0.5  # s: largest adaptive step (events are detected per step)
 MIN_STEP = 1e-12  # s: an adaptive step below this is a numerical failure
 
 
-@kernel
+@small_kernel
 def initial_state(p, y):
     y[0] = p[P_X0]
     y[1] = p[P_Y0]
@@ -186,7 +186,7 @@ def initial_state(p, y):
     y[I_WORK_SEDIMENT] = 0.0
 
 
-@kernel
+@small_kernel
 def _normalize_attitude(y):
     q0, q1, q2, q3 = normalize_quaternion(y[6], y[7], y[8], y[9])
     y[6] = q0
@@ -212,7 +212,7 @@ def event_values(y, p, g):
     g[4] = rest_measure(y, p)
 
 
-@kernel
+@small_kernel
 def rest_measure(y, p):
     """max(speed / rest_speed, spin / rest_spin) - 1: negative when the mine is slow
     enough to be at rest by seed 000 eq. (89) (epsilon_1 on the speed, as a speed)."""
@@ -344,7 +344,7 @@ def ros34pw2_step(
     return True
 
 
-@kernel
+@small_kernel
 def _crossed(g0, g1):
     return (g0 > 0.0 and g1 <= 0.0) or (g0 <= 0.0 and g1 > 0.0)
 

@@ -39,7 +39,7 @@ Fixed node counts, no state-dependent refinement, no allocation.
 
 import math
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.sediment.laws import _traction, add_point_traction, add_weighted
@@ -57,7 +57,7 @@ _TWO_PI = 2.0 * math.pi
 _HALF_PI = 0.5 * math.pi
 
 
-@kernel
+@small_kernel
 def _clip1(r):
     """r clipped to [-1, 1] (NaN -> 1)."""
     if r > 1.0:
@@ -69,7 +69,7 @@ def _clip1(r):
     return r
 
 
-@kernel
+@small_kernel
 def _local(t, t0, amax):
     """Angle t as an offset from t0 in [-pi, pi], clamped to [-amax, amax]."""
     p = t - t0
@@ -81,7 +81,7 @@ def _local(t, t0, amax):
     return p
 
 
-@kernel
+@small_kernel
 def _harmonic_roots(k, a, b):
     """Roots of k + a cos t + b sin t = 0 as (psi - w, psi + w), psi = atan2(b, a),
     w = arccos(clip(-k / amp)): when there is no root, the double root where the
@@ -95,7 +95,7 @@ def _harmonic_roots(k, a, b):
     return psi - w, psi + w
 
 
-@kernel
+@small_kernel
 def _next_break(bps, cur, end):
     """Smallest breakpoint above cur, at most end."""
     nxt = end

@@ -46,7 +46,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.layout import (
     P_GRAVITY,
     P_RHO_WATER,
@@ -361,7 +361,7 @@ def _law_properties(zeta, law, bank):
     )
 
 
-@kernel
+@small_kernel
 def add_point_traction(acc, wgt, x, y, z, g1, g2, g3):
     """The accumulator ``acc`` = (F1, F2, F3, M1, M2, M3) plus ``wgt`` times the traction
     (g1, g2, g3) at body point (x, y, z) and its moment r x g about the COM (body frame)."""
@@ -376,7 +376,7 @@ def add_point_traction(acc, wgt, x, y, z, g1, g2, g3):
     )
 
 
-@kernel
+@small_kernel
 def add_weighted(acc, wgt, part):
     """The 6-tuple ``acc`` plus ``wgt`` times the 6-tuple ``part`` (a line's force and torque)."""
     return (
