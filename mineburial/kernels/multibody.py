@@ -150,15 +150,19 @@ def _inertial_mass(mb, th, out):
 
 
 @kernel
-def _kinematics(q, u, desc, pos, vel, lever, rel):
-    """Centroid poses and velocities of every body, and per body k >= 1 the inertial vectors
-    ``lever[k]`` = R_j (c_k - d_j) (parent's pin to k's pin; d_0 = 0: the root turns about its centroid)
-    and ``rel[k]`` = -R_k d_k (k's pin to k's centroid); seed 004 eq. (13) with s = 0."""
+def _kinematics(q, u, desc):
+    """(pos, vel, lever, rel): centroid poses and velocities of every body, and per body k >= 1 the
+    inertial vectors ``lever[k]`` = R_j (c_k - d_j) (parent's pin to k's pin; d_0 = 0: the root turns
+    about its centroid) and ``rel[k]`` = -R_k d_k (k's pin to k's centroid); seed 004 eq. (13) with s = 0."""
     parent = desc[0]
     jp = desc[1]
     jb = desc[2]
     root_pose = desc[5]
     n = parent.shape[0]
+    pos = np.empty((n, 3))
+    vel = np.empty((n, 3))
+    lever = np.empty((n, 2))
+    rel = np.empty((n, 2))
     root_dof, angle_dof, nd = dof_map(desc)
     for c in range(3):
         d = root_dof[c]
@@ -191,18 +195,14 @@ def _kinematics(q, u, desc, pos, vel, lever, rel):
         # lever from the parent's pin (its centroid for the root): rc - R_j d_j = rc + rel[j]
         lever[k, 0] = rcx + rel[j, 0]
         lever[k, 1] = rcz + rel[j, 1]
+    return pos, vel, lever, rel
 
 
 @kernel
 def body_states(q, u, desc):
     """Kinematics of every centroid: pos[N, 3] = (x, z, th), vel[N, 3] = (vx, vz, om)
     (seed 004 eqs. (13)-(14))."""
-    n = desc[0].shape[0]
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
+    pos, vel, _, _ = _kinematics(q, u, desc)
     return pos, vel
 
 
@@ -216,12 +216,8 @@ def partial_velocities(q, desc):
     parent = desc[0]
     n = parent.shape[0]
     root_dof, angle_dof, nd = dof_map(desc)
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
     u = np.zeros(nd)
-    _kinematics(q, u, desc, pos, vel, lever, rel)
+    pos, vel, lever, rel = _kinematics(q, u, desc)
     v = np.zeros((n, 3, nd))
     for c in range(3):
         if root_dof[c] >= 0:
@@ -299,11 +295,7 @@ def _state_terms(q, u, desc):
     """The kinematics (:func:`_kinematics`) and inertia terms (:func:`_inertia_terms`) of every
     body at state (q, u): (pos, vel, lever, rel, M_k, bias, g_k)."""
     n = desc[0].shape[0]
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
+    pos, vel, lever, rel = _kinematics(q, u, desc)
     mi = np.empty((n, 3, 3))
     bias = np.empty((n, 2))
     gterm = np.empty((n, 3))
@@ -576,11 +568,7 @@ def body_accelerations(q, u, du, desc):
     parent = desc[0]
     n = parent.shape[0]
     root_dof, angle_dof, nd = dof_map(desc)
-    pos = np.empty((n, 3))
-    vel = np.empty((n, 3))
-    lever = np.empty((n, 2))
-    rel = np.empty((n, 2))
-    _kinematics(q, u, desc, pos, vel, lever, rel)
+    pos, vel, lever, rel = _kinematics(q, u, desc)
     acc = np.empty((n, 3))
     for c in range(3):
         acc[0, c] = du[root_dof[c]] if root_dof[c] >= 0 else 0.0
