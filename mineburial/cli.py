@@ -60,7 +60,9 @@ def _cmd_drop(args):
     scenario = Scenario.from_toml(args.scenario)
     _check_drop_output(Path(args.output), Path(args.scenario))
     if args.record_interval is not None:
-        trajectory_rows(args.record_interval, scenario.numerics.t_max, "--record-interval")
+        trajectory_rows(
+            args.record_interval, scenario.numerics.t_max_fall + scenario.numerics.t_max, "--record-interval"
+        )
     ds = simulate_drop(scenario, record_interval=args.record_interval, forces=args.forces)
     write_netcdf(ds, args.output)
     print(

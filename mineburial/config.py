@@ -362,8 +362,25 @@ _FIELD_LIST = [
     ),
     _spec("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (~0.5)", 0.5, incl=_OPEN_LOW),
     # --- numerics -------------------------------------------------------------
-    _spec("numerics.dt", "s", 0, 1, "time step; also dt <= t_max", 1e-3, incl=_OPEN_LOW),
-    _spec("numerics.t_max", "s", 0, 1e6, "simulated time limit", 60.0, incl=_OPEN_LOW),
+    _spec("numerics.dt", "s", 0, 1, "time step; also dt <= t_max and dt <= t_max_fall", 1e-3, incl=_OPEN_LOW),
+    _spec(
+        "numerics.t_max",
+        "s",
+        0,
+        1e6,
+        "limit on the simulated time after the mine first touches the seabed (time_limit)",
+        60.0,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "numerics.t_max_fall",
+        "s",
+        0,
+        1e6,
+        "limit on the simulated time of the fall, from release to the first seabed contact",
+        600.0,
+        incl=_OPEN_LOW,
+    ),
     _spec(
         "numerics.rest_speed",
         "m s-1",
@@ -456,7 +473,7 @@ def _spec_for(path: str) -> FieldSpec:
 def check_range(path: str, values) -> np.ndarray:
     """Boolean mask of ``values`` (any shape) that are finite and inside the static range
     of field ``path`` (:data:`FIELDS`; aliases accepted). Cross-field constraints
-    (|chi| < L/2, J1 <= 2 J2, z > -H, dt <= t_max) are checked by :func:`check_params`."""
+    (|chi| < L/2, J1 <= 2 J2, z > -H, dt <= t_max and t_max_fall) are checked by :func:`check_params`."""
     return _spec_for(path).contains(values)
 
 
@@ -1178,12 +1195,18 @@ class Numerics:
     are the tolerances of the adaptive ones.
     ``sediment_quadrature``: ``fast`` (fixed-cost rule, default) or ``reference``
     (the accurate adaptive quadrature).
+    The time limits are two, one for each phase of a drop: ``t_max_fall`` bounds the fall
+    through air and water (release to the first seabed contact), ``t_max`` the time after
+    that contact. A fall ends by itself at the seabed (or when a mine lighter than the water
+    floats), however slowly the mine sinks, so the fall has its own, generous limit, and
+    ``t_max`` guards only the motion in the sediment (docs/design.md, "The end of a drop").
     """
 
     model: str = "mineburial"
     integrator: str | None = None
     dt: float = 1e-3
     t_max: float = 60.0
+    t_max_fall: float = 600.0
     rest_speed: float = 1e-2
     rest_spin: float = 5e-2
     drag: bool = True
@@ -1204,6 +1227,7 @@ class Numerics:
         for f in (
             "dt",
             "t_max",
+            "t_max_fall",
             "rest_speed",
             "rest_spin",
             "munk_factor",
@@ -1213,15 +1237,16 @@ class Numerics:
             "switch_speed",
         ):
             _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
-        if not self.dt <= self.t_max:
-            raise _range_error(
-                "numerics.dt",
-                "numerics.dt",
-                self.dt,
-                FIELDS["numerics.dt"],
-                high=min(1.0, self.t_max),
-                note="dt <= numerics.t_max",
-            )
+        for limit in ("t_max", "t_max_fall"):
+            if not self.dt <= getattr(self, limit):
+                raise _range_error(
+                    "numerics.dt",
+                    "numerics.dt",
+                    self.dt,
+                    FIELDS["numerics.dt"],
+                    high=min(1.0, getattr(self, limit)),
+                    note=f"dt <= numerics.{limit}",
+                )
         if not isinstance(self.drag, (bool, np.bool_)):
             raise ScenarioError(f"numerics.drag = {self.drag!r} must be true or false")
         _set(self, "drag", bool(self.drag))
@@ -1503,6 +1528,7 @@ class Scenario:
             "numerics.integrator": layout.INTEGRATOR_NAMES.index(n.integrator),
             "numerics.dt": n.dt,
             "numerics.t_max": n.t_max,
+            "numerics.t_max_fall": n.t_max_fall,
             "numerics.rest_speed": n.rest_speed,
             "numerics.rest_spin": n.rest_spin,
             "numerics.drag": float(n.drag),
@@ -1690,13 +1716,8 @@ def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
             np.abs(qn - 1) <= 1e-9,
         )
     )
-    checks.append(
-        (
-            "numerics.dt <= numerics.t_max",
-            ("numerics.dt", "numerics.t_max"),
-            col["numerics.dt"] <= col["numerics.t_max"],
-        )
-    )
+    for limit in ("numerics.t_max", "numerics.t_max_fall"):
+        checks.append((f"numerics.dt <= {limit}", ("numerics.dt", limit), col["numerics.dt"] <= col[limit]))
     return checks
 
 
@@ -1707,7 +1728,7 @@ def check_params(
     True where every slot is inside its :data:`FIELDS` range, codes are valid, bank
     indices are in range (when the bank sizes are given) and the cross-field constraints
     hold (|chi| < L/2, J1 <= 2 J2, z0 > -H, the whole mine above the seabed unless
-    ``embedded`` (``release.embedded``), unit quaternion, dt <= t_max). The ensemble
+    ``embedded`` (``release.embedded``), unit quaternion, dt <= t_max and t_max_fall). The ensemble
     marks the failing drops ``invalid_input`` (kernels/status.py); :func:`explain_params`
     says why."""
     checks = _param_checks(P, n_sediment, n_current, embedded)

@@ -58,7 +58,8 @@ def _memory_bytes() -> int | None:
 
 
 def trajectory_rows(record_interval, t_max: float, name: str = "record_interval") -> int:
-    """Rows of the trajectory recorded every ``record_interval`` seconds over ``t_max``.
+    """Rows of the trajectory recorded every ``record_interval`` seconds over ``t_max``
+    seconds of simulated time (a drop runs at most ``numerics.t_max_fall + numerics.t_max``).
 
     Raises :class:`~mineburial.config.ScenarioError` naming ``name`` (the argument or
     command-line option) when the interval is not a finite number > 0, or when the
@@ -80,11 +81,18 @@ def trajectory_rows(record_interval, t_max: float, name: str = "record_interval"
     memory = _memory_bytes()
     if not math.isfinite(need) or (memory is not None and need > memory / 2):
         raise ScenarioError(
-            f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over numerics.t_max "
-            f"= {t_max:g} s, {need / 2**30:.3g} GiB, more than half of this machine's "
+            f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over "
+            f"numerics.t_max_fall + numerics.t_max = {t_max:g} s, {need / 2**30:.3g} GiB, more "
+            f"than half of this machine's "
             f"memory ({(memory or 0) / 2**30:.3g} GiB): give a larger {name}"
         )
     return math.ceil(t_max / dt_rec) + 3
+
+
+def longest_drop(params) -> float:
+    """The longest simulated time of a drop: its fall limit plus the limit after the first
+    seabed contact (``numerics.t_max_fall + numerics.t_max``)."""
+    return float(params[layout.P_TMAX_FALL]) + float(params[layout.P_TMAX])
 
 
 def run_params(params, sediment_bank, current_bank, record_interval=None):
@@ -96,7 +104,7 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
         dt_rec = 1.0
     else:
         dt_rec = float(record_interval)
-        traj = np.empty((trajectory_rows(dt_rec, float(params[layout.P_TMAX])), N_TRAJ))
+        traj = np.empty((trajectory_rows(dt_rec, longest_drop(params)), N_TRAJ))
     code, rows = run_drop(
         params,
         np.ascontiguousarray(sediment_bank, dtype=np.float64),
@@ -106,7 +114,8 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
         dt_rec,
         reference_paths(params),
     )
-    return int(code), summary, (traj[:rows] if record_interval is not None else None)
+    # a copy: the buffer is sized for the longest drop, most of it unused
+    return int(code), summary, (traj[:rows].copy() if record_interval is not None else None)
 
 
 def simulate_drop(

@@ -23,8 +23,10 @@ BASE = {
     "sediment": {"class": "soft_clay"},
     # the default integrator (dopri5) at its default tolerances (test_water_column.py asks for
     # tight ones), and the reference sediment quadrature (the fast rule is tested against it
-    # in test_sediment_fast.py and test_integrators.py)
-    "numerics": {"dt": 1e-3, "t_max": 5.0, "sediment_quadrature": "reference"},
+    # in test_sediment_fast.py and test_integrators.py); a fall through the 1000 m of water
+    # stops at t_max_fall, 5 s after release, and a drop that reaches a shallower seabed
+    # stops at most t_max = 5 s after its first contact
+    "numerics": {"dt": 1e-3, "t_max": 5.0, "t_max_fall": 5.0, "sediment_quadrature": "reference"},
 }
 
 

@@ -95,6 +95,7 @@ def full() -> dict:
             "integrator": "rk4",
             "dt": 5e-4,
             "t_max": 30.0,
+            "t_max_fall": 120.0,
             "rest_speed": 2e-3,
             "rest_spin": 3e-2,
             "drag": False,
@@ -203,6 +204,7 @@ def test_defaults_are_filled():
     assert s.environment.gravity == 9.81 and s.environment.water_density == 1025.0
     assert s.environment.current.kind == "none"
     assert s.numerics.dt == 1e-3 and s.numerics.t_max == 60.0 and s.numerics.drag is True
+    assert s.numerics.t_max_fall == 600.0
     assert s.sediment.impact_factor == 10.0 and s.sediment.rest_speed == 0.04  # seed 000 (72)
     assert s.sediment.pore_pressure is False
     # catalogue class expanded into its values
@@ -382,6 +384,17 @@ BAD = [
         r"numerics\.dt = 0\.5 s is outside the allowed range \(0, 0\.1\] s "
         r"\(dt <= numerics\.t_max\)",
     ),
+    (
+        "numerics.dt",
+        0.4,
+        r"numerics\.dt = 0\.4 s is outside the allowed range \(0, 0\.2\] s "
+        r"\(dt <= numerics\.t_max_fall\)",
+    ),
+    (
+        "numerics.t_max_fall",
+        0.0,
+        r"numerics\.t_max_fall = 0\.0 s is outside the allowed range \(0, 1e\+06\] s",
+    ),
     ("numerics.rest_spin", -1.0, r"numerics\.rest_spin = -1\.0 rad s-1"),
     ("numerics.drag", "yes", r"numerics\.drag = 'yes' must be true or false"),
 ]
@@ -393,6 +406,8 @@ def test_bad_values_name_path_value_and_range(path, value, match):
     d["mine"]["length"] = 2.0
     if path == "numerics.dt" and value == 0.5:
         d["numerics"] = {"t_max": 0.1}
+    if path == "numerics.dt" and value == 0.4:
+        d["numerics"] = {"t_max_fall": 0.2}
     _set(d, path, value)
     with pytest.raises(ScenarioError, match=match):
         Scenario.from_dict(d)
@@ -713,7 +728,17 @@ def test_fields_table_is_consistent():
     ):
         assert getattr(sed, f) == FIELDS[f"sediment.{f}"].default
     num = Numerics()
-    for f in ("dt", "t_max", "rest_speed", "rest_spin", "rtol", "atol", "slip_speed", "switch_speed"):
+    for f in (
+        "dt",
+        "t_max",
+        "t_max_fall",
+        "rest_speed",
+        "rest_spin",
+        "rtol",
+        "atol",
+        "slip_speed",
+        "switch_speed",
+    ):
         assert getattr(num, f) == FIELDS[f"numerics.{f}"].default
     assert Current().exponent == FIELDS["current.exponent"].default
 

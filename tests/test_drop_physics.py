@@ -53,7 +53,7 @@ def test_broadside_fall_matches_the_ode_of_the_printed_laws(model, added_mass):
         mine={"mass": mass},
         environment={"gravity": G, "water_density": RHO},
         release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-        numerics={"model": model, "integrator": "dopri5", "t_max": 6.0, "rtol": 1e-9, "atol": 1e-12},
+        numerics={"model": model, "integrator": "dopri5", "t_max_fall": 6.0, "rtol": 1e-9, "atol": 1e-12},
     )
     ds = simulate_drop(sc, record_interval=0.05)
     assert ds.attrs["model"] == model
@@ -81,7 +81,7 @@ def test_neutral_mine_relaxes_to_a_uniform_current():
         mine={"mass": mass},
         environment={"water_density": RHO, "current": {"kind": "uniform", "velocity": [0.0, U]}},
         release={"position": [0, 0, -20.0], "pitch_deg": 0.0},
-        numerics={"t_max": 15.0, "rtol": 1e-9, "atol": 1e-12},
+        numerics={"t_max_fall": 15.0, "rtol": 1e-9, "atol": 1e-12},
     )
     ds = simulate_drop(sc, record_interval=0.5)
     cd2 = 0.835 - 0.35 / (L / D)
@@ -104,7 +104,7 @@ def test_heavy_mine_drifts_with_the_current_at_terminal_velocity():
         mine={"mass": 60.0},
         environment={"current": {"kind": "uniform", "velocity": [0.0, U]}},
         release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-        numerics={"t_max": 40.0},
+        numerics={"t_max_fall": 40.0},
     )
     ds = simulate_drop(sc, record_interval=1.0)
     assert abs(float(ds.v[-1]) - U) < 1e-4
@@ -169,12 +169,49 @@ def test_impact_values_of_a_vertical_drop_through_air():
 # the stepper's own ends of a drop
 # ---------------------------------------------------------------------------
 def test_time_limit():
-    sc = make_scenario(release={"position": [0, 0, -5.0]}, numerics={"t_max": 0.7})
+    sc = make_scenario(release={"position": [0, 0, -5.0]}, numerics={"t_max_fall": 0.7})
     ds = simulate_drop(sc, record_interval=0.1)
     assert int(ds.status) == status.TIME_LIMIT and ds.attrs["status"] == "time_limit"
     assert float(ds.total_time) == pytest.approx(0.7, abs=1e-12)
     assert float(ds.time[-1]) == pytest.approx(0.7, abs=1e-12)
     assert math.isnan(float(ds.impact_time))  # it never reached the seabed
+
+
+def test_time_limit_counts_from_the_first_seabed_contact():
+    """numerics.t_max bounds the time after the first seabed contact, not the fall."""
+    sc = make_scenario(environment={"water_depth": 10.0}, numerics={"t_max_fall": 60.0, "t_max": 0.02})
+    code, s = _summary(sc)
+    assert code == status.TIME_LIMIT  # still moving 20 ms after hitting the soft clay at ~4 m/s
+    assert s["impact_time"] > 1.0
+    assert s["total_time"] == pytest.approx(s["impact_time"] + 0.02, abs=1e-12)
+
+
+def test_slow_sinker_falls_longer_than_t_max_and_comes_to_rest():
+    """A mine 3 % heavier than the water it displaces sinks broadside at the terminal
+    velocity of seed 000 eq. (44) (closed form); its fall, ~36 s, is not counted in
+    numerics.t_max (5 s here): it reaches the seabed and comes to rest."""
+    from mineburial.validation.references import terminal_velocity_broadside
+
+    mass = 1.034 * RHO * VOL
+    v_t = terminal_velocity_broadside(mass, L, D, RHO, G, NU)
+    depth = 20.0
+    sc = make_scenario(
+        mine={"mass": mass},
+        environment={"water_depth": depth, "water_density": RHO, "gravity": G},
+        release={"position": [0.0, 0.0, -5.0], "pitch_deg": 0.0},
+        numerics={"t_max_fall": 600.0, "t_max": 5.0},
+    )
+    code, s = _summary(sc)
+    # from rest under a quadratic drag reaching v_t, with the added mass rho V of a
+    # cylinder moving broadside: x(t) = v_t tau ln cosh(t / tau), tau = v_t / g',
+    # g' = g (m - rho V) / (m + rho V) (within 3e-5 of the run; 0.2 % allowed)
+    tau = v_t / (G * (mass - RHO * VOL) / (mass + RHO * VOL))
+    distance = depth - 5.0 - R  # from the release to the contact of the lowest line
+    fall = tau * math.acosh(math.exp(distance / (v_t * tau)))
+    assert fall > 30.0
+    assert code == status.AT_REST
+    assert s["impact_time"] == pytest.approx(fall, rel=0.002)
+    assert s["total_time"] < s["impact_time"] + 5.0
 
 
 @pytest.mark.parametrize(
@@ -190,7 +227,7 @@ def test_left_domain(velocity, gravity, t_exit):
     sc = make_scenario(
         environment={"air_density": 0.0, "water_density": 0.0, "gravity": gravity, "water_depth": 100.0},
         release={"position": [0.0, 0.0, 10.0], "velocity": list(velocity)},
-        numerics={"t_max": 1000.0},
+        numerics={"t_max_fall": 1000.0},
     )
     code, s = _summary(sc)
     assert code == status.LEFT_DOMAIN
@@ -203,7 +240,7 @@ def test_left_domain(velocity, gravity, t_exit):
 def test_numerical_failure(integrator, slot, value):
     """Non-finite physics (inputs that skip the scenario checks): the fixed-step integrators
     stop at the first non-finite state, dopri5 when its step size underflows; never a hang."""
-    sc = make_scenario(numerics={"integrator": integrator, "t_max": 2.0})
+    sc = make_scenario(numerics={"integrator": integrator, "t_max_fall": 2.0})
     p, sb, cb = sc.to_params()
     p[getattr(layout, slot)] = value
     code, summary, _ = run_params(p, sb, cb)

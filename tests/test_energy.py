@@ -32,7 +32,7 @@ def test_water_column_energy_balance_with_the_drag_of_the_printed_law():
         mine={"mass": m},
         environment={"gravity": G, "water_density": RHO},
         release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-        numerics={"t_max": 8.0, "rtol": 1e-10, "atol": 1e-12},
+        numerics={"t_max_fall": 8.0, "rtol": 1e-10, "atol": 1e-12},
     )
     ds = simulate_drop(sc, record_interval=0.002)
     t, z, w = ds.time.values, ds.z.values, ds.w.values

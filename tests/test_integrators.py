@@ -245,7 +245,7 @@ def test_interface_events_are_located_on_the_interpolant(integrator):
 
 def test_recorder_samples_exact_output_times():
     """Rows at exact multiples of the interval, on the ballistic parabola."""
-    ds = simulate_drop(_vacuum(numerics={"t_max": 1.0}), record_interval=0.1)
+    ds = simulate_drop(_vacuum(numerics={"t_max_fall": 1.0}), record_interval=0.1)
     t = ds.time.values
     np.testing.assert_allclose(t[:11], np.arange(11) * 0.1, rtol=0, atol=1e-12)
     np.testing.assert_allclose(ds.z.values[:11], 10.0 - 0.5 * G * t[:11] ** 2, rtol=0, atol=1e-9)
@@ -288,7 +288,7 @@ def test_mine_lighter_than_water_floats_and_ends():
         mine={"mass": 40.0},
         release={"position": [0.0, 0.0, 1.0]},
         environment={"water_depth": 50.0},
-        numerics={"t_max": 60.0},
+        numerics={"t_max_fall": 60.0},
     )
     p, sb, cb = sc.to_params()
     code, s, _ = run_params(p, sb, cb)

@@ -44,7 +44,7 @@ def test_terminal_velocity_broadside():
         mine={"mass": MASS},
         environment={"gravity": G},
         release={"position": [0, 0, -5.0], "pitch_deg": 0.0},
-        numerics={"t_max": 40.0, "dt": 5e-3},
+        numerics={"t_max_fall": 40.0, "dt": 5e-3},
     )
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
@@ -59,7 +59,7 @@ def test_terminal_velocity_axial():
         mine={"mass": MASS},
         environment={"gravity": G},
         release={"position": [0, 0, -5.0], "pitch_deg": 90.0},
-        numerics={"t_max": 40.0, "dt": 5e-3},
+        numerics={"t_max_fall": 40.0, "dt": 5e-3},
     )
     ds = simulate_drop(sc)
     w_end = -float(ds.w[-1])
@@ -82,7 +82,7 @@ def test_ballistic_without_fluids():
             "heading_deg": 30.0,
             "angular_velocity": list(om0),
         },
-        numerics={"t_max": 2.0, "dt": 1e-3},
+        numerics={"t_max_fall": 2.0, "dt": 1e-3},
     )
     ds = simulate_drop(sc, record_interval=0.1)
     t = ds.time.values
@@ -113,7 +113,7 @@ def test_neutrally_buoyant_at_rest_stays_at_rest():
     sc = make_scenario(
         mine={"mass": RHO * VOL},
         release={"position": [0, 0, -20.0], "pitch_deg": 30.0},
-        numerics={"t_max": 5.0},
+        numerics={"t_max_fall": 5.0},
     )
     ds = simulate_drop(sc)
     for c in ("u", "v", "w", "omega1", "omega2", "omega3"):
@@ -136,7 +136,7 @@ def test_rotation_about_vertical_rotates_trajectory(integrator, tol):
     # air, water entry and the water column (the seabed at 1000 m is not reached); 3 s: at the
     # test's tight tolerance dopri5 needs 800 000 steps between 3 s and 6 s (the drag law's
     # jumps at its Reynolds-number breakpoints), 280 before
-    common = dict(mine={"com_offset": 0.05}, numerics={"t_max": 3.0, "integrator": integrator})
+    common = dict(mine={"com_offset": 0.05}, numerics={"t_max_fall": 3.0, "integrator": integrator})
     a = make_scenario(
         release={
             "position": [pos[0], pos[1], 2.0],
@@ -193,7 +193,7 @@ def submerged_rotating():
             "pitch_deg": 30.0,
             "angular_velocity": [0.2, 0.5, 0.1],
         },
-        numerics={"t_max": 1.0},
+        numerics={"t_max_fall": 1.0},
     )
 
 
@@ -229,7 +229,7 @@ def test_mechanical_energy_conserved_without_drag(munk):
             "pitch_deg": 30.0,
             "angular_velocity": [0.5, 1.0, -0.7],
         },
-        numerics={"t_max": 2.0, "drag": False, "dt": 1e-3, "munk_factor": munk},
+        numerics={"t_max_fall": 2.0, "drag": False, "dt": 1e-3, "munk_factor": munk},
     )
     ds = simulate_drop(sc, record_interval=0.05)
     r = D / 2

@@ -76,11 +76,12 @@ def _available_cores() -> int:
 
 def _warm_up_spec():
     """A one-drop ensemble that ends after one time step (the embedded default scenario,
-    whose random inputs exercise every sampler, with ``numerics.t_max = numerics.dt``)."""
+    whose random inputs exercise every sampler, with both time limits,
+    ``numerics.t_max_fall`` and ``numerics.t_max``, equal to ``numerics.dt``)."""
     with open(engine.DEFAULT_SCENARIO, "rb") as fh:
         raw = engine.tomllib.load(fh)
     numerics = raw.setdefault("numerics", {})
-    numerics["t_max"] = float(numerics.get("dt", 1e-3))
+    numerics["t_max"] = numerics["t_max_fall"] = float(numerics.get("dt", 1e-3))
     return engine.load_ensemble(raw, n=1, chunk_size=1)
 
 

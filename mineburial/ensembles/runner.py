@@ -172,10 +172,12 @@ def warn_run(spec) -> None:
     if num.integrator in _FIXED_STEP:
         dt_lo, _ = _extremes(spec, "numerics.dt", num.dt)
         _, t_hi = _extremes(spec, "numerics.t_max", num.t_max)
+        _, t_fall_hi = _extremes(spec, "numerics.t_max_fall", num.t_max_fall)
+        t_hi += t_fall_hi
         steps = t_hi / dt_lo if dt_lo > 0 else math.inf
         if steps > STEPS_WARNING:
             notice(
-                f"warning: numerics.t_max / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
+                f"warning: (numerics.t_max_fall + numerics.t_max) / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
                 f"{steps:.3g} time steps a drop with the fixed-step integrator "
                 f"'{num.integrator}': a drop that does not come to rest early may run for "
                 f"hours; use the adaptive integrator 'dopri5' or a larger dt"

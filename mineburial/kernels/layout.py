@@ -118,7 +118,7 @@ PARAM_NAMES = (
     "numerics.model",  # 0 mineburial (default), 1 impact35
     "numerics.integrator",  # 0 rk4, 1 local_linear (seed 000 eqs. (83)-(87)), 2 dopri5
     "numerics.dt",  # s
-    "numerics.t_max",  # s
+    "numerics.t_max",  # s, limit on the simulated time after the first seabed contact
     "numerics.rest_speed",  # m s-1, eq. (89) speed criterion
     "numerics.rest_spin",  # rad s-1
     "numerics.drag",  # 1/0: fluid drag and lift on (0 for energy tests)
@@ -128,6 +128,7 @@ PARAM_NAMES = (
     "numerics.sediment_quadrature",  # 0 fast (fixed-cost rule), 1 reference (adaptive quadrature)
     "numerics.slip_speed",  # m s-1, regularisation speed of the sediment's slip direction
     "numerics.switch_speed",  # m s-1, regularisation speed of the sediment's advancing switch
+    "numerics.t_max_fall",  # s, limit on the simulated time of the fall (release to seabed contact)
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -195,6 +196,7 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
     P_SED_QUADRATURE,
     P_SLIP_SPEED,
     P_SWITCH_SPEED,
+    P_TMAX_FALL,
 ) = range(N_PARAMS)
 
 # model and integrator codes

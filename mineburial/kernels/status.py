@@ -30,12 +30,14 @@ NAMES = (
 DESCRIPTIONS = (
     "the mine came to rest in or on the sediment (seed 000 eq. (89) speed criterion and "
     "the rigid-plastic hold test, kernels/rest.py)",
-    "the mine was still moving, not fully buried, when the time limit was reached",
+    "the mine was still moving, not fully buried, when its time limit was reached "
+    "(numerics.t_max after its first seabed contact; numerics.t_max_fall if it was still falling)",
     "the mine left the modelled domain",
     "a non-finite value appeared in the state, or the step size underflowed (numerical failure)",
     "a sampled input was outside its physical range; the drop was not run",
     "the mine is lighter than the water and rose back before reaching the seabed",
-    "the mine was fully buried and still sinking at the time limit (penetration is a lower bound)",
+    "the mine was fully buried and still sinking at the time limit (numerics.t_max after its first "
+    "seabed contact; penetration is a lower bound)",
 )
 
 #: statuses whose burial enters the burial statistics

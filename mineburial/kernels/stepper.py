@@ -97,6 +97,7 @@ from mineburial.kernels.layout import (
     P_RTOL,
     P_SED_QUADRATURE,
     P_TMAX,
+    P_TMAX_FALL,
     P_U0,
     P_V0,
     P_W0,
@@ -469,7 +470,6 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     jac_age = JAC_MAX_AGE  # accepted steps since the Jacobian was evaluated (>= max: evaluate)
     rtol = p[P_RTOL]
     atol = p[P_ATOL]
-    t_max = p[P_TMAX]
     rest_speed = p[P_REST_SPEED]
     depth = p[P_DEPTH]
     z_release = p[P_Z0]
@@ -498,10 +498,14 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     hit_seabed = g0[2] < 0.0
     if entered_water:
         summary[S_ENTRY_TIME] = 0.0
+    # the time limit of the phase the drop is in: numerics.t_max_fall for the fall,
+    # then numerics.t_max counted from the first seabed contact (docs/design.md)
+    t_limit = p[P_TMAX_FALL]
     if hit_seabed:
         summary[S_IMPACT_TIME] = 0.0
+        t_limit = p[P_TMAX]
     while True:
-        if t >= t_max * (1.0 - 1e-15):
+        if t >= t_limit * (1.0 - 1e-15):
             if g0[3] < 0.0:
                 status = st.BURIED_SINKING
             break
@@ -509,7 +513,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
         if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
             break
         if adaptive:
-            h = min(h_adapt, MAX_STEP, t_max - t, h_cap)
+            h = min(h_adapt, MAX_STEP, t_limit - t, h_cap)
             if h < MIN_STEP * max(1.0, t):
                 status = st.NUMERICAL_FAILURE
                 break
@@ -562,7 +566,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
                 dopri_dense(y, ynew, k, h, r)
             h_adapt = h_next
         else:
-            h = min(p[P_DT], t_max - t, h_cap)
+            h = min(p[P_DT], t_limit - t, h_cap)
             _fixed_step(
                 reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew
             )
@@ -637,6 +641,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             hit_seabed = True
             speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
             summary[S_IMPACT_TIME] = t
+            t_limit = t + p[P_TMAX]
             summary[S_IMPACT_SPEED] = speed
             psi1, psi2, psi3 = euler_angles(y[6], y[7], y[8], y[9])
             summary[S_IMPACT_PITCH] = math.degrees(psi2)

@@ -124,7 +124,13 @@ def _scenario(mine=None, release=None, environment=None, sediment=None, numerics
             **(environment or {}),
         },
         "sediment": sediment or {"class": "soft_clay"},
-        "numerics": {"dt": 1e-3, "t_max": 5.0, "sediment_quadrature": "reference", **(numerics or {})},
+        "numerics": {
+            "dt": 1e-3,
+            "t_max": 5.0,
+            "t_max_fall": 5.0,
+            "sediment_quadrature": "reference",
+            **(numerics or {}),
+        },
     }
     return Scenario.from_dict(d)
 
@@ -154,7 +160,7 @@ def _with_model(sc: Scenario, model: str) -> Scenario:
 def terminal_velocities(quick_only=False, figures=None):
     rows = []
     mass = 52.0  # slightly heavier than the displaced water (50.3 kg)
-    tight = {"rtol": 1e-10, "atol": 1e-12, "t_max": 40.0, "dt": 5e-3}
+    tight = {"rtol": 1e-10, "atol": 1e-12, "t_max_fall": 40.0, "dt": 5e-3}
     for name, pitch in (("broadside", 0.0), ("axial", 90.0)):
         sc = _scenario(mine={"mass": mass}, release={"pitch_deg": pitch}, numerics=tight)
         ds = simulate_drop(sc)
