@@ -33,6 +33,14 @@ Families and parameterisations (scipy.stats names in brackets):
 Every family also gives ``probability_outside(low, high)``, the probability of a draw
 outside an interval, with which :func:`mineburial.config.check_distribution` checks a
 distribution against its field's allowed range when an ensemble scenario is loaded.
+
+Only :mod:`scipy.special` is used, never :mod:`scipy.stats`: importing scipy.stats
+costs ~0.5 s of the start-up of every run. The truncated normal's inverse CDF is
+written out here (:func:`_truncated_normal_quantile`) with the same floating-point
+operations as scipy 1.17's ``truncnorm.ppf``, so its draws are bit for bit those of
+``truncnorm((low-mean)/std, (high-mean)/std, mean, std).ppf`` (tested), and from now on
+depend only on scipy.special's ``log_ndtr``, ``ndtr``, ``log1p``, ``logsumexp`` and
+``ndtri_exp``, not on how scipy.stats arranges them.
 """
 
 from __future__ import annotations
@@ -49,15 +57,6 @@ import numpy as np
 from scipy import special
 
 from mineburial.sediment_profiles import ScenarioError
-
-
-def _stats():
-    """scipy.stats, imported on first use: importing it costs ~0.5 s, a third of the
-    start-up of every run, and only the truncated-normal and lognormal families need it."""
-    from scipy import stats
-
-    return stats
-
 
 __all__ = [
     "DistributionError",
@@ -138,6 +137,71 @@ def _as_u(u) -> np.ndarray:
 def _inside(values, low, high, low_inclusive, high_inclusive) -> np.ndarray:
     v = np.asarray(values, dtype=np.float64)
     return ((v >= low) if low_inclusive else (v > low)) & ((v <= high) if high_inclusive else (v < high))
+
+
+# ---------------------------------------------------------------------------
+# the standard normal restricted to [a, b], in log space
+# ---------------------------------------------------------------------------
+
+#: ln sqrt(2 pi), the log of the standard normal density's normalisation.
+_LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
+
+
+def _log_exp_difference(log_p, log_q):
+    """ln(p - q) from ln p and ln q (p >= q), as the log of a sum of exponentials with
+    the second term turned negative by the phase pi: ``p - q = e^ln p + e^(ln q + i pi)``.
+    ``special.logsumexp`` on those two complex terms, keeping the real part, is how scipy
+    1.17 computes it; the same call here gives the same bits."""
+    terms = np.array([log_p, log_q + np.pi * 1j])
+    return np.real(special.logsumexp(terms, axis=0))
+
+
+def _log_normal_mass(a: float, b: float) -> float:
+    """ln Z(a, b) with Z(a, b) = Phi(b) - Phi(a), the standard normal probability of
+    [a, b] (a < b, either may be infinite), without underflow in the far tails:
+
+    * [a, b] left of the mode (b <= 0): ln(Phi(b) - Phi(a)) from ln Phi(b) and ln Phi(a)
+      (``log_ndtr``, accurate far into the left tail);
+    * [a, b] right of the mode (a > 0): the mirror image, Z(a, b) = Z(-b, -a);
+    * [a, b] around the mode (a <= 0 < b): ln(1 - Phi(a) - Phi(-b)) with ``log1p``, which
+      stays accurate as Z approaches 1.
+
+    Evaluated on one-element arrays with the scipy.special calls of scipy 1.17's
+    ``_log_gauss_mass``, so that the inverse CDF below reproduces its bits.
+    """
+    lower, upper = np.array([a], dtype=np.float64), np.array([b], dtype=np.float64)
+    if a > 0:
+        lower, upper = -upper, -lower
+    if upper[0] <= 0:
+        log_z = _log_exp_difference(special.log_ndtr(upper), special.log_ndtr(lower))
+    else:
+        log_z = special.log1p(-special.ndtr(lower) - special.ndtr(-upper))
+    return float(log_z[0])
+
+
+def _truncated_normal_quantile(q: np.ndarray, a: float, b: float, log_z: float) -> np.ndarray:
+    """Inverse CDF of the standard normal restricted to [a, b], for 0 < q < 1.
+
+    The quantile x solves ``Phi(x) = Phi(a) + q Z`` with ``Z = Phi(b) - Phi(a)``
+    (``log_z = ln Z`` from :func:`_log_normal_mass`). It is solved in log space:
+
+        a < 0:   ln Phi(x)  = logsumexp(ln Phi(a),  ln q + ln Z),        x =  ndtri_exp(.)
+        a >= 0:  ln Phi(-x) = logsumexp(ln Phi(-b), ln(1 - q) + ln Z),   x = -ndtri_exp(.)
+
+    the second being the mirror image (``Phi(-x) = Phi(-b) + (1 - q) Z``), so that the
+    sum is always taken on the side of the normal whose tail ``log_ndtr`` resolves and an
+    interval 30 standard deviations out still gives finite, ordered draws. The operations
+    are those of scipy 1.17's ``truncnorm._ppf`` (numpy's ``log``/``log1p`` on q,
+    ``special.logsumexp`` over a 2 x n stack, ``special.ndtri_exp``), which makes the
+    result bit-identical to it: the sampled inputs of existing scenarios depend on that.
+    """
+    if a < 0:
+        edge = special.log_ndtr(np.full_like(q, a))
+        log_phi = special.logsumexp(np.array([edge, np.log(q) + log_z]), axis=0)
+        return special.ndtri_exp(log_phi)
+    edge = special.log_ndtr(np.full_like(q, -b))
+    log_phi = special.logsumexp(np.array([edge, np.log1p(-q) + log_z]), axis=0)
+    return -special.ndtri_exp(log_phi)
 
 
 # ---------------------------------------------------------------------------
@@ -301,10 +365,12 @@ class TruncatedNormal(Distribution):
             raise DistributionError(
                 f"{field}: high = {d.get('high', math.inf)} must be > low = {d.get('low', -math.inf)}"
             )
-        # scipy's truncnorm works in log space, so even far-tail intervals are
+        # the inverse CDF works in log space, so even far-tail intervals are
         # fine; refuse only an interval whose inverse CDF is not finite.
         a, b = (low - mean) / std, (high - mean) / std
-        probe = _stats().truncnorm.ppf([2.0**-53, 0.5, 1.0 - 2.0**-53], a, b)
+        probe = _truncated_normal_quantile(
+            np.array([2.0**-53, 0.5, 1.0 - 2.0**-53]), a, b, _log_normal_mass(a, b)
+        )
         if not np.all(np.isfinite(probe)):
             raise DistributionError(
                 f"{field}: [low, high] = [{low}, {high}] carries no probability that "
@@ -317,23 +383,56 @@ class TruncatedNormal(Distribution):
         return (self.low - self.mu) / self.std, (self.high - self.mu) / self.std
 
     def ppf(self, u):
+        """``mean + std x`` with x the standard quantile of :func:`_truncated_normal_quantile`,
+        clipped to [low, high]; u = 0 and u = 1 give the bounds, u outside [0, 1] or NaN
+        gives NaN. Bit-identical to
+        ``np.clip(truncnorm.ppf(u, a, b, loc=mean, scale=std), low, high)``."""
+        u = _as_u(u)
         a, b = self._ab
-        x = _stats().truncnorm.ppf(_as_u(u), a, b, loc=self.mu, scale=self.std)
+        x = np.full(u.shape, np.nan)
+        # the bounds through the same arithmetic as the interior (a std + mean, which may
+        # round off low); the clip below puts them back on [low, high]
+        x[u == 0.0] = a * self.std + self.mu
+        x[u == 1.0] = b * self.std + self.mu
+        interior = (u > 0.0) & (u < 1.0)
+        if np.any(interior):
+            z = _truncated_normal_quantile(u[interior], a, b, _log_normal_mass(a, b))
+            x[interior] = z * self.std + self.mu
         return np.clip(x, self.low, self.high)
 
     def mean(self):
+        """E[X] = mean + std (phi(a) - phi(b)) / Z (Johnson, Kotz & Balakrishnan 1994,
+        eq. 13.134), with phi(.)/Z formed in log space so a far-tail interval neither
+        underflows nor divides 0 by 0."""
         a, b = self._ab
-        return float(_stats().truncnorm.mean(a, b, loc=self.mu, scale=self.std))
+        log_z = _log_normal_mass(a, b)
+        density_ratio = math.exp(-0.5 * a * a - _LOG_SQRT_2PI - log_z) - math.exp(
+            -0.5 * b * b - _LOG_SQRT_2PI - log_z
+        )
+        # in an interval ~1e-8 std wide, phi(a) - phi(b) and Z are mostly rounding and
+        # the ratio can land outside [low, high]; the mean is kept inside
+        return min(max(self.mu + self.std * density_ratio, self.low), self.high)
 
     def support(self):
         return (self.low, self.high)
 
     def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
+        """P(X < low) + P(X > high) = (Z(a, low') + Z(high', b)) / Z(a, b) with low', high'
+        the standardised ends, each ratio formed in log space (0 or 1 for an end outside
+        [a, b])."""
         a, b = self._ab
-        kw = {"loc": self.mu, "scale": self.std}
-        return min(
-            float(_stats().truncnorm.cdf(low, a, b, **kw) + _stats().truncnorm.sf(high, a, b, **kw)), 1.0
-        )
+        log_z = _log_normal_mass(a, b)
+
+        def share(lower, upper):  # Z(lower, upper) / Z(a, b) for [lower, upper] in [a, b]
+            if lower >= upper:
+                return 0.0
+            if lower <= a and upper >= b:
+                return 1.0
+            return math.exp(_log_normal_mass(max(lower, a), min(upper, b)) - log_z)
+
+        below = share(a, (low - self.mu) / self.std)
+        above = share((high - self.mu) / self.std, b)
+        return min(below + above, 1.0)
 
     def to_dict(self):
         out = {"distribution": self.family, "mean": self.mu, "std": self.std}
@@ -399,9 +498,11 @@ class LogNormal(Distribution):
         return (0.0, math.inf)
 
     def probability_outside(self, low, high, low_inclusive=True, high_inclusive=True):
-        kw = {"s": self.sigma, "scale": self.median}
-        below = float(_stats().lognorm.cdf(low, **kw)) if low > 0 else 0.0
-        return min(below + float(_stats().lognorm.sf(high, **kw)), 1.0)
+        """P(X < low) + P(X > high) with P(X < x) = Phi(ln(x / median) / sigma) for x > 0."""
+        low_ratio, high_ratio = low / self.median, high / self.median
+        below = float(special.ndtr(math.log(low_ratio) / self.sigma)) if low_ratio > 0 else 0.0
+        above = float(special.ndtr(-math.log(high_ratio) / self.sigma)) if high_ratio > 0 else 1.0
+        return min(below + above, 1.0)
 
 
 @dataclass(frozen=True)
