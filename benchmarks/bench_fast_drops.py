@@ -17,6 +17,9 @@ On the same sampled drops of each scenario family it runs
   0.25 ms is not converged: a few drops differ by up to 27 %, and halving its dt twice
   moves them monotonically onto dopri5 (checked with the reference quadrature at rtol
   1e-8 too, within 0.3 %). So errors are reported against both;
+* ``fine``      -- with ``--fine``: fixed RK4 at dt = 0.0625 ms (a quarter of the truth's) and
+  the reference quadrature, the second reference instead of ``converged``: the truth's own
+  method refined, affordable on the small-cylinder family where dopri5 at rtol 1e-8 is not;
 
 and prints drops/s (batch kernel, all threads, compile excluded), the ratio
 default/reference, and the accuracy of each path against ``truth`` and against
@@ -24,6 +27,11 @@ default/reference, and the accuracy of each path against ``truth`` and against
 penetration difference (relative to max(penetration, 0.5 m), differences below 5 mm count as
 0), the share of drops whose burial class
 changes, the largest change of a class probability, and the status counts.
+
+``--ladder K`` then takes the K drops of each family where the default path and ``truth``
+differ most and runs them through RK4 at 0.25, 0.125, 0.0625 and 0.03125 ms (reference
+quadrature), dopri5 at rtol 1e-8 with the fast rule and at rtol 1e-7 with the reference
+quadrature, printing each drop's penetration: which answer the references converge to.
 
 ``--work-precision`` adds fixed RK4 at several dt, dopri5 and dopri5_ros34pw2 at several tolerances, with
 the fast and the reference sediment rules, and writes the table and a PNG of error against
@@ -97,6 +105,28 @@ def compare(summary, status, ref_summary, ref_status):
     )
 
 
+def ladder(spec, P, valid, summary, truth, k):
+    """Penetrations of the k drops where ``summary`` and ``truth`` differ most, under RK4 at
+    four steps and dopri5 at two tight tolerances with both sediment rules."""
+    from mineburial.kernels import layout as L
+
+    pen, pen_t = summary[:, L.S_PENETRATION], truth[:, L.S_PENETRATION]
+    d = np.abs(pen - pen_t)
+    rel = np.where(d <= 0.005, 0.0, d / np.maximum(np.abs(pen_t), 0.5))
+    idx = np.argsort(-np.nan_to_num(rel), kind="stable")[:k]
+    Q, ok = P[idx], valid[idx]
+    paths = {"default": Q}
+    for dt in (2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5):
+        paths[f"rk4 {dt * 1e3:g} ms ref"] = variant(Q, "rk4", "reference", dt=dt)
+    paths["dopri5 1e-8 fast"] = variant(Q, "dopri5", "fast", rtol=1e-8)
+    paths["dopri5 1e-7 ref"] = variant(Q, "dopri5", "reference", rtol=1e-7)
+    pens = {name: run(spec, R, ok)[1][:, L.S_PENETRATION] for name, R in paths.items()}
+    print(f"\npenetration (m) of the {k} drops where default and truth differ most:")
+    print("drop " + " ".join(f"{name:>18s}" for name in pens))
+    for j, i in enumerate(idx):
+        print(f"{i:4d} " + " ".join(f"{pens[name][j]:18.4f}" for name in pens))
+
+
 def counts(status):
     from mineburial.kernels import status as S
 
@@ -128,7 +158,7 @@ def plot_work_precision(rows, png):
     for ax, fam in zip(axes[0], fams):
         series = {}
         for r in rows:
-            if r[0] == fam and r[1] not in ("truth", "converged"):
+            if r[0] == fam and r[1] not in ("truth", "converged", "fine"):
                 series.setdefault(_series(r[1]), []).append((r[3], max(r[4], 1e-3)))
         for name, pts in series.items():
             pts.sort()
@@ -185,6 +215,18 @@ def main():
         action="store_true",
         help="skip the dopri5 rtol 1e-8 reference (slow on the small-cylinder family's delta law)",
     )
+    ap.add_argument(
+        "--fine",
+        action="store_true",
+        help="second reference: RK4 at 0.0625 ms with the reference quadrature instead of 'converged'",
+    )
+    ap.add_argument(
+        "--ladder",
+        type=int,
+        default=0,
+        metavar="K",
+        help="refine RK4 and dopri5 on the K drops where default and truth differ most",
+    )
     args = ap.parse_args()
     if args.plot_from:
         plot_work_precision(rows_from_table(args.plot_from), args.png)
@@ -204,8 +246,12 @@ def main():
             "reference": variant(P, "rk4", "reference", dt=1e-3),
             "truth": variant(P, "rk4", "reference", dt=2.5e-4),
             "converged": variant(P, "dopri5", "fast", rtol=1e-8),
+            "fine": variant(P, "rk4", "reference", dt=6.25e-5),
         }
-        keep = set(args.paths.split(",")) | {"truth"} | (set() if args.no_converged else {"converged"})
+        second = "fine" if args.fine else "converged"
+        keep = set(args.paths.split(",")) | {"truth"}
+        if args.fine or not args.no_converged:
+            keep.add(second)
         paths = {k: v for k, v in paths.items() if k in keep}
         if args.work_precision:
             for dt in (2e-3, 1e-3, 5e-4):
@@ -221,11 +267,13 @@ def main():
         run(spec, P[:1], valid[:1])
         results = {name: run(spec, Q, valid) for name, Q in paths.items()}
         _, ref_s, ref_st = results["truth"]
-        _, conv_s, conv_st = results.get("converged", (None, None, None))
-        print(
-            f"\n== {fam}: {args.n} drops   (errors: vs truth = RK4 0.25 ms | vs converged = "
-            f"dopri5 1e-8 with the fast rule)"
+        _, conv_s, conv_st = results.get(second, (None, None, None))
+        second_name = (
+            "fine = RK4 0.0625 ms, reference quadrature"
+            if args.fine
+            else "converged = dopri5 1e-8 with the fast rule"
         )
+        print(f"\n== {fam}: {args.n} drops   (errors: vs truth = RK4 0.25 ms | vs {second_name})")
         print(
             f"{'path':28s} {'drops/s':>8s} {'ms/drop':>8s} {'p95 %':>6s} {'max %':>6s} "
             f"{'class %':>7s} {'dP':>6s} | {'p95 %':>6s} {'max %':>6s} {'class %':>7s} "
@@ -244,6 +292,8 @@ def main():
                 f"{name:28s} {rate:8.1f} {cpu_ms:8.2f} {p95:6.2f} {mx:6.2f} {ch:7.2f} "
                 f"{dp:6.3f} | {cp95:6.2f} {cmx:6.2f} {cch:7.2f} {cdp:6.3f}  {counts(st)}"
             )
+        if args.ladder and "default" in results:
+            ladder(spec, P, valid, results["default"][1], ref_s, args.ladder)
         if "default" in results and "reference" in results:
             r_def = args.n / results["default"][0]
             r_ref = args.n / results["reference"][0]
