@@ -60,6 +60,26 @@ JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy", no_cfunc_wra
 _OPTIONS = dict(cache=cache_enabled(), **JIT_OPTIONS)
 
 
+def _dispatcher(cls, fn, cache, **options):
+    """A numba dispatcher of class ``cls`` (a ``CPUDispatcher``) for ``fn``, as ``njit``
+    builds one."""
+    disp = cls(py_func=fn, locals={}, targetoptions=dict(nopython=True, boundscheck=None, **options))
+    if cache:
+        disp.enable_caching()
+    return disp
+
+
+class _CompiledCallee(CPUDispatcher):
+    """The twin of a :class:`Kernel` that compiled code calls: compiled without the
+    CPython wrapper, for argument types without literal values (a call with the constant
+    1 and one with 2 share one specialisation instead of compiling two)."""
+
+    def get_call_template(self, args, kws):
+        args = tuple(nbtypes.unliteral(a) for a in args)
+        kws = {k: nbtypes.unliteral(v) for k, v in kws.items()}
+        return super().get_call_template(args, kws)
+
+
 class Kernel(CPUDispatcher):
     """A numba dispatcher that compiled code calls through a twin compiled without
     numba's CPython wrapper.
@@ -70,10 +90,10 @@ class Kernel(CPUDispatcher):
     compiled caller above it, where LLVM optimises it again at each level. Only a call
     from Python needs it. This dispatcher is what Python calls (tests, the batch driver,
     config.py), with the wrapper; compiled code sees it as its twin
-    (:attr:`_numba_type_`), the same function compiled with ``no_cpython_wrapper``,
-    cached under its own name (``<name>.compiled_callee``). A kernel called only from
-    compiled code is compiled once, without a wrapper; one called from both is compiled
-    twice, once each way (docs/design.md, compile time).
+    (:attr:`_numba_type_`, a :class:`_CompiledCallee`), the same function compiled with
+    ``no_cpython_wrapper``, cached under its own name (``<name>.compiled_callee``). A
+    kernel called only from compiled code is compiled once, without a wrapper; one called
+    from both is compiled twice, once each way (docs/design.md, compile time).
     """
 
     @property
@@ -86,7 +106,7 @@ class Kernel(CPUDispatcher):
             twin.__doc__ = fn.__doc__
             twin.__kwdefaults__ = fn.__kwdefaults__
             cache = isinstance(self._cache, FunctionCache)
-            callee = njit(cache=cache, no_cpython_wrapper=True, **JIT_OPTIONS)(twin)
+            callee = _dispatcher(_CompiledCallee, twin, cache, no_cpython_wrapper=True, **JIT_OPTIONS)
             self._callee = callee
         return nbtypes.Dispatcher(callee)
 
@@ -94,10 +114,7 @@ class Kernel(CPUDispatcher):
 def kernel(fn):
     """Compile ``fn`` as a serial numba kernel with the project's options (a
     :class:`Kernel`: compiled callers call it without a CPython wrapper)."""
-    disp = Kernel(py_func=fn, locals={}, targetoptions=dict(nopython=True, boundscheck=None, **JIT_OPTIONS))
-    if _OPTIONS["cache"]:
-        disp.enable_caching()
-    return disp
+    return _dispatcher(Kernel, fn, _OPTIONS["cache"], **JIT_OPTIONS)
 
 
 def small_kernel(fn):
