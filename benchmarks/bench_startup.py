@@ -1,6 +1,6 @@
 """Compile time and start-up: the engine from an empty numba cache, then with a warm one.
 
-Run:  python benchmarks/bench_startup.py [--repeat 3]
+Run:  python benchmarks/bench_startup.py [--repeat 3] [--cold-only] [--profile [N]]
 
 Each measurement is a fresh interpreter that imports the engine, samples one drop of
 the embedded default ensemble and runs it through the batch driver (what
@@ -12,14 +12,29 @@ interpreter's first import to the end of the drop:
 * **warm**: the same again with the cache that the cold run filled: the start-up of
   every later run (imports + loading the compiled kernels).
 
+Each line gives the wall time and the CPU time (user + system) of the interpreter: on a
+shared machine the CPU time is the steadier measure of the compile work.
+
 The reference paths (``rk4``, ``local_linear``, the reference sediment quadrature) are
 compiled only when a drop asks for one (``stepper.reference_paths``); their cold compile
 is measured separately ("cold, reference paths"). Issue 9 targets: cold <= 20 s,
 warm <= 1 s on the 2-core development machine.
+
+``--cold-only`` times only the cold compile of the default paths (``--repeat`` times).
+``--profile N`` runs one cold compile of the default paths with numba's event API
+(``numba.core.event``) listening, and lists the N costliest compile units (each
+``@kernel`` compiled for one signature): CPU seconds of its own (its callees' compiles
+taken out), split into numba's typing and lowering passes and the LLVM work inside
+lowering (function passes, linking the callees' modules, module optimisation, machine
+code), plus the CPU time spent writing the cache files. The LLVM split wraps numba's
+``CPUCodeLibrary`` methods in that one process (measurement only).
 """
 
 import argparse
+import json
 import os
+import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -42,32 +57,199 @@ run_batch(P, valid, spec.sediment_bank, spec.current_bank)
 print(t_import, time.perf_counter() - t0)
 """
 
+# Listens to numba's compile events and times the LLVM stages; prints one JSON line.
+PROFILER = """
+import json, time
+from collections import defaultdict
+from numba.core import codegen, event, dispatcher
+
+clock = time.thread_time
+units = {}            # (name, signature) -> dict of seconds
+stack = []            # open compile units: [key, start, child seconds, llvm dict]
+llvm_stage = [None]   # LLVM stage being timed (stages nest: finalize inside lowering)
+
+
+def _key(data):
+    d = data["dispatcher"]
+    return (f"{d.py_func.__module__}.{d.py_func.__qualname__}", str(tuple(data["args"])))
+
+
+class Units(event.Listener):
+    def on_start(self, ev):
+        stack.append([_key(ev.data), clock(), 0.0, defaultdict(float)])
+
+    def on_end(self, ev):
+        key, t0, child, llvm = stack.pop()
+        total = clock() - t0
+        u = units.setdefault(key, defaultdict(float))
+        u["own"] += total - child
+        u["count"] += 1
+        for k, v in llvm.items():
+            u[k] += v
+        if stack:
+            stack[-1][2] += total
+
+
+class Passes(event.Listener):
+    # each pass's own CPU time: callees compiled inside it (typing) and passes nested in
+    # it (the pipelines of inlined functions) taken out
+
+    def __init__(self):
+        self.open = []
+
+    def on_start(self, ev):
+        child = stack[-1][2] if stack else 0.0
+        self.open.append([ev.data["name"].split(" [")[0], clock(), child, 0.0, len(stack)])
+
+    def on_end(self, ev):
+        name, t0, child0, nested, depth = self.open.pop()
+        total = clock() - t0 - ((stack[-1][2] if stack else 0.0) - child0)
+        if self.open and self.open[-1][4] == depth:
+            self.open[-1][3] += total
+        if stack:
+            stack[-1][3]["pass:" + name] += total - nested
+
+
+def _timed(cls, meth, label):
+    orig = getattr(cls, meth)
+
+    def wrapper(self, *a, **k):
+        outer = llvm_stage[0]
+        llvm_stage[0] = label
+        t0 = clock()
+        try:
+            return orig(self, *a, **k)
+        finally:
+            dt = clock() - t0
+            llvm_stage[0] = outer
+            if stack:
+                stack[-1][3][label] += dt
+                if outer is not None:
+                    stack[-1][3][outer] -= dt
+
+    setattr(cls, meth, wrapper)
+
+
+_timed(codegen.CPUCodeLibrary, "_optimize_functions", "llvm_function_passes")
+_timed(codegen.CPUCodeLibrary, "finalize", "llvm_link_finalize")
+_timed(codegen.CPUCodeLibrary, "_optimize_final_module", "llvm_module_passes")
+_timed(codegen.JITCodeLibrary, "get_pointer_to_function", "llvm_machine_code")
+
+save_time = defaultdict(float)
+_save = dispatcher.Dispatcher._cache_class if hasattr(dispatcher.Dispatcher, "_cache_class") else None
+from numba.core import caching
+_orig_save = caching.Cache.save_overload
+def _save_overload(self, sig, data):
+    t0 = clock()
+    try:
+        return _orig_save(self, sig, data)
+    finally:
+        save_time[self._name] += clock() - t0
+caching.Cache.save_overload = _save_overload
+
+event.register("numba:compile", Units())
+event.register("numba:run_pass", Passes())
+"""
+
+PROFILE_TAIL = """
+rows = [dict(name=k[0], sig=k[1], **v) for k, v in units.items()]
+print("PROFILE " + json.dumps(dict(units=rows, save=dict(save_time))))
+"""
+
+
+def _run(code, cache_dir):
+    """Run ``code`` in a fresh interpreter with ``cache_dir`` as numba's cache; return its
+    stdout and the CPU seconds (user + system) it used."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir, "MINEBURIAL_NUMBA_CACHE": "1"}
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return out.stdout, cpu
+
 
 def measure(cache_dir, reference=False):
-    env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir, "MINEBURIAL_NUMBA_CACHE": "1"}
-    out = subprocess.run(
-        [sys.executable, "-c", SNIPPET.format(reference=reference)],
-        env=env,
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    t_import, total = map(float, out.stdout.split())
-    return t_import, total
+    """(import wall s, total wall s, total CPU s) of one start-up."""
+    stdout, cpu = _run(SNIPPET.format(reference=reference), cache_dir)
+    t_import, total = map(float, stdout.splitlines()[-1].split())
+    return t_import, total, cpu
+
+
+def profile(top, dump=None):
+    with tempfile.TemporaryDirectory() as cache:
+        stdout, cpu = _run(PROFILER + SNIPPET.format(reference=False) + PROFILE_TAIL, cache)
+    lines = stdout.splitlines()
+    data = json.loads(next(l for l in lines if l.startswith("PROFILE "))[8:])
+    if dump:
+        with open(dump, "w") as fh:
+            json.dump(data, fh, indent=1)
+    wall = float(lines[-2].split()[1])  # the snippet's line, before the PROFILE line
+    units = data["units"]
+    llvm_cols = ("llvm_function_passes", "llvm_module_passes", "llvm_link_finalize")
+    for u in units:
+        llvm = sum(u.get(k, 0.0) for k in llvm_cols)
+        u["typing"] = u.get("pass:nopython_type_inference", 0.0)
+        u["lowering"] = u.get("pass:native_lowering", 0.0) - llvm
+        u["other"] = u["own"] - llvm - u["typing"] - u["lowering"]
+    own_total = sum(u["own"] for u in units)
+    save_total = sum(data["save"].values())
+    print(f"machine: {machine()}")
+    print(f"cold compile of the default paths: {cpu:.2f} s CPU, {wall:.2f} s wall; "
+          f"{len(units)} compile units, {own_total:.2f} s CPU inside them, "
+          f"{save_total:.2f} s writing cache files")
+    cols = ("own", "typing", "lowering", "other") + llvm_cols
+    heads = ("own", "typing", "lower", "other", "fpass", "module", "link")
+    print(" ".join(f"{h:>6}" for h in heads) + "  unit")
+    for u in sorted(units, key=lambda u: -u["own"])[:top]:
+        vals = " ".join(f"{u.get(c, 0.0):6.2f}" for c in cols)
+        n = f" x{int(u['count'])}" if u["count"] > 1 else ""
+        print(f"{vals}  {u['name'].replace('mineburial.', '')}{n} {u['sig'][:70]}")
+    tot = {c: sum(u.get(c, 0.0) for u in units) for c in cols}
+    print(" ".join(f"{tot[c]:6.2f}" for c in cols) + "  (all units)")
+    passes = {}
+    for u in units:
+        for k, v in u.items():
+            if k.startswith("pass:"):
+                passes[k[5:]] = passes.get(k[5:], 0.0) + v
+    print("numba passes (CPU s, all units; NativeLowering includes the LLVM work): " + ", ".join(
+        f"{k} {v:.2f}" for k, v in sorted(passes.items(), key=lambda kv: -kv[1])[:14]))
+    print("columns: own = the unit's CPU s without its callees' compiles; typing = numba's type "
+          "inference; lower = numba's lowering to LLVM IR; other = numba's other IR passes; "
+          "fpass, module = LLVM function and module passes; link = linking the callees' "
+          "modules and machine code")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="warm start-ups to time (best kept)")
+    ap.add_argument("--cold-only", action="store_true", help="time only cold compiles (--repeat of them)")
+    ap.add_argument("--profile", type=int, nargs="?", const=25, metavar="N",
+                    help="list the N costliest compile units of one cold compile")
+    ap.add_argument("--profile-json", metavar="PATH", help="with --profile: also write every unit's times to PATH")
     args = ap.parse_args()
+    if args.profile:
+        profile(args.profile, args.profile_json)
+        return
     print(f"machine: {machine()}")
+    if args.cold_only:
+        runs = []
+        for _ in range(args.repeat):
+            with tempfile.TemporaryDirectory() as cache:
+                runs.append(measure(cache))
+            print(f"cold (empty cache), default paths: {runs[-1][1]:6.2f} s wall, {runs[-1][2]:6.2f} s CPU",
+                  flush=True)
+        print(f"median: {statistics.median(r[1] for r in runs):6.2f} s wall, "
+              f"{statistics.median(r[2] for r in runs):6.2f} s CPU")
+        return
     with tempfile.TemporaryDirectory() as cache:
-        imp, cold = measure(cache)
-        print(f"cold (empty cache), default paths: {cold:6.2f} s  (imports {imp:.2f} s)")
+        imp, cold, cpu = measure(cache)
+        print(f"cold (empty cache), default paths: {cold:6.2f} s  (imports {imp:.2f} s; CPU {cpu:.2f} s)")
         warm = min(measure(cache) for _ in range(args.repeat))
-        print(f"warm (cache filled), default paths: {warm[1]:6.2f} s  (imports {warm[0]:.2f} s)")
-        imp, cold_ref = measure(cache, reference=True)
-        print(f"cold, reference paths (compiled on first use): {cold_ref:6.2f} s")
+        print(f"warm (cache filled), default paths: {warm[1]:6.2f} s  (imports {warm[0]:.2f} s; CPU {warm[2]:.2f} s)")
+        imp, cold_ref, cpu = measure(cache, reference=True)
+        print(f"cold, reference paths (compiled on first use): {cold_ref:6.2f} s  (CPU {cpu:.2f} s)")
 
 
 if __name__ == "__main__":

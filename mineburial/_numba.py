@@ -20,11 +20,18 @@ one-line change here.
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
   because kernels never raise (they run on worker threads); they return status codes.
 * ``nogil=True``: the batch driver runs compiled drops on several Python threads.
+* ``no_cfunc_wrapper=True``: numba would otherwise build, optimise and link a C-callable
+  wrapper of every compiled function (for use as a first-class function value or
+  ``cfunc``), which mineburial never uses.
 """
 
 import os
+import types
 
 from numba import njit
+from numba.core import types as nbtypes
+from numba.core.caching import FunctionCache
+from numba.core.registry import CPUDispatcher
 
 #: name of the environment variable that switches the on-disk cache of compiled kernels
 CACHE_ENV = "MINEBURIAL_NUMBA_CACHE"
@@ -47,15 +54,67 @@ def cache_enabled(environ=os.environ) -> bool:
     )
 
 
-_OPTIONS = dict(cache=cache_enabled(), nogil=True, fastmath=False, error_model="numpy")
 #: the same options for ``numba.extending.overload`` implementations (compiled into their
 #: caller, which caches them)
-JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy")
+JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy", no_cfunc_wrapper=True)
+_OPTIONS = dict(cache=cache_enabled(), **JIT_OPTIONS)
+
+
+def _dispatcher(cls, fn, cache, **options):
+    """A numba dispatcher of class ``cls`` (a ``CPUDispatcher``) for ``fn``, as ``njit``
+    builds one."""
+    disp = cls(py_func=fn, locals={}, targetoptions=dict(nopython=True, boundscheck=None, **options))
+    if cache:
+        disp.enable_caching()
+    return disp
+
+
+class _CompiledCallee(CPUDispatcher):
+    """The twin of a :class:`Kernel` that compiled code calls: compiled without the
+    CPython wrapper, for argument types without literal values (a call with the constant
+    1 and one with 2 share one specialisation instead of compiling two)."""
+
+    def get_call_template(self, args, kws):
+        args = tuple(nbtypes.unliteral(a) for a in args)
+        kws = {k: nbtypes.unliteral(v) for k, v in kws.items()}
+        return super().get_call_template(args, kws)
+
+
+class Kernel(CPUDispatcher):
+    """A numba dispatcher that compiled code calls through a twin compiled without
+    numba's CPython wrapper.
+
+    numba builds, for every function it compiles, a wrapper that unboxes the Python
+    arguments (for a kernel that takes the packed sediment law, a 30-element tuple) and
+    boxes the result, and links it, with the function's own code, into the module of every
+    compiled caller above it, where LLVM optimises it again at each level. Only a call
+    from Python needs it. This dispatcher is what Python calls (tests, the batch driver,
+    config.py), with the wrapper; compiled code sees it as its twin
+    (:attr:`_numba_type_`, a :class:`_CompiledCallee`), the same function compiled with
+    ``no_cpython_wrapper``, cached under its own name (``<name>.compiled_callee``). A
+    kernel called only from compiled code is compiled once, without a wrapper; one called
+    from both is compiled twice, once each way (docs/design.md, compile time).
+    """
+
+    @property
+    def _numba_type_(self):
+        callee = self.__dict__.get("_callee")
+        if callee is None:
+            fn = self.py_func
+            twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__, fn.__defaults__, fn.__closure__)
+            twin.__qualname__ = fn.__qualname__ + ".compiled_callee"
+            twin.__doc__ = fn.__doc__
+            twin.__kwdefaults__ = fn.__kwdefaults__
+            cache = isinstance(self._cache, FunctionCache)
+            callee = _dispatcher(_CompiledCallee, twin, cache, no_cpython_wrapper=True, **JIT_OPTIONS)
+            self._callee = callee
+        return nbtypes.Dispatcher(callee)
 
 
 def kernel(fn):
-    """Compile ``fn`` as a serial numba kernel with the project's options."""
-    return njit(**_OPTIONS)(fn)
+    """Compile ``fn`` as a serial numba kernel with the project's options (a
+    :class:`Kernel`: compiled callers call it without a CPython wrapper)."""
+    return _dispatcher(Kernel, fn, _OPTIONS["cache"], **JIT_OPTIONS)
 
 
 def small_kernel(fn):

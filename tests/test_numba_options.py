@@ -44,3 +44,37 @@ def test_kernels_follow_the_switch(value, cache_class):
     env = {**os.environ, CACHE_ENV: value}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == cache_class
+
+
+def test_compiled_callers_call_the_twin_without_cpython_wrapper():
+    """A kernel called from compiled code is called through its twin compiled without the
+    CPython wrapper (docs/design.md, compile time), and the twin computes what the kernel
+    computes when Python calls it (numba internals that a numba upgrade could change)."""
+    import numpy as np
+    from numba import njit
+
+    from mineburial._numba import Kernel, kernel
+
+    @kernel
+    def scaled_sum(x, factor):
+        total = 0.0
+        for v in x:
+            total += v * factor
+        return total
+
+    @njit
+    def caller(x):
+        return scaled_sum(x, 2), scaled_sum(x, 3)  # literal ints: one specialisation of the twin
+
+    def reference(x, factor):  # the same sums in plain Python, in the same order
+        total = 0.0
+        for v in x.tolist():
+            total += v * factor
+        return total
+
+    x = np.linspace(0.1, 1.7, 17)
+    assert isinstance(scaled_sum, Kernel)
+    assert caller(x) == (scaled_sum(x, 2), scaled_sum(x, 3)) == (reference(x, 2), reference(x, 3))
+    twin = scaled_sum._callee
+    assert twin.targetoptions["no_cpython_wrapper"] is True
+    assert len(twin.signatures) == 1  # the constants 2 and 3 typed as one int64 argument

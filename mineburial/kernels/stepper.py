@@ -291,7 +291,7 @@ def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp,
     out[I_WORK_SEDIMENT] = y[I_WORK_SEDIMENT] + dt * k1[I_WORK_SEDIMENT]
 
 
-@kernel
+@small_kernel
 def dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out, err):
     """Stages 2-7 of a Dormand-Prince step (k[0] = f(y) pre-filled): fills ``out`` (5th
     order), ``err`` and k[6] = f(out)."""
@@ -301,7 +301,7 @@ def dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out, err)
     dopri_solution(y, k, h, out, err)
 
 
-@kernel
+@small_kernel
 def velocity_jacobian(y, f0, p, law, sed_bank, cur_bank, work, ytmp, ftmp, diag, jc):
     """Columns of df/dy for the velocity slots (VELOCITY_SLOTS) by one-sided differences
     from f0 = f(y): jc[:, j] = (f(y + d e_j) - f0) / d."""
@@ -318,7 +318,7 @@ def velocity_jacobian(y, f0, p, law, sed_bank, cur_bank, work, ytmp, ftmp, diag,
             jc[i, j] = (ftmp[i] - f0[i]) / d
 
 
-@kernel
+@small_kernel
 def ros34pw2_step(
     y, h, p, law, sed_bank, cur_bank, work, f0, jc, wa, piv, kr, ytmp, vtmp, ztmp, diag, out, err
 ):
@@ -367,7 +367,7 @@ def _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag):
         traj[row, 17 + i] = diag[i]
 
 
-@kernel
+@small_kernel
 def _locate(r, p, e, gstart, gend, ytmp, gtmp):
     """Fraction of the step at which event ``e`` changes sign, on the continuous
     extension ``r`` (Illinois regula falsi), returned as the right end of the final

@@ -324,7 +324,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
     return f1, f2, f3, m1, m2, m3
 
 
-@kernel
+@small_kernel
 def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     """Sediment force and torque (body frame, about the COM) by the fixed-cost rule.
 
