@@ -162,9 +162,7 @@ def _run(code, cache_dir):
     stdout and the CPU seconds (user + system) it used."""
     env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir, "MINEBURIAL_NUMBA_CACHE": "1"}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    out = subprocess.run(
-        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
-    )
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return out.stdout, cpu
@@ -196,9 +194,11 @@ def profile(top, dump=None):
     own_total = sum(u["own"] for u in units)
     save_total = sum(data["save"].values())
     print(f"machine: {machine()}")
-    print(f"cold compile of the default paths: {cpu:.2f} s CPU, {wall:.2f} s wall; "
-          f"{len(units)} compile units, {own_total:.2f} s CPU inside them, "
-          f"{save_total:.2f} s writing cache files")
+    print(
+        f"cold compile of the default paths: {cpu:.2f} s CPU, {wall:.2f} s wall; "
+        f"{len(units)} compile units, {own_total:.2f} s CPU inside them, "
+        f"{save_total:.2f} s writing cache files"
+    )
     cols = ("own", "typing", "lowering", "other") + llvm_cols
     heads = ("own", "typing", "lower", "other", "fpass", "module", "link")
     print(" ".join(f"{h:>6}" for h in heads) + "  unit")
@@ -213,21 +213,33 @@ def profile(top, dump=None):
         for k, v in u.items():
             if k.startswith("pass:"):
                 passes[k[5:]] = passes.get(k[5:], 0.0) + v
-    print("numba passes (CPU s, all units; NativeLowering includes the LLVM work): " + ", ".join(
-        f"{k} {v:.2f}" for k, v in sorted(passes.items(), key=lambda kv: -kv[1])[:14]))
-    print("columns: own = the unit's CPU s without its callees' compiles; typing = numba's type "
-          "inference; lower = numba's lowering to LLVM IR; other = numba's other IR passes; "
-          "fpass, module = LLVM function and module passes; link = linking the callees' "
-          "modules and machine code")
+    print(
+        "numba passes (CPU s, all units; NativeLowering includes the LLVM work): "
+        + ", ".join(f"{k} {v:.2f}" for k, v in sorted(passes.items(), key=lambda kv: -kv[1])[:14])
+    )
+    print(
+        "columns: own = the unit's CPU s without its callees' compiles; typing = numba's type "
+        "inference; lower = numba's lowering to LLVM IR; other = numba's other IR passes; "
+        "fpass, module = LLVM function and module passes; link = linking the callees' "
+        "modules and machine code"
+    )
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="warm start-ups to time (best kept)")
     ap.add_argument("--cold-only", action="store_true", help="time only cold compiles (--repeat of them)")
-    ap.add_argument("--profile", type=int, nargs="?", const=25, metavar="N",
-                    help="list the N costliest compile units of one cold compile")
-    ap.add_argument("--profile-json", metavar="PATH", help="with --profile: also write every unit's times to PATH")
+    ap.add_argument(
+        "--profile",
+        type=int,
+        nargs="?",
+        const=25,
+        metavar="N",
+        help="list the N costliest compile units of one cold compile",
+    )
+    ap.add_argument(
+        "--profile-json", metavar="PATH", help="with --profile: also write every unit's times to PATH"
+    )
     args = ap.parse_args()
     if args.profile:
         profile(args.profile, args.profile_json)
@@ -238,16 +250,23 @@ def main():
         for _ in range(args.repeat):
             with tempfile.TemporaryDirectory() as cache:
                 runs.append(measure(cache))
-            print(f"cold (empty cache), default paths: {runs[-1][1]:6.2f} s wall, {runs[-1][2]:6.2f} s CPU",
-                  flush=True)
-        print(f"median: {statistics.median(r[1] for r in runs):6.2f} s wall, "
-              f"{statistics.median(r[2] for r in runs):6.2f} s CPU")
+            print(
+                f"cold (empty cache), default paths: {runs[-1][1]:6.2f} s wall, {runs[-1][2]:6.2f} s CPU",
+                flush=True,
+            )
+        print(
+            f"median: {statistics.median(r[1] for r in runs):6.2f} s wall, "
+            f"{statistics.median(r[2] for r in runs):6.2f} s CPU"
+        )
         return
     with tempfile.TemporaryDirectory() as cache:
         imp, cold, cpu = measure(cache)
         print(f"cold (empty cache), default paths: {cold:6.2f} s  (imports {imp:.2f} s; CPU {cpu:.2f} s)")
         warm = min(measure(cache) for _ in range(args.repeat))
-        print(f"warm (cache filled), default paths: {warm[1]:6.2f} s  (imports {warm[0]:.2f} s; CPU {warm[2]:.2f} s)")
+        print(
+            f"warm (cache filled), default paths: {warm[1]:6.2f} s  "
+            f"(imports {warm[0]:.2f} s; CPU {warm[2]:.2f} s)"
+        )
         imp, cold_ref, cpu = measure(cache, reference=True)
         print(f"cold, reference paths (compiled on first use): {cold_ref:6.2f} s  (CPU {cpu:.2f} s)")
 

@@ -101,7 +101,9 @@ class Kernel(CPUDispatcher):
         callee = self.__dict__.get("_callee")
         if callee is None:
             fn = self.py_func
-            twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__, fn.__defaults__, fn.__closure__)
+            twin = types.FunctionType(
+                fn.__code__, fn.__globals__, fn.__name__, fn.__defaults__, fn.__closure__
+            )
             twin.__qualname__ = fn.__qualname__ + ".compiled_callee"
             twin.__doc__ = fn.__doc__
             twin.__kwdefaults__ = fn.__kwdefaults__
