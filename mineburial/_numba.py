@@ -26,9 +26,11 @@ one-line change here.
 """
 
 import os
+import threading
 import types
 
 from numba import njit
+from numba.core import config as numba_config
 from numba.core import types as nbtypes
 from numba.core.caching import FunctionCache
 from numba.core.registry import CPUDispatcher
@@ -72,7 +74,9 @@ def _dispatcher(cls, fn, cache, **options):
 class _CompiledCallee(CPUDispatcher):
     """The twin of a :class:`Kernel` that compiled code calls: compiled without the
     CPython wrapper, for argument types without literal values (a call with the constant
-    1 and one with 2 share one specialisation instead of compiling two)."""
+    1 and one with 2 share one specialisation instead of compiling two). A kernel that
+    needs a literal argument (to index a heterogeneous tuple, or switch on a string) would
+    not compile through it: make such a helper a ``small_kernel`` or an overload."""
 
     def get_call_template(self, args, kws):
         args = tuple(nbtypes.unliteral(a) for a in args)
@@ -96,8 +100,14 @@ class Kernel(CPUDispatcher):
     from both is compiled twice, once each way (docs/design.md, compile time).
     """
 
+    _twin_lock = threading.RLock()
+
     @property
     def _numba_type_(self):
+        with self._twin_lock:  # Python-side typeof() may run on several threads
+            return nbtypes.Dispatcher(self._twin())
+
+    def _twin(self):
         callee = self.__dict__.get("_callee")
         if callee is None:
             fn = self.py_func
@@ -110,12 +120,16 @@ class Kernel(CPUDispatcher):
             cache = isinstance(self._cache, FunctionCache)
             callee = _dispatcher(_CompiledCallee, twin, cache, no_cpython_wrapper=True, **JIT_OPTIONS)
             self._callee = callee
-        return nbtypes.Dispatcher(callee)
+        return callee
 
 
 def kernel(fn):
     """Compile ``fn`` as a serial numba kernel with the project's options (a
-    :class:`Kernel`: compiled callers call it without a CPython wrapper)."""
+    :class:`Kernel`: compiled callers call it without a CPython wrapper). Under
+    ``NUMBA_DISABLE_JIT=1`` it is ``fn`` itself, as ``njit`` would give (the whole engine
+    then runs as plain Python, for debugging)."""
+    if numba_config.DISABLE_JIT:
+        return fn
     return _dispatcher(Kernel, fn, _OPTIONS["cache"], **JIT_OPTIONS)
 
 

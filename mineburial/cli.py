@@ -54,16 +54,19 @@ def _check_drop_output(output: Path, scenario: Path) -> None:
 
 def _cmd_drop(args):
     from mineburial.config import Scenario
-    from mineburial.drop import simulate_drop, trajectory_rows
+    from mineburial.drop import first_trajectory_span, simulate_drop, trajectory_rows
     from mineburial.io.netcdf import write_netcdf
 
     scenario = Scenario.from_toml(args.scenario)
     _check_drop_output(Path(args.output), Path(args.scenario))
     if args.record_interval is not None:
+        num = scenario.numerics
         trajectory_rows(
-            args.record_interval, scenario.numerics.t_max_fall + scenario.numerics.t_max, "--record-interval"
+            args.record_interval, first_trajectory_span(num.t_max, num.t_max_fall), "--record-interval"
         )
-    ds = simulate_drop(scenario, record_interval=args.record_interval, forces=args.forces)
+    ds = simulate_drop(
+        scenario, record_interval=args.record_interval, forces=args.forces, record_name="--record-interval"
+    )
     write_netcdf(ds, args.output)
     print(
         f"{scenario.mine.name}: status {ds.attrs['status']}, "

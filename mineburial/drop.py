@@ -57,9 +57,9 @@ def _memory_bytes() -> int | None:
         return None
 
 
-def trajectory_rows(record_interval, t_max: float, name: str = "record_interval") -> int:
-    """Rows of the trajectory recorded every ``record_interval`` seconds over ``t_max``
-    seconds of simulated time (a drop runs at most ``numerics.t_max_fall + numerics.t_max``).
+def trajectory_rows(record_interval, duration: float, name: str = "record_interval") -> int:
+    """Rows of the trajectory recorded every ``record_interval`` seconds over ``duration``
+    seconds of simulated time.
 
     Raises :class:`~mineburial.config.ScenarioError` naming ``name`` (the argument or
     command-line option) when the interval is not a finite number > 0, or when the
@@ -76,27 +76,33 @@ def trajectory_rows(record_interval, t_max: float, name: str = "record_interval"
         raise ScenarioError(
             f"{name} = {dt_rec!r} s must be a finite number > 0 (seconds between trajectory records)"
         )
-    rows = t_max / dt_rec + 3.0  # float: may overflow to inf for a tiny interval
+    rows = duration / dt_rec + 3.0  # float: may overflow to inf for a tiny interval
     need = rows * N_TRAJ * 8.0
     memory = _memory_bytes()
     if not math.isfinite(need) or (memory is not None and need > memory / 2):
         raise ScenarioError(
-            f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over "
-            f"numerics.t_max_fall + numerics.t_max = {t_max:g} s, {need / 2**30:.3g} GiB, more "
-            f"than half of this machine's "
+            f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over {duration:g} s "
+            f"of simulated time, {need / 2**30:.3g} GiB, more than half of this machine's "
             f"memory ({(memory or 0) / 2**30:.3g} GiB): give a larger {name}"
         )
-    return math.ceil(t_max / dt_rec) + 3
+    return math.ceil(duration / dt_rec) + 3
 
 
-def longest_drop(params) -> float:
-    """The longest simulated time of a drop: its fall limit plus the limit after the first
-    seabed contact (``numerics.t_max_fall + numerics.t_max``)."""
-    return float(params[layout.P_TMAX_FALL]) + float(params[layout.P_TMAX])
+def first_trajectory_span(t_max: float, t_max_fall: float) -> float:
+    """Simulated time the first trajectory buffer of a drop covers: ``numerics.t_max``, or
+    the whole ``t_max_fall + t_max`` if shorter. A drop that runs longer (a long fall, at
+    most ``t_max_fall + t_max``) is run again with a buffer sized for its end
+    (:func:`run_params`), so the buffer is never sized for a bound it does not reach."""
+    return min(t_max_fall + t_max, t_max)
 
 
-def run_params(params, sediment_bank, current_bank, record_interval=None):
-    """Run one drop on packed inputs; returns (status, summary, trajectory or None)."""
+def run_params(params, sediment_bank, current_bank, record_interval=None, name="record_interval"):
+    """Run one drop on packed inputs; returns (status, summary, trajectory or None).
+
+    The trajectory buffer first covers :func:`first_trajectory_span`; when the drop runs
+    past it, the drop is run again with a buffer sized for its end time (the recorder only
+    samples the continuous extension, so both runs integrate the same steps). ``name``
+    names the record interval in errors (:func:`trajectory_rows`)."""
     params = np.ascontiguousarray(params, dtype=np.float64)
     summary = np.empty(layout.N_SUMMARY)
     if record_interval is None:
@@ -104,22 +110,27 @@ def run_params(params, sediment_bank, current_bank, record_interval=None):
         dt_rec = 1.0
     else:
         dt_rec = float(record_interval)
-        traj = np.empty((trajectory_rows(dt_rec, longest_drop(params)), N_TRAJ))
-    code, rows = run_drop(
-        params,
+        span = first_trajectory_span(float(params[layout.P_TMAX]), float(params[layout.P_TMAX_FALL]))
+        traj = np.empty((trajectory_rows(dt_rec, span, name), N_TRAJ))
+    banks = (
         np.ascontiguousarray(sediment_bank, dtype=np.float64),
         np.ascontiguousarray(current_bank, dtype=np.float64),
-        summary,
-        traj,
-        dt_rec,
-        reference_paths(params),
     )
-    # a copy: the buffer is sized for the longest drop, most of it unused
-    return int(code), summary, (traj[:rows].copy() if record_interval is not None else None)
+    code, rows = run_drop(params, *banks, summary, traj, dt_rec, reference_paths(params))
+    end = summary[layout.S_TOTAL_TIME]
+    if traj is not None and rows == traj.shape[0] and traj[rows - 1, 0] < end:
+        # the drop ran past the buffer: again, with a buffer that reaches its end
+        traj = np.empty((trajectory_rows(dt_rec, end, name), N_TRAJ))
+        code, rows = run_drop(params, *banks, summary, traj, dt_rec, reference_paths(params))
+    return int(code), summary, (traj[:rows] if record_interval is not None else None)
 
 
 def simulate_drop(
-    scenario, record_interval: float | None = None, forces: bool = False, params=None
+    scenario,
+    record_interval: float | None = None,
+    forces: bool = False,
+    params=None,
+    record_name: str = "record_interval",
 ) -> xr.Dataset:
     """Simulate one drop and return its trajectory as an :class:`xarray.Dataset`.
 
@@ -135,6 +146,8 @@ def simulate_drop(
     params : tuple, optional
         Pre-packed ``(p, sediment_bank, current_bank)``; overrides ``scenario`` packing
         (the ensemble uses this to re-run a single sampled drop).
+    record_name : str
+        How errors about the record interval name it (the CLI: ``--record-interval``).
 
     The dataset has a ``time`` dimension with position, velocity, orientation
     (quaternion and the angles psi1, psi2, psi3 of seed 000 eq. (4)), angular
@@ -155,7 +168,7 @@ def simulate_drop(
     p, sed_bank, cur_bank = params
     if record_interval is None:
         record_interval = 10.0 * p[layout.P_DT]
-    code, summary, traj = run_params(p, sed_bank, cur_bank, record_interval)
+    code, summary, traj = run_params(p, sed_bank, cur_bank, record_interval, record_name)
     cols = {name: traj[:, i] for i, name in enumerate(TRAJ_COLUMNS)}
     time = cols["time"]
     data = {}

@@ -187,8 +187,8 @@ def test_time_limit_counts_from_the_first_seabed_contact():
 
 
 def test_slow_sinker_falls_longer_than_t_max_and_comes_to_rest():
-    """A mine 3 % heavier than the water it displaces sinks broadside at the terminal
-    velocity of seed 000 eq. (44) (closed form); its fall, ~36 s, is not counted in
+    """A mine 3.4 % heavier than the water it displaces sinks broadside at the terminal
+    velocity of seed 000 eq. (44) (closed form); its fall, ~37 s, is not counted in
     numerics.t_max (5 s here): it reaches the seabed and comes to rest."""
     from mineburial.validation.references import terminal_velocity_broadside
 

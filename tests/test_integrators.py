@@ -251,6 +251,30 @@ def test_recorder_samples_exact_output_times():
     np.testing.assert_allclose(ds.z.values[:11], 10.0 - 0.5 * G * t[:11] ** 2, rtol=0, atol=1e-9)
 
 
+def test_trajectory_of_a_drop_longer_than_its_first_buffer_reaches_its_end():
+    """A ballistic fall of 2.4 s with t_max = 0.5 s after the seabed contact: the first
+    trajectory buffer (t_max) is too short, the drop is run again with one that reaches its
+    end; the rows keep the parabola and the summary is that of the run without a recorder."""
+    sc = _vacuum(numerics={"t_max_fall": 60.0, "t_max": 0.5})
+    p, sb, cb = sc.to_params()
+    code, summary, _ = run_params(p, sb, cb)
+    ds = simulate_drop(sc, record_interval=0.1)
+    t = ds.time.values
+    end = float(ds.total_time)
+    R = 0.125  # radius of the horizontal cylinder: its lowest line touches the seabed
+    assert float(ds.impact_time) == pytest.approx(math.sqrt(2 * (30 - R) / G), abs=1e-9)
+    assert end > 0.5  # the fall alone outlasts the first buffer
+    assert t[-1] == end and len(t) == math.floor(end / 0.1) + 2
+    np.testing.assert_allclose(t[:-1], np.arange(len(t) - 1) * 0.1, rtol=0, atol=1e-12)
+    falling = t < math.sqrt(2 * (30 - R) / G)
+    np.testing.assert_allclose(ds.z.values[falling], 10.0 - 0.5 * G * t[falling] ** 2, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(
+        [float(ds[name]) for name in ("total_time", "penetration_depth", "impact_time")],
+        [summary[layout.S_TOTAL_TIME], summary[layout.S_PENETRATION], summary[layout.S_IMPACT_TIME]],
+    )
+    assert int(ds.status) == code
+
+
 # ---------------------------------------------------------------------------
 # a full drop: dopri5 + fast rule against RK4 at small dt + reference quadrature
 # ---------------------------------------------------------------------------

@@ -33,6 +33,7 @@ from mineburial.ensembles import engine
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
+from mineburial.kernels.stepper import MAX_STEPS
 
 __all__ = [
     "Job",
@@ -48,8 +49,9 @@ __all__ = [
     "STEPS_WARNING",
 ]
 
-#: time steps a drop above which a fixed-step integrator gets a warning
-STEPS_WARNING = 1e8
+#: time steps a drop above which a fixed-step integrator gets a warning: the stepper's step
+#: budget, after which a drop still moving ends ``time_limit``
+STEPS_WARNING = float(MAX_STEPS)
 #: seconds to wait for a dask scheduler to answer before giving up
 SCHEDULER_TIMEOUT = 10.0
 _FIXED_STEP = ("rk4", "local_linear")
@@ -180,7 +182,8 @@ def warn_run(spec) -> None:
                 f"warning: (numerics.t_max_fall + numerics.t_max) / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
                 f"{steps:.3g} time steps a drop with the fixed-step integrator "
                 f"'{num.integrator}': a drop that does not come to rest early may run for "
-                f"hours; use the adaptive integrator 'dopri5' or a larger dt"
+                f"hours, and one still moving after {STEPS_WARNING:.0e} steps ends time_limit; "
+                f"use the adaptive integrator 'dopri5' or a larger dt"
             )
 
 
