@@ -57,6 +57,16 @@ def _memory_bytes() -> int | None:
         return None
 
 
+def memory_shortfall(need: float) -> float | None:
+    """This machine's memory in bytes (0 where the OS does not say) when ``need`` bytes of
+    records would take more than half of it (or are not finite); None when they fit. The
+    one memory check of recorded trajectories and time series (drops, multibody runs)."""
+    memory = _memory_bytes()
+    if not math.isfinite(need) or (memory is not None and need > memory / 2):
+        return float(memory or 0)
+    return None
+
+
 def trajectory_rows(record_interval, duration: float, name: str = "record_interval") -> int:
     """Rows of the trajectory recorded every ``record_interval`` seconds over ``duration``
     seconds of simulated time.
@@ -78,12 +88,12 @@ def trajectory_rows(record_interval, duration: float, name: str = "record_interv
         )
     rows = duration / dt_rec + 3.0  # float: may overflow to inf for a tiny interval
     need = rows * N_TRAJ * 8.0
-    memory = _memory_bytes()
-    if not math.isfinite(need) or (memory is not None and need > memory / 2):
+    memory = memory_shortfall(need)
+    if memory is not None:
         raise ScenarioError(
             f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over {duration:g} s "
             f"of simulated time, {need / 2**30:.3g} GiB, more than half of this machine's "
-            f"memory ({(memory or 0) / 2**30:.3g} GiB): give a larger {name}"
+            f"memory ({memory / 2**30:.3g} GiB): give a larger {name}"
         )
     return math.ceil(duration / dt_rec) + 3
 

@@ -326,11 +326,11 @@ def integrate(
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
     if not np.all(np.isfinite(y0)):
         raise DescriptionError(f"y0 = {y0.tolist()} must be finite")
-    from mineburial.drop import _memory_bytes  # the machine's memory, as the drop's trajectory check
+    from mineburial.drop import memory_shortfall  # the drop's trajectory check
 
     need = record_bytes(t_end - t0, record_dt, y0.size)
-    memory = _memory_bytes()
-    if memory is not None and need > memory / 2:
+    memory = memory_shortfall(need)
+    if memory is not None:
         raise DescriptionError(
             f"record_dt = {record_dt:g} s would record {(t_end - t0) / record_dt:.3g} states over "
             f"{t_end - t0:g} s, {need / 2**30:.3g} GiB, more than half of this machine's memory "

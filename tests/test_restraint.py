@@ -108,14 +108,20 @@ def test_foundation_is_eq41_when_flat_and_conservative_when_tilted():
     assert my == pytest.approx(-dpt, rel=1e-6)
 
 
-def test_ship_resistance_follows_the_ittc_line():
-    # eqs. (59)-(62) for the 50 m cuboid at 3 m/s, the coefficients evaluated here
-    re = 3.0 * 50.0 / 1.05e-6
+def _friction_and_roughness_coefficients(speed):
+    """C_f + C_sf of seed 004 eqs. (60)-(61) (ITTC 1957 line and roughness allowance) for
+    the 50 m cuboid with 150 um roughness in water of viscosity 1.05e-6, by hand."""
+    re = speed * 50.0 / 1.05e-6
     cf = 0.075 / (math.log10(re) - 2.0) ** 2
     csf = (105.0 * (150e-6 / 50.0) ** (1.0 / 3.0) - 0.64) * 1e-3
+    return cf + csf
+
+
+def test_ship_resistance_follows_the_ittc_line():
+    # eqs. (59)-(62) for the 50 m cuboid at 3 m/s, the coefficients evaluated here
     s = 617.0
     f = rf.ship_resistance(3.0, 0.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 1.0)
-    assert f == pytest.approx(-(cf + csf) * 1025.0 * s * 9.0, rel=1e-13)
+    assert f == pytest.approx(-_friction_and_roughness_coefficients(3.0) * 1025.0 * s * 9.0, rel=1e-13)
     # relative to a following current the resistance reverses (the current drives the ship)
     assert rf.ship_resistance(0.5, 1.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 1.0) > 0.0
 
@@ -171,12 +177,9 @@ def test_ship_hydrostatics_is_the_small_motion_limit_of_the_floating_cuboid():
 def test_ittc_resistance_form_is_half_the_printed_one():
     # the textbook ITTC form 1/2 (C_f + C_sf) rho S v^2 (Molland et al. 2011) by hand, and the
     # case field that selects it
-    re = 4.0 * 50.0 / 1.05e-6
-    cf = 0.075 / (math.log10(re) - 2.0) ** 2
-    csf = (105.0 * (150e-6 / 50.0) ** (1.0 / 3.0) - 0.64) * 1e-3
     s = 617.0
     f = rf.ship_resistance(4.0, 0.0, 50.0, s, 150e-6, 1025.0, 1.05e-6, 0.5)
-    assert f == pytest.approx(-0.5 * (cf + csf) * 1025.0 * s * 16.0, rel=1e-13)
+    assert f == pytest.approx(-0.5 * _friction_and_roughness_coefficients(4.0) * 1025.0 * s * 16.0, rel=1e-13)
     ittc = R.build_system(R.table2_case(1).replace(**{"ship.resistance_form": "ittc"}))
     printed = R.build_system(R.table2_case(1))
     assert ittc.params[1][rf.P_HALF] == 0.5 and printed.params[1][rf.P_HALF] == 1.0

@@ -19,6 +19,7 @@ Parts (docs/restraint.md explains the model, its sources and its assumptions):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 from dataclasses import dataclass
@@ -1179,7 +1180,7 @@ def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, nam
     """ScenarioError naming ``name`` when the records of a run (states and the diagnostics
     computed from them) would take more than half of this machine's memory (the same check
     as the drop's trajectory, :func:`mineburial.drop.trajectory_rows`)."""
-    from mineburial.drop import _memory_bytes
+    from mineburial.drop import memory_shortfall
     from mineburial.multibody import record_bytes
 
     n = system.layout.kinds.size
@@ -1187,8 +1188,8 @@ def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, nam
     # held twice while the dataset is built
     values = system.y0.size + 2 * (8 * n + 7)
     need = record_bytes(case["numerics.t_max"], dt_rec, values)
-    memory = _memory_bytes()
-    if memory is not None and need > memory / 2:
+    memory = memory_shortfall(need)
+    if memory is not None:
         raise ScenarioError(
             f"{name} = {dt_rec:g} s would record {case['numerics.t_max'] / dt_rec:.3g} states over "
             f"numerics.t_max = {case['numerics.t_max']:g} s, {need / 2**30:.3g} GiB, more than half of this "
@@ -1279,21 +1280,12 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
                 f"(limit {ENERGY_CLOSURE_LIMIT:g}); the run is not converged "
                 f"(numerics.method, dt, rtol, atol)"
             )
-    stop = t_end if status == STOPPED else None
-    return RestraintResult(
-        system,
-        times,
-        states,
-        status,
-        STATUS_NAMES[status],
-        t_end,
-        stop,
-        pos,
-        vel,
-        hf,
-        scal,
-        failure,
-        contact_counts,
+    return dataclasses.replace(
+        result,
+        status=status,
+        status_name=STATUS_NAMES[status],
+        stopping_time=t_end if status == STOPPED else None,
+        failure=failure,
     )
 
 
