@@ -8,12 +8,12 @@ import math
 import numpy as np
 import xarray as xr
 
+from mineburial import resources
 from mineburial.io.variables import SUMMARY_OUTPUTS
 from mineburial.kernels import layout, status
 from mineburial.kernels.layout import N_TRAJ, PHASE_NAMES, TRAJ_COLUMNS
 from mineburial.kernels.rotation import euler_angles
 from mineburial.kernels.stepper import reference_paths, run_drop
-from mineburial.resources import available_memory
 
 _TRAJ_ATTRS = {
     "x": ("m", "x coordinate of the centre of mass (E-frame)"),
@@ -55,7 +55,7 @@ def memory_shortfall(need: float) -> float | None:
     bytes of records would take more than half of it (or are not finite); None when they
     fit. The one memory check of recorded trajectories and time series (drops, multibody
     runs)."""
-    memory = available_memory()
+    memory = resources.available_memory()
     if not math.isfinite(need) or (memory is not None and need > memory / 2):
         return float(memory or 0)
     return None
