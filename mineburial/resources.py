@@ -79,14 +79,9 @@ def _cgroup_dirs(proc: pathlib.Path, cgroup: pathlib.Path) -> list[tuple[pathlib
         if len(parts) != 3:
             continue
         _, controllers, rel = parts
-        if controllers == "":  # v2 unified hierarchy
-            mount, files = (
-                cgroup if (cgroup / "cgroup.controllers").exists() else cgroup / "unified",
-                (
-                    "memory.max",
-                    "memory.current",
-                ),
-            )
+        if controllers == "":  # v2: the unified hierarchy (under unified/ on a hybrid system)
+            v2_root = cgroup if (cgroup / "cgroup.controllers").exists() else cgroup / "unified"
+            mount, files = v2_root, ("memory.max", "memory.current")
         elif "memory" in controllers.split(","):
             mount, files = cgroup / "memory", ("memory.limit_in_bytes", "memory.usage_in_bytes")
         else:

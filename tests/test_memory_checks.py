@@ -163,6 +163,14 @@ def test_sensitivity_threads_0_is_one_line_not_a_traceback(capsys, no_drops):
     )
 
 
+def test_compare_threads_0_is_one_line_not_a_traceback(capsys, no_drops):
+    refused(
+        capsys,
+        ["compare", "--vary", "sediment.resistance=bearing,delta", "--threads", "0", "-n", "4"],
+        "--threads = 0 is outside the allowed range 1..",
+    )
+
+
 def test_sensitivity_memory_bound_lies_above_a_measured_peak():
     """The estimate is an upper bound of tracemalloc's peak of a small analysis."""
     import tracemalloc

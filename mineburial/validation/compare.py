@@ -218,7 +218,7 @@ def run_comparison(
     if base.sampling == "sobol":
         check_drop_count(base.n, "sobol")
     if threads is not None:
-        numba.set_num_threads(int(threads))
+        numba.set_num_threads(runner.check_threads(threads, "--threads"))
     specs = [_variant_spec(base, field, v, base.n, base.seed) for v in values]
     refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
         len(specs) * runner.memory_needed(specs[0]),
