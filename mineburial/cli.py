@@ -54,7 +54,7 @@ def _check_drop_output(output: Path, scenario: Path) -> None:
 
 def _cmd_drop(args):
     from mineburial.config import Scenario
-    from mineburial.drop import first_trajectory_span, simulate_drop, trajectory_rows
+    from mineburial.drop import drop_summary, first_trajectory_span, simulate_drop, trajectory_rows
     from mineburial.io.netcdf import write_netcdf
 
     scenario = Scenario.from_toml(args.scenario)
@@ -68,13 +68,7 @@ def _cmd_drop(args):
         scenario, record_interval=args.record_interval, forces=args.forces, record_name="--record-interval"
     )
     write_netcdf(ds, args.output)
-    print(
-        f"{scenario.mine.name}: status {ds.attrs['status']}, "
-        f"water entry {float(ds.water_entry_time):.3f} s, "
-        f"seabed impact {float(ds.impact_time):.3f} s at {float(ds.impact_speed):.2f} m/s, "
-        f"penetration {float(ds.penetration_depth):.3f} m, "
-        f"burial {float(ds.burial_volume):.1f} % by volume; wrote {args.output}"
-    )
+    print(drop_summary(ds, scenario.mine.name, args.output))
     return 0
 
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 
 import numpy as np
 import xarray as xr
 
+from mineburial import resources
 from mineburial.io.variables import SUMMARY_OUTPUTS
 from mineburial.kernels import layout, status
 from mineburial.kernels.layout import N_TRAJ, PHASE_NAMES, TRAJ_COLUMNS
@@ -49,19 +49,13 @@ _FORCE_ATTRS = {
 SUMMARY_ATTRS = {name: (out.units, out.long_name) for name, out in SUMMARY_OUTPUTS.items()}
 
 
-def _memory_bytes() -> int | None:
-    """Physical memory of this machine in bytes (None where the OS does not say)."""
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
-        return None
-
-
 def memory_shortfall(need: float) -> float | None:
-    """This machine's memory in bytes (0 where the OS does not say) when ``need`` bytes of
-    records would take more than half of it (or are not finite); None when they fit. The
-    one memory check of recorded trajectories and time series (drops, multibody runs)."""
-    memory = _memory_bytes()
+    """The memory available to this process in bytes (:func:`mineburial.resources.
+    available_memory`: free memory and the cgroup limit; 0 where nothing says) when ``need``
+    bytes of records would take more than half of it (or are not finite); None when they
+    fit. The one memory check of recorded trajectories and time series (drops, multibody
+    runs)."""
+    memory = resources.available_memory()
     if not math.isfinite(need) or (memory is not None and need > memory / 2):
         return float(memory or 0)
     return None
@@ -73,7 +67,7 @@ def trajectory_rows(record_interval, duration: float, name: str = "record_interv
 
     Raises :class:`~mineburial.config.ScenarioError` naming ``name`` (the argument or
     command-line option) when the interval is not a finite number > 0, or when the
-    trajectory would take more than half of this machine's memory.
+    trajectory would take more than half of the available memory.
     """
     from mineburial.config import ScenarioError
 
@@ -92,8 +86,8 @@ def trajectory_rows(record_interval, duration: float, name: str = "record_interv
     if memory is not None:
         raise ScenarioError(
             f"{name} = {dt_rec!r} s would record {rows:.3g} trajectory rows over {duration:g} s "
-            f"of simulated time, {need / 2**30:.3g} GiB, more than half of this machine's "
-            f"memory ({memory / 2**30:.3g} GiB): give a larger {name}"
+            f"of simulated time, {need / 2**30:.3g} GiB, more than half of the memory "
+            f"available ({memory / 2**30:.3g} GiB): give a larger {name}"
         )
     return math.ceil(duration / dt_rec) + 3
 
@@ -235,3 +229,28 @@ def simulate_drop(
         }
     )
     return ds
+
+
+def drop_summary(ds: xr.Dataset, name: str, output) -> str:
+    """The line ``mineburial drop`` prints for a drop of :func:`simulate_drop`.
+
+    Burial numbers are printed only for a drop whose burial enters the statistics
+    (:data:`mineburial.kernels.status.IN_STATISTICS`: at rest, or buried and still
+    sinking, whose penetration is a lower bound). A drop that floated, never reached the
+    seabed, or ended at a time limit or in a failure gets its status and why, and no
+    penetration or burial: its last state is not a burial. The file keeps the status
+    (variable ``status``, attributes ``status``/``status_description``)."""
+    code = int(ds["status"])
+    impact = float(ds.impact_time)
+    text = f"{name}: status {ds.attrs['status']}, water entry {float(ds.water_entry_time):.3f} s, "
+    if math.isfinite(impact):
+        text += f"seabed impact {impact:.3f} s at {float(ds.impact_speed):.2f} m/s, "
+    else:
+        text += "no seabed impact, "
+    if code in status.IN_STATISTICS:
+        bound = " (a lower bound)" if code == status.BURIED_SINKING else ""
+        return (
+            text + f"penetration {float(ds.penetration_depth):.3f} m{bound}, "
+            f"burial {float(ds.burial_volume):.1f} % by volume; wrote {output}"
+        )
+    return text + f"no penetration or burial: {status.DESCRIPTIONS[code]}; wrote {output} (status recorded)"

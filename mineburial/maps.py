@@ -37,6 +37,7 @@ from mineburial._version import __version__
 from mineburial.ensembles import engine, runner
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
+from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
 __all__ = [
@@ -77,6 +78,31 @@ _METRE = {"m", "meter", "meters", "metre", "metres"}
 _SPEED = {"m s-1", "m/s", "m s^-1", "m.s-1", "meter second-1", "m s**-1"}
 _DEGREE = {"degree", "degrees", "degree_true", "degrees_true", "deg"}
 _SEED_TAG = "mineburial-map-cell"
+#: CF standard names of a depth of the seabed, positive downwards: the sea-floor depth
+#: below the surface (CF standard name table, v84) and the four depth formula terms of the
+#: ocean parametric vertical coordinates (CF 1.11 Appendix D, Table D.1), plus ``depth``
+#: (CF: "vertical distance below the surface")
+DEPTH_NAMES = frozenset(
+    {
+        "sea_floor_depth_below_sea_surface",
+        "sea_floor_depth_below_geoid",
+        "sea_floor_depth_below_geopotential_datum",
+        "sea_floor_depth_below_reference_ellipsoid",
+        "sea_floor_depth_below_mean_sea_level",
+        "depth",
+    }
+)
+#: CF standard names of a height of the seabed, positive upwards (sea negative): the
+#: heights that CF 1.11 Appendix D pairs with the depth names above (``altitude`` is the
+#: height above the geoid)
+ELEVATION_NAMES = frozenset(
+    {
+        "altitude",
+        "height_above_geopotential_datum",
+        "height_above_reference_ellipsoid",
+        "height_above_mean_sea_level",
+    }
+)
 
 
 class MapError(cfg.ScenarioError):
@@ -101,6 +127,7 @@ class EnvironmentGrid:
     current_u: np.ndarray | None  # m s-1 towards the east (scenario x)
     current_v: np.ndarray | None  # m s-1 towards the north (scenario y)
     source: str = ""
+    vertical: str = "depth"  # how water_depth was read (:func:`_vertical_sign`)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -277,7 +304,9 @@ def read_environment(source) -> EnvironmentGrid:
     _check_axis(xc)
     depth_da = _field(ds, "water_depth", dims)
     _check_units(depth_da, _METRE, "m", "water_depth")
-    depth = np.asarray(depth_da.values, dtype=np.float64)
+    sign, vertical = _vertical_sign(depth_da)
+    depth = sign * np.asarray(depth_da.values, dtype=np.float64)
+    _check_conflicts(ds)
 
     sed_class = sed_params = None
     if "sediment_class" in ds:
@@ -322,7 +351,7 @@ def read_environment(source) -> EnvironmentGrid:
         speed = np.asarray(sp.values, np.float64)
         rad = np.radians(np.asarray(di.values, np.float64))
         cu, cv = speed * np.sin(rad), speed * np.cos(rad)  # towards-direction, clockwise from N
-    return EnvironmentGrid(
+    grid = EnvironmentGrid(
         ds=ds,
         ydim=ydim,
         xdim=xdim,
@@ -334,7 +363,111 @@ def read_environment(source) -> EnvironmentGrid:
         current_u=cu,
         current_v=cv,
         source=label,
+        vertical=vertical,
     )
+    _check_cells(grid)
+    return grid
+
+
+def _vertical_sign(da) -> tuple[float, str]:
+    """(sign, how it was decided): +1 when ``water_depth`` is a depth (positive down),
+    -1 when it is an elevation (positive up, the sea negative), by its CF attributes:
+    ``positive`` (CF 1.11 section 4.3: "up" or "down") decides; ``standard_name``
+    (:data:`DEPTH_NAMES`, :data:`ELEVATION_NAMES`) decides without it and must agree with
+    it. With neither, the variable's name says depth (documented in docs/maps.md); a
+    standard name that is neither a depth nor an elevation, without ``positive``, is
+    refused."""
+    sn = str(da.attrs.get("standard_name", "")).strip()
+    by_name = 1.0 if sn in DEPTH_NAMES else (-1.0 if sn in ELEVATION_NAMES else None)
+    positive = da.attrs.get("positive")
+    if positive is None:
+        if by_name is None and sn:
+            raise MapError(
+                f"environment grid: water_depth has the standard_name '{sn}', which is neither a "
+                f"depth ({', '.join(sorted(DEPTH_NAMES))}) nor an elevation "
+                f"({', '.join(sorted(ELEVATION_NAMES))}); give the attribute positive = 'down' "
+                f"(depth) or 'up' (elevation, the sea negative)"
+            )
+        if by_name is None:
+            return 1.0, "a depth (no positive or standard_name attribute: by its name)"
+        kind = "a depth" if by_name > 0 else "an elevation"
+        return by_name, f"{kind} (by its standard_name '{sn}')"
+    text = str(positive).strip().lower()
+    if text not in ("up", "down"):
+        raise MapError(
+            f"environment grid: water_depth has positive = {str(positive)!r}; CF allows 'up' "
+            f"(elevation, the sea negative) or 'down' (depth)"
+        )
+    sign = 1.0 if text == "down" else -1.0
+    if by_name is not None and by_name != sign:
+        kind = "a depth (positive down)" if by_name > 0 else "an elevation (positive up)"
+        raise MapError(
+            f"environment grid: water_depth has positive = '{text}' but its standard_name "
+            f"'{sn}' is {kind}; correct one of them"
+        )
+    kind = "a depth" if sign > 0 else "an elevation"
+    return sign, f"{kind} (by its attribute positive = '{text}')"
+
+
+#: pairs of grid variables of which only one may be given: (either, or)
+_ALTERNATIVES = (
+    (("current_u", "current_v"), ("current_speed", "current_direction")),
+    (("sediment_class",), tuple(_SEDIMENT_PARAMS)),
+)
+
+
+def _check_conflicts(ds) -> None:
+    """Refuse a grid that gives one quantity twice (a current as u/v and as speed and
+    direction; a sediment as a class and as linear-profile values): one would be ignored."""
+    for first, second in _ALTERNATIVES:
+        a = [v for v in first if v in ds]
+        b = [v for v in second if v in ds]
+        if a and b:
+            raise MapError(
+                f"environment grid: both {', '.join(a)} and {', '.join(b)} are given; they "
+                f"describe the same quantity, give only one of them"
+            )
+
+
+def _check_cells(grid: EnvironmentGrid) -> None:
+    """Refuse an empty grid, an infinite value (a depth, sediment or current value; NaN
+    means missing) naming its cell, and a grid without a cell to compute."""
+    if grid.water_depth.size == 0:
+        raise MapError(
+            f"environment grid: water_depth has no cells (shape {grid.shape[0]} x {grid.shape[1]})"
+        )
+    fields = {"water_depth": grid.water_depth, "current_u": grid.current_u, "current_v": grid.current_v}
+    fields.update({f"sediment_{k}": v for k, v in (grid.sediment_params or {}).items()})
+    for name, arr in fields.items():
+        if arr is None:
+            continue
+        bad = np.argwhere(np.isinf(arr))
+        if bad.size:
+            j, i = (int(v) for v in bad[0])
+            raise MapError(
+                f"environment grid: {name} is {arr[j, i]} at {_cell_label(grid, j, i)} "
+                f"({len(bad)} infinite value{'s' * (len(bad) > 1)}); give a finite value, or NaN for "
+                f"missing data"
+            )
+    status = grid.cell_status()
+    if not np.any(status == CELL_COMPUTED):
+        land = int(np.count_nonzero(status == CELL_LAND))
+        raise MapError(
+            f"environment grid: no cell to compute among its {status.size}: {land} land (water "
+            f"depth missing or <= 0), {status.size - land} without sediment data" + _sign_hint(grid)
+        )
+
+
+def _sign_hint(grid: EnvironmentGrid) -> str:
+    """How water_depth was read, when no finite value is a water depth > 0 (the grid may
+    follow the other convention than its attributes say)."""
+    finite = grid.water_depth[np.isfinite(grid.water_depth)]
+    if finite.size == 0 or np.any(finite > 0):
+        return ""
+    hint = f"; water_depth was read as {grid.vertical}"
+    if grid.vertical.startswith("a depth (no positive"):
+        hint += ": if it is an elevation (the sea negative), give it the attribute positive = 'up'"
+    return hint
 
 
 def _read_classes(da) -> np.ndarray:
@@ -512,6 +645,7 @@ def run_map(
     grid = read_environment(environment)
     status = grid.cell_status()
     ny, nx = grid.shape
+    _check_map_memory(base, status)
     raw = copy.deepcopy(base.raw)
 
     specs: dict[int, engine.EnsembleSpec] = {}
@@ -580,6 +714,31 @@ def run_map(
         ds = finish()
         out.commit(ds)
     return ds
+
+
+#: bytes of memory a map needs per cell it computes (the cell's scenario and ensemble, its
+#: chunk store and tasks, its statistics) and per grid cell (the grid, the map's arrays and
+#: their copies while the file is written): tracemalloc peaks of run_map with an output, a
+#: 12 x 12 grid and n = 2, 9.6 kB a cell in all, doubled; the per-drop values of a cell's
+#: ensemble in flight come on top (:func:`mineburial.ensembles.runner.memory_needed`)
+MAP_BYTES_A_COMPUTED_CELL = 20_000
+MAP_BYTES_A_GRID_CELL = 1_000
+
+
+def _check_map_memory(base, status: np.ndarray) -> None:
+    """Refuse, before computing, a map whose cells would not fit in the available memory."""
+    n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
+    need = (
+        n_comp * MAP_BYTES_A_COMPUTED_CELL + status.size * MAP_BYTES_A_GRID_CELL + runner.memory_needed(base)
+    )
+    refusal = memory_refusal(
+        need,
+        f"the map over the {status.shape[0]} x {status.shape[1]} environment grid "
+        f"({n_comp} cells to compute)",
+        "split the grid into parts (one map each) or coarsen it",
+    )
+    if refusal:
+        raise MapError(refusal)
 
 
 def _cell_statistics_template(spec) -> xr.Dataset:
@@ -738,7 +897,8 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
             "standard_name": "sea_floor_depth_below_sea_surface",
             "long_name": "water depth",
             "units": "m",
-            "comment": "Water depth of the cell used by its ensemble (from the environment grid).",
+            "comment": "Water depth of the cell used by its ensemble (from the environment grid's "
+            f"water_depth, read as {grid.vertical}).",
             "coverage_content_type": "referenceInformation",
             **extra,
         },
@@ -1090,7 +1250,7 @@ def run_map_cli(args) -> int:
 
     base = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed, per_drop=False)
     runner.check_run(base, what="each cell of the map")
-    read_environment(args.environment)
+    _check_map_memory(base, read_environment(args.environment).cell_status())
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
     check_output_path(args.output, inputs, "-o")
     if args.plot:

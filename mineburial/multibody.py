@@ -333,7 +333,7 @@ def integrate(
     if memory is not None:
         raise DescriptionError(
             f"record_dt = {record_dt:g} s would record {(t_end - t0) / record_dt:.3g} states over "
-            f"{t_end - t0:g} s, {need / 2**30:.3g} GiB, more than half of this machine's memory "
+            f"{t_end - t0:g} s, {need / 2**30:.3g} GiB, more than half of the memory available "
             f"({memory / 2**30:.3g} GiB): give a larger record_dt"
         )
     times, states, status, t_stop = _mb.integrate(

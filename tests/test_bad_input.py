@@ -592,7 +592,7 @@ def test_trajectory_rows_and_their_limit():
     for bad in (0.0, -1.0, math.nan, math.inf, True, "1"):
         with pytest.raises(ScenarioError, match=r"^record_interval = "):
             trajectory_rows(bad, 5.0)
-    with pytest.raises(ScenarioError, match=r"more than half of this machine's memory"):
+    with pytest.raises(ScenarioError, match=r"more than half of the memory available"):
         trajectory_rows(1e-15, 60.0)
 
 

@@ -34,6 +34,7 @@ from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
 from mineburial.kernels.stepper import MAX_STEPS
+from mineburial.resources import memory_refusal
 
 __all__ = [
     "Job",
@@ -106,21 +107,6 @@ class Progress:
 # ---------------------------------------------------------------------------
 # checks before computing
 # ---------------------------------------------------------------------------
-def _physical_memory() -> int | None:
-    try:
-        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
-        return None
-
-
-def _bytes(n: float) -> str:
-    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
-        if n < 1024 or unit == "PiB":
-            return f"{n:.3g} {unit}"
-        n /= 1024
-    return f"{n:.3g} PiB"  # pragma: no cover
-
-
 #: bytes of bookkeeping a chunk costs in memory beside its per-drop arrays (its dict, the
 #: small arrays, the task), measured order of magnitude
 CHUNK_OVERHEAD = 4096
@@ -154,14 +140,14 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
     it would need)."""
     if spec.sampling == "sobol":
         check_drop_count(spec.n, "sobol")
-    need, have = memory_needed(spec), _physical_memory()
-    if have is not None and need > have:
-        raise RunError(
-            f"ensemble.n = {spec.n} drops: {what} would need about {_bytes(need)} of memory for "
-            f"the per-drop values ({_bytes_a_drop(spec)} bytes a drop, kept until the "
-            f"statistics are computed), more than this machine's {_bytes(have)}; run fewer "
-            f"drops (several runs with different seeds can be combined)"
-        )
+    refusal = memory_refusal(
+        memory_needed(spec),
+        f"ensemble.n = {spec.n} drops: {what} ({_bytes_a_drop(spec)} bytes a drop for the "
+        f"per-drop values, kept until the statistics are computed)",
+        "run fewer drops (several runs with different seeds can be combined)",
+    )
+    if refusal:
+        raise RunError(refusal)
 
 
 def warn_run(spec) -> None:

@@ -1178,7 +1178,7 @@ class RestraintResult:
 
 def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, name: str) -> None:
     """ScenarioError naming ``name`` when the records of a run (states and the diagnostics
-    computed from them) would take more than half of this machine's memory (the same check
+    computed from them) would take more than half of the available memory (the same check
     as the drop's trajectory, :func:`mineburial.drop.trajectory_rows`)."""
     from mineburial.drop import memory_shortfall
     from mineburial.multibody import record_bytes
@@ -1192,8 +1192,8 @@ def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, nam
     if memory is not None:
         raise ScenarioError(
             f"{name} = {dt_rec:g} s would record {case['numerics.t_max'] / dt_rec:.3g} states over "
-            f"numerics.t_max = {case['numerics.t_max']:g} s, {need / 2**30:.3g} GiB, more than half of this "
-            f"machine's memory ({memory / 2**30:.3g} GiB): give a larger {name}"
+            f"numerics.t_max = {case['numerics.t_max']:g} s, {need / 2**30:.3g} GiB, more than half of the "
+            f"memory available ({memory / 2**30:.3g} GiB): give a larger {name}"
         )
 
 

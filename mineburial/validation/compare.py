@@ -37,6 +37,7 @@ from mineburial.ensembles.statistics import burial_statistics
 from mineburial.io import variables as V
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.resources import memory_refusal
 
 __all__ = [
     "ComparisonError",
@@ -217,8 +218,15 @@ def run_comparison(
     if base.sampling == "sobol":
         check_drop_count(base.n, "sobol")
     if threads is not None:
-        numba.set_num_threads(int(threads))
+        numba.set_num_threads(runner.check_threads(threads, "--threads"))
     specs = [_variant_spec(base, field, v, base.n, base.seed) for v in values]
+    refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
+        len(specs) * runner.memory_needed(specs[0]),
+        f"ensemble.n = {base.n} drops under {len(specs)} variants",
+        "run fewer drops",
+    )
+    if refusal:
+        raise ComparisonError(refusal)
     rand_slots = _random_slots(specs[0])
     allowed = []
     for spec in specs:

@@ -29,6 +29,7 @@ cannot drop points) and counted in the attribute ``n_not_in_statistics``.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
 
@@ -39,6 +40,7 @@ from scipy import stats
 from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.resources import memory_refusal
 from mineburial.validation.compare import pyplot
 
 __all__ = [
@@ -54,6 +56,12 @@ __all__ = [
 #: Outputs whose indices are computed.
 OUTPUTS = ("penetration_depth", "burial_volume")
 _TINY = 2.0**-53
+
+
+def _constant(values: np.ndarray) -> bool:
+    """Whether an output is constant over the design: its spread is within 1e-12 of its
+    magnitude (rounding), so its variance, the denominator of every index, is 0."""
+    return bool(np.ptp(values) <= 1e-12 * np.max(np.abs(values)))
 
 
 class _OnUnitInterval:
@@ -139,6 +147,11 @@ def sobol_analysis(
         rng=np.random.default_rng([seed, 1]),
     )
     lo, hi = boot.confidence_interval
+    constant = np.array(
+        [_constant(np.concatenate([f_a[k], f_b[k], f_ab[:, k].ravel()])) for k in range(len(outputs))]
+    )
+    for arr in (point[0], point[1], lo[0], lo[1], hi[0], hi[1]):
+        arr[constant] = np.nan  # scipy writes 0 for 0 / 0: the index is undefined, not zero
     dims = ("output", "input")
     ci = {
         "confidence_level": confidence_level,
@@ -164,6 +177,17 @@ def sobol_analysis(
                 "output",
                 np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
                 {"long_name": "variance of the output over A and B"},
+            ),
+            "index_status": (
+                "output",
+                constant.astype(np.int8),
+                {
+                    "long_name": "whether the Sobol' indices of the output are defined",
+                    "flag_values": np.array([0, 1], dtype=np.int8),
+                    "flag_meanings": "defined undefined_output_constant",
+                    "comment": "1: the output took one value at every point of the design, its "
+                    "variance is 0 and every index 0 / 0, written NaN.",
+                },
             ),
         },
         coords={
@@ -199,10 +223,18 @@ def run_sensitivity(
     spec = engine.load_ensemble(scenario, seed=seed)
     if not spec.random:
         raise engine.EnsembleError("the scenario has no random input: nothing to analyse")
-    if threads is not None:
-        numba.set_num_threads(int(threads))
+    threads = runner.check_threads(threads)
     names = list(spec.random)
     total = n * (len(names) + 2)
+    refusal = memory_refusal(
+        memory_needed(n, len(names), spec),
+        f"-n {n}: the Sobol' design of {total} drops over {len(names)} random inputs",
+        "give a smaller -n (a power of two)",
+    )
+    if refusal:
+        raise engine.EnsembleError(refusal)
+    if threads is not None:
+        numba.set_num_threads(threads)
     bar = runner.Progress(total, enabled=progress)
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
     done = [0]
@@ -230,6 +262,9 @@ def run_sensitivity(
     from mineburial import __version__
 
     left = int(sum(c for k, c in enumerate(counts) if k not in st.IN_STATISTICS))
+    warning = failure_warning(left, total, counts)
+    if warning:
+        ds.attrs["warning"] = warning
     ds.attrs.update(
         {
             "title": f"mineburial Sobol' sensitivity: {spec.base.mine.name}",
@@ -242,6 +277,42 @@ def run_sensitivity(
         }
     )
     return ds
+
+
+def memory_needed(n: int, d: int, spec=None, n_resamples: int = 999) -> float:
+    """Bytes an analysis of base sample size ``n`` over ``d`` inputs needs at its peak.
+
+    Measured with :mod:`tracemalloc` on :func:`sobol_analysis` (two outputs; d = 3 and 16,
+    n = 2048, 99 and 999 resamples: peaks of 2279 and 2533 (999), 272 and 703 (99) times
+    8 n bytes). The bootstrap's resampled row indices (``n_resamples`` x n integers and
+    their copies) dominate, then scipy's d x d x n matrix AB (and its reshaped copy); the
+    bound 8 n (2.3 n_resamples + 2 d**2 + 20 d + 60) lies above every measured peak. With
+    ``spec``, one chunk of drops in flight (:func:`mineburial.ensembles.runner.memory_needed`)."""
+    need = 8.0 * n * (2.3 * n_resamples + 2.0 * d * d + 20.0 * d + 60.0)
+    if spec is not None:
+        need += runner.memory_needed(dataclasses.replace(spec, n=min(spec.chunk_size, n * (d + 2))))
+    return need
+
+
+#: share of the drops outside the burial statistics (time limit, floated, failures) from
+#: which ``sensitivity`` warns: their penetration and burial are those of an unfinished drop
+FAILED_SHARE_WARNING = 0.10
+
+
+def failure_warning(left: int, total: int, counts) -> str | None:
+    """One warning line when ``left`` of ``total`` drops (at least
+    :data:`FAILED_SHARE_WARNING` of them) ended outside the burial statistics; else None."""
+    if total <= 0 or left < FAILED_SHARE_WARNING * total:
+        return None
+    which = ", ".join(
+        f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k not in st.IN_STATISTICS
+    )
+    share = "every drop" if left == total else f"{left} of {total} drops ({100.0 * left / total:.0f} %)"
+    return (
+        f"warning: {share} ended outside the burial statistics ({which}): the indices describe "
+        f"where unfinished drops stopped, not their burial; lengthen numerics.t_max / t_max_fall "
+        f"or check the scenario"
+    )
 
 
 def ranking(ds: xr.Dataset, output: str, index: str = "total_order") -> list[str]:
@@ -257,7 +328,11 @@ def sensitivity_table(ds: xr.Dataset) -> str:
         lines.append(f"\n{out} (variance {float(ds.output_variance.sel(output=out)):.4g}):\n")
         lines.append("| input | first order S_i [95 % CI] | total S_Ti [95 % CI] |")
         lines.append("|---|---|---|")
+        undefined = "index_status" in ds and int(ds.index_status.sel(output=out)) == 1
         for name in ranking(ds, str(out)):
+            if undefined:
+                lines.append(f"| {name} | undefined (output constant) | undefined (output constant) |")
+                continue
             r = ds.sel(output=out, input=name)
             lines.append(
                 f"| {name} | {float(r.first_order):.3f} [{float(r.first_order_lower):.3f}, "
@@ -301,6 +376,7 @@ def run_sensitivity_cli(args) -> int:
     from mineburial.config import ScenarioError
     from mineburial.io.netcdf import write_netcdf
 
+    runner.check_threads(args.threads, "--threads")
     n = 256 if args.drops is None else args.drops
     if n < 2 or n & (n - 1):
         raise ScenarioError(
@@ -313,6 +389,8 @@ def run_sensitivity_cli(args) -> int:
         f"n = {n}, {int(ds.attrs['n_evaluations'])} drops ({ds.attrs['status_counts']}), "
         f"seed {ds.attrs['random_seed']}, {ds.attrs['elapsed_seconds']:.1f} s"
     )
+    if ds.attrs.get("warning"):
+        print(ds.attrs["warning"])
     print(sensitivity_table(ds))
     if args.output:
         out = ds.copy()
