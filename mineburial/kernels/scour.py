@@ -124,7 +124,7 @@ def default_parameters(**overrides):
 
 @kernel
 def kh_soulsby(omega, h, g):
-    """kh from the explicit approximation of Soulsby (1997, Dynamics of Marine Sands, eq. 13 of §3.4):
+    """kh from the explicit approximation of Soulsby (1997, Dynamics of Marine Sands, §3.4):
     with xi = omega^2 h / g, kh = sqrt(xi) (1 + 0.2 xi) for xi <= 1 and kh = xi (1 + 0.2 exp(2 - 2 xi))
     for xi > 1; stated accuracy about 1 % (checked against the exact root in tests/test_scour.py)."""
     xi = omega * omega * h / g
@@ -157,7 +157,7 @@ def kh_exact(omega, h, g):
 @kernel
 def orbital_monochromatic(height, period, h, g):
     """Amplitude of the near-bed orbital velocity of a linear monochromatic wave,
-    U = pi H / (T sinh kh) (e.g. Soulsby 1997 eq. 3.13; Wiberg & Sherwood 2008 eq. 2)."""
+    U = pi H / (T sinh kh) (linear wave theory; Soulsby 1997 §3.4; Wiberg & Sherwood 2008)."""
     kh = kh_exact(2.0 * math.pi / period, h, g)
     return math.pi * height / (period * math.sinh(kh))
 
@@ -176,7 +176,7 @@ TABLE_N = 2001
 @kernel
 def jonswap_shape(x):
     """JONSWAP spectral shape in x = f/fp, unnormalised: x^-5 exp(-1.25 x^-4) gamma^r,
-    r = exp(-(x - 1)^2 / (2 sigma^2)) (Hasselmann et al. 1973; Wiberg & Sherwood 2008 eq. 11)."""
+    r = exp(-(x - 1)^2 / (2 sigma^2)) (Hasselmann et al. 1973), as in Wiberg & Sherwood (2008), ubspecpar."""
     sigma = 0.07 if x <= 1.0 else 0.09
     r = math.exp(-((x - 1.0) ** 2) / (2.0 * sigma * sigma))
     return x**-5 * math.exp(-1.25 * x**-4) * JONSWAP_GAMMA**r
@@ -187,11 +187,11 @@ def spectral_orbital_factors(tau):
     """(F, G) of the JONSWAP near-bed velocity: u_br = F Hs / Tn and T_br = G Tp, with
     tau = Tn / Tp, Tn = sqrt(h/g).
 
-    Wiberg & Sherwood (2008, eqs. 5-7, 11): the surface spectrum S(f), scaled to m0 = Hs^2/16,
-    is transferred to the bed with (2 pi f / sinh kh)^2; u_br = sqrt(2 int S_u df) and
-    T_br = int S_u df / int f S_u df. With x = f/fp, kh(x) solves the dispersion relation at
-    xi = (2 pi x tau)^2, so both depend on tau only. The integrals are their trapezoidal sums on
-    the fixed grid of x (W&S's rectangle sums on the same grid, ubspecpar).
+    Wiberg & Sherwood (2008; their code ubspecpar, csdms-contrib/oceanwaves): the surface
+    spectrum S(f), scaled to m0 = Hs^2/16, is transferred to the bed with (2 pi f / sinh kh)^2;
+    u_br = sqrt(2 int S_u df) and T_br = int S_u df / int f S_u df. With x = f/fp, kh(x) solves
+    the dispersion relation at xi = (2 pi x tau)^2, so both depend on tau only. The integrals
+    are trapezoidal sums on W&S's fixed grid of x (they use rectangle sums on the same grid).
     """
     i0 = 0.0
     i2 = 0.0
@@ -330,7 +330,7 @@ def shields_threshold(dstar):
 @kernel
 def ripple_steepness_height(d0, lam):
     """Ripple height eta of wavelength lam under an orbital diameter d0 from the steepness law of
-    Wiberg & Harris (1994, eq. 13): eta/lam = exp[-0.095 L^2 + 0.442 L - 2.28], L = ln(d0/eta),
+    Wiberg & Harris (1994): eta/lam = exp[-0.095 L^2 + 0.442 L - 2.28], L = ln(d0/eta),
     solved in closed form (Malarkey & Davies 2003): with eta = d0 exp(-L) it reads
     0.095 L^2 - 1.442 L + ln(d0/lam) + 2.28 = 0, whose smaller root is the ripple. No real root
     (d0/lam > ~24): the ripples are washed out, NaN."""
@@ -490,7 +490,11 @@ def parameters_valid(p):
         return False
     if not (p[S_MOB_C] > 0.0 and p[S_CURRENT_Z] < math.inf):
         return False
-    return math.isfinite(p[S_B0] + p[S_DIAMETER] + p[S_D50] + p[S_BEQ_B] + p[S_TSTAR_M] + p[S_TSTAR_P])
+    finite = (S_B0, S_DIAMETER, S_MINE_SG, S_D50, S_COHESIVE, S_BEQ_B, S_TSTAR_M, S_TSTAR_P, S_MOB_C, S_MOB_P)
+    for i in finite:
+        if not math.isfinite(p[i]):
+            return False
+    return True
 
 
 @kernel
@@ -575,10 +579,10 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
             lt = lead_times[j]
             if lt > ta and lt <= ta + dt:
                 out_burial[j] = relax_burial(b, b_eq, lt - ta, t_scale)
+        b_next = relax_burial(b, b_eq, dt, t_scale)
         for k in range(fractions.shape[0]):
-            if out_time_to[k] == math.inf:
-                tt = time_to_reach(b, b_eq, fractions[k] * diameter, t_scale)
-                if tt <= dt:
-                    out_time_to[k] = ta + tt
-        b = relax_burial(b, b_eq, dt, t_scale)
+            target = fractions[k] * diameter
+            if out_time_to[k] == math.inf and b_next >= target:
+                out_time_to[k] = ta + min(time_to_reach(b, b_eq, target, t_scale), dt)
+        b = b_next
     return status, t_mobile, theta_max
