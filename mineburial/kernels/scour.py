@@ -86,8 +86,8 @@ TSTAR_LAWS = {
 
 
 def pile_current_tstar(delta_over_d):
-    """(c, m, p) of the pile-in-current law T* = (1/2000)(delta/D) theta^-2.2 (Sumer, Fredsoe &
-    Christiansen 1992; sources.md §3), delta the boundary-layer thickness."""
+    """(c, m, p) of the pile-in-current law T* = (1/2000)(delta/D) theta^-2.2 (Sumer, Christiansen &
+    Fredsoe 1992, as quoted in sources.md §3), delta the boundary-layer thickness."""
     return (delta_over_d / 2000.0, 0.0, -2.2)
 
 
