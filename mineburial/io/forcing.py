@@ -218,7 +218,9 @@ class Forcing:
     def __post_init__(self):
         for name in ("time", "hs", "tp", "wave_from", "current_speed", "current_to", "water_level"):
             object.__setattr__(self, name, _ro(getattr(self, name)))
-        if self.start is not None:
+        if isinstance(self.start, str):
+            object.__setattr__(self, "start", _parse_iso(self.start))
+        elif self.start is not None:
             object.__setattr__(self, "start", np.datetime64(self.start, "ns"))
         _validate(self)
 
@@ -274,9 +276,10 @@ def _range_text(q: _Quantity) -> str:
 # --- checks -------------------------------------------------------------------------------------------
 
 
-def _check_values(where, label, key, values, iso_of, raw=None, raw_unit=None, cell=""):
+def _check_values(where, label, key, values, iso_of, raw=None, raw_unit=None, cell=None):
     """ScenarioError for the first record (in time) whose value is NaN/inf or outside the range of
-    quantity ``key``; ``values`` in stored units, (time, ...) shaped; ``iso_of(i)`` the time text."""
+    quantity ``key``; ``values`` in stored units, (time, ...) shaped; ``iso_of(i)`` the time text,
+    ``cell(index)`` the text naming a grid cell (gridded forcing)."""
     q = QUANTITIES["tp" if key in _PERIODS else key]
     v = np.asarray(values)
     ok = np.isfinite(v) & (v <= q.hi) & ((v > q.lo) if q.lo_open else (v >= q.lo))
@@ -286,7 +289,7 @@ def _check_values(where, label, key, values, iso_of, raw=None, raw_unit=None, ce
     shown = v[idx] if raw is None else np.asarray(raw)[idx]
     unit = q.unit if raw is None else raw_unit
     what = "is missing (NaN)" if np.isnan(shown) else f"= {shown:g} {unit}"
-    at = cell(idx[1:]) if callable(cell) else ""
+    at = "" if cell is None else cell(idx[1:])
     raise ScenarioError(
         f"{where}: variable '{label}' {what} at {iso_of(idx[0])}{at}; allowed: {_range_text(q)}"
     )
