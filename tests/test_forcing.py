@@ -432,6 +432,10 @@ def test_gridded_round_trip_cells_and_dry_cell(tmp_path):
         assert_matches(cell, expected)
     with pytest.raises(ScenarioError, match=r"grid\.nc.*cell \(y=1, x=0\) is dry"):
         g.cell(1, 0)
+    dry = ds.copy(deep=True)
+    dry["hs"][:] = np.nan
+    with pytest.raises(ScenarioError, match=r"dry\.nc.*'hs' is missing \(NaN\) in every cell"):
+        F.load_gridded_netcdf(to_nc(dry, tmp_path, "dry.nc"))
     # a bad value in one wet cell names the variable, the time and the cell
     bad = ds.copy(deep=True)
     bad["tp"][7, 1, 2] = 0.0

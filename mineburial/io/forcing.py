@@ -680,6 +680,10 @@ def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_byte
             f"{where}: missing variable(s): significant wave height (hs, sea_surface_wave_significant_height)"
         )
     wet = ~np.all(np.isnan(columns["hs"][1]), axis=0)
+    if not wet.any():
+        raise ScenarioError(
+            f"{where}: variable '{columns['hs'][0]}' is missing (NaN) in every cell at every time"
+        )
     jj, ii = np.nonzero(wet)
     wet_columns = {k: (name, v[:, wet], units) for k, (name, v, units) in columns.items()}
 
