@@ -1,0 +1,588 @@
+"""Post-impact scour burial under waves and currents (issue 20): the closures and one stage kernel.
+
+Pure numba kernels over floats and flat float64 arrays (docs/design.md, Kernels); each cites its
+source. The stage (:func:`scour_stage`) grows the burial of a mine lying on a sandy bed from the
+burial the impact phase left, over a forcing time series, and reports it at requested lead times.
+docs/scour.md describes the model, the choices and what is not yet done.
+
+Burial ``B`` [m] is the depth of the mine's lowest point below the undisturbed (far-field) bed, the
+quantity of Rennie, Brandt & Friedrichs (2017) (B/D = 1: the top of a horizontal cylinder is level
+with the bed) and the penetration the impact phase reports. Angles are in radians; the wave and
+current directions only enter through their difference.
+"""
+
+import math
+
+import numpy as np
+
+from mineburial._numba import kernel
+
+#: von Karman's constant (Soulsby 1997, Dynamics of Marine Sands, §3.3: 0.40)
+KAPPA = 0.40
+
+# --- status codes of the stage (never raised; the Python side explains them) -----------------------
+SCOUR_OK = 0
+SCOUR_INVALID_PARAMETER = 1
+SCOUR_INVALID_FORCING = 2
+SCOUR_BEYOND_FORCING = 3
+
+STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing")
+STATUS_DESCRIPTIONS = (
+    "the stage ran over the whole forcing",
+    "a stage parameter was non-finite or outside its physical range; nothing was computed",
+    "the forcing was not strictly increasing in time, had fewer than two samples, or held a "
+    "non-finite or negative value (wave height, current speed) or a non-positive period or depth; "
+    "nothing was computed",
+    "a requested lead time lies outside the forcing's time span: its burial is NaN (the others are valid)",
+)
+
+# --- choices ----------------------------------------------------------------------------------------
+#: near-bed orbital velocity from the JONSWAP spectrum (Wiberg & Sherwood 2008), the default
+ORBITAL_SPECTRAL = 0
+#: monochromatic linear wave with H = H_rms = Hs / sqrt(2) and T = Tp
+ORBITAL_HRMS = 1
+#: monochromatic linear wave with H = Hs and T = Tp (an upper bound, ~40 % above ORBITAL_HRMS)
+ORBITAL_HS = 2
+#: wave friction factor of Swart (1974), the default
+FRICTION_SWART = 0
+#: wave friction factor of Soulsby (1997)
+FRICTION_SOULSBY = 1
+
+# --- the stage's parameter vector (one flat float64 array; defaults in default_parameters) ---------
+S_B0 = 0  # initial burial [m] (from the impact phase)
+S_DIAMETER = 1  # mine diameter D [m]
+S_MINE_SG = 2  # mine density / water density [-] (for the mobility parameter)
+S_D50 = 3  # median grain size [m]
+S_RHO_GRAIN = 4  # grain density [kg/m^3]
+S_RHO_WATER = 5  # water density [kg/m^3]
+S_NU = 6  # kinematic viscosity of the water [m^2/s]
+S_G = 7  # gravity [m/s^2]
+S_COHESIVE = 8  # 1: cohesive bed, no scour (docs/scour.md); 0: sand
+S_MOBILE_LAYER = 9  # thickness of the mobile sand layer [m] (inf: unlimited)
+S_RIPPLE_D50 = 10  # d50 [m] from which the sand is coarse and burial is capped by the ripple height
+S_BEQ_A = 11  # a of B_eq / D = a theta^b (Rennie et al. 2017)
+S_BEQ_B = 12  # b
+S_TSTAR_C = 13  # c of T* = c KC^m theta^p
+S_TSTAR_M = 14  # m
+S_TSTAR_P = 15  # p
+S_ORBITAL = 16  # ORBITAL_SPECTRAL, ORBITAL_HRMS or ORBITAL_HS
+S_FRICTION = 17  # FRICTION_SWART or FRICTION_SOULSBY
+S_CURRENT_Z = 18  # height [m] above the bed of the current speed; <= 0: the speed is the depth mean
+S_MOB_C = 19  # c of the mobility threshold c (D/k)^p (Rennie et al. 2017)
+S_MOB_P = 20  # p
+N_PARAMS = 21
+
+#: T* = c KC^m theta^p presets (c, m, p); sources in docs/scour.md. The pile-in-current law
+#: (1/2000)(delta/D) theta^-2.2 is :func:`pile_current_tstar`.
+TSTAR_LAWS = {
+    # Whitehouse (1998), quoted in sources.md §3: T* = 0.014 theta^-1.29
+    "whitehouse": (0.014, 0.0, -1.29),
+    # pipelines in waves (Fredsoe, Sumer & Arnskov 1992): T* = (1/50) KC^1.5 theta^-5/3 [unverified]
+    "pipeline_waves": (1.0 / 50.0, 1.5, -5.0 / 3.0),
+    # piles in waves (Sumer, Christiansen & Fredsoe 1992): T* = 1e-6 (KC/theta)^3, quoted for
+    # 0.07 <= theta <= 0.19, 7 <= KC <= 34
+    "pile_waves": (1.0e-6, 3.0, -3.0),
+}
+
+
+def pile_current_tstar(delta_over_d):
+    """(c, m, p) of the pile-in-current law T* = (1/2000)(delta/D) theta^-2.2 (Sumer, Christiansen &
+    Fredsoe 1992, as quoted in sources.md §3), delta the boundary-layer thickness."""
+    return (delta_over_d / 2000.0, 0.0, -2.2)
+
+
+def default_parameters(**overrides):
+    """The stage's parameter vector with its documented defaults (docs/scour.md), keys by name
+    (``b0``, ``diameter``, ...: the ``S_`` constants in lower case)."""
+    p = np.empty(N_PARAMS)
+    p[S_B0] = 0.0
+    p[S_DIAMETER] = 0.53
+    p[S_MINE_SG] = 1.5
+    p[S_D50] = 2.0e-4
+    p[S_RHO_GRAIN] = 2650.0  # quartz
+    p[S_RHO_WATER] = 1027.0  # sea water, 10 C, 35 ppt (Soulsby 1997, Table 2)
+    p[S_NU] = 1.36e-6  # idem
+    p[S_G] = 9.81
+    p[S_COHESIVE] = 0.0
+    p[S_MOBILE_LAYER] = math.inf
+    p[S_RIPPLE_D50] = 5.0e-4  # Wentworth: coarse sand from 0.5 mm
+    p[S_BEQ_A] = 1.3  # Rennie et al. 2017, D > 8 cm
+    p[S_BEQ_B] = 0.36
+    p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P] = TSTAR_LAWS["whitehouse"]
+    p[S_ORBITAL] = ORBITAL_SPECTRAL
+    p[S_FRICTION] = FRICTION_SWART
+    p[S_CURRENT_Z] = 0.0
+    p[S_MOB_C] = 1.6  # Rennie et al. 2017
+    p[S_MOB_P] = -0.72
+    for key, value in overrides.items():
+        p[globals()["S_" + key.upper()]] = value
+    return p
+
+
+# --- wave dispersion ----------------------------------------------------------------------------------
+
+
+@kernel
+def kh_soulsby(omega, h, g):
+    """kh from the explicit approximation of Soulsby (1997, Dynamics of Marine Sands, §3.4):
+    with xi = omega^2 h / g, kh = sqrt(xi) (1 + 0.2 xi) for xi <= 1 and kh = xi (1 + 0.2 exp(2 - 2 xi))
+    for xi > 1; stated accuracy about 1 % (checked against the exact root in tests/test_scour.py)."""
+    xi = omega * omega * h / g
+    if xi <= 1.0:
+        return math.sqrt(xi) * (1.0 + 0.2 * xi)
+    return xi * (1.0 + 0.2 * math.exp(2.0 - 2.0 * xi))
+
+
+@kernel
+def kh_exact(omega, h, g):
+    """kh, the root of the linear dispersion relation omega^2 = g k tanh(kh), by Newton's method
+    on y tanh(y) - xi = 0 (xi = omega^2 h / g) from Soulsby's approximation; converges to machine
+    precision in a few steps (y tanh y is convex and increasing). NaN for a non-positive xi."""
+    xi = omega * omega * h / g
+    if not xi > 0.0:
+        return math.nan
+    y = kh_soulsby(omega, h, g)
+    for _ in range(60):
+        t = math.tanh(y)
+        dy = (y * t - xi) / (t + y * (1.0 - t * t))
+        y -= dy
+        if abs(dy) <= 1e-15 * y:
+            break
+    return y
+
+
+# --- near-bed orbital velocity ------------------------------------------------------------------------
+
+
+@kernel
+def orbital_monochromatic(height, period, h, g):
+    """Amplitude of the near-bed orbital velocity of a linear monochromatic wave,
+    U = pi H / (T sinh kh) (linear wave theory; Soulsby 1997 §3.4; Wiberg & Sherwood 2008)."""
+    kh = kh_exact(2.0 * math.pi / period, h, g)
+    return math.pi * height / (period * math.sinh(kh))
+
+
+#: JONSWAP shape (Hasselmann et al. 1973) as in Wiberg & Sherwood (2008), ubspecpar: gamma = 3.3,
+#: sigma = 0.07 below the peak, 0.09 above, on the grid f/fp = 0.2 ... 5 in steps of 0.01
+JONSWAP_GAMMA = 3.3
+SPEC_X0 = 0.2
+SPEC_DX = 0.01
+SPEC_NX = 481
+#: the orbital table covers tau = sqrt(h/g) / Tp in [0, TAU_MAX]; beyond, u_br is below 1e-9 Hs/Tn
+TAU_MAX = 1.0
+TABLE_N = 2001
+
+
+@kernel
+def jonswap_shape(x):
+    """JONSWAP spectral shape in x = f/fp, unnormalised: x^-5 exp(-1.25 x^-4) gamma^r,
+    r = exp(-(x - 1)^2 / (2 sigma^2)) (Hasselmann et al. 1973), as in Wiberg & Sherwood (2008), ubspecpar."""
+    sigma = 0.07 if x <= 1.0 else 0.09
+    r = math.exp(-((x - 1.0) ** 2) / (2.0 * sigma * sigma))
+    return x**-5 * math.exp(-1.25 * x**-4) * JONSWAP_GAMMA**r
+
+
+@kernel
+def spectral_orbital_factors(tau):
+    """(F, G) of the JONSWAP near-bed velocity: u_br = F Hs / Tn and T_br = G Tp, with
+    tau = Tn / Tp, Tn = sqrt(h/g).
+
+    Wiberg & Sherwood (2008; their code ubspecpar, csdms-contrib/oceanwaves): the surface
+    spectrum S(f), scaled to m0 = Hs^2/16, is transferred to the bed with (2 pi f / sinh kh)^2;
+    u_br = sqrt(2 int S_u df) and T_br = int S_u df / int f S_u df. With x = f/fp, kh(x) solves
+    the dispersion relation at xi = (2 pi x tau)^2, so both depend on tau only. The integrals
+    are trapezoidal sums on W&S's fixed grid of x (they use rectangle sums on the same grid).
+    """
+    i0 = 0.0
+    i2 = 0.0
+    i3 = 0.0
+    for j in range(SPEC_NX):
+        x = SPEC_X0 + j * SPEC_DX
+        w = 0.5 if j == 0 or j == SPEC_NX - 1 else 1.0
+        s = jonswap_shape(x)
+        if tau > 0.0:
+            arg = 2.0 * math.pi * x * tau
+            kh = kh_exact(arg, 1.0, 1.0)  # xi = arg^2
+            transfer = (arg / math.sinh(kh)) ** 2 if kh < 700.0 else 0.0
+        else:
+            transfer = 1.0  # shallow-water limit: 2 pi x tau / sinh(kh) -> 1
+        i0 += w * s
+        i2 += w * s * transfer
+        i3 += w * x * s * transfer
+    f = math.sqrt(2.0) / 4.0 * math.sqrt(i2 / i0)
+    return f, (i2 / i3 if i3 > 0.0 else math.nan)
+
+
+@kernel
+def build_orbital_table():
+    """(2, TABLE_N) table of (F, G) of :func:`spectral_orbital_factors` on tau = 0 ... TAU_MAX;
+    built once per run (about 1e6 kernel evaluations) and shared by every drop."""
+    table = np.empty((2, TABLE_N))
+    for i in range(TABLE_N):
+        f, g_ = spectral_orbital_factors(TAU_MAX * i / (TABLE_N - 1))
+        table[0, i] = f
+        table[1, i] = g_
+    return table
+
+
+@kernel
+def orbital_spectral(hs, tp, h, g, table):
+    """(u_br, T_br): representative near-bed orbital velocity amplitude and period of a JONSWAP sea
+    (Wiberg & Sherwood 2008), by linear interpolation in the table of :func:`build_orbital_table`.
+    Beyond TAU_MAX (deep water for the period) u_br = 0 and T_br = G(TAU_MAX) Tp."""
+    tn = math.sqrt(h / g)
+    pos = (tn / tp) / TAU_MAX * (TABLE_N - 1)
+    if pos >= TABLE_N - 1:
+        return 0.0, table[1, TABLE_N - 1] * tp
+    i = int(pos)
+    w = pos - i
+    f = table[0, i] + w * (table[0, i + 1] - table[0, i])
+    g_ = table[1, i] + w * (table[1, i + 1] - table[1, i])
+    return f * hs / tn, g_ * tp
+
+
+# --- bed shear stresses -------------------------------------------------------------------------------
+
+
+@kernel
+def friction_swart(a_over_ks):
+    """Wave friction factor of Swart (1974): f_w = 0.00251 exp(5.21 (A/ks)^-0.19) for A/ks > 1.57,
+    else 0.3 (as coded in ScientiMate ``wavebedstress``; sources.md §3). The branches meet at
+    A/ks = 1.57 to 0.1 %."""
+    if a_over_ks <= 1.57:
+        return 0.3
+    return 0.00251 * math.exp(5.21 * a_over_ks**-0.19)
+
+
+@kernel
+def friction_soulsby(a_over_z0):
+    """Wave friction factor of Soulsby (1997, eq. 62a): f_w = 1.39 (A/z0)^-0.52 (rough turbulent)."""
+    return 1.39 * a_over_z0**-0.52
+
+
+@kernel
+def wave_stress(ub, tb, d50, rho, friction):
+    """Wave skin-friction stress amplitude tau_w = 0.5 rho f_w U^2 (Soulsby 1997 eq. 57), with the
+    orbital excursion A = U T / (2 pi), Nikuradse grain roughness ks = 2.5 d50 and z0 = ks/30
+    (Soulsby 1997 eqs. 25-26)."""
+    if ub <= 0.0:
+        return 0.0
+    a = ub * tb / (2.0 * math.pi)
+    ks = 2.5 * d50
+    if friction == FRICTION_SOULSBY:
+        fw = friction_soulsby(a / (ks / 30.0))
+    else:
+        fw = friction_swart(a / ks)
+    return 0.5 * rho * fw * ub * ub
+
+
+@kernel
+def current_stress(u, z, h, d50, rho):
+    """Current skin-friction stress from a logarithmic profile with z0 = ks/30 = d50/12 (Nikuradse
+    ks = 2.5 d50; Soulsby 1997 eqs. 25-26, 30): a speed u at height z > 0 above the bed gives
+    u* = kappa u / ln(z/z0); a depth-mean speed (z <= 0) gives tau = rho C_D u^2 with
+    C_D = [kappa / (ln(h/z0) - 1)]^2 (Soulsby 1997 eq. 36-37)."""
+    z0 = d50 / 12.0
+    if z > 0.0:
+        ustar = KAPPA * u / math.log(z / z0)
+        return rho * ustar * ustar
+    cd = (KAPPA / (math.log(h / z0) - 1.0)) ** 2
+    return rho * cd * u * u
+
+
+@kernel
+def combined_stress(tau_c, tau_w, phi):
+    """(tau_m, tau_max) of waves and a current at angle phi (Soulsby 1997 eqs. 69-70, the DATA2
+    fit): tau_m = tau_c [1 + 1.2 (tau_w / (tau_c + tau_w))^3.2] and tau_max =
+    sqrt((tau_m + tau_w |cos phi|)^2 + (tau_w sin phi)^2) - |cos phi| because the wave stress
+    reverses every half period, so the larger of the two half-cycle peaks is taken."""
+    total = tau_c + tau_w
+    if total <= 0.0:
+        return 0.0, 0.0
+    tau_m = tau_c * (1.0 + 1.2 * (tau_w / total) ** 3.2)
+    c = abs(math.cos(phi))
+    s = math.sin(phi)
+    return tau_m, math.sqrt((tau_m + tau_w * c) ** 2 + (tau_w * s) ** 2)
+
+
+# --- sediment motion ----------------------------------------------------------------------------------
+
+
+@kernel
+def shields(tau, rho, s, g, d50):
+    """Shields parameter theta = tau / (rho (s - 1) g d50) (Soulsby 1997 eq. 74)."""
+    return tau / (rho * (s - 1.0) * g * d50)
+
+
+@kernel
+def grain_size_number(d50, s, g, nu):
+    """Dimensionless grain size D* = d50 [g (s - 1) / nu^2]^(1/3) (Soulsby 1997 eq. 75)."""
+    return d50 * (g * (s - 1.0) / (nu * nu)) ** (1.0 / 3.0)
+
+
+@kernel
+def shields_threshold(dstar):
+    """Threshold of motion theta_cr = 0.30 / (1 + 1.2 D*) + 0.055 [1 - exp(-0.020 D*)]
+    (Soulsby & Whitehouse 1997; Soulsby 1997 eq. 77)."""
+    return 0.30 / (1.0 + 1.2 * dstar) + 0.055 * (1.0 - math.exp(-0.020 * dstar))
+
+
+@kernel
+def ripple_steepness_height(d0, lam):
+    """Ripple height eta of wavelength lam under an orbital diameter d0 from the steepness law of
+    Wiberg & Harris (1994): eta/lam = exp[-0.095 L^2 + 0.442 L - 2.28], L = ln(d0/eta),
+    solved in closed form (Malarkey & Davies 2003): with eta = d0 exp(-L) it reads
+    0.095 L^2 - 1.442 L + ln(d0/lam) + 2.28 = 0, whose smaller root is the ripple. No real root
+    (d0/lam > ~24): the ripples are washed out, NaN."""
+    c = math.log(d0 / lam) + 2.28
+    disc = 1.442 * 1.442 - 4.0 * 0.095 * c
+    if disc < 0.0:
+        return math.nan
+    return d0 * math.exp(-(1.442 - math.sqrt(disc)) / (2.0 * 0.095))
+
+
+@kernel
+def ripple_height(d0, d50):
+    """Wave-ripple height [m] after Wiberg & Harris (1994) in the non-iterative form of Malarkey &
+    Davies (2003): orbital ripples lam = 0.62 d0, anorbital lam = 535 d50; the anorbital height
+    eta_ano decides the regime (d0/eta_ano < 20 orbital, > 100 anorbital, suborbital between, lam
+    interpolated in log space); the height then follows from the steepness law. NaN where no
+    ripple exists (d0 <= 0 or washed out)."""
+    if not d0 > 0.0:
+        return math.nan
+    lam_orb = 0.62 * d0
+    lam_ano = 535.0 * d50
+    eta_ano = ripple_steepness_height(d0, lam_ano)
+    r = d0 / eta_ano if eta_ano > 0.0 else math.inf
+    if r < 20.0:
+        lam = lam_orb
+    elif r > 100.0:
+        lam = lam_ano
+    else:
+        w = (math.log(r) - math.log(100.0)) / (math.log(20.0) - math.log(100.0))
+        lam = math.exp(w * (math.log(lam_orb) - math.log(lam_ano)) + math.log(lam_ano))
+    return ripple_steepness_height(d0, lam)
+
+
+# --- burial law ----------------------------------------------------------------------------------------
+
+
+@kernel
+def equilibrium_burial(theta, diameter, a, b):
+    """Equilibrium scour burial B_eq = D a theta^b (Rennie, Brandt & Friedrichs 2017, Ocean Eng.
+    131:282, live-bed scour; a ~ 1.3, b ~ 0.36 for D > 8 cm; a ~ 15, b ~ 1.1 for D < 3 cm or
+    tapered objects)."""
+    return diameter * a * theta**b
+
+
+@kernel
+def scour_time_scale(theta, kc, diameter, d50, s, g, c, m, p):
+    """Time scale T = T* D^2 / sqrt(g (s - 1) d50^3) with T* = c KC^m theta^p (Sumer & Fredsoe
+    2002, ch. 3-4; Whitehouse 1998: c = 0.014, m = 0, p = -1.29; presets in TSTAR_LAWS)."""
+    tstar = c * theta**p
+    if m != 0.0:
+        tstar *= kc**m
+    return tstar * diameter * diameter / math.sqrt(g * (s - 1.0) * d50**3)
+
+
+@kernel
+def relax_burial(b, b_eq, dt, t_scale):
+    """Burial after dt under constant forcing: the exact solution of dB/dt = (B_eq - B)/T,
+    B_eq - (B_eq - B) exp(-dt/T), applied only while B < B_eq (burial never decreases)."""
+    if b_eq <= b:
+        return b
+    if not t_scale > 0.0:
+        return b_eq
+    return b_eq - (b_eq - b) * math.exp(-dt / t_scale)
+
+
+@kernel
+def time_to_reach(b, b_eq, target, t_scale):
+    """Time [s] for the relaxation of :func:`relax_burial` to bring B to ``target``: 0 if B is there
+    already, T ln((B_eq - B) / (B_eq - target)) if B_eq > target, inf otherwise."""
+    if b >= target:
+        return 0.0
+    if b_eq <= target:
+        return math.inf
+    if not t_scale > 0.0:
+        return 0.0
+    return t_scale * math.log((b_eq - b) / (b_eq - target))
+
+
+@kernel
+def mobility_threshold(diameter, k, c, p):
+    """Critical object mobility parameter Theta_Ucrit = c (D/k)^p, c ~ 1.6, p ~ -0.72, for
+    cylinders under currents and waves on a bed of roughness k (Rennie et al. 2017, abstract)."""
+    return c * (diameter / k) ** p
+
+
+@kernel
+def mobility_parameter(u, diameter, mine_sg, g):
+    """Object mobility parameter Theta_U = U^2 / (g D (s_obj - 1)) (Rennie et al. 2017)."""
+    return u * u / (g * diameter * (mine_sg - 1.0))
+
+
+# --- the stage ---------------------------------------------------------------------------------------
+
+
+@kernel
+def bed_forcing(p, hs, tp, wdir, uc, cdir, h, table):
+    """(theta, ub, tb, u_near_bed): the Shields parameter of the maximum combined skin-friction stress
+    (Soulsby 1997), the near-bed orbital velocity and period of the chosen convention, and the speed
+    entering the mobility parameter (current + orbital amplitude, collinear: an upper bound) for one
+    forcing sample."""
+    g = p[S_G]
+    rho = p[S_RHO_WATER]
+    d50 = p[S_D50]
+    orbital = int(p[S_ORBITAL])
+    if hs <= 0.0:
+        ub, tb = 0.0, tp
+    elif orbital == ORBITAL_SPECTRAL:
+        ub, tb = orbital_spectral(hs, tp, h, g, table)
+    elif orbital == ORBITAL_HRMS:
+        ub, tb = orbital_monochromatic(hs / math.sqrt(2.0), tp, h, g), tp
+    else:
+        ub, tb = orbital_monochromatic(hs, tp, h, g), tp
+    tau_w = wave_stress(ub, tb, d50, rho, int(p[S_FRICTION]))
+    tau_c = current_stress(uc, p[S_CURRENT_Z], h, d50, rho)
+    _, tau_max = combined_stress(tau_c, tau_w, wdir - cdir)
+    theta = shields(tau_max, rho, p[S_RHO_GRAIN] / rho, g, d50)
+    return theta, ub, tb, uc + ub
+
+
+@kernel
+def burial_target(p, theta, theta_cr, ub, tb):
+    """(B_eq, T) of one forcing sample: B_eq = 0 at or below the threshold of motion and on a
+    cohesive bed (no growth), else the Rennie et al. law capped by full burial (D), the mobile-layer
+    thickness and, in coarse sand (d50 >= S_RIPPLE_D50), the wave-ripple height."""
+    diameter = p[S_DIAMETER]
+    d50 = p[S_D50]
+    if p[S_COHESIVE] != 0.0 or not theta > theta_cr:
+        return 0.0, math.inf
+    b_eq = min(equilibrium_burial(theta, diameter, p[S_BEQ_A], p[S_BEQ_B]), diameter)
+    b_eq = min(b_eq, p[S_MOBILE_LAYER])
+    if d50 >= p[S_RIPPLE_D50]:
+        eta = ripple_height(ub * tb / math.pi, d50)
+        if eta >= 0.0:  # NaN (no ripples) leaves no ripple cap
+            b_eq = min(b_eq, eta)
+    kc = ub * tb / diameter
+    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
+    t_scale = scour_time_scale(theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P])
+    return b_eq, t_scale
+
+
+@kernel
+def parameters_valid(p):
+    """Whether the stage's parameter vector is finite where it must be and physically possible."""
+    for i in range(N_PARAMS):
+        if math.isnan(p[i]):
+            return False
+    positive = (S_DIAMETER, S_D50, S_RHO_GRAIN, S_RHO_WATER, S_NU, S_G, S_MOBILE_LAYER, S_BEQ_A, S_TSTAR_C)
+    for i in positive:
+        if not p[i] > 0.0:
+            return False
+    if p[S_B0] < 0.0 or not p[S_MINE_SG] > 1.0 or not p[S_RHO_GRAIN] > p[S_RHO_WATER]:
+        return False
+    orbital = p[S_ORBITAL]
+    if not (orbital == ORBITAL_SPECTRAL or orbital == ORBITAL_HRMS or orbital == ORBITAL_HS):
+        return False
+    if not (p[S_FRICTION] == FRICTION_SWART or p[S_FRICTION] == FRICTION_SOULSBY):
+        return False
+    if not (p[S_MOB_C] > 0.0 and p[S_CURRENT_Z] < math.inf):
+        return False
+    finite = (S_B0, S_DIAMETER, S_MINE_SG, S_D50, S_COHESIVE, S_BEQ_B, S_TSTAR_M, S_TSTAR_P, S_MOB_C, S_MOB_P)
+    for i in finite:
+        if not math.isfinite(p[i]):
+            return False
+    return True
+
+
+@kernel
+def forcing_valid(t, hs, tp, wdir, uc, cdir, h):
+    """Whether the forcing series is usable: equal lengths >= 2, strictly increasing finite times,
+    finite non-negative wave heights and current speeds, positive periods and depths, finite angles."""
+    n = t.shape[0]
+    if n < 2:
+        return False
+    for arr in (hs, tp, wdir, uc, cdir, h):
+        if arr.shape[0] != n:
+            return False
+    for i in range(n):
+        if not (math.isfinite(t[i]) and math.isfinite(wdir[i]) and math.isfinite(cdir[i])):
+            return False
+        if i > 0 and not t[i] > t[i - 1]:
+            return False
+        if not (hs[i] >= 0.0 and uc[i] >= 0.0 and tp[i] > 0.0 and h[i] > 0.0):
+            return False
+        if not (hs[i] < math.inf and uc[i] < math.inf and tp[i] < math.inf and h[i] < math.inf):
+            return False
+    return True
+
+
+@kernel
+def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, out_burial, out_time_to):
+    """Post-impact scour burial of one mine over a forcing series.
+
+    Inputs: ``p`` the parameter vector (S_* layout, :func:`default_parameters`); the forcing as
+    flat float64 arrays of equal length: time [s], Hs [m], Tp [s], wave direction [rad], current
+    speed [m/s] (at S_CURRENT_Z, or depth mean), current direction [rad], water depth [m]; sample i
+    holds over [t_i, t_i+1). ``table`` from :func:`build_orbital_table`. ``lead_times`` [s] after
+    t_0, ``fractions`` burial levels B/D.
+
+    Outputs, written in place: ``out_burial`` the burial B [m] at each lead time (NaN beyond the
+    forcing), ``out_time_to`` the time [s] after t_0 at which B/D first reaches each fraction (inf:
+    not within the forcing). Returns (status, t_mobile, theta_max): the first time [s] the mine's
+    mobility parameter passed the threshold of Rennie et al. (inf: never), the largest Shields
+    parameter met.
+
+    Over each interval the forcing is constant and the burial follows the exact solution of
+    dB/dt = (B_eq - B)/T (:func:`relax_burial`): no time stepper is needed, which is the seam with
+    the numeric core of issue 18 (docs/scour.md).
+    """
+    out_burial[:] = math.nan
+    out_time_to[:] = math.inf
+    if not parameters_valid(p):
+        return SCOUR_INVALID_PARAMETER, math.nan, math.nan
+    for k in range(fractions.shape[0]):
+        if not (fractions[k] >= 0.0 and fractions[k] < math.inf):
+            return SCOUR_INVALID_PARAMETER, math.nan, math.nan
+    if not forcing_valid(t, hs, tp, wdir, uc, cdir, h):
+        return SCOUR_INVALID_FORCING, math.nan, math.nan
+    diameter = p[S_DIAMETER]
+    d50 = p[S_D50]
+    g = p[S_G]
+    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
+    theta_cr = shields_threshold(grain_size_number(d50, s, g, p[S_NU]))
+    theta_mob = mobility_threshold(diameter, 2.5 * d50, p[S_MOB_C], p[S_MOB_P])
+    b = p[S_B0]
+    status = SCOUR_OK
+    span = t[t.shape[0] - 1] - t[0]
+    for j in range(lead_times.shape[0]):
+        if not (lead_times[j] >= 0.0 and lead_times[j] <= span):
+            status = SCOUR_BEYOND_FORCING
+        elif lead_times[j] == 0.0:
+            out_burial[j] = b
+    for k in range(fractions.shape[0]):
+        if b >= fractions[k] * diameter:
+            out_time_to[k] = 0.0
+    t_mobile = math.inf
+    theta_max = 0.0
+    for i in range(t.shape[0] - 1):
+        ta = t[i] - t[0]
+        dt = t[i + 1] - t[i]
+        theta, ub, tb, u = bed_forcing(p, hs[i], tp[i], wdir[i], uc[i], cdir[i], h[i], table)
+        theta_max = max(theta_max, theta)
+        if t_mobile == math.inf and mobility_parameter(u, diameter, p[S_MINE_SG], g) > theta_mob:
+            t_mobile = ta
+        b_eq, t_scale = burial_target(p, theta, theta_cr, ub, tb)
+        for j in range(lead_times.shape[0]):
+            lt = lead_times[j]
+            if lt > ta and lt <= ta + dt:
+                out_burial[j] = relax_burial(b, b_eq, lt - ta, t_scale)
+        b_next = relax_burial(b, b_eq, dt, t_scale)
+        for k in range(fractions.shape[0]):
+            target = fractions[k] * diameter
+            if out_time_to[k] == math.inf and b_next >= target:
+                out_time_to[k] = ta + min(time_to_reach(b, b_eq, target, t_scale), dt)
+        b = b_next
+    return status, t_mobile, theta_max
