@@ -29,7 +29,8 @@ SCOUR_BEYOND_FORCING = 3
 STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing")
 STATUS_DESCRIPTIONS = (
     "the stage ran over the whole forcing",
-    "a stage parameter was non-finite or outside its physical range; nothing was computed",
+    "a stage parameter was non-finite or outside its documented range (docs/scour.md, Status "
+    "codes); nothing was computed",
     "the forcing was not strictly increasing in time, had fewer than two samples, or held a "
     "non-finite or negative value (wave height, current speed), a non-positive period, a depth "
     "below the floor (depth_floor: 10 ks) or not above the current's height; nothing was computed",
