@@ -29,10 +29,11 @@ SCOUR_BEYOND_FORCING = 3
 STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing")
 STATUS_DESCRIPTIONS = (
     "the stage ran over the whole forcing",
-    "a stage parameter was non-finite or outside its physical range; nothing was computed",
+    "a stage parameter was non-finite or outside its documented range (docs/scour.md, Status "
+    "codes); nothing was computed",
     "the forcing was not strictly increasing in time, had fewer than two samples, or held a "
-    "non-finite or negative value (wave height, current speed) or a non-positive period or depth; "
-    "nothing was computed",
+    "non-finite or negative value (wave height, current speed), a non-positive period, a depth "
+    "below the floor (depth_floor: 10 ks) or not above the current's height; nothing was computed",
     "a requested lead time lies outside the forcing's time span: its burial is NaN (the others are valid)",
 )
 
@@ -70,25 +71,35 @@ S_FRICTION = 17  # FRICTION_SWART or FRICTION_SOULSBY
 S_CURRENT_Z = 18  # height [m] above the bed of the current speed; <= 0: the speed is the depth mean
 S_MOB_C = 19  # c of the mobility threshold c (D/k)^p (Rennie et al. 2017)
 S_MOB_P = 20  # p
-N_PARAMS = 21
+S_TSTAR_KC_MIN = 21  # smallest KC at which a KC law (m > 0) applies; below it no growth (T = inf)
+S_MOB_BURIAL_MAX = 22  # B/D up to which the mine counts as proud for the mobility criterion
+N_PARAMS = 23
 
-#: T* = c KC^m theta^p presets (c, m, p); sources in docs/scour.md. The pile-in-current law
-#: (1/2000)(delta/D) theta^-2.2 is :func:`pile_current_tstar`.
+#: the depth must be at least this many Nikuradse roughnesses ks = 2.5 d50 (docs/scour.md)
+DEPTH_MIN_OVER_KS = 10.0
+
+#: T* = c KC^m theta^p presets (c, m, p, kc_min); sources in docs/scour.md. kc_min is the smallest
+#: KC at which a KC law (m > 0) applies: below it (no waves included) it gives no growth. The
+#: pile-in-current law (1/2000)(delta/D) theta^-2.2 is :func:`pile_current_tstar`.
 TSTAR_LAWS = {
     # Whitehouse (1998), quoted in sources.md §3: T* = 0.014 theta^-1.29
-    "whitehouse": (0.014, 0.0, -1.29),
-    # pipelines in waves (Fredsoe, Sumer & Arnskov 1992): T* = (1/50) KC^1.5 theta^-5/3 [unverified]
-    "pipeline_waves": (1.0 / 50.0, 1.5, -5.0 / 3.0),
+    "whitehouse": (0.014, 0.0, -1.29, 0.0),
+    # pipelines (Fredsoe, Sumer & Arnskov 1992, "Time scale for wave/current scour below
+    # pipelines"): T* = (1/50) theta^-5/3, for currents and waves alike, KC entering only the
+    # equilibrium depth (S/D = 0.1 sqrt(KC) in waves) [unverified: as recalled by the review and
+    # by us; the KC^1.5 factor once coded here was found in no source, so m = 0]
+    "pipeline": (1.0 / 50.0, 0.0, -5.0 / 3.0, 0.0),
     # piles in waves (Sumer, Christiansen & Fredsoe 1992): T* = 1e-6 (KC/theta)^3, quoted for
-    # 0.07 <= theta <= 0.19, 7 <= KC <= 34
-    "pile_waves": (1.0e-6, 3.0, -3.0),
+    # 0.07 <= theta <= 0.19, 7 <= KC <= 34: applied from KC = 7 (no growth below), extrapolated
+    # above KC = 34 and outside the theta range (docs/scour.md)
+    "pile_waves": (1.0e-6, 3.0, -3.0, 7.0),
 }
 
 
 def pile_current_tstar(delta_over_d):
-    """(c, m, p) of the pile-in-current law T* = (1/2000)(delta/D) theta^-2.2 (Sumer, Christiansen &
-    Fredsoe 1992, as quoted in sources.md §3), delta the boundary-layer thickness."""
-    return (delta_over_d / 2000.0, 0.0, -2.2)
+    """(c, m, p, kc_min) of the pile-in-current law T* = (1/2000)(delta/D) theta^-2.2 (Sumer,
+    Christiansen & Fredsoe 1992, as quoted in sources.md §3), delta the boundary-layer thickness."""
+    return (delta_over_d / 2000.0, 0.0, -2.2, 0.0)
 
 
 def default_parameters(**overrides):
@@ -108,12 +119,13 @@ def default_parameters(**overrides):
     p[S_RIPPLE_D50] = 5.0e-4  # Wentworth: coarse sand from 0.5 mm
     p[S_BEQ_A] = 1.3  # Rennie et al. 2017, D > 8 cm
     p[S_BEQ_B] = 0.36
-    p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P] = TSTAR_LAWS["whitehouse"]
+    p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN] = TSTAR_LAWS["whitehouse"]
     p[S_ORBITAL] = ORBITAL_SPECTRAL
     p[S_FRICTION] = FRICTION_SWART
     p[S_CURRENT_Z] = 0.0
     p[S_MOB_C] = 1.6  # Rennie et al. 2017
     p[S_MOB_P] = -0.72
+    p[S_MOB_BURIAL_MAX] = 0.1  # our choice (docs/scour.md): the criterion is for a proud object
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -136,8 +148,11 @@ def kh_soulsby(omega, h, g):
 @kernel
 def kh_exact(omega, h, g):
     """kh, the root of the linear dispersion relation omega^2 = g k tanh(kh), by Newton's method
-    on y tanh(y) - xi = 0 (xi = omega^2 h / g) from Soulsby's approximation; converges to machine
-    precision in a few steps (y tanh y is convex and increasing). NaN for a non-positive xi."""
+    on f(y) = y tanh(y) - xi = 0 (xi = omega^2 h / g). f is increasing (f' = tanh y + y sech^2 y
+    > 0) but not convex everywhere (f'' = 2 sech^2 y (1 - y tanh y) < 0 where y tanh y > 1), so
+    convergence rests on the start: Soulsby's explicit approximation, within 1 % of the root, where
+    Newton converges quadratically (machine precision in a few steps; checked against brentq to
+    1e-13 for xi from 5e-3 to 2e3 in tests/test_scour.py). NaN for a non-positive xi."""
     xi = omega * omega * h / g
     if not xi > 0.0:
         return math.nan
@@ -246,9 +261,11 @@ def orbital_spectral(hs, tp, h, g, table):
 
 @kernel
 def friction_swart(a_over_ks):
-    """Wave friction factor of Swart (1974): f_w = 0.00251 exp(5.21 (A/ks)^-0.19) for A/ks > 1.57,
-    else 0.3 (as coded in ScientiMate ``wavebedstress``; sources.md §3). The branches meet at
-    A/ks = 1.57 to 0.1 %."""
+    """Wave friction factor of Swart (1974) in its simplified form f_w = 0.00251 exp(5.21
+    (A/ks)^-0.19) for A/ks > 1.57, else 0.3 (as coded in ScientiMate ``wavebedstress``;
+    sources.md §3; van der A et al. 2013, Coastal Eng. 76, App. A, put the branch at 1.587).
+    Swart's original form exp(5.213 (A/ks)^-0.194 - 5.977) is 1.9 % below it at A/ks = 10 and
+    2.8 % at 100. The branches meet at A/ks = 1.57 to 0.14 % (0.29957 against 0.3)."""
     if a_over_ks <= 1.57:
         return 0.3
     return 0.00251 * math.exp(5.21 * a_over_ks**-0.19)
@@ -281,7 +298,9 @@ def current_stress(u, z, h, d50, rho):
     """Current skin-friction stress from a logarithmic profile with z0 = ks/30 = d50/12 (Nikuradse
     ks = 2.5 d50; Soulsby 1997 eqs. 25-26, 30): a speed u at height z > 0 above the bed gives
     u* = kappa u / ln(z/z0); a depth-mean speed (z <= 0) gives tau = rho C_D u^2 with
-    C_D = [kappa / (ln(h/z0) - 1)]^2 (Soulsby 1997 eq. 36-37)."""
+    C_D = [kappa / (ln(h/z0) - 1)]^2 (Soulsby 1997 eq. 36-37). Valid for ks <= z < h and
+    h >= DEPTH_MIN_OVER_KS ks (ln(z/z0) <= 0 or h <= e z0 would give an infinite or negative
+    stress): the stage checks both (parameters_valid, forcing_valid) before calling it."""
     z0 = d50 / 12.0
     if z > 0.0:
         ustar = KAPPA * u / math.log(z / z0)
@@ -292,10 +311,12 @@ def current_stress(u, z, h, d50, rho):
 
 @kernel
 def combined_stress(tau_c, tau_w, phi):
-    """(tau_m, tau_max) of waves and a current at angle phi (Soulsby 1997 eqs. 69-70, the DATA2
-    fit): tau_m = tau_c [1 + 1.2 (tau_w / (tau_c + tau_w))^3.2] and tau_max =
-    sqrt((tau_m + tau_w |cos phi|)^2 + (tau_w sin phi)^2) - |cos phi| because the wave stress
-    reverses every half period, so the larger of the two half-cycle peaks is taken."""
+    """(tau_m, tau_max) of waves and a current at angle phi: the mean stress
+    tau_m = tau_c [1 + 1.2 (tau_w / (tau_c + tau_w))^3.2] and the peak
+    tau_max = sqrt((tau_m + tau_w |cos phi|)^2 + (tau_w sin phi)^2) (Soulsby 1997 eqs. 69-70, his
+    fit to the DATA13 method of Soulsby 1995; equation numbers as recalled). |cos phi| rather than
+    cos phi: the wave stress reverses every half period, and of the two half-cycle peaks
+    (tau_m +- tau_w cos phi along the current) the larger is taken, so phi and phi + pi agree."""
     total = tau_c + tau_w
     if total <= 0.0:
         return 0.0, 0.0
@@ -376,11 +397,17 @@ def equilibrium_burial(theta, diameter, a, b):
 
 
 @kernel
-def scour_time_scale(theta, kc, diameter, d50, s, g, c, m, p):
+def scour_time_scale(theta, kc, diameter, d50, s, g, c, m, p, kc_min):
     """Time scale T = T* D^2 / sqrt(g (s - 1) d50^3) with T* = c KC^m theta^p (Sumer & Fredsoe
-    2002, ch. 3-4; Whitehouse 1998: c = 0.014, m = 0, p = -1.29; presets in TSTAR_LAWS)."""
+    2002, ch. 3-4; Whitehouse 1998: c = 0.014, m = 0, p = -1.29; presets in TSTAR_LAWS).
+
+    A KC law (m > 0) is a law for waves: below kc_min (> 0, the lower edge of its range; KC = 0
+    without waves) it gives no wave-driven growth, T = inf, rather than T -> 0 (an immediate
+    equilibrium). Choose a law with m = 0 for current-dominated forcing (docs/scour.md)."""
     tstar = c * theta**p
     if m != 0.0:
+        if not kc >= kc_min:
+            return math.inf
         tstar *= kc**m
     return tstar * diameter * diameter / math.sqrt(g * (s - 1.0) * d50**3)
 
@@ -388,8 +415,9 @@ def scour_time_scale(theta, kc, diameter, d50, s, g, c, m, p):
 @kernel
 def relax_burial(b, b_eq, dt, t_scale):
     """Burial after dt under constant forcing: the exact solution of dB/dt = (B_eq - B)/T,
-    B_eq - (B_eq - B) exp(-dt/T), applied only while B < B_eq (burial never decreases)."""
-    if b_eq <= b:
+    B_eq - (B_eq - B) exp(-dt/T), applied only while B < B_eq (burial never decreases); T = inf
+    leaves B as it is."""
+    if b_eq <= b or t_scale == math.inf:
         return b
     if not t_scale > 0.0:
         return b_eq
@@ -412,7 +440,9 @@ def time_to_reach(b, b_eq, target, t_scale):
 @kernel
 def mobility_threshold(diameter, k, c, p):
     """Critical object mobility parameter Theta_Ucrit = c (D/k)^p, c ~ 1.6, p ~ -0.72, for
-    cylinders under currents and waves on a bed of roughness k (Rennie et al. 2017, abstract)."""
+    cylinders under currents and waves resting on a rigid bottom of roughness k (Rennie et al.
+    2017, abstract: "onset of motion on a rigid bottom", "object diameter-to-bottom roughness
+    ratios (D/k)"); the stage applies it only while the mine is proud (docs/scour.md)."""
     return c * (diameter / k) ** p
 
 
@@ -454,7 +484,9 @@ def bed_forcing(p, hs, tp, wdir, uc, cdir, h, table):
 def burial_target(p, theta, theta_cr, ub, tb):
     """(B_eq, T) of one forcing sample: B_eq = 0 at or below the threshold of motion and on a
     cohesive bed (no growth), else the Rennie et al. law capped by full burial (D), the mobile-layer
-    thickness and, in coarse sand (d50 >= S_RIPPLE_D50), the wave-ripple height."""
+    thickness and, in coarse sand (d50 >= S_RIPPLE_D50), the wave-ripple height. Without waves
+    (d0 = 0) there is no wave ripple and no ripple cap: current ripples are not modelled
+    (docs/scour.md)."""
     diameter = p[S_DIAMETER]
     d50 = p[S_D50]
     if p[S_COHESIVE] != 0.0 or not theta > theta_cr:
@@ -467,13 +499,29 @@ def burial_target(p, theta, theta_cr, ub, tb):
             b_eq = min(b_eq, eta)
     kc = ub * tb / diameter
     s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
-    t_scale = scour_time_scale(theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P])
+    t_scale = scour_time_scale(
+        theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
+    )
     return b_eq, t_scale
 
 
 @kernel
+def depth_floor(d50):
+    """The smallest water depth [m] the stage accepts: DEPTH_MIN_OVER_KS (10) Nikuradse roughnesses
+    ks = 2.5 d50, i.e. h/z0 >= 300, where the depth-mean drag coefficient of :func:`current_stress`
+    has ln(h/z0) - 1 >= 4.7 (it becomes infinite at h = e z0). Far below any depth a mine is laid
+    in (5 mm for 0.2 mm sand); it only rules out meaningless forcing (docs/scour.md)."""
+    return DEPTH_MIN_OVER_KS * 2.5 * d50
+
+
+@kernel
 def parameters_valid(p):
-    """Whether the stage's parameter vector is finite where it must be and physically possible."""
+    """Whether the stage's parameter vector lies in its documented ranges (docs/scour.md, Status
+    codes): finite where it must be, positive sizes, densities and coefficients, s_obj > 1, grains
+    heavier than water, b > 0 (B_eq grows with theta), p < 0 (T shrinks with theta), m >= 0 with
+    kc_min > 0 for a KC law (m > 0), mobility exponent < 0, proud limit in [0, 1], a known
+    convention code, and a current height either <= 0 (depth mean) or >= ks = 2.5 d50 (above the
+    roughness elements, where the log profile holds)."""
     for i in range(N_PARAMS):
         if math.isnan(p[i]):
             return False
@@ -481,26 +529,34 @@ def parameters_valid(p):
     for i in positive:
         if not p[i] > 0.0:
             return False
-    if p[S_B0] < 0.0 or not p[S_MINE_SG] > 1.0 or not p[S_RHO_GRAIN] > p[S_RHO_WATER]:
-        return False
-    orbital = p[S_ORBITAL]
-    if not (orbital == ORBITAL_SPECTRAL or orbital == ORBITAL_HRMS or orbital == ORBITAL_HS):
-        return False
-    if not (p[S_FRICTION] == FRICTION_SWART or p[S_FRICTION] == FRICTION_SOULSBY):
-        return False
-    if not (p[S_MOB_C] > 0.0 and p[S_CURRENT_Z] < math.inf):
-        return False
     finite = (S_B0, S_DIAMETER, S_MINE_SG, S_D50, S_COHESIVE, S_BEQ_B, S_TSTAR_M, S_TSTAR_P, S_MOB_C, S_MOB_P)
     for i in finite:
         if not math.isfinite(p[i]):
             return False
-    return True
+    if p[S_B0] < 0.0 or not p[S_MINE_SG] > 1.0 or not p[S_RHO_GRAIN] > p[S_RHO_WATER]:
+        return False
+    if not (p[S_BEQ_B] > 0.0 and p[S_TSTAR_P] < 0.0 and p[S_TSTAR_M] >= 0.0):
+        return False
+    kc_min = p[S_TSTAR_KC_MIN]
+    if not (kc_min >= 0.0 and kc_min < math.inf) or (p[S_TSTAR_M] > 0.0 and not kc_min > 0.0):
+        return False
+    if not (p[S_MOB_C] > 0.0 and p[S_MOB_P] < 0.0 and 0.0 <= p[S_MOB_BURIAL_MAX] <= 1.0):
+        return False
+    z = p[S_CURRENT_Z]
+    if not (math.isfinite(z) and (z <= 0.0 or z >= 2.5 * p[S_D50])):
+        return False
+    orbital = p[S_ORBITAL]
+    if not (orbital == ORBITAL_SPECTRAL or orbital == ORBITAL_HRMS or orbital == ORBITAL_HS):
+        return False
+    return p[S_FRICTION] == FRICTION_SWART or p[S_FRICTION] == FRICTION_SOULSBY
 
 
 @kernel
-def forcing_valid(t, hs, tp, wdir, uc, cdir, h):
+def forcing_valid(t, hs, tp, wdir, uc, cdir, h, h_min, z_current):
     """Whether the forcing series is usable: equal lengths >= 2, strictly increasing finite times,
-    finite non-negative wave heights and current speeds, positive periods and depths, finite angles."""
+    finite non-negative wave heights and current speeds, positive finite periods, finite angles,
+    finite depths h >= h_min (:func:`depth_floor`) and, for a current given at a height
+    z_current > 0, above it (h > z_current)."""
     n = t.shape[0]
     if n < 2:
         return False
@@ -512,11 +568,29 @@ def forcing_valid(t, hs, tp, wdir, uc, cdir, h):
             return False
         if i > 0 and not t[i] > t[i - 1]:
             return False
-        if not (hs[i] >= 0.0 and uc[i] >= 0.0 and tp[i] > 0.0 and h[i] > 0.0):
+        if not (hs[i] >= 0.0 and uc[i] >= 0.0 and tp[i] > 0.0 and h[i] >= h_min and h[i] > z_current):
             return False
         if not (hs[i] < math.inf and uc[i] < math.inf and tp[i] < math.inf and h[i] < math.inf):
             return False
     return True
+
+
+@kernel
+def initial_leads(lead_times, order, span, b0, out_burial):
+    """(status, nxt) before the stage's loop: the burial b0 at lead times 0, SCOUR_BEYOND_FORCING
+    if a lead time lies outside [0, span] (or is NaN), and nxt, the position in the sorted
+    ``order`` of the first lead time > 0 (those <= 0 need no interval)."""
+    status = SCOUR_OK
+    nxt = 0
+    for j in range(order.shape[0]):
+        lt = lead_times[order[j]]
+        if not (lt >= 0.0 and lt <= span):
+            status = SCOUR_BEYOND_FORCING
+        elif lt == 0.0:
+            out_burial[order[j]] = b0
+        if not lt > 0.0 and not math.isnan(lt):
+            nxt = j + 1
+    return status, nxt
 
 
 @kernel
@@ -527,17 +601,18 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
     flat float64 arrays of equal length: time [s], Hs [m], Tp [s], wave direction [rad], current
     speed [m/s] (at S_CURRENT_Z, or depth mean), current direction [rad], water depth [m]; sample i
     holds over [t_i, t_i+1). ``table`` from :func:`build_orbital_table`. ``lead_times`` [s] after
-    t_0, ``fractions`` burial levels B/D.
+    t_0 (any order), ``fractions`` burial levels B/D.
 
     Outputs, written in place: ``out_burial`` the burial B [m] at each lead time (NaN beyond the
     forcing), ``out_time_to`` the time [s] after t_0 at which B/D first reaches each fraction (inf:
-    not within the forcing). Returns (status, t_mobile, theta_max): the first time [s] the mine's
-    mobility parameter passed the threshold of Rennie et al. (inf: never), the largest Shields
-    parameter met.
+    not within the forcing). Returns (status, t_mobile, theta_max): the start [s] of the first
+    interval in which the mine, still proud (B/D <= S_MOB_BURIAL_MAX), had a mobility parameter
+    above the threshold of Rennie et al. (inf: never), and the largest Shields parameter met.
 
     Over each interval the forcing is constant and the burial follows the exact solution of
     dB/dt = (B_eq - B)/T (:func:`relax_burial`): no time stepper is needed, which is the seam with
-    the numeric core of issue 18 (docs/scour.md).
+    the numeric core of issue 18 (docs/scour.md). The lead times are visited in sorted order with
+    one pointer, so the cost is O(N_intervals + N_leads log N_leads).
     """
     out_burial[:] = math.nan
     out_time_to[:] = math.inf
@@ -546,22 +621,19 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
     for k in range(fractions.shape[0]):
         if not (fractions[k] >= 0.0 and fractions[k] < math.inf):
             return SCOUR_INVALID_PARAMETER, math.nan, math.nan
-    if not forcing_valid(t, hs, tp, wdir, uc, cdir, h):
-        return SCOUR_INVALID_FORCING, math.nan, math.nan
     diameter = p[S_DIAMETER]
     d50 = p[S_D50]
+    if not forcing_valid(t, hs, tp, wdir, uc, cdir, h, depth_floor(d50), p[S_CURRENT_Z]):
+        return SCOUR_INVALID_FORCING, math.nan, math.nan
     g = p[S_G]
     s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
     theta_cr = shields_threshold(grain_size_number(d50, s, g, p[S_NU]))
     theta_mob = mobility_threshold(diameter, 2.5 * d50, p[S_MOB_C], p[S_MOB_P])
+    b_proud = p[S_MOB_BURIAL_MAX] * diameter
     b = p[S_B0]
-    status = SCOUR_OK
     span = t[t.shape[0] - 1] - t[0]
-    for j in range(lead_times.shape[0]):
-        if not (lead_times[j] >= 0.0 and lead_times[j] <= span):
-            status = SCOUR_BEYOND_FORCING
-        elif lead_times[j] == 0.0:
-            out_burial[j] = b
+    order = np.argsort(lead_times)  # NaN last
+    status, nxt = initial_leads(lead_times, order, span, b, out_burial)
     for k in range(fractions.shape[0]):
         if b >= fractions[k] * diameter:
             out_time_to[k] = 0.0
@@ -569,20 +641,23 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
     theta_max = 0.0
     for i in range(t.shape[0] - 1):
         ta = t[i] - t[0]
-        dt = t[i + 1] - t[i]
+        te = t[i + 1] - t[0]
         theta, ub, tb, u = bed_forcing(p, hs[i], tp[i], wdir[i], uc[i], cdir[i], h[i], table)
         theta_max = max(theta_max, theta)
-        if t_mobile == math.inf and mobility_parameter(u, diameter, p[S_MINE_SG], g) > theta_mob:
+        if (
+            t_mobile == math.inf
+            and b <= b_proud
+            and mobility_parameter(u, diameter, p[S_MINE_SG], g) > theta_mob
+        ):
             t_mobile = ta
         b_eq, t_scale = burial_target(p, theta, theta_cr, ub, tb)
-        for j in range(lead_times.shape[0]):
-            lt = lead_times[j]
-            if lt > ta and lt <= ta + dt:
-                out_burial[j] = relax_burial(b, b_eq, lt - ta, t_scale)
-        b_next = relax_burial(b, b_eq, dt, t_scale)
+        while nxt < order.shape[0] and lead_times[order[nxt]] <= te:
+            out_burial[order[nxt]] = relax_burial(b, b_eq, lead_times[order[nxt]] - ta, t_scale)
+            nxt += 1
+        b_next = relax_burial(b, b_eq, te - ta, t_scale)
         for k in range(fractions.shape[0]):
             target = fractions[k] * diameter
             if out_time_to[k] == math.inf and b_next >= target:
-                out_time_to[k] = ta + min(time_to_reach(b, b_eq, target, t_scale), dt)
+                out_time_to[k] = ta + min(time_to_reach(b, b_eq, target, t_scale), te - ta)
         b = b_next
     return status, t_mobile, theta_max
