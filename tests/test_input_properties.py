@@ -16,13 +16,12 @@ from __future__ import annotations
 
 import copy
 import math
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 from test_bad_input import toml_text
 
@@ -35,14 +34,25 @@ from mineburial.synthetic import synthetic_environment
 from mineburial.systems import restraint
 
 SETTINGS = settings(
-    max_examples=30,
-    deadline=2000,  # ms per example: a reader that hangs fails
+    max_examples=25,
+    deadline=10_000,  # ms per example: a reader that hangs fails (generous: a shared 2-core CI)
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     database=None,
 )
 
-FOLDER = Path(tempfile.mkdtemp(prefix="mineburial-properties-"))
+#: for the properties that fail today (xfail): no shrinking of the failing example
+NO_SHRINK = settings(SETTINGS, phases=[Phase.explicit, Phase.reuse, Phase.generate])
+
+FOLDER = Path()  # the module's scratch folder, set by the fixture below
+
+
+@pytest.fixture(scope="module", autouse=True)
+def scratch_folder(tmp_path_factory):
+    """Files the readers are fed are written here (pytest's temporary folders, not /tmp)."""
+    global FOLDER
+    FOLDER = tmp_path_factory.mktemp("properties")
+
 
 SINGLE_TEXT = Path(example_path("default_mine")).read_text()
 ENSEMBLE_TEXT = Path(example_path("default_soft_mud")).read_text()
@@ -163,6 +173,7 @@ def read_grid(source):
     g = read_environment(source)
     assert isinstance(g, EnvironmentGrid)
     ny, nx = g.shape
+    assert ny >= 1 and nx >= 1, f"a grid of {ny} x {nx} cells"
     assert g.ds.sizes[g.ydim] == ny and g.ds.sizes[g.xdim] == nx
     assert g.water_depth.dtype == np.float64
     return g
@@ -287,7 +298,7 @@ NOT_UTF8_XFAIL = "inputs: bytes that are not UTF-8 raise UnicodeDecodeError, not
     "kind",
     [pytest.param(k, marks=pytest.mark.xfail(strict=True, reason=NOT_UTF8_XFAIL)) for k in ALL_READERS],
 )
-@SETTINGS
+@NO_SHRINK
 @given(raw=RANDOM_BYTES)
 def test_reader_on_random_bytes(kind, raw):
     refused_or_valid(ALL_READERS[kind], raw)
@@ -303,8 +314,8 @@ GRID_VARIABLES = ["water_depth", "sediment_class", "current_u", "current_v", "cr
 @st.composite
 def mutated_grid(draw) -> xr.Dataset:
     """The synthetic grid with up to four random edits: a variable dropped, its units
-    changed, its values replaced by random numbers, an axis cut or reversed, a
-    variable renamed, a conflicting variable added."""
+    changed, its values replaced by random numbers, an axis cut (to one cell or more)
+    or reversed, a variable renamed, a conflicting variable added."""
     env = BASE_GRID.copy(deep=True)
     for _ in range(draw(st.integers(1, 4))):
         names = [v for v in GRID_VARIABLES if v in env.variables]
@@ -335,7 +346,7 @@ def mutated_grid(draw) -> xr.Dataset:
         elif op == "cut":
             dim = draw(st.sampled_from(["latitude", "longitude"]))
             if dim in env.dims:
-                stop = draw(st.integers(0, env.sizes[dim]))
+                stop = draw(st.integers(min(1, env.sizes[dim]), env.sizes[dim]))
                 env = env.isel({dim: slice(0, stop)})
         elif op == "reverse":
             dim = draw(st.sampled_from(["latitude", "longitude"]))
@@ -371,7 +382,15 @@ def test_grid_reader_on_mutated_grids(env):
     refused_or_valid(read_grid, env)
 
 
-@settings(SETTINGS, max_examples=15)
+@pytest.mark.xfail(strict=True, reason="maps: a grid cut to 0 cells along an axis is read without an error")
+@NO_SHRINK
+@given(env=mutated_grid(), empty=st.sampled_from([("latitude",), ("longitude",), ("latitude", "longitude")]))
+def test_grid_reader_on_mutated_grids_with_empty_axes(env, empty):
+    env = env.isel({dim: slice(0, 0) for dim in empty if dim in env.dims})
+    refused_or_valid(read_grid, env)
+
+
+@settings(SETTINGS, max_examples=10)
 @given(env=mutated_grid())
 def test_grid_reader_on_mutated_grid_files(env):
     path = FOLDER / "env.nc"
@@ -383,7 +402,7 @@ def test_grid_reader_on_mutated_grid_files(env):
     refused_or_valid(read_grid, path)
 
 
-@settings(SETTINGS, max_examples=15)
+@settings(SETTINGS, max_examples=10)
 @given(raw=RANDOM_BYTES)
 def test_grid_reader_on_random_bytes(raw):
     refused_or_valid(read_grid, _file("env.nc", raw))
