@@ -12,6 +12,9 @@ asserts the promises of a user error:
 * nothing computed: the drop, restraint and validation kernels are replaced by a
   function that fails the case if it is called, so every check is made first.
 
+The reference: the same inputs before the one change reach the computing
+(:func:`test_the_unbroken_inputs_reach_the_computing`), so the refusal is the change's.
+
 The cases are generated from tables: TOML syntax damage x every command that reads a
 scenario, every field of the embedded example scenarios (``mineburial example``) set
 to a wrong type, NaN or an out-of-range value, every distribution of the default
@@ -1031,3 +1034,40 @@ def test_there_are_at_least_150_cases_over_every_command():
 
 def test_every_xfail_names_a_case():
     assert set(XFAIL) <= set(CASES)
+
+
+#: the unbroken inputs each family of cases starts from: (files, command line)
+UNBROKEN = {
+    **{f"{cmd}-base": (_base_files(cmd), COMMANDS[cmd]) for cmd in COMMANDS},
+    **{
+        f"{cmd}-example-{ex}": (
+            {**_base_files(cmd), "s.toml": toml_text(_small(_example_dict(ex)))},
+            COMMANDS[cmd],
+        )
+        for ex, cmd in MUTATED.items()
+    },
+    "drop-core-csv": (
+        {"s.toml": toml_text(_core_scenario("drop", "core.csv")), "core.csv": CORE},
+        COMMANDS["drop"],
+    ),
+    "drop-core-netcdf": (
+        {"s.toml": toml_text(_core_scenario("drop", "core.nc")), "core.nc": _write_core(lambda vs: vs)},
+        COMMANDS["drop"],
+    ),
+    "sensitivity-empirical-csv": (
+        {"s.toml": toml_text(_empirical_scenario("dist.csv")), "dist.csv": DIST},
+        COMMANDS["sensitivity"],
+    ),
+    "validate-quick": ({}, ("validate", "--quick", "-o", "report")),
+}
+
+
+@pytest.mark.parametrize("name", list(UNBROKEN))
+def test_the_unbroken_inputs_reach_the_computing(name, tmp_path, monkeypatch, nothing_computed):
+    """The reference of every case: its inputs before the one change are accepted, so the
+    change is what the error line is about."""
+    files, argv = UNBROKEN[name]
+    _write(tmp_path, files)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(AssertionError, match="computing started"):
+        cli.main(list(argv))
