@@ -882,12 +882,8 @@ XFAIL: dict[str, str] = {
         "inputs: char variable in a NetCDF core -> ValueError traceback",
     ),
     # --- maps: environment grids, --threads ----------------------------------------------------
-    "grid_current_speed_and_current_uv-map": "maps: current_speed ignored beside current_u/v",
-    "grid_sediment_class_and_linear_fields-map": "maps: linear sediment fields ignored beside sediment_class",
-    "grid_zero_by_zero-map": "maps: a 0 x 0 grid -> ValueError (zero-size array) traceback",
     "grid_all_nan_depth-map": "maps: an all-NaN water_depth grid exits 0 ('0 computed') and writes map.nc",
     "grid_string_depth-map": "maps: a string water_depth -> ValueError traceback",
-    **_each("option_threads_zero", "compare sensitivity", "maps: --threads 0 -> numba ValueError traceback"),
     # --- outputs: output paths checked before computing, inputs never overwritten ------------
     **_each(
         "option_plot_unknown_format",

@@ -382,7 +382,6 @@ def test_grid_reader_on_mutated_grids(env):
     refused_or_valid(read_grid, env)
 
 
-@pytest.mark.xfail(strict=True, reason="maps: a grid cut to 0 cells along an axis is read without an error")
 @NO_SHRINK
 @given(env=mutated_grid(), empty=st.sampled_from([("latitude",), ("longitude",), ("latitude", "longitude")]))
 def test_grid_reader_on_mutated_grids_with_empty_axes(env, empty):
