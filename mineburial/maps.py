@@ -188,6 +188,8 @@ def _field(ds, name, dims):
         da = da.isel({d: 0})
     if set(da.dims) != set(dims):
         raise MapError(f"environment variable '{name}' has dimensions {da.dims}; expected {dims}")
+    if not (np.issubdtype(da.dtype, np.floating) or np.issubdtype(da.dtype, np.integer)):
+        raise MapError(f"environment variable '{name}' holds {da.dtype} values; expected numbers")
     return da.transpose(*dims)
 
 
@@ -453,8 +455,8 @@ def _check_cells(grid: EnvironmentGrid) -> None:
     if not np.any(status == CELL_COMPUTED):
         land = int(np.count_nonzero(status == CELL_LAND))
         raise MapError(
-            f"environment grid: no cell to compute among its {status.size}: {land} land (water "
-            f"depth missing or <= 0), {status.size - land} without sediment data" + _sign_hint(grid)
+            f"environment grid: no cell to compute among its {status.size}: {land} land (water_depth "
+            f"missing or <= 0), {status.size - land} without sediment data" + _sign_hint(grid)
         )
 
 

@@ -882,8 +882,6 @@ XFAIL: dict[str, str] = {
         "inputs: char variable in a NetCDF core -> ValueError traceback",
     ),
     # --- maps: environment grids, --threads ----------------------------------------------------
-    "grid_all_nan_depth-map": "maps: an all-NaN water_depth grid exits 0 ('0 computed') and writes map.nc",
-    "grid_string_depth-map": "maps: a string water_depth -> ValueError traceback",
     # --- outputs: output paths checked before computing, inputs never overwritten ------------
     **_each(
         "option_plot_unknown_format",
