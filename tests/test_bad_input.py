@@ -471,13 +471,13 @@ CASES = {
         ["drop", "{scenario}", "-o", "{scenario}"],
         single,
         None,
-        r"-o/--output '.*s\.toml' is the scenario file",
+        r"-o/--output '.*s\.toml' is an input of the run",
     ),
     "drop_output_is_a_folder": (
         ["drop", "{scenario}", "-o", "{tmp}"],
         single,
         None,
-        r"-o/--output '.*' is a directory",
+        r"-o/--output '.*' is an existing folder",
     ),
     "drop_output_folder_missing": (
         ["drop", "{scenario}", "-o", "{tmp}/no/t.nc"],

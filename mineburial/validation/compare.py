@@ -21,9 +21,11 @@ standard errors of the per-drop differences.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import math
+import pathlib
 import time
 
 import numpy as np
@@ -34,9 +36,11 @@ from mineburial import config as cfg
 from mineburial.ensembles import engine, runner
 from mineburial.ensembles.sampling import check_drop_count, sample_fields
 from mineburial.ensembles.statistics import burial_statistics
+from mineburial.ensembles.store import OutputRun
 from mineburial.io import variables as V
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.maps import check_plot_path
 
 __all__ = [
     "ComparisonError",
@@ -177,6 +181,34 @@ def _differs(a, b):
 # ---------------------------------------------------------------------------
 # the comparison
 # ---------------------------------------------------------------------------
+def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
+    """``(field, base spec, variant specs)`` of a comparison, every request checked."""
+    field = SHORT_NAMES.get(field, field)
+    if values is None or len(values) < 2:
+        raise ComparisonError("compare needs at least two values of the varied field")
+    if field.startswith("ensemble."):
+        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
+    base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
+    loc = _location(field)
+    if field in base.random or loc in base.random:
+        raise ComparisonError(
+            f"--vary {field}: this input is random in the scenario (a distribution); compare "
+            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}"
+        )
+    if base.sampling == "sobol":
+        check_drop_count(base.n, "sobol")
+    return field, base, [_variant_spec(base, field, v, base.n, base.seed) for v in values]
+
+
+def comparison_inputs(scenario, field, values, *, n=None, seed=None) -> list:
+    """The files a comparison reads: the scenario file, the files it names and those the
+    varied values name (``--vary sediment.file=a.csv,b.csv``)."""
+    _, base, specs = _plan(scenario, field, values, n=n, seed=seed)
+    return runner.input_paths(scenario, base) + [
+        pathlib.Path(f) for spec in specs for f, _ in spec.input_files
+    ]
+
+
 def run_comparison(
     scenario=None,
     field: str = "sediment.resistance",
@@ -202,23 +234,9 @@ def run_comparison(
     from mineburial import __version__
     from mineburial.ensembles.batch import run_batch
 
-    field = SHORT_NAMES.get(field, field)
-    if values is None or len(values) < 2:
-        raise ComparisonError("compare needs at least two values of the varied field")
-    if field.startswith("ensemble."):
-        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
-    base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
-    loc = _location(field)
-    if field in base.random or loc in base.random:
-        raise ComparisonError(
-            f"--vary {field}: this input is random in the scenario (a distribution); compare "
-            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}"
-        )
-    if base.sampling == "sobol":
-        check_drop_count(base.n, "sobol")
+    field, base, specs = _plan(scenario, field, values, n=n, seed=seed, sampling=sampling)
     if threads is not None:
         numba.set_num_threads(int(threads))
-    specs = [_variant_spec(base, field, v, base.n, base.seed) for v in values]
     rand_slots = _random_slots(specs[0])
     allowed = []
     for spec in specs:
@@ -537,29 +555,42 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
     plt.close(fig)
 
 
+@contextlib.contextmanager
+def cli_output(args, inputs):
+    """The output of ``compare`` and ``sensitivity``: ``-o`` and ``--plot`` checked before
+    computing (not an input, a regular file or nothing, an image type matplotlib writes),
+    and ``-o`` locked while computing; yields the :class:`OutputRun` to commit the result
+    to (None without ``-o``). Nothing is kept to resume from: an interrupted run restarts."""
+    run = OutputRun(args.output, inputs, "-o") if args.output else None
+    if args.plot:
+        check_plot_path(args.plot, args.output, inputs)
+    with run if run is not None else contextlib.nullcontext() as out:
+        yield out
+
+
 def run_compare_cli(args) -> int:
     """``mineburial compare``."""
-    from mineburial.io.netcdf import write_netcdf
-
     field, values = parse_vary(args.vary)
-    ds = run_comparison(
-        args.scenario,
-        field,
-        values,
-        n=args.drops,
-        seed=args.seed,
-        threads=args.threads,
-        progress=not args.quiet,
-    )
-    print(ds.attrs["title"])
-    print(
-        f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
-        f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
-    )
-    print(comparison_table(ds))
-    if args.output:
-        write_netcdf(_for_netcdf(ds), args.output)
-        print(f"wrote {args.output}")
+    inputs = comparison_inputs(args.scenario, field, values, n=args.drops, seed=args.seed)
+    with cli_output(args, inputs) as out:
+        ds = run_comparison(
+            args.scenario,
+            field,
+            values,
+            n=args.drops,
+            seed=args.seed,
+            threads=args.threads,
+            progress=not args.quiet,
+        )
+        print(ds.attrs["title"])
+        print(
+            f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
+            f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
+        )
+        print(comparison_table(ds))
+        if out is not None:
+            out.commit(_for_netcdf(ds))
+            print(f"wrote {args.output}")
     if args.plot:
         plot_comparison(ds, args.plot)
         print(f"wrote {args.plot}")
