@@ -170,8 +170,13 @@ def own_folder(folder) -> pathlib.Path:
     mark = folder / MARK
     if created:
         fd = os.open(mark, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
-        with os.fdopen(fd, "w") as fh:
-            fh.write("mineburial's working folder: finished chunks until the output is written\n")
+        try:
+            with os.fdopen(fd, "w") as fh:
+                fh.write("mineburial's working folder: finished chunks until the output is written\n")
+        except OSError as exc:  # a full disk: name the file, leave no folder behind
+            mark.unlink(missing_ok=True)
+            folder.rmdir()
+            raise OSError(exc.errno, exc.strerror, str(mark)) from None
     elif not (mark.is_file() and not mark.is_symlink()):
         raise RunError(
             f"'{folder}' (mineburial's working folder of the output) exists but was not created "
@@ -394,7 +399,12 @@ class RunLock:
             "host": socket.gethostname(),
             "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
         }
-        os.pwrite(fd, json.dumps(owner).encode(), 0)
+        try:
+            os.pwrite(fd, json.dumps(owner).encode(), 0)
+        except OSError as exc:  # a full disk: name the file, leave no lock behind
+            self.path.unlink(missing_ok=True)
+            os.close(fd)
+            raise OSError(exc.errno, exc.strerror, str(self.path)) from None
         self.fd = fd
         return self
 

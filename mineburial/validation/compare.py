@@ -25,6 +25,7 @@ import contextlib
 import copy
 import json
 import math
+import os
 import pathlib
 import time
 
@@ -137,12 +138,13 @@ def _set_field(raw: dict, location: str, value) -> None:
         node[last] = value
 
 
-def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: int):
+def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: int, base_dir=None):
     raw = copy.deepcopy(base.raw)
     _set_field(raw, _location(field), value)
     try:
         spec = engine.load_ensemble(
             raw,
+            base_dir=base_dir,
             n=n,
             seed=seed,
             sampling=base.sampling,
@@ -197,7 +199,10 @@ def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
         )
     if base.sampling == "sobol":
         check_drop_count(base.n, "sobol")
-    return field, base, [_variant_spec(base, field, v, base.n, base.seed) for v in values]
+    # the variants' file names are resolved like the scenario's own: against its folder
+    path = scenario if isinstance(scenario, (str, os.PathLike)) else None
+    base_dir = pathlib.Path(path).resolve().parent if path is not None else None
+    return field, base, [_variant_spec(base, field, v, base.n, base.seed, base_dir) for v in values]
 
 
 def comparison_inputs(scenario, field, values, *, n=None, seed=None) -> list:
