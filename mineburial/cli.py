@@ -104,9 +104,9 @@ def _write_example(target: Path, text: str, force: bool) -> None:
     from mineburial.ensembles.store import RunError, check_output_path
     from mineburial.io.files import atomic_write_text
 
+    check_output_path(target, (), "-o/--output")
     if os.path.lexists(target) and not force:
         raise RunError(f"'{target}' exists; it is left as it is: use --force to overwrite it, or -o NAME")
-    check_output_path(target, (), "-o/--output")
     try:
         atomic_write_text(target, text, replace=force)
     except FileExistsError:  # created meanwhile by another process

@@ -39,6 +39,7 @@ from mineburial.ensembles.sampling import check_drop_count, sample_fields
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
 from mineburial.io import variables as V
+from mineburial.io.files import atomic_path
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.maps import check_plot_path
@@ -506,6 +507,14 @@ def pyplot():
     return plt
 
 
+def save_figure(fig, path, **kw) -> None:
+    """Draw ``fig`` to ``path`` atomically (:func:`mineburial.io.files.atomic_path`: a
+    regular file or nothing there, the previous image kept if drawing fails), in the image
+    type of its extension."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=pathlib.Path(path).suffix.lstrip(".").lower(), **kw)
+
+
 def plot_comparison(ds: xr.Dataset, path) -> None:
     """Bar charts: mean burial by volume and penetration (95 % CI) and the class
     probabilities (Wilson 95 %) of every variant."""
@@ -556,7 +565,7 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
         fontsize=10,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

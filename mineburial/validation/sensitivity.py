@@ -39,7 +39,7 @@ from scipy import stats
 from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
-from mineburial.validation.compare import cli_output, pyplot
+from mineburial.validation.compare import cli_output, pyplot, save_figure
 
 __all__ = [
     "sobol_analysis",
@@ -292,7 +292,7 @@ def plot_sensitivity(ds: xr.Dataset, path) -> None:
         fontsize=10,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
