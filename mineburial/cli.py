@@ -315,7 +315,7 @@ def main(argv=None) -> int:
         then = (
             "rerun the same command to resume"
             if args.command in _RESUMABLE
-            else "nothing was written; rerun the command to start again"
+            else "this command cannot resume: rerun it to start again"
         )
         print(f"{start}mineburial: interrupted; {then}", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -361,7 +361,7 @@ def test_an_interrupted_command_that_cannot_resume_does_not_promise_it(files, ca
     assert main(files.argv(command, out)) == 130
     err = capsys.readouterr().err
     assert err.splitlines() == [
-        "mineburial: interrupted; nothing was written; rerun the command to start again"
+        "mineburial: interrupted; this command cannot resume: rerun it to start again"
     ]
     assert not out.exists() and not (files.folder / "out.nc.parts").exists()
 

@@ -533,8 +533,11 @@ class OutputRun:
         return self
 
     def __exit__(self, *exc):
-        if self.lock.fd is not None and {e.name for e in os.scandir(self.parts)} <= {MARK, _LOCK}:
-            self._remove_parts()  # nothing to resume from
+        try:
+            if self.lock.fd is not None and {e.name for e in os.scandir(self.parts)} <= {MARK, _LOCK}:
+                self._remove_parts()  # nothing to resume from
+        except OSError:  # the folder is gone or unreadable: nothing to remove
+            pass
         self.lock.release(remove=False)
         return False
 
