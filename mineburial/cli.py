@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -36,38 +37,32 @@ def _seconds(text: str) -> float:
     return value
 
 
-def _check_drop_output(output: Path, scenario: Path) -> None:
-    """Refuse, before computing, an output the trajectory cannot or must not be written to."""
-    from mineburial.config import ScenarioError
-
-    if output.is_dir():
-        raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
-    if not output.resolve().parent.is_dir():
-        raise ScenarioError(
-            f"-o/--output '{output}': the folder '{output.parent}' does not exist or is not a folder"
-        )
-    if output.exists() and scenario.exists() and output.samefile(scenario):
-        raise ScenarioError(
-            f"-o/--output '{output}' is the scenario file; writing the trajectory there would overwrite it"
-        )
+#: the commands that keep their finished work on an interrupt and resume it when rerun
+_RESUMABLE = ("run", "map")
 
 
 def _cmd_drop(args):
     from mineburial.config import Scenario
     from mineburial.drop import drop_summary, first_trajectory_span, simulate_drop, trajectory_rows
-    from mineburial.io.netcdf import write_netcdf
+    from mineburial.ensembles import engine, runner
+    from mineburial.ensembles.store import OutputRun
 
     scenario = Scenario.from_toml(args.scenario)
-    _check_drop_output(Path(args.output), Path(args.scenario))
     if args.record_interval is not None:
         num = scenario.numerics
         trajectory_rows(
             args.record_interval, first_trajectory_span(num.t_max, num.t_max_fall), "--record-interval"
         )
-    ds = simulate_drop(
-        scenario, record_interval=args.record_interval, forces=args.forces, record_name="--record-interval"
-    )
-    write_netcdf(ds, args.output)
+    # the files the scenario reads, as for `run`; the output's lock refuses a second drop
+    inputs = runner.input_paths(args.scenario, engine.load_ensemble(args.scenario))
+    with OutputRun(args.output, inputs, "-o/--output") as out:
+        ds = simulate_drop(
+            scenario,
+            record_interval=args.record_interval,
+            forces=args.forces,
+            record_name="--record-interval",
+        )
+        out.commit(ds)
     print(drop_summary(ds, scenario.mine.name, args.output))
     return 0
 
@@ -92,9 +87,24 @@ def _cmd_example(args):
         text = Path(example_path(args.name)).read_text()
         what = "scenario"
     target = Path(args.output or f"{args.name}.toml")
-    target.write_text(text)
+    _write_example(target, text, args.force)
     print(f"wrote example {what} {args.name!r} to {target}")
     return 0
+
+
+def _write_example(target: Path, text: str, force: bool) -> None:
+    """Write an example, never over an existing file (or link) unless ``force``; never
+    through a link or over a device (:func:`mineburial.io.files.atomic_path`)."""
+    from mineburial.ensembles.store import RunError, check_output_path
+    from mineburial.io.files import atomic_write_text
+
+    check_output_path(target, (), "-o/--output")
+    if os.path.lexists(target) and not force:
+        raise RunError(f"'{target}' exists; it is left as it is: use --force to overwrite it, or -o NAME")
+    try:
+        atomic_write_text(target, text, replace=force)
+    except FileExistsError:  # created meanwhile by another process
+        raise RunError(f"'{target}' exists; it is left as it is: use --force to overwrite it") from None
 
 
 def _cmd_restrain(args):
@@ -194,6 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ex.add_argument("name", nargs="?")
     ex.add_argument("-o", "--output", default=None)
+    ex.add_argument("--force", action="store_true", help="overwrite an existing file of that name")
     ex.set_defaults(func=_cmd_example)
 
     mp = sub.add_parser("map", help="burial-probability map over an environment grid")
@@ -295,7 +306,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         # on a terminal the progress line is still open: end it first
         start = "\n" if getattr(sys.stderr, "isatty", lambda: False)() else ""
-        print(f"{start}mineburial: interrupted; rerun the same command to resume", file=sys.stderr)
+        then = (
+            "rerun the same command to resume"
+            if args.command in _RESUMABLE
+            else "this command cannot resume: rerun it to start again"
+        )
+        print(f"{start}mineburial: interrupted; {then}", file=sys.stderr)
         return EXIT_INTERRUPTED
     print(f"mineburial: error: {message}", file=sys.stderr)
     return EXIT_USAGE

@@ -410,11 +410,11 @@ CASES = {
     "no_command": bare([], r"the following arguments are required: command"),
     "unknown_example": bare(["example", "default_ensemble"], r"unknown example scenario 'default_ensemble'"),
     "example_output_is_a_folder": bare(
-        ["example", "default_mine", "-o", "{tmp}"], r"error: .*: Is a directory$"
+        ["example", "default_mine", "-o", "{tmp}"], r"error: -o/--output '.*' is an existing folder"
     ),
     "example_output_folder_missing": bare(
         ["example", "default_mine", "-o", "{tmp}/no/x.toml"],
-        r"error: .*no/x\.toml: No such file or directory$",
+        r"error: -o/--output '.*no/x\.toml': the folder '.*no' does not exist$",
     ),
     # --- drop ------------------------------------------------------------------------------
     "drop_given_an_ensemble": drop(
@@ -471,13 +471,13 @@ CASES = {
         ["drop", "{scenario}", "-o", "{scenario}"],
         single,
         None,
-        r"-o/--output '.*s\.toml' is the scenario file",
+        r"-o/--output '.*s\.toml' is an input of the run",
     ),
     "drop_output_is_a_folder": (
         ["drop", "{scenario}", "-o", "{tmp}"],
         single,
         None,
-        r"-o/--output '.*' is a directory",
+        r"-o/--output '.*' is an existing folder",
     ),
     "drop_output_folder_missing": (
         ["drop", "{scenario}", "-o", "{tmp}/no/t.nc"],

@@ -790,7 +790,7 @@ for _kind, _argv, _files, _names in (
         {"mine.toml": _EDITED, "link.toml": lambda p: os.symlink("mine.toml", p)},
         "link\\.toml",
     ),
-    ("example_unknown_option", ["example", "default_mine", "--force"], {}, "--force"),
+    ("example_unknown_option", ["example", "default_mine", "--clobber"], {}, "--clobber"),
     (
         "validate_output_is_a_file",
         ["validate", "--quick", "-o", "report.txt"],
@@ -882,30 +882,6 @@ XFAIL: dict[str, str] = {
         "inputs: char variable in a NetCDF core -> ValueError traceback",
     ),
     # --- maps: environment grids, --threads ----------------------------------------------------
-    # --- outputs: output paths checked before computing, inputs never overwritten ------------
-    **_each(
-        "option_plot_unknown_format",
-        "compare sensitivity",
-        "outputs: --plot p.xyz checked only after computing",
-    ),
-    "option_plot_folder_missing-compare": "outputs: --plot in a missing folder checked only after computing",
-    **_each(
-        "option_output_is_the_scenario",
-        "compare sensitivity",
-        "outputs: -o s.toml computed, then overwrites it",
-    ),
-    **_each(
-        "option_output_folder_missing",
-        "compare sensitivity",
-        "outputs: -o in a missing folder checked after computing",
-    ),
-    "option_output_is_a_folder-compare": "outputs: -o . checked after computing (EBUSY)",
-    "output_is_the_core_csv-drop": "outputs: -o onto the core CSV: computed, then overwritten",
-    "output_is_the_core_csv-compare": "outputs: -o onto the core CSV: computed, then overwritten",
-    "output_is_the_empirical_csv-sensitivity": "outputs: -o onto the empirical CSV: computed, overwritten",
-    "cli_example_overwrites_edited_file": "outputs: 'example NAME' overwrites an edited NAME.toml, exit 0",
-    "cli_example_output_exists": "outputs: 'example NAME -o FILE' overwrites an existing FILE, exit 0",
-    "cli_example_output_is_a_symlink": "outputs: 'example NAME -o LINK' writes through a symlink, exit 0",
 }
 
 

@@ -596,7 +596,7 @@ def test_restrain_missing_file_and_bad_output(tmp_path, capsys):
     main(["example", "restraint_case1", "-o", str(good)])
     capsys.readouterr()
     assert main(["restrain", str(good), "-o", str(tmp_path)]) == 2
-    assert "is a directory" in capsys.readouterr().err
+    assert "is an existing folder" in capsys.readouterr().err
 
 
 def test_restrain_cli_reports_zero_friction_instants(tmp_path, capsys, monkeypatch):

@@ -156,7 +156,7 @@ def test_stray_temporary_files_of_a_killed_write_are_removed(tmp_path, capsys):
     out = tmp_path / "burial.nc"
     final_tmp = tmp_path / ".burial.nc.0123456789abcdef.tmp"  # write_netcdf's pattern
     final_tmp.write_bytes(b"half a netCDF file")
-    parts_of(out).mkdir()
+    store.own_folder(parts_of(out))  # as a killed run left it
     chunk_tmp = parts_of(out) / ".chunk-000000000000-000000000002.npz.999-abcd.tmp"
     chunk_tmp.write_bytes(b"half a chunk")
     unrelated = tmp_path / ".other.nc.0123456789abcdef.tmp"
@@ -239,7 +239,7 @@ def test_a_stale_lock_of_a_dead_process_is_taken_over(tmp_path, capsys):
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()  # its pid is not alive any more
     out = tmp_path / "burial.nc"
-    parts_of(out).mkdir()
+    store.own_folder(parts_of(out))  # as a killed run left it
     (parts_of(out) / "lock").write_text(
         json.dumps({"pid": dead.pid, "host": os.uname().nodename, "started": "2026-01-01T00:00:00Z"})
     )

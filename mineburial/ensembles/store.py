@@ -3,10 +3,14 @@
 A run with an output path ``OUT.nc`` keeps its working state in the folder
 ``OUT.nc.parts/`` until the NetCDF file is written:
 
+* ``.mineburial-parts``: the mark of a folder mineburial created (:func:`own_folder`).
+  Only a folder with this mark is used, emptied or removed: a user's folder of that
+  name, or one that is a symbolic link, is refused.
 * ``lock``: held by the live run (an advisory ``flock`` on the file, which records
   the process id, host and start time for the message). A second run on the same
   output path is refused while the lock is held; the kernel releases the lock when
-  its process dies, so the lock file of a killed run is simply taken over.
+  its process dies, so the lock file of a killed run is taken over (removed and
+  created anew: the lock is only ever created exclusively, never through a link).
 * ``manifest.json`` of each store (an ensemble: the parts folder itself; a map: one
   ``cell-<k>/`` sub-folder per grid cell): the *run identity* of the chunks kept there.
 * ``chunk-<start>-<stop>.npz``: the per-drop arrays of drops ``[start, stop)``, written
@@ -30,13 +34,16 @@ its result is bit-identical to a clean run of the same command.
 from __future__ import annotations
 
 import dataclasses
+import errno
 import functools
 import hashlib
 import json
 import os
 import pathlib
 import re
+import shutil
 import socket
+import stat
 import sys
 import time
 import zipfile
@@ -45,7 +52,7 @@ import numpy as np
 
 from mineburial._version import __version__
 from mineburial.config import ScenarioError
-from mineburial.io.files import atomic_path, atomic_write_bytes
+from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
 from mineburial.kernels import layout
 
 __all__ = [
@@ -56,11 +63,14 @@ __all__ = [
     "OutputRun",
     "run_identity",
     "check_output_path",
+    "own_folder",
     "notice",
 ]
 
 _MANIFEST = "manifest.json"
 _LOCK = "lock"
+#: the mark of a working folder mineburial created (module docstring)
+MARK = ".mineburial-parts"
 _CHUNK = re.compile(r"^chunk-(\d{12})-(\d{12})\.npz$")
 
 
@@ -137,6 +147,57 @@ def _differences(old: dict, new: dict) -> str:
 
 
 # ---------------------------------------------------------------------------
+# working folders
+# ---------------------------------------------------------------------------
+def own_folder(folder) -> pathlib.Path:
+    """``folder``, created and marked as mineburial's own (:data:`MARK`) if it does not
+    exist; an existing one is used only if it bears the mark. A symbolic link, a file, or a
+    folder mineburial did not create is refused (:class:`RunError`): its contents are
+    never touched."""
+    folder = pathlib.Path(folder)
+    try:
+        os.mkdir(folder)
+        created = True
+    except FileExistsError:
+        created = False
+    st = os.lstat(folder)
+    if stat.S_ISLNK(st.st_mode) or not stat.S_ISDIR(st.st_mode):
+        kind = "a symbolic link" if stat.S_ISLNK(st.st_mode) else "not a folder"
+        raise RunError(
+            f"'{folder}' (mineburial's working folder of the output) is {kind}; mineburial "
+            f"works only in a folder it created: remove it or choose another output"
+        )
+    mark = folder / MARK
+    if created:
+        fd = os.open(mark, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
+        try:
+            with os.fdopen(fd, "w") as fh:
+                fh.write("mineburial's working folder: finished chunks until the output is written\n")
+        except OSError as exc:  # a full disk: name the file, leave no folder behind
+            mark.unlink(missing_ok=True)
+            folder.rmdir()
+            raise OSError(exc.errno, exc.strerror, str(mark)) from None
+    elif not (mark.is_file() and not mark.is_symlink()):
+        raise RunError(
+            f"'{folder}' (mineburial's working folder of the output) exists but was not created "
+            f"by mineburial (no {MARK} in it); it is left untouched: rename it or choose another output"
+        )
+    return folder
+
+
+def _empty_folder(folder: pathlib.Path, keep=()) -> None:
+    """Remove every entry of the marked ``folder`` but ``keep``, never following a link
+    (a link is removed itself; ``shutil.rmtree`` does not follow links either)."""
+    for entry in os.scandir(folder):
+        if entry.name in keep:
+            continue
+        if entry.is_dir(follow_symlinks=False):
+            shutil.rmtree(entry.path)
+        else:
+            os.unlink(entry.path)
+
+
+# ---------------------------------------------------------------------------
 # chunk store
 # ---------------------------------------------------------------------------
 @dataclasses.dataclass(frozen=True)
@@ -167,8 +228,7 @@ class ChunkStore:
     def open(self) -> ChunkStore:
         """Create the folder, discard chunks of another run and stray temporary files
         (saying so), and record this run's identity. Call with the run's lock held."""
-        folder = self.path
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = own_folder(self.path)
         manifest = folder / _MANIFEST
         old = None
         if manifest.exists():
@@ -291,7 +351,9 @@ class RunLock:
 
     def _owner(self) -> dict:
         try:
-            return json.loads(self.path.read_text() or "{}")
+            fd = os.open(self.path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+            with os.fdopen(fd, "rb") as fh:
+                return json.loads(fh.read(4096) or b"{}")
         except (OSError, ValueError):
             return {}
 
@@ -310,21 +372,21 @@ class RunLock:
         )
 
     def acquire(self) -> RunLock:
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        """Take the lock: the lock file is created exclusively (``O_EXCL``, ``O_NOFOLLOW``)
+        with this process's record, in the marked working folder (:func:`own_folder`); a
+        lock file left by a dead run is removed and created anew (never truncated, never
+        followed through a link)."""
+        own_folder(self.path.parent)
         while True:
-            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
             try:
-                if fcntl is not None:
-                    try:
-                        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                    except BlockingIOError:
-                        self._refuse(self._owner())
-                    except OSError:  # a filesystem without flock: the recorded owner
-                        self._check_owner()
-                else:  # pragma: no cover
-                    self._check_owner()
-                # the file may have been removed by the run that held it just before
-                if os.path.samestat(os.fstat(fd), os.stat(self.path)):
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666)
+            except FileExistsError:
+                self._take_over_stale()
+                continue
+            try:
+                self._flock(fd)
+                # the file may have been removed by a run that took over a stale lock
+                if os.path.samestat(os.fstat(fd), os.lstat(self.path)):
                     break
             except FileNotFoundError:
                 pass
@@ -337,10 +399,51 @@ class RunLock:
             "host": socket.gethostname(),
             "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
         }
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, json.dumps(owner).encode(), 0)
+        try:
+            os.pwrite(fd, json.dumps(owner).encode(), 0)
+        except OSError as exc:  # a full disk: name the file, leave no lock behind
+            self.path.unlink(missing_ok=True)
+            os.close(fd)
+            raise OSError(exc.errno, exc.strerror, str(self.path)) from None
         self.fd = fd
         return self
+
+    def _flock(self, fd) -> None:
+        """Lock ``fd`` or refuse (another live run holds it)."""
+        if fcntl is None:  # pragma: no cover
+            return self._check_owner()
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            self._refuse(self._owner())
+        except OSError:  # a filesystem without flock: the recorded owner
+            self._check_owner()
+
+    def _take_over_stale(self) -> None:
+        """The lock file exists: refuse if a live run holds it, else remove it (the caller
+        creates it anew). A link or anything but a regular file there is refused."""
+        try:
+            fd = os.open(self.path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+        except FileNotFoundError:  # removed meanwhile: try to create it again
+            return
+        except OSError as exc:
+            if exc.errno != errno.ELOOP:
+                raise RunError(f"the lock '{self.path}' of output '{self.output}': {exc.strerror}") from None
+            fd = None  # a symbolic link
+        try:
+            if fd is None or not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise RunError(
+                    f"the lock '{self.path}' of output '{self.output}' is not a regular file (a "
+                    f"link or a device); it is not used: remove it or choose another output"
+                )
+            self._flock(fd)  # refuses while a live run holds it
+            if os.path.samestat(os.fstat(fd), os.lstat(self.path)):
+                os.unlink(self.path)
+        except FileNotFoundError:
+            pass
+        finally:
+            if fd is not None:
+                os.close(fd)
 
     def _check_owner(self):
         owner = self._owner()
@@ -374,10 +477,12 @@ def same_file(a: pathlib.Path, b: pathlib.Path) -> bool:
 
 def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
     """Check before computing that ``output`` can be written: not a folder, its parent an
-    existing folder, and none of the run's ``inputs`` (files the run reads: writing the
-    output there would destroy it). ``what`` names the path in messages (``-o``)."""
+    existing folder, none of the run's ``inputs`` (files the run reads, resolved through
+    links: writing the output there would destroy it), and a regular file or nothing
+    (:func:`mineburial.io.files.check_destination`: no device, FIFO or link). ``what``
+    names the path in messages (``-o``)."""
     out = pathlib.Path(output)
-    if out.is_dir():
+    if out.is_dir() and not out.is_symlink():
         raise RunError(f"{what} '{out}' is an existing folder; give a file name (e.g. {out / 'burial.nc'})")
     parent = out.parent if str(out.parent) else pathlib.Path(".")
     if not parent.exists():
@@ -390,6 +495,7 @@ def check_output_path(output, inputs=(), what: str = "output") -> pathlib.Path:
                 f"{what} '{out}' is an input of the run ('{path}'); writing the "
                 f"output there would destroy it: choose another path"
             )
+    check_destination(out, what)
     if out.exists() and not os.access(out, os.W_OK):
         raise RunError(f"{what} '{out}' exists and is not writable")
     if not os.access(parent, os.W_OK):
@@ -403,20 +509,17 @@ class OutputRun:
     and, on :meth:`commit`, writes the output atomically and removes the parts folder.
 
     Use as a context manager; an interrupted run keeps its parts folder (to resume) and
-    releases the lock.
+    releases the lock; a parts folder that holds nothing to resume from (no chunk store
+    was opened: ``drop``, ``compare``, ...) is removed. The parts folder is used only if
+    mineburial created it (:func:`own_folder`).
     """
 
-    def __init__(self, output, inputs=()):
-        self.output = check_output_path(output, inputs)
+    def __init__(self, output, inputs=(), what: str = "output"):
+        self.output = check_output_path(output, inputs, what)
         self.parts = self.output.with_name(self.output.name + ".parts")
         self.lock = RunLock(self.parts, self.output)
 
     def __enter__(self) -> OutputRun:
-        if self.parts.exists() and not self.parts.is_dir():
-            raise RunError(
-                f"'{self.parts}' (the folder of finished chunks of output "
-                f"'{self.output}') is a file; remove it or choose another output"
-            )
         self.lock.acquire()
         try:
             pattern = re.compile(r"^\." + re.escape(self.output.name) + r"\.[0-9a-f]{16}\.tmp$")
@@ -430,6 +533,11 @@ class OutputRun:
         return self
 
     def __exit__(self, *exc):
+        try:
+            if self.lock.fd is not None and {e.name for e in os.scandir(self.parts)} <= {MARK, _LOCK}:
+                self._remove_parts()  # nothing to resume from
+        except OSError:  # the folder is gone or unreadable: nothing to remove
+            pass
         self.lock.release(remove=False)
         return False
 
@@ -440,17 +548,20 @@ class OutputRun:
 
     def commit(self, ds) -> pathlib.Path:
         """Write ``ds`` to the output atomically, then remove the parts folder."""
-        import shutil
-
         from mineburial.io.netcdf import write_netcdf
 
         write_netcdf(ds, self.output)
-        for entry in self.parts.iterdir():
-            if entry.name != _LOCK:
-                shutil.rmtree(entry) if entry.is_dir() else entry.unlink(missing_ok=True)
+        self._remove_parts()
+        return self.output
+
+    def _remove_parts(self) -> None:
+        """Empty and remove the (marked) parts folder, releasing the lock. The mark goes
+        before the lock: a run starting meanwhile is refused, never given a folder that is
+        being removed."""
+        _empty_folder(self.parts, keep=(MARK, _LOCK))
+        (self.parts / MARK).unlink(missing_ok=True)
         self.lock.release(remove=True)
         try:
             self.parts.rmdir()
         except OSError:  # a new run took the folder in the meantime
             pass
-        return self.output

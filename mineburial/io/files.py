@@ -7,6 +7,12 @@ fsynced so that the rename itself is durable: a reader sees the previous file or
 complete new one, never a partial file, and a run killed at any moment loses nothing
 already finished. On an error the temporary file is removed and the destination is left
 untouched. The temporary names are ``.<name>.<16 hex digits>.tmp`` (:data:`TMP_PATTERN`).
+
+A destination is written only in place of a regular file or of nothing
+(:func:`check_destination`): a device (``/dev/null``, ``/dev/full``), a FIFO, a socket, a
+folder or a symbolic link there is refused, checked again just before the rename, so the
+rename never replaces a device node or a link. An error of the operating system that
+names no file (a full disk, ``[Errno 28]``) is raised again naming the destination.
 """
 
 from __future__ import annotations
@@ -14,11 +20,58 @@ from __future__ import annotations
 import contextlib
 import os
 import secrets
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 
+from mineburial.config import ScenarioError
+
 #: glob pattern of the temporary files of :func:`atomic_path` (for cleaning up after a kill)
 TMP_PATTERN = ".*.tmp"
+
+
+class OutputPathError(ScenarioError):
+    """An output path that must not be written (not a regular file, a link, an input)."""
+
+
+_KINDS = (
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def check_destination(path, what: str = "output") -> Path:
+    """Refuse a destination that is not a regular file or nothing: a folder, a device, a
+    FIFO, a socket, or a symbolic link (a link is never written through nor replaced:
+    docs/design.md, "Outputs"). ``what`` names the path in the message (``-o``)."""
+    path = Path(path)
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return path
+    except OSError as exc:
+        raise OutputPathError(f"{what} '{path}' cannot be checked: {exc.strerror}") from None
+    if stat.S_ISLNK(st.st_mode):
+        raise OutputPathError(
+            f"{what} '{path}' is a symbolic link (to '{os.readlink(path)}'); mineburial does not "
+            f"write through links: give the target's own path or remove the link"
+        )
+    if not stat.S_ISREG(st.st_mode):
+        kind = next((name for test, name in _KINDS if test(st.st_mode)), "not a regular file")
+        raise OutputPathError(
+            f"{what} '{path}' is {kind}; outputs are written only as regular files: give a file name"
+        )
+    return path
+
+
+def _named(exc: OSError, path: Path) -> OSError:
+    """``exc`` naming ``path`` when the OS error names no file (ENOSPC, EFBIG, EIO of a write)."""
+    if exc.filename is None and exc.errno is not None:
+        return OSError(exc.errno, f"{exc.strerror} (writing this file)", str(path))
+    return exc
 
 
 def _fsync_dir(directory: Path) -> None:
@@ -49,20 +102,33 @@ def _fresh_tmp(path: Path) -> Path:
 
 
 @contextlib.contextmanager
-def atomic_path(path) -> Iterator[Path]:
+def atomic_path(path, *, replace: bool = True) -> Iterator[Path]:
     """Context manager: yields a temporary path beside ``path`` to write the file to; on a
     normal exit the file is fsynced and moved over ``path``, on an error it is removed.
+
+    ``path`` must be a regular file or nothing (:func:`check_destination`, checked before
+    and again just before the rename). With ``replace=False`` an existing ``path`` is never
+    replaced: the file is linked to its name only if that name is free
+    (:class:`FileExistsError` otherwise, also when another process took it meanwhile).
 
     >>> with atomic_path("out.nc") as tmp:        # doctest: +SKIP
     ...     ds.to_netcdf(tmp)
     """
-    path = Path(path)
+    path = check_destination(path)
     tmp = _fresh_tmp(path)
     try:
-        yield tmp
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        try:
+            yield tmp
+            with open(tmp, "rb+") as fh:
+                os.fsync(fh.fileno())
+        except OSError as exc:
+            raise _named(exc, path) from exc
+        if replace:
+            check_destination(path)
+            os.replace(tmp, path)
+        else:
+            os.link(tmp, path)  # fails if the name exists: nothing is replaced
+            tmp.unlink()
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
@@ -70,13 +136,13 @@ def atomic_path(path) -> Iterator[Path]:
     _fsync_dir(tmp.parent)
 
 
-def atomic_write_bytes(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically; returns the path."""
-    with atomic_path(path) as tmp:
+def atomic_write_bytes(path, data: bytes, *, replace: bool = True) -> Path:
+    """Write ``data`` to ``path`` atomically (:func:`atomic_path`); returns the path."""
+    with atomic_path(path, replace=replace) as tmp:
         tmp.write_bytes(data)
     return Path(path)
 
 
-def atomic_write_text(path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically; returns the path."""
-    return atomic_write_bytes(path, text.encode("utf-8"))
+def atomic_write_text(path, text: str, *, replace: bool = True) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically (:func:`atomic_path`); returns the path."""
+    return atomic_write_bytes(path, text.encode("utf-8"), replace=replace)

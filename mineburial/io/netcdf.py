@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import errno
 import json
 from collections.abc import Mapping
 from pathlib import Path
@@ -146,8 +147,21 @@ def write_netcdf(ds: xr.Dataset, path, *, complevel: int = 4) -> Path:
     (:func:`mineburial.io.files.atomic_path`): readers see either the previous file
     or the complete new one, never a partial file. On any error the temporary file
     is removed and the previous ``path`` is left untouched. Returns the path written.
+
+    A write that fails in the netCDF/HDF5 library (a full disk, a file-size limit: it
+    says only ``NetCDF: HDF error``) is raised as an :class:`OSError` naming ``path``.
     """
     path = Path(path)
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=_encoding(ds, complevel))
+    try:
+        with atomic_path(path) as tmp:
+            ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=_encoding(ds, complevel))
+    except RuntimeError as exc:
+        if not str(exc).startswith("NetCDF:"):  # not the library's report of a failed write
+            raise
+        raise OSError(
+            errno.EIO,
+            f"writing the NetCDF file failed ({exc}): is the disk full or the file larger than "
+            f"a size limit allows? The previous file, if any, is unchanged",
+            str(path),
+        ) from exc
     return path

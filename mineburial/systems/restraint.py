@@ -1502,19 +1502,15 @@ def to_dataset(result: RestraintResult):
 
 
 def run_case_file(path, output) -> RestraintResult:
-    """``mineburial restrain``: read, run, write atomically; returns the result."""
-    from mineburial.io.netcdf import write_netcdf
+    """``mineburial restrain``: read, run, write atomically; returns the result. The output
+    path is checked (not the case file, a regular file or nothing) and locked before the
+    run (:class:`~mineburial.ensembles.store.OutputRun`)."""
+    from mineburial.ensembles.store import OutputRun
 
     case = RestraintCase.from_toml(path)
-    output = pathlib.Path(output)
-    if output.is_dir():
-        raise ScenarioError(f"-o/--output '{output}' is a directory; give a file name")
-    if not output.resolve().parent.is_dir():
-        raise ScenarioError(f"-o/--output '{output}': the folder '{output.parent}' does not exist")
-    if output.exists() and pathlib.Path(path).exists() and output.samefile(path):
-        raise ScenarioError(f"-o/--output '{output}' is the case file; writing there would overwrite it")
-    result = simulate(case)
-    write_netcdf(to_dataset(result), output)
+    with OutputRun(output, (path,), "-o/--output") as out:
+        result = simulate(case)
+        out.commit(to_dataset(result))
     events = result.contact_events
     if any(events.values()):
         import sys

@@ -21,9 +21,12 @@ standard errors of the per-drop differences.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import math
+import os
+import pathlib
 import time
 
 import numpy as np
@@ -34,9 +37,12 @@ from mineburial import config as cfg
 from mineburial.ensembles import engine, runner
 from mineburial.ensembles.sampling import check_drop_count, sample_fields
 from mineburial.ensembles.statistics import burial_statistics
+from mineburial.ensembles.store import OutputRun
 from mineburial.io import variables as V
+from mineburial.io.files import atomic_path
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.maps import check_plot_path
 from mineburial.resources import memory_refusal
 
 __all__ = [
@@ -134,12 +140,13 @@ def _set_field(raw: dict, location: str, value) -> None:
         node[last] = value
 
 
-def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: int):
+def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: int, base_dir=None):
     raw = copy.deepcopy(base.raw)
     _set_field(raw, _location(field), value)
     try:
         spec = engine.load_ensemble(
             raw,
+            base_dir=base_dir,
             n=n,
             seed=seed,
             sampling=base.sampling,
@@ -178,6 +185,37 @@ def _differs(a, b):
 # ---------------------------------------------------------------------------
 # the comparison
 # ---------------------------------------------------------------------------
+def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
+    """``(field, base spec, variant specs)`` of a comparison, every request checked."""
+    field = SHORT_NAMES.get(field, field)
+    if values is None or len(values) < 2:
+        raise ComparisonError("compare needs at least two values of the varied field")
+    if field.startswith("ensemble."):
+        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
+    base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
+    loc = _location(field)
+    if field in base.random or loc in base.random:
+        raise ComparisonError(
+            f"--vary {field}: this input is random in the scenario (a distribution); compare "
+            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}"
+        )
+    if base.sampling == "sobol":
+        check_drop_count(base.n, "sobol")
+    # the variants' file names are resolved like the scenario's own: against its folder
+    path = scenario if isinstance(scenario, (str, os.PathLike)) else None
+    base_dir = pathlib.Path(path).resolve().parent if path is not None else None
+    return field, base, [_variant_spec(base, field, v, base.n, base.seed, base_dir) for v in values]
+
+
+def comparison_inputs(scenario, field, values, *, n=None, seed=None) -> list:
+    """The files a comparison reads: the scenario file, the files it names and those the
+    varied values name (``--vary sediment.file=a.csv,b.csv``)."""
+    _, base, specs = _plan(scenario, field, values, n=n, seed=seed)
+    return runner.input_paths(scenario, base) + [
+        pathlib.Path(f) for spec in specs for f, _ in spec.input_files
+    ]
+
+
 def run_comparison(
     scenario=None,
     field: str = "sediment.resistance",
@@ -203,23 +241,9 @@ def run_comparison(
     from mineburial import __version__
     from mineburial.ensembles.batch import run_batch
 
-    field = SHORT_NAMES.get(field, field)
-    if values is None or len(values) < 2:
-        raise ComparisonError("compare needs at least two values of the varied field")
-    if field.startswith("ensemble."):
-        raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
-    base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
-    loc = _location(field)
-    if field in base.random or loc in base.random:
-        raise ComparisonError(
-            f"--vary {field}: this input is random in the scenario (a distribution); compare "
-            f"varies fields held fixed. Random inputs: {', '.join(sorted(base.random))}"
-        )
-    if base.sampling == "sobol":
-        check_drop_count(base.n, "sobol")
+    field, base, specs = _plan(scenario, field, values, n=n, seed=seed, sampling=sampling)
     if threads is not None:
         numba.set_num_threads(runner.check_threads(threads, "--threads"))
-    specs = [_variant_spec(base, field, v, base.n, base.seed) for v in values]
     refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
         len(specs) * runner.memory_needed(specs[0]),
         f"ensemble.n = {base.n} drops under {len(specs)} variants",
@@ -491,6 +515,14 @@ def pyplot():
     return plt
 
 
+def save_figure(fig, path, **kw) -> None:
+    """Draw ``fig`` to ``path`` atomically (:func:`mineburial.io.files.atomic_path`: a
+    regular file or nothing there, the previous image kept if drawing fails), in the image
+    type of its extension."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=pathlib.Path(path).suffix.lstrip(".").lower(), **kw)
+
+
 def plot_comparison(ds: xr.Dataset, path) -> None:
     """Bar charts: mean burial by volume and penetration (95 % CI) and the class
     probabilities (Wilson 95 %) of every variant."""
@@ -541,33 +573,46 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
         fontsize=10,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
+
+
+@contextlib.contextmanager
+def cli_output(args, inputs):
+    """The output of ``compare`` and ``sensitivity``: ``-o`` and ``--plot`` checked before
+    computing (not an input, a regular file or nothing, an image type matplotlib writes),
+    and ``-o`` locked while computing; yields the :class:`OutputRun` to commit the result
+    to (None without ``-o``). Nothing is kept to resume from: an interrupted run restarts."""
+    run = OutputRun(args.output, inputs, "-o") if args.output else None
+    if args.plot:
+        check_plot_path(args.plot, args.output, inputs)
+    with run if run is not None else contextlib.nullcontext() as out:
+        yield out
 
 
 def run_compare_cli(args) -> int:
     """``mineburial compare``."""
-    from mineburial.io.netcdf import write_netcdf
-
     field, values = parse_vary(args.vary)
-    ds = run_comparison(
-        args.scenario,
-        field,
-        values,
-        n=args.drops,
-        seed=args.seed,
-        threads=args.threads,
-        progress=not args.quiet,
-    )
-    print(ds.attrs["title"])
-    print(
-        f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
-        f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
-    )
-    print(comparison_table(ds))
-    if args.output:
-        write_netcdf(_for_netcdf(ds), args.output)
-        print(f"wrote {args.output}")
+    inputs = comparison_inputs(args.scenario, field, values, n=args.drops, seed=args.seed)
+    with cli_output(args, inputs) as out:
+        ds = run_comparison(
+            args.scenario,
+            field,
+            values,
+            n=args.drops,
+            seed=args.seed,
+            threads=args.threads,
+            progress=not args.quiet,
+        )
+        print(ds.attrs["title"])
+        print(
+            f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
+            f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
+        )
+        print(comparison_table(ds))
+        if out is not None:
+            out.commit(_for_netcdf(ds))
+            print(f"wrote {args.output}")
     if args.plot:
         plot_comparison(ds, args.plot)
         print(f"wrote {args.plot}")

@@ -41,7 +41,7 @@ from mineburial.ensembles import engine, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
-from mineburial.validation.compare import pyplot
+from mineburial.validation.compare import cli_output, pyplot, save_figure
 
 __all__ = [
     "sobol_analysis",
@@ -367,14 +367,13 @@ def plot_sensitivity(ds: xr.Dataset, path) -> None:
         fontsize=10,
     )
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
 def run_sensitivity_cli(args) -> int:
     """``mineburial sensitivity``."""
     from mineburial.config import ScenarioError
-    from mineburial.io.netcdf import write_netcdf
 
     runner.check_threads(args.threads, "--threads")
     n = 256 if args.drops is None else args.drops
@@ -383,21 +382,23 @@ def run_sensitivity_cli(args) -> int:
             f"-n {n}: the base sample size must be a power of two >= 2 "
             f"(the Sobol' design); n (d + 2) drops are run"
         )
-    ds = run_sensitivity(args.scenario, n, args.seed, threads=args.threads, progress=not args.quiet)
-    print(ds.attrs["title"])
-    print(
-        f"n = {n}, {int(ds.attrs['n_evaluations'])} drops ({ds.attrs['status_counts']}), "
-        f"seed {ds.attrs['random_seed']}, {ds.attrs['elapsed_seconds']:.1f} s"
-    )
-    if ds.attrs.get("warning"):
-        print(ds.attrs["warning"])
-    print(sensitivity_table(ds))
-    if args.output:
-        out = ds.copy()
-        out["output"] = out["output"].astype(str)
-        out["input"] = out["input"].astype(str)
-        write_netcdf(out, args.output)
-        print(f"wrote {args.output}")
+    inputs = runner.input_paths(args.scenario, engine.load_ensemble(args.scenario, seed=args.seed))
+    with cli_output(args, inputs) as out:  # -o and --plot checked before computing
+        ds = run_sensitivity(args.scenario, n, args.seed, threads=args.threads, progress=not args.quiet)
+        print(ds.attrs["title"])
+        print(
+            f"n = {n}, {int(ds.attrs['n_evaluations'])} drops ({ds.attrs['status_counts']}), "
+            f"seed {ds.attrs['random_seed']}, {ds.attrs['elapsed_seconds']:.1f} s"
+        )
+        if ds.attrs.get("warning"):
+            print(ds.attrs["warning"])
+        print(sensitivity_table(ds))
+        if out is not None:
+            written = ds.copy()
+            written["output"] = written["output"].astype(str)
+            written["input"] = written["input"].astype(str)
+            out.commit(written)
+            print(f"wrote {args.output}")
     if args.plot:
         plot_sensitivity(ds, args.plot)
         print(f"wrote {args.plot}")
