@@ -10,7 +10,10 @@ import pytest
 import xarray as xr
 
 from mineburial.cli import main
+from mineburial.kernels import status
 from mineburial.validation.cases import (
+    ANCHOR,
+    ANCHOR_K,
     CALIBRATION,
     CASES,
     KINDS,
@@ -18,6 +21,8 @@ from mineburial.validation.cases import (
     VERIFICATION,
     Case,
     Row,
+    _summary,
+    anchor_scenario,
     run_case,
     submergence_time,
 )
@@ -167,3 +172,21 @@ def testsubmergence_time_of_a_tilted_cylinder_by_hand():
         coords={"time": t},
     )
     assert submergence_time(ds, 0.2, 0.01) == pytest.approx(0.045, abs=1e-12)
+
+
+def test_anchor_embedment_rises_with_speed_and_density_and_falls_with_strength():
+    # O'Loughlin et al. 2013: embedment grows with the anchor's energy (impact speed, net
+    # density) and must fall as the clay's strength gradient rises; the engine's torpedo
+    # anchor of the validation case (mineburial/validation/cases.py ANCHOR) must follow
+    def embedment(**kw):
+        args = {"impact_speed": 25.0, "strength_gradient": ANCHOR_K[0], **kw}
+        code, s = _summary(anchor_scenario(**args))
+        assert status.NAMES[code] == "at_rest"
+        return s["penetration_depth"]
+
+    base = embedment()
+    assert embedment(impact_speed=30.0) > base
+    assert embedment(density=5850.0) > base  # 99 t: mine.mass allows at most 100 t
+    assert embedment(strength_gradient=ANCHOR_K[1]) < base
+    # deeper than the anchor is long, shallower than the 100 m water column's sediment
+    assert ANCHOR["length"] < base < 100.0

@@ -867,6 +867,93 @@ def restraint_table3(quick_only=False, figures=None):
     return rows
 
 
+# ---------------------------------------------------------------------------
+# penetration of dynamically installed (torpedo) anchors into normally consolidated clay
+# ---------------------------------------------------------------------------
+#: the published bands, in anchor lengths of tip embedment (as summarised in the abstracts;
+#: ../shared/notes/sources.md section 2): centrifuge, anchors without flukes in normally
+#: consolidated clay, 2-3 lengths at impact speeds approaching 30 m/s (O'Loughlin, Richardson,
+#: Randolph & Gaudin 2013, Geotechnique 63(11):909; Richardson 2008, UWA thesis: up to 3);
+#: field tests at 1:20 in soft NC clay, 1.5-2.6 lengths (O'Beirne et al. 2015, Can. Geotech. J.)
+ANCHOR_BAND = (1.5, 3.0)
+ANCHOR_SOURCE = (
+    "O'Loughlin et al. 2013 (Geotechnique 63(11)), Richardson 2008: 2-3 lengths near 30 m/s (centrifuge); "
+    "O'Beirne et al. 2015 (Can. Geotech. J.): 1.5-2.6 lengths (field)"
+)
+#: the anchor, ASSUMPTIONS (no drop of the published tests is reproduced): a slender heavy
+#: right circular cylinder with flat ends (the engine's body; real anchors have a conical or
+#: ogive tip, which penetrates more easily) and no fins, L = 15 m, D = 1.2 m (L/D 12.5), solid
+#: density 5500 kg/m3 (93 t), falling axially, tip at the mudline at the impact speed
+ANCHOR = {"length": 15.0, "diameter": 1.2, "density": 5500.0}
+#: the clay, ASSUMPTIONS: s_u = k z from zero at the mudline, density 1600 kg/m3, and k at the
+#: two ends of the normally consolidated range s_u / sigma'_v = 0.2 to 0.3, with
+#: sigma'_v = (1600 - 1025) 9.81 z: k = 1.13 and 1.69 kPa/m
+ANCHOR_CLAY_DENSITY = 1600.0
+ANCHOR_K = tuple(r * (ANCHOR_CLAY_DENSITY - RHO_W) * G for r in (0.2, 0.3))
+ANCHOR_SPEEDS = (25.0, 30.0)
+
+
+def anchor_scenario(impact_speed, strength_gradient, density=ANCHOR["density"], length=ANCHOR["length"]):
+    """The torpedo anchor of :data:`ANCHOR` dropped axially onto clay with s_u = k z."""
+    diameter = ANCHOR["diameter"]
+    mass = density * math.pi * (diameter / 2) ** 2 * length
+    depth = 100.0
+    return _scenario(
+        mine={"name": "torpedo anchor", "length": length, "diameter": diameter, "mass": mass},
+        release={
+            "position": [0.0, 0.0, -depth + length / 2 + 1e-6],
+            "pitch_deg": 90.0,
+            "velocity": [0.0, 0.0, -impact_speed],
+        },
+        environment={"water_depth": depth},
+        sediment={
+            "density": ANCHOR_CLAY_DENSITY,
+            "density_gradient": 0.0,
+            "strength": 0.0,
+            "strength_gradient": strength_gradient,
+        },
+        numerics={"t_max": 20.0},
+    )
+
+
+def anchor_embedment(quick_only=False, figures=None):
+    """Tip embedment of the torpedo anchor over the clay and impact-speed ranges, in anchor
+    lengths, against the published band (one row), with every run as information."""
+    rows, emb = [], []
+    case = "torpedo anchor in NC clay"
+    for k in ANCHOR_K:
+        for w0 in ANCHOR_SPEEDS:
+            code, s = _summary(anchor_scenario(w0, k))
+            e = s["penetration_depth"] / ANCHOR["length"]
+            emb.append(e if code == status.AT_REST else math.nan)
+            rows.append(
+                Row(
+                    case,
+                    f"tip embedment / length, k = {k / 1000:.2f} kPa/m, {w0:g} m/s ({status.NAMES[code]})",
+                    "flat-ended 15 m x 1.2 m cylinder, 5500 kg/m3, axial; s_u = k z, 1600 kg/m3 "
+                    "(assumptions)",
+                    "2-3 (centrifuge), 1.5-2.6 (field)",
+                    float(e),
+                    quick=True,
+                )
+            )
+    lo, hi = ANCHOR_BAND
+    rows.append(
+        Row(
+            case,
+            f"tip embedment in anchor lengths over k = {ANCHOR_K[0] / 1000:.2f}-"
+            f"{ANCHOR_K[1] / 1000:.2f} kPa/m and impact speeds {ANCHOR_SPEEDS[0]:g}-{ANCHOR_SPEEDS[1]:g} m/s",
+            ANCHOR_SOURCE,
+            f"{lo:g}-{hi:g}",
+            f"{min(emb):.2f}-{max(emb):.2f}",
+            tolerance=f"every run within {lo:g}-{hi:g} lengths (the union of the published bands)",
+            passed=bool(all(lo <= e <= hi for e in emb)),
+            quick=True,
+        )
+    )
+    return rows
+
+
 @dataclass(frozen=True)
 class Case:
     """One group of validation rows, declared once with its kind (a key of :data:`KINDS`).
@@ -927,6 +1014,12 @@ CASES = (
     Case("exp2", "Seed 000 Exp-2: Monterey barrel under each sediment model", exp2, MEASUREMENT),
     Case(
         "exp2_models", "Seed 000 Exp-2: the two burial models against each other", exp2_models, VERIFICATION
+    ),
+    Case(
+        "anchor_embedment",
+        "Torpedo anchors in normally consolidated clay: tip embedment against the published bands",
+        anchor_embedment,
+        MEASUREMENT,
     ),
     Case(
         "restraint_table3",
