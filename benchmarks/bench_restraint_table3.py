@@ -1,6 +1,12 @@
 """Seed 004 Table 3: the stopping time of the 19 cases of Table 2, computed and compared.
 
 Run:  python benchmarks/bench_restraint_table3.py [--cases 1,2,3] [--set FIELD=VALUE ...] [--out FILE]
+      python benchmarks/bench_restraint_table3.py --drag-forms [--cases ...] [--out FILE]
+
+``--drag-forms`` runs every case under the four combinations of the two drag-form model
+choices (``water.tangential_drag_form`` = diameter / perimeter, ``ship.resistance_form`` =
+ittc / printed; docs/restraint.md section 6) and writes one table of all four to
+benchmarks/results/restraint_table3_drag_forms.txt.
 
 ``--set`` changes a field of every case (a sensitivity, e.g. ``--set ship.resistance_form=ittc``;
 the committed table is the run without it).
@@ -54,7 +60,12 @@ def main(argv=None):
     ap.add_argument("--cases", default=None, help="comma-separated case numbers (default all 19)")
     ap.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE", help="override a case field")
     ap.add_argument("--out", default=None, help="output file (default results/restraint_table3.txt)")
+    ap.add_argument(
+        "--drag-forms", action="store_true", help="the four drag-form combinations in one table (section 6)"
+    )
     args = ap.parse_args(argv)
+    if args.drag_forms:
+        return drag_forms(args)
     import tomllib
 
     overrides = {}
@@ -143,6 +154,75 @@ def main(argv=None):
         out.parent.mkdir(parents=True, exist_ok=True)
         out.write_text(text + "\n")
         print(f"wrote {out}", file=sys.stderr)
+
+
+#: the four combinations of the drag-form choices (docs/restraint.md section 6), the default first
+DRAG_FORMS = (
+    ("d, 1/2 (default)", {"water.tangential_drag_form": "diameter", "ship.resistance_form": "ittc"}),
+    ("d, no 1/2", {"water.tangential_drag_form": "diameter", "ship.resistance_form": "printed"}),
+    ("pi D, 1/2", {"water.tangential_drag_form": "perimeter", "ship.resistance_form": "ittc"}),
+    (
+        "pi D, no 1/2 (printed)",
+        {"water.tangential_drag_form": "perimeter", "ship.resistance_form": "printed"},
+    ),
+)
+
+
+def drag_forms(args):
+    """Table 3 under each combination of tangential-drag form and ship-resistance form."""
+    from mineburial import __version__
+    from mineburial.systems import restraint as R
+
+    numbers = range(1, R.N_CASES + 1) if args.cases is None else [int(c) for c in args.cases.split(",")]
+    out = (
+        Path(args.out) if args.out else Path(__file__).parent / "results" / "restraint_table3_drag_forms.txt"
+    )
+    t0 = time.perf_counter()
+    times = {}
+    for label, fields in DRAG_FORMS:
+        for k in numbers:
+            res = R.simulate(R.table2_case(k).replace(**fields))
+            times[label, k] = res.stopping_time if res.status_name == "stopped" else None
+            print(f"{label:<24} case {k:2d}: {res.status_name} {res.stopping_time}", flush=True)
+    width = 19
+    head = f"{'case':>4}  {'Table 3 s':>9}  " + "  ".join(f"{label:>{width}}" for label, _ in DRAG_FORMS)
+    lines = [head]
+    for k in numbers:
+        t_ref = R.TABLE3[k - 1]
+        cells = []
+        for label, _ in DRAG_FORMS:
+            t = times[label, k]
+            cells.append(
+                f"{'no stop':>{width}}" if t is None else f"{t:9.3f} ({100 * (t / t_ref - 1):+6.2f} %)"
+            )
+        lines.append(f"{k:>4}  {t_ref:9.3f}  " + "  ".join(f"{c:>{width}}" for c in cells))
+    lines.append("")
+    for label, _ in DRAG_FORMS:
+        d = [100 * (times[label, k] / R.TABLE3[k - 1] - 1) for k in numbers if times[label, k] is not None]
+        within = sum(abs(x) <= 5.0 for x in d)
+        lines.append(
+            f"{label:<24} difference to Table 3 from {min(d):+.2f} to {max(d):+.2f} %, "
+            f"largest |difference| {max(abs(x) for x in d):.2f} %, within 5 %: {within} of {len(d)}"
+        )
+    text = "\n".join(
+        [
+            "Seed 004 Table 3 under the four drag-form combinations "
+            "(python benchmarks/bench_restraint_table3.py --drag-forms)",
+            f"mineburial {__version__}; {machine()}; {time.perf_counter() - t0:.0f} s in all",
+            "stopping time s (difference to seed 004 Table 3); every other field as in the case files "
+            "(dopri5, rtol 1e-7, atol 1e-9)",
+            "d = water.tangential_drag_form 'diameter': C_T rho d L v|v|/2, seed 001 eqs. (4), (50); "
+            "pi D = 'perimeter': pi rho D L C_F v|v|/2, seed 004 eqs. (44)-(45) as printed",
+            "1/2 = ship.resistance_form 'ittc': (C_f + C_sf) rho S_W v|v|/2 (ITTC 1957); "
+            "no 1/2 = 'printed': seed 004 eq. (62) as printed",
+            "",
+            *lines,
+        ]
+    )
+    print(text)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text + "\n")
+    print(f"wrote {out}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -2,13 +2,31 @@
 and the committed summary table (docs/validation/summary.md) against a fresh run."""
 
 import json
+import math
 import pathlib
 
+import numpy as np
 import pytest
+import xarray as xr
 
 from mineburial.cli import main
-from mineburial.validation.cases import Row
-from mineburial.validation.report import HEADER, format_row
+from mineburial.kernels import status
+from mineburial.validation.cases import (
+    ANCHOR,
+    ANCHOR_K,
+    CALIBRATION,
+    CASES,
+    KINDS,
+    MEASUREMENT,
+    VERIFICATION,
+    Case,
+    Row,
+    _summary,
+    anchor_scenario,
+    run_case,
+    submergence_time,
+)
+from mineburial.validation.report import HEADER, counts_text, format_row, kind_counts
 
 SUMMARY = pathlib.Path(__file__).resolve().parent.parent / "docs" / "validation" / "summary.md"
 
@@ -25,9 +43,18 @@ def test_quick_report_files(quick):
     rows = json.loads((quick / "results.json").read_text())["rows"]
     assert rows and all(r["quick"] for r in rows)
     for r in rows:
-        assert r["source"] and r["result"] in ("pass", "FAIL", "info")
-        if r["result"] != "info":
+        assert r["source"] and r["result"] in ("pass", "FAIL", "info", "calibration")
+        assert r["kind"] in KINDS
+        assert (r["result"] == "calibration") == (r["kind"] == CALIBRATION)
+        if r["result"] not in ("info", "calibration"):
             assert r["tolerance"]
+    counts = json.loads((quick / "results.json").read_text())["counts"]
+    assert sum(sum(n.values()) for n in counts.values()) == len(rows)
+    assert counts[CALIBRATION]["pass"] == counts[CALIBRATION]["FAIL"] == 0
+    summary = (quick / "summary.md").read_text()
+    # the headline choice, its one calibration case and the timing origin are stated
+    assert "munk_factor = 0" in summary and "one calibration case" in summary and "0.23" in summary
+    assert "not synchronised" in summary
     report = (quick / "report.md").read_text()
     for png in ("exp1_case92_trajectory.png", "exp1_case93_trajectory.png"):
         assert (quick / png).stat().st_size > 0 and png in report
@@ -69,3 +96,97 @@ def test_failing_rows_are_shown_failing():
     row = Row("c", "q", "s", 1.0, 2.0, "s", "10 %", 1.0, "relative", False, True)
     assert "| **FAIL** |" in format_row(row)
     assert "+100 %" in format_row(row)
+
+
+def _row(kind, passed):
+    r = Row("c", "q", "s", 1.0, 1.0, "s", "1 %", 0.0, "relative", passed, False)
+    r.kind = kind
+    return r
+
+
+def test_rows_are_counted_separately_by_kind():
+    rows = [
+        _row(MEASUREMENT, True),
+        _row(MEASUREMENT, False),
+        _row(MEASUREMENT, None),
+        _row(VERIFICATION, True),
+        _row(VERIFICATION, True),
+        _row(VERIFICATION, True),
+        _row(CALIBRATION, True),  # fits, but a calibration row is never a pass
+        _row(CALIBRATION, False),
+        _row(CALIBRATION, None),
+    ]
+    n = kind_counts(rows)
+    assert n[MEASUREMENT] == {"pass": 1, "FAIL": 1, "info": 1, "calibration": 0}
+    assert n[VERIFICATION] == {"pass": 3, "FAIL": 0, "info": 0, "calibration": 0}
+    assert n[CALIBRATION] == {"pass": 0, "FAIL": 0, "info": 0, "calibration": 3}
+    assert counts_text(rows) == (
+        "measurement: 1 pass, 1 fail, 1 for information (no tolerance); "
+        "verification: 3 pass, 0 fail, 0 for information (no tolerance); "
+        "calibration: 3 rows (not counted as passes or failures)"
+    )
+    # the table says whether a calibration row fits, without calling it a pass
+    assert "| calibration, within its tolerance |" in format_row(rows[6])
+    assert "| calibration, outside its tolerance |" in format_row(rows[7])
+    # a row that no case declared a kind for cannot be counted
+    with pytest.raises(ValueError, match="no kind"):
+        kind_counts([Row("c", "q", "s", 1.0, 1.0)])
+
+
+def test_every_case_declares_its_kind_and_run_case_stamps_it():
+    assert all(c.kind in KINDS for c in CASES)
+    kinds = {c.key: c.kind for c in CASES}
+    # the Exp-1 (92) drop chose numerics.munk_factor under the mineburial model (docs/physics.md
+    # section 2): calibration; IMPACT35 (no added mass) on it and both models on (93): measurement
+    assert kinds["exp1_case92_mineburial"] == CALIBRATION
+    assert "munk_factor" in next(c.calibrates for c in CASES if c.key == "exp1_case92_mineburial")
+    assert kinds["exp1_case92_impact35"] == kinds["exp1_case93_mineburial"] == MEASUREMENT
+    # the Exp-2 ratio compares two models with each other; Table 3 is seed 004's simulation
+    assert kinds["exp2_models"] == kinds["restraint_table3"] == VERIFICATION
+    assert [c.key for c in CASES if c.kind == CALIBRATION] == ["exp1_case92_mineburial"]
+    case = Case("k", "t", lambda quick_only, figures: [Row("c", "q", "s", 1.0, 1.0)], VERIFICATION)
+    assert [r.kind for r in run_case(case)] == [VERIFICATION]
+    with pytest.raises(ValueError, match="kind"):
+        Case("k", "t", case.run, "validation")
+    with pytest.raises(ValueError, match="calibrat"):
+        Case("k", "t", case.run, CALIBRATION)  # a calibration case must say what it calibrates
+
+
+def testsubmergence_time_of_a_tilted_cylinder_by_hand():
+    # axis pitched 30 deg nose up (q = (cos 15, 0, sin(-15), 0): body axis z component
+    # -sin(-30 deg) = +0.5), COM 0.01 m towards the nose, L = 0.2 m, falling at 1 m/s from
+    # z = 0 at t = 0: the tail end is at z - 0.11 * 0.5, the nose end at z + 0.09 * 0.5, so
+    # the nose, the top end, goes under at t = 0.045 s
+    t = np.arange(0.0, 0.2, 0.001)
+    half = math.radians(-15.0)
+    ds = xr.Dataset(
+        {
+            "z": ("time", -1.0 * t),
+            "q0": ("time", np.full_like(t, math.cos(half))),
+            "q1": ("time", np.zeros_like(t)),
+            "q2": ("time", np.full_like(t, math.sin(half))),
+            "q3": ("time", np.zeros_like(t)),
+            "water_entry_time": 0.0,
+            "impact_time": 0.15,
+        },
+        coords={"time": t},
+    )
+    assert submergence_time(ds, 0.2, 0.01) == pytest.approx(0.045, abs=1e-12)
+
+
+def test_anchor_embedment_rises_with_speed_and_density_and_falls_with_strength():
+    # O'Loughlin et al. 2013: embedment grows with the anchor's energy (impact speed, net
+    # density) and must fall as the clay's strength gradient rises; the engine's torpedo
+    # anchor of the validation case (mineburial/validation/cases.py ANCHOR) must follow
+    def embedment(**kw):
+        args = {"impact_speed": 25.0, "strength_gradient": ANCHOR_K[0], **kw}
+        code, s = _summary(anchor_scenario(**args))
+        assert status.NAMES[code] == "at_rest"
+        return s["penetration_depth"]
+
+    base = embedment()
+    assert embedment(impact_speed=30.0) > base
+    assert embedment(density=5850.0) > base  # 99 t: mine.mass allows at most 100 t
+    assert embedment(strength_gradient=ANCHOR_K[1]) < base
+    # deeper than the anchor is long, shallower than the 100 m water column's sediment
+    assert ANCHOR["length"] < base < 100.0

@@ -10,8 +10,10 @@ deviation from the printed equations and every assumed value.
 * :func:`current_speed` -- tidal current profile, eq. (38), the 1/7 power law.
 * :func:`element_fluid_force` -- tangential and normal drag of a rotating cable or chain
   element, eqs. (43)-(47); the normal drag is the exact integral of seed 001
-  eqs. (31)-(47) (:func:`mineburial.kernels.crossflow.quadratic_drag_integrals`). The
-  added mass of eq. (46) is in the element's mass matrix, not here.
+  eqs. (31)-(47) (:func:`mineburial.kernels.crossflow.quadratic_drag_integrals`), the
+  tangential drag :func:`tangential_drag` in the form the case selects (seed 001 eq. (4),
+  default, or seed 004 eq. (45) as printed). The added mass of eq. (46) is in the element's
+  mass matrix, not here.
 * :func:`element_foundation` -- the elastic seabed foundation of eq. (41) with the lost
   buoyancy of eq. (42): upward force ``(k_z - rho g) V^S`` at the centroid of the embedded
   volume, i.e. Archimedes in a heavy fluid of specific weight ``k_z - rho g``, which has
@@ -63,8 +65,34 @@ def current_speed(height, surface_speed, depth):
     return surface_speed * (height / depth) ** (1.0 / 7.0)
 
 
+#: values of the tangential-drag form (params[1][P_TANGENTIAL], ``water.tangential_drag_form``)
+TANGENTIAL_DIAMETER = 0.0  # seed 001 eq. (4): C = C_T rho d / 2 per unit length (default)
+TANGENTIAL_PERIMETER = 1.0  # seed 004 eqs. (44)-(45) as printed: pi rho D C_F / 2 per unit length
+
+
 @kernel
-def element_fluid_force(theta, vx, vz, om, length, diameter, rho, cd, cf, current):
+def tangential_drag(wt, length, diameter, rho, cf, form):
+    """Tangential (skin-friction) drag of a cylindrical element along its axis, ``w_t`` the
+    axial water velocity relative to the element (uniform along it: the rotation adds only
+    normal velocity, seed 001 eqs. (48)-(51), so the moment about the centroid is zero).
+
+    * ``form = TANGENTIAL_DIAMETER``: ``C_T rho d L |w_t| w_t / 2`` -- seed 001 (Huston &
+      Kamman 1980) eqs. (1), (4), (50): the force per unit length is ``C |V_T| V_T`` with
+      ``C = C_T rho (d/2)``, the coefficient referred to the diameter d as C_N is in
+      eq. (3); its eq. (7) gives ``C_T = 0.062`` for Re_T > 100.55 (after Webster 1976),
+      the value seed 004 §3.2.2 takes for C_F (citing Huston 1981, the journal version).
+    * ``form = TANGENTIAL_PERIMETER``: ``pi rho D L C_F |w_t| w_t / 2`` -- seed 004
+      eqs. (44)-(45) as printed, the same coefficient referred to the wetted perimeter
+      pi D, i.e. pi times the force of the coefficient's own definition.
+
+    docs/restraint.md section 6 gives the choice (the default is seed 001's form).
+    """
+    width = math.pi * diameter if form == TANGENTIAL_PERIMETER else diameter
+    return 0.5 * rho * width * length * cf * abs(wt) * wt
+
+
+@kernel
+def element_fluid_force(theta, vx, vz, om, length, diameter, rho, cd, cf, current, tangential_form):
     """Drag of a straight cylindrical element (eqs. (43)-(47)), resultant at its centroid.
 
     ``theta``: attitude; ``(vx, vz, om)``: centroid velocity and angular velocity;
@@ -72,7 +100,8 @@ def element_fluid_force(theta, vx, vz, om, length, diameter, rho, cd, cf, curren
     relative to the element (eq. (43)) has the tangential part ``w_t`` and, at axial
     station s, the normal part ``w_n(s) = w_n(0) - om s``.
 
-    * tangential drag, eq. (45): ``pi rho D L C_F |w_t| w_t / 2`` along the axis;
+    * tangential drag along the axis, :func:`tangential_drag` in the form
+      ``tangential_form`` (seed 001 eq. (4) or seed 004 eq. (45));
     * normal drag, eqs. (44), (47): ``rho D C_D / 2 int |w_n| w_n ds`` along the normal
       and its moment ``rho D C_D / 2 int s |w_n| w_n ds`` -- evaluated exactly for any
       ratio of rotation to translation (seed 001 eqs. (31)-(47), re-derived in
@@ -90,7 +119,7 @@ def element_fluid_force(theta, vx, vz, om, length, diameter, rho, cd, cf, curren
     _, fn_int, _, mn_int = quadratic_drag_integrals(-half, half, 0.0, wn, 0.0, -om)
     kn = 0.5 * rho * diameter * cd
     fn = kn * fn_int
-    ft = 0.5 * math.pi * rho * diameter * length * cf * abs(wt) * wt
+    ft = tangential_drag(wt, length, diameter, rho, cf, tangential_form)
     fx = ft * c - fn * s
     fz = ft * s + fn * c
     return fx, fz, kn * mn_int
@@ -272,7 +301,8 @@ P_FRICTION = 21
 P_DRAG = 22
 P_MORISON = 23
 P_SOLVER = 24
-N_PARAMS = 25
+P_TANGENTIAL = 25
+N_PARAMS = 26
 
 #: values of params[1][P_SOLVER]: how the Kane equations are solved (numerics.solver)
 SOLVER_RECURSIVE = 0.0  # kernels.multibody.accelerations, O(N) tree recursion
@@ -358,7 +388,7 @@ def applied_forces(q, u, params):
                 power += fx * vx + fz * vz + my * om
             if drag_on:
                 fx, fz, my = element_fluid_force(
-                    th, vx, vz, om, length[k], diameter[k], rho, p[P_CD], p[P_CF], cur
+                    th, vx, vz, om, length[k], diameter[k], rho, p[P_CD], p[P_CF], cur, p[P_TANGENTIAL]
                 )
                 forces[k, 0] += fx
                 forces[k, 1] += fz

@@ -325,11 +325,12 @@ FIELDS: tuple[FieldSpec, ...] = (
     _f(
         "ship",
         "resistance_form",
-        "printed",
+        "ittc",
         "",
         kind="printed|ittc",
-        source="seed 004 eq. (62) as printed, (C_f + C_sf) rho S_W v|v| ('printed'); 'ittc' adds the "
-        "textbook 1/2 (Molland et al. 2011)",
+        source="MODEL CHOICE (docs/restraint.md section 6): 'ittc' = (C_f + C_sf) rho S_W v|v| / 2, the "
+        "ITTC-1957 line's own definition R_F = C_F rho S V^2 / 2 (ITTC 1957; Molland et al. 2011, which "
+        "seed 004 cites for eq. (61)); 'printed' = seed 004 eq. (62) as printed, without the 1/2",
     ),
     # --- water
     _f("water", "density", 1025.0, "kg m-3", 0.0, 2000.0, source=f"{_S41}: 1025 kg/m3"),
@@ -363,7 +364,17 @@ FIELDS: tuple[FieldSpec, ...] = (
         0.0,
         10.0,
         lo_open=False,
-        source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981)",
+        source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981) = seed 001 eq. (7): C_T = 0.062 for Re_T > 100.55",
+    ),
+    _f(
+        "water",
+        "tangential_drag_form",
+        "diameter",
+        "",
+        kind="diameter|perimeter",
+        source="MODEL CHOICE (docs/restraint.md section 6): 'diameter' = C_T rho d L v|v| / 2, seed 001 "
+        "eqs. (4), (50), the form in which C_T = 0.062 is defined (referred to the diameter, like C_N in "
+        "eq. (3)); 'perimeter' = pi rho D L C_F v|v| / 2, seed 004 eqs. (44)-(45) as printed (pi times it)",
     ),
     _f(
         "water",
@@ -1071,6 +1082,8 @@ def build_system(case: RestraintCase) -> System:
     p[rf.P_SHIP_SW] = wetted
     p[rf.P_SHIP_KS] = case["ship.roughness"]
     p[rf.P_HALF] = 1.0 if case["ship.resistance_form"] == "printed" else 0.5
+    perimeter = case["water.tangential_drag_form"] == "perimeter"
+    p[rf.P_TANGENTIAL] = rf.TANGENTIAL_PERIMETER if perimeter else rf.TANGENTIAL_DIAMETER
     p[rf.P_AW] = ls * bs
     p[rf.P_VOL] = volume
     p[rf.P_GML] = gm_long
