@@ -46,6 +46,8 @@ NUMERIC = {
 KEYS = ("forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law") + tuple(NUMERIC)
 DEFAULT_LEVELS = (0.5, 0.75)
 DAY = 86400.0
+#: the forcing files shipped with the package, named without extension in ``scour.forcing``
+SHIPPED = pathlib.Path(__file__).resolve().parent.parent / "data" / "forcing"
 assert MEASURE_NAMES == V.SCOUR_MEASURES
 
 
@@ -105,7 +107,14 @@ def _forcing(sec, base_dir):
         if not isinstance(path, str):
             raise cfg.ScenarioError(f"scour.forcing = {path!r} must be a file path (.csv or .nc)")
         p = pathlib.Path(path)
-        if not p.is_absolute() and base_dir is not None:
+        if not p.suffix:  # the name of a shipped forcing (mineburial/data/forcing/<name>.csv)
+            shipped = sorted(q.stem for q in SHIPPED.glob("*.csv"))
+            if path not in shipped:
+                raise cfg.ScenarioError(
+                    "scour.forcing: " + cfg.unknown_names_message("shipped forcing", [path], shipped)
+                )
+            p = SHIPPED / f"{path}.csv"
+        elif not p.is_absolute() and base_dir is not None:
             p = pathlib.Path(base_dir) / p
         f = fio.load_forcing(p)
         digest = hashlib.sha256(p.read_bytes()).hexdigest()
