@@ -3,15 +3,18 @@
 relaxation of every drop from its own impact burial, a cohesive bed does not scour, the class
 probabilities per lead time are the fractions of the per-drop burials, and bad input is one line."""
 
+import hashlib
+import json
 import math
+import pathlib
 
 import numpy as np
 import pytest
 from conftest import scenario_dict
 
 from mineburial.cli import main
-from mineburial.config import dumps_toml
-from mineburial.ensembles import engine, runner
+from mineburial.config import dumps_toml, example_path
+from mineburial.ensembles import engine, runner, scour
 
 N = 8
 G = 9.81
@@ -193,3 +196,20 @@ def test_bad_storm_is_one_line(tmp_path, capsys, no_computing):
     assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "scour.storm: peak_tp missing" in err, err
+
+
+def test_output_records_the_forcing_file_and_its_sha256(runs):
+    _, ds = runs
+    path = pathlib.Path(ds.attrs["forcing_file"])
+    assert path.name == "constant.csv"
+    assert ds.attrs["forcing_sha256"] == hashlib.sha256(path.read_bytes()).hexdigest()
+    assert json.loads(ds.attrs["scenario"])["scour"]["lead_times_days"] == LEADS
+
+
+def test_scour_storm_example_reads_the_shipped_storm_file(no_computing):
+    spec = engine.load_ensemble(example_path("scour_storm"), systems=engine.SYSTEMS)
+    shipped = pathlib.Path(scour.__file__).resolve().parent.parent / "data" / "forcing" / "storm_example.csv"
+    assert spec.scour.forcing_record["forcing_sha256"] == hashlib.sha256(shipped.read_bytes()).hexdigest()
+    assert (str(shipped), spec.scour.forcing_record["forcing_sha256"]) in spec.input_files
+    assert spec.scour.forcing.duration_s == 96 * 3600.0  # the storm file: 96 h hourly (docs/scour.md)
+    assert {"scour.beq_a", "scour.beq_b", "scour.theta_exponent", "scour.hs_scale"} <= set(spec.random)

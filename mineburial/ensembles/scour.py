@@ -17,6 +17,7 @@ import dataclasses
 import functools
 import hashlib
 import inspect
+import json
 import math
 import pathlib
 from collections.abc import Mapping
@@ -263,7 +264,7 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
     attrs = dict(ds.attrs)
     attrs["scour_n_in_statistics"] = stats.attrs["scour_n_in_statistics"]
     for key, value in spec.forcing_record.items():
-        attrs[key] = value if isinstance(value, str) else repr(sorted(value.items()))
+        attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     out.attrs = attrs
     return out
 
