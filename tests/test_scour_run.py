@@ -10,6 +10,7 @@ import pathlib
 
 import numpy as np
 import pytest
+import xarray as xr
 from conftest import scenario_dict
 
 from mineburial.cli import main
@@ -27,14 +28,14 @@ LEADS = [0.0, 0.002, 0.005, 0.01, 0.03, 0.5]  # days
 LEVELS = [0.5, 0.75]
 
 
-def forcing_csv(path, hours=24, hs=0.0, u=U):
-    rows = ["time_s,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg"]
-    rows += [f"{3600.0 * i},{hs},8.0,270.0,{u},0.0" for i in range(hours + 1)]
+def forcing_csv(path, hours=24, hs=0.0, u=U, level=0.0):
+    rows = ["time_s,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg,water_level_m"]
+    rows += [f"{3600.0 * i},{hs},8.0,270.0,{u},0.0,{level}" for i in range(hours + 1)]
     path.write_text("\n".join(rows) + "\n")
     return path
 
 
-def scenario(tmp_path, scour=None, **ensemble):
+def scenario(tmp_path, scour=None, depth=None, **ensemble):
     d = scenario_dict(
         environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
         release={
@@ -48,6 +49,8 @@ def scenario(tmp_path, scour=None, **ensemble):
     d["ensemble"] = {"n": N, "chunk_size": 4, "per_drop": True, "seed": 3, **ensemble}
     if scour is not None:
         d["scour"] = scour
+    if depth is not None:
+        d["environment"]["water_depth"] = depth
     path = tmp_path / "scenario.toml"
     path.write_text(dumps_toml(d))
     return path
@@ -179,6 +182,7 @@ def no_computing(monkeypatch):
         ({"cohesive": "yes"}, "scour.cohesive = 'yes' must be true or false"),
         ({"d5O": 1.0}, "[scour]"),
         ({"storm": {"peak_hs": 2.0}}, "exactly one of forcing"),
+        ({"forcing": "no_such_storm"}, "scour.forcing: unknown shipped forcing"),
     ],
 )
 def test_bad_scour_input_is_one_line_naming_the_field(tmp_path, capsys, no_computing, over, needle):
@@ -213,3 +217,32 @@ def test_scour_storm_example_reads_the_shipped_storm_file(no_computing):
     assert (str(shipped), spec.scour.forcing_record["forcing_sha256"]) in spec.input_files
     assert spec.scour.forcing.duration_s == 96 * 3600.0  # the storm file: 96 h hourly (docs/scour.md)
     assert {"scour.beq_a", "scour.beq_b", "scour.theta_exponent", "scour.hs_scale"} <= set(spec.random)
+
+
+def test_a_drop_whose_bed_falls_dry_is_reported_not_a_silent_nan(tmp_path, capsys):
+    """A water level of -3 m dries the bed where the drop's sampled depth (2.5-3.5 m) is at most
+    3 m: those drops get scour_status invalid_forcing, NaN values, and the summary counts them."""
+    sec = scour_section(tmp_path, forcing=str(forcing_csv(tmp_path / "low.csv", level=-3.0)))
+    path = scenario(tmp_path, sec)
+    out = tmp_path / "out.nc"
+    assert main(["run", str(path), "-o", str(out), "--quiet", "--per-drop"]) == 0
+    text = capsys.readouterr().out
+    with xr.open_dataset(out) as ds:
+        dry = ds["input_environment_water_depth"].values <= 3.0
+        status = ds["scour_status"].values
+        assert 0 < dry.sum() < N
+        np.testing.assert_array_equal(status, np.where(dry, 2, 0))
+        assert np.all(np.isnan(ds["scour_burial_volume"].values[dry]))
+        assert np.all(np.isfinite(ds["scour_burial_volume"].values[~dry]))
+        assert int(ds.attrs["scour_n_in_statistics"]) == N - dry.sum()
+    assert f"invalid_forcing {dry.sum()}" in text
+
+
+def test_a_fixed_depth_that_the_water_level_dries_is_refused_before_computing(tmp_path, capsys, no_computing):
+    sec = scour_section(tmp_path, forcing=str(forcing_csv(tmp_path / "low.csv", level=-4.0)))
+    path = scenario(tmp_path, sec, depth=3.0)
+    assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "variable 'water_level' = -4 m" in err and "dries the bed" in err, (
+        err
+    )

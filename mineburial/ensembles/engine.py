@@ -265,7 +265,8 @@ def load_ensemble(
         _set_path(template, path, _representative(d))
     scour_section = template.pop("scour", None)
     base = cfg.Scenario.from_dict(template, base_dir=base_dir)
-    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir)
+    fixed_depth = None if "environment.water_depth" in random else base.environment.water_depth
+    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir, fixed_depth)
     p, sed_bank, cur_bank = base.to_params()
 
     labels = ()

@@ -122,7 +122,7 @@ def memory_needed(spec) -> int:
 
 
 def _bytes_a_drop(spec) -> int:
-    return spec.summary_width * 8 + 1 + 8 * len(spec.random)
+    return spec.summary_width * 8 + 1 + 8 * len(spec.random) + scour.bytes_a_drop(spec)
 
 
 def _extremes(spec, path, fixed):

@@ -138,15 +138,19 @@ def _forcing(sec, base_dir):
     return fio.storm_series(**storm), {"forcing_storm": dict(storm)}
 
 
-def parse(sec, base_dir=None) -> ScourSpec:
+def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     """The :class:`ScourSpec` of a ``[scour]`` table whose sampled fields hold a representative
-    value; every problem is one :class:`~mineburial.config.ScenarioError` line naming the field."""
+    value; every problem is one :class:`~mineburial.config.ScenarioError` line naming the field.
+    ``depth``: the scenario's water depth when it is fixed (a forcing water level that dries the
+    bed is then refused here; with a sampled depth such drops get scour status invalid_forcing)."""
     if not isinstance(sec, Mapping):
         raise cfg.ScenarioError(f"scour = {sec!r} must be a table: [scour]")
     unknown = [k for k in sec if k not in KEYS]
     if unknown:
         raise cfg.ScenarioError("[scour]: " + cfg.unknown_names_message("key", unknown, KEYS))
     forcing, record = _forcing(sec, base_dir)
+    if depth is not None:
+        forcing.kernel_arrays(depth)  # raises the one-line error of a bed that falls dry
     span_days = forcing.duration_s / DAY
     leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=span_days, default=())
     levels = _numbers(
@@ -215,7 +219,10 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     geom[:, 3] = -np.sin(np.radians(summary[:, layout.S_FINAL_PITCH]))  # i_M . k, docs/scour.md
     geom[:, 4] = -summary[:, layout.S_COM_DEPTH]
     f = spec.forcing
-    t, hs, tp, wdir, uc, cdir, _ = f.kernel_arrays(1.0)
+    # directions as Forcing.kernel_arrays gives them (radians towards); the depth is the drop's own
+    wdir = np.radians(np.mod(f.wave_from + 180.0, 360.0))
+    cdir = np.radians(np.mod(f.current_to, 360.0))
+    t, hs, tp, uc = (np.array(a) for a in (f.time, f.hs, f.tp, f.current_speed))
     leads = np.asarray(spec.lead_times_days, dtype=np.float64) * DAY
     levels = np.asarray(spec.burial_levels, dtype=np.float64)
     measures = np.empty((n, len(MEASURE_NAMES), leads.size))
@@ -233,6 +240,14 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         "scour:mobile": mobile / DAY,
         "scour:status": codes,
     }
+
+
+def bytes_a_drop(spec) -> int:
+    """Bytes of the stage's per-drop values of an ensemble ``spec`` (0 without a [scour] section)."""
+    sc_spec = getattr(spec, "scour", None)
+    if sc_spec is None:
+        return 0
+    return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 1) + 1
 
 
 def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_basis: str) -> xr.Dataset:
@@ -287,6 +302,14 @@ def summary_lines(ds) -> list[str]:
     tq = ds["scour_time_to_level_quantile"].sel(quantile=0.5).values
     for level, med, frac in zip(ds["burial_level"].values, tq, ds["scour_level_reached_fraction"].values):
         lines.append(f"  B/D >= {level:g}: reached by {frac:.3f} of the drops, median time {med:.3g} d")
+    counts = ds["scour_status_count"].values
+    left = [f"{V.SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k != 0]
+    if left:
+        lines.append(
+            "  left out of the scour statistics: "
+            + ", ".join(left)
+            + " (scour_status; docs/scour.md, status codes)"
+        )
     lines.append(
         f"  flagged mobile (may roll or migrate; burial unchanged): {float(ds['scour_mobile_fraction']):.3f}"
     )
