@@ -445,6 +445,62 @@ _FIELD_LIST = [
         5e-3,
         incl=_OPEN_LOW,
     ),
+    # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
+    # impact phase; packed into the stage's own parameters by mineburial/ensembles/scour.py
+    _spec(
+        "scour.d50",
+        "m",
+        6.25e-5,
+        2e-3,
+        "median grain size of the bed's sand (Wentworth's sand, 0.0625-2 mm: the scour laws are of "
+        "non-cohesive sand, docs/scour.md)",
+        2e-4,
+    ),
+    _spec("scour.grain_density", "kg m-3", 1200, 8000, "density of the sand grains (quartz 2650)", 2650),
+    _spec(
+        "scour.mobile_layer",
+        "m",
+        0,
+        100,
+        "thickness of the mobile sand layer over a bed scour cannot dig (absent: unlimited)",
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "scour.beq_a",
+        "1",
+        0,
+        100,
+        "a of the equilibrium burial B_eq/D = a theta^b (Rennie, Brandt & Friedrichs 2017: 1.3 for "
+        "D > 8 cm, 15 for small or tapered objects)",
+        1.3,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "scour.beq_b",
+        "1",
+        0,
+        3,
+        "b of B_eq/D = a theta^b (Rennie et al. 2017: 0.36; 1.1)",
+        0.36,
+        incl=_OPEN_LOW,
+    ),
+    _spec(
+        "scour.theta_exponent",
+        "1",
+        -5,
+        0,
+        "exponent p of the Shields parameter in the time scale T* = c KC^m theta^p (default: the "
+        "T* law's, Whitehouse 1998 -1.29; uncertain between about -1.3 and -2.2)",
+    ),
+    _spec(
+        "scour.hs_scale",
+        "1",
+        0,
+        10,
+        "factor on every significant wave height of the forcing (forcing uncertainty)",
+        1.0,
+        incl=_OPEN_LOW,
+    ),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.

@@ -35,6 +35,7 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
+from mineburial.ensembles import scour
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of
 from mineburial.kernels import layout
@@ -126,6 +127,7 @@ class EnsembleSpec:
     recompute_inertia: bool
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
+    scour: scour.ScourSpec | None = None  # the optional post-impact scour stage ([scour])
 
     system: ClassVar[str] = "mine"
     #: columns of a chunk's ``summary``
@@ -147,6 +149,8 @@ class EnsembleSpec:
                 repr((self.sediment_labels, self.sediment_choice, self.recompute_inertia, self.angles_deg)),
             )
         )
+        if self.scour is not None:
+            items.append(("scour", self.scour.identity()))
         return items
 
     def resolved(self) -> dict:
@@ -167,6 +171,8 @@ class EnsembleSpec:
         }
         if self.input_files:
             out["input_files"] = {path: digest for path, digest in self.input_files}
+        if self.scour is not None:
+            out["scour"] = self.scour.resolved()
         return out
 
 
@@ -257,7 +263,10 @@ def load_ensemble(
         cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
+    scour_section = template.pop("scour", None)
     base = cfg.Scenario.from_dict(template, base_dir=base_dir)
+    fixed_depth = None if "environment.water_depth" in random else base.environment.water_depth
+    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir, fixed_depth)
     p, sed_bank, cur_bank = base.to_params()
 
     labels = ()
@@ -273,6 +282,8 @@ def load_ensemble(
             choice = key
     for path in random:
         if path in (choice,) or path in _ANGLE_FIELDS:
+            continue
+        if path.startswith("scour.") and path in cfg.FIELDS:  # the stage's own inputs (scour.py)
             continue
         slot = cfg.ALIASES.get(path, path)
         if slot not in layout.INDEX or slot not in cfg.FIELDS:  # not a number: a name, a code
@@ -293,6 +304,10 @@ def load_ensemble(
     )
     if any(k in random for k in _ANGLE_FIELDS) and "quaternion" in rel:
         raise EnsembleError("release: random angles cannot be combined with a fixed quaternion")
+    files = input_files_of(raw, random, base_dir)
+    if scour_spec is not None and "forcing_file" in scour_spec.forcing_record:
+        rec = scour_spec.forcing_record
+        files += ((rec["forcing_file"], rec["forcing_sha256"]),)
     return EnsembleSpec(
         raw=raw,
         base=base,
@@ -310,7 +325,8 @@ def load_ensemble(
         sediment_choice=choice,
         recompute_inertia=recompute,
         angles_deg=angles,
-        input_files=input_files_of(raw, random, base_dir),
+        input_files=files,
+        scour=scour_spec,
     )
 
 
@@ -338,7 +354,7 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
                 P[:, layout.P_SED_PROFILE] = values
                 inputs[path] = values.astype(np.float64)
                 continue
-            if path in _ANGLE_FIELDS:
+            if path in _ANGLE_FIELDS or path.startswith("scour."):
                 inputs[path] = values.astype(np.float64)
                 continue
             slot = cfg.ALIASES.get(path, path)
@@ -382,6 +398,8 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
         "status": status,
         "invalid_inputs": np.array(json.dumps(invalid_reasons(spec, P, valid), sort_keys=True)),
     }
+    if spec.scour is not None:
+        out.update(scour.run_chunk(spec.scour, P, summary, status, inputs))
     for k, v in inputs.items():
         out["input:" + k] = v
     return out

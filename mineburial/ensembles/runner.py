@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, scour
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
@@ -122,7 +122,7 @@ def memory_needed(spec) -> int:
 
 
 def _bytes_a_drop(spec) -> int:
-    return spec.summary_width * 8 + 1 + 8 * len(spec.random)
+    return spec.summary_width * 8 + 1 + 8 * len(spec.random) + scour.bytes_a_drop(spec)
 
 
 def _extremes(spec, path, fixed):
@@ -314,7 +314,7 @@ def ensemble_dataset(spec, chunks):
     meta = {path: engine.input_metadata(spec, path) for path in inputs}
     invalid = invalid_inputs_text(merge_invalid_reasons(chunks))
     attrs = {"invalid_inputs": invalid} if invalid else None
-    return build_dataset(
+    ds = build_dataset(
         summary,
         status,
         inputs=inputs,
@@ -329,6 +329,9 @@ def ensemble_dataset(spec, chunks):
         title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
         attrs=attrs,
     )
+    if spec.scour is not None:
+        ds = scour.dataset(spec.scour, chunks, ds, per_drop=spec.per_drop, class_basis=spec.class_basis)
+    return ds
 
 
 def run_ensemble(
@@ -503,6 +506,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
         for name, pk, k in zip(class_labels(ds), p, range(len(p))):
             ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
+    lines.extend(scour.summary_lines(ds))
     if elapsed is not None:
         lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
     if output is not None:

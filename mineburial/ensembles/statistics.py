@@ -374,3 +374,115 @@ def _describe_output(name, values, q, exceedance_levels, histogram_bins, data_va
         counts, n_outside_range=np.int64(n_outside), **size_attr
     )
     data_vars[f"{name}_exceedance"] = var(f"{name}_exceedance").data_array(exceed, **size_attr)
+
+
+# ---------------------------------------------------------------------------
+# the post-impact scour stage (optional [scour] section)
+# ---------------------------------------------------------------------------
+
+
+def _quantiles_with_inf(values, q):
+    """Linear (type 7) quantiles of ``values`` that may hold +inf ("never"): the order statistics
+    are those of the values with inf kept; a quantile that interpolates towards an inf is inf."""
+    if values.size == 0:
+        return np.full(q.shape, np.nan)
+    srt = np.sort(values)
+    h = (values.size - 1) * q
+    lo = np.floor(h).astype(np.int64)
+    hi = np.minimum(lo + 1, values.size - 1)
+    w = h - lo
+    a, b = srt[lo], srt[hi]
+    with np.errstate(invalid="ignore"):
+        out = np.where(w == 0.0, a, a + w * (b - a))
+    return np.where(np.isinf(b) & (w > 0.0), np.inf, out)
+
+
+def scour_statistics(
+    measures,
+    time_to_days,
+    mobile_days,
+    scour_status,
+    lead_time_days,
+    burial_levels,
+    *,
+    quantiles: Sequence[float] = DEFAULT_QUANTILES,
+    class_basis: str = "burial_volume",
+    confidence_level: float = 0.95,
+) -> xr.Dataset:
+    """Statistics of the scour stage at each lead time, as a CF-described Dataset.
+
+    ``measures`` (n, len(SCOUR_MEASURES), n_lead): the burial measures of each drop at each lead
+    time; ``time_to_days`` (n, n_levels); ``mobile_days`` (n,); ``scour_status`` (n,) codes of
+    :data:`mineburial.io.variables.SCOUR_STATUS_NAMES`. Only drops with status ok enter: the
+    same mean, type-7 quantiles, burial classes (:func:`burial_class`) and Wilson intervals
+    (:func:`wilson_interval`) as the impact statistics, per lead time.
+    """
+    measures = np.asarray(measures, dtype=np.float64)
+    scour_status = np.asarray(scour_status)
+    q = np.asarray(quantiles, dtype=np.float64)
+    ok = scour_status == 0
+    var = V.variable
+    data_vars: dict[str, xr.DataArray] = {}
+    coords = {
+        "lead_time": var("lead_time").data_array(np.asarray(lead_time_days, dtype=np.float64)),
+        "burial_level": var("burial_level").data_array(np.asarray(burial_levels, dtype=np.float64)),
+        "quantile": var("quantile").data_array(q),
+        "impact_burial_class": var("impact_burial_class").data_array(np.arange(5)),
+        "scour_status_code": var("scour_status_code").data_array(np.arange(len(V.SCOUR_STATUS_NAMES))),
+    }
+    n_lead = coords["lead_time"].size
+    for k, name in enumerate(V.SCOUR_MEASURES):
+        mean = np.full(n_lead, np.nan)
+        quant = np.full((n_lead, q.size), np.nan)
+        for j in range(n_lead):
+            col = measures[ok, k, j]
+            col = col[np.isfinite(col)]
+            if col.size:
+                mean[j] = np.mean(col)
+                quant[j] = np.quantile(col, q, method=QUANTILE_METHOD)
+        data_vars[f"scour_{name}_mean"] = var(f"scour_{name}_mean").data_array(mean)
+        data_vars[f"scour_{name}_quantile"] = var(f"scour_{name}_quantile").data_array(quant)
+
+    k_basis = V.SCOUR_MEASURES.index(class_basis)
+    counts = np.zeros((n_lead, 5), dtype=np.int64)
+    n_cls = np.zeros(n_lead, dtype=np.int64)
+    for j in range(n_lead):
+        basis = measures[ok, k_basis, j]
+        basis = basis[np.isfinite(basis)]
+        n_cls[j] = basis.size
+        counts[j] = np.bincount(burial_class(basis).astype(np.int64), minlength=5)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        prob = np.where(n_cls[:, None] > 0, counts / n_cls[:, None], np.nan)
+    lo, hi = wilson_interval(counts, np.broadcast_to(n_cls[:, None], counts.shape), confidence_level)
+    cls_attrs = dict(burial_class_basis=class_basis)
+    ci_attrs = dict(
+        cls_attrs,
+        confidence_level=float(confidence_level),
+        interval_method="Wilson score interval (Wilson 1927)",
+    )
+    data_vars["scour_burial_class_count"] = var("scour_burial_class_count").data_array(counts, **cls_attrs)
+    data_vars["scour_burial_class_probability"] = var("scour_burial_class_probability").data_array(
+        prob, **cls_attrs
+    )
+    data_vars["scour_burial_class_probability_lower"] = var(
+        "scour_burial_class_probability_lower"
+    ).data_array(lo, **ci_attrs)
+    data_vars["scour_burial_class_probability_upper"] = var(
+        "scour_burial_class_probability_upper"
+    ).data_array(hi, **ci_attrs)
+
+    times = np.asarray(time_to_days, dtype=np.float64)[ok]
+    n_ok = int(np.count_nonzero(ok))
+    tq = np.stack([_quantiles_with_inf(np.sort(times[:, k]), q) for k in range(times.shape[1])])
+    reached = np.isfinite(times).sum(axis=0) / n_ok if n_ok else np.full(times.shape[1], np.nan)
+    data_vars["scour_time_to_level_quantile"] = var("scour_time_to_level_quantile").data_array(tq)
+    data_vars["scour_level_reached_fraction"] = var("scour_level_reached_fraction").data_array(reached)
+    mobile = np.asarray(mobile_days, dtype=np.float64)[ok]
+    frac = float(np.count_nonzero(np.isfinite(mobile)) / n_ok) if n_ok else np.nan
+    data_vars["scour_mobile_fraction"] = var("scour_mobile_fraction").data_array(frac)
+    codes = np.bincount(scour_status.astype(np.int64), minlength=len(V.SCOUR_STATUS_NAMES))
+    data_vars["scour_status_count"] = var("scour_status_count").data_array(codes)
+    ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs={"scour_n_in_statistics": np.int64(n_ok)})
+    for name, da in {**data_vars, **coords}.items():
+        ds[name].encoding.update(da.encoding)
+    return ds

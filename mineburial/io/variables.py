@@ -523,6 +523,10 @@ def _declare() -> dict[str, Variable]:
         for var in _statistics_of(name, out):
             add(var)
 
+    # --- the post-impact scour stage (optional [scour] section, docs/scour.md) ----
+    for var in _scour_variables():
+        add(var)
+
     # ACDD-1.3 coverage_content_type of every variable that does not set its own
     for name, var in v.items():
         if var.is_bounds or "coverage_content_type" in var.attrs:
@@ -537,6 +541,198 @@ def _declare() -> dict[str, Variable]:
             cct = "modelResult"
         v[name] = dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
     return v
+
+
+#: burial measures the scour stage reports at each lead time (columns of the impact summary)
+SCOUR_MEASURES = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
+#: status codes of the scour stage (mineburial.kernels.scour_batch.STATUS_NAMES)
+SCOUR_STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing", "not_run")
+_SCOUR_BASIS = "over the drops whose scour stage ran (scour_status ok) and a finite value"
+
+
+def _scour_variables() -> list[Variable]:
+    """The variables of the scour stage: the ``lead_time`` and ``burial_level`` coordinates, the
+    statistics of each burial measure at each lead time, the burial-class probabilities per lead
+    time, the times to reach the burial levels, the share of drops flagged mobile; per drop the
+    measures, times and statuses."""
+    lt = ("lead_time",)
+    out = [
+        Variable(
+            "lead_time",
+            lt,
+            "float64",
+            "days",
+            "time after the start of the forcing",
+            "Lead time of the scour stage: time after the first record of the forcing, when the "
+            "mines are taken to lie on the bed with their impact burial.",
+            standard_name="forecast_period",
+            attrs={"axis": "T"},
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            "burial_level",
+            ("burial_level",),
+            "float64",
+            "1",
+            "burial level B/D",
+            "Burial of the lowest point as a fraction of the mine diameter whose time to reach is reported.",
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            "scour_status_code",
+            ("scour_status_code",),
+            "int8",
+            None,
+            "scour-stage status code",
+            "Status codes of the scour stage (mineburial.kernels.scour_batch.STATUS_NAMES).",
+            attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            "scour_status_count",
+            ("scour_status_code",),
+            "int64",
+            "1",
+            "number of drops with the scour-stage status",
+            "Number of drops of the ensemble with each scour-stage status code.",
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            "scour_status",
+            ("realization",),
+            "int8",
+            None,
+            "scour-stage status",
+            "Status of the drop's scour stage; not_run: the impact phase did not leave it at rest.",
+            attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
+            fill_value=-127,
+        ),
+        Variable(
+            "scour_mobile_fraction",
+            (),
+            "float64",
+            "1",
+            "share of drops flagged mobile",
+            "Fraction of the drops whose scour stage ran in which the object mobility parameter passed "
+            "the threshold of Rennie et al. (2017) at some time of the forcing: the mine may roll or "
+            "migrate (an upper bound; the burial is not changed, docs/scour.md).",
+            group="statistics",
+        ),
+        Variable(
+            "scour_mobile_time",
+            ("realization",),
+            "float64",
+            "days",
+            "first time the mine is flagged mobile",
+            "Time after the start of the forcing at which the mobility threshold of Rennie et al. (2017) "
+            "was first passed; inf: never.",
+        ),
+        Variable(
+            "scour_time_to_level",
+            ("realization", "burial_level"),
+            "float64",
+            "days",
+            "time to reach the burial level",
+            "Time after the start of the forcing at which the burial B/D first reaches the level; 0: the "
+            "impact burial is there already; inf: not within the forcing.",
+        ),
+        Variable(
+            "scour_time_to_level_quantile",
+            ("burial_level", "quantile"),
+            "float64",
+            "days",
+            "quantile of the time to reach the burial level",
+            f"Quantiles (numpy linear) of scour_time_to_level {_SCOUR_BASIS}; inf where that share of "
+            "the drops does not reach the level within the forcing.",
+            group="statistics",
+        ),
+        Variable(
+            "scour_level_reached_fraction",
+            ("burial_level",),
+            "float64",
+            "1",
+            "share of drops reaching the burial level",
+            f"Fraction of the drops {_SCOUR_BASIS} that reach the level within the forcing.",
+            group="statistics",
+        ),
+        Variable(
+            "scour_burial_class_count",
+            ("lead_time", "impact_burial_class"),
+            "int64",
+            "1",
+            "number of drops in the burial class at the lead time",
+            f"Number of drops {_SCOUR_BASIS} in each burial class (the impact classes) at each lead time.",
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
+            "scour_burial_class_probability",
+            ("lead_time", "impact_burial_class"),
+            "float64",
+            "1",
+            "probability of the burial class at the lead time",
+            f"Fraction k/n of the drops {_SCOUR_BASIS} in each burial class at each lead time.",
+            group="statistics",
+            attrs={
+                "ancillary_variables": "scour_burial_class_probability_lower "
+                "scour_burial_class_probability_upper scour_burial_class_count"
+            },
+        ),
+    ]
+    for side in ("lower", "upper"):
+        out.append(
+            Variable(
+                f"scour_burial_class_probability_{side}",
+                ("lead_time", "impact_burial_class"),
+                "float64",
+                "1",
+                f"{side} confidence limit of the burial-class probability at the lead time",
+                f"{side.capitalize()} limit of the Wilson score interval (Wilson 1927) at the "
+                "confidence level given by the attribute confidence_level.",
+                group="statistics",
+            )
+        )
+    for name in SCOUR_MEASURES:
+        o = SUMMARY_OUTPUTS[name]
+        out.append(
+            Variable(
+                f"scour_{name}",
+                ("realization", "lead_time"),
+                "float64",
+                o.units,
+                f"{o.long_name} at the lead time",
+                f"{o.description} After the scour stage, at each lead time; NaN where the stage did "
+                "not run (scour_status).",
+            )
+        )
+        out.append(
+            Variable(
+                f"scour_{name}_mean",
+                lt,
+                "float64",
+                o.units,
+                f"mean of {o.long_name} at the lead time",
+                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}.",
+                attrs={"cell_methods": "realization: mean"},
+                group="statistics",
+            )
+        )
+        out.append(
+            Variable(
+                f"scour_{name}_quantile",
+                ("lead_time", "quantile"),
+                "float64",
+                o.units,
+                f"quantile of {o.long_name} at the lead time",
+                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}.",
+                group="statistics",
+            )
+        )
+    return out
 
 
 def _statistics_of(name: str, out: _Output) -> list[Variable]:

@@ -1,0 +1,316 @@
+"""The optional ``[scour]`` section of an ensemble scenario: the post-impact scour stage of every
+drop (issue 20; docs/scour.md, docs/scenario.md).
+
+:func:`parse` reads the section (the forcing from a file or an inline storm, lead times, burial
+levels, sediment and law choices) into a :class:`ScourSpec`; its numeric fields are ordinary
+fields of :data:`mineburial.config.FIELDS` (``scour.*``), so they are checked, sampled (Philox
+streams keyed by the field name: no other input's draws change) and validated per drop like
+every other input. :func:`run_chunk` runs the compiled stage over the drops of a chunk after
+their impact phase; :func:`dataset` adds the statistics and per-drop variables of the stage to a
+run's Dataset; :func:`summary_lines` the class probabilities per lead time to the run summary.
+A scenario without the section runs exactly as before: nothing here is called.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import inspect
+import json
+import math
+import pathlib
+from collections.abc import Mapping
+
+import numpy as np
+import xarray as xr
+
+from mineburial import config as cfg
+from mineburial.ensembles.statistics import scour_statistics
+from mineburial.io import forcing as fio
+from mineburial.io import variables as V
+from mineburial.kernels import layout
+from mineburial.kernels import scour as sc
+from mineburial.kernels import status as status_codes
+from mineburial.kernels.scour_batch import MEASURE_NAMES, N_GEOM, scour_drops
+
+#: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
+NUMERIC = {
+    "d50": sc.S_D50,
+    "grain_density": sc.S_RHO_GRAIN,
+    "mobile_layer": sc.S_MOBILE_LAYER,
+    "beq_a": sc.S_BEQ_A,
+    "beq_b": sc.S_BEQ_B,
+    "theta_exponent": sc.S_TSTAR_P,
+    "hs_scale": None,  # scales the forcing, not a stage parameter
+}
+KEYS = ("forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law") + tuple(NUMERIC)
+DEFAULT_LEVELS = (0.5, 0.75)
+DAY = 86400.0
+#: the forcing files shipped with the package, named without extension in ``scour.forcing``
+SHIPPED = pathlib.Path(__file__).resolve().parent.parent / "data" / "forcing"
+assert MEASURE_NAMES == V.SCOUR_MEASURES
+
+
+@dataclasses.dataclass(frozen=True)
+class ScourSpec:
+    """The resolved ``[scour]`` section: what every drop's stage needs beside its own inputs."""
+
+    lead_times_days: tuple
+    burial_levels: tuple
+    tstar_law: str
+    cohesive: bool
+    values: dict  # scour.<name> -> fixed value (representative for a sampled one; mobile_layer inf: none)
+    forcing: fio.Forcing
+    forcing_record: dict  # file path + sha256, or the storm's parameters
+
+    def resolved(self) -> dict:
+        out = {
+            "lead_times_days": list(self.lead_times_days),
+            "burial_levels": list(self.burial_levels),
+            "tstar_law": self.tstar_law,
+            "cohesive": self.cohesive,
+        }
+        out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
+        out.update(self.forcing_record)
+        return out
+
+    def identity(self) -> bytes:
+        arrays = (self.forcing.time, self.forcing.hs, self.forcing.tp, self.forcing.wave_from)
+        arrays += (self.forcing.current_speed, self.forcing.current_to, self.forcing.water_level)
+        return repr(sorted(self.resolved().items())).encode() + b"".join(a.tobytes() for a in arrays)
+
+
+def _numbers(value, location, *, low, high, default):
+    if value is None:
+        return tuple(default)
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or not len(value):
+        raise cfg.ScenarioError(f"{location} = {value!r} must be a non-empty list of numbers")
+    out = tuple(cfg._number(v, f"{location}[{i}]") for i, v in enumerate(value))
+    for i, v in enumerate(out):
+        if not (low <= v <= high):
+            raise cfg.ScenarioError(
+                f"{location}[{i}] = {v:g} is outside the allowed range [{low:g}, {high:g}]"
+            )
+    if any(b <= a for a, b in zip(out, out[1:])):
+        raise cfg.ScenarioError(f"{location} = {list(out)} must be strictly increasing")
+    return out
+
+
+def _forcing(sec, base_dir):
+    """The forcing of the section and what identifies it (file path and sha256, or the storm)."""
+    if ("forcing" in sec) == ("storm" in sec):
+        raise cfg.ScenarioError(
+            "[scour]: give exactly one of forcing = '<file .csv or .nc>' or storm = {peak_hs = ..., ...}"
+        )
+    if "forcing" in sec:
+        path = sec["forcing"]
+        if not isinstance(path, str):
+            raise cfg.ScenarioError(f"scour.forcing = {path!r} must be a file path (.csv or .nc)")
+        p = pathlib.Path(path)
+        if not p.suffix:  # the name of a shipped forcing (mineburial/data/forcing/<name>.csv)
+            shipped = sorted(q.stem for q in SHIPPED.glob("*.csv"))
+            if path not in shipped:
+                raise cfg.ScenarioError(
+                    "scour.forcing: " + cfg.unknown_names_message("shipped forcing", [path], shipped)
+                )
+            p = SHIPPED / f"{path}.csv"
+        elif not p.is_absolute() and base_dir is not None:
+            p = pathlib.Path(base_dir) / p
+        f = fio.load_forcing(p)
+        digest = hashlib.sha256(p.read_bytes()).hexdigest()
+        return f, {"forcing_file": str(p), "forcing_sha256": digest}
+    storm = sec["storm"]
+    allowed = tuple(inspect.signature(fio.storm_series).parameters)
+    if not isinstance(storm, Mapping):
+        raise cfg.ScenarioError(f"scour.storm = {storm!r} must be a table of {', '.join(allowed)}")
+    unknown = [k for k in storm if k not in allowed]
+    if unknown:
+        raise cfg.ScenarioError("scour.storm: " + cfg.unknown_names_message("key", unknown, allowed))
+    missing = [k for k in ("peak_hs", "peak_tp", "duration_h") if k not in storm]
+    if missing:
+        raise cfg.ScenarioError(
+            f"scour.storm: {', '.join(missing)} missing (required: peak_hs, peak_tp, duration_h)"
+        )
+    for k, v in storm.items():
+        if k not in ("ramp", "start"):
+            cfg._number(v, f"scour.storm.{k}")
+    return fio.storm_series(**storm), {"forcing_storm": dict(storm)}
+
+
+def parse(sec, base_dir=None, depth=None) -> ScourSpec:
+    """The :class:`ScourSpec` of a ``[scour]`` table whose sampled fields hold a representative
+    value; every problem is one :class:`~mineburial.config.ScenarioError` line naming the field.
+    ``depth``: the scenario's water depth when it is fixed (a forcing water level that dries the
+    bed is then refused here; with a sampled depth such drops get scour status invalid_forcing)."""
+    if not isinstance(sec, Mapping):
+        raise cfg.ScenarioError(f"scour = {sec!r} must be a table: [scour]")
+    unknown = [k for k in sec if k not in KEYS]
+    if unknown:
+        raise cfg.ScenarioError("[scour]: " + cfg.unknown_names_message("key", unknown, KEYS))
+    forcing, record = _forcing(sec, base_dir)
+    if depth is not None:
+        forcing.kernel_arrays(depth)  # raises the one-line error of a bed that falls dry
+    span_days = forcing.duration_s / DAY
+    leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=span_days, default=())
+    levels = _numbers(
+        sec.get("burial_levels"), "scour.burial_levels", low=0.0, high=1.0, default=DEFAULT_LEVELS
+    )
+    law = sec.get("tstar_law", "whitehouse")
+    if law not in sc.TSTAR_LAWS:
+        raise cfg.ScenarioError("scour.tstar_law: " + cfg.unknown_names_message("name", [law], sc.TSTAR_LAWS))
+    cohesive = sec.get("cohesive", False)
+    if not isinstance(cohesive, bool):
+        raise cfg.ScenarioError(f"scour.cohesive = {cohesive!r} must be true or false")
+    values = {}
+    for name in NUMERIC:
+        spec = cfg.FIELDS[f"scour.{name}"]
+        default = sc.TSTAR_LAWS[law][2] if name == "theta_exponent" else spec.default
+        given = sec.get(name)
+        values[name] = (
+            math.inf
+            if given is None and default is None
+            else cfg._check(spec.path, given if given is not None else default)
+        )
+    return ScourSpec(leads, levels, law, cohesive, values, forcing, record)
+
+
+@functools.lru_cache(maxsize=1)
+def _orbital_table():
+    return sc.build_orbital_table()
+
+
+def _column(spec, inputs, name, n):
+    path = f"scour.{name}"
+    if path in inputs:
+        return np.asarray(inputs[path], dtype=np.float64)
+    return np.full(n, spec.values[name])
+
+
+def stage_parameters(spec: ScourSpec, P, inputs):
+    """(S, hs_scale): the stage parameters of each drop (the mine, the water and gravity from its
+    packed impact parameters ``P``; the sediment and the laws from the section and its sampled
+    inputs) and its factor on Hs."""
+    n = P.shape[0]
+    c, m, _ = sc.TSTAR_LAWS[spec.tstar_law]
+    S = np.tile(sc.default_parameters(tstar_c=c, tstar_m=m, cohesive=float(spec.cohesive)), (n, 1))
+    volume = math.pi * 0.25 * P[:, layout.P_DIAMETER] ** 2 * P[:, layout.P_LENGTH]
+    S[:, sc.S_DIAMETER] = P[:, layout.P_DIAMETER]
+    S[:, sc.S_RHO_WATER] = P[:, layout.P_RHO_WATER]
+    S[:, sc.S_MINE_SG] = P[:, layout.P_MASS] / (volume * P[:, layout.P_RHO_WATER])
+    S[:, sc.S_NU] = P[:, layout.P_NU_WATER]
+    S[:, sc.S_G] = P[:, layout.P_GRAVITY]
+    for name, slot in NUMERIC.items():
+        if slot is not None:
+            S[:, slot] = _column(spec, inputs, name, n)
+    return S, _column(spec, inputs, "hs_scale", n)
+
+
+def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
+    """The stage's per-drop results of a chunk (keys ``scour:*``, stored with the chunk)."""
+    n = P.shape[0]
+    S, scale = stage_parameters(spec, P, inputs)
+    S[:, sc.S_B0] = summary[:, layout.S_PENETRATION]
+    run = np.isin(status, status_codes.IN_STATISTICS) & np.isfinite(summary[:, layout.S_PENETRATION])
+    geom = np.empty((n, N_GEOM))
+    geom[:, 0] = P[:, layout.P_LENGTH]
+    geom[:, 1] = 0.5 * P[:, layout.P_DIAMETER]
+    geom[:, 2] = P[:, layout.P_CHI]
+    geom[:, 3] = -np.sin(np.radians(summary[:, layout.S_FINAL_PITCH]))  # i_M . k, docs/scour.md
+    geom[:, 4] = -summary[:, layout.S_COM_DEPTH]
+    f = spec.forcing
+    # directions as Forcing.kernel_arrays gives them (radians towards); the depth is the drop's own
+    wdir = np.radians(np.mod(f.wave_from + 180.0, 360.0))
+    cdir = np.radians(np.mod(f.current_to, 360.0))
+    t, hs, tp, uc = (np.array(a) for a in (f.time, f.hs, f.tp, f.current_speed))
+    leads = np.asarray(spec.lead_times_days, dtype=np.float64) * DAY
+    levels = np.asarray(spec.burial_levels, dtype=np.float64)
+    measures = np.empty((n, len(MEASURE_NAMES), leads.size))
+    time_to = np.empty((n, levels.size))
+    mobile = np.empty(n)
+    codes = np.empty(n, dtype=np.int8)
+    depth = np.ascontiguousarray(P[:, layout.P_DEPTH])
+    scour_drops(
+        S, scale, depth, run.astype(np.uint8), geom, t, hs, tp, wdir, uc, cdir,
+        np.array(f.water_level), _orbital_table(), leads, levels, measures, time_to, mobile, codes,
+    )  # fmt: skip
+    return {
+        "scour:measures": measures,
+        "scour:time_to": time_to / DAY,
+        "scour:mobile": mobile / DAY,
+        "scour:status": codes,
+    }
+
+
+def bytes_a_drop(spec) -> int:
+    """Bytes of the stage's per-drop values of an ensemble ``spec`` (0 without a [scour] section)."""
+    sc_spec = getattr(spec, "scour", None)
+    if sc_spec is None:
+        return 0
+    return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 1) + 1
+
+
+def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_basis: str) -> xr.Dataset:
+    """``ds`` with the stage's statistics (and per-drop variables with ``per_drop``) and the
+    forcing's record in the global attributes."""
+    measures = np.concatenate([r["scour:measures"] for r in chunks])
+    time_to = np.concatenate([r["scour:time_to"] for r in chunks])
+    mobile = np.concatenate([r["scour:mobile"] for r in chunks])
+    codes = np.concatenate([r["scour:status"] for r in chunks])
+    stats = scour_statistics(
+        measures, time_to, mobile, codes, spec.lead_times_days, spec.burial_levels, class_basis=class_basis
+    )
+    parts = [ds, stats]
+    if per_drop:
+        data = {
+            f"scour_{name}": V.variable(f"scour_{name}").data_array(measures[:, k])
+            for k, name in enumerate(MEASURE_NAMES)
+        }
+        data["scour_time_to_level"] = V.variable("scour_time_to_level").data_array(time_to)
+        data["scour_mobile_time"] = V.variable("scour_mobile_time").data_array(mobile)
+        data["scour_status"] = V.variable("scour_status").data_array(codes)
+        parts.append(
+            xr.Dataset(data, coords={"realization": ds["realization"], "lead_time": stats["lead_time"]})
+        )
+    out = xr.merge(parts, combine_attrs="override", compat="no_conflicts", join="exact")
+    for part in parts:
+        for name, da in part.variables.items():
+            out[name].encoding.update(da.encoding)
+    attrs = dict(ds.attrs)
+    attrs["scour_n_in_statistics"] = stats.attrs["scour_n_in_statistics"]
+    for key, value in spec.forcing_record.items():
+        attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+    out.attrs = attrs
+    return out
+
+
+def summary_lines(ds) -> list[str]:
+    """The class probabilities per lead time as a small table, the times to reach the levels and
+    the share of drops flagged mobile."""
+    if "scour_burial_class_probability" not in ds:
+        return []
+    p = ds["scour_burial_class_probability"].values
+    labels = V.BURIAL_CLASS_NAMES
+    n = int(ds.attrs.get("scour_n_in_statistics", 0))
+    basis = ds["scour_burial_class_probability"].attrs.get("burial_class_basis", "burial_volume")
+    lines = [
+        f"scour: burial-class probabilities (by {basis}) of the {n} drops whose stage ran, per lead time:"
+    ]
+    lines.append("  lead [d] " + " ".join(f"{lab:>11}" for lab in labels))
+    for j, lead in enumerate(ds["lead_time"].values):
+        lines.append(f"  {lead:8.3g} " + " ".join(f"{v:11.3f}" for v in p[j]))
+    tq = ds["scour_time_to_level_quantile"].sel(quantile=0.5).values
+    for level, med, frac in zip(ds["burial_level"].values, tq, ds["scour_level_reached_fraction"].values):
+        lines.append(f"  B/D >= {level:g}: reached by {frac:.3f} of the drops, median time {med:.3g} d")
+    counts = ds["scour_status_count"].values
+    left = [f"{V.SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k != 0]
+    if left:
+        lines.append(
+            "  left out of the scour statistics: "
+            + ", ".join(left)
+            + " (scour_status; docs/scour.md, status codes)"
+        )
+    lines.append(
+        f"  flagged mobile (may roll or migrate; burial unchanged): {float(ds['scour_mobile_fraction']):.3f}"
+    )
+    return lines
