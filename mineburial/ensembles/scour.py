@@ -192,8 +192,11 @@ def stage_parameters(spec: ScourSpec, P, inputs):
     packed impact parameters ``P``; the sediment and the laws from the section and its sampled
     inputs) and its factor on Hs."""
     n = P.shape[0]
-    c, m, _ = sc.TSTAR_LAWS[spec.tstar_law]
-    S = np.tile(sc.default_parameters(tstar_c=c, tstar_m=m, cohesive=float(spec.cohesive)), (n, 1))
+    c, m, _, kc_min = sc.TSTAR_LAWS[spec.tstar_law]
+    S = np.tile(
+        sc.default_parameters(tstar_c=c, tstar_m=m, tstar_kc_min=kc_min, cohesive=float(spec.cohesive)),
+        (n, 1),
+    )
     volume = math.pi * 0.25 * P[:, layout.P_DIAMETER] ** 2 * P[:, layout.P_LENGTH]
     S[:, sc.S_DIAMETER] = P[:, layout.P_DIAMETER]
     S[:, sc.S_RHO_WATER] = P[:, layout.P_RHO_WATER]
