@@ -894,6 +894,7 @@ def nothing_computed(monkeypatch):
     from mineburial import drop as drop_module
     from mineburial.ensembles import batch
     from mineburial.validation import report
+    from mineburial.validation.cases import VERIFICATION, Case
 
     def computed(*args, **kw):
         raise AssertionError("computing started before the bad input was refused")
@@ -901,7 +902,7 @@ def nothing_computed(monkeypatch):
     monkeypatch.setattr(batch, "run_batch", computed)
     monkeypatch.setattr(drop_module, "run_params", computed)
     monkeypatch.setattr(restraint, "simulate", computed)
-    monkeypatch.setattr(report, "CASES", [("computed", "computed", computed)])
+    monkeypatch.setattr(report, "CASES", [Case("computed", "computed", computed, VERIFICATION)])
 
 
 def snapshot(root: Path) -> dict:
