@@ -2,7 +2,7 @@
 
 import math
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.layout import (
     P_CURRENT_EXPONENT,
     P_CURRENT_KIND,
@@ -13,19 +13,35 @@ from mineburial.kernels.layout import (
 )
 
 
+@small_kernel
+def last_point(bank, row):
+    """Index of the last point of bank row ``row``: rows are NaN-padded after their last
+    point, so the first NaN is found by bisection (O(log n); the whole row was scanned
+    before, which made a long profile's every evaluation cost its length, issue 21)."""
+    hi = bank.shape[2] - 1
+    if not math.isnan(bank[row, 0, hi]):
+        return hi
+    lo = 0
+    if math.isnan(bank[row, 0, lo]):
+        return lo
+    while hi - lo > 1:  # bank[row, 0, lo] is a point, bank[row, 0, hi] padding
+        mid = (lo + hi) // 2
+        if math.isnan(bank[row, 0, mid]):
+            hi = mid
+        else:
+            lo = mid
+    return lo
+
+
 @kernel
 def interpolate_row(bank, row, column, x):
     """Piecewise-linear interpolation of bank[row, column, :] against bank[row, 0, :].
 
     The abscissa increases; rows are NaN-padded after their last point. Values
-    are held constant beyond the first and last points.
+    are held constant beyond the first and last points. O(log n): the last point and
+    the bracketing pair are found by bisection.
     """
-    n = bank.shape[2]
-    last = 0
-    for k in range(n):
-        if math.isnan(bank[row, 0, k]):
-            break
-        last = k
+    last = last_point(bank, row)
     if x <= bank[row, 0, 0]:
         return bank[row, column, 0]
     if x >= bank[row, 0, last]:
