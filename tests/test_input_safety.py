@@ -287,10 +287,11 @@ def scan_properties(d, r, s, zeta, rho_w, g):
 
 
 def random_bank(rng, sizes):
-    """A NaN-padded bank of random increasing tables (depth from 0, density, strength)."""
+    """A NaN-padded bank of random increasing tables (depth from 0, density, strength);
+    the depth steps span six decades (crowded and sparse parts in one table)."""
     bank = np.full((len(sizes), 3, max(sizes)), np.nan)
     for i, n in enumerate(sizes):
-        bank[i, 0, :n] = np.concatenate([[0.0], np.cumsum(rng.uniform(1e-3, 0.5, n - 1))])
+        bank[i, 0, :n] = np.concatenate([[0.0], np.cumsum(10.0 ** rng.uniform(-6.0, 0.0, n - 1))])
         bank[i, 1, :n] = rng.uniform(1000.0, 2700.0, n)
         bank[i, 2, :n] = rng.uniform(0.0, 1e5, n)
     return bank
@@ -328,7 +329,7 @@ def test_drop_bank_lookup_is_bit_identical_to_the_scan_of_the_shared_bank():
         p[P_RHO_WATER] = rho_w = rng.uniform(1000.0, 1030.0)
         q, own = drop_bank(p, bank)
         n = int(np.sum(~np.isnan(bank[row, 0])))
-        assert q[P_SED_PROFILE] == 0 and p[P_SED_PROFILE] == row and own.shape == (1, 4, n)
+        assert q[P_SED_PROFILE] == 0 and p[P_SED_PROFILE] == row and own.shape == (1, 5, n)
         d, r, s = (bank[row, c, :n] for c in range(3))
         # the integral column: cumulative trapezoids of (rho - rho_w), numpy's sequential cumsum
         terms = np.concatenate([[(r[0] - rho_w) * d[0]], (0.5 * (r[:-1] + r[1:]) - rho_w) * np.diff(d)])

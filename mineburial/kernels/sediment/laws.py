@@ -47,7 +47,7 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels.environment import last_point
+from mineburial.kernels.environment import COLUMN_BUCKET, bracket, last_point
 from mineburial.kernels.layout import (
     P_GRAVITY,
     P_RHO_WATER,
@@ -155,9 +155,10 @@ def _bank_properties(zeta, bank, row, rho_w, g):
     Returns (rho_s, S, sigma'_eff) with sigma'_eff = int_0^zeta (rho_s - rho_w) g,
     exact for the piecewise-linear density (trapezoids); constant values above
     the first and below the last tabulated depth. On a drop's own bank
-    (:func:`drop_bank`) the segment is found by bisection and the integral down to its
-    top read from :data:`COLUMN_OVERBURDEN`: O(log n) and bit-identical to the scan of
-    :func:`_scan_properties`, which banks without that column (Python callers) use.
+    (:func:`drop_bank`) the segment is searched (``environment.bracket``: O(1) for an
+    even spacing, O(log n) at worst) and the integral down to its top read from
+    :data:`COLUMN_OVERBURDEN`: bit-identical to the scan of :func:`_scan_properties`,
+    which banks without that column (Python callers) use.
     """
     if bank.shape[1] <= COLUMN_OVERBURDEN:
         return _scan_properties(zeta, bank, row, rho_w, g)
@@ -171,13 +172,7 @@ def _bank_properties(zeta, bank, row, rho_w, g):
             bank[row, 2, hi],
             (bank[row, COLUMN_OVERBURDEN, hi] + (r - rho_w) * (zeta - bank[row, 0, hi])) * g,
         )
-    lo = 0
-    while hi - lo > 1:  # bank[row, 0, lo] < zeta <= bank[row, 0, hi]
-        mid = (lo + hi) // 2
-        if bank[row, 0, mid] < zeta:
-            lo = mid
-        else:
-            hi = mid
+    lo, hi = bracket(bank, row, zeta, hi, True)  # bank[row, 0, lo] < zeta <= bank[row, 0, hi]
     d_prev = bank[row, 0, lo]
     r_prev = bank[row, 1, lo]
     s_prev = bank[row, 2, lo]
@@ -193,14 +188,16 @@ def _bank_properties(zeta, bank, row, rho_w, g):
 def drop_bank(p, bank):
     """``(p, bank)`` for one drop: its sediment profile row alone (row 0 of a new bank,
     ``p`` copied with ``sediment.profile_index = 0``) with :data:`COLUMN_OVERBURDEN`
-    filled for the drop's water density, so that :func:`_bank_properties` finds a depth
-    by bisection instead of summing the rows above it (O(n) once per drop instead of at
-    every evaluation). A linear profile (index < 0) returns the arguments unchanged."""
+    filled for the drop's water density and the bucket index of
+    :data:`~mineburial.kernels.environment.COLUMN_BUCKET`, so that a depth is found in
+    O(1) (:func:`~mineburial.kernels.environment.bracket`) instead of by summing the rows
+    above it: O(n) once per drop instead of at every evaluation. A linear profile
+    (index < 0) returns the arguments unchanged."""
     row = int(p[P_SED_PROFILE])
     if row < 0:
         return p, bank
     n = last_point(bank, row) + 1
-    own = np.empty((1, COLUMN_OVERBURDEN + 1, n))
+    own = np.empty((1, COLUMN_BUCKET + 1, n))
     for c in range(COLUMN_OVERBURDEN):
         for j in range(n):
             own[0, c, j] = bank[row, c, j]
@@ -216,6 +213,13 @@ def drop_bank(p, bank):
         own[0, COLUMN_OVERBURDEN, j] = acc
         d_prev = d
         r_prev = r
+    d0 = own[0, 0, 0]
+    width = (own[0, 0, n - 1] - d0) / n  # n buckets of equal depth (bracket())
+    j = 0
+    for b in range(n):
+        while j + 1 < n and own[0, 0, j + 1] <= d0 + b * width:
+            j += 1
+        own[0, COLUMN_BUCKET, b] = j
     q = p.copy()
     q[P_SED_PROFILE] = 0.0
     return q, own
