@@ -126,7 +126,7 @@ def test_link_to_dev_zero_is_refused_instead_of_filling_memory(tmp_path, reader)
     assert proc.stdout.startswith("REFUSED") and "character device, not a regular file" in proc.stdout
 
 
-@pytest.mark.parametrize("reader", ["scenario", "profile_csv", "empirical_csv", "netcdf_core"])
+@pytest.mark.parametrize("reader", list(READERS))
 def test_folder_as_input_file_is_refused(tmp_path, reader):
     (tmp_path / "bad").mkdir()
     proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
