@@ -14,7 +14,10 @@ one-line change here.
   the kernels it calls in other files, so a stale cache can survive an edit) or on
   a read-only installation; ``1`` (``true``, ``yes``, ``on``) or unset caches; any
   other value is an error. It is read once, when mineburial is imported (the same
-  kind of switch as sgkit's ``SGKIT_DISABLE_NUMBA_CACHE``).
+  kind of switch as sgkit's ``SGKIT_DISABLE_NUMBA_CACHE``). numba loads its cache index
+  with ``pickle``, so each kernel's cache folder (and ``NUMBA_CACHE_DIR``) is first checked
+  (:func:`cache_folder_problem`): one that another user owns or can write is not used (one
+  warning line; the kernels compile in memory), docs/cluster.md.
 * ``fastmath=False``: results must be bit-identical whatever the thread count or
   chunking; re-association of floating-point sums would break that.
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
