@@ -71,7 +71,7 @@ def open_input(path, kind: str = "text"):
     """Open ``path`` for reading in binary mode after checking that it is a regular file
     within the size limit of ``kind`` (:data:`LIMITS`); raises :class:`InputFileError`
     (or the :class:`OSError` of the failed open)."""
-    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     try:
         _size(path, fd, kind)
         os.set_blocking(fd, True)
