@@ -14,7 +14,10 @@ one-line change here.
   the kernels it calls in other files, so a stale cache can survive an edit) or on
   a read-only installation; ``1`` (``true``, ``yes``, ``on``) or unset caches; any
   other value is an error. It is read once, when mineburial is imported (the same
-  kind of switch as sgkit's ``SGKIT_DISABLE_NUMBA_CACHE``).
+  kind of switch as sgkit's ``SGKIT_DISABLE_NUMBA_CACHE``). numba loads its cache index
+  with ``pickle``, so each kernel's cache folder (and ``NUMBA_CACHE_DIR``) is first checked
+  (:func:`cache_folder_problem`): one that another user owns or can write is not used (one
+  warning line; the kernels compile in memory), docs/cluster.md.
 * ``fastmath=False``: results must be bit-identical whatever the thread count or
   chunking; re-association of floating-point sums would break that.
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
@@ -26,13 +29,21 @@ one-line change here.
 """
 
 import os
+import stat
+import sys
 import threading
 import types
+
+try:
+    import grp
+    import pwd
+except ImportError:  # pragma: no cover - not POSIX
+    pass
 
 from numba import njit
 from numba.core import config as numba_config
 from numba.core import types as nbtypes
-from numba.core.caching import FunctionCache
+from numba.core.caching import FunctionCache, NullCache
 from numba.core.registry import CPUDispatcher
 
 #: name of the environment variable that switches the on-disk cache of compiled kernels
@@ -43,6 +54,10 @@ _OFF = ("0", "false", "no", "off")
 _ON = ("1", "true", "yes", "on", "")
 
 
+class CacheSettingError(ValueError):
+    """``MINEBURIAL_NUMBA_CACHE`` has a value that is neither on nor off."""
+
+
 def cache_enabled(environ=os.environ) -> bool:
     """Whether compiled kernels are cached on disk (``MINEBURIAL_NUMBA_CACHE``)."""
     value = environ.get(CACHE_ENV, "1").strip().lower()
@@ -50,16 +65,97 @@ def cache_enabled(environ=os.environ) -> bool:
         return False
     if value in _ON:
         return True
-    raise ValueError(
-        f"environment variable {CACHE_ENV} = {environ[CACHE_ENV]!r} must be "
-        f"1 (cache compiled kernels on disk, the default) or 0 (do not)"
+    raise CacheSettingError(
+        f"environment variable {CACHE_ENV} = {environ[CACHE_ENV][:40]!r} must be 1 (or "
+        f"{', '.join(_ON[1:-1])}: cache compiled kernels on disk, the default) or 0 (or "
+        f"{', '.join(_OFF[1:])}: compile in memory only)"
     )
+
+
+def _cache_setting():
+    try:
+        return cache_enabled()
+    except CacheSettingError as exc:
+        return str(exc)
+
+
+#: True, False, or the message of a bad ``MINEBURIAL_NUMBA_CACHE``, raised as a
+#: :class:`CacheSettingError` when the first kernel is made (so that the command line can
+#: import this module and report it in one line)
+_CACHE = _cache_setting()
+
+
+def _cache() -> bool:
+    if isinstance(_CACHE, str):
+        raise CacheSettingError(_CACHE)
+    return _CACHE
+
+
+def _private_group(gid: int, uid: int) -> bool:
+    """Whether group ``gid`` is the user's own private group (named as the user, no other
+    member): a folder writable by it is writable by the user alone (umask 002 systems)."""
+    try:
+        group = grp.getgrgid(gid)
+        user = pwd.getpwuid(uid).pw_name
+    except (KeyError, NameError):  # unknown ids, or no grp/pwd (not POSIX)
+        return False
+    return group.gr_name == user and set(group.gr_mem) <= {user}
+
+
+def cache_folder_problem(path, uid: int | None = None) -> str | None:
+    """Why numba must not use ``path`` as its cache folder, or None if it may.
+
+    numba loads its index files with ``pickle``: whoever can write to the folder can make
+    every later run execute their code (issue 21). The folder must be owned by the user
+    (``uid``, default the effective user) and writable by no one else: not by all users,
+    and not by its group unless that is the user's private group.
+    """
+    uid = os.geteuid() if uid is None else uid
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        return f"cannot be examined ({exc.strerror})"
+    if st.st_uid != uid:
+        return f"is owned by another user (uid {st.st_uid})"
+    if st.st_mode & stat.S_IWOTH:
+        return "is writable by every user"
+    if st.st_mode & stat.S_IWGRP and not _private_group(st.st_gid, uid):
+        return f"is writable by its group (gid {st.st_gid})"
+    return None
+
+
+#: cache folder -> its problem (None: safe), each folder examined and reported once
+_FOLDERS: dict[str, str | None] = {}
+
+
+def _safe_cache(disp) -> None:
+    """Turn off the on-disk cache of dispatcher ``disp`` when the folder numba chose for it
+    (or ``NUMBA_CACHE_DIR`` above it) is unsafe (:func:`cache_folder_problem`), with one
+    warning line on stderr per folder; the kernel is then compiled in memory."""
+    cache = getattr(disp, "_cache", None)
+    if not isinstance(cache, FunctionCache):
+        return
+    folders = [cache.cache_path]
+    if numba_config.CACHE_DIR:
+        folders.append(numba_config.CACHE_DIR)
+    for folder in folders:
+        if folder not in _FOLDERS:
+            _FOLDERS[folder] = cache_folder_problem(folder)
+            if _FOLDERS[folder]:
+                print(
+                    f"mineburial: warning: numba's cache folder '{folder}' {_FOLDERS[folder]}; "
+                    "compiling in memory instead of loading code from it (set NUMBA_CACHE_DIR "
+                    "to a private folder, docs/cluster.md)",
+                    file=sys.stderr,
+                )
+        if _FOLDERS[folder]:
+            disp._cache = NullCache()
+            return
 
 
 #: the same options for ``numba.extending.overload`` implementations (compiled into their
 #: caller, which caches them)
 JIT_OPTIONS = dict(nogil=True, fastmath=False, error_model="numpy", no_cfunc_wrapper=True)
-_OPTIONS = dict(cache=cache_enabled(), **JIT_OPTIONS)
 
 
 def _dispatcher(cls, fn, cache, **options):
@@ -68,6 +164,7 @@ def _dispatcher(cls, fn, cache, **options):
     disp = cls(py_func=fn, locals={}, targetoptions=dict(nopython=True, boundscheck=None, **options))
     if cache:
         disp.enable_caching()
+        _safe_cache(disp)
     return disp
 
 
@@ -130,11 +227,13 @@ def kernel(fn):
     then runs as plain Python, for debugging)."""
     if numba_config.DISABLE_JIT:
         return fn
-    return _dispatcher(Kernel, fn, _OPTIONS["cache"], **JIT_OPTIONS)
+    return _dispatcher(Kernel, fn, _cache(), **JIT_OPTIONS)
 
 
 def small_kernel(fn):
     """A kernel inlined into its callers at numba's IR level (``inline="always"``): no
     compile unit of its own. For small helpers (a few loops over a state vector) whose
     separate compile, link and cache cost more than their body (docs/design.md)."""
-    return njit(inline="always", **_OPTIONS)(fn)
+    disp = njit(inline="always", cache=_cache(), **JIT_OPTIONS)(fn)
+    _safe_cache(disp)
+    return disp

@@ -293,8 +293,13 @@ def main(argv=None) -> int:
     ``mineburial: error: ...`` and return 2; an interrupt prints one line and returns 130.
     Anything else is a bug and keeps its traceback.
     """
-    from mineburial.config import ScenarioError
+    from mineburial._numba import CacheSettingError
 
+    try:
+        from mineburial.config import ScenarioError
+    except CacheSettingError as exc:  # a bad MINEBURIAL_NUMBA_CACHE, read as kernels are made
+        print(f"mineburial: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

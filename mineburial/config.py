@@ -41,6 +41,7 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.kernels import layout
 from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
@@ -1475,8 +1476,7 @@ class Scenario:
         the file's folder."""
         path = pathlib.Path(path)
         try:
-            with open(path, "rb") as fh:
-                d = tomllib.load(fh)
+            d = read_toml(path)
         except OSError as exc:
             raise ScenarioError(f"cannot read scenario file '{path}': {exc.strerror}") from None
         except tomllib.TOMLDecodeError as exc:
@@ -1486,7 +1486,7 @@ class Scenario:
     @classmethod
     def from_toml_string(cls, text: str, base_dir=None) -> Scenario:
         try:
-            d = tomllib.loads(text)
+            d = parse_toml(text)
         except tomllib.TOMLDecodeError as exc:
             raise ScenarioError(f"scenario is not valid TOML: {exc}") from None
         return cls.from_dict(d, base_dir=base_dir)

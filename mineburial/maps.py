@@ -37,6 +37,7 @@ from mineburial._version import __version__
 from mineburial.ensembles import engine, runner
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
+from mineburial.io.inputs import check_input
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
@@ -252,6 +253,7 @@ def read_environment(source) -> EnvironmentGrid:
         if not path.exists():
             raise FileNotFoundError(f"environment grid '{path}' does not exist")
         try:
+            check_input(path, "grid")
             with xr.open_dataset(path) as opened:
                 ds = opened.load()
         except (OSError, ValueError) as exc:

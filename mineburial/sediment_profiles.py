@@ -37,6 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mineburial.io import inputs
+from mineburial.io.inputs import InputFileError
+
 __all__ = [
     "ScenarioError",
     "SedimentProfile",
@@ -96,6 +99,9 @@ STRENGTH_RANGE = (0.0, 1.0e6)
 #: Depth [m] down to which catalogue classes are tabulated (constant below):
 #: far deeper than any mine penetrates (seed 000 Exp-2 burial depths are cm to dm).
 CATALOGUE_MAX_DEPTH = 10.0
+#: Most points a tabulated profile read from a file may have (docs/scenario.md): a
+#: millimetre-resolution core 1 km long.
+MAX_PROFILE_POINTS = 1_000_000
 
 
 def _fmt(x: float) -> str:
@@ -330,35 +336,35 @@ def load_csv(path, *, name: str | None = None) -> SedimentProfile:
     path = pathlib.Path(path)
     where = f"sediment.file '{path}'"
     try:
-        text = path.read_text()
+        rows = list(inputs.numbered_csv(inputs.read_text(path, "text")))
     except OSError as exc:
         raise ScenarioError(f"{where}: cannot read the file ({exc.strerror})") from None
-    rows = [
-        r
-        for r in csv.reader(
-            line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
-        )
-    ]
+    except csv.Error as exc:
+        raise ScenarioError(f"{where}: not a CSV table ({exc})") from None
     if not rows:
         raise ScenarioError(f"{where}: the file is empty")
-    header = [h.strip() for h in rows[0]]
+    header = [h.strip() for h in rows[0][1]]
     cols = {}
     for col in CSV_COLUMNS:
         if col not in header:
             close = difflib.get_close_matches(col, header, n=1, cutoff=0.5)
-            hint = f" (found '{close[0]}')" if close else ""
+            hint = f" (found '{close[0]}')" if close and inputs.column_names(close) else ""
             raise ScenarioError(
-                f"{where}: missing column '{col}'{hint}; required columns: {', '.join(CSV_COLUMNS)}"
+                f"{where}: missing column '{col}'{hint} in the header row (line {rows[0][0]}); "
+                f"required columns: {', '.join(CSV_COLUMNS)}"
             )
         cols[col] = header.index(col)
+    if len(rows) - 1 > MAX_PROFILE_POINTS:
+        raise ScenarioError(f"{where}: {len(rows) - 1} data rows; at most {MAX_PROFILE_POINTS} are accepted")
     data = {c: [] for c in CSV_COLUMNS}
-    for lineno, row in enumerate(rows[1:], start=2):
+    for lineno, row in rows[1:]:
         for col, i in cols.items():
             try:
                 data[col].append(float(row[i]))
             except (IndexError, ValueError):
                 raise ScenarioError(
-                    f"{where}: data row {lineno - 1}, column '{col}': not a number ({row!r})"
+                    f"{where}: line {lineno}, column {i + 1} ('{col}'): "
+                    + ("missing" if i >= len(row) else "not a number")
                 ) from None
     return SedimentProfile(
         data["depth_m"],
@@ -404,7 +410,10 @@ def load_netcdf(path, *, name: str | None = None) -> SedimentProfile:
     path = pathlib.Path(path)
     where = f"sediment.file '{path}'"
     try:
+        inputs.check_input(path, "core")
         ds = netCDF4.Dataset(str(path), "r")
+    except InputFileError as exc:
+        raise ScenarioError(f"{where}: cannot read the file ({exc.strerror})") from None
     except OSError as exc:
         raise ScenarioError(f"{where}: cannot open as NetCDF ({exc})") from None
     try:
@@ -429,7 +438,22 @@ def load_netcdf(path, *, name: str | None = None) -> SedimentProfile:
                     f"{where}: variable 'depth' must be positive down "
                     f"(depth below the seabed), got positive = '{v.positive}'"
                 )
-            data = np.ma.filled(np.ma.asarray(v[:], dtype=np.float64), np.nan).ravel()
+            if not (isinstance(v.dtype, np.dtype) and v.dtype.kind in "iuf"):  # str: text
+                raise ScenarioError(f"{where}: variable '{var}' does not hold numbers (text or another type)")
+            if len(v.dimensions) != 1:  # a core is one profile: a 2-D field is not flattened into one
+                raise ScenarioError(
+                    f"{where}: variable '{var}' has dimensions {tuple(v.dimensions)}; "
+                    "a core's variables are 1-D over one depth dimension"
+                )
+            if v.size > MAX_PROFILE_POINTS:
+                raise ScenarioError(
+                    f"{where}: variable '{var}' has {v.size} points; "
+                    f"at most {MAX_PROFILE_POINTS} are accepted"
+                )
+            try:
+                data = np.ma.filled(np.ma.asarray(v[:], dtype=np.float64), np.nan).ravel()
+            except (OSError, RuntimeError) as exc:  # netCDF4 reports a damaged file so
+                raise ScenarioError(f"{where}: cannot read variable '{var}' ({exc})") from None
             arrays[var] = data * table[key]
     finally:
         ds.close()

@@ -313,7 +313,7 @@ def test_empirical_file_errors(tmp_path):
             base_dir=tmp_path,
         )
     with pytest.raises(
-        DistributionError, match=r"^sediment\.strength: .*line 3, column 'strength': 'x' is not a number"
+        DistributionError, match=r"^sediment\.strength: .*line 3, column 2 \('strength'\): not a number$"
     ):
         from_dict(
             {"distribution": "empirical", "file": "c.csv", "column": "strength"},

@@ -820,69 +820,7 @@ def _each(case: str, commands: str, reason: str) -> dict[str, str]:
 
 
 TOML_COMMANDS = "run drop map compare sensitivity restrain"
-XFAIL: dict[str, str] = {
-    # --- inputs: reading TOML, CSV and NetCDF cores, non-regular files --------------------
-    **_each(
-        "toml_latin1_comment", TOML_COMMANDS, "inputs: non-UTF-8 scenario -> UnicodeDecodeError traceback"
-    ),
-    **_each(
-        "toml_binary_garbage", TOML_COMMANDS, "inputs: non-UTF-8 scenario -> UnicodeDecodeError traceback"
-    ),
-    **_each(
-        "toml_nested_100000_deep",
-        TOML_COMMANDS,
-        "inputs: TOML nested 100000 deep -> RecursionError traceback",
-    ),
-    **{
-        f"field_text_as_list-case.{f}-{ex}": "inputs: restraint [case] name/description = [1, 2] "
-        "accepted (str() of a list), computing started"
-        for f in ("name", "description")
-        for ex in ("restraint_case1-restrain", "restraint_ensemble-run")
-    },
-    **_each(
-        "sediment_file_fifo", "drop run compare sensitivity map", "inputs: a FIFO as sediment.file hangs"
-    ),
-    "grid_fifo-map": "inputs: a FIFO as --environment hangs (maps.read_environment, non-regular file)",
-    **_each(
-        "core_csv_huge_cell", "drop run compare", "inputs: CSV cell > 131072 chars -> _csv.Error traceback"
-    ),
-    **_each(
-        "core_csv_latin1_comment", "drop run compare", "inputs: non-UTF-8 core CSV -> UnicodeDecodeError"
-    ),
-    **_each("core_csv_binary_garbage", "drop run", "inputs: non-UTF-8 core CSV -> UnicodeDecodeError"),
-    **_each(
-        "empirical_csv_huge_cell", "run compare sensitivity", "inputs: CSV cell > 131072 chars -> _csv.Error"
-    ),
-    **_each(
-        "empirical_csv_latin1_comment",
-        "run compare sensitivity",
-        "inputs: non-UTF-8 empirical CSV -> UnicodeDecodeError",
-    ),
-    **_each(
-        "empirical_csv_binary_garbage",
-        "run compare sensitivity",
-        "inputs: non-UTF-8 empirical CSV -> UnicodeDecodeError",
-    ),
-    **_each(
-        "empirical_csv_content_not_printed",
-        "run compare sensitivity",
-        "inputs: the error line prints the file's content ('root:x:0:0:...'), issue 21 item 14",
-    ),
-    **_each(
-        "core_netcdf_depth_2d", "drop run", "inputs: a 2-D depth in a NetCDF core is flattened and accepted"
-    ),
-    **_each(
-        "core_netcdf_string_density",
-        "drop run",
-        "inputs: string variable in a NetCDF core -> ValueError traceback",
-    ),
-    **_each(
-        "core_netcdf_char_density",
-        "drop run",
-        "inputs: char variable in a NetCDF core -> ValueError traceback",
-    ),
-    # --- maps: environment grids, --threads ----------------------------------------------------
-}
+XFAIL: dict[str, str] = {}
 
 
 # ---------------------------------------------------------------------------

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_bad_input import toml_text
 
@@ -40,9 +40,6 @@ SETTINGS = settings(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     database=None,
 )
-
-#: for the properties that fail today (xfail): no shrinking of the failing example
-NO_SHRINK = settings(SETTINGS, phases=[Phase.explicit, Phase.reuse, Phase.generate])
 
 FOLDER = Path()  # the module's scratch folder, set by the fixture below
 
@@ -291,14 +288,10 @@ ALL_READERS = {
     **{f"toml_{k}": v[0] for k, v in TOML_READERS.items()},
     **{f"csv_{k}": v[0] for k, v in CSV_READERS.items()},
 }
-NOT_UTF8_XFAIL = "inputs: bytes that are not UTF-8 raise UnicodeDecodeError, not a ScenarioError"
 
 
-@pytest.mark.parametrize(
-    "kind",
-    [pytest.param(k, marks=pytest.mark.xfail(strict=True, reason=NOT_UTF8_XFAIL)) for k in ALL_READERS],
-)
-@NO_SHRINK
+@pytest.mark.parametrize("kind", list(ALL_READERS))
+@SETTINGS
 @given(raw=RANDOM_BYTES)
 def test_reader_on_random_bytes(kind, raw):
     refused_or_valid(ALL_READERS[kind], raw)
@@ -382,7 +375,7 @@ def test_grid_reader_on_mutated_grids(env):
     refused_or_valid(read_grid, env)
 
 
-@NO_SHRINK
+@SETTINGS
 @given(env=mutated_grid(), empty=st.sampled_from([("latitude",), ("longitude",), ("latitude", "longitude")]))
 def test_grid_reader_on_mutated_grids_with_empty_axes(env, empty):
     env = env.isel({dim: slice(0, 0) for dim in empty if dim in env.dims})

@@ -114,7 +114,7 @@ def test_csv_core_errors(tmp_path):
     with pytest.raises(ScenarioError, match=r"missing column 'strength_pa' \(found 'strength_kpa'\)"):
         load_csv(bad)
     bad.write_text("depth_m,density_kg_m3,strength_pa\n0,1400,abc\n")
-    with pytest.raises(ScenarioError, match=r"column 'strength_pa': not a number"):
+    with pytest.raises(ScenarioError, match=r"line 2, column 3 \('strength_pa'\): not a number$"):
         load_csv(bad)
     with pytest.raises(ScenarioError, match="cannot read"):
         load_csv(tmp_path / "missing.csv")

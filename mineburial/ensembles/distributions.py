@@ -56,6 +56,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy import special
 
+from mineburial.io import inputs
 from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
@@ -694,41 +695,50 @@ def _read_column(field: str, file: str, column: str | None, base_dir: str | Path
     path = Path(file)
     if not path.is_absolute() and base_dir is not None:
         path = Path(base_dir) / path
-    if not path.is_file():
-        raise DistributionError(f"{field}: file = {file!r} not found (looked for {path})")
-    with open(path, newline="") as fh:
+    try:
         rows = [
             (lineno, row)
-            for lineno, row in enumerate(csv.reader(fh), start=1)
-            if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#")
+            for lineno, row in inputs.numbered_csv(inputs.read_text(path, "text"))
+            if any(c.strip() for c in row)
         ]
+    except FileNotFoundError:
+        raise DistributionError(f"{field}: file = {file!r} not found (looked for {path})") from None
+    except OSError as exc:
+        raise DistributionError(f"{field}: cannot read file {str(path)!r} ({exc.strerror})") from None
+    except csv.Error as exc:
+        raise DistributionError(f"{field}: file {str(path)!r} is not a CSV table ({exc})") from None
     if not rows:
         raise DistributionError(f"{field}: file {str(path)!r} has no header row")
     header = [h.strip() for h in rows[0][1]]
+    names = inputs.column_names(header)
+    if names is None:
+        raise DistributionError(
+            f"{field}: file {str(path)!r}, line {rows[0][0]}: the first row is not a header of "
+            f"column names (each {inputs.COLUMN_NAME_RULE})"
+        )
     if column is None:
         if len(header) != 1:
             raise DistributionError(
-                f'{field}: file {str(path)!r} has columns {", ".join(header)}; name one with column = "..."'
+                f'{field}: file {str(path)!r} has columns {names}; name one with column = "..."'
             )
         col = 0
     elif column not in header:
         raise DistributionError(
             f"{field}: column = {column!r} not in {str(path)!r}; available columns are "
-            f"{', '.join(header)}{_nearest(column, header)}"
+            f"{names}{_nearest(column, header)}"
         )
     else:
         col = header.index(column)
     vals = []
     for lineno, row in rows[1:]:
         cell = row[col].strip() if col < len(row) else ""
+        where = f"{field}: {str(path)!r} line {lineno}, column {col + 1} ({header[col]!r})"
         try:
             x = float(cell)
         except ValueError:
-            raise DistributionError(
-                f"{field}: {str(path)!r} line {lineno}, column {header[col]!r}: {cell!r} is not a number"
-            ) from None
+            raise DistributionError(f"{where}: " + ("empty" if not cell else "not a number")) from None
         if not math.isfinite(x):
-            raise DistributionError(f"{field}: {str(path)!r} line {lineno}: {cell!r} must be finite")
+            raise DistributionError(f"{where}: {x} must be finite")
         vals.append(x)
     if not vals:
         raise DistributionError(f"{field}: file {str(path)!r} has no values below its header")

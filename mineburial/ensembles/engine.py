@@ -38,6 +38,7 @@ from mineburial.ensembles import distributions as dist
 from mineburial.ensembles import scour
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of
+from mineburial.io.inputs import read_toml
 from mineburial.kernels import layout
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks, unknown_name_message
 
@@ -207,8 +208,7 @@ def load_ensemble(
     else:
         path = pathlib.Path(source)
         try:
-            with open(path, "rb") as fh:
-                raw = tomllib.load(fh)
+            raw = read_toml(path)
         except OSError as exc:
             raise cfg.ScenarioError(f"cannot read scenario file '{path}': {exc.strerror}") from None
         except tomllib.TOMLDecodeError as exc:

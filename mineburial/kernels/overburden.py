@@ -24,17 +24,6 @@ from mineburial.kernels.layout import P_SED_PROFILE, P_SED_RHO, P_SED_RHO_GRAD
 
 
 @kernel
-def _slab(L, R, chi, a_z, z_c, top, bottom):
-    """Volume and centroid (x, eta) of the part of the body between two planes."""
-    v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, top)
-    v2, x2, e2, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, bottom)
-    v = v1 - v2
-    if v <= 0.0:
-        return 0.0, 0.0, 0.0
-    return v, (v1 * x1 - v2 * x2) / v, (v1 * e1 - v2 * e2) / v
-
-
-@kernel
 def _density(zeta, p, bank):
     row = int(p[P_SED_PROFILE])
     if row < 0:
@@ -57,6 +46,9 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
     row = int(p[P_SED_PROFILE])
     top = 0.0
     k = 1
+    # the part below each slice boundary; a slice's bottom cut is the next slice's top cut
+    # (one cut per boundary: a tabulated profile has one boundary per depth in the body)
+    v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - top)
     while top < depth_max:
         # next slice boundary: the next table depth, or the bottom of the body
         bottom = depth_max
@@ -67,8 +59,11 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
                         bottom = bank[row, 0, k]
                     break
                 k += 1
-        v, xs, es = _slab(L, R, chi, a_z, z_c, seabed_z - top, seabed_z - bottom)
+        v2, x2, e2, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - bottom)
+        v = v1 - v2  # the part between the two planes, its centroid (xs, es)
         if v > 0.0:
+            xs = (v1 * x1 - v2 * x2) / v
+            es = (v1 * e1 - v2 * e2) / v
             z_cent = z_c + a_z * xs - es * c
             rho = _density(seabed_z - z_cent, p, bank)
             f = (rho - rho_w) * g * v
@@ -76,4 +71,5 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
             mx += f * xs
             me += f * es
         top = bottom
+        v1, x1, e1 = v2, x2, e2
     return f_tot, mx, me

@@ -133,6 +133,7 @@ from mineburial.kernels.rotation import (
     rotation_vector_quaternion,
 )
 from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
+from mineburial.kernels.sediment.laws import drop_bank
 
 INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
 INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
@@ -444,6 +445,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     """
     for i in range(N_SUMMARY):
         summary[i] = np.nan
+    p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
     law = pack_law(p, p[P_DIAMETER], reference_paths)
     y = np.empty(N_EXT)
     ynew = np.empty(N_EXT)

@@ -32,6 +32,7 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
 
 # ---------------------------------------------------------------------------
@@ -647,16 +648,16 @@ class RestraintCase:
                 raise ScenarioError(unknown_names_message(f"field of [{section}]", bad, allowed))
             for key, value in table.items():
                 values[f"{section}.{key}"] = value
-        return cls(
-            name=str(meta.get("name", name)), description=str(meta.get("description", "")), values=values
-        )
+        for key in ("name", "description"):
+            if key in meta and not isinstance(meta[key], str):
+                raise ScenarioError(f"case.{key} = {meta[key]!r} must be text (a quoted string)")
+        return cls(name=meta.get("name", name), description=meta.get("description", ""), values=values)
 
     @classmethod
     def from_toml(cls, path) -> RestraintCase:
         path = pathlib.Path(path)
         try:
-            with open(path, "rb") as fh:
-                d = tomllib.load(fh)
+            d = read_toml(path)
         except OSError as exc:
             raise ScenarioError(f"cannot read case file '{path}': {exc.strerror}") from None
         except tomllib.TOMLDecodeError as exc:
@@ -666,7 +667,7 @@ class RestraintCase:
     @classmethod
     def from_toml_string(cls, text: str, name: str = "case") -> RestraintCase:
         try:
-            d = tomllib.loads(text)
+            d = parse_toml(text)
         except tomllib.TOMLDecodeError as exc:
             raise ScenarioError(f"case is not valid TOML: {exc}") from None
         return cls.from_dict(d, name=name)

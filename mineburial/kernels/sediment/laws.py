@@ -47,6 +47,7 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
+from mineburial.kernels.environment import COLUMN_BUCKET, bracket, last_point
 from mineburial.kernels.layout import (
     P_GRAVITY,
     P_RHO_WATER,
@@ -110,14 +111,15 @@ DEPTH_FACTOR = 0.4
 # =============================================================================
 # sediment properties
 # =============================================================================
-@kernel
-def _bank_properties(zeta, bank, row, rho_w, g):
-    """Piecewise-linear profile of bank row ``row`` at depth ``zeta``.
+#: column of a drop's own sediment bank (:func:`drop_bank`) holding the running integral
+#: int_0^d (rho_s - rho_w) dzeta' at each tabulated depth d
+COLUMN_OVERBURDEN = 3
 
-    Returns (rho_s, S, sigma'_eff) with sigma'_eff = int_0^zeta (rho_s - rho_w) g,
-    exact for the piecewise-linear density (trapezoids); constant values above
-    the first and below the last tabulated depth.
-    """
+
+@kernel
+def _scan_properties(zeta, bank, row, rho_w, g):
+    """:func:`_bank_properties` on a bank without the integral column: one pass down the
+    row (O(points above zeta)), the sums in the order :func:`drop_bank` makes them."""
     d_prev = bank[row, 0, 0]
     r_prev = bank[row, 1, 0]
     s_prev = bank[row, 2, 0]
@@ -144,6 +146,83 @@ def _bank_properties(zeta, bank, row, rho_w, g):
         s_prev = s
     acc += (r_prev - rho_w) * (zeta - d_prev)
     return r_prev, s_prev, acc * g
+
+
+@kernel
+def _bank_properties(zeta, bank, row, rho_w, g):
+    """Piecewise-linear profile of bank row ``row`` at depth ``zeta``.
+
+    Returns (rho_s, S, sigma'_eff) with sigma'_eff = int_0^zeta (rho_s - rho_w) g,
+    exact for the piecewise-linear density (trapezoids); constant values above
+    the first and below the last tabulated depth. On a drop's own bank
+    (:func:`drop_bank`) the segment is searched (``environment.bracket``: O(1) for an
+    even spacing, O(log n) at worst) and the integral down to its top read from
+    :data:`COLUMN_OVERBURDEN`: bit-identical to the scan of :func:`_scan_properties`,
+    which banks without that column (Python callers) use.
+    """
+    if bank.shape[1] <= COLUMN_OVERBURDEN:
+        return _scan_properties(zeta, bank, row, rho_w, g)
+    if zeta <= bank[row, 0, 0]:
+        return bank[row, 1, 0], bank[row, 2, 0], (bank[row, 1, 0] - rho_w) * g * zeta
+    hi = last_point(bank, row)
+    if not (zeta <= bank[row, 0, hi]):  # below the last point (or NaN): constant
+        r = bank[row, 1, hi]
+        return (
+            r,
+            bank[row, 2, hi],
+            (bank[row, COLUMN_OVERBURDEN, hi] + (r - rho_w) * (zeta - bank[row, 0, hi])) * g,
+        )
+    lo, hi = bracket(bank, row, zeta, hi, True)  # bank[row, 0, lo] < zeta <= bank[row, 0, hi]
+    d_prev = bank[row, 0, lo]
+    r_prev = bank[row, 1, lo]
+    s_prev = bank[row, 2, lo]
+    h = bank[row, 0, hi] - d_prev
+    f = (zeta - d_prev) / h if h > 0.0 else 1.0
+    rz = r_prev + f * (bank[row, 1, hi] - r_prev)
+    sz = s_prev + f * (bank[row, 2, hi] - s_prev)
+    acc = bank[row, COLUMN_OVERBURDEN, lo] + (0.5 * (r_prev + rz) - rho_w) * (zeta - d_prev)
+    return rz, sz, acc * g
+
+
+@kernel
+def drop_bank(p, bank):
+    """``(p, bank)`` for one drop: its sediment profile row alone (row 0 of a new bank,
+    ``p`` copied with ``sediment.profile_index = 0``) with :data:`COLUMN_OVERBURDEN`
+    filled for the drop's water density and the bucket index of
+    :data:`~mineburial.kernels.environment.COLUMN_BUCKET`, so that a depth is found in
+    O(1) (:func:`~mineburial.kernels.environment.bracket`) instead of by summing the rows
+    above it: O(n) once per drop instead of at every evaluation. A linear profile
+    (index < 0) returns the arguments unchanged."""
+    row = int(p[P_SED_PROFILE])
+    if row < 0:
+        return p, bank
+    n = last_point(bank, row) + 1
+    own = np.empty((1, COLUMN_BUCKET + 1, n))
+    for c in range(COLUMN_OVERBURDEN):
+        for j in range(n):
+            own[0, c, j] = bank[row, c, j]
+    rho_w = p[P_RHO_WATER]
+    d_prev = own[0, 0, 0]
+    r_prev = own[0, 1, 0]
+    acc = (r_prev - rho_w) * d_prev  # the sums of _scan_properties, in its order
+    own[0, COLUMN_OVERBURDEN, 0] = acc
+    for j in range(1, n):
+        d = own[0, 0, j]
+        r = own[0, 1, j]
+        acc += (0.5 * (r_prev + r) - rho_w) * (d - d_prev)
+        own[0, COLUMN_OVERBURDEN, j] = acc
+        d_prev = d
+        r_prev = r
+    d0 = own[0, 0, 0]
+    width = (own[0, 0, n - 1] - d0) / n  # n buckets of equal depth (bracket())
+    j = 0
+    for b in range(n):
+        while j + 1 < n and own[0, 0, j + 1] <= d0 + b * width:
+            j += 1
+        own[0, COLUMN_BUCKET, b] = j
+    q = p.copy()
+    q[P_SED_PROFILE] = 0.0
+    return q, own
 
 
 @kernel
