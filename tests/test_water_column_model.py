@@ -23,6 +23,9 @@ G = 9.81
 
 # shared/notes/sources.md section 1 [computed]: closed finite cylinder, boundary elements
 BEM = {2.0: (0.736, 0.305), 3.0: (0.810, 0.208), 4.0: (0.852, 0.157), 6.0: (0.898, 0.106)}
+# rotational added inertia about the centroid, of strip theory's rho pi R^2 L^3 / 12:
+# benchmarks/results/water_column_models.txt (capytaine, direct method) [computed]
+BEM_ROT = {2.0: 0.4645, 3.0: 0.5686, 4.0: 0.6429, 6.0: 0.7360}
 # Digital DATCOM bodyrt.f crossflow efficiency (Jorgensen, NASA TR R-474)
 DATCOM_ETA = {2.0: 0.56, 4.0: 0.60, 8.0: 0.66, 12.0: 0.71, 16.0: 0.74, 20.0: 0.76}
 
@@ -37,21 +40,21 @@ def crossflow_scenario(**numerics):
 # ---------------------------------------------------------------------------
 @pytest.mark.parametrize("ld", sorted(BEM))
 def test_added_mass_table_matches_the_computed_values_at_the_tabulated_aspect_ratios(ld):
-    kt, ka = added_mass.cylinder_added_mass(ld)
-    assert (kt, ka) == BEM[ld]
+    kt, ka, kr = added_mass.cylinder_added_mass(ld)
+    assert (kt, ka) == BEM[ld] and kr == BEM_ROT[ld]
 
 
 def test_added_mass_interpolation_is_monotone_and_held_outside_the_table():
     lds = np.linspace(0.5, 10.0, 400)
-    kt, ka = np.array([added_mass.cylinder_added_mass(x) for x in lds]).T
-    assert np.all(np.diff(kt) >= 0.0) and np.all(np.diff(ka) <= 0.0)
-    assert added_mass.cylinder_added_mass(1.0) == BEM[2.0]
-    assert added_mass.cylinder_added_mass(9.0) == BEM[6.0]
+    kt, ka, kr = np.array([added_mass.cylinder_added_mass(x) for x in lds]).T
+    assert np.all(np.diff(kt) >= 0.0) and np.all(np.diff(ka) <= 0.0) and np.all(np.diff(kr) >= 0.0)
+    assert added_mass.cylinder_added_mass(1.0) == (*BEM[2.0], BEM_ROT[2.0])
+    assert added_mass.cylinder_added_mass(9.0) == (*BEM[6.0], BEM_ROT[6.0])
     # midway between 3 and 4: the mean of the two rows (linear)
-    kt5, ka5 = added_mass.cylinder_added_mass(3.5)
+    kt5, ka5, _ = added_mass.cylinder_added_mass(3.5)
     assert kt5 == pytest.approx(0.5 * (0.810 + 0.852)) and ka5 == pytest.approx(0.5 * (0.208 + 0.157))
     # k_t + k_a stays below the sphere's 2 x 0.5 and k_t below the 2-D circle's 1
-    assert np.all(kt < 1.0) and np.all(kt + ka < 1.05)
+    assert np.all(kt < 1.0) and np.all(kt + ka < 1.05) and np.all(kr < kt)
 
 
 def test_crossflow_efficiency_table_is_datcoms():
@@ -120,13 +123,13 @@ def _spin_up(alpha_deg, h=1e-4, speed=2.0):
 def test_munk_moment_is_the_viscous_crossflow_closed_form(alpha_deg):
     """M = (k_t - k_a) rho V U^2 sin(alpha) cos(alpha) cos(alpha/2) (Jorgensen TR R-474 eq. (3),
     potential term), destabilising: it turns the axis away from the flow, angular acceleration
-    M / (J2 + k_t rho pi R^2 L^3 / 12)."""
+    M / (J2 + k_r rho pi R^2 L^3 / 12)."""
     speed = 2.0
     dw3, j2 = _spin_up(alpha_deg, speed=speed)
     a = math.radians(alpha_deg)
     kt, ka = BEM[4.0]
     moment = (kt - ka) * RHO * VOL * speed**2 * math.sin(a) * math.cos(a) * math.cos(abs(a) / 2)
-    inertia = j2 + kt * RHO * math.pi * R * R * L**3 / 12.0
+    inertia = j2 + BEM_ROT[4.0] * RHO * math.pi * R * R * L**3 / 12.0
     # body y is the earth y here: a positive sideways velocity at positive alpha is turned
     # further broadside by a negative omega3 (the Munk moment is destabilising)
     assert dw3 == pytest.approx(-moment / inertia, rel=2e-3)
@@ -171,7 +174,9 @@ def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass():
     j1, j2 = p[layout.P_J1], p[layout.P_J2]
     kt, ka = BEM[4.0]
     a = RHO * math.pi * R * R
-    i0, i1, i2 = L, -chi * L, L**3 / 12.0 + chi**2 * L  # wetted interval [-L/2 - chi, L/2 - chi]
+    i0, i1 = L, -chi * L  # wetted interval [-L/2 - chi, L/2 - chi]
+    # rotational: k_r of strip theory about the centroid, plus the transverse mass at -chi
+    i2 = BEM_ROT[4.0] * L**3 / 12.0 + kt * chi**2 * L
     energies = []
     for k in range(ds.sizes["time"]):
         q0, q1, q2, q3 = (float(ds[c][k]) for c in ("q0", "q1", "q2", "q3"))
@@ -181,7 +186,7 @@ def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass():
         kin = 0.5 * (m * u @ u + j1 * w[0] ** 2 + j2 * (w[1] ** 2 + w[2] ** 2))
         kin += 0.5 * ka * a * i0 * u[0] ** 2
         kin += 0.5 * kt * a * (i0 * (u[1] ** 2 + u[2] ** 2) + 2 * i1 * (u[1] * w[2] - u[2] * w[1]))
-        kin += 0.5 * kt * a * i2 * (w[1] ** 2 + w[2] ** 2)
+        kin += 0.5 * a * i2 * (w[1] ** 2 + w[2] ** 2)
         z_cov = float(ds.z[k]) + rot[2, 0] * (-chi)  # centre of volume at -chi i_M
         energies.append(kin + m * G * float(ds.z[k]) - RHO * VOL * G * z_cov)
     energies = np.array(energies)

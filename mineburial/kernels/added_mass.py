@@ -8,6 +8,9 @@ Tables (docs/physics.md, "Water-column model choices"):
   as fractions of rho V, at L/D = 2, 3, 4, 6. **[computed]** boundary-element values
   (capytaine, sphere check 0.5006 vs 0.5) from ``shared/notes/sources.md`` section 1;
   re-computed in ``benchmarks/results/water_column_models.txt``.
+* :data:`KR_TABLE`: rotational (pitch/yaw) added inertia about the centroid, as a fraction
+  of strip theory's, at the same L/D **[computed]** by ``benchmarks/added_mass_bem.py``
+  (capytaine 3.0.0, direct method, sphere check 0.4999).
 * :data:`ETA_LD`, :data:`ETA_TABLE`: crossflow efficiency eta(L/D) of the viscous-crossflow
   method, Digital DATCOM ``bodyrt.f`` table (Jorgensen, NASA TR R-474, 1977), used by the
   docs and tests to check the separated crossflow of the strip drag (seed 000 eq. (44)).
@@ -25,6 +28,9 @@ from mineburial._numba import kernel
 LD_TABLE = np.array([2.0, 3.0, 4.0, 6.0])
 KT_TABLE = np.array([0.736, 0.810, 0.852, 0.898])  # transverse k_t, of rho V
 KA_TABLE = np.array([0.305, 0.208, 0.157, 0.106])  # axial k_a, of rho V
+# rotational k_r: added moment of inertia about a transverse axis through the centroid, of
+# strip theory's rho pi R^2 L^3 / 12 [computed: benchmarks/added_mass_bem.py, capytaine]
+KR_TABLE = np.array([0.4645, 0.5686, 0.6429, 0.7360])
 
 ETA_LD = np.array([2.0, 4.0, 8.0, 12.0, 16.0, 20.0])
 ETA_TABLE = np.array([0.56, 0.60, 0.66, 0.71, 0.74, 0.76])  # DATCOM bodyrt.f
@@ -48,9 +54,14 @@ def table_lookup(xs, ys, x):
 
 @kernel
 def cylinder_added_mass(aspect):
-    """(k_t, k_a): transverse and axial added mass of a closed cylinder of L/D = ``aspect``,
-    as fractions of rho V (table above)."""
-    return table_lookup(LD_TABLE, KT_TABLE, aspect), table_lookup(LD_TABLE, KA_TABLE, aspect)
+    """(k_t, k_a, k_r) of a closed cylinder of L/D = ``aspect``: transverse and axial added
+    mass as fractions of rho V, rotational added inertia about the centroid as a fraction of
+    strip theory's rho pi R^2 L^3 / 12 (tables above)."""
+    return (
+        table_lookup(LD_TABLE, KT_TABLE, aspect),
+        table_lookup(LD_TABLE, KA_TABLE, aspect),
+        table_lookup(LD_TABLE, KR_TABLE, aspect),
+    )
 
 
 @kernel

@@ -470,14 +470,17 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
             a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
     crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
     if crossflow_model:
-        # finite closed cylinder: transverse k_t and axial k_a of rho V (BEM table,
-        # kernels/added_mass.py) on the strip values (a0 = rho V of the wetted length);
-        # the rotational terms take the transverse reduction k_t (docs/physics.md)
-        kt, ka = cylinder_added_mass(L / (2.0 * R))
+        # finite closed cylinder (BEM tables, kernels/added_mass.py) on the strip values
+        # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
+        # rotational inertia k_r of strip theory's about the wetted centroid, moved to the
+        # COM with the transverse mass (parallel axes; docs/physics.md)
+        kt, ka, kr = cylinder_added_mass(L / (2.0 * R))
         a11 = ka * a0
+        if a0 > 0.0:
+            shift = a1 * a1 / a0
+            a2 = kr * (a2 - shift) + kt * shift
         a0 *= kt
         a1 *= kt
-        a2 *= kt
     else:
         # axial added mass: the Munk moment of a body of transverse added mass a0 and
         # axial added mass a11 is (a0 - a11) U1 U2; munk_factor = 1 keeps the
