@@ -27,7 +27,7 @@ MODELS = {
     "munk_factor 1 (strip)": {"water_column": "munk_factor", "munk_factor": 1.0},
     "viscous_crossflow": {"water_column": "viscous_crossflow"},
 }
-DEPTHS = cases.POOL_DEPTHS
+DEPTHS = (1.0, 1.25, 1.5, *cases.POOL_DEPTHS)  # the validation's sweep, extended down to 1 m
 
 
 def ensemble(paths):
@@ -43,9 +43,7 @@ def ensemble(paths):
         pen = ds.penetration_depth.values[rest].mean()
         bur = ds.burial_volume.values[rest].mean()
         p75 = (ds.burial_volume.values[rest] > 75.0).mean()
-        print(
-            f"{path} | {pitch:.1f} | {speed:.2f} | {pen:.3f} | {bur:.1f} | {p75:.3f} (n at rest {rest.sum()})"
-        )
+        print(f"{path} | {pitch:.1f} | {speed:.2f} | {pen:.3f} | {bur:.1f} | {p75:.3f} (n {rest.sum()})")
 
 
 def _drop(name, numerics, depth):
@@ -76,7 +74,7 @@ def exp1():
                 k_impact = np.searchsorted(ds.time.values, float(ds.impact_time)) - 1
                 flip_text = "no flip" if flip is None else f"flip {flip:.3f} s"
                 print(
-                    f"  {label:24s} depth {depth:.1f} m: travel {travel:.3f} s, {flip_text}, "
+                    f"  {label:24s} depth {depth:.2f} m: travel {travel:.3f} s, {flip_text}, "
                     f"path off the chord {straight:.1%}, turning after flip {turn:.0f} deg, "
                     f"impact pitch {float(ds.psi2.values[k_impact]):.0f} deg"
                 )
