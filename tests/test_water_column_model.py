@@ -121,7 +121,7 @@ def _spin_up(alpha_deg, h=1e-4, speed=2.0):
 
 @pytest.mark.parametrize("alpha_deg", [15.0, 30.0, 60.0, -30.0])
 def test_munk_moment_is_the_viscous_crossflow_closed_form(alpha_deg):
-    """M = (k_t - k_a) rho V U^2 sin(alpha) cos(alpha) cos(alpha/2) (Jorgensen TR R-474 eq. (3),
+    """M = (k_t - k_a) rho V U^2 sin(alpha) cos(alpha) cos(alpha/2) (Jorgensen TR R-474, DATCOM bodyjm.f:
     potential term), destabilising: it turns the axis away from the flow, angular acceleration
     M / (J2 + k_r rho pi R^2 L^3 / 12)."""
     speed = 2.0

@@ -67,7 +67,7 @@ def cylinder_added_mass(aspect):
 @kernel
 def munk_incidence_factor(u1, u2, u3):
     """cos(alpha/2) of the viscous-crossflow method (Allen & Perkins 1951; Jorgensen,
-    NASA TR R-474, eq. (3): potential term ~ sin 2alpha cos(alpha/2)).
+    NASA TR R-474, as coded in Digital DATCOM bodyjm.f: potential term ~ sin 2alpha cos(alpha/2)).
 
     alpha is the incidence between the body axis and the relative flow (u1 axial, u2, u3
     transverse), folded into [0, 90 deg] because the closed cylinder is fore-aft symmetric

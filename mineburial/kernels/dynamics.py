@@ -522,7 +522,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     ca5 = (w3 * ha1 - w1 * ha3) + (vr3 * pa1 - vr1 * pa3)
     ca6 = (w1 * ha2 - w2 * ha1) + (vr1 * pa2 - vr2 * pa1)
     if crossflow_model:
-        # viscous-crossflow method (Allen & Perkins 1951; Jorgensen NASA TR R-474 eq. (3)):
+        # viscous-crossflow method (Allen & Perkins 1951; Jorgensen NASA TR R-474; DATCOM bodyjm.f):
         # the potential (Munk) part, (a0 - a11) U1 U_perp, carries the factor cos(alpha/2).
         # It is removed with its force partner w x ((a0 - a11) U_perp), so the pair stays
         # power-free (energy conserved without drag); the separated crossflow
