@@ -1252,6 +1252,10 @@ class Numerics:
     are the tolerances of the adaptive ones.
     ``sediment_quadrature``: ``fast`` (fixed-cost rule, default) or ``reference``
     (the accurate adaptive quadrature).
+    ``water_column``: ``munk_factor`` (default: strip added mass with the axial added mass
+    set by ``munk_factor``) or ``viscous_crossflow`` (added-mass tensor of the finite
+    cylinder and the Munk moment with its incidence factor; docs/physics.md, "Water-column
+    model choices"; ``munk_factor`` is then unused).
     The time limits are two, one for each phase of a drop: ``t_max_fall`` bounds the fall
     through air and water (release to the first seabed contact), ``t_max`` the time after
     that contact. A fall ends by itself at the seabed (or when a mine lighter than the water
@@ -1273,9 +1277,11 @@ class Numerics:
     sediment_quadrature: str = "fast"
     slip_speed: float = 5e-3
     switch_speed: float = 5e-3
+    water_column: str = "munk_factor"
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
+        _choice(self.water_column, layout.WATER_COLUMN_NAMES, "numerics.water_column")
         for f in ("integrator", "rtol", "atol"):
             if getattr(self, f) is None:
                 _set(self, f, MODEL_DEFAULTS[self.model][f])
@@ -1594,6 +1600,7 @@ class Scenario:
             "numerics.slip_speed": n.slip_speed,
             "numerics.switch_speed": n.switch_speed,
             "numerics.sediment_quadrature": layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
+            "numerics.water_column": layout.WATER_COLUMN_NAMES.index(n.water_column),
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)
@@ -1675,6 +1682,7 @@ _CODE_LIMITS = {
     "numerics.model": len(layout.MODEL_NAMES),
     "numerics.integrator": len(layout.INTEGRATOR_NAMES),
     "numerics.sediment_quadrature": len(layout.SEDIMENT_QUADRATURE_NAMES),
+    "numerics.water_column": len(layout.WATER_COLUMN_NAMES),
     "sediment.pore_pressure": 2,
     "numerics.drag": 2,
 }

@@ -634,6 +634,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
             "numerics.slip_speed": 5e-3,
             "numerics.switch_speed": 5e-3,
             "numerics.sediment_quadrature": 0,
+            "numerics.water_column": 0,  # default "munk_factor"
         }
     )
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
@@ -711,6 +712,7 @@ def test_fields_table_is_consistent():
         "numerics.integrator",
         "numerics.drag",
         "numerics.sediment_quadrature",
+        "numerics.water_column",
     }
     assert set(layout.PARAM_NAMES) - codes <= set(FIELDS)
     # dataclass defaults agree with the table

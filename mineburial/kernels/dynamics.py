@@ -28,6 +28,7 @@ same scheme so that energy bookkeeping closes to the integration error.
 import math
 
 from mineburial._numba import kernel
+from mineburial.kernels.added_mass import cylinder_added_mass, munk_incidence_factor
 from mineburial.kernels.coefficients import axial_drag_coefficient, cross_drag_coefficient, lift_coefficient
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
@@ -55,11 +56,13 @@ from mineburial.kernels.layout import (
     P_RHO_AIR,
     P_RHO_WATER,
     P_SED_RESISTANCE,
+    P_WATER_COLUMN,
     PHASE_AIR,
     PHASE_EMBEDDED,
     PHASE_SEABED,
     PHASE_SURFACE,
     PHASE_WATER,
+    WC_VISCOUS_CROSSFLOW,
 )
 from mineburial.kernels.overburden import overburden_force
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
@@ -465,11 +468,25 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
             a0 += aair * (ab - aa)
             a1 += aair * 0.5 * (ab * ab - aa * aa)
             a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
-    # axial added mass: the Munk moment of a body of transverse added mass a0 and
-    # axial added mass a11 is (a0 - a11) U1 U2; munk_factor = 1 keeps the
-    # slender-body value a11 = 0, munk_factor = 0 makes the translational added
-    # mass isotropic and removes it (docs/physics.md, "added mass").
-    a11 = (1.0 - p[P_MUNK]) * a0
+    crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
+    if crossflow_model:
+        # finite closed cylinder (BEM tables, kernels/added_mass.py) on the strip values
+        # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
+        # rotational inertia k_r of strip theory's about the wetted centroid, moved to the
+        # COM with the transverse mass (parallel axes; docs/physics.md)
+        kt, ka, kr = cylinder_added_mass(L / (2.0 * R))
+        a11 = ka * a0
+        if a0 > 0.0:
+            shift = a1 * a1 / a0
+            a2 = kr * (a2 - shift) + kt * shift
+        a0 *= kt
+        a1 *= kt
+    else:
+        # axial added mass: the Munk moment of a body of transverse added mass a0 and
+        # axial added mass a11 is (a0 - a11) U1 U2; munk_factor = 1 keeps the
+        # slender-body value a11 = 0, munk_factor = 0 makes the translational added
+        # mass isotropic and removes it (docs/physics.md, "added mass").
+        a11 = (1.0 - p[P_MUNK]) * a0
     mass[0] = m + a11
     mass[7] = m + a0
     mass[14] = m + a0
@@ -504,6 +521,18 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     ca4 = (w2 * ha3 - w3 * ha2) + (vr2 * pa3 - vr3 * pa2)
     ca5 = (w3 * ha1 - w1 * ha3) + (vr3 * pa1 - vr1 * pa3)
     ca6 = (w1 * ha2 - w2 * ha1) + (vr1 * pa2 - vr2 * pa1)
+    if crossflow_model:
+        # viscous-crossflow method (Allen & Perkins 1951; Jorgensen NASA TR R-474; DATCOM bodyjm.f):
+        # the potential (Munk) part, (a0 - a11) U1 U_perp, carries the factor cos(alpha/2).
+        # It is removed with its force partner w x ((a0 - a11) U_perp), so the pair stays
+        # power-free (energy conserved without drag); the separated crossflow
+        # eta C_dc sin^2(alpha) q A_p is the strip drag (seed 000 eq. (44) ~ eta C_dc).
+        cut = (1.0 - munk_incidence_factor(vr1, vr2, vr3)) * (a0 - a11)
+        ca1 -= cut * (w2 * vr3 - w3 * vr2)
+        ca2 -= cut * (-w1 * vr3)
+        ca3 -= cut * (w1 * vr2)
+        ca5 -= cut * (-vr1 * vr3)
+        ca6 -= cut * (vr1 * vr2)
     # d(nu_c)/dt in the body frame for a current steady in the E-frame: -w x U_c
     dc1 = -(w2 * cur3 - w3 * cur2)
     dc2 = -(w3 * cur1 - w1 * cur3)

@@ -129,6 +129,7 @@ PARAM_NAMES = (
     "numerics.slip_speed",  # m s-1, regularisation speed of the sediment's slip direction
     "numerics.switch_speed",  # m s-1, regularisation speed of the sediment's advancing switch
     "numerics.t_max_fall",  # s, limit on the simulated time of the fall (release to seabed contact)
+    "numerics.water_column",  # code of the water-column added-mass/moment model (WATER_COLUMN_NAMES)
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -197,6 +198,7 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
     P_SLIP_SPEED,
     P_SWITCH_SPEED,
     P_TMAX_FALL,
+    P_WATER_COLUMN,
 ) = range(N_PARAMS)
 
 # model and integrator codes
@@ -204,6 +206,12 @@ MODEL_NAMES = ("mineburial", "impact35")
 INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
 SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
+# water-column models (docs/physics.md, "Water-column model choices"): the strip added mass
+# with the tuned numerics.munk_factor, or the viscous-crossflow method with the added-mass
+# tensor of the finite cylinder
+WATER_COLUMN_NAMES = ("munk_factor", "viscous_crossflow")
+WC_MUNK_FACTOR = 0
+WC_VISCOUS_CROSSFLOW = 1
 
 # --- per-drop summary (results) -------------------------------------------
 SUMMARY_NAMES = (
