@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from mineburial.ensembles import engine, runner
+from mineburial.ensembles import engine, model_form, runner
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
@@ -51,6 +51,8 @@ __all__ = [
     "ranking",
     "run_sensitivity_cli",
     "OUTPUTS",
+    "model_form_share",
+    "model_form_lines",
 ]
 
 #: Outputs whose indices are computed.
@@ -261,6 +263,7 @@ def run_sensitivity(
     bar.update(done[0], final=True)
     from mineburial import __version__
 
+    ds = model_form_share(ds)
     left = int(sum(c for k, c in enumerate(counts) if k not in st.IN_STATISTICS))
     warning = failure_warning(left, total, counts)
     if warning:
@@ -313,6 +316,44 @@ def failure_warning(left: int, total: int, counts) -> str | None:
         f"where unfinished drops stopped, not their burial; lengthen numerics.t_max / t_max_fall "
         f"or check the scenario"
     )
+
+
+def model_form_share(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with the share of each output's variance that comes from the model-form inputs
+    (:data:`mineburial.ensembles.model_form.MODEL_FORM_INPUTS` among ``ds``'s inputs).
+
+    Two bounds of the group's share from the single-input indices, for any model (Sobol'
+    2001; Saltelli et al. 2008, *Global Sensitivity Analysis: The Primer*, sec. 4.4):
+    ``model_form_first_order`` = sum of the group's S_i, at most its closed first-order
+    index (the share the group explains alone, interactions among its members left out), and
+    ``model_form_total_order`` = sum of the group's S_Ti, at least the group's total index
+    (all the variance in which a model-form input takes part). Both are 0 without model-form
+    inputs and 1 when they are the only inputs of an additive model."""
+    group = [str(k) for k in ds.input.values if str(k) in model_form.MODEL_FORM_INPUTS]
+    out = ds.copy()
+    members = {"model_form_inputs": ", ".join(group) or "none"}
+    for key, text in (
+        ("first_order", "sum of the model-form inputs' first-order indices (<= the group's closed index)"),
+        ("total_order", "sum of the model-form inputs' total indices (>= the group's total index)"),
+    ):
+        share = ds[key].sel(input=group).sum("input", skipna=False) if group else ds[key].isel(input=0) * 0.0
+        out[f"model_form_{key}"] = share.drop_vars("input", errors="ignore").assign_attrs(
+            long_name=text, **members
+        )
+    return out
+
+
+def model_form_lines(ds: xr.Dataset) -> list[str]:
+    """The printed model-form share of each output (:func:`model_form_share`)."""
+    if "model_form_first_order" not in ds:
+        return []
+    who = ds["model_form_first_order"].attrs.get("model_form_inputs", "none")
+    lines = [f"model-form share of the variance (model-form inputs: {who}):"]
+    for out in ds.output.values:
+        first = float(ds["model_form_first_order"].sel(output=out))
+        total = float(ds["model_form_total_order"].sel(output=out))
+        lines.append(f"  {out}: sum of S_i {first:.3f}, sum of S_Ti {total:.3f}")
+    return lines
 
 
 def ranking(ds: xr.Dataset, output: str, index: str = "total_order") -> list[str]:
@@ -393,6 +434,7 @@ def run_sensitivity_cli(args) -> int:
         if ds.attrs.get("warning"):
             print(ds.attrs["warning"])
         print(sensitivity_table(ds))
+        print("\n".join(model_form_lines(ds)))
         if out is not None:
             written = ds.copy()
             written["output"] = written["output"].astype(str)
