@@ -180,3 +180,42 @@ def test_model_form_share_is_one_when_only_the_model_is_uncertain_and_zero_when_
     assert float(fixed.model_form_first_order.sel(output="y")) == 0.0
     assert float(fixed.model_form_total_order.sel(output="y")) == 0.0
     assert fixed.model_form_first_order.attrs["model_form_inputs"] == "none"
+
+
+def only_water_column_uncertain(table):
+    """The short default with every input fixed at its centre except the water-column model."""
+    raw = short_default(10)
+    centre = {
+        "normal": lambda v: v["mean"],
+        "truncated_normal": lambda v: v["mean"],
+        "uniform": lambda v: 0.5 * (v["low"] + v["high"]),
+        "lognormal": lambda v: v["median"],
+    }
+    for section in ("mine", "release", "environment", "sediment"):
+        for key, value in raw[section].items():
+            if isinstance(value, dict) and "distribution" in value:
+                raw[section][key] = centre[value["distribution"]](value)
+    raw["release"]["velocity"][0] = 3.0
+    raw["release"]["angular_velocity"][1] = 0.5
+    raw["environment"]["current"]["surface_velocity"][0] = 0.5
+    raw["numerics"]["water_column"] = table
+    return raw
+
+
+def test_sensitivity_of_a_scenario_whose_only_uncertainty_is_the_model_gives_it_the_whole_variance():
+    from mineburial.validation.sensitivity import run_sensitivity
+
+    wc = {"distribution": "choice", "values": list(layout.WATER_COLUMN_NAMES)}
+    ds = run_sensitivity(only_water_column_uncertain(wc), n=16, seed=1)
+    assert list(ds.input.values) == ["numerics.water_column"]
+    for out in ("penetration_depth", "burial_volume"):
+        assert float(ds.output_variance.sel(output=out)) > 0  # the two models differ here
+        assert float(ds.model_form_first_order.sel(output=out)) == pytest.approx(1.0, abs=0.05)
+        assert float(ds.model_form_total_order.sel(output=out)) == pytest.approx(1.0, abs=0.05)
+    # the same scenario with the model fixed and the mass uncertain: no model-form share
+    raw = only_water_column_uncertain("viscous_crossflow")
+    raw["mine"]["mass"] = {"distribution": "normal", "mean": 750.0, "std": 15.0}
+    raw["release"]["pitch_deg"] = {"distribution": "uniform", "low": 0.0, "high": 30.0}
+    fixed = run_sensitivity(raw, n=4, seed=1)
+    assert float(fixed.model_form_first_order.sel(output="burial_volume")) == 0.0
+    assert fixed.model_form_first_order.attrs["model_form_inputs"] == "none"

@@ -1,4 +1,5 @@
-"""``mineburial sensitivity``: Sobol' indices of penetration and burial for every random input.
+"""``mineburial sensitivity``: Sobol' indices of penetration, burial and the burial-class
+indicators for every random input, and the share of the model-form inputs.
 
 Variance-based global sensitivity analysis (Sobol' 2001, Math. Comput. Simul. 55,
 271-280) with :func:`scipy.stats.sobol_indices`: the Saltelli et al. (2010, Comput.
@@ -10,6 +11,14 @@ distribution (``ppf`` of :mod:`mineburial.ensembles.distributions`; a choice amo
 labels -- a sediment class or core file -- by its index), packed into the scenario
 (:func:`mineburial.ensembles.engine.chunk_inputs` with ``table=``) and run by the
 compiled batch driver.
+
+Model-form share: the inputs that are model choices (the documented set
+:data:`mineburial.ensembles.model_form.MODEL_FORM_INPUTS`: the water-column model, its
+``munk_factor``, the sediment resistance and strain-rate laws) are grouped, and the sums of
+their first-order and total indices bound the share of each output's variance that comes
+from model form (:func:`model_form_share`). A choice among labels enters the design like
+any input: the design's uniform mapped through the choice's cumulative weights to an index,
+as the ensemble's sampling does.
 
 Why scipy and not SALib: scipy is already a dependency and well kept; its
 ``sobol_indices`` takes a vectorised function (one call for the whole design, which
@@ -38,6 +47,8 @@ import xarray as xr
 from scipy import stats
 
 from mineburial.ensembles import engine, model_form, runner
+from mineburial.ensembles.statistics import burial_class
+from mineburial.io import variables as V
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
@@ -51,12 +62,18 @@ __all__ = [
     "ranking",
     "run_sensitivity_cli",
     "OUTPUTS",
+    "CLASS_OUTPUTS",
     "model_form_share",
     "model_form_lines",
 ]
 
-#: Outputs whose indices are computed.
+#: Outputs whose indices are computed and printed per input.
 OUTPUTS = ("penetration_depth", "burial_volume")
+#: The impact-burial class indicators (1 where a drop falls in the class, by the scenario's
+#: class basis): the variance of class k's indicator is p_k (1 - p_k), so their indices say
+#: which inputs the class probabilities depend on; written, and summarised by their
+#: model-form share.
+CLASS_OUTPUTS = tuple(f"class_{m}" for m in V.BURIAL_CLASS_MEANINGS)
 _TINY = 2.0**-53
 
 
@@ -216,8 +233,9 @@ def run_sensitivity(
     threads: int | None = None,
     progress: bool = False,
 ) -> xr.Dataset:
-    """Sobol' indices of penetration and burial by volume for every random input of an
-    ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run."""
+    """Sobol' indices of penetration, burial by volume and the burial-class indicators
+    (:data:`CLASS_OUTPUTS`), with the model-form share (:func:`model_form_share`), for
+    every random input of an ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run."""
     import numba
 
     from mineburial.ensembles.batch import run_batch
@@ -241,10 +259,12 @@ def run_sensitivity(
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
     done = [0]
     cols = [layout.SUMMARY_INDEX[o] for o in OUTPUTS]
+    basis = layout.SUMMARY_INDEX[spec.class_basis]
+    classes = np.arange(len(CLASS_OUTPUTS))[:, None]
 
     def model(values):
         m = len(next(iter(values.values())))
-        out = np.empty((len(OUTPUTS), m))
+        out = np.empty((len(OUTPUTS) + len(CLASS_OUTPUTS), m))
         for s, e in engine.chunk_bounds(m, spec.chunk_size):
             table = {}
             for k in names:
@@ -253,13 +273,14 @@ def run_sensitivity(
             P, valid, _ = engine.chunk_inputs(spec, 0, e - s, table=table)
             summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
             counts[:] += np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
-            out[:, s:e] = summary[:, cols].T
+            out[: len(OUTPUTS), s:e] = summary[:, cols].T
+            out[len(OUTPUTS) :, s:e] = burial_class(summary[:, basis])[None, :] == classes
             done[0] += e - s
             bar.update(done[0])
         return out
 
     t0 = time.monotonic()
-    ds = sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS)
+    ds = sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS + CLASS_OUTPUTS)
     bar.update(done[0], final=True)
     from mineburial import __version__
 
@@ -352,7 +373,10 @@ def model_form_lines(ds: xr.Dataset) -> list[str]:
     for out in ds.output.values:
         first = float(ds["model_form_first_order"].sel(output=out))
         total = float(ds["model_form_total_order"].sel(output=out))
-        lines.append(f"  {out}: sum of S_i {first:.3f}, sum of S_Ti {total:.3f}")
+        if np.isnan(first) and np.isnan(total):
+            lines.append(f"  {out}: undefined (output constant)")
+        else:
+            lines.append(f"  {out}: sum of S_i {first:.3f}, sum of S_Ti {total:.3f}")
     return lines
 
 
@@ -433,7 +457,7 @@ def run_sensitivity_cli(args) -> int:
         )
         if ds.attrs.get("warning"):
             print(ds.attrs["warning"])
-        print(sensitivity_table(ds))
+        print(sensitivity_table(ds.sel(output=list(OUTPUTS))))
         print("\n".join(model_form_lines(ds)))
         if out is not None:
             written = ds.copy()
@@ -442,6 +466,6 @@ def run_sensitivity_cli(args) -> int:
             out.commit(written)
             print(f"wrote {args.output}")
     if args.plot:
-        plot_sensitivity(ds, args.plot)
+        plot_sensitivity(ds.sel(output=list(OUTPUTS)), args.plot)
         print(f"wrote {args.plot}")
     return 0
