@@ -357,7 +357,9 @@ def model_form_share(ds: xr.Dataset) -> xr.Dataset:
         ("first_order", "sum of the model-form inputs' first-order indices (<= the group's closed index)"),
         ("total_order", "sum of the model-form inputs' total indices (>= the group's total index)"),
     ):
-        share = ds[key].sel(input=group).sum("input", skipna=False) if group else ds[key].isel(input=0) * 0.0
+        share = (
+            ds[key].sel(input=group).sum("input", skipna=False) if group else 0.0 * abs(ds[key].isel(input=0))
+        )
         out[f"model_form_{key}"] = share.drop_vars("input", errors="ignore").assign_attrs(
             long_name=text, **members
         )
