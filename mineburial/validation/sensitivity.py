@@ -308,8 +308,9 @@ def memory_needed(n: int, d: int, spec=None, n_resamples: int = 999) -> float:
 
     Measured with :mod:`tracemalloc` on :func:`sobol_analysis` (two outputs; d = 3 and 16,
     n = 2048, 99 and 999 resamples: peaks of 2279 and 2533 (999), 272 and 703 (99) times
-    8 n bytes). The bootstrap's resampled row indices (``n_resamples`` x n integers and
-    their copies) dominate, then scipy's d x d x n matrix AB (and its reshaped copy); the
+    8 n bytes; with the seven outputs of :func:`run_sensitivity`, 999 resamples: 2220 (d = 3)
+    and 3128 (d = 16) times 8 n bytes). The bootstrap's resampled row indices (``n_resamples``
+    x n integers and their copies) dominate, then scipy's d x d x n matrix AB (and its reshaped copy); the
     bound 8 n (2.3 n_resamples + 2 d**2 + 20 d + 60) lies above every measured peak. With
     ``spec``, one chunk of drops in flight (:func:`mineburial.ensembles.runner.memory_needed`)."""
     need = 8.0 * n * (2.3 * n_resamples + 2.0 * d * d + 20.0 * d + 60.0)
