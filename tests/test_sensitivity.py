@@ -88,7 +88,7 @@ def test_scenario_sensitivity_runs_every_random_input():
         "sediment.strength_gradient",
     }
     assert int(ds.attrs["n_evaluations"]) == 4 * 11
-    assert list(ds.output.values) == ["penetration_depth", "burial_volume"]
+    assert list(ds.output.values)[:2] == ["penetration_depth", "burial_volume"]
 
 
 def test_cli_writes_netcdf_and_plot(tmp_path, capsys):

@@ -35,7 +35,7 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import scour
+from mineburial.ensembles import model_form, scour
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of
 from mineburial.io.inputs import read_toml
@@ -260,6 +260,8 @@ def load_ensemble(
             raise EnsembleError(
                 f"{path} can only vary as a 'choice' distribution, got {type(d).__name__.lower()}"
             )
+        if path in model_form.CHOICE_FIELDS and model_form.check_labels(path, d):
+            raise EnsembleError(model_form.check_labels(path, d))
         cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
@@ -281,7 +283,7 @@ def load_ensemble(
             sed_bank = pack_banks(profiles)
             choice = key
     for path in random:
-        if path in (choice,) or path in _ANGLE_FIELDS:
+        if path in (choice,) or path in _ANGLE_FIELDS or path in model_form.CHOICE_FIELDS:
             continue
         if path.startswith("scour.") and path in cfg.FIELDS:  # the stage's own inputs (scour.py)
             continue
@@ -357,6 +359,8 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
             if path in _ANGLE_FIELDS or path.startswith("scour."):
                 inputs[path] = values.astype(np.float64)
                 continue
+            if path in model_form.CHOICE_FIELDS:  # label indices -> the labels' codes
+                values = model_form.codes(path, spec.random[path], values)
             slot = cfg.ALIASES.get(path, path)
             P[:, layout.INDEX[slot]] = values
             inputs[path] = values.astype(np.float64)
@@ -411,6 +415,9 @@ def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
         return "1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}"
     if path in _ANGLE_FIELDS:
         return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
+    if path in model_form.CHOICE_FIELDS:
+        names = model_form.CHOICE_FIELDS[path]
+        return "1", f"code of {path}: " + ", ".join(f"{k} {v}" for k, v in enumerate(names))
     field = cfg.FIELDS.get(cfg.ALIASES.get(path, path))
     if field is not None:
         return field.units, field.description

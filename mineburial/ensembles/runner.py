@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.ensembles import engine, scour
+from mineburial.ensembles import engine, model_form, scour
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
@@ -313,7 +313,7 @@ def ensemble_dataset(spec, chunks):
     }
     meta = {path: engine.input_metadata(spec, path) for path in inputs}
     invalid = invalid_inputs_text(merge_invalid_reasons(chunks))
-    attrs = {"invalid_inputs": invalid} if invalid else None
+    attrs = {**model_form.attributes(spec), **({"invalid_inputs": invalid} if invalid else {})}
     ds = build_dataset(
         summary,
         status,
@@ -506,6 +506,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
         for name, pk, k in zip(class_labels(ds), p, range(len(p))):
             ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
+    lines.extend(model_form.summary_lines(ds))
     lines.extend(scour.summary_lines(ds))
     if elapsed is not None:
         lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")

@@ -1,4 +1,5 @@
-"""``mineburial sensitivity``: Sobol' indices of penetration and burial for every random input.
+"""``mineburial sensitivity``: Sobol' indices of penetration, burial and the burial-class
+indicators for every random input, and the share of the model-form inputs.
 
 Variance-based global sensitivity analysis (Sobol' 2001, Math. Comput. Simul. 55,
 271-280) with :func:`scipy.stats.sobol_indices`: the Saltelli et al. (2010, Comput.
@@ -10,6 +11,14 @@ distribution (``ppf`` of :mod:`mineburial.ensembles.distributions`; a choice amo
 labels -- a sediment class or core file -- by its index), packed into the scenario
 (:func:`mineburial.ensembles.engine.chunk_inputs` with ``table=``) and run by the
 compiled batch driver.
+
+Model-form share: the inputs that are model choices (the documented set
+:data:`mineburial.ensembles.model_form.MODEL_FORM_INPUTS`: the water-column model, its
+``munk_factor``, the sediment resistance and strain-rate laws) are grouped, and the sums of
+their first-order and total indices bound the share of each output's variance that comes
+from model form (:func:`model_form_share`). A choice among labels enters the design like
+any input: the design's uniform mapped through the choice's cumulative weights to an index,
+as the ensemble's sampling does.
 
 Why scipy and not SALib: scipy is already a dependency and well kept; its
 ``sobol_indices`` takes a vectorised function (one call for the whole design, which
@@ -37,7 +46,9 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
-from mineburial.ensembles import engine, runner
+from mineburial.ensembles import engine, model_form, runner
+from mineburial.ensembles.statistics import burial_class
+from mineburial.io import variables as V
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
@@ -51,10 +62,18 @@ __all__ = [
     "ranking",
     "run_sensitivity_cli",
     "OUTPUTS",
+    "CLASS_OUTPUTS",
+    "model_form_share",
+    "model_form_lines",
 ]
 
-#: Outputs whose indices are computed.
+#: Outputs whose indices are computed and printed per input.
 OUTPUTS = ("penetration_depth", "burial_volume")
+#: The impact-burial class indicators (1 where a drop falls in the class, by the scenario's
+#: class basis): the variance of class k's indicator is p_k (1 - p_k), so their indices say
+#: which inputs the class probabilities depend on; written, and summarised by their
+#: model-form share.
+CLASS_OUTPUTS = tuple(f"class_{m}" for m in V.BURIAL_CLASS_MEANINGS)
 _TINY = 2.0**-53
 
 
@@ -214,8 +233,9 @@ def run_sensitivity(
     threads: int | None = None,
     progress: bool = False,
 ) -> xr.Dataset:
-    """Sobol' indices of penetration and burial by volume for every random input of an
-    ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run."""
+    """Sobol' indices of penetration, burial by volume and the burial-class indicators
+    (:data:`CLASS_OUTPUTS`), with the model-form share (:func:`model_form_share`), for
+    every random input of an ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run."""
     import numba
 
     from mineburial.ensembles.batch import run_batch
@@ -239,10 +259,12 @@ def run_sensitivity(
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
     done = [0]
     cols = [layout.SUMMARY_INDEX[o] for o in OUTPUTS]
+    basis = layout.SUMMARY_INDEX[spec.class_basis]
+    classes = np.arange(len(CLASS_OUTPUTS))[:, None]
 
     def model(values):
         m = len(next(iter(values.values())))
-        out = np.empty((len(OUTPUTS), m))
+        out = np.empty((len(OUTPUTS) + len(CLASS_OUTPUTS), m))
         for s, e in engine.chunk_bounds(m, spec.chunk_size):
             table = {}
             for k in names:
@@ -251,16 +273,18 @@ def run_sensitivity(
             P, valid, _ = engine.chunk_inputs(spec, 0, e - s, table=table)
             summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
             counts[:] += np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
-            out[:, s:e] = summary[:, cols].T
+            out[: len(OUTPUTS), s:e] = summary[:, cols].T
+            out[len(OUTPUTS) :, s:e] = burial_class(summary[:, basis])[None, :] == classes
             done[0] += e - s
             bar.update(done[0])
         return out
 
     t0 = time.monotonic()
-    ds = sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS)
+    ds = sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS + CLASS_OUTPUTS)
     bar.update(done[0], final=True)
     from mineburial import __version__
 
+    ds = model_form_share(ds)
     left = int(sum(c for k, c in enumerate(counts) if k not in st.IN_STATISTICS))
     warning = failure_warning(left, total, counts)
     if warning:
@@ -284,8 +308,9 @@ def memory_needed(n: int, d: int, spec=None, n_resamples: int = 999) -> float:
 
     Measured with :mod:`tracemalloc` on :func:`sobol_analysis` (two outputs; d = 3 and 16,
     n = 2048, 99 and 999 resamples: peaks of 2279 and 2533 (999), 272 and 703 (99) times
-    8 n bytes). The bootstrap's resampled row indices (``n_resamples`` x n integers and
-    their copies) dominate, then scipy's d x d x n matrix AB (and its reshaped copy); the
+    8 n bytes; with the seven outputs of :func:`run_sensitivity`, 999 resamples: 2220 (d = 3)
+    and 3128 (d = 16) times 8 n bytes). The bootstrap's resampled row indices (``n_resamples``
+    x n integers and their copies) dominate, then scipy's d x d x n matrix AB (and its reshaped copy); the
     bound 8 n (2.3 n_resamples + 2 d**2 + 20 d + 60) lies above every measured peak. With
     ``spec``, one chunk of drops in flight (:func:`mineburial.ensembles.runner.memory_needed`)."""
     need = 8.0 * n * (2.3 * n_resamples + 2.0 * d * d + 20.0 * d + 60.0)
@@ -313,6 +338,49 @@ def failure_warning(left: int, total: int, counts) -> str | None:
         f"where unfinished drops stopped, not their burial; lengthen numerics.t_max / t_max_fall "
         f"or check the scenario"
     )
+
+
+def model_form_share(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with the share of each output's variance that comes from the model-form inputs
+    (:data:`mineburial.ensembles.model_form.MODEL_FORM_INPUTS` among ``ds``'s inputs).
+
+    Two bounds of the group's share from the single-input indices, for any model (Sobol'
+    2001; Saltelli et al. 2008, *Global Sensitivity Analysis: The Primer*, sec. 4.4):
+    ``model_form_first_order`` = sum of the group's S_i, at most its closed first-order
+    index (the share the group explains alone, interactions among its members left out), and
+    ``model_form_total_order`` = sum of the group's S_Ti, at least the group's total index
+    (all the variance in which a model-form input takes part). Both are 0 without model-form
+    inputs and 1 when they are the only inputs of an additive model."""
+    group = [str(k) for k in ds.input.values if str(k) in model_form.MODEL_FORM_INPUTS]
+    out = ds.copy()
+    members = {"model_form_inputs": ", ".join(group) or "none"}
+    for key, text in (
+        ("first_order", "sum of the model-form inputs' first-order indices (<= the group's closed index)"),
+        ("total_order", "sum of the model-form inputs' total indices (>= the group's total index)"),
+    ):
+        share = (
+            ds[key].sel(input=group).sum("input", skipna=False) if group else 0.0 * abs(ds[key].isel(input=0))
+        )
+        out[f"model_form_{key}"] = share.drop_vars("input", errors="ignore").assign_attrs(
+            long_name=text, **members
+        )
+    return out
+
+
+def model_form_lines(ds: xr.Dataset) -> list[str]:
+    """The printed model-form share of each output (:func:`model_form_share`)."""
+    if "model_form_first_order" not in ds:
+        return []
+    who = ds["model_form_first_order"].attrs.get("model_form_inputs", "none")
+    lines = [f"model-form share of the variance (model-form inputs: {who}):"]
+    for out in ds.output.values:
+        first = float(ds["model_form_first_order"].sel(output=out))
+        total = float(ds["model_form_total_order"].sel(output=out))
+        if np.isnan(first) and np.isnan(total):
+            lines.append(f"  {out}: undefined (output constant)")
+        else:
+            lines.append(f"  {out}: sum of S_i {first:.3f}, sum of S_Ti {total:.3f}")
+    return lines
 
 
 def ranking(ds: xr.Dataset, output: str, index: str = "total_order") -> list[str]:
@@ -392,7 +460,8 @@ def run_sensitivity_cli(args) -> int:
         )
         if ds.attrs.get("warning"):
             print(ds.attrs["warning"])
-        print(sensitivity_table(ds))
+        print(sensitivity_table(ds.sel(output=list(OUTPUTS))))
+        print("\n".join(model_form_lines(ds)))
         if out is not None:
             written = ds.copy()
             written["output"] = written["output"].astype(str)
@@ -400,6 +469,6 @@ def run_sensitivity_cli(args) -> int:
             out.commit(written)
             print(f"wrote {args.output}")
     if args.plot:
-        plot_sensitivity(ds, args.plot)
+        plot_sensitivity(ds.sel(output=list(OUTPUTS)), args.plot)
         print(f"wrote {args.plot}")
     return 0
