@@ -1196,6 +1196,9 @@ class Numerics:
     are the tolerances of the adaptive ones.
     ``sediment_quadrature``: ``fast`` (fixed-cost rule, default) or ``reference``
     (the accurate adaptive quadrature).
+    ``overburden_quadrature``: ``fast`` (default: cost bounded whatever a tabulated
+    profile's rows) or ``reference`` (the body sliced at every table depth inside it;
+    kernels/overburden.py).
     The time limits are two, one for each phase of a drop: ``t_max_fall`` bounds the fall
     through air and water (release to the first seabed contact), ``t_max`` the time after
     that contact. A fall ends by itself at the seabed (or when a mine lighter than the water
@@ -1217,6 +1220,7 @@ class Numerics:
     sediment_quadrature: str = "fast"
     slip_speed: float = 5e-3
     switch_speed: float = 5e-3
+    overburden_quadrature: str = "fast"
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
@@ -1225,6 +1229,9 @@ class Numerics:
                 _set(self, f, MODEL_DEFAULTS[self.model][f])
         _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
         _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES, "numerics.sediment_quadrature")
+        _choice(
+            self.overburden_quadrature, layout.OVERBURDEN_QUADRATURE_NAMES, "numerics.overburden_quadrature"
+        )
         for f in (
             "dt",
             "t_max",
@@ -1538,6 +1545,9 @@ class Scenario:
             "numerics.slip_speed": n.slip_speed,
             "numerics.switch_speed": n.switch_speed,
             "numerics.sediment_quadrature": layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
+            "numerics.overburden_quadrature": layout.OVERBURDEN_QUADRATURE_NAMES.index(
+                n.overburden_quadrature
+            ),
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)
@@ -1619,6 +1629,7 @@ _CODE_LIMITS = {
     "numerics.model": len(layout.MODEL_NAMES),
     "numerics.integrator": len(layout.INTEGRATOR_NAMES),
     "numerics.sediment_quadrature": len(layout.SEDIMENT_QUADRATURE_NAMES),
+    "numerics.overburden_quadrature": len(layout.OVERBURDEN_QUADRATURE_NAMES),
     "sediment.pore_pressure": 2,
     "numerics.drag": 2,
 }

@@ -623,7 +623,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
         {
             f"numerics.{k}": v
             for k, v in nm.items()
-            if k not in ("model", "integrator", "drag", "sediment_quadrature")
+            if k not in ("model", "integrator", "drag", "sediment_quadrature", "overburden_quadrature")
         }
     )
     expected.update(
@@ -634,6 +634,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
             "numerics.slip_speed": 5e-3,
             "numerics.switch_speed": 5e-3,
             "numerics.sediment_quadrature": 0,
+            "numerics.overburden_quadrature": 0,
         }
     )
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
@@ -711,6 +712,7 @@ def test_fields_table_is_consistent():
         "numerics.integrator",
         "numerics.drag",
         "numerics.sediment_quadrature",
+        "numerics.overburden_quadrature",
     }
     assert set(layout.PARAM_NAMES) - codes <= set(FIELDS)
     # dataclass defaults agree with the table
