@@ -76,7 +76,8 @@ def depths_inside(bank, row, depth_max):
     """Tabulated depths strictly between the seabed and ``depth_max``: the number of
     slices the reference rule adds (its cost), found without scanning the table."""
     last = last_point(bank, row)
-    return _points_below(bank, row, depth_max, last, True) - _points_below(bank, row, 0.0, last, False)
+    n = _points_below(bank, row, depth_max, last, True) - _points_below(bank, row, 0.0, last, False)
+    return max(n, 0)
 
 
 @kernel
