@@ -1,7 +1,7 @@
 """Cost of a tabulated sediment profile against its number of rows (issue 21, item 11).
 
 Run:  python benchmarks/bench_profile_rows.py [--rows 3,30000] [--drops 4] [--repeat 3]
-                                              [--resistance bearing]
+                                              [--resistance bearing] [--overburden fast|reference]
 
 The default mine (mineburial/data/default_mine.toml) is dropped ``--drops`` times (release
 pitch 0, 10, 20, ... degrees) onto the catalogue's soft clay (rho = 1420 + 30 z kg m-3,
