@@ -1256,6 +1256,9 @@ class Numerics:
     set by ``munk_factor``) or ``viscous_crossflow`` (added-mass tensor of the finite
     cylinder and the Munk moment with its incidence factor; docs/physics.md, "Water-column
     model choices"; ``munk_factor`` is then unused).
+    ``overburden_quadrature``: ``fast`` (default: cost bounded whatever a tabulated
+    profile's rows) or ``reference`` (the body sliced at every table depth inside it;
+    kernels/overburden.py).
     The time limits are two, one for each phase of a drop: ``t_max_fall`` bounds the fall
     through air and water (release to the first seabed contact), ``t_max`` the time after
     that contact. A fall ends by itself at the seabed (or when a mine lighter than the water
@@ -1278,6 +1281,7 @@ class Numerics:
     slip_speed: float = 5e-3
     switch_speed: float = 5e-3
     water_column: str = "munk_factor"
+    overburden_quadrature: str = "fast"
 
     def __post_init__(self):
         _choice(self.model, layout.MODEL_NAMES, "numerics.model")
@@ -1287,6 +1291,9 @@ class Numerics:
                 _set(self, f, MODEL_DEFAULTS[self.model][f])
         _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
         _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES, "numerics.sediment_quadrature")
+        _choice(
+            self.overburden_quadrature, layout.OVERBURDEN_QUADRATURE_NAMES, "numerics.overburden_quadrature"
+        )
         for f in (
             "dt",
             "t_max",
@@ -1601,6 +1608,9 @@ class Scenario:
             "numerics.switch_speed": n.switch_speed,
             "numerics.sediment_quadrature": layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
             "numerics.water_column": layout.WATER_COLUMN_NAMES.index(n.water_column),
+            "numerics.overburden_quadrature": layout.OVERBURDEN_QUADRATURE_NAMES.index(
+                n.overburden_quadrature
+            ),
         }
         for f in _SED_OPTIONS:
             values[f"sediment.{f}"] = getattr(s, f)
@@ -1683,6 +1693,7 @@ _CODE_LIMITS = {
     "numerics.integrator": len(layout.INTEGRATOR_NAMES),
     "numerics.sediment_quadrature": len(layout.SEDIMENT_QUADRATURE_NAMES),
     "numerics.water_column": len(layout.WATER_COLUMN_NAMES),
+    "numerics.overburden_quadrature": len(layout.OVERBURDEN_QUADRATURE_NAMES),
     "sediment.pore_pressure": 2,
     "numerics.drag": 2,
 }

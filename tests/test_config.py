@@ -623,7 +623,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
         {
             f"numerics.{k}": v
             for k, v in nm.items()
-            if k not in ("model", "integrator", "drag", "sediment_quadrature")
+            if k not in ("model", "integrator", "drag", "sediment_quadrature", "overburden_quadrature")
         }
     )
     expected.update(
@@ -635,6 +635,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
             "numerics.switch_speed": 5e-3,
             "numerics.sediment_quadrature": 0,
             "numerics.water_column": 0,  # default "munk_factor"
+            "numerics.overburden_quadrature": 0,
         }
     )
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
@@ -713,6 +714,7 @@ def test_fields_table_is_consistent():
         "numerics.drag",
         "numerics.sediment_quadrature",
         "numerics.water_column",
+        "numerics.overburden_quadrature",
     }
     assert set(layout.PARAM_NAMES) - codes <= set(FIELDS)
     # dataclass defaults agree with the table

@@ -130,6 +130,7 @@ PARAM_NAMES = (
     "numerics.switch_speed",  # m s-1, regularisation speed of the sediment's advancing switch
     "numerics.t_max_fall",  # s, limit on the simulated time of the fall (release to seabed contact)
     "numerics.water_column",  # code of the water-column added-mass/moment model (WATER_COLUMN_NAMES)
+    "numerics.overburden_quadrature",  # 0 fast (bounded cost), 1 reference (a slice per table depth)
 )
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
@@ -199,12 +200,14 @@ INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
     P_SWITCH_SPEED,
     P_TMAX_FALL,
     P_WATER_COLUMN,
+    P_OB_QUADRATURE,
 ) = range(N_PARAMS)
 
 # model and integrator codes
 MODEL_NAMES = ("mineburial", "impact35")
 INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
 SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
+OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/overburden.py
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
 # water-column models (docs/physics.md, "Water-column model choices"): the strip added mass
 # with the tuned numerics.munk_factor, or the viscous-crossflow method with the added-mass

@@ -8,19 +8,45 @@ embedded part (sigma' vanishes on the seabed plane, which closes the surface):
 
     F = g int_emb (rho_s(zeta) - rho_w) dV  k,
 
-an upward "sediment buoyancy" - Archimedes with the sediment's density. It is
-evaluated exactly for the force by slicing the embedded part at the depths of the
-profile table (density is linear within each slice, so int rho dV = V rho(zeta_c)
-with zeta_c the slice's centroid depth), each slice acting at its centroid (exact
-for the torque when the density is uniform within the slice).
+an upward "sediment buoyancy" - Archimedes with the sediment's density. The embedded
+part is cut into horizontal slices by planes (``geometry.cut_cylinder``: each slice's
+volume and centroid exactly), each slice acting at its centroid. Two rules
+(``numerics.overburden_quadrature``, ``layout.OVERBURDEN_QUADRATURE_NAMES``):
+
+``reference`` (:func:`_exact`): a slice boundary at every tabulated depth inside the
+  body, so that the density is linear within each slice and int rho dV = V rho(zeta_c)
+  with zeta_c the slice's centroid depth: exact for the force (and for the torque when
+  the density is uniform within each slice); a linear profile is one slice. Its cost is
+  the number of table depths within the penetration (~5,000 for a centimetre core).
+``fast`` (the default): the reference rule while at most :data:`EXACT_DEPTHS` table
+  depths lie inside the embedded span (every analytic profile and every short table:
+  bit-identical to it), else :func:`_bounded`: :data:`SLICES` equal slices of the
+  embedded span whatever the table's length (docs/notes/sediment.md, "The overburden
+  of a long table").
 """
 
 import math
 
-from mineburial._numba import kernel
-from mineburial.kernels.environment import interpolate_row
-from mineburial.kernels.geometry import cut_cylinder
-from mineburial.kernels.layout import P_SED_PROFILE, P_SED_RHO, P_SED_RHO_GRAD
+from mineburial._numba import kernel, small_kernel
+from mineburial.kernels.environment import bracket, interpolate_row, last_point
+from mineburial.kernels.geometry import cut_cylinder, vertical_extent
+from mineburial.kernels.layout import (
+    P_OB_QUADRATURE,
+    P_SED_PROFILE,
+    P_SED_RHO,
+    P_SED_RHO_GRAD,
+)
+from mineburial.kernels.sediment.laws import COLUMN_OVERBURDEN, sediment_properties
+
+#: codes of ``numerics.overburden_quadrature`` (``layout.OVERBURDEN_QUADRATURE_NAMES``)
+OB_FAST = 0
+OB_REFERENCE = 1
+#: the fast rule slices at the table's depths while at most this many lie inside the
+#: embedded span (the reference rule's cost: one cut per depth); beyond, :data:`SLICES`
+#: equal slices, so that the cost is bounded by about EXACT_DEPTHS + 1 cuts of the body
+EXACT_DEPTHS = 12
+#: slices of the bounded rule (:func:`_bounded`)
+SLICES = 12
 
 
 @kernel
@@ -31,14 +57,47 @@ def _density(zeta, p, bank):
     return interpolate_row(bank, row, 1, zeta)
 
 
+@small_kernel
+def _points_below(bank, row, x, last, strict):
+    """Number of tabulated depths of bank row ``row`` below ``x`` (``< x`` when
+    ``strict``, else ``<= x``): O(1) on a drop's own bank (``environment.bracket``)."""
+    d0 = bank[row, 0, 0]
+    if d0 > x or (strict and d0 == x) or not (x == x):
+        return 0
+    dl = bank[row, 0, last]
+    if dl < x or (not strict and dl == x):
+        return last + 1
+    lo, _ = bracket(bank, row, x, last, strict)
+    return lo + 1
+
+
+@kernel
+def depths_inside(bank, row, depth_max):
+    """Tabulated depths strictly between the seabed and ``depth_max``: the number of
+    slices the reference rule adds (its cost), found without scanning the table."""
+    last = last_point(bank, row)
+    n = _points_below(bank, row, depth_max, last, True) - _points_below(bank, row, 0.0, last, False)
+    return max(n, 0)
+
+
 @kernel
 def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
     """(F, F*x, F*eta): upward force [N] of the effective overburden and its first
     moments about the COM in the body frame (x along the axis, eta along e_down):
-    the torque is (F*x i_M + F*eta e_down) x k."""
+    the torque is (F*x i_M + F*eta e_down) x k. The rule: ``p[P_OB_QUADRATURE]``."""
     depth_max = seabed_z - z_lo  # deepest embedded point below the seabed
     if depth_max <= 0.0:
         return 0.0, 0.0, 0.0
+    row = int(p[P_SED_PROFILE])
+    if row >= 0 and int(p[P_OB_QUADRATURE]) != OB_REFERENCE:
+        if depths_inside(bank, row, depth_max) > EXACT_DEPTHS:
+            return _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+    return _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+
+
+@kernel
+def _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+    """The reference rule: one slice between consecutive table depths (see the module)."""
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
     f_tot = 0.0
     mx = 0.0
@@ -72,4 +131,110 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
             me += f * es
         top = bottom
         v1, x1, e1 = v2, x2, e2
+    return f_tot, mx, me
+
+
+@small_kernel
+def _profile_at(zeta, p, bank, row, last, rho_w, g):
+    """``(rho_s, sigma')`` at depth ``zeta`` of bank row ``row`` (``last``: its last point):
+    ``laws.sediment_properties`` without the strength, its segment found by
+    ``environment.bracket`` (O(1)) and the integral down to its top read from
+    ``laws.COLUMN_OVERBURDEN``. A bank without that column takes the general path."""
+    if bank.shape[1] <= COLUMN_OVERBURDEN or not (zeta > bank[row, 0, 0] and zeta <= bank[row, 0, last]):
+        r, _, s = sediment_properties(zeta, p, bank)
+        return r, s
+    lo, hi = bracket(bank, row, zeta, last, True)  # bank[row, 0, lo] < zeta <= bank[row, 0, hi]
+    d0 = bank[row, 0, lo]
+    r0 = bank[row, 1, lo]
+    rz = r0 + (zeta - d0) / (bank[row, 0, hi] - d0) * (bank[row, 1, hi] - r0)
+    return rz, (bank[row, COLUMN_OVERBURDEN, lo] + (0.5 * (r0 + rz) - rho_w) * (zeta - d0)) * g
+
+
+@small_kernel
+def _slice(L, R, chi, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last):
+    """The slice between the depths ``a`` and ``b`` (the part below ``a``: ``v1, x1, e1``,
+    the profile at ``a``: ``r1, s1``): ``(V, x_s, eta_s, zeta_c, w, w', var)`` with its
+    volume, centroid and centroid depth, the force per volume w (:func:`_bounded`), the
+    slope w' = g (rho_s(b) - rho_s(a)) / (b - a) and the variance of the depth over the
+    slice, h^2/12 - (zeta_c - (a + b)/2)^2 (exact for a cross-section linear in depth);
+    then the same at ``b`` for the next slice."""
+    v2, x2, e2, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - b)
+    r2, s2 = _profile_at(b, p, bank, row, last, rho_w, g)
+    v = v1 - v2
+    if not (v > 0.0 and b > a):
+        return 0.0, 0.0, 0.0, 0.5 * (a + b), 0.0, 0.0, 0.0, v2, x2, e2, r2, s2
+    xs = (v1 * x1 - v2 * x2) / v
+    es = (v1 * e1 - v2 * e2) / v
+    zeta_c = seabed_z - (z_c + a_z * xs - es * c)
+    h = b - a
+    off = zeta_c - 0.5 * (a + b)
+    slope = g * (r2 - r1) / h
+    w = (s2 - s1) / h + slope * off
+    var = max(0.0, h * h / 12.0 - off * off)
+    return v, xs, es, zeta_c, w, slope, var, v2, x2, e2, r2, s2
+
+
+@small_kernel
+def _rate(x0, t0, x1, t1):
+    """d x / d zeta between two slice centroids (0 when they share a depth)."""
+    return (x1 - x0) / (t1 - t0) if t1 != t0 else 0.0
+
+
+@kernel
+def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+    """The bounded rule: :data:`SLICES` equal slices from the top of the embedded part
+    (the seabed, or the body's top when it is buried) to ``depth_max``. A slice [a, b]
+    of volume V and centroid (x_s, eta_s) at depth zeta_c carries
+
+        F_i = w V,   w = (sigma'(b) - sigma'(a)) / (b - a) + w' (zeta_c - (a + b)/2),
+
+    the depth mean of (rho_s - rho_w) g over the slice, read from the running overburden
+    integral sigma' (``laws.sediment_properties``: exact for the tabulated profile, O(1)),
+    plus the secant slope w' = g (rho_s(b) - rho_s(a)) / (b - a) times the centroid's
+    offset from the mid-depth: exact for a density linear within the slice (then F_i =
+    (rho_s(zeta_c) - rho_w) g V, the reference rule's slice), and every table row counts
+    through the integral, so a rough core is averaged, not sampled. Its moments are
+    F_i x_s + w' V var (d x_s / d zeta) (and the same for eta): with w linear in the
+    slice, int w x dV = F_i x_s + w' V cov(zeta, x), the covariance taken as the depth's
+    variance over the slice times the rate at which the slices' centroids move with
+    depth (central differences of the neighbours' centroids). Errors: docs/notes/sediment.md."""
+    c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
+    row = int(p[P_SED_PROFILE])
+    last = last_point(bank, row)
+    _, z_hi = vertical_extent(L, R, chi, a_z, z_c)
+    top = max(0.0, seabed_z - z_hi)
+    h = (depth_max - top) / SLICES
+    v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - top)
+    r1, s1 = _profile_at(top, p, bank, row, last, rho_w, g)
+    # slice i is finished once slice i + 1 is known (its centroid's rate with depth)
+    vc, xc, ec, tc, wc, sc, qc, v1, x1, e1, r1, s1 = _slice(
+        L, R, chi, a_z, c, z_c, seabed_z, top, top + h, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
+    )
+    xp, ep, tp = xc, ec, tc  # the previous slice (none yet: the current one)
+    f_tot = 0.0
+    mx = 0.0
+    me = 0.0
+    for i in range(2, SLICES + 2):
+        if i <= SLICES:
+            a = top + (i - 1) * h
+            b = depth_max if i == SLICES else top + i * h
+            vn, xn, en, tn, wn, sn, qn, v1, x1, e1, r1, s1 = _slice(
+                L, R, chi, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
+            )
+        else:  # the last slice: one-sided rate
+            vn, xn, en, tn, wn, sn, qn = 0.0, xc, ec, tc, 0.0, 0.0, 0.0
+        if vc > 0.0:
+            t0 = tp
+            t1 = tn
+            x0, e0, x2, e2 = xp, ep, xn, en
+            if vn <= 0.0:
+                t1, x2, e2 = tc, xc, ec
+            f = wc * vc
+            corr = sc * vc * qc
+            f_tot += f
+            mx += f * xc + corr * _rate(x0, t0, x2, t1)
+            me += f * ec + corr * _rate(e0, t0, e2, t1)
+        if vc > 0.0:
+            xp, ep, tp = xc, ec, tc
+        vc, xc, ec, tc, wc, sc, qc = vn, xn, en, tn, wn, sn, qn
     return f_tot, mx, me
