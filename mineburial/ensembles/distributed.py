@@ -50,7 +50,7 @@ import uuid
 from collections.abc import Iterable, Iterator
 
 from mineburial.ensembles import engine
-from mineburial.ensembles.store import notice
+from mineburial.ensembles.store import RunError, notice
 
 __all__ = [
     "warm_up",
@@ -185,7 +185,10 @@ def run_tasks_distributed(
     ``(tag, (start, stop), result_dict)`` as chunks finish, in any order; a chunk that
     the worker could not save (no shared filesystem) is saved here. If a chunk still
     fails after its retries, the remaining tasks are cancelled and a ``RuntimeError``
-    naming the chunk is raised from the task's exception.
+    naming the chunk is raised from the task's exception. A chunk cancelled by the
+    scheduler (one that stopped or restarted: dask then cancels every task, and
+    ``as_completed(raise_errors=False)`` hands the ``FutureCancelledError`` back as the
+    result) ends the run with a RunError, one line; the chunks finished are kept.
     """
     from distributed import as_completed
 
@@ -231,17 +234,25 @@ def run_tasks_distributed(
         daemon=True,
     )
     watcher.start()
+    address, done = client.scheduler.address, 0
     try:
         for fut, res in as_completed(list(pending.values()), with_results=True, raise_errors=False):
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
+            what = "the ensemble" if tag is None else str(tag)
             if fut.status == "error":
                 exc = fut.exception()
-                what = "the ensemble" if tag is None else str(tag)
                 raise RuntimeError(
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
                     f"after {RETRIES} retries: {exc!r}"
                 ) from exc
+            if fut.status != "finished":  # cancelled: the scheduler was lost or restarted
+                raise RunError(
+                    f"the dask scheduler at {address} lost chunk [{bounds[0]}, {bounds[1]}) of "
+                    f"{what} (task {fut.status}: the scheduler stopped or restarted); the "
+                    f"{done} chunk(s) finished are kept: rerun the same command to resume"
+                )
+            done += 1
             fut.release()
             store = stores_of.pop(fut.key)
             if store is not None and not store.has(*bounds):
