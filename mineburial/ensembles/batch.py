@@ -11,6 +11,12 @@ schedule.
 Threads rather than ``prange``: the parallel loop's compile (parfor lowering) was a
 quarter of the engine's compile time from an empty cache, for a loop with nothing to
 vectorise; the pool costs a few microseconds a block against ~10 ms a drop.
+
+The calling thread only waits (even for one drop thread), so that Ctrl-C is seen within
+:data:`POLL` s and stops the pool between blocks, whatever the chunk size; the drops
+finished by then are named (:class:`~mineburial.ensembles.interrupt.Interrupted`) and kept
+by the run driver. Stopping between drops changes no result: each drop's row is the same
+whichever thread runs it and whenever.
 """
 
 import itertools
