@@ -77,12 +77,14 @@ def test_a_service_that_is_not_a_dask_scheduler_is_refused_within_10_s(fake_serv
     with pytest.raises(RunError) as info:
         runner.connect_scheduler(address)
     elapsed = time.monotonic() - t0
-    assert elapsed < runner.SCHEDULER_TIMEOUT + 1.5, elapsed
+    assert elapsed < runner.SCHEDULER_TIMEOUT + 2.0, elapsed
     text = str(info.value)
     assert text.startswith(f"--scheduler {address}: ") and "\n" not in text
     if kind == "silent":
         assert elapsed >= runner.SCHEDULER_TIMEOUT - 0.5  # not refused before the promised time
-        assert "no dask scheduler answered there within 10 s" in text
+        assert "cannot reach a dask scheduler there within 10 s (a service accepted" in text
+    else:
+        assert "is not a dask scheduler" in text or "within 10 s" in text
 
 
 def test_the_cli_refuses_an_http_scheduler_in_one_line(fake_service, tmp_path, capsys):

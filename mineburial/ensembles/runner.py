@@ -58,6 +58,8 @@ __all__ = [
 STEPS_WARNING = float(MAX_STEPS)
 #: seconds to wait for a dask scheduler to answer before giving up
 SCHEDULER_TIMEOUT = 10.0
+#: seconds beyond it given to dask's own timeout (a refused connection is retried until then)
+CONNECT_MARGIN = 0.5
 _FIXED_STEP = ("rk4", "local_linear")
 _CHUNK_NAME = re.compile(r"^chunk-\d{12}-(\d{12})\.npz$")
 
@@ -231,19 +233,23 @@ def connect_scheduler(address: str, timeout: float | None = None):
 
     thread = threading.Thread(target=connect, name="mineburial-connect", daemon=True)
     thread.start()
-    thread.join(timeout)
+    thread.join(timeout + CONNECT_MARGIN)
     if "client" in got:
         return got["client"]
     exc = got.get("error")
+    where = f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s"
     if exc is None:
         raise RunError(
-            f"--scheduler {address}: no dask scheduler answered there within {timeout:g} s "
-            f"(give the scheduler's address, e.g. tcp://host:8786, not its dashboard's)"
+            f"{where} (a service accepted the connection and did not answer; give the "
+            f"scheduler's address, e.g. tcp://host:8786, not its dashboard's)"
         )
     reason = " ".join(str(exc).split()) or type(exc).__name__
-    if not isinstance(exc, (OSError, TimeoutError)):
-        reason = f"what answered is not a dask scheduler: {type(exc).__name__}: {reason}"
-    raise RunError(f"--scheduler {address}: cannot connect to a dask scheduler there ({reason})") from None
+    if isinstance(exc, (OSError, TimeoutError, ValueError, TypeError)):
+        raise RunError(f"{where} ({reason})") from None
+    raise RunError(
+        f"--scheduler {address}: what answered there is not a dask scheduler "
+        f"({type(exc).__name__}: {reason}); give the scheduler's address, e.g. tcp://host:8786"
+    ) from None
 
 
 # ---------------------------------------------------------------------------
