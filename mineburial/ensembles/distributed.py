@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import asyncio
 import os
+import socket
 import threading
 import time
 import uuid
@@ -56,6 +57,7 @@ __all__ = [
     "warm_up",
     "chunk_task",
     "numba_threads_per_task",
+    "probe_scheduler",
     "run_tasks_distributed",
     "RETRIES",
     "WAITING_INTERVAL",
@@ -133,6 +135,46 @@ def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = N
     if shared:
         store.save(res)
     return res
+
+
+#: largest first message a dask scheduler sends on a new connection (its handshake, ~100 bytes)
+GREETING_MAX_BYTES = 1 << 24
+
+
+def probe_scheduler(address: str, timeout: float) -> str | None:
+    """Why ``address`` is not a dask scheduler over TCP, or None when it may be one (or is
+    not a ``tcp://`` address: left to dask).
+
+    A dask scheduler greets every new connection at once: its handshake message, which
+    starts with the message's length in bytes, 8 bytes little-endian
+    (``distributed.comm.tcp``). A service that sends nothing within ``timeout`` s (a
+    silent one, or an HTTP server waiting for a request) or whose first 8 bytes are no
+    plausible length (garbage, or a text protocol) is not one. A refused or unreachable
+    address is left to dask, which retries it until its own timeout.
+    """
+    scheme, _, rest = address.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    if scheme not in ("", "tcp") or not host or not port.isdigit():
+        return None
+    deadline = time.monotonic() + timeout
+    try:
+        sock = socket.create_connection((host.strip("[]"), int(port)), timeout=timeout)
+    except OSError:
+        return None
+    with sock:
+        head = b""
+        try:
+            while len(head) < 8:
+                sock.settimeout(max(deadline - time.monotonic(), 1e-3))
+                got = sock.recv(8 - len(head))
+                if not got:
+                    return "the service there closed the connection without a word"
+                head += got
+        except OSError:  # socket.timeout included
+            return f"a service accepted the connection and did not answer within {timeout:g} s"
+    if not 0 < int.from_bytes(head, "little") <= GREETING_MAX_BYTES:
+        return "what answered does not speak dask's protocol"
+    return None
 
 
 def numba_threads_per_task(client) -> int:

@@ -24,7 +24,6 @@ import os
 import pathlib
 import re
 import sys
-import threading
 import time
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -58,8 +57,6 @@ __all__ = [
 STEPS_WARNING = float(MAX_STEPS)
 #: seconds to wait for a dask scheduler to answer before giving up
 SCHEDULER_TIMEOUT = 10.0
-#: seconds beyond it given to dask's own timeout (a refused connection is retried until then)
-CONNECT_MARGIN = 0.5
 _FIXED_STEP = ("rk4", "local_linear")
 _CHUNK_NAME = re.compile(r"^chunk-\d{12}-(\d{12})\.npz$")
 
@@ -210,46 +207,38 @@ def check_threads(threads, what: str = "threads") -> int | None:
 
 
 def connect_scheduler(address: str, timeout: float | None = None):
-    """A dask client of the scheduler at ``address``, or a RunError within ``timeout`` s
-    (default :data:`SCHEDULER_TIMEOUT`).
+    """A dask client of the scheduler at ``address``, or a RunError (one line) within
+    ``timeout`` s (default :data:`SCHEDULER_TIMEOUT`).
 
-    dask's own ``timeout`` bounds the TCP connection and its answer to a refusal, but not a
-    service that accepts and never answers (measured: no end after 120 s), and a service
-    that answers something else fails inside dask's comm (an HTTP server, a dashboard port
-    given by mistake: ``MemoryError: Unable to allocate 3.07 EiB``, its reply read as a
-    frame length). So the client is made on a daemon thread that is given ``timeout`` s,
-    and anything it raises, from a service that is not a dask scheduler, is one line.
+    dask's own ``timeout`` bounds the TCP connection (a refused one is retried until then),
+    but not a service that accepts and never answers (measured: no end after 120 s), and
+    the reply of a service that is not dask is read as a frame length (an HTTP server, a
+    dashboard port given by mistake: ``MemoryError: Unable to allocate 3.07 EiB``). So a
+    ``tcp://`` address is first probed (:func:`~mineburial.ensembles.distributed.
+    probe_scheduler`: the scheduler's greeting within ``timeout`` s), and anything the
+    client then raises is one line.
     """
     from dask.distributed import Client
 
+    from mineburial.ensembles.distributed import probe_scheduler
+
     timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
-    got: dict = {}
-
-    def connect():
-        try:
-            got["client"] = Client(address, timeout=timeout)
-        except Exception as exc:  # whatever a service that is not a dask scheduler causes
-            got["error"] = exc
-
-    thread = threading.Thread(target=connect, name="mineburial-connect", daemon=True)
-    thread.start()
-    thread.join(timeout + CONNECT_MARGIN)
-    if "client" in got:
-        return got["client"]
-    exc = got.get("error")
-    where = f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s"
-    if exc is None:
+    problem = probe_scheduler(address, timeout)
+    if problem is not None:
         raise RunError(
-            f"{where} (a service accepted the connection and did not answer; give the "
-            f"scheduler's address, e.g. tcp://host:8786, not its dashboard's)"
+            f"--scheduler {address}: no dask scheduler there ({problem}); give the "
+            f"scheduler's address, e.g. tcp://host:8786, not its dashboard's"
         )
-    reason = " ".join(str(exc).split()) or type(exc).__name__
-    if isinstance(exc, (OSError, TimeoutError, ValueError, TypeError)):
+    where = f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s"
+    try:
+        return Client(address, timeout=timeout)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        reason = " ".join(str(exc).split()) or type(exc).__name__
         raise RunError(f"{where} ({reason})") from None
-    raise RunError(
-        f"--scheduler {address}: what answered there is not a dask scheduler "
-        f"({type(exc).__name__}: {reason}); give the scheduler's address, e.g. tcp://host:8786"
-    ) from None
+    except Exception as exc:  # whatever a service that is not a dask scheduler causes
+        raise RunError(
+            f"--scheduler {address}: what answered there is not a dask scheduler ({type(exc).__name__})"
+        ) from None
 
 
 # ---------------------------------------------------------------------------
