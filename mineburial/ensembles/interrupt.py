@@ -16,9 +16,10 @@ __all__ = ["Interrupted", "sigint_flag"]
 
 
 class Interrupted(KeyboardInterrupt):
-    """Ctrl-C during :func:`run_batch`: the first ``done`` drops are finished (``summary``
-    and ``status``: their rows, set by :func:`run_batch`; ``partial``: their chunk dict,
-    set by :func:`~mineburial.ensembles.engine.compute_chunk`); the caller may keep them."""
+    """Ctrl-C during :func:`~mineburial.ensembles.batch.run_batch`: the first ``done`` drops
+    are finished (``summary`` and ``status``: their rows, set by ``run_batch``; ``partial``:
+    their chunk dict, set by :func:`~mineburial.ensembles.engine.compute_chunk`); the caller
+    may keep them."""
 
     def __init__(self, done: int):
         super().__init__(done)
@@ -37,7 +38,8 @@ def sigint_flag():
     after the whole chunk (measured: 70-92 s after a SIGINT that came during the kernels'
     first compile; 35.6 s on a chunk of 20,000 drops), and the KeyboardInterrupt it raised
     threw that chunk away. A flag set by the handler and read by a main thread that waits
-    in short steps (:data:`POLL`) is seen at once, and the drops finished are known.
+    in short steps (:data:`mineburial.ensembles.batch.POLL`) is seen at once, and the drops
+    finished are known.
 
     Outside the main thread (a dask worker's task thread) signals cannot be handled: the
     event is never set. A SIGINT that this process inherited as ignored (a command started
