@@ -11,14 +11,21 @@ schedule.
 Threads rather than ``prange``: the parallel loop's compile (parfor lowering) was a
 quarter of the engine's compile time from an empty cache, for a loop with nothing to
 vectorise; the pool costs a few microseconds a block against ~10 ms a drop.
+
+The calling thread only waits (even for one drop thread), so that Ctrl-C is seen within
+:data:`POLL` s and stops the pool between blocks, whatever the chunk size; the drops
+finished by then are named (:class:`~mineburial.ensembles.interrupt.Interrupted`) and kept
+by the run driver. Stopping between drops changes no result: each drop's row is the same
+whichever thread runs it and whenever.
 """
 
 import itertools
-from concurrent.futures import ThreadPoolExecutor
+import threading
 
 import numba
 import numpy as np
 
+from mineburial.ensembles.interrupt import Interrupted, sigint_flag
 from mineburial.kernels import status as st
 from mineburial.kernels.layout import N_SUMMARY
 from mineburial.kernels.stepper import reference_paths, run_drop
@@ -50,6 +57,10 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
     the others get status ``invalid_input`` without being run. ``threads``: number of
     threads (default ``numba.get_num_threads()``). Returns
     ``(summary (n, N_SUMMARY), status (n,) int8)``.
+
+    Ctrl-C (SIGINT) stops it within about one drop: the threads take no new block, and
+    :class:`Interrupted` is raised with the drops finished before the first unfinished one
+    (:func:`_run_blocks`).
     """
     params = np.ascontiguousarray(params, dtype=np.float64)
     n = params.shape[0]
@@ -65,19 +76,63 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
         reference_paths(params),
     )
     threads = numba.get_num_threads() if threads is None else int(threads)
+    try:
+        _run_blocks(n, lambda a, b: _run_drops(*args, a, b), threads)
+    except Interrupted as exc:
+        exc.summary, exc.status = summary[: exc.done], codes[: exc.done]
+        raise
+    return summary, codes
+
+
+#: seconds between the main thread's looks at the threads and at the Ctrl-C flag
+POLL = 0.05
+#: seconds a Ctrl-C waits for the drops in flight before giving up on them (their
+#: threads are daemons: a drop cannot be stopped inside compiled code)
+GRACE = 1.0
+
+
+def _run_blocks(n: int, run, threads: int) -> None:
+    """``run(start, stop)`` over blocks of :data:`BLOCK_SIZE` of ``range(n)`` on ``threads``
+    daemon threads, each taking the next block when done with its last.
+
+    The main thread only waits, in steps of :data:`POLL` s. On SIGINT (:func:`sigint_flag`)
+    no thread takes a new block; the blocks in flight are given :data:`GRACE` s, then
+    :class:`Interrupted` says how many items at the start are finished.
+    An exception in ``run`` is raised here once every thread has stopped.
+    """
     threads = max(1, min(threads, -(-n // BLOCK_SIZE)))
-    if threads == 1:
-        _run_drops(*args, 0, n)
-        return summary, codes
     blocks = itertools.count(0, BLOCK_SIZE)  # next() is atomic under the GIL
+    finished = np.zeros(-(-n // BLOCK_SIZE), dtype=bool)
+    errors: list = []
+    stop, all_done = threading.Event(), threading.Event()
+    running = [threads]
 
     def worker():
-        for start in blocks:
-            if start >= n:
-                return
-            _run_drops(*args, start, min(start + BLOCK_SIZE, n))
+        try:
+            for start in blocks:
+                if start >= n or stop.is_set():
+                    return
+                run(start, min(start + BLOCK_SIZE, n))
+                finished[start // BLOCK_SIZE] = True
+        except BaseException as exc:  # raised by the main thread
+            errors.append(exc)
+            stop.set()
+        finally:
+            with lock:
+                running[0] -= 1
+                if running[0] == 0:
+                    all_done.set()
 
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        for future in [pool.submit(worker) for _ in range(threads)]:
-            future.result()
-    return summary, codes
+    lock = threading.Lock()
+    with sigint_flag() as interrupted:
+        for k in range(threads):
+            threading.Thread(target=worker, name=f"mineburial-drops-{k}", daemon=True).start()
+        while not all_done.wait(POLL) and not interrupted.is_set():
+            pass
+        if interrupted.is_set():
+            stop.set()
+            all_done.wait(GRACE)
+            missing = np.flatnonzero(~finished)
+            raise Interrupted(n if missing.size == 0 else int(missing[0]) * BLOCK_SIZE)
+    if errors:
+        raise errors[0]

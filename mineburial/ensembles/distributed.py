@@ -44,18 +44,20 @@ from __future__ import annotations
 
 import asyncio
 import os
+import socket
 import threading
 import time
 import uuid
 from collections.abc import Iterable, Iterator
 
 from mineburial.ensembles import engine
-from mineburial.ensembles.store import notice
+from mineburial.ensembles.store import RunError, notice
 
 __all__ = [
     "warm_up",
     "chunk_task",
     "numba_threads_per_task",
+    "probe_scheduler",
     "run_tasks_distributed",
     "RETRIES",
     "WAITING_INTERVAL",
@@ -135,6 +137,46 @@ def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = N
     return res
 
 
+#: largest first message a dask scheduler sends on a new connection (its handshake, ~100 bytes)
+GREETING_MAX_BYTES = 1 << 24
+
+
+def probe_scheduler(address: str, timeout: float) -> str | None:
+    """Why ``address`` is not a dask scheduler over TCP, or None when it may be one (or is
+    not a ``tcp://`` address: left to dask).
+
+    A dask scheduler greets every new connection at once: its handshake message, which
+    starts with the message's length in bytes, 8 bytes little-endian
+    (``distributed.comm.tcp``). A service that sends nothing within ``timeout`` s (a
+    silent one, or an HTTP server waiting for a request) or whose first 8 bytes are no
+    plausible length (garbage, or a text protocol) is not one. A refused or unreachable
+    address is left to dask, which retries it until its own timeout.
+    """
+    scheme, _, rest = address.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    if scheme not in ("", "tcp") or not host or not port.isdigit():
+        return None
+    deadline = time.monotonic() + timeout
+    try:
+        sock = socket.create_connection((host.strip("[]"), int(port)), timeout=timeout)
+    except OSError:
+        return None
+    with sock:
+        head = b""
+        try:
+            while len(head) < 8:
+                sock.settimeout(max(deadline - time.monotonic(), 1e-3))
+                got = sock.recv(8 - len(head))
+                if not got:
+                    return "the service there closed the connection without a word"
+                head += got
+        except OSError:  # socket.timeout included
+            return f"a service accepted the connection and did not answer within {timeout:g} s"
+    if not 0 < int.from_bytes(head, "little") <= GREETING_MAX_BYTES:
+        return "what answered does not speak dask's protocol"
+    return None
+
+
 def numba_threads_per_task(client) -> int:
     """numba threads for one chunk so that a host's dask threads times numba threads does
     not exceed its cores: min over hosts of ``cores // dask threads on the host``, >= 1."""
@@ -185,7 +227,10 @@ def run_tasks_distributed(
     ``(tag, (start, stop), result_dict)`` as chunks finish, in any order; a chunk that
     the worker could not save (no shared filesystem) is saved here. If a chunk still
     fails after its retries, the remaining tasks are cancelled and a ``RuntimeError``
-    naming the chunk is raised from the task's exception.
+    naming the chunk is raised from the task's exception. A chunk cancelled by the
+    scheduler (one that stopped or restarted: dask then cancels every task, and
+    ``as_completed(raise_errors=False)`` hands the ``FutureCancelledError`` back as the
+    result) ends the run with a RunError, one line; the chunks finished are kept.
     """
     from distributed import as_completed
 
@@ -231,17 +276,25 @@ def run_tasks_distributed(
         daemon=True,
     )
     watcher.start()
+    address, done = client.scheduler.address, 0
     try:
         for fut, res in as_completed(list(pending.values()), with_results=True, raise_errors=False):
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
+            what = "the ensemble" if tag is None else str(tag)
             if fut.status == "error":
                 exc = fut.exception()
-                what = "the ensemble" if tag is None else str(tag)
                 raise RuntimeError(
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
                     f"after {RETRIES} retries: {exc!r}"
                 ) from exc
+            if fut.status != "finished":  # cancelled: the scheduler was lost or restarted
+                raise RunError(
+                    f"the dask scheduler at {address} lost chunk [{bounds[0]}, {bounds[1]}) of "
+                    f"{what} (task {fut.status}: the scheduler stopped or restarted); the "
+                    f"{done} chunk(s) finished are kept: rerun the same command to resume"
+                )
+            done += 1
             fut.release()
             store = stores_of.pop(fut.key)
             if store is not None and not store.has(*bounds):

@@ -36,6 +36,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles import model_form, scour
+from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of
 from mineburial.io.inputs import read_toml
@@ -386,7 +387,10 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
     """Run drops [start, stop): returns a dict of per-drop arrays (``summary``,
     ``status``, ``input:<path>`` of every sampled input) and ``invalid_inputs``, the
     reasons why drops were not run (:func:`invalid_reasons`). A restraint ensemble's
-    cases are run by :func:`mineburial.ensembles.restraint.compute_chunk` (the same dict)."""
+    cases are run by :func:`mineburial.ensembles.restraint.compute_chunk` (the same dict).
+
+    On Ctrl-C the :class:`~mineburial.ensembles.batch.Interrupted` raised carries in
+    ``partial`` the dict of the drops finished first, ``[start, start + done)``."""
     if spec.system == "restraint":
         from mineburial.ensembles import restraint
 
@@ -394,7 +398,17 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
     from mineburial.ensembles.batch import run_batch
 
     P, valid, inputs = chunk_inputs(spec, start, stop)
-    summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+    try:
+        summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+    except Interrupted as exc:  # Ctrl-C: the drops finished first are a chunk of their own
+        k = exc.done
+        part = {key: v[:k] for key, v in inputs.items()}
+        exc.partial = _chunk_result(spec, start, start + k, P[:k], valid[:k], exc.summary, exc.status, part)
+        raise
+    return _chunk_result(spec, start, stop, P, valid, summary, status, inputs)
+
+
+def _chunk_result(spec, start, stop, P, valid, summary, status, inputs) -> dict:
     out = {
         "start": np.int64(start),
         "stop": np.int64(stop),

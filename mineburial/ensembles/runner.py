@@ -18,9 +18,11 @@ output path under the run's lock (:class:`~mineburial.ensembles.store.OutputRun`
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import os
 import pathlib
+import re
 import sys
 import time
 from collections.abc import Iterable, Iterator
@@ -30,6 +32,7 @@ import numpy as np
 
 from mineburial._version import __version__
 from mineburial.ensembles import engine, model_form, scour
+from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
@@ -56,6 +59,7 @@ STEPS_WARNING = float(MAX_STEPS)
 #: seconds to wait for a dask scheduler to answer before giving up
 SCHEDULER_TIMEOUT = 10.0
 _FIXED_STEP = ("rk4", "local_linear")
+_CHUNK_NAME = re.compile(r"^chunk-\d{12}-(\d{12})\.npz$")
 
 
 # ---------------------------------------------------------------------------
@@ -189,17 +193,37 @@ def check_threads(threads, what: str = "threads") -> int | None:
 
 
 def connect_scheduler(address: str, timeout: float | None = None):
-    """A dask client of the scheduler at ``address``, or a RunError after ``timeout`` s
-    (default :data:`SCHEDULER_TIMEOUT`)."""
+    """A dask client of the scheduler at ``address``, or a RunError (one line) within
+    ``timeout`` s (default :data:`SCHEDULER_TIMEOUT`).
+
+    dask's own ``timeout`` bounds the TCP connection (a refused one is retried until then),
+    but not a service that accepts and never answers (measured: no end after 120 s), and
+    the reply of a service that is not dask is read as a frame length (an HTTP server, a
+    dashboard port given by mistake: ``MemoryError: Unable to allocate 3.07 EiB``). So a
+    ``tcp://`` address is first probed (:func:`~mineburial.ensembles.distributed.
+    probe_scheduler`: the scheduler's greeting within ``timeout`` s), and anything the
+    client then raises is one line.
+    """
     from dask.distributed import Client
 
+    from mineburial.ensembles.distributed import probe_scheduler
+
     timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
+    problem = probe_scheduler(address, timeout)
+    if problem is not None:
+        raise RunError(
+            f"--scheduler {address}: no dask scheduler there ({problem}); give the "
+            f"scheduler's address, e.g. tcp://host:8786, not its dashboard's"
+        )
+    where = f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s"
     try:
         return Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError, TypeError) as exc:
         reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise RunError(f"{where} ({reason})") from None
+    except Exception as exc:  # whatever a service that is not a dask scheduler causes
         raise RunError(
-            f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s ({reason})"
+            f"--scheduler {address}: what answered there is not a dask scheduler ({type(exc).__name__})"
         ) from None
 
 
@@ -218,10 +242,53 @@ class Job:
 
 def _run_local(todo):
     for tag, spec, start, stop, store in todo:
-        res = engine.compute_chunk(spec, start, stop)
+        head = _finished_head(store, start, stop)
+        begin = start if head is None else int(head["stop"])
+        try:
+            res = engine.compute_chunk(spec, begin, stop)
+        except Interrupted as exc:  # keep the drops finished: a rerun starts after them
+            if store is not None and exc.partial is not None and exc.done > 0:
+                store.save(exc.partial if head is None else _joined(head, exc.partial))
+            raise
+        if head is not None:
+            res = _joined(head, res)
         if store is not None:
             store.save(res)
+            if head is not None:
+                store.chunk_path(start, int(head["stop"])).unlink(missing_ok=True)
         yield tag, (start, stop), res
+
+
+def _finished_head(store, start: int, stop: int) -> dict | None:
+    """The longest valid file of the first drops of chunk ``[start, stop)`` that an
+    interrupted run saved (``chunk-<start>-<k>.npz``, ``start < k < stop``), or None."""
+    if store is None or not store.path.is_dir():
+        return None
+    ends = []
+    for f in store.path.glob(f"chunk-{int(start):012d}-*.npz"):
+        m = _CHUNK_NAME.match(f.name)
+        if m and start < int(m.group(1)) < stop:
+            ends.append(int(m.group(1)))
+    for k in sorted(ends, reverse=True):
+        head = store.load(start, k)
+        if head is not None:
+            return head
+    return None
+
+
+def _joined(head: dict, tail: dict) -> dict:
+    """The chunk dict of drops ``[head.start, tail.stop)`` from two consecutive ones: the
+    per-drop arrays concatenated, the reasons for invalid drops added up (in drop order,
+    as :func:`~mineburial.ensembles.engine.invalid_reasons` of the whole would give)."""
+    out = {}
+    for key, value in head.items():
+        if key == "invalid_inputs":
+            out[key] = np.array(json.dumps(merge_invalid_reasons([head, tail]), sort_keys=True))
+        elif key in ("start", "stop"):
+            out[key] = np.int64(head["start"] if key == "start" else tail["stop"])
+        else:
+            out[key] = np.concatenate([value, tail[key]])
+    return out
 
 
 def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Iterator:

@@ -1,0 +1,177 @@
+"""``--scheduler`` faults (issue 21 item 8): a service that is not a dask scheduler is refused in
+one line within the time docs/cluster.md promises (10 s), and losing the scheduler mid-run
+ends the run in one line with the finished chunks kept, so that a rerun resumes.
+
+The fake services are plain sockets on 127.0.0.1 in a thread of this process; the
+reference for the time is the wall clock, for the resumed run a clean local run.
+"""
+
+import contextlib
+import socket
+import threading
+import time
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import scenario_dict
+
+from mineburial import cli
+from mineburial.config import dumps_toml
+from mineburial.ensembles import distributed as D
+from mineburial.ensembles import runner
+from mineburial.ensembles.store import RunError
+
+HTTP_REPLY = b"HTTP/1.1 404 Not Found\r\nContent-Type: text/plain\r\nContent-Length: 9\r\n\r\nnot found"
+
+
+def _answer(kind, conn):
+    if kind == "garbage":
+        conn.sendall(bytes(range(256)) * 4)
+    elif kind == "http":  # a dashboard port given by mistake
+        conn.recv(65536)
+        conn.sendall(HTTP_REPLY)
+    # "silent": accepts and never answers
+
+
+@pytest.fixture
+def fake_service():
+    """``start(kind)`` -> ``tcp://127.0.0.1:<port>`` of a service that accepts connections
+    and answers as ``kind`` says; closed after the test."""
+    servers, conns = [], []
+
+    def start(kind):
+        srv = socket.socket()
+        srv.bind(("127.0.0.1", 0))
+        srv.listen(16)
+        servers.append(srv)
+
+        def serve():
+            while True:
+                try:
+                    conn, _ = srv.accept()
+                except OSError:
+                    return
+                conns.append(conn)
+                try:
+                    _answer(kind, conn)
+                except OSError:
+                    pass
+
+        threading.Thread(target=serve, daemon=True).start()
+        return f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+
+    yield start
+    for s in servers + conns:
+        s.close()
+
+
+@pytest.mark.parametrize("kind", ["silent", "garbage", "http"])
+def test_a_service_that_is_not_a_dask_scheduler_is_refused_within_10_s(fake_service, kind):
+    """Before: the silent service and the HTTP one hung for minutes, garbage gave
+    ``_ArrayMemoryError: Unable to allocate 3.07 EiB``."""
+    import distributed  # noqa: F401  (its import time is not the scheduler's)
+
+    address = fake_service(kind)
+    t0 = time.monotonic()
+    with pytest.raises(RunError) as info:
+        runner.connect_scheduler(address)
+    elapsed = time.monotonic() - t0
+    assert elapsed < runner.SCHEDULER_TIMEOUT + 2.0, elapsed
+    text = str(info.value)
+    assert text.startswith(f"--scheduler {address}: ") and "\n" not in text
+    assert "no dask scheduler there" in text
+    if kind != "garbage":  # both wait for the other side to speak first
+        assert elapsed >= runner.SCHEDULER_TIMEOUT - 0.5  # not refused before the promised time
+        assert "did not answer within 10 s" in text
+
+
+def test_a_real_scheduler_passes_the_probe():
+    """The probe's reference: a dask scheduler on TCP, which greets every connection."""
+    from distributed import LocalCluster
+
+    with LocalCluster(
+        n_workers=0, processes=False, protocol="tcp://", dashboard_address=None, silence_logs=50
+    ) as cluster:
+        client = runner.connect_scheduler(cluster.scheduler_address)
+        try:
+            assert client.scheduler_info()["address"] == cluster.scheduler_address
+        finally:
+            client.close()
+
+
+def test_the_cli_refuses_an_http_scheduler_in_one_line(fake_service, tmp_path, capsys):
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(dumps_toml(_scenario()))
+    address = fake_service("http")
+    code = cli.main(["run", str(scenario), "-n", "4", "-o", str(tmp_path / "o.nc"), "--scheduler", address])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2
+    assert len(err) == 1 and err[0].startswith(f"mineburial: error: --scheduler {address}: ")
+    assert not (tmp_path / "o.nc").exists()
+
+
+def _scenario():
+    """Cheap drops (~0.05 s): a small cylinder 1 m above 3 m of water onto stiff clay."""
+    d = scenario_dict(
+        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
+        },
+        sediment={"class": "stiff_clay"},
+        numerics={"t_max": 3.0},
+    )
+    d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
+    return d
+
+
+N, SEED, CHUNK = 8, 7, 1
+_REAL_CHUNK_TASK = D.chunk_task
+_LOST: dict = {}  # the in-process cluster whose scheduler the task below stops
+
+
+def _chunk_task_then_stop_the_scheduler(spec, start, stop, store, numba_threads=None):
+    """The real chunk task (which saves the chunk: the worker shares the filesystem); the
+    scheduler is stopped once the chunk starting at drop 3 is done."""
+    res = _REAL_CHUNK_TASK(spec, start, stop, store, numba_threads)
+    if start == 3:
+        cluster = _LOST["cluster"]
+        threading.Thread(target=cluster.sync, args=(cluster.scheduler.close,)).start()
+        time.sleep(2.0)
+    return res
+
+
+def test_losing_the_scheduler_mid_run_is_one_line_and_a_rerun_resumes(tmp_path, monkeypatch):
+    """Before: ``TypeError: 'FutureCancelledError' object is not subscriptable`` (the
+    cancelled futures were taken as chunk results)."""
+    from distributed import Client, LocalCluster
+
+    out = tmp_path / "out.nc"
+    cluster = LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None, silence_logs=50
+    )
+    client = Client(cluster)
+    _LOST["cluster"] = cluster
+    monkeypatch.setattr(D, "chunk_task", _chunk_task_then_stop_the_scheduler)
+    try:
+        with pytest.raises(RunError) as info:
+            runner.run_ensemble(
+                _scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out, client=client
+            )
+    finally:
+        _LOST.clear()
+        client.close(timeout=10)
+        with contextlib.suppress(TimeoutError):  # its scheduler is gone: the close times out
+            cluster.close(timeout=2)
+    text = str(info.value)
+    assert "\n" not in text and "rerun the same command to resume" in text
+    kept = sorted((tmp_path / "out.nc.parts").glob("chunk-*.npz"))
+    assert 3 <= len(kept) < N
+    monkeypatch.undo()
+    resumed = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out)
+    clean = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
+    for name, var in clean.data_vars.items():
+        if "realization" in var.dims:
+            assert np.array_equal(resumed[name].values, var.values, equal_nan=True), name
+    assert xr.load_dataset(out).sizes == resumed.sizes
