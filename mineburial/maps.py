@@ -644,6 +644,7 @@ def run_map(
     base = engine.load_ensemble(
         scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False, base_dir=base_dir
     )
+    engine.refuse_scour(base, "map")
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
     grid = read_environment(environment)

@@ -97,7 +97,7 @@ def test_blocks_stop_at_the_flag_and_name_the_finished_prefix():
 
     t0 = time.monotonic()
     with pytest.raises(Interrupted) as info:
-        batch._run_blocks(40, run, threads=2)
+        batch.run_blocks(40, run, threads=2)
     # blocks of 2; the signal came at the start of block [6, 8), which finishes in the
     # grace time, as does the other thread's block in flight
     assert info.value.done in (8, 10)

@@ -286,3 +286,30 @@ def test_a_sampled_anchor_that_floats_is_not_run_and_is_reported():
     assert ds.status_count.values[kmb.INVALID_INPUT] == floats.sum()
     assert ds.attrs["invalid_inputs"].startswith(f"anchor.mass: {floats.sum()} case")
     assert float(ds.stopped_fraction) == 0.0  # of the cases run (all hit the 0.05 s limit)
+
+
+def test_ctrl_c_stops_a_restraint_chunk_between_cases_not_after_the_whole_chunk(monkeypatch):
+    """Regression (issue 21 item 10): restraint ensembles ran their cases on a thread pool of
+    their own that finished the whole chunk before a Ctrl-C was seen. They now take cases in
+    blocks like the mines' drops: after the signal no new block starts."""
+    import signal
+    import threading
+    import time
+
+    from mineburial.ensembles.interrupt import Interrupted
+
+    spec = engine.load_ensemble(_scenario(n=40), systems=engine.SYSTEMS)
+    started = []
+
+    def run_case(case):  # a stand-in case of 0.1 s: the run driver is under test, not the physics
+        started.append(case)
+        if len(started) == 3:
+            signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+        time.sleep(0.1)
+        return 0, np.zeros(len(ens.OUTPUTS))
+
+    monkeypatch.setattr(ens, "run_case", run_case)
+    with pytest.raises(Interrupted):
+        ens.compute_chunk(spec, 0, 40, threads=2)
+    assert len(started) < 10  # of 40: the blocks in flight when the signal came, no more
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

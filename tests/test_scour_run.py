@@ -179,6 +179,7 @@ def no_computing(monkeypatch):
         ({"lead_times_days": [0.5, 0.1]}, "scour.lead_times_days = [0.5, 0.1] must be strictly increasing"),
         ({"burial_levels": [1.5]}, "scour.burial_levels[0] = 1.5"),
         ({"tstar_law": "nope"}, "scour.tstar_law"),
+        ({"tstar_law": ["whitehouse"]}, "scour.tstar_law = ['whitehouse'] must be a name"),
         ({"cohesive": "yes"}, "scour.cohesive = 'yes' must be true or false"),
         ({"d5O": 1.0}, "[scour]"),
         ({"storm": {"peak_hs": 2.0}}, "exactly one of forcing"),
@@ -246,3 +247,57 @@ def test_a_fixed_depth_that_the_water_level_dries_is_refused_before_computing(tm
     assert len(err.splitlines()) == 1 and "variable 'water_level' = -4 m" in err and "dries the bed" in err, (
         err
     )
+
+
+@pytest.mark.parametrize(
+    "storm, needle",
+    [
+        ({"start": "yesterday"}, "start = 'yesterday' is not an ISO 8601 time"),
+        ({"total_h": 1e9}, "at most 87661 are accepted"),
+    ],
+)
+def test_bad_storm_start_or_length_is_one_line_not_a_traceback(tmp_path, capsys, no_computing, storm, needle):
+    """Regressions (review): a storm start that is not ISO 8601 raised ValueError, and a storm
+    of 1e9 hours allocated until memory ran out."""
+    sec = scour_section(tmp_path, storm={"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0, **storm})
+    del sec["forcing"]
+    path = scenario(tmp_path, sec)
+    assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and needle in err, err
+
+
+def test_storm_start_as_a_toml_datetime_or_with_z_is_the_same_utc_instant():
+    """Regression (review): an unquoted TOML datetime reached str.strip (AttributeError), and
+    Python 3.10's fromisoformat refuses a trailing 'Z'."""
+    import datetime as dt
+
+    from mineburial.io.forcing import storm_series
+
+    want = np.datetime64("2003-01-15T06:00:00", "ns")
+    for start in (
+        "2003-01-15T06:00:00Z",
+        "2003-01-15T07:00:00+01:00",
+        "2003-01-15T06:00:00",
+        dt.datetime(2003, 1, 15, 6, tzinfo=dt.timezone.utc),
+    ):
+        assert storm_series(2.0, 9.0, 24.0, start=start).start == want, start
+
+
+@pytest.mark.parametrize("command", ["compare", "sensitivity", "map"])
+def test_commands_without_the_stage_refuse_a_scour_section(tmp_path, capsys, no_computing, command):
+    """Regression (review): map, compare and sensitivity ran or ignored [scour] silently."""
+    from mineburial.synthetic import synthetic_environment
+
+    path = scenario(tmp_path, scour_section(tmp_path))
+    extra = {
+        "compare": ["--vary", "sediment.resistance=bearing,delta", "-n", "4"],
+        "sensitivity": ["-n", "4"],
+        "map": ["--environment", str(tmp_path / "env.nc"), "-n", "4"],
+    }[command]
+    if command == "map":
+        synthetic_environment(ny=2, nx=2, seed=1).to_netcdf(tmp_path / "env.nc")
+    assert main([command, str(path), *extra, "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"[scour]: `mineburial {command}` does not run" in err, err
+    assert not (tmp_path / "out.nc").exists()

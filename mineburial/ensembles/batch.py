@@ -60,7 +60,7 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
 
     Ctrl-C (SIGINT) stops it within about one drop: the threads take no new block, and
     :class:`Interrupted` is raised with the drops finished before the first unfinished one
-    (:func:`_run_blocks`).
+    (:func:`run_blocks`).
     """
     params = np.ascontiguousarray(params, dtype=np.float64)
     n = params.shape[0]
@@ -77,7 +77,7 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
     )
     threads = numba.get_num_threads() if threads is None else int(threads)
     try:
-        _run_blocks(n, lambda a, b: _run_drops(*args, a, b), threads)
+        run_blocks(n, lambda a, b: _run_drops(*args, a, b), threads)
     except Interrupted as exc:
         exc.summary, exc.status = summary[: exc.done], codes[: exc.done]
         raise
@@ -91,7 +91,7 @@ POLL = 0.05
 GRACE = 1.0
 
 
-def _run_blocks(n: int, run, threads: int) -> None:
+def run_blocks(n: int, run, threads: int) -> None:
     """``run(start, stop)`` over blocks of :data:`BLOCK_SIZE` of ``range(n)`` on ``threads``
     daemon threads, each taking the next block when done with its last.
 

@@ -178,6 +178,15 @@ class EnsembleSpec:
         return out
 
 
+def refuse_scour(spec, command: str) -> None:
+    """One line for a command that does not run the post-impact stage yet (docs/scour.md)."""
+    if getattr(spec, "scour", None) is not None:
+        raise cfg.ScenarioError(
+            f"[scour]: `mineburial {command}` does not run the post-impact stage yet; "
+            "use `mineburial run`, or remove the section"
+        )
+
+
 def load_ensemble(
     source=None,
     *,
@@ -402,6 +411,8 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
         summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
     except Interrupted as exc:  # Ctrl-C: the drops finished first are a chunk of their own
         k = exc.done
+        if k == 0:  # nothing to keep (and no stage to load while a drop thread may hold the compiler)
+            raise
         part = {key: v[:k] for key, v in inputs.items()}
         exc.partial = _chunk_result(spec, start, start + k, P[:k], valid[:k], exc.summary, exc.status, part)
         raise

@@ -31,13 +31,13 @@ import hashlib
 import json
 import math
 from collections.abc import Mapping
-from concurrent.futures import ThreadPoolExecutor
 from typing import ClassVar
 
 import numpy as np
 
 from mineburial.config import SUPPORT_TOLERANCE, ScenarioError, unknown_names_message
 from mineburial.ensembles import distributions as dist
+from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.kernels import multibody as kmb
@@ -302,7 +302,9 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     """Run cases [start, stop): the chunk dict of the run driver (``summary`` (n, len(OUTPUTS)),
     ``status``, ``input:<path>`` of every sampled field, ``invalid_inputs``).
 
-    The cases run on a pool of ``threads`` Python threads (default ``numba.get_num_threads()``):
+    The cases run on ``threads`` Python threads (default ``numba.get_num_threads()``) taking blocks of
+    cases as the mines' drops do (:func:`~mineburial.ensembles.batch.run_blocks`; on Ctrl-C no new
+    block is taken and :class:`~mineburial.ensembles.interrupt.Interrupted` ends the chunk):
     the multibody integrator is compiled ``nogil``, so they run in parallel; each case writes
     only its own row, so the result does not depend on the thread count.
     """
@@ -325,22 +327,14 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     def run(j):
         status[j], summary[j] = run_case(cases[j])
 
+    def run_cases(a, b):
+        for j in todo[a:b]:
+            run(j)
+
     todo = [j for j in range(n) if cases[j] is not None]
     threads = numba.get_num_threads() if threads is None else int(threads)
-    threads = max(1, min(threads, len(todo)))
-    if threads == 1:
-        for j in todo:
-            run(j)
-    else:
-        queue = iter(todo)  # next() on a list iterator is atomic under the GIL
-
-        def worker():
-            for j in queue:
-                run(j)
-
-        with ThreadPoolExecutor(max_workers=threads) as pool:
-            for future in [pool.submit(worker) for _ in range(threads)]:
-                future.result()
+    # the mines' block runner: Ctrl-C stops taking cases at once (the chunk is not kept)
+    run_blocks(len(todo), run_cases, max(1, threads))
     out = {
         "start": np.int64(start),
         "stop": np.int64(stop),

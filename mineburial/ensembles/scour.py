@@ -157,6 +157,8 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
         sec.get("burial_levels"), "scour.burial_levels", low=0.0, high=1.0, default=DEFAULT_LEVELS
     )
     law = sec.get("tstar_law", "whitehouse")
+    if not isinstance(law, str):
+        raise cfg.ScenarioError(f"scour.tstar_law = {law!r} must be a name: {', '.join(sc.TSTAR_LAWS)}")
     if law not in sc.TSTAR_LAWS:
         raise cfg.ScenarioError("scour.tstar_law: " + cfg.unknown_names_message("name", [law], sc.TSTAR_LAWS))
     cohesive = sec.get("cohesive", False)

@@ -460,9 +460,16 @@ def _csv_columns(where, header):
     return found
 
 
-def _parse_iso(text: str) -> np.datetime64:
-    """ISO 8601 text -> UTC datetime64[ns] (no zone: UTC)."""
-    when = _dt.datetime.fromisoformat(text.strip())
+def _parse_iso(text) -> np.datetime64:
+    """ISO 8601 text (or a datetime, as TOML gives an unquoted one) -> UTC datetime64[ns]
+    (no zone: UTC). A trailing 'Z' is read as +00:00 (Python 3.10's fromisoformat refuses it)."""
+    if isinstance(text, _dt.datetime):
+        when = text
+    elif isinstance(text, str):
+        t = text.strip()
+        when = _dt.datetime.fromisoformat(t[:-1] + "+00:00" if t[-1:] in "Zz" and t else t)
+    else:
+        raise ValueError(f"{text!r} is not an ISO 8601 time")
     if when.tzinfo is not None:
         when = when.astimezone(_dt.timezone.utc).replace(tzinfo=None)
     return np.datetime64(when, "ns")
@@ -758,6 +765,10 @@ def storm_shape(tau, ramp: str = "cos2"):
     raise ScenarioError(f"storm ramp '{ramp}' is unknown; allowed: {', '.join(STORM_RAMPS)}")
 
 
+#: the most records a parametrised storm may have (ten years hourly)
+MAX_STORM_STEPS = 87_661
+
+
 def storm_series(
     peak_hs,
     peak_tp,
@@ -806,6 +817,17 @@ def storm_series(
         raise ScenarioError(
             f"{where}: total_h = {total_h!r} h must be a whole number of steps of {step_h:g} h"
         )
+    if n > MAX_STORM_STEPS:
+        raise ScenarioError(
+            f"{where}: total_h = {total_h!r} h at step_h = {step_h:g} h gives {n} steps; "
+            f"at most {MAX_STORM_STEPS} are accepted"
+        )
+    try:
+        start_time = _parse_iso(start)
+    except ValueError:
+        raise ScenarioError(
+            f"{where}: start = {start!r} is not an ISO 8601 time (e.g. 2003-01-15T00:00:00Z)"
+        ) from None
     hours = np.arange(n) * step_h
     s = storm_shape((hours - peak_h) / (0.5 * duration_h), ramp)
     hs = background_hs + (peak_hs - background_hs) * s
@@ -817,7 +839,7 @@ def storm_series(
         current_speed=background_current + (current - background_current) * s,
         current_to=np.full(n, float(current_to)),
         water_level=surge * s,
-        start=_parse_iso(start),
+        start=start_time,
         source=f"storm (peak Hs {peak_hs:g} m, Tp {peak_tp:g} s, {duration_h:g} h, {ramp})",
     )
 

@@ -193,6 +193,7 @@ def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
     if field.startswith("ensemble."):
         raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
     base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
+    engine.refuse_scour(base, "compare")
     loc = _location(field)
     if field in base.random or loc in base.random:
         raise ComparisonError(

@@ -241,6 +241,7 @@ def run_sensitivity(
     from mineburial.ensembles.batch import run_batch
 
     spec = engine.load_ensemble(scenario, seed=seed)
+    engine.refuse_scour(spec, "sensitivity")
     if not spec.random:
         raise engine.EnsembleError("the scenario has no random input: nothing to analyse")
     threads = runner.check_threads(threads)
