@@ -208,7 +208,8 @@ def test_default_water_column_is_the_munk_factor_model_unchanged():
     )
     p, _, _ = default.to_params()
     assert p[layout.INDEX["numerics.water_column"]] == 0.0
-    assert layout.PARAM_NAMES[-1] == "numerics.water_column"  # appended: old slots keep their index
+    # appended after the last slot of 69fd694 (t_max_fall): old slots keep their index
+    assert layout.INDEX["numerics.water_column"] == layout.INDEX["numerics.t_max_fall"] + 1
     a = simulate_drop(default, record_interval=0.05)
     b = simulate_drop(explicit, record_interval=0.05)
     for name in ("x", "y", "z", "u", "v", "w", "q0", "q1", "q2", "q3", "omega1", "omega2", "omega3"):
