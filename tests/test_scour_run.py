@@ -301,3 +301,14 @@ def test_commands_without_the_stage_refuse_a_scour_section(tmp_path, capsys, no_
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and f"[scour]: `mineburial {command}` does not run" in err, err
     assert not (tmp_path / "out.nc").exists()
+
+
+def test_stage_results_do_not_depend_on_threads_or_chunking(runs, tmp_path):
+    """The stage runs in blocks on every thread: each drop's lead-time values must be those of
+    a run on one thread in chunks of 3 (an invariance, bit for bit)."""
+    _, with_scour = runs
+    one = runner.run_ensemble(scenario(tmp_path, scour_section(tmp_path)), threads=1, chunk_size=3)
+    names = [v for v in with_scour.data_vars if v.startswith("scour_")]
+    assert names
+    for v in names:
+        np.testing.assert_array_equal(one[v].values, with_scour[v].values, err_msg=v)

@@ -22,10 +22,12 @@ import math
 import pathlib
 from collections.abc import Mapping
 
+import numba
 import numpy as np
 import xarray as xr
 
 from mineburial import config as cfg
+from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.statistics import scour_statistics
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
@@ -235,10 +237,18 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     mobile = np.empty(n)
     codes = np.empty(n, dtype=np.int8)
     depth = np.ascontiguousarray(P[:, layout.P_DEPTH])
-    scour_drops(
-        S, scale, depth, run.astype(np.uint8), geom, t, hs, tp, wdir, uc, cdir,
-        np.array(f.water_level), _orbital_table(), leads, levels, measures, time_to, mobile, codes,
-    )  # fmt: skip
+    run = run.astype(np.uint8)
+    level, table = np.array(f.water_level), _orbital_table()
+
+    def stage(a, b):  # rows [a, b): each drop's stage reads and writes only its own rows
+        scour_drops(
+            S[a:b], scale[a:b], depth[a:b], run[a:b], geom[a:b], t, hs, tp, wdir, uc, cdir,
+            level, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b], codes[a:b],
+        )  # fmt: skip
+
+    # in blocks on the drops' runner: Ctrl-C ends the stage within about a block, as the
+    # impact phase (the chunk is then not kept), and the stage uses every thread
+    run_blocks(n, stage, numba.get_num_threads())
     return {
         "scour:measures": measures,
         "scour:time_to": time_to / DAY,
