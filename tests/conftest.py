@@ -54,3 +54,18 @@ def make_scenario(**sections):
 @pytest.fixture
 def scenario_factory():
     return make_scenario
+
+
+def cheap_ensemble():
+    """Cheap drops (~0.05 s): a small cylinder 1 m above 3 m of water onto stiff clay."""
+    d = scenario_dict(
+        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
+        },
+        sediment={"class": "stiff_clay"},
+        numerics={"t_max": 3.0},
+    )
+    d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
+    return d

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import scenario_dict
+from conftest import cheap_ensemble
 
 from mineburial.config import dumps_toml
 from mineburial.ensembles import batch, runner
@@ -25,21 +25,6 @@ from mineburial.ensembles.interrupt import Interrupted
 
 ROOT = Path(__file__).resolve().parents[1]
 N, SEED = 12, 20261126
-
-
-def _scenario():
-    """Cheap drops (~0.05 s): a small cylinder 1 m above 3 m of water onto stiff clay."""
-    d = scenario_dict(
-        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
-        release={
-            "position": [0.0, 0.0, 1.0],
-            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
-        },
-        sediment={"class": "stiff_clay"},
-        numerics={"t_max": 3.0},
-    )
-    d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
-    return d
 
 
 def _per_drop(ds: xr.Dataset) -> dict:
@@ -56,13 +41,13 @@ def _assert_same_drops(a: xr.Dataset, b: xr.Dataset):
 @pytest.fixture(scope="module")
 def reference():
     """One chunk of all drops on one thread."""
-    return runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=N, per_drop=True, threads=1)
+    return runner.run_ensemble(cheap_ensemble(), n=N, seed=SEED, chunk_size=N, per_drop=True, threads=1)
 
 
 @pytest.mark.parametrize("chunk_size, threads", [(5, 2), (1, 2), (7, 1)])
 def test_per_drop_results_do_not_depend_on_chunks_or_threads(reference, chunk_size, threads):
     ds = runner.run_ensemble(
-        _scenario(), n=N, seed=SEED, chunk_size=chunk_size, per_drop=True, threads=threads
+        cheap_ensemble(), n=N, seed=SEED, chunk_size=chunk_size, per_drop=True, threads=threads
     )
     _assert_same_drops(ds, reference)
 
@@ -112,13 +97,17 @@ def test_an_interrupted_chunk_keeps_its_finished_drops_and_the_rerun_is_bit_iden
     out = tmp_path / "out.nc"
     _interrupt_after(monkeypatch, 6)
     with pytest.raises(KeyboardInterrupt):
-        runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=N, per_drop=True, output=out, threads=2)
+        runner.run_ensemble(
+            cheap_ensemble(), n=N, seed=SEED, chunk_size=N, per_drop=True, output=out, threads=2
+        )
     kept = sorted(p.name for p in (tmp_path / "out.nc.parts").glob("chunk-*.npz"))
     assert len(kept) == 1 and kept[0].startswith("chunk-000000000000-")
     k = int(kept[0][-16:-4])
     assert 6 <= k < N
     monkeypatch.undo()
-    ds = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=N, per_drop=True, output=out, threads=2)
+    ds = runner.run_ensemble(
+        cheap_ensemble(), n=N, seed=SEED, chunk_size=N, per_drop=True, output=out, threads=2
+    )
     _assert_same_drops(ds, reference)
     _assert_same_drops(xr.load_dataset(out), reference)
     assert not (tmp_path / "out.nc.parts").exists()
@@ -151,8 +140,8 @@ def test_a_sigint_ignored_by_the_test_runner_is_not_inherited_by_the_cli_under_t
 def test_sigint_on_a_large_chunk_ends_within_2_s_with_one_line_and_keeps_the_drops(tmp_path):
     """Issue 21 item 10: before, a SIGINT waited for the whole chunk in flight (35.6 s for
     20,000 drops) and threw it away."""
-    runner.run_ensemble(_scenario(), n=2, seed=SEED, chunk_size=2)  # kernels compiled and cached
-    d = _scenario()
+    runner.run_ensemble(cheap_ensemble(), n=2, seed=SEED, chunk_size=2)  # kernels compiled and cached
+    d = cheap_ensemble()
     d["ensemble"] = {"n": 20_000, "seed": SEED, "chunk_size": 20_000}
     scenario = tmp_path / "s.toml"
     scenario.write_text(dumps_toml(d))

@@ -14,7 +14,7 @@ import time
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import scenario_dict
+from conftest import cheap_ensemble
 
 from mineburial import cli
 from mineburial.config import dumps_toml
@@ -102,28 +102,13 @@ def test_a_real_scheduler_passes_the_probe():
 
 def test_the_cli_refuses_an_http_scheduler_in_one_line(fake_service, tmp_path, capsys):
     scenario = tmp_path / "s.toml"
-    scenario.write_text(dumps_toml(_scenario()))
+    scenario.write_text(dumps_toml(cheap_ensemble()))
     address = fake_service("http")
     code = cli.main(["run", str(scenario), "-n", "4", "-o", str(tmp_path / "o.nc"), "--scheduler", address])
     err = capsys.readouterr().err.splitlines()
     assert code == 2
     assert len(err) == 1 and err[0].startswith(f"mineburial: error: --scheduler {address}: ")
     assert not (tmp_path / "o.nc").exists()
-
-
-def _scenario():
-    """Cheap drops (~0.05 s): a small cylinder 1 m above 3 m of water onto stiff clay."""
-    d = scenario_dict(
-        environment={"water_depth": {"distribution": "uniform", "low": 2.5, "high": 3.5}},
-        release={
-            "position": [0.0, 0.0, 1.0],
-            "pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0},
-        },
-        sediment={"class": "stiff_clay"},
-        numerics={"t_max": 3.0},
-    )
-    d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
-    return d
 
 
 N, SEED, CHUNK = 8, 7, 1
@@ -157,7 +142,7 @@ def test_losing_the_scheduler_mid_run_is_one_line_and_a_rerun_resumes(tmp_path, 
     try:
         with pytest.raises(RunError) as info:
             runner.run_ensemble(
-                _scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out, client=client
+                cheap_ensemble(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out, client=client
             )
     finally:
         _LOST.clear()
@@ -169,8 +154,10 @@ def test_losing_the_scheduler_mid_run_is_one_line_and_a_rerun_resumes(tmp_path, 
     kept = sorted((tmp_path / "out.nc.parts").glob("chunk-*.npz"))
     assert 3 <= len(kept) < N
     monkeypatch.undo()
-    resumed = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out)
-    clean = runner.run_ensemble(_scenario(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
+    resumed = runner.run_ensemble(
+        cheap_ensemble(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True, output=out
+    )
+    clean = runner.run_ensemble(cheap_ensemble(), n=N, seed=SEED, chunk_size=CHUNK, per_drop=True)
     for name, var in clean.data_vars.items():
         if "realization" in var.dims:
             assert np.array_equal(resumed[name].values, var.values, equal_nan=True), name
