@@ -151,8 +151,6 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     if unknown:
         raise cfg.ScenarioError("[scour]: " + cfg.unknown_names_message("key", unknown, KEYS))
     forcing, record = _forcing(sec, base_dir)
-    if depth is not None:
-        forcing.kernel_arrays(depth)  # raises the one-line error of a bed that falls dry
     span_days = forcing.duration_s / DAY
     leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=span_days, default=())
     levels = _numbers(
@@ -176,6 +174,8 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
             if given is None and default is None
             else cfg._check(spec.path, given if given is not None else default)
         )
+    if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
+        forcing.kernel_arrays(depth, values["d50"])
     return ScourSpec(leads, levels, law, cohesive, values, forcing, record)
 
 
