@@ -217,7 +217,6 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     """The stage's per-drop results of a chunk (keys ``scour:*``, stored with the chunk)."""
     n = P.shape[0]
     S, scale = stage_parameters(spec, P, inputs)
-    S[:, sc.S_B0] = summary[:, layout.S_PENETRATION]
     run = np.isin(status, status_codes.IN_STATISTICS) & np.isfinite(summary[:, layout.S_PENETRATION])
     geom = np.empty((n, N_GEOM))
     geom[:, 0] = P[:, layout.P_LENGTH]

@@ -1,13 +1,16 @@
 """The post-impact scour stage over the drops of an ensemble chunk (issue 20, items 1 and 6).
 
 One compiled loop over drops: each drop that came to rest runs :func:`mineburial.kernels.scour.
-scour_stage` from its impact burial over the run's forcing (Hs scaled by the drop's factor, the
-water depth the drop's own plus the forcing's water level), and the burial measures of the
-impact phase (:func:`mineburial.kernels.geometry.burial_measures`) are evaluated at each lead time
-with the mine at its rest attitude and the bed level raised so that the lowest point lies the
-scour burial ``B`` below it (docs/scour.md, Integration). A plain loop rather than ``prange``: the
-stage costs about 1 ms a drop, a few percent of the impact phase, and a parallel loop's compile
-is not worth it (docs/design.md, batch driver).
+scour_stage` over the run's forcing (Hs scaled by the drop's factor, the water depth the drop's
+own plus the forcing's water level). The scour laws are those of a cylinder **lying** on or in the
+bed (Rennie, Brandt & Friedrichs 2017: B/D = 1 puts the top of the horizontal cylinder level with
+the bed), so the stage's mine lies down: it starts from the burial ``B0`` of the horizontal
+cylinder that has the same fraction of its volume below the bed as the mine at its impact rest
+attitude (:func:`lying_burial`), and the burial measures of the impact phase
+(:func:`mineburial.kernels.geometry.burial_measures`) are evaluated at each lead time for that
+lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest attitude). A plain loop
+rather than ``prange``: the stage costs about 1 ms a drop, a few percent of the impact phase
+(docs/design.md, batch driver).
 """
 
 import math
@@ -16,7 +19,7 @@ import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels import scour as sc
-from mineburial.kernels.geometry import burial_measures, vertical_extent
+from mineburial.kernels.geometry import burial_measures, segment_area_unit, vertical_extent
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
 SCOUR_NOT_RUN = 4
@@ -32,6 +35,37 @@ G_LENGTH, G_RADIUS, G_CHI, G_AZ, G_ZC = range(5)
 N_GEOM = 5
 #: measures at each lead time (``out_measures[i, k, j]``): as layout.SUMMARY_NAMES's columns
 MEASURE_NAMES = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
+
+
+@kernel
+def lying_burial(L, R, chi, a_z, z_c):
+    """Initial burial [m] of the stage's lying mine from the impact's rest state (bed at z = 0):
+    the depth of the lowest point of the horizontal cylinder with the same fraction ``f`` of its
+    volume below the bed, ``R (1 - cos t)`` with ``(t - sin t cos t)/pi = f`` (the circular
+    segment of half-angle ``t``, seed 000 eq. (25a)), solved by bisection to the last bit. A mine
+    whose top lies below the bed (f = 1) lies with its top as deep: ``2R`` + that depth, so the
+    map is continuous and never unburies a buried mine. A lying mine maps to its own burial."""
+    _, z_max = vertical_extent(L, R, chi, a_z, z_c)
+    if z_max <= 0.0:
+        return 2.0 * R - z_max
+    pct_v, _, _, _, _ = burial_measures(L, R, chi, a_z, z_c, 0.0)
+    f = pct_v / 100.0
+    if f >= 1.0:
+        return 2.0 * R
+    if f <= 0.0:
+        return 0.0
+    lo = 0.0
+    hi = math.pi
+    target = math.pi * f
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if segment_area_unit(mid) < target:
+            lo = mid
+        else:
+            hi = mid
+    return R * (1.0 - math.cos(0.5 * (lo + hi)))
 
 
 @kernel
@@ -58,7 +92,8 @@ def scour_drops(
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
-    forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns).
+    forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns); the
+    stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`).
 
     Writes ``out_measures[i, k, j]`` (measure k of MEASURE_NAMES at lead time j),
     ``out_time_to[i, k]`` (s after the forcing's start at which B/D reaches ``fractions[k]``;
@@ -80,6 +115,10 @@ def scour_drops(
         for m in range(nt):
             hs_i[m] = hs[m] * hs_scale[i]
             h_i[m] = depth[i] + level[m]
+        L = geom[i, G_LENGTH]
+        R = geom[i, G_RADIUS]
+        chi = geom[i, G_CHI]
+        S[i, sc.S_B0] = lying_burial(L, R, chi, geom[i, G_AZ], geom[i, G_ZC])
         code, t_mobile, _ = sc.scour_stage(
             S[i], t, hs_i, tp, wdir, uc, cdir, h_i, table, lead_times, fractions, burial, out_time_to[i]
         )
@@ -88,17 +127,12 @@ def scour_drops(
             out_time_to[i, :] = math.nan
             continue
         out_mobile[i] = t_mobile
-        L = geom[i, G_LENGTH]
-        R = geom[i, G_RADIUS]
-        chi = geom[i, G_CHI]
-        a_z = geom[i, G_AZ]
-        z_c = geom[i, G_ZC]
-        z_min, _ = vertical_extent(L, R, chi, a_z, z_c)
         for j in range(lead_times.shape[0]):
             b = burial[j]
             if not math.isfinite(b):
                 continue
-            pv, ph, pa, proud, pen = burial_measures(L, R, chi, a_z, z_c, z_min + b)
+            # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
+            pv, ph, pa, proud, pen = burial_measures(L, R, chi, 0.0, 0.0, b - R)
             out_measures[i, 0, j] = pen
             out_measures[i, 1, j] = pv
             out_measures[i, 2, j] = ph
