@@ -69,6 +69,31 @@ def lying_burial(L, R, chi, a_z, z_c):
 
 
 @kernel
+def forcing_window(t, offset, length, idx, tw):
+    """The records of the window from ``offset`` to ``offset + length`` [s after t[0]], cut as
+    :func:`mineburial.io.forcing.window` cuts them (record k holds over [t_k, t_k+1)): the record
+    in effect at the offset first (timed at the offset), those that start inside, and the one in
+    effect at the end last (timed at the end). Writes their indices into ``idx`` and their times
+    from the window's start into ``tw`` (both at least len(t) + 1 long); returns how many."""
+    a = t[0] + offset
+    e = a + length
+    i0 = np.searchsorted(t, a, side="right") - 1
+    i1 = np.searchsorted(t, e, side="left")
+    idx[0] = i0
+    tw[0] = 0.0
+    m = 1
+    for k in range(i0 + 1, i1):
+        if t[k] - a >= length:  # within rounding of the end
+            break
+        idx[m] = k
+        tw[m] = t[k] - a
+        m += 1
+    idx[m] = np.searchsorted(t, e, side="right") - 1
+    tw[m] = length  # exactly: a lead time equal to the length is inside the window
+    return m + 1
+
+
+@kernel
 def scour_drops(
     S,
     hs_scale,
@@ -82,6 +107,8 @@ def scour_drops(
     uc,
     cdir,
     level,
+    start,
+    length,
     table,
     lead_times,
     fractions,
@@ -93,7 +120,10 @@ def scour_drops(
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
     forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns); the
-    stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`).
+    stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`). The drop
+    sees the forcing window from ``start[i]`` [s after t[0]] of ``length`` [s]
+    (:func:`forcing_window`; the caller keeps it inside the series), lead times counted from its
+    start; ``start[i] = 0`` with ``length`` >= the series' span is the whole series as given.
 
     Writes ``out_measures[i, k, j]`` (measure k of MEASURE_NAMES at lead time j),
     ``out_time_to[i, k]`` (s after the forcing's start at which B/D reaches ``fractions[k]``;
@@ -103,8 +133,16 @@ def scour_drops(
     n = S.shape[0]
     nt = t.shape[0]
     burial = np.empty(lead_times.shape[0])
-    hs_i = np.empty(nt)
-    h_i = np.empty(nt)
+    nb = nt + 1  # a window has at most one record more than the series (both ends cut)
+    hs_i = np.empty(nb)
+    h_i = np.empty(nb)
+    idx = np.empty(nb, dtype=np.int64)
+    t_w = np.empty(nb)
+    tp_w = np.empty(nb)
+    wdir_w = np.empty(nb)
+    uc_w = np.empty(nb)
+    cdir_w = np.empty(nb)
+    span = t[nt - 1] - t[0]
     for i in range(n):
         out_measures[i, :, :] = math.nan
         out_time_to[i, :] = math.nan
@@ -112,16 +150,29 @@ def scour_drops(
         if not run[i]:
             out_status[i] = SCOUR_NOT_RUN
             continue
-        for m in range(nt):
-            hs_i[m] = hs[m] * hs_scale[i]
-            h_i[m] = depth[i] + level[m]
+        if start[i] == 0.0 and length >= span:  # the whole series, as given
+            nw = nt
+            for m in range(nt):
+                idx[m] = m
+                t_w[m] = t[m]
+        else:
+            nw = forcing_window(t, start[i], length, idx, t_w)
+        for m in range(nw):
+            k = idx[m]
+            hs_i[m] = hs[k] * hs_scale[i]
+            h_i[m] = depth[i] + level[k]
+            tp_w[m] = tp[k]
+            wdir_w[m] = wdir[k]
+            uc_w[m] = uc[k]
+            cdir_w[m] = cdir[k]
         L = geom[i, G_LENGTH]
         R = geom[i, G_RADIUS]
         chi = geom[i, G_CHI]
         S[i, sc.S_B0] = lying_burial(L, R, chi, geom[i, G_AZ], geom[i, G_ZC])
         code, t_mobile, _ = sc.scour_stage(
-            S[i], t, hs_i, tp, wdir, uc, cdir, h_i, table, lead_times, fractions, burial, out_time_to[i]
-        )
+            S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
+            lead_times, fractions, burial, out_time_to[i],
+        )  # fmt: skip
         out_status[i] = code
         if code == sc.SCOUR_INVALID_PARAMETER or code == sc.SCOUR_INVALID_FORCING:
             out_time_to[i, :] = math.nan
