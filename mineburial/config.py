@@ -502,6 +502,15 @@ _FIELD_LIST = [
         1.0,
         incl=_OPEN_LOW,
     ),
+    _spec(
+        "scour.window_position",
+        "1",
+        0,
+        1,
+        "where each drop's window of scour.window_days starts in the forcing: 0 its first record, "
+        "1 the last start that fits (a uniform draw is a start date drawn from a long series)",
+        0.0,
+    ),
 ]
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.

@@ -571,3 +571,18 @@ def test_example_storm_through_the_scour_stage():
     assert out_b[hours == 48.0][0] > 0.02 and out_b[hours == 72.0][0] > out_b[hours == 48.0][0]
     assert np.all(out_b[hours >= 72.0] == out_b[hours == 72.0][0])
     assert 24 * HOUR < out_t[0] < 72 * HOUR
+
+
+def test_kernel_arrays_refuses_a_depth_below_the_stages_floor_not_only_a_dry_bed(tmp_path):
+    """Forcing validation checked h > 0 only; a depth above 0 but below depth_floor(d50) = 10 ks
+    passed it and then made every drop's stage return invalid_forcing (issue 20, item 3)."""
+    ref = reference_arrays()
+    f = F.load_csv(write(tmp_path, csv_text(ref)))
+    d50 = 2.0e-3  # floor = 10 * 2.5 * d50 = 0.05 m
+    low = float(np.min(f.water_level))
+    depth = -low + 0.03  # the shallowest record has h = 0.03 m: wet, but below the floor
+    with pytest.raises(ScenarioError, match=r"water_level.*depth_floor\(d50\) = 0.05 m.*allowed: >= "):
+        f.kernel_arrays(depth, d50)
+    f.kernel_arrays(depth)  # without a grain size only a dry bed is refused
+    h = f.kernel_arrays(-low + 0.06, d50)[-1]  # 1 cm above the floor
+    assert np.min(h) == pytest.approx(0.06, abs=1e-12)

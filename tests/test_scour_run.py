@@ -1,7 +1,8 @@
 """The post-impact scour stage in ``mineburial run`` (issue 20 items 1, 2, 5, 6): the optional
 ``[scour]`` section leaves every impact output as it was, a constant forcing gives the closed-form
-relaxation of every drop from its own impact burial, a cohesive bed does not scour, the class
-probabilities per lead time are the fractions of the per-drop burials, and bad input is one line."""
+relaxation of every drop from its own impact burial (that of the mine lying with the impact's
+buried volume, docs/scour.md), a cohesive bed does not scour, the class probabilities per lead
+time are the fractions of the per-drop burials, and bad input is one line."""
 
 import hashlib
 import json
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import scenario_dict
+from test_scour_rest import segment_burial
 
 from mineburial.cli import main
 from mineburial.config import dumps_toml, example_path
@@ -21,6 +23,7 @@ N = 8
 G = 9.81
 KAPPA = 0.40
 D = 0.25  # conftest's test cylinder
+LENGTH = 1.0
 U = 0.7  # m/s, depth-mean current of the constant forcing
 D50 = 2.0e-4
 RHO_S = 2650.0
@@ -85,6 +88,16 @@ def test_scour_section_absent_leaves_every_output_bit_identical(runs):
         assert np.array_equal(var.values, with_scour[name].values, equal_nan=var.dtype.kind == "f"), name
 
 
+def lying_b0(ds):
+    """Each drop's initial burial of the stage: the horizontal cylinder with the impact's burial
+    by volume (the segment, solved by brentq), or, when the mine's top is below the bed
+    (penetration beyond its vertical extent L|sin pitch| + D cos pitch), D + the top's depth."""
+    pitch = np.radians(ds["final_pitch"].values)
+    top = ds["penetration_depth"].values - (LENGTH * np.abs(np.sin(pitch)) + D * np.cos(pitch))
+    vol = ds["burial_volume"].values / 100.0
+    return np.array([D + tp if tp >= 0 else segment_burial(v, D / 2) for tp, v in zip(top, vol)])
+
+
 def closed_form(b0, depth, t_s, rho=1025.0, nu=1.0e-6):
     """B(t) from the printed laws (docs/scour.md): depth-mean current stress (Soulsby 1997 eqs.
     36-37, z0 = d50/12), Shields parameter, threshold of Soulsby & Whitehouse (1997), B_eq = D a
@@ -106,8 +119,9 @@ def test_constant_current_gives_the_closed_form_relaxation_of_each_drop(runs):
     assert np.all(ds["scour_status"].values == 0)
     t_s = np.asarray(LEADS) * 86400.0
     grew = 0
+    b0s = lying_b0(ds)
     for i in range(N):
-        b0 = float(ds["penetration_depth"][i])
+        b0 = b0s[i]
         depth = float(ds["input_environment_water_depth"][i])
         expected, b_eq, t_scale = closed_form(b0, depth, t_s)
         got = ds["scour_penetration_depth"].values[i]
@@ -153,7 +167,7 @@ def test_class_probabilities_per_lead_time_are_the_per_drop_fractions(runs):
 
 def test_cohesive_bed_does_not_scour(tmp_path):
     ds = runner.run_ensemble(scenario(tmp_path, scour_section(tmp_path, cohesive=True)))
-    b0 = ds["penetration_depth"].values
+    b0 = lying_b0(ds)
     got = ds["scour_penetration_depth"].values
     np.testing.assert_allclose(got, np.repeat(b0[:, None], len(LEADS), axis=1), rtol=1e-12)
     for k, level in enumerate(LEVELS):

@@ -45,8 +45,11 @@ NUMERIC = {
     "beq_b": sc.S_BEQ_B,
     "theta_exponent": sc.S_TSTAR_P,
     "hs_scale": None,  # scales the forcing, not a stage parameter
+    "window_position": None,  # where the drop's window starts in the forcing, not a stage parameter
 }
-KEYS = ("forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law") + tuple(NUMERIC)
+KEYS = (
+    "forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law", "window_days",
+) + tuple(NUMERIC)  # fmt: skip
 DEFAULT_LEVELS = (0.5, 0.75)
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``
@@ -65,6 +68,7 @@ class ScourSpec:
     values: dict  # scour.<name> -> fixed value (representative for a sampled one; mobile_layer inf: none)
     forcing: fio.Forcing
     forcing_record: dict  # file path + sha256, or the storm's parameters
+    window_days: float | None = None  # each drop's window of the forcing (None: the whole series)
 
     def resolved(self) -> dict:
         out = {
@@ -74,6 +78,8 @@ class ScourSpec:
             "cohesive": self.cohesive,
         }
         out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
+        if self.window_days is not None:
+            out["window_days"] = self.window_days
         out.update(self.forcing_record)
         return out
 
@@ -151,10 +157,10 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     if unknown:
         raise cfg.ScenarioError("[scour]: " + cfg.unknown_names_message("key", unknown, KEYS))
     forcing, record = _forcing(sec, base_dir)
-    if depth is not None:
-        forcing.kernel_arrays(depth)  # raises the one-line error of a bed that falls dry
     span_days = forcing.duration_s / DAY
-    leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=span_days, default=())
+    window = _window_days(sec, span_days)
+    high = span_days if window is None else window
+    leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=high, default=())
     levels = _numbers(
         sec.get("burial_levels"), "scour.burial_levels", low=0.0, high=1.0, default=DEFAULT_LEVELS
     )
@@ -176,7 +182,29 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
             if given is None and default is None
             else cfg._check(spec.path, given if given is not None else default)
         )
-    return ScourSpec(leads, levels, law, cohesive, values, forcing, record)
+    if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
+        forcing.kernel_arrays(depth, values["d50"])
+    return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window)
+
+
+def _window_days(sec, span_days):
+    """The length [d] of each drop's window of the forcing (``window_days``), or None (the whole
+    series); ``window_position`` (where in the series the window starts) needs it."""
+    window = sec.get("window_days")
+    if window is None:
+        if "window_position" in sec:
+            raise cfg.ScenarioError(
+                "scour.window_position needs scour.window_days (the length of each drop's window "
+                "of the forcing, days)"
+            )
+        return None
+    window = cfg._number(window, "scour.window_days", "d")
+    if not (0.0 < window <= span_days):
+        raise cfg.ScenarioError(
+            f"scour.window_days = {window:g} is outside the allowed range (0, {span_days:g}] "
+            "(the forcing's span, days)"
+        )
+    return window
 
 
 @functools.lru_cache(maxsize=1)
@@ -213,11 +241,21 @@ def stage_parameters(spec: ScourSpec, P, inputs):
     return S, _column(spec, inputs, "hs_scale", n)
 
 
+def window_starts(spec: ScourSpec, inputs, n):
+    """(start [s] after the forcing's first record of each drop's window, its length [s]):
+    ``window_position`` p in [0, 1] puts the start at p (span - length), so the window never
+    leaves the series; without ``window_days`` every drop sees the whole series from its start."""
+    span = spec.forcing.duration_s
+    if spec.window_days is None:
+        return np.zeros(n), span
+    length = spec.window_days * DAY
+    return _column(spec, inputs, "window_position", n) * (span - length), length
+
+
 def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     """The stage's per-drop results of a chunk (keys ``scour:*``, stored with the chunk)."""
     n = P.shape[0]
     S, scale = stage_parameters(spec, P, inputs)
-    S[:, sc.S_B0] = summary[:, layout.S_PENETRATION]
     run = np.isin(status, status_codes.IN_STATISTICS) & np.isfinite(summary[:, layout.S_PENETRATION])
     geom = np.empty((n, N_GEOM))
     geom[:, 0] = P[:, layout.P_LENGTH]
@@ -239,11 +277,13 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     depth = np.ascontiguousarray(P[:, layout.P_DEPTH])
     run = run.astype(np.uint8)
     level, table = np.array(f.water_level), _orbital_table()
+    start, length = window_starts(spec, inputs, n)
 
     def stage(a, b):  # rows [a, b): each drop's stage reads and writes only its own rows
         scour_drops(
             S[a:b], scale[a:b], depth[a:b], run[a:b], geom[a:b], t, hs, tp, wdir, uc, cdir,
-            level, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b], codes[a:b],
+            level, start[a:b], length, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b],
+            codes[a:b],
         )  # fmt: skip
 
     # in blocks on the drops' runner: Ctrl-C ends the stage within about a block, as the

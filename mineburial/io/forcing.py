@@ -32,6 +32,7 @@ import xarray as xr
 from xarray.coding.times import decode_cf_datetime
 
 from mineburial.io.files import atomic_write_text
+from mineburial.kernels.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
@@ -235,19 +236,27 @@ class Forcing:
         """The time of record i as text: ISO 8601 UTC, or ``t = ... s`` without a start."""
         return _iso(self.start, self.time[i])
 
-    def kernel_arrays(self, depth: float):
+    def kernel_arrays(self, depth: float, d50: float | None = None):
         """(t, hs, tp, wave_dir, current_speed, current_dir, h): the flat float64 arrays of
         :func:`mineburial.kernels.scour.scour_stage`. Both directions are returned in radians as
         directions *towards* which waves and current travel (the waves' "from" + 180 deg); the
-        kernel uses only their difference. h = depth + water level [m] must stay positive."""
+        kernel uses only their difference. h = depth + water level [m] must stay positive and,
+        with the grain size ``d50`` [m] given, at least the stage's ``depth_floor(d50)`` (else
+        the stage would return invalid_forcing for every drop)."""
         if not (math.isfinite(depth) and depth > 0.0):
             raise ScenarioError(f"{self.source}: water depth = {depth!r} m; allowed: > 0 m")
         h = depth + self.water_level
-        if not np.all(h > 0.0):
-            i = int(np.argmax(~(h > 0.0)))
+        floor = 0.0 if d50 is None else float(depth_floor(d50))
+        ok = (h > 0.0) & (h >= floor)
+        if not np.all(ok):
+            i = int(np.argmax(~ok))
+            if h[i] > 0.0:
+                why, allowed = f"leaves less than depth_floor(d50) = {floor:g} m", f">= {floor - depth:g}"
+            else:
+                why, allowed = "dries the bed", f"> {-depth:g}"
             raise ScenarioError(
                 f"{self.source}: variable 'water_level' = {self.water_level[i]:g} m at {self.iso(i)} "
-                f"dries the bed (depth {depth:g} m); allowed: > {-depth:g} m"
+                f"{why} (depth {depth:g} m); allowed: {allowed} m"
             )
         wave_to = np.radians(np.mod(self.wave_from + 180.0, 360.0))
         cur_to = np.radians(np.mod(self.current_to, 360.0))

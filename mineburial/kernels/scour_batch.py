@@ -1,13 +1,16 @@
 """The post-impact scour stage over the drops of an ensemble chunk (issue 20, items 1 and 6).
 
 One compiled loop over drops: each drop that came to rest runs :func:`mineburial.kernels.scour.
-scour_stage` from its impact burial over the run's forcing (Hs scaled by the drop's factor, the
-water depth the drop's own plus the forcing's water level), and the burial measures of the
-impact phase (:func:`mineburial.kernels.geometry.burial_measures`) are evaluated at each lead time
-with the mine at its rest attitude and the bed level raised so that the lowest point lies the
-scour burial ``B`` below it (docs/scour.md, Integration). A plain loop rather than ``prange``: the
-stage costs about 1 ms a drop, a few percent of the impact phase, and a parallel loop's compile
-is not worth it (docs/design.md, batch driver).
+scour_stage` over the run's forcing (Hs scaled by the drop's factor, the water depth the drop's
+own plus the forcing's water level). The scour laws are those of a cylinder **lying** on or in the
+bed (Rennie, Brandt & Friedrichs 2017: B/D = 1 puts the top of the horizontal cylinder level with
+the bed), so the stage's mine lies down: it starts from the burial ``B0`` of the horizontal
+cylinder that has the same fraction of its volume below the bed as the mine at its impact rest
+attitude (:func:`lying_burial`), and the burial measures of the impact phase
+(:func:`mineburial.kernels.geometry.burial_measures`) are evaluated at each lead time for that
+lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest attitude). A plain loop
+rather than ``prange``: the stage costs about 1 ms a drop, a few percent of the impact phase
+(docs/design.md, batch driver).
 """
 
 import math
@@ -16,7 +19,7 @@ import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels import scour as sc
-from mineburial.kernels.geometry import burial_measures, vertical_extent
+from mineburial.kernels.geometry import burial_measures, segment_area_unit, vertical_extent
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
 SCOUR_NOT_RUN = 4
@@ -35,6 +38,62 @@ MEASURE_NAMES = ("penetration_depth", "burial_volume", "burial_height", "burial_
 
 
 @kernel
+def lying_burial(L, R, chi, a_z, z_c):
+    """Initial burial [m] of the stage's lying mine from the impact's rest state (bed at z = 0):
+    the depth of the lowest point of the horizontal cylinder with the same fraction ``f`` of its
+    volume below the bed, ``R (1 - cos t)`` with ``(t - sin t cos t)/pi = f`` (the circular
+    segment of half-angle ``t``, seed 000 eq. (25a)), solved by bisection to the last bit. A mine
+    whose top lies below the bed (f = 1) lies with its top as deep: ``2R`` + that depth, so the
+    map is continuous and never unburies a buried mine. A lying mine maps to its own burial."""
+    _, z_max = vertical_extent(L, R, chi, a_z, z_c)
+    if z_max <= 0.0:
+        return 2.0 * R - z_max
+    pct_v, _, _, _, _ = burial_measures(L, R, chi, a_z, z_c, 0.0)
+    f = pct_v / 100.0
+    if f >= 1.0:
+        return 2.0 * R
+    if f <= 0.0:
+        return 0.0
+    lo = 0.0
+    hi = math.pi
+    target = math.pi * f
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if segment_area_unit(mid) < target:
+            lo = mid
+        else:
+            hi = mid
+    return R * (1.0 - math.cos(0.5 * (lo + hi)))
+
+
+@kernel
+def forcing_window(t, offset, length, idx, tw):
+    """The records of the window from ``offset`` to ``offset + length`` [s after t[0]], cut as
+    :func:`mineburial.io.forcing.window` cuts them (record k holds over [t_k, t_k+1)): the record
+    in effect at the offset first (timed at the offset), those that start inside, and the one in
+    effect at the end last (timed at the end). Writes their indices into ``idx`` and their times
+    from the window's start into ``tw`` (both at least len(t) + 1 long); returns how many."""
+    a = t[0] + offset
+    e = a + length
+    i0 = np.searchsorted(t, a, side="right") - 1
+    i1 = np.searchsorted(t, e, side="left")
+    idx[0] = i0
+    tw[0] = 0.0
+    m = 1
+    for k in range(i0 + 1, i1):
+        if t[k] - a >= length:  # within rounding of the end
+            break
+        idx[m] = k
+        tw[m] = t[k] - a
+        m += 1
+    idx[m] = np.searchsorted(t, e, side="right") - 1
+    tw[m] = length  # exactly: a lead time equal to the length is inside the window
+    return m + 1
+
+
+@kernel
 def scour_drops(
     S,
     hs_scale,
@@ -48,6 +107,8 @@ def scour_drops(
     uc,
     cdir,
     level,
+    start,
+    length,
     table,
     lead_times,
     fractions,
@@ -58,7 +119,11 @@ def scour_drops(
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
-    forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns).
+    forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns); the
+    stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`). The drop
+    sees the forcing window from ``start[i]`` [s after t[0]] of ``length`` [s]
+    (:func:`forcing_window`; the caller keeps it inside the series), lead times counted from its
+    start; ``start[i] = 0`` with ``length`` >= the series' span is the whole series as given.
 
     Writes ``out_measures[i, k, j]`` (measure k of MEASURE_NAMES at lead time j),
     ``out_time_to[i, k]`` (s after the forcing's start at which B/D reaches ``fractions[k]``;
@@ -68,8 +133,16 @@ def scour_drops(
     n = S.shape[0]
     nt = t.shape[0]
     burial = np.empty(lead_times.shape[0])
-    hs_i = np.empty(nt)
-    h_i = np.empty(nt)
+    nb = nt + 1  # a window has at most one record more than the series (both ends cut)
+    hs_i = np.empty(nb)
+    h_i = np.empty(nb)
+    idx = np.empty(nb, dtype=np.int64)
+    t_w = np.empty(nb)
+    tp_w = np.empty(nb)
+    wdir_w = np.empty(nb)
+    uc_w = np.empty(nb)
+    cdir_w = np.empty(nb)
+    span = t[nt - 1] - t[0]
     for i in range(n):
         out_measures[i, :, :] = math.nan
         out_time_to[i, :] = math.nan
@@ -77,28 +150,40 @@ def scour_drops(
         if not run[i]:
             out_status[i] = SCOUR_NOT_RUN
             continue
-        for m in range(nt):
-            hs_i[m] = hs[m] * hs_scale[i]
-            h_i[m] = depth[i] + level[m]
+        if start[i] == 0.0 and length >= span:  # the whole series, as given
+            nw = nt
+            for m in range(nt):
+                idx[m] = m
+                t_w[m] = t[m]
+        else:
+            nw = forcing_window(t, start[i], length, idx, t_w)
+        for m in range(nw):
+            k = idx[m]
+            hs_i[m] = hs[k] * hs_scale[i]
+            h_i[m] = depth[i] + level[k]
+            tp_w[m] = tp[k]
+            wdir_w[m] = wdir[k]
+            uc_w[m] = uc[k]
+            cdir_w[m] = cdir[k]
+        L = geom[i, G_LENGTH]
+        R = geom[i, G_RADIUS]
+        chi = geom[i, G_CHI]
+        S[i, sc.S_B0] = lying_burial(L, R, chi, geom[i, G_AZ], geom[i, G_ZC])
         code, t_mobile, _ = sc.scour_stage(
-            S[i], t, hs_i, tp, wdir, uc, cdir, h_i, table, lead_times, fractions, burial, out_time_to[i]
-        )
+            S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
+            lead_times, fractions, burial, out_time_to[i],
+        )  # fmt: skip
         out_status[i] = code
         if code == sc.SCOUR_INVALID_PARAMETER or code == sc.SCOUR_INVALID_FORCING:
             out_time_to[i, :] = math.nan
             continue
         out_mobile[i] = t_mobile
-        L = geom[i, G_LENGTH]
-        R = geom[i, G_RADIUS]
-        chi = geom[i, G_CHI]
-        a_z = geom[i, G_AZ]
-        z_c = geom[i, G_ZC]
-        z_min, _ = vertical_extent(L, R, chi, a_z, z_c)
         for j in range(lead_times.shape[0]):
             b = burial[j]
             if not math.isfinite(b):
                 continue
-            pv, ph, pa, proud, pen = burial_measures(L, R, chi, a_z, z_c, z_min + b)
+            # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
+            pv, ph, pa, proud, pen = burial_measures(L, R, chi, 0.0, 0.0, b - R)
             out_measures[i, 0, j] = pen
             out_measures[i, 1, j] = pv
             out_measures[i, 2, j] = ph
