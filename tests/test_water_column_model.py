@@ -7,11 +7,13 @@ import math
 
 import numpy as np
 import pytest
+import tomllib
 from conftest import make_scenario
 from scipy.spatial.transform import Rotation
 
 from mineburial.config import ScenarioError
 from mineburial.drop import simulate_drop
+from mineburial.ensembles import engine, model_form
 from mineburial.kernels import added_mass, layout
 from mineburial.kernels.coefficients import cross_drag_coefficient
 from mineburial.validation import compare
@@ -292,3 +294,16 @@ def test_compare_vary_knows_water_column_by_its_short_name():
     """`mineburial compare --vary water_column=...` lacked the short name (issue 19 left-over)."""
     field, values = compare.parse_vary("water_column=munk_factor,viscous_crossflow")
     assert field == "numerics.water_column" and values == ["munk_factor", "viscous_crossflow"]
+
+
+def test_default_ensemble_samples_the_water_column_half_and_half_with_bearing_fixed():
+    """The default's model form (docs/physics.md, "Model-form uncertainty"): the water column
+    50/50, the resistance the mineburial model's bearing (Chu & Fan 2007), not written in the
+    file so that a model variant still takes its own laws."""
+    spec = engine.load_ensemble(engine.DEFAULT_SCENARIO)
+    got = model_form.choices(spec)
+    assert got["numerics.water_column"] == "sampled: choice of munk_factor (0.5), viscous_crossflow (0.5)"
+    assert got["sediment.resistance"] == "fixed: bearing"
+    assert got["numerics.model"] == "fixed: mineburial"
+    with open(engine.DEFAULT_SCENARIO, "rb") as fh:
+        assert "resistance" not in tomllib.load(fh)["sediment"]
