@@ -290,15 +290,24 @@ def _spread(d: dict) -> dict | None:
     return None
 
 
+def _first_numeric(d: dict, value=None, drop=False) -> dict | None:
+    """The distribution with its first numeric parameter set to ``value`` or removed (None: it has
+    none, as a model-form ``choice`` among labels)."""
+    keys = _numeric_params(d)
+    if not keys:
+        return None
+    return {k: v for k, v in d.items() if k != keys[0]} if drop else {**d, keys[0]: value}
+
+
 DIST_DAMAGE = {
     "unknown_family": lambda d: {**d, "distribution": "gaussian"},
     "family_as_number": lambda d: {**d, "distribution": 5},
-    "nan_parameter": lambda d: {**d, _numeric_params(d)[0]: float("nan")},
+    "nan_parameter": lambda d: _first_numeric(d, float("nan")),
     # the first parameter (mean, low, median) is required and finite in every family; a
     # truncated normal's bounds may be infinite or left out (one-sided truncation)
-    "inf_parameter": lambda d: {**d, _numeric_params(d)[0]: float("inf")},
-    "text_parameter": lambda d: {**d, _numeric_params(d)[0]: "abc"},
-    "missing_parameter": lambda d: {k: v for k, v in d.items() if k != _numeric_params(d)[0]},
+    "inf_parameter": lambda d: _first_numeric(d, float("inf")),
+    "text_parameter": lambda d: _first_numeric(d, "abc"),
+    "missing_parameter": lambda d: _first_numeric(d, drop=True),
     "extra_parameter": lambda d: {**d, "shape": 1.0},
     "negative_spread_or_reversed_bounds": _spread,
 }

@@ -38,7 +38,9 @@ def with_choices(n=10, **sections):
 def test_adding_a_sampled_model_choice_leaves_every_other_draw_unchanged():
     """Seed contract: the stream of a field is keyed by its name, so adding the sampled
     water-column model and resistance law changes no other input of any drop."""
-    plain = engine.load_ensemble(short_default(64))
+    raw = short_default(64)
+    del raw["numerics"]["water_column"]  # the default samples it: start from no model choice
+    plain = engine.load_ensemble(raw)
     mixed = engine.load_ensemble(with_choices(64, numerics__water_column=WC, sediment__resistance=RES))
     _, _, before = engine.chunk_inputs(plain, 0, 64)
     _, _, after = engine.chunk_inputs(mixed, 0, 64)

@@ -86,8 +86,9 @@ def test_scenario_sensitivity_runs_every_random_input():
         "sediment.density",
         "sediment.strength",
         "sediment.strength_gradient",
+        "numerics.water_column",  # the default samples the water-column model (model form)
     }
-    assert int(ds.attrs["n_evaluations"]) == 4 * 11
+    assert int(ds.attrs["n_evaluations"]) == 4 * (10 + 2)  # n (d + 2), d = 10 inputs
     assert list(ds.output.values)[:2] == ["penetration_depth", "burial_volume"]
 
 
@@ -102,7 +103,7 @@ def test_cli_writes_netcdf_and_plot(tmp_path, capsys):
     assert "first order S_i" in capsys.readouterr().out
     assert png.stat().st_size > 0
     with xr.open_dataset(out) as ds:
-        assert ds.first_order.dims == ("output", "input") and ds.sizes["input"] == 9
+        assert ds.first_order.dims == ("output", "input") and ds.sizes["input"] == 10
 
 
 def test_cli_bad_sample_size_is_one_line(capsys):

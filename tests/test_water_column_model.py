@@ -7,13 +7,16 @@ import math
 
 import numpy as np
 import pytest
+import tomllib
 from conftest import make_scenario
 from scipy.spatial.transform import Rotation
 
 from mineburial.config import ScenarioError
 from mineburial.drop import simulate_drop
+from mineburial.ensembles import engine, model_form
 from mineburial.kernels import added_mass, layout
 from mineburial.kernels.coefficients import cross_drag_coefficient
+from mineburial.validation import compare
 
 RHO = 1025.0
 L, D = 1.0, 0.25  # conftest's mine: L/D = 4, a tabulated aspect ratio
@@ -69,6 +72,53 @@ def test_strip_crossflow_drag_of_seed_000_is_datcoms_separated_crossflow(ld):
     so the viscous_crossflow model adds no second crossflow force (no double counting)."""
     cd2 = cross_drag_coefficient(5.0e4, ld)
     assert cd2 == pytest.approx(DATCOM_ETA[ld] * 1.2, rel=0.04)
+
+
+def _eq44_two_dimensional(re):
+    """Seed 000 eq. (44) as printed, its branches without L/D (the 2-D cylinder's C_dn)."""
+    if re <= 12000.0:
+        return 0.84 + 0.00003 * re
+    if re <= 350000.0:
+        return 1.875 - 0.0000045 * re
+    return 1.0 / (641550.0 / re + 1.5)
+
+
+def _broadside_deceleration(speed, water_column, h=1e-4):
+    """dv/dt over the first h seconds of a horizontal body moving broadside (along earth y,
+    its axis along x) at ``speed``, deep, drag on: the crossflow force over the transverse mass."""
+    sc = make_scenario(
+        environment={"gravity": G},
+        release={"position": [0, 0, -50.0], "velocity": [0.0, speed, 0.0]},
+        numerics={"water_column": water_column, "integrator": "rk4", "dt": h / 20, "t_max_fall": h},
+    )
+    ds = simulate_drop(sc, record_interval=h)
+    assert float(ds.time[-1]) == pytest.approx(h)
+    return (float(ds.v[-1]) - speed) / h
+
+
+@pytest.mark.parametrize("speed", [0.02, 1.0, 4.0])  # Re = 5e3, 2.5e5, 1e6: 2-D branches of eq. (44)
+def test_viscous_crossflow_separated_crossflow_carries_eta_outside_the_finite_body_band(speed):
+    """Regression: the viscous_crossflow model used seed 000 eq. (44) as its separated crossflow
+    eta C_dn at every Reynolds number, but outside 12000 < Re <= 150000 eq. (44) is the 2-D
+    cylinder's C_dn (no L/D), so at the default mine's Re ~ 1e6 the crossflow force lacked
+    DATCOM's eta (0.60 at L/D 4): 1/eta = 1.67 times too large. Jorgensen (NASA TR R-474):
+    F = eta C_dn(Re) (1/2) rho d L v^2; the munk_factor model keeps eq. (44) as printed."""
+    m, re = 80.0, speed * D / 1.0e-6
+    force = 0.5 * RHO * _eq44_two_dimensional(re) * D * L * speed**2
+    crossflow = _broadside_deceleration(speed, "viscous_crossflow")
+    expected = -DATCOM_ETA[4.0] * force / (m + BEM[4.0][0] * RHO * VOL)
+    assert crossflow == pytest.approx(expected, rel=1e-3)
+    munk = _broadside_deceleration(speed, "munk_factor")
+    assert munk == pytest.approx(-force / (m + RHO * VOL), rel=1e-3)
+
+
+def test_viscous_crossflow_separated_crossflow_in_the_finite_body_band_is_eq44():
+    """In 12000 < Re <= 150000 eq. (44) already is the finite body's (0.835 - 0.35/delta,
+    within 4 % of eta x 1.2): no eta on top (Re = 5e4 here)."""
+    m, speed = 80.0, 0.2
+    force = 0.5 * RHO * (0.835 - 0.35 / 4.0) * D * L * speed**2
+    expected = -force / (m + BEM[4.0][0] * RHO * VOL)
+    assert _broadside_deceleration(speed, "viscous_crossflow") == pytest.approx(expected, rel=1e-3)
 
 
 @pytest.mark.parametrize("alpha_deg", [0.0, 10.0, 45.0, 80.0, 90.0])
@@ -238,3 +288,22 @@ def test_viscous_crossflow_does_not_read_munk_factor():
 def test_unknown_water_column_model_is_one_clear_error():
     with pytest.raises(ScenarioError, match="numerics.water_column"):
         make_scenario(numerics={"water_column": "slender"})
+
+
+def test_compare_vary_knows_water_column_by_its_short_name():
+    """`mineburial compare --vary water_column=...` lacked the short name (issue 19 left-over)."""
+    field, values = compare.parse_vary("water_column=munk_factor,viscous_crossflow")
+    assert field == "numerics.water_column" and values == ["munk_factor", "viscous_crossflow"]
+
+
+def test_default_ensemble_samples_the_water_column_half_and_half_with_bearing_fixed():
+    """The default's model form (docs/physics.md, "Model-form uncertainty"): the water column
+    50/50, the resistance the mineburial model's bearing (Chu & Fan 2007), not written in the
+    file so that a model variant still takes its own laws."""
+    spec = engine.load_ensemble(engine.DEFAULT_SCENARIO)
+    got = model_form.choices(spec)
+    assert got["numerics.water_column"] == "sampled: choice of munk_factor (0.5), viscous_crossflow (0.5)"
+    assert got["sediment.resistance"] == "fixed: bearing"
+    assert got["numerics.model"] == "fixed: mineburial"
+    with open(engine.DEFAULT_SCENARIO, "rb") as fh:
+        assert "resistance" not in tomllib.load(fh)["sediment"]

@@ -12,8 +12,11 @@ Tables (docs/physics.md, "Water-column model choices"):
   of strip theory's, at the same L/D **[computed]** by ``benchmarks/added_mass_bem.py``
   (capytaine 3.0.0, direct method, sphere check 0.4999).
 * :data:`ETA_LD`, :data:`ETA_TABLE`: crossflow efficiency eta(L/D) of the viscous-crossflow
-  method, Digital DATCOM ``bodyrt.f`` table (Jorgensen, NASA TR R-474, 1977), used by the
-  docs and tests to check the separated crossflow of the strip drag (seed 000 eq. (44)).
+  method, Digital DATCOM ``bodyrt.f`` table (Jorgensen, NASA TR R-474, 1977): the separated
+  crossflow is eta C_dn(Re) with C_dn the 2-D cylinder's. Seed 000 eq. (44) is that 2-D
+  value in every Reynolds band but 12000-150000, where it is already the finite body's
+  (0.835 - 0.35/delta, within 4 % of eta x 1.2); :func:`finite_body_cross_drag` applies eta
+  in the other bands (docs/physics.md, "Water-column model choices").
 
 Interpolation is linear in L/D; outside the table the end values are held (the default
 mine has L/D = 3.8, the Exp-1 cylinders 3.0 and 3.8).
@@ -35,6 +38,9 @@ KR_TABLE = np.array([0.4645, 0.5686, 0.6429, 0.7360])
 ETA_LD = np.array([2.0, 4.0, 8.0, 12.0, 16.0, 20.0])
 ETA_TABLE = np.array([0.56, 0.60, 0.66, 0.71, 0.74, 0.76])  # DATCOM bodyrt.f
 C_DC_SUBCRITICAL = 1.2  # DATCOM crossflow drag coefficient, low crossflow Mach
+# the Reynolds band (RE_FINITE_LOW, RE_FINITE_HIGH] in which seed 000 eq. (44) depends on L/D
+RE_FINITE_LOW = 12000.0
+RE_FINITE_HIGH = 150000.0
 
 
 @kernel
@@ -62,6 +68,23 @@ def cylinder_added_mass(aspect):
         table_lookup(LD_TABLE, KA_TABLE, aspect),
         table_lookup(LD_TABLE, KR_TABLE, aspect),
     )
+
+
+@kernel
+def crossflow_efficiency(aspect):
+    """eta(L/D) of the viscous-crossflow method (DATCOM bodyrt.f table above)."""
+    return table_lookup(ETA_LD, ETA_TABLE, aspect)
+
+
+@kernel
+def finite_body_cross_drag(cd2, reynolds, eta):
+    """Separated crossflow coefficient eta C_dn (Jorgensen, NASA TR R-474; DATCOM
+    bodyjm.f) from seed 000 eq. (44)'s ``cd2``: eq. (44) is the 2-D cylinder's C_dn outside
+    RE_FINITE_LOW < Re <= RE_FINITE_HIGH, where it already carries the L/D dependence, so
+    ``eta`` multiplies it outside that band only (eta = 1 returns ``cd2`` unchanged)."""
+    if RE_FINITE_LOW < reynolds <= RE_FINITE_HIGH:
+        return cd2
+    return eta * cd2
 
 
 @kernel

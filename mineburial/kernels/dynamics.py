@@ -28,7 +28,12 @@ same scheme so that energy bookkeeping closes to the integration error.
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels.added_mass import cylinder_added_mass, munk_incidence_factor
+from mineburial.kernels.added_mass import (
+    crossflow_efficiency,
+    cylinder_added_mass,
+    finite_body_cross_drag,
+    munk_incidence_factor,
+)
 from mineburial.kernels.coefficients import axial_drag_coefficient, cross_drag_coefficient, lift_coefficient
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
@@ -95,7 +100,7 @@ def phase_of(z_lo, z_hi, depth):
 
 
 @kernel
-def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
+def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta):
     """Fluid force and torque (body frame, about the COM) on the axial strip [a, b].
 
     ``(ur1, ur2, ur3)`` is the fluid velocity relative to the COM in the body frame.
@@ -105,6 +110,9 @@ def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
     eqs. (36)-(47)). Axial drag: seed 000 eqs. (38)-(40), scaled by the wetted
     length fraction (b - a)/L. Magnus lift: seed 000 eqs. (49)-(50) with the
     Kutta-Joukowski direction omega x v_body. Roll damping: seed 000 eq. (53).
+    ``eta`` is the crossflow efficiency of the viscous-crossflow model applied where eq. (44)
+    gives the 2-D cylinder's value (:func:`added_mass.finite_body_cross_drag`); 1 for the
+    munk_factor model, which keeps eq. (44) as printed.
     """
     if drag_on == 0 or rho <= 0.0 or b <= a:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -122,7 +130,7 @@ def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
     v2sq = (ur2 * ur2 + ur3 * ur3) + 2.0 * m1 * (-ur2 * w3 + ur3 * w2) + m2 * (w3 * w3 + w2 * w2)
     vrms = math.sqrt(max(v2sq, 0.0))
     re = vrms * d / nu
-    cd2 = cross_drag_coefficient(re, aspect)
+    cd2 = finite_body_cross_drag(cross_drag_coefficient(re, aspect), re, eta)
     k = 0.5 * rho * cd2 * d
     f2 = k * iy
     f3 = k * iz
@@ -214,7 +222,7 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
 
 @kernel
 def add_strip_forces(
-    impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, f1, f2, f3, m1, m2, m3
+    impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, f1, f2, f3, m1, m2, m3
 ):
     """Add the fluid force and torque on the strip [a, b] of the selected model
     (:func:`impact35_strip_forces` or :func:`strip_forces`) to the accumulators."""
@@ -223,7 +231,7 @@ def add_strip_forces(
             rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on
         )
     else:
-        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on)
+        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta)
     return f1 + h1, f2 + h2, f3 + h3, m1 + h4, m2 + h5, m3 + h6
 
 
@@ -280,6 +288,9 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     depth = p[P_DEPTH]
     impact35 = int(p[P_MODEL]) == 1
     drag_on = int(p[P_DRAG])
+    crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
+    # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
+    eta = crossflow_efficiency(L / (2.0 * R)) if crossflow_model else 1.0
 
     x = y[0]
     yy = y[1]
@@ -373,6 +384,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
             w2,
             w3,
             drag_on,
+            eta,
             fb1,
             fb2,
             fb3,
@@ -407,6 +419,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
             w2,
             w3,
             drag_on,
+            eta,
             fb1,
             fb2,
             fb3,
@@ -468,7 +481,6 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
             a0 += aair * (ab - aa)
             a1 += aair * 0.5 * (ab * ab - aa * aa)
             a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
-    crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
     if crossflow_model:
         # finite closed cylinder (BEM tables, kernels/added_mass.py) on the strip values
         # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
@@ -526,7 +538,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         # the potential (Munk) part, (a0 - a11) U1 U_perp, carries the factor cos(alpha/2).
         # It is removed with its force partner w x ((a0 - a11) U_perp), so the pair stays
         # power-free (energy conserved without drag); the separated crossflow
-        # eta C_dc sin^2(alpha) q A_p is the strip drag (seed 000 eq. (44) ~ eta C_dc).
+        # eta C_dc sin^2(alpha) q A_p is the strip drag with eta (strip_forces).
         cut = (1.0 - munk_incidence_factor(vr1, vr2, vr3)) * (a0 - a11)
         ca1 -= cut * (w2 * vr3 - w3 * vr2)
         ca2 -= cut * (-w1 * vr3)

@@ -62,6 +62,7 @@ SHORT_NAMES = {
     "rate_law": "sediment.rate_law",
     "integrator": "numerics.integrator",
     "sediment_quadrature": "numerics.sediment_quadrature",
+    "water_column": "numerics.water_column",
 }
 
 #: Outputs whose statistics are compared.

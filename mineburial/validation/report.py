@@ -135,7 +135,10 @@ STANDING = (
     "for issue 19 with the code of 69fd694) P(> 75 % buried) is 0.23 with `munk_factor = 1` against 0.86 "
     "with the default 0 (mean burial 63.3 % against 87.8 %; impact nearly broadside at 3.3 m/s against "
     "nose first at 5.6 m/s). The seed 004 Table 3 rows and the Exp-2 ratio row compare the model with "
-    "other models' results (verification), not with measurements."
+    "other models' results (verification), not with measurements. Since issue 19 the default ensemble "
+    "samples the water column 50/50 between `munk_factor` and the literature's `viscous_crossflow` "
+    '(docs/physics.md, "Model-form uncertainty"), so its answer no longer rests on this choice alone; '
+    "the single-drop cases here keep the default `munk_factor`."
 )
 TIMING = (
     f"**Exp-1 timing origin.** {TIMING_ORIGIN[0].upper()}{TIMING_ORIGIN[1:]}. The travel-time rows compare "
