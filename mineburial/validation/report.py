@@ -125,9 +125,10 @@ def _write(path: pathlib.Path, text: str) -> None:
 STANDING = (
     "**What this validates.** Comparisons with measurements are few: seed 000's Exp-1 pool drops (travel "
     "time, pattern, flip time; the pool depth is not printed), the published band of torpedo-anchor "
-    "embedments in normally consolidated clay (a heavier, faster, more slender body than a mine), and no "
-    "measured burial depth of a mine (Exp-2's are only in a figure; docs/validation.md lists the sources "
-    "searched). The headline water-column choice, "
+    "embedments in normally consolidated clay (a heavier, faster, more slender body than a mine), the "
+    "published bands of scour burial of instrumented mines (Oahu, Halekulani, Indian Rocks Beach: the scour "
+    "stage after impact, not the impact), and no measured impact burial depth of a mine (Exp-2's are only in "
+    "a figure; docs/validation.md lists the sources searched). The headline water-column choice, "
     "`numerics.munk_factor = 0` (no Munk moment), rests on **one calibration case**, the Exp-1 eq. (92) drop "
     "under the mineburial model (the calibration rows below), so those rows are not its validation. The "
     "literature's physics, slender-body strip theory (`munk_factor = 1`), gives a very different answer on "
