@@ -36,6 +36,7 @@ import xarray as xr
 from scipy.special import ndtri
 
 from mineburial import config as cfg
+from mineburial._version import __version__
 from mineburial.ensembles import engine, runner
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
@@ -246,8 +247,6 @@ def run_comparison(
     field that is random in the scenario or a value the scenario rejects, and
     ``RuntimeError`` if the sampled inputs were not identical across variants.
     """
-    from mineburial import __version__
-
     field, base, specs = _plan(scenario, field, values, n=n, seed=seed, sampling=sampling)
     threads = runner.check_threads(threads, "--threads")
     refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
@@ -518,9 +517,7 @@ def pyplot():
     try:
         import matplotlib
     except ImportError:
-        from mineburial.config import ScenarioError
-
-        raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
+        raise cfg.ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

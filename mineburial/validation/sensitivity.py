@@ -47,6 +47,8 @@ import numpy as np
 import xarray as xr
 from scipy import stats
 
+from mineburial._version import __version__
+from mineburial.config import ScenarioError
 from mineburial.ensembles import engine, model_form, runner
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
@@ -296,8 +298,6 @@ def run_sensitivity(
     cluster of a dask ``client``); with ``output_run`` (an
     :class:`~mineburial.ensembles.store.OutputRun`) its finished chunks are kept in the
     parts folder, so an interrupted analysis resumes."""
-    from mineburial import __version__
-
     spec = engine.load_ensemble(scenario, seed=seed)
     engine.refuse_scour(spec, "sensitivity")
     if not spec.random:
@@ -321,20 +321,12 @@ def run_sensitivity(
         }
         points = DesignSpec.of(spec, design)
         store = None if output_run is None else output_run.store(points)
-        runs = runner.run_jobs(
-            [runner.Job(None, points, store)], client=client, progress=progress, threads=threads
-        )
-        ((_, chunks),) = runs
+        job = runner.Job(None, points, store)
+        ((_, chunks),) = runner.run_jobs([job], client=client, progress=progress, threads=threads)
         summary = np.concatenate([r["summary"] for r in chunks])
         status = np.concatenate([r["status"] for r in chunks])
         counts[:] = np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
-        classes = burial_class(summary[:, layout.SUMMARY_INDEX[spec.class_basis]])
-        return np.vstack(
-            [
-                summary[:, [layout.SUMMARY_INDEX[o] for o in OUTPUTS]].T,
-                classes == np.arange(len(CLASS_OUTPUTS))[:, None],
-            ]
-        )
+        return _outputs(summary, spec.class_basis)
 
     t0 = time.monotonic()
     ds = model_form_share(sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS + CLASS_OUTPUTS))
@@ -354,6 +346,14 @@ def run_sensitivity(
         }
     )
     return ds
+
+
+def _outputs(summary: np.ndarray, class_basis: str) -> np.ndarray:
+    """The analysed outputs of each drop, (len(OUTPUTS) + len(CLASS_OUTPUTS), drops): its
+    :data:`OUTPUTS` and the indicators of its burial class (by ``class_basis``)."""
+    classes = burial_class(summary[:, layout.SUMMARY_INDEX[class_basis]])
+    indicators = classes == np.arange(len(CLASS_OUTPUTS))[:, None]
+    return np.vstack([summary[:, [layout.SUMMARY_INDEX[o] for o in OUTPUTS]].T, indicators])
 
 
 def memory_needed(n: int, d: int, spec=None, n_resamples: int = 999) -> float:
@@ -495,8 +495,6 @@ def plot_sensitivity(ds: xr.Dataset, path) -> None:
 
 def run_sensitivity_cli(args) -> int:
     """``mineburial sensitivity``."""
-    from mineburial.config import ScenarioError
-
     runner.check_threads(args.threads, "--threads")
     n = 256 if args.drops is None else args.drops
     if n < 2 or n & (n - 1):
