@@ -144,3 +144,35 @@ def test_an_interrupted_comparison_without_output_does_not_promise_a_resume(monk
     assert main(argv) == 130
     err = capsys.readouterr().err.splitlines()
     assert err == ["mineburial: interrupted; this command cannot resume: rerun it to start again"]
+
+
+@pytest.mark.parametrize("command", ["compare", "sensitivity"])
+def test_an_unreachable_scheduler_is_one_line_before_computing(tmp_path, monkeypatch, capsys, command):
+    from mineburial.ensembles import runner
+
+    monkeypatch.setattr(runner, "SCHEDULER_TIMEOUT", 1.0)
+    calls = _count_chunks(monkeypatch)
+    out = tmp_path / "o.nc"
+    argv = {"compare": ["--vary", "sediment.resistance=bearing,delta", "-n", "2"], "sensitivity": ["-n", "2"]}
+    assert main([command, *argv[command], "--quiet", "-o", str(out), "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1
+    assert err[0].startswith(
+        "mineburial: error: --scheduler tcp://127.0.0.1:9: cannot reach a dask scheduler"
+    )
+    assert calls == [] and not out.exists() and not (tmp_path / "o.nc.parts").exists()
+
+
+def test_the_cli_spreads_the_variants_over_a_scheduler(runs, tmp_path):
+    from distributed import LocalCluster
+
+    scenario, out = tmp_path / "s.toml", tmp_path / "c.nc"
+    scenario.write_text(toml_text(short_default()))
+    argv = ["compare", str(scenario), "--vary", "sediment.resistance=" + ",".join(VALUES)]
+    argv += ["--seed", str(SEED), "--quiet", "-o", str(out)]
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://", dashboard_address=None
+    ) as cluster:
+        assert main([*argv, "--scheduler", cluster.scheduler_address]) == 0
+    with xr.open_dataset(out) as ds:
+        assert_variants_are_their_runs(ds.load(), runs)
