@@ -7,6 +7,8 @@ chunk files on disk and the chunks computed after an interrupt; threads, a dask 
 resume must not change a bit of the indices.
 """
 
+import dataclasses
+
 import numba
 import numpy as np
 import pytest
@@ -16,30 +18,45 @@ from test_compare_driver import _count_chunks, toml_text
 
 from mineburial.cli import main
 from mineburial.ensembles import engine, runner, store
+from mineburial.validation import sensitivity
 from mineburial.validation.sensitivity import DesignSpec, run_sensitivity
 
 N, SEED = 4, 1
 DROPS = N * (9 + 2)  # short_default() has 9 random inputs
 
 
-def test_a_design_of_the_ensembles_own_draws_gives_its_drops():
+def test_a_design_of_the_ensembles_own_draws_gives_its_drops(monkeypatch):
     spec = engine.load_ensemble(short_default(), seed=SEED)
-    design = {k: np.asarray(v) for k, v in spec.sampled_inputs(0, spec.n).items()}
-    points = DesignSpec.of(spec, design)
+    points = DesignSpec.of(spec, 1)  # n (d + 2) = 11 points ...
+    assert points.n == 11 and spec.n == 10
+    own = {k: np.asarray(v) for k, v in spec.sampled_inputs(0, 11).items()}  # ... the ensemble's draws
+    monkeypatch.setattr(sensitivity, "design_points", lambda random, n, seed: own)
     ((_, chunks),) = runner.run_jobs([runner.Job(None, points)], threads=1)
-    ref = engine.compute_chunk(spec, 0, spec.n)
+    ref = engine.compute_chunk(dataclasses.replace(spec, n=11), 0, 11)
     for key in ("summary", "status"):
         np.testing.assert_array_equal(np.concatenate([c[key] for c in chunks]), ref[key])
 
 
-def test_the_run_identity_of_a_design_changes_with_its_points():
-    """A resumed analysis must not reuse the chunks of another design."""
+def test_the_design_is_scipys_and_its_identity_changes_with_it():
+    """The points are those scipy's sobol_indices evaluates (recorded from it), the same for
+    the same seed; a resumed analysis must not reuse the chunks of another design."""
     spec = engine.load_ensemble(short_default(), seed=SEED)
-    design = {k: np.asarray(v, dtype=np.float64) for k, v in spec.sampled_inputs(0, spec.n).items()}
-    moved = {k: v.copy() for k, v in design.items()}
-    moved["mine.mass"][3] += 1e-9
-    ids = {store.run_identity(DesignSpec.of(spec, d)) for d in (design, moved, dict(design))}
-    assert len(ids) == 2
+    seen = []
+
+    def record(x):
+        seen.append({k: np.array(v) for k, v in x.items()})
+        return np.zeros((1, len(x["mine.mass"])))
+
+    sensitivity.sobol_analysis(record, spec.random, N, SEED, n_resamples=9)
+    points = sensitivity.design_points(spec.random, N, SEED)
+    for k in spec.random:
+        np.testing.assert_array_equal(points[k], seen[0][k])
+        assert points[k].shape == (DROPS,)
+    ids = {
+        store.run_identity(DesignSpec.of(s, n))
+        for s, n in ((spec, N), (spec, N), (spec, 2 * N), (dataclasses.replace(spec, seed=SEED + 1), N))
+    }
+    assert len(ids) == 3
 
 
 @pytest.fixture(scope="module")

@@ -44,6 +44,7 @@ import json
 import time
 
 import numpy as np
+import scipy
 import xarray as xr
 from scipy import stats
 
@@ -100,20 +101,21 @@ class _OnUnitInterval:
         return np.asarray(self.distribution.ppf(u), dtype=np.float64)
 
 
-def _design(dists, n: int, seed: int, n_outputs: int) -> list:
+def _design(dists, n: int, seed: int) -> list:
     """The points :func:`scipy.stats.sobol_indices` evaluates for ``seed``, in its order:
     A, B and the d matrices AB_i side by side, each (d, points).
 
     scipy draws its design inside ``sobol_indices`` and hands it to the function in three
-    calls; this runs it once on placeholder values (the point's index: any output with a
-    variance) to record them. :func:`sobol_analysis` then evaluates all the points at once
+    calls; this runs it once on placeholder values (two outputs, the point's index: any
+    outputs with a variance; with one output of one input scipy's arrays lose a dimension)
+    to record them. :func:`sobol_analysis` then evaluates all the points at once
     and replays the evaluations to a second call with the same seed, which checks that
     scipy drew the same points."""
     points = []
 
     def record(x):
         points.append(np.array(x, dtype=np.float64, copy=True))
-        return np.tile(np.arange(x.shape[1], dtype=np.float64), (n_outputs, 1))
+        return np.tile(np.arange(x.shape[1], dtype=np.float64), (2, 1))
 
     stats.sobol_indices(func=record, n=n, dists=dists, rng=np.random.default_rng(seed))
     return points
@@ -145,7 +147,7 @@ def sobol_analysis(
     if n < 2 or n & (n - 1):
         raise ValueError(f"n = {n} must be a power of two >= 2 (the Sobol' design)")
     dists = [_OnUnitInterval(inputs[k]) for k in names]
-    points = _design(dists, n, seed, len(outputs))
+    points = _design(dists, n, seed)
     x = np.concatenate(points, axis=1)
     y = np.atleast_2d(np.asarray(func({k: x[i] for i, k in enumerate(names)}), dtype=np.float64))
     if y.shape != (len(outputs), x.shape[1]):
@@ -252,31 +254,53 @@ def sobol_analysis(
     return ds
 
 
+#: the last design made by :func:`design_points` in this process, as ``(key, points)``
+_LAST_DESIGN: list = [None]
+
+
+def design_points(random: dict, n: int, seed: int) -> dict:
+    """The points of the Sobol' design of base size ``n`` over the inputs ``random`` drawn
+    with ``seed`` (:func:`_design`: A, B, then the d matrices AB_i, n (d + 2) points), as an
+    ensemble's inputs: each input's values at every point (the index of a choice among
+    labels as an integer). The last design is kept, so the chunks of a run in one process
+    (a dask worker) make it once (~0.1 s for n = 4096 over 9 inputs)."""
+    key = (tuple((k, repr(d)) for k, d in random.items()), int(n), int(seed))
+    last = _LAST_DESIGN[0]
+    if last is not None and last[0] == key:
+        return last[1]
+    x = np.concatenate(_design([_OnUnitInterval(d) for d in random.values()], n, seed), axis=1)
+    points = {
+        k: x[i].astype(np.int64) if getattr(d, "categorical", False) else x[i]
+        for i, (k, d) in enumerate(random.items())
+    }
+    _LAST_DESIGN[0] = (key, points)
+    return points
+
+
 @dataclasses.dataclass(frozen=True)
 class DesignSpec(engine.EnsembleSpec):
-    """An ensemble whose drops are given points (the Sobol' design) instead of draws:
-    ``design`` maps each random input to its values at every point (the index of a
-    choice among labels as an integer). Its chunks run on the run driver like any
-    ensemble's, and its run identity includes the points (a resumed run reuses only
-    chunks of the same design)."""
+    """An ensemble whose drops are the points of the Sobol' design of base size ``base_n``
+    (:func:`design_points`) instead of draws. Its chunks run on the run driver like any
+    ensemble's; it carries the design's recipe, not its points (a dask task of a large
+    design stays small: the worker makes the points), and its run identity names the
+    recipe and scipy's version, which draws the points (a resumed run reuses only chunks
+    of the same design)."""
 
-    design: dict = dataclasses.field(default_factory=dict)
+    base_n: int = 0
 
     @classmethod
-    def of(cls, spec: engine.EnsembleSpec, design: dict) -> DesignSpec:
+    def of(cls, spec: engine.EnsembleSpec, base_n: int) -> DesignSpec:
         fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(engine.EnsembleSpec)}
-        n = len(next(iter(design.values())))
-        return cls(**{**fields, "n": n, "per_drop": False}, design=design)
+        n = base_n * (len(spec.random) + 2)
+        return cls(**{**fields, "n": n, "per_drop": False}, base_n=base_n)
 
     def sampled_inputs(self, start: int, stop: int) -> dict:
-        return {path: values[start:stop] for path, values in self.design.items()}
+        points = design_points(self.random, self.base_n, self.seed)
+        return {path: values[start:stop] for path, values in points.items()}
 
     def identity_items(self) -> list:
-        items = super().identity_items()
-        for path in sorted(self.design):
-            arr = np.ascontiguousarray(self.design[path])
-            items.append((f"design:{path}", f"{arr.dtype}{arr.shape}".encode() + arr.tobytes()))
-        return items
+        recipe = f"Sobol' design of base size {self.base_n} by scipy {scipy.__version__}"
+        return super().identity_items() + [("design", recipe)]
 
 
 def run_sensitivity(
@@ -315,11 +339,10 @@ def run_sensitivity(
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
 
     def model(values):
-        design = {
-            k: v.astype(np.int64) if getattr(spec.random[k], "categorical", False) else v
-            for k, v in values.items()
-        }
-        points = DesignSpec.of(spec, design)
+        points = DesignSpec.of(spec, n)
+        design = design_points(spec.random, n, spec.seed)
+        if any(not np.array_equal(values[k], design[k]) for k in names):  # pragma: no cover
+            raise RuntimeError("the design's points are not those of the Sobol' analysis")
         store = None if output_run is None else output_run.store(points)
         job = runner.Job(None, points, store)
         ((_, chunks),) = runner.run_jobs([job], client=client, progress=progress, threads=threads)
