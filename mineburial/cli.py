@@ -38,7 +38,8 @@ def _seconds(text: str) -> float:
 
 
 #: the commands that keep their finished work on an interrupt and resume it when rerun
-_RESUMABLE = ("run", "map")
+#: (compare and sensitivity with -o: their finished chunks are kept beside it)
+_RESUMABLE = ("run", "map", "compare", "sensitivity")
 
 
 def _cmd_drop(args):
@@ -235,7 +236,10 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--seed", type=int, default=None, help="random seed")
     cmp_.add_argument("-o", "--output", default=None, help="write the comparison (NetCDF)")
     cmp_.add_argument("--plot", default=None, help="draw the comparison to this PNG")
-    cmp_.add_argument("--threads", type=int, default=None, help="numba threads")
+    cmp_.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
+    cmp_.add_argument(
+        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
+    )
     cmp_.add_argument("--quiet", action="store_true", help="no progress lines")
     cmp_.set_defaults(func=_cmd_compare)
 
@@ -254,7 +258,10 @@ def build_parser() -> argparse.ArgumentParser:
     sens.add_argument("--seed", type=int, default=None, help="random seed")
     sens.add_argument("-o", "--output", default=None, help="write the indices (NetCDF)")
     sens.add_argument("--plot", default=None, help="draw the indices to this PNG")
-    sens.add_argument("--threads", type=int, default=None, help="numba threads")
+    sens.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
+    sens.add_argument(
+        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
+    )
     sens.add_argument("--quiet", action="store_true", help="no progress lines")
     sens.set_defaults(func=_cmd_sensitivity)
 
@@ -313,7 +320,7 @@ def main(argv=None) -> int:
         start = "\n" if getattr(sys.stderr, "isatty", lambda: False)() else ""
         then = (
             "rerun the same command to resume"
-            if args.command in _RESUMABLE
+            if args.command in _RESUMABLE and getattr(args, "output", None)
             else "this command cannot resume: rerun it to start again"
         )
         print(f"{start}mineburial: interrupted; {then}", file=sys.stderr)

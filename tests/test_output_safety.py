@@ -350,7 +350,7 @@ def test_a_second_drop_on_an_output_being_written_is_refused_not_lost(files, cap
 # ---------------------------------------------------------------------------
 # item 15: no promise of a resume that cannot happen
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("command", ["compare", "sensitivity", "drop", "restrain"])
+@pytest.mark.parametrize("command", ["drop", "restrain"])  # compare, sensitivity: test_*_driver.py
 def test_an_interrupted_command_that_cannot_resume_does_not_promise_it(files, capsys, monkeypatch, command):
     def interrupted(*args, **kw):
         raise KeyboardInterrupt

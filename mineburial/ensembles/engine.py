@@ -155,6 +155,13 @@ class EnsembleSpec:
             items.append(("scour", self.scour.identity()))
         return items
 
+    def sampled_inputs(self, start: int, stop: int):
+        """The random inputs of drops ``[start, stop)``: each field's values for these drops
+        from its Philox stream (:func:`~mineburial.ensembles.sampling.sample_fields`). A spec
+        whose drops are given points instead (``mineburial sensitivity``'s Sobol' design)
+        overrides it."""
+        return sample_fields(self.random, self.seed, start, stop, self.sampling)
+
     def resolved(self) -> dict:
         """The resolved scenario written into outputs: the base scenario fully
         resolved, the distributions of the random inputs, the files read (with the
@@ -345,22 +352,14 @@ def load_ensemble(
 # ---------------------------------------------------------------------------
 # one chunk
 # ---------------------------------------------------------------------------
-def chunk_inputs(spec: EnsembleSpec, start: int, stop: int, table=None):
-    """Packed parameters, validity mask and sampled inputs of drops [start, stop).
-
-    ``table`` (optional): the sampled inputs to pack instead of drawing them, a mapping
-    of each of ``spec.random``'s fields to its values for these drops (as returned by
-    :func:`~mineburial.ensembles.sampling.sample_fields`). ``mineburial compare`` draws
-    once and packs the same draws into every variant; ``mineburial sensitivity`` packs
-    the points of its Sobol' design.
-    """
+def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
+    """Packed parameters, validity mask and sampled inputs of drops [start, stop) (the
+    random inputs from :meth:`EnsembleSpec.sampled_inputs`)."""
     n = stop - start
     P = np.tile(spec.base_params, (n, 1))
     inputs = {}
     if spec.random:
-        if table is None:
-            table = sample_fields(spec.random, spec.seed, start, stop, spec.sampling)
-        for path, values in table.items():
+        for path, values in spec.sampled_inputs(start, stop).items():
             values = np.asarray(values)
             if path == spec.sediment_choice:
                 P[:, layout.P_SED_PROFILE] = values

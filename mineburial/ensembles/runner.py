@@ -17,6 +17,7 @@ output path under the run's lock (:class:`~mineburial.ensembles.store.OutputRun`
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -49,6 +50,7 @@ __all__ = [
     "check_run",
     "warn_run",
     "check_threads",
+    "numba_threads",
     "connect_scheduler",
     "STEPS_WARNING",
 ]
@@ -192,6 +194,24 @@ def check_threads(threads, what: str = "threads") -> int | None:
     return int(threads)
 
 
+@contextlib.contextmanager
+def numba_threads(threads: int | None):
+    """numba's thread count set to ``threads`` (None: left as it is) in the calling thread
+    while the block runs, then restored: the run driver's chunks use it
+    (:func:`run_jobs`), the rest of the process keeps its own (numba's count is per thread)."""
+    if threads is None:
+        yield
+        return
+    import numba
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 def connect_scheduler(address: str, timeout: float | None = None):
     """A dask client of the scheduler at ``address``, or a RunError (one line) within
     ``timeout`` s (default :data:`SCHEDULER_TIMEOUT`).
@@ -240,7 +260,12 @@ class Job:
     store: ChunkStore | None = None
 
 
-def _run_local(todo):
+def _run_local(todo, threads=None):
+    with numba_threads(threads):
+        yield from _run_chunks(todo)
+
+
+def _run_chunks(todo):
     for tag, spec, start, stop, store in todo:
         head = _finished_head(store, start, stop)
         begin = start if head is None else int(head["stop"])
@@ -291,13 +316,17 @@ def _joined(head: dict, tail: dict) -> dict:
     return out
 
 
-def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Iterator:
+def run_jobs(
+    jobs: Iterable[Job], *, client=None, progress: bool = False, threads: int | None = None
+) -> Iterator:
     """Run every chunk of every job; yield ``(tag, [chunk results in drop order])`` as
     each job completes (jobs resumed in full first).
 
     Chunk files in a job's store that are valid for the run are loaded instead of
     computed; the others are computed here or, with a dask ``client``, on its cluster,
-    and saved as they finish.
+    and saved as they finish. ``threads``: numba threads of the chunks computed here
+    (default: numba's count, all cores; :func:`numba_threads`); a dask worker gives each
+    chunk its cores over its dask threads (:mod:`~mineburial.ensembles.distributed`).
     """
     jobs = list(jobs)
     bounds = {job.tag: engine.chunk_bounds(job.spec.n, job.spec.chunk_size) for job in jobs}
@@ -333,7 +362,7 @@ def run_jobs(jobs: Iterable[Job], *, client=None, progress: bool = False) -> Ite
 
         stream = run_tasks_distributed(client, todo)
     else:
-        stream = _run_local(todo)
+        stream = _run_local(todo, threads)
     for tag, b, res in stream:
         results[tag][b] = res
         done += b[1] - b[0]
@@ -431,7 +460,8 @@ def run_ensemble(
         (:mod:`mineburial.ensembles.store`: a rerun reuses only chunks of the same run
         identity; a second live run on the same output is refused).
     threads : int, optional
-        Number of numba threads (default: all cores).
+        Number of numba threads of the chunks computed in this process (default: all
+        cores; :func:`run_jobs`).
     progress : bool
         Print rate-limited progress lines to stderr.
     client : dask.distributed.Client, optional
@@ -450,15 +480,12 @@ def run_ensemble(
     threads = check_threads(threads)
     check_run(spec)
     warn_run(spec)
-    if threads is not None:
-        import numba
-
-        numba.set_num_threads(threads)
     if output is None:
-        ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress)
+        ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress, threads=threads)
         return ensemble_dataset(spec, chunks)
     with OutputRun(output, input_paths(scenario, spec)) as out:
-        ((_, chunks),) = run_jobs([Job(None, spec, out.store(spec))], client=client, progress=progress)
+        job = Job(None, spec, out.store(spec))
+        ((_, chunks),) = run_jobs([job], client=client, progress=progress, threads=threads)
         ds = ensemble_dataset(spec, chunks)
         out.commit(ds)
     return ds

@@ -1,17 +1,19 @@
 """``mineburial compare``: the same sampled drops under several variants of one scenario field.
 
-The random inputs of the ensemble are drawn **once** per chunk of drops
-(:func:`mineburial.ensembles.sampling.sample_fields`); every variant packs the same
-draws (:func:`mineburial.ensembles.engine.chunk_inputs` with ``table=``) into a
-scenario that differs from the given one only in the varied field (and what the
-scenario derives from it: choosing ``numerics.model = "impact35"`` also switches the
-sediment resistance and rate law to that model's defaults unless the scenario names
-them). After packing, the parameter rows of every variant are checked against those
-of the first: only the parameter slots that the varied field changes in the fixed
-scenario may differ (:class:`ComparisonError` otherwise), and the sampled inputs must
-be identical. Differences between variants are therefore the models' own, not
-sampling noise, and the paired differences of the means have much narrower intervals
-than independent runs would give.
+Every variant is an ensemble of its own on the run driver
+(:func:`mineburial.ensembles.runner.run_jobs`: threads, a dask cluster, resume), with the
+seed, sampling and chunks of the given scenario: the random inputs of drop *i* are a pure
+function of (seed, *i*, field) (:mod:`mineburial.ensembles.sampling`), so every variant
+draws the same inputs, packed into a scenario that differs from the given one only in
+the varied field (and what the scenario derives from it: choosing
+``numerics.model = "impact35"`` also switches the sediment resistance and rate law to
+that model's defaults unless the scenario names them). Before any drop runs, the packed
+parameter rows of every variant are checked against those of the first, chunk by
+chunk: only the parameter slots that the varied field changes in the fixed scenario may
+differ (a ``RuntimeError`` otherwise); after the run, the sampled inputs of every
+variant must be identical. Differences between variants are therefore the models' own,
+not sampling noise, and the paired differences of the means have much narrower
+intervals than independent runs would give.
 
 Intervals: means +- z standard errors (normal approximation, z for 95 %); class
 probabilities with the Wilson score interval (as ``mineburial run``); paired
@@ -34,8 +36,9 @@ import xarray as xr
 from scipy.special import ndtri
 
 from mineburial import config as cfg
+from mineburial._version import __version__
 from mineburial.ensembles import engine, runner
-from mineburial.ensembles.sampling import check_drop_count, sample_fields
+from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
 from mineburial.io import variables as V
@@ -229,8 +232,15 @@ def run_comparison(
     threads: int | None = None,
     progress: bool = False,
     confidence_level: float = 0.95,
+    client=None,
+    output_run=None,
 ) -> xr.Dataset:
     """Run the same sampled drops under ``field = value`` for each of ``values``.
+
+    Each variant is one ensemble of the run driver (:func:`mineburial.ensembles.runner.
+    run_jobs`: ``threads`` numba threads here, or the cluster of a dask ``client``); with
+    ``output_run`` (an :class:`~mineburial.ensembles.store.OutputRun`) its finished chunks
+    are kept in ``variant-<k>/`` of the parts folder, so an interrupted comparison resumes.
 
     Returns a Dataset with a ``variant`` dimension (statistics per variant, paired
     differences to the first variant, per-drop penetration, burial and status) and the
@@ -238,14 +248,8 @@ def run_comparison(
     field that is random in the scenario or a value the scenario rejects, and
     ``RuntimeError`` if the sampled inputs were not identical across variants.
     """
-    import numba
-
-    from mineburial import __version__
-    from mineburial.ensembles.batch import run_batch
-
     field, base, specs = _plan(scenario, field, values, n=n, seed=seed, sampling=sampling)
-    if threads is not None:
-        numba.set_num_threads(runner.check_threads(threads, "--threads"))
+    threads = runner.check_threads(threads, "--threads")
     refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
         len(specs) * runner.memory_needed(specs[0]),
         f"ensemble.n = {base.n} drops under {len(specs)} variants",
@@ -253,52 +257,18 @@ def run_comparison(
     )
     if refusal:
         raise ComparisonError(refusal)
-    rand_slots = _random_slots(specs[0])
-    allowed = []
-    for spec in specs:
-        d = _differs(spec.base_params, specs[0].base_params)
-        allowed.append({i for i in np.flatnonzero(d)} - rand_slots)
-
-    nv = len(specs)
-    summaries = [[] for _ in specs]
-    statuses = [[] for _ in specs]
-    inputs_all: dict[str, list] = {}
-    changed = [set() for _ in specs]
-    bar = runner.Progress(base.n * nv, enabled=progress)
-    done = 0
+    changed = _changed_parameters(specs, values)
+    jobs = [
+        runner.Job(k, spec, None if output_run is None else output_run.store(spec, f"variant-{k}"))
+        for k, spec in enumerate(specs)
+    ]
     t0 = time.monotonic()
-    for s, e in engine.chunk_bounds(base.n, base.chunk_size):
-        table = sample_fields(base.random, base.seed, s, e, base.sampling) if base.random else None
-        rows0 = None
-        for k, spec in enumerate(specs):
-            P, valid, inputs = engine.chunk_inputs(spec, s, e, table=table)
-            if rows0 is None:
-                rows0, inputs0 = P, inputs
-                for key, val in inputs.items():
-                    inputs_all.setdefault(key, []).append(val)
-            else:
-                if inputs.keys() != inputs0.keys() or not all(
-                    np.array_equal(inputs[key], inputs0[key]) for key in inputs
-                ):
-                    raise RuntimeError("sampled inputs differ between variants")
-                cols = set(np.flatnonzero(_differs(P, rows0).any(axis=0)).tolist())
-                if not cols <= allowed[k]:
-                    bad = [layout.PARAM_NAMES[i] for i in sorted(cols - allowed[k])]
-                    raise RuntimeError(
-                        f"variant {values[k]!r} changed parameters other than "
-                        f"the varied field's: {', '.join(bad)}"
-                    )
-                changed[k] |= cols
-            summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
-            summaries[k].append(summary)
-            statuses[k].append(status)
-            done += e - s
-            bar.update(done)
-    bar.update(done, final=True)
+    chunks = dict(runner.run_jobs(jobs, client=client, progress=progress, threads=threads))
     elapsed = time.monotonic() - t0
-    summaries = [np.concatenate(x) for x in summaries]
-    statuses = [np.concatenate(x) for x in statuses]
-    inputs = {k: np.concatenate(v) for k, v in inputs_all.items()}
+    chunks = [chunks[k] for k in range(len(specs))]
+    summaries = [np.concatenate([r["summary"] for r in c]) for c in chunks]
+    statuses = [np.concatenate([r["status"] for r in c]) for c in chunks]
+    inputs = _same_inputs(chunks)
     ds = _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level)
     ds.attrs.update(
         {
@@ -317,6 +287,46 @@ def run_comparison(
         }
     )
     return ds
+
+
+def _changed_parameters(specs, values) -> list[set]:
+    """The parameter slots in which each variant's packed drops differ from the first
+    variant's, checked chunk by chunk before any drop runs: only the slots that the varied
+    field changes in the fixed scenario may differ (a RuntimeError names the others)."""
+    rand_slots = _random_slots(specs[0])
+    allowed = [
+        set(np.flatnonzero(_differs(s.base_params, specs[0].base_params)).tolist()) - rand_slots
+        for s in specs
+    ]
+    changed = [set() for _ in specs]
+    for s, e in engine.chunk_bounds(specs[0].n, specs[0].chunk_size):
+        rows0 = engine.chunk_inputs(specs[0], s, e)[0]
+        for k in range(1, len(specs)):
+            cols = set(
+                np.flatnonzero(_differs(engine.chunk_inputs(specs[k], s, e)[0], rows0).any(axis=0)).tolist()
+            )
+            if not cols <= allowed[k]:
+                bad = [layout.PARAM_NAMES[i] for i in sorted(cols - allowed[k])]
+                raise RuntimeError(
+                    f"variant {values[k]!r} changed parameters other than the varied "
+                    f"field's: {', '.join(bad)}"
+                )
+            changed[k] |= cols
+    return changed
+
+
+def _same_inputs(chunks) -> dict:
+    """The sampled inputs of the drops (``input:<path>`` of the chunk results), checked to
+    be the same in every variant (a RuntimeError otherwise)."""
+    first = chunks[0]
+    for other in chunks[1:]:
+        for a, b in zip(first, other):
+            keys = [key for key in a if key.startswith("input:")]
+            if keys != [key for key in b if key.startswith("input:")] or not all(
+                np.array_equal(a[key], b[key]) for key in keys
+            ):
+                raise RuntimeError("sampled inputs differ between variants")
+    return {key[6:]: np.concatenate([r[key] for r in first]) for key in first[0] if key.startswith("input:")}
 
 
 def _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level):
@@ -508,9 +518,7 @@ def pyplot():
     try:
         import matplotlib
     except ImportError:
-        from mineburial.config import ScenarioError
-
-        raise ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
+        raise cfg.ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -583,8 +591,9 @@ def plot_comparison(ds: xr.Dataset, path) -> None:
 def cli_output(args, inputs):
     """The output of ``compare`` and ``sensitivity``: ``-o`` and ``--plot`` checked before
     computing (not an input, a regular file or nothing, an image type matplotlib writes),
-    and ``-o`` locked while computing; yields the :class:`OutputRun` to commit the result
-    to (None without ``-o``). Nothing is kept to resume from: an interrupted run restarts."""
+    and ``-o`` locked while computing; yields the :class:`OutputRun` whose parts folder
+    keeps the finished chunks (so that an interrupted run resumes) and to commit the
+    result to (None without ``-o``: nothing is kept)."""
     run = OutputRun(args.output, inputs, "-o") if args.output else None
     if args.plot:
         check_plot_path(args.plot, args.output, inputs)
@@ -592,11 +601,24 @@ def cli_output(args, inputs):
         yield out
 
 
+@contextlib.contextmanager
+def cli_client(args):
+    """The dask client of ``--scheduler`` (None without it), as ``mineburial run``
+    connects it (:func:`mineburial.ensembles.runner.connect_scheduler`), closed at the end."""
+    client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
+    try:
+        yield client
+    finally:
+        if client is not None:
+            client.close()
+
+
 def run_compare_cli(args) -> int:
     """``mineburial compare``."""
+    runner.check_threads(args.threads, "--threads")
     field, values = parse_vary(args.vary)
     inputs = comparison_inputs(args.scenario, field, values, n=args.drops, seed=args.seed)
-    with cli_output(args, inputs) as out:
+    with cli_output(args, inputs) as out, cli_client(args) as client:
         ds = run_comparison(
             args.scenario,
             field,
@@ -605,6 +627,8 @@ def run_compare_cli(args) -> int:
             seed=args.seed,
             threads=args.threads,
             progress=not args.quiet,
+            client=client,
+            output_run=out,
         )
         print(ds.attrs["title"])
         print(
