@@ -50,7 +50,14 @@ from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.scenario_fields import CURRENT_KINDS, TABLE
 from mineburial.schema import Field as FieldSpec
-from mineburial.schema import Rule, check_rules, dumps_toml
+from mineburial.schema import (
+    Rule,
+    check_rules,
+    dumps_toml,
+    generated_block,
+    markdown_table,
+    replace_generated,
+)
 from mineburial.schema import number as _number
 from mineburial.sediment_profiles import (
     CATALOGUE,
@@ -293,6 +300,9 @@ def _check_section(obj, section: str, skip=()) -> None:
     _check_rules(values)
 
 
+#: the linear sediment profile's fields (sediment.density, ...): not options of the model
+_SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
+
 #: each field's declared default, by path (the dataclasses' defaults)
 _D = {f.path: f.default for f in TABLE}
 
@@ -456,6 +466,49 @@ def _check_rules(values: Mapping) -> None:
 
 
 # ===========================================================================
+# The field tables of docs/scenario.md, generated from the table and the rules
+# ===========================================================================
+def _doc_paths(section: str, keep=lambda f: True) -> tuple[str, ...]:
+    return tuple(f.path for f in TABLE if f.section == section and f.kind != "code" and keep(f))
+
+
+#: each generated table of docs/scenario.md and the fields it lists
+DOC_TABLES: dict[str, tuple[str, ...]] = {
+    "mine": _doc_paths("mine"),
+    "release": _doc_paths("release"),
+    "environment": _doc_paths("environment"),
+    "current": _doc_paths("current"),
+    "sediment-profile": _doc_paths("sediment", lambda f: f.name in _SED_LINEAR),
+    "sediment-options": _doc_paths("sediment", lambda f: f.name not in _SED_LINEAR),
+    "numerics": _doc_paths("numerics"),
+    "scour": _doc_paths("scour"),
+}
+_DOC_WRITER = "mineburial.config.write_field_tables"
+
+
+def fields_markdown(name: str) -> str:
+    """The Markdown table ``name`` of :data:`DOC_TABLES` (the rules between fields a user
+    sets shown with the field they bound)."""
+    rules = [r for r in RULES if all(SCHEMA[p].kind != "code" for p in r.paths)]
+    return markdown_table((SCHEMA[p] for p in DOC_TABLES[name]), rules)
+
+
+def field_table_block(name: str) -> str:
+    """Table ``name`` as docs/scenario.md holds it, between its markers."""
+    return generated_block(name, fields_markdown(name), _DOC_WRITER)
+
+
+def write_field_tables(path="docs/scenario.md") -> None:
+    """Regenerate every table of :data:`DOC_TABLES` in ``path`` (run from the repository
+    root after changing mineburial/scenario_fields.py; tests/test_schema.py fails until then)."""
+    path = pathlib.Path(path)
+    text = path.read_text(encoding="utf-8")
+    for name in DOC_TABLES:
+        text = replace_generated(text, name, fields_markdown(name), _DOC_WRITER)
+    path.write_text(text, encoding="utf-8")
+
+
+# ===========================================================================
 # Dataclasses
 # ===========================================================================
 @dataclass(frozen=True, kw_only=True)
@@ -539,12 +592,10 @@ class Release:
     pitch_deg: float | None = None
     heading_deg: float | None = None
     quaternion: tuple | None = None
-    embedded: bool = False
+    embedded: bool = _D["release.embedded"]
 
     def __post_init__(self):
-        if not isinstance(self.embedded, (bool, np.bool_)):
-            raise ScenarioError(f"release.embedded = {self.embedded!r} must be true or false")
-        _set(self, "embedded", bool(self.embedded))
+        _set(self, "embedded", _check("release.embedded", self.embedded))
         for name, paths in (
             ("position", ("release.x", "release.y", "release.z")),
             ("velocity", ("release.u", "release.v", "release.w")),
@@ -767,7 +818,6 @@ MODEL_DEFAULTS = {
     },
 }
 
-_SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
 #: the options of the resistance model: the sediment's numbers that are not the linear profile
 _SED_OPTIONS = tuple(f for f in _names("sediment", ("float",)) if f not in _SED_LINEAR)
 

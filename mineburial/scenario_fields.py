@@ -88,16 +88,18 @@ def _code(path, description):
 
 TABLE: tuple[Field, ...] = (
     # --- mine ---------------------------------------------------------------
-    _f("mine.length", "m", 0, 50, "length L of the cylinder", incl=_OPEN_LOW),
-    _f("mine.diameter", "m", 0, 10, "diameter d = 2R of the cylinder", incl=_OPEN_LOW),
+    _f("mine.length", "m", 0, 50, "length L", incl=_OPEN_LOW),
+    _f("mine.diameter", "m", 0, 10, "diameter d = 2R", incl=_OPEN_LOW),
     _f("mine.mass", "kg", 0, 1e5, "mass m", incl=_OPEN_LOW),
     _f(
         "mine.com_offset",
         "m",
         -25,
         25,
-        "chi: COM displacement from the centre of volume towards the nose (seed 000 "
-        "Fig. 1); also |chi| < length/2",
+        (
+            "χ: displacement of the centre of mass (COM) from the centre of volume towards the nose "
+            "(seed 000 Fig. 1). χ > 0: nose-heavy"
+        ),
         0.0,
         incl=_OPEN,
     ),
@@ -106,18 +108,18 @@ TABLE: tuple[Field, ...] = (
         "kg m2",
         0,
         1e7,
-        "J1, moment of inertia about the main axis through the COM; default m R^2/2 "
-        "(uniform cylinder); also J1 <= 2 J2",
+        "J1, about the main axis through the COM",
         incl=_OPEN_LOW,
+        default_text="m R²/2",
     ),
     _f(
         "mine.inertia_transverse",
         "kg m2",
         0,
         1e7,
-        "J2 = J3, moment of inertia about a transverse axis through the COM; default "
-        "m (3R^2 + L^2)/12 (uniform cylinder)",
+        "J2 = J3, about a transverse axis through the COM",
         incl=_OPEN_LOW,
+        default_text="m (3R² + L²)/12",
     ),
     # --- release ------------------------------------------------------------
     _f("release.x", "m", -1e5, 1e5, "initial x of the COM", 0.0, location="release.position[0]"),
@@ -134,13 +136,13 @@ TABLE: tuple[Field, ...] = (
     _f("release.u", "m s-1", -500, 500, "initial COM velocity, x", 0.0, location="release.velocity[0]"),
     _f("release.v", "m s-1", -500, 500, "initial COM velocity, y", 0.0, location="release.velocity[1]"),
     _f("release.w", "m s-1", -500, 500, "initial COM velocity, z (up)", 0.0, location="release.velocity[2]"),
-    _f("release.roll_deg", "deg", -360, 360, "psi1, roll about the main axis", 0.0, slot=False),
+    _f("release.roll_deg", "deg", -360, 360, "ψ1, roll about the main axis", 0.0, slot=False),
     _f(
         "release.pitch_deg",
         "deg",
         -90,
         90,
-        "psi2, dip of the nose below the horizontal (+90 = nose down)",
+        "ψ2, dip of the nose below the horizontal (+90 = nose straight down)",
         0.0,
         slot=False,
     ),
@@ -149,14 +151,46 @@ TABLE: tuple[Field, ...] = (
         "deg",
         -360,
         360,
-        "psi3, heading of the nose from +x towards +y",
+        "ψ3, heading of the nose, from +x towards +y",
         0.0,
         slot=False,
     ),
-    _f("release.q0", "1", -1, 1, "orientation quaternion, scalar part", location="release.quaternion[0]"),
-    _f("release.q1", "1", -1, 1, "orientation quaternion, x part", location="release.quaternion[1]"),
-    _f("release.q2", "1", -1, 1, "orientation quaternion, y part", location="release.quaternion[2]"),
-    _f("release.q3", "1", -1, 1, "orientation quaternion, z part", location="release.quaternion[3]"),
+    _f(
+        "release.q0",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, scalar part",
+        location="release.quaternion[0]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q1",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, x part",
+        location="release.quaternion[1]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q2",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, y part",
+        location="release.quaternion[2]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q3",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, z part",
+        location="release.quaternion[3]",
+        default_text="— (or the angles)",
+    ),
     _f(
         "release.omega1",
         "rad s-1",
@@ -184,15 +218,24 @@ TABLE: tuple[Field, ...] = (
         0.0,
         location="release.angular_velocity[2]",
     ),
+    Field(
+        "release.embedded",
+        "1",
+        description="allow the mine to start partly inside the seabed (a mine placed on or pressed into the "
+        "sediment)",
+        default=False,
+        kind="bool",
+        sampled=False,
+    ),
     # --- environment ----------------------------------------------------------
-    _f("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81, incl=_OPEN_LOW),
-    _f("environment.air_density", "kg m-3", 0, 10, "air density (ISA sea level 1.225)", 1.225),
+    _f("environment.gravity", "m s-2", 0, 100, "g", 9.81, incl=_OPEN_LOW),
+    _f("environment.air_density", "kg m-3", 0, 10, "ISA sea-level air", 1.225),
     _f(
         "environment.air_viscosity",
         "m2 s-1",
         0,
         1e-3,
-        "kinematic viscosity of air (ISA 15 C: 1.46e-5)",
+        "kinematic viscosity of air (ISA 15 °C: 1.46e-5)",
         1.5e-5,
         incl=_OPEN_LOW,
     ),
@@ -201,7 +244,10 @@ TABLE: tuple[Field, ...] = (
         "kg m-3",
         0,
         1300,
-        "water density (sea water 1025, seed 004 sec. 4; fresh 998; 0 = no water, for ballistic checks)",
+        (
+            "sea water (seed 004 sec. 4); fresh water ≈ 998; 0 (with `air_density = 0`) removes the "
+            "fluids for ballistic checks"
+        ),
         1025.0,
     ),
     _f(
@@ -209,11 +255,11 @@ TABLE: tuple[Field, ...] = (
         "m2 s-1",
         0,
         1e-4,
-        "kinematic viscosity of water (sea water 1.05e-6, seed 004 sec. 4)",
+        "kinematic viscosity of sea water (seed 004 sec. 4); fresh water at 20 °C ≈ 1.0e-6",
         1.05e-6,
         incl=_OPEN_LOW,
     ),
-    _f("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = -H", incl=_OPEN_LOW),
+    _f("environment.water_depth", "m", 0, 11000, "H; the seabed is at z = −H", incl=_OPEN_LOW),
     _choice(
         "current.kind",
         CURRENT_KINDS,
@@ -249,36 +295,67 @@ TABLE: tuple[Field, ...] = (
         1.0 / 7.0,
         incl=_OPEN_LOW,
         location="environment.current.exponent",
+        default_text="1/7",
     ),
     _code("current.table_index", "row of the current bank, -1: the parametric current"),
     _code("sediment.profile_index", "row of the sediment bank, -1: the linear profile"),
     # --- sediment -------------------------------------------------------------
-    _f("sediment.density", "kg m-3", 1000, 2700, "linear profile: bulk density at the seabed"),
+    _f(
+        "sediment.density",
+        "kg m-3",
+        1000,
+        2700,
+        "linear profile: bulk density at the seabed",
+        default_text="required (linear)",
+    ),
     _f("sediment.density_gradient", "kg m-4", 0, 1e4, "linear profile: density gradient", 0.0),
-    _f("sediment.strength", "Pa", 0, 1e6, "linear profile: undrained shear strength at the seabed"),
+    _f(
+        "sediment.strength",
+        "Pa",
+        0,
+        1e6,
+        "linear profile: undrained shear strength at the seabed",
+        default_text="required (linear)",
+    ),
     _f("sediment.strength_gradient", "Pa m-1", 0, 1e6, "linear profile: strength gradient", 0.0),
     _choice(
         "sediment.resistance",
         RESISTANCE_NAMES,
-        "normal/tangential traction model: delta = seed 000 eq. (74); friction = seed 000 sec. 10 item 4; "
-        "bearing = bearing-factor method (Chu & Fan 2007)",
+        (
+            "normal/tangential traction model: `delta` = seed 000 eq. (74); `friction` = the friction"
+            " law of seed 000 sec. 10 item 4 (tangential ∝ normal); `bearing` = bearing-factor method"
+            " (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34)"
+        ),
         default_text="by model",
     ),
     _choice(
         "sediment.rate_law",
         RATE_LAW_NAMES,
-        "strain-rate factor on the strength: impact35 = G(V) of seed 000 eq. (70); semilog = "
-        "1 + beta log10(rate/reference_rate); none = 1",
+        (
+            "strain-rate factor on the strength: `impact35` = G(V) of seed 000 eq. (70); `semilog` = "
+            "1 + β log10(γ̇/γ̇_ref); `none` = 1"
+        ),
         default_text="by model",
     ),
-    _f("sediment.impact_factor", "1", 1, 100, "A of seed 000 eq. (70), (72)", 10.0),
-    _f("sediment.rest_speed", "m s-1", 0, 10, "V_rest of seed 000 eq. (70), (72)", 0.04, incl=_OPEN_LOW),
+    _f("sediment.impact_factor", "1", 1, 100, "A of eq. (70); 10 in seed 000 eq. (72)", 10.0),
+    _f(
+        "sediment.rest_speed",
+        "m s-1",
+        0,
+        10,
+        "V_rest of eq. (70); 0.04 in seed 000 eq. (72)",
+        0.04,
+        incl=_OPEN_LOW,
+    ),
     _f(
         "sediment.rate_coefficient",
         "1",
         0,
         2,
-        "beta of the semi-logarithmic rate law, per log10 cycle of strain rate (~0.1: Kulhawy & Mayne 1990)",
+        (
+            "β, strength increase per log10 cycle of strain rate; ≈ 0.1 (about 10 % per cycle, "
+            "Kulhawy & Mayne 1990)"
+        ),
         0.1,
     ),
     _f(
@@ -286,16 +363,20 @@ TABLE: tuple[Field, ...] = (
         "s-1",
         0,
         1e6,
-        "reference strain rate of the semi-logarithmic law (1 %/h lab rate)",
+        "γ̇_ref: 1 %/h, the conventional laboratory shear rate at which s_u is usually quoted",
         LAB_STRAIN_RATE,
         incl=_OPEN_LOW,
+        default_text="2.78e-6 (1 %/h)",
     ),
     _f(
         "sediment.friction",
         "1",
         0,
         5,
-        "mu, tangential/normal traction ratio (seed 004 Table 2 case 1: 0.3)",
+        (
+            "μ, tangential/normal traction ratio (μ of seed 000 eq. (74), never given a value there; "
+            "0.3 is the seabed friction of seed 004 Table 2 case 1)"
+        ),
         0.3,
     ),
     _f(
@@ -303,22 +384,34 @@ TABLE: tuple[Field, ...] = (
         "1",
         0,
         50,
-        "N_c, bearing-capacity factor (pi + 2, Prandtl 1920)",
+        (
+            "N_c for undrained bearing at the surface (Prandtl 1920); deep penetration tends to ≈ 9 "
+            "(Skempton 1951)"
+        ),
         math.pi + 2.0,
         incl=_OPEN_LOW,
+        default_text="π + 2 ≈ 5.14",
     ),
     _switch("sediment.pore_pressure", "add the pore-water force of seed 000 eq. (73)", False),
-    _f("sediment.rupture_length", "m", 0, 10, "B of seed 000 eq. (73)", 0.1, incl=_OPEN_LOW),
+    _f(
+        "sediment.rupture_length",
+        "m",
+        0,
+        10,
+        "B of eq. (73), undefined in seed 000; the force grows as B³ ([physics.md](physics.md))",
+        0.1,
+        incl=_OPEN_LOW,
+    ),
     _f(
         "sediment.permeability",
         "m s-1",
         0,
         1,
-        "k_p of seed 000 eq. (73) (1e-4, seed 000 ref. [15])",
+        "k_p of eq. (73) (seed 000, its ref. [15])",
         1e-4,
         incl=_OPEN_LOW,
     ),
-    _f("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (~0.5)", 0.5, incl=_OPEN_LOW),
+    _f("sediment.void_ratio", "1", 0, 20, "e_v of eq. (73) (≈ 0.5, seed 000)", 0.5, incl=_OPEN_LOW),
     # --- numerics -------------------------------------------------------------
     _choice(
         "numerics.model",
@@ -329,18 +422,35 @@ TABLE: tuple[Field, ...] = (
     _choice(
         "numerics.integrator",
         INTEGRATOR_NAMES,
-        "time integrator: dopri5_ros34pw2 (Dormand-Prince 5(4) in air and water, Rosenbrock-W ROS34PW2 "
-        "in the sediment), dopri5, the fixed-step rk4, or the local-linearisation step of seed 000 "
-        "eqs. (83)-(87)",
+        (
+            "error-controlled Dormand–Prince 5(4) in air and water and the Rosenbrock-W method "
+            "ROS34PW2 (linearly implicit in the velocities) in contact with the seabed (default of "
+            "the `mineburial` model); Dormand–Prince 5(4) throughout (default of the `impact35` "
+            "model, whose delta law the Rosenbrock-W step does not speed up); the fixed-step "
+            "classical Runge–Kutta reference; or the local-linearisation step of seed 000 eqs. "
+            "(83)–(87)"
+        ),
         default_text="by model",
     ),
-    _f("numerics.dt", "s", 0, 1, "time step; also dt <= t_max and dt <= t_max_fall", 1e-3, incl=_OPEN_LOW),
+    _f(
+        "numerics.dt",
+        "s",
+        0,
+        1,
+        "time step of `rk4` and `local_linear`; first trial step of the adaptive integrators",
+        1e-3,
+        incl=_OPEN_LOW,
+    ),
     _f(
         "numerics.t_max",
         "s",
         0,
         1e6,
-        "limit on the simulated time after the mine first touches the seabed (time_limit)",
+        (
+            "limit on the simulated time after the mine first touches the seabed (status "
+            "`time_limit`, or `buried_sinking`, when reached); a mine released in contact with the "
+            "seabed counts it from release"
+        ),
         60.0,
         incl=_OPEN_LOW,
     ),
@@ -349,21 +459,28 @@ TABLE: tuple[Field, ...] = (
         "m s-1",
         0,
         10,
-        "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1); the sediment's "
-        "hold is probed at this speed",
+        (
+            "the mine is at rest when its COM speed is below this (seed 000 eq. (89); printed as ε1 ="
+            ' 1e-6 "m", a speed) and the sediment can hold it against forces and torques (rigid-'
+            "plastic hold test probed at this speed; `mineburial/kernels/rest.py`, docs/design.md) …"
+        ),
         1e-2,
         incl=_OPEN_LOW,
     ),
-    _f("numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed", 5e-2, incl=_OPEN_LOW),
+    _f(
+        "numerics.rest_spin", "rad s-1", 0, 100, "… and its angular speed is below this", 5e-2, incl=_OPEN_LOW
+    ),
     _switch("numerics.drag", "fluid drag and lift on (switch off for energy checks)", True),
     _f(
         "numerics.munk_factor",
         "1",
         0,
         1,
-        "fraction of the potential-flow Munk moment kept by the added-mass tensor "
-        "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
-        "theory); see docs/physics.md",
+        (
+            "fraction of the potential-flow Munk moment kept by the added-mass tensor: 0 gives the "
+            "axial direction the transverse added mass (no Munk moment; chosen on the Exp-1 drops), 1"
+            " is slender-body strip theory (docs/physics.md §2)"
+        ),
         0.0,
     ),
     _f(
@@ -371,26 +488,33 @@ TABLE: tuple[Field, ...] = (
         "1",
         0,
         0.1,
-        "relative tolerance of the adaptive integrators (dopri5, dopri5_ros34pw2), per step on "
-        "position, velocity, attitude and angular velocity; default 3e-4 for numerics.model = "
-        "'mineburial', 1e-5 for 'impact35'",
+        (
+            "relative tolerance of the adaptive integrators (per step, RMS over position, velocity, "
+            "quaternion, angular velocity); chosen from the work-precision measurements "
+            "(docs/design.md)"
+        ),
         3e-4,
         incl=_OPEN_LOW,
+        default_text="3e-4 (`mineburial`), 1e-5 (`impact35`)",
     ),
     _f(
         "numerics.atol",
         "1",
         0,
         1.0,
-        "absolute tolerance of the adaptive integrators, in m, m s-1, 1 (quaternion) and rad s-1; "
-        "default 3e-5 for numerics.model = 'mineburial', 1e-6 for 'impact35'",
+        "absolute tolerance of the adaptive integrators (m, m s⁻¹, 1, rad s⁻¹)",
         3e-5,
         incl=_OPEN_LOW,
+        default_text="3e-5 (`mineburial`), 1e-6 (`impact35`)",
     ),
     _choice(
         "numerics.sediment_quadrature",
         SEDIMENT_QUADRATURE_NAMES,
-        "rule for the sediment tractions: the fixed-cost rule or the adaptive quadrature",
+        (
+            "rule for the sediment tractions over the embedded surface: the fixed-cost rule, smooth "
+            "in the state (docs/notes/sediment_fast.md), or the accurate adaptive quadrature "
+            "(docs/notes/sediment.md)"
+        ),
         "fast",
     ),
     _f(
@@ -398,8 +522,11 @@ TABLE: tuple[Field, ...] = (
         "m s-1",
         0,
         0.1,
-        "regularisation speed of the slip direction of the sediment's tangential traction "
-        "(seed 000 eq. (67)): it ramps up over this slip speed (docs/design.md)",
+        (
+            "regularisation speed of the slip direction of the sediment's tangential traction (seed "
+            "000 eq. (67)): it ramps up over this slip speed (1e-3 before the adaptive integrator; "
+            'the rest test uses the unregularised law; docs/design.md, "Time stepping")'
+        ),
         5e-3,
         incl=_OPEN_LOW,
     ),
@@ -408,8 +535,10 @@ TABLE: tuple[Field, ...] = (
         "m s-1",
         0,
         0.1,
-        "regularisation speed of the advancing switch of seed 000 eq. (65): the normal "
-        "traction ramps up over this normal speed (docs/design.md)",
+        (
+            "regularisation speed of the advancing switch δ of seed 000 eq. (65): the normal traction"
+            " ramps up over this normal speed (1e-4 before the adaptive integrator)"
+        ),
         5e-3,
         incl=_OPEN_LOW,
     ),
@@ -418,20 +547,37 @@ TABLE: tuple[Field, ...] = (
         "s",
         0,
         1e6,
-        "limit on the simulated time of the fall, from release to the first seabed contact",
+        (
+            "limit on the simulated time of the fall, from release to the first seabed contact "
+            "(status `time_limit` when reached while still falling); the fall ends by itself at the "
+            "seabed, so this only guards a mine that barely sinks, or stops a fall at a chosen time. "
+            'Until version 0.1.0 `t_max` bounded the whole drop (docs/design.md, "The end of a drop")'
+        ),
         600.0,
         incl=_OPEN_LOW,
     ),
     _choice(
         "numerics.water_column",
         WATER_COLUMN_NAMES,
-        "water-column added-mass and moment model (docs/physics.md, 'Water-column model choices')",
+        (
+            "water-column added-mass and moment model: strip-theory added mass with the axial added "
+            "mass set by `munk_factor` (default), or the viscous-crossflow method (Allen & Perkins "
+            "1951; Jorgensen, NASA TR R-474) with the added-mass tensor of the finite closed cylinder"
+            " (BEM tables) and the Munk moment × cos(α/2), `munk_factor` unused (docs/physics.md, "
+            '"Water-column model choices")'
+        ),
         "munk_factor",
     ),
     _choice(
         "numerics.overburden_quadrature",
         OVERBURDEN_QUADRATURE_NAMES,
-        "rule for the geostatic overburden force: bounded cost, or a slice at every table depth",
+        (
+            "rule for the geostatic overburden force (`friction`, `bearing`): `fast` slices the body "
+            "at the table's depths while at most 12 lie inside it (exact) and in 12 equal slices "
+            "beyond (cost independent of the table's rows; error ~1e-5 on smooth profiles), "
+            "`reference` always at every table depth (cost grows with the rows) "
+            "(docs/notes/sediment.md)"
+        ),
         "fast",
     ),
     # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
@@ -441,8 +587,7 @@ TABLE: tuple[Field, ...] = (
         "m",
         6.25e-5,
         2e-3,
-        "median grain size of the bed's sand (Wentworth's sand, 0.0625-2 mm: the scour laws are of "
-        "non-cohesive sand, docs/scour.md)",
+        "median grain size of the bed's sand (Wentworth's sand)",
         2e-4,
         slot=False,
     ),
@@ -451,7 +596,7 @@ TABLE: tuple[Field, ...] = (
         "kg m-3",
         1200,
         8000,
-        "density of the sand grains (quartz 2650)",
+        "grain density (quartz 2650)",
         2650,
         slot=False,
     ),
@@ -460,17 +605,21 @@ TABLE: tuple[Field, ...] = (
         "m",
         0,
         100,
-        "thickness of the mobile sand layer over a bed scour cannot dig (absent: unlimited)",
+        "thickness of the mobile sand layer over a bed scour cannot dig: caps the burial",
         incl=_OPEN_LOW,
         slot=False,
+        default_text="unlimited",
     ),
     _f(
         "scour.beq_a",
         "1",
         0,
         100,
-        "a of the equilibrium burial B_eq/D = a theta^b (Rennie, Brandt & Friedrichs 2017: 1.3 for "
-        "D > 8 cm, 15 for small or tapered objects)",
+        (
+            "a of B_eq/D = a θ^b (Rennie, Brandt & Friedrichs 2017: 1.3 for D > 8 cm; 15 for small or"
+            " tapered objects). **Sampling range: about 1.1–1.5** around the fit (assumption: the "
+            "paper gives the fit, not its spread)"
+        ),
         1.3,
         incl=_OPEN_LOW,
         slot=False,
@@ -480,7 +629,10 @@ TABLE: tuple[Field, ...] = (
         "1",
         0,
         3,
-        "b of B_eq/D = a theta^b (Rennie et al. 2017: 0.36; 1.1)",
+        (
+            "b of the same law (0.36; 1.1 for small objects). **Sampling range: about 0.30–0.42** "
+            "(assumption, as for a)"
+        ),
         0.36,
         incl=_OPEN_LOW,
         slot=False,
@@ -490,16 +642,19 @@ TABLE: tuple[Field, ...] = (
         "1",
         -5,
         0,
-        "exponent p of the Shields parameter in the time scale T* = c KC^m theta^p (default: the "
-        "T* law's, Whitehouse 1998 -1.29; uncertain between about -1.3 and -2.2)",
+        (
+            "exponent p of θ in T*. **Sampling range: −2.2 to −1.3** (Whitehouse 1998 −1.29; piles in"
+            " current −2.2, Sumer et al. 1992; Larsen & Fuhrman 2023 about −1.5 at field scale)"
+        ),
         slot=False,
+        default_text="the law's (−1.29 Whitehouse; −5/3 pipeline; −3 pile in waves)",
     ),
     _f(
         "scour.hs_scale",
         "1",
         0,
         10,
-        "factor on every significant wave height of the forcing (forcing uncertainty)",
+        ("factor on every significant wave height of the forcing (hindcast uncertainty; the period is kept)"),
         1.0,
         incl=_OPEN_LOW,
         slot=False,

@@ -306,3 +306,39 @@ def test_scalar_rule_message_names_field_value_range_and_unit():
         ScenarioError, match=r"numerics\.dt = 0\.001 s is outside the allowed range \(0, 0\.0001\] s"
     ):
         Scenario.from_dict(d)
+
+
+# ---------------------------------------------------------------------------
+# the documentation's field tables are generated from the declarations
+# ---------------------------------------------------------------------------
+@pytest.mark.parametrize("name", sorted(config.DOC_TABLES))
+def test_scenario_doc_field_table_did_not_drift_from_the_table(name):
+    doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    assert config.field_table_block(name) in doc, (
+        "regenerate: python -c 'from mineburial.config import write_field_tables; write_field_tables()'"
+    )
+
+
+def test_restraint_doc_field_table_did_not_drift_from_its_fields():
+    from mineburial.systems import restraint
+
+    doc = (ROOT / "docs" / "restraint.md").read_text(encoding="utf-8")
+    assert restraint.field_table_block() in doc, (
+        "regenerate: python -c 'from mineburial.systems.restraint import write_field_table; "
+        "write_field_table()'"
+    )
+
+
+def test_every_field_a_user_sets_is_in_one_doc_table():
+    listed = [p for paths in config.DOC_TABLES.values() for p in paths]
+    assert sorted(listed) == sorted(f.path for f in scenario_fields.TABLE if f.kind != "code")
+
+
+def test_write_field_tables_restores_an_edited_table(tmp_path):
+    original = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    edited = original.replace("| `length` | `mine.length` | m | required | (0, 50] |", "| `length` | x |", 1)
+    assert edited != original
+    path = tmp_path / "scenario.md"
+    path.write_text(edited, encoding="utf-8")
+    config.write_field_tables(path)
+    assert path.read_text(encoding="utf-8") == original
