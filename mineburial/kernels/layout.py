@@ -77,7 +77,10 @@ N_TRAJ = len(TRAJ_COLUMNS)
 # The slots are the fields of mineburial.scenario_fields.TABLE that have one, in the
 # table's order: a field is declared there once. The constants below are looked up by
 # name, so no positional list can drift from the table (tests/test_schema.py checks that
-# every slot has exactly one constant and that the kernels use no other).
+# every slot has exactly one constant and that the kernels use no other). A new slot is
+# appended after the last slotted field: numba's disk cache is keyed on each kernel's own
+# file, so a kernel compiled before a slot moved would read the old index (the test pins
+# the order).
 PARAM_NAMES = tuple(f.path for f in _TABLE if f.slot)
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
