@@ -88,8 +88,8 @@ def _code(path, description):
 
 TABLE: tuple[Field, ...] = (
     # --- mine ---------------------------------------------------------------
-    _f("mine.length", "m", 0, 50, "length L", incl=_OPEN_LOW),
-    _f("mine.diameter", "m", 0, 10, "diameter d = 2R", incl=_OPEN_LOW),
+    _f("mine.length", "m", 0, 50, "length L of the cylinder", incl=_OPEN_LOW),
+    _f("mine.diameter", "m", 0, 10, "diameter d = 2R of the cylinder", incl=_OPEN_LOW),
     _f("mine.mass", "kg", 0, 1e5, "mass m", incl=_OPEN_LOW),
     _f(
         "mine.com_offset",
@@ -108,7 +108,7 @@ TABLE: tuple[Field, ...] = (
         "kg m2",
         0,
         1e7,
-        "J1, about the main axis through the COM",
+        "J1, moment of inertia about the main axis through the COM",
         incl=_OPEN_LOW,
         default_text="m R²/2",
     ),
@@ -117,7 +117,7 @@ TABLE: tuple[Field, ...] = (
         "kg m2",
         0,
         1e7,
-        "J2 = J3, about a transverse axis through the COM",
+        "J2 = J3, moment of inertia about a transverse axis through the COM",
         incl=_OPEN_LOW,
         default_text="m (3R² + L²)/12",
     ),
@@ -228,8 +228,8 @@ TABLE: tuple[Field, ...] = (
         sampled=False,
     ),
     # --- environment ----------------------------------------------------------
-    _f("environment.gravity", "m s-2", 0, 100, "g", 9.81, incl=_OPEN_LOW),
-    _f("environment.air_density", "kg m-3", 0, 10, "ISA sea-level air", 1.225),
+    _f("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81, incl=_OPEN_LOW),
+    _f("environment.air_density", "kg m-3", 0, 10, "air density (ISA sea level)", 1.225),
     _f(
         "environment.air_viscosity",
         "m2 s-1",
@@ -259,7 +259,7 @@ TABLE: tuple[Field, ...] = (
         1.05e-6,
         incl=_OPEN_LOW,
     ),
-    _f("environment.water_depth", "m", 0, 11000, "H; the seabed is at z = −H", incl=_OPEN_LOW),
+    _f("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = −H", incl=_OPEN_LOW),
     _choice(
         "current.kind",
         CURRENT_KINDS,
@@ -337,7 +337,7 @@ TABLE: tuple[Field, ...] = (
         ),
         default_text="by model",
     ),
-    _f("sediment.impact_factor", "1", 1, 100, "A of eq. (70); 10 in seed 000 eq. (72)", 10.0),
+    _f("sediment.impact_factor", "1", 1, 100, "A of seed 000 eq. (70); 10 in its eq. (72)", 10.0),
     _f(
         "sediment.rest_speed",
         "m s-1",
@@ -398,7 +398,7 @@ TABLE: tuple[Field, ...] = (
         "m",
         0,
         10,
-        "B of eq. (73), undefined in seed 000; the force grows as B³ ([physics.md](physics.md))",
+        "B of seed 000 eq. (73), undefined there; the force grows as B³ ([physics.md](physics.md))",
         0.1,
         incl=_OPEN_LOW,
     ),
@@ -407,11 +407,11 @@ TABLE: tuple[Field, ...] = (
         "m s-1",
         0,
         1,
-        "k_p of eq. (73) (seed 000, its ref. [15])",
+        "k_p of seed 000 eq. (73) (1e-4: its ref. [15])",
         1e-4,
         incl=_OPEN_LOW,
     ),
-    _f("sediment.void_ratio", "1", 0, 20, "e_v of eq. (73) (≈ 0.5, seed 000)", 0.5, incl=_OPEN_LOW),
+    _f("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (≈ 0.5 there)", 0.5, incl=_OPEN_LOW),
     # --- numerics -------------------------------------------------------------
     _choice(
         "numerics.model",
@@ -462,13 +462,20 @@ TABLE: tuple[Field, ...] = (
         (
             "the mine is at rest when its COM speed is below this (seed 000 eq. (89); printed as ε1 ="
             ' 1e-6 "m", a speed) and the sediment can hold it against forces and torques (rigid-'
-            "plastic hold test probed at this speed; `mineburial/kernels/rest.py`, docs/design.md) …"
+            "plastic hold test probed at this speed; `mineburial/kernels/rest.py`, docs/design.md); "
+            "see also numerics.rest_spin"
         ),
         1e-2,
         incl=_OPEN_LOW,
     ),
     _f(
-        "numerics.rest_spin", "rad s-1", 0, 100, "… and its angular speed is below this", 5e-2, incl=_OPEN_LOW
+        "numerics.rest_spin",
+        "rad s-1",
+        0,
+        100,
+        "the mine is at rest only when its angular speed is below this too (with numerics.rest_speed)",
+        5e-2,
+        incl=_OPEN_LOW,
     ),
     _switch("numerics.drag", "fluid drag and lift on (switch off for energy checks)", True),
     _f(
@@ -596,7 +603,7 @@ TABLE: tuple[Field, ...] = (
         "kg m-3",
         1200,
         8000,
-        "grain density (quartz 2650)",
+        "density of the sand grains (quartz 2650)",
         2650,
         slot=False,
     ),
