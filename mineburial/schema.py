@@ -31,7 +31,19 @@ import numpy as np
 
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message
 
-__all__ = ["Field", "Rule", "ScenarioError", "dumps_toml", "toml_value", "markdown_table", "fmt"]
+__all__ = [
+    "Field",
+    "Rule",
+    "ScenarioError",
+    "check_rules",
+    "number",
+    "dumps_toml",
+    "toml_value",
+    "markdown_table",
+    "generated_block",
+    "replace_generated",
+    "fmt",
+]
 
 KINDS = ("float", "int", "bool", "choice", "code")
 
