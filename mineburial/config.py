@@ -11,8 +11,11 @@ A scenario file (TOML, SI units, angles named ``*_deg``) has the sections
 * :meth:`Scenario.from_dict` / :meth:`Scenario.from_toml` read a scenario;
   :meth:`Scenario.to_dict` writes it back fully resolved (defaults filled, a catalogue
   class or a core file expanded into its values), so ``from_dict(to_dict())`` is equal.
-* :data:`FIELDS` is the machine-readable table of every numeric scalar field (units,
-  range, default, description), used by validation and by the ensemble engine
+* Every field is declared once, in :data:`mineburial.scenario_fields.TABLE` (the schema
+  mechanism is :mod:`mineburial.schema`); :data:`SCHEMA` holds it by path, :data:`RULES`
+  the relations between fields, checked per scenario and over packed rows alike.
+  :data:`FIELDS` is its numeric part (units, range, default, description), used by
+  validation and by the ensemble engine
   (:func:`check_range`, :func:`check_params`): a distribution is checked against its
   field's range when an ensemble is loaded (:func:`check_distribution`), sampled values
   per drop (:func:`check_samples`, counted per field by :func:`invalid_samples`).
@@ -45,6 +48,17 @@ from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.kernels import layout
 from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
+from mineburial.scenario_fields import CURRENT_KINDS, TABLE
+from mineburial.schema import Field as FieldSpec
+from mineburial.schema import (
+    Rule,
+    check_rules,
+    dumps_toml,
+    generated_block,
+    markdown_table,
+    replace_generated,
+)
+from mineburial.schema import number as _number
 from mineburial.sediment_profiles import (
     CATALOGUE,
     ScenarioError,
@@ -59,6 +73,8 @@ from mineburial.sediment_profiles import (
 __all__ = [
     "ScenarioError",
     "FieldSpec",
+    "SCHEMA",
+    "RULES",
     "FIELDS",
     "ALIASES",
     "check_range",
@@ -91,435 +107,19 @@ _EPS = np.finfo(np.float64).eps
 
 
 # ===========================================================================
-# Field table
+# Field table: declared once in mineburial/scenario_fields.py (the schema mechanism:
+# mineburial/schema.py); everything below derives from it
 # ===========================================================================
-def _fmt(x: float) -> str:
-    return "inf" if x == math.inf else "-inf" if x == -math.inf else f"{x:g}"
-
-
-@dataclass(frozen=True)
-class FieldSpec:
-    """Units, allowed range and meaning of one numeric scalar scenario field.
-
-    ``path`` is the dotted name (the slot name in :data:`mineburial.kernels.layout.PARAM_NAMES`
-    where the field has one); ``location`` is where the value sits in a scenario file
-    (``release.position[2]`` for ``release.z``). ``default`` is ``None`` for required
-    fields or fields whose default is computed (documented in ``description``).
-    """
-
-    path: str
-    units: str
-    low: float
-    high: float
-    low_inclusive: bool
-    high_inclusive: bool
-    description: str
-    default: float | None = None
-    location: str = ""
-
-    def range_text(
-        self,
-        low: float | None = None,
-        high: float | None = None,
-        low_inclusive: bool | None = None,
-        high_inclusive: bool | None = None,
-    ) -> str:
-        """``(0, 50] m`` style text of the allowed range (optionally with other bounds)."""
-        lo = self.low if low is None else low
-        hi = self.high if high is None else high
-        li = self.low_inclusive if low_inclusive is None else low_inclusive
-        hi_incl = self.high_inclusive if high_inclusive is None else high_inclusive
-        text = ("[" if li else "(") + f"{_fmt(lo)}, {_fmt(hi)}" + ("]" if hi_incl else ")")
-        return f"{text} {self.units}" if self.units != "1" else text
-
-    def contains(self, values) -> np.ndarray:
-        """Boolean mask: finite and inside the range (vectorised)."""
-        v = np.asarray(values, dtype=np.float64)
-        ok = np.isfinite(v)
-        ok &= (v >= self.low) if self.low_inclusive else (v > self.low)
-        ok &= (v <= self.high) if self.high_inclusive else (v < self.high)
-        return ok
-
-
-def _spec(path, units, low, high, description, default=None, *, incl=(True, True), location=None):
-    return FieldSpec(
-        path,
-        units,
-        float(low),
-        float(high),
-        incl[0],
-        incl[1],
-        description,
-        None if default is None else float(default),
-        location or path,
-    )
-
-
-_OPEN_LOW = (False, True)
-_OPEN = (False, False)
-
-#: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
-LAB_STRAIN_RATE = 0.01 / 3600.0
-
-_FIELD_LIST = [
-    # --- mine ---------------------------------------------------------------
-    _spec("mine.length", "m", 0, 50, "length L of the cylinder", incl=_OPEN_LOW),
-    _spec("mine.diameter", "m", 0, 10, "diameter d = 2R of the cylinder", incl=_OPEN_LOW),
-    _spec("mine.mass", "kg", 0, 1e5, "mass m", incl=_OPEN_LOW),
-    _spec(
-        "mine.com_offset",
-        "m",
-        -25,
-        25,
-        "chi: COM displacement from the centre of volume towards the nose (seed 000 "
-        "Fig. 1); also |chi| < length/2",
-        0.0,
-        incl=_OPEN,
-    ),
-    _spec(
-        "mine.inertia_axial",
-        "kg m2",
-        0,
-        1e7,
-        "J1, moment of inertia about the main axis through the COM; default m R^2/2 "
-        "(uniform cylinder); also J1 <= 2 J2",
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "mine.inertia_transverse",
-        "kg m2",
-        0,
-        1e7,
-        "J2 = J3, moment of inertia about a transverse axis through the COM; default "
-        "m (3R^2 + L^2)/12 (uniform cylinder)",
-        incl=_OPEN_LOW,
-    ),
-    # --- release ------------------------------------------------------------
-    _spec("release.x", "m", -1e5, 1e5, "initial x of the COM", 0.0, location="release.position[0]"),
-    _spec("release.y", "m", -1e5, 1e5, "initial y of the COM", 0.0, location="release.position[1]"),
-    _spec(
-        "release.z",
-        "m",
-        -11000,
-        20000,
-        "initial height of the COM above the calm water surface; also > -environment.water_depth",
-        0.0,
-        location="release.position[2]",
-    ),
-    _spec("release.u", "m s-1", -500, 500, "initial COM velocity, x", 0.0, location="release.velocity[0]"),
-    _spec("release.v", "m s-1", -500, 500, "initial COM velocity, y", 0.0, location="release.velocity[1]"),
-    _spec(
-        "release.w", "m s-1", -500, 500, "initial COM velocity, z (up)", 0.0, location="release.velocity[2]"
-    ),
-    _spec("release.roll_deg", "deg", -360, 360, "psi1, roll about the main axis", 0.0),
-    _spec(
-        "release.pitch_deg",
-        "deg",
-        -90,
-        90,
-        "psi2, dip of the nose below the horizontal (+90 = nose down)",
-        0.0,
-    ),
-    _spec("release.heading_deg", "deg", -360, 360, "psi3, heading of the nose from +x towards +y", 0.0),
-    _spec("release.q0", "1", -1, 1, "orientation quaternion, scalar part", location="release.quaternion[0]"),
-    _spec("release.q1", "1", -1, 1, "orientation quaternion, x part", location="release.quaternion[1]"),
-    _spec("release.q2", "1", -1, 1, "orientation quaternion, y part", location="release.quaternion[2]"),
-    _spec("release.q3", "1", -1, 1, "orientation quaternion, z part", location="release.quaternion[3]"),
-    _spec(
-        "release.omega1",
-        "rad s-1",
-        -1000,
-        1000,
-        "initial angular velocity, body axis 1",
-        0.0,
-        location="release.angular_velocity[0]",
-    ),
-    _spec(
-        "release.omega2",
-        "rad s-1",
-        -1000,
-        1000,
-        "initial angular velocity, body axis 2",
-        0.0,
-        location="release.angular_velocity[1]",
-    ),
-    _spec(
-        "release.omega3",
-        "rad s-1",
-        -1000,
-        1000,
-        "initial angular velocity, body axis 3",
-        0.0,
-        location="release.angular_velocity[2]",
-    ),
-    # --- environment ----------------------------------------------------------
-    _spec("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81, incl=_OPEN_LOW),
-    _spec("environment.air_density", "kg m-3", 0, 10, "air density (ISA sea level 1.225)", 1.225),
-    _spec(
-        "environment.air_viscosity",
-        "m2 s-1",
-        0,
-        1e-3,
-        "kinematic viscosity of air (ISA 15 C: 1.46e-5)",
-        1.5e-5,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "environment.water_density",
-        "kg m-3",
-        0,
-        1300,
-        "water density (sea water 1025, seed 004 sec. 4; fresh 998; 0 = no water, for ballistic checks)",
-        1025.0,
-    ),
-    _spec(
-        "environment.water_viscosity",
-        "m2 s-1",
-        0,
-        1e-4,
-        "kinematic viscosity of water (sea water 1.05e-6, seed 004 sec. 4)",
-        1.05e-6,
-        incl=_OPEN_LOW,
-    ),
-    _spec("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = -H", incl=_OPEN_LOW),
-    _spec(
-        "current.u",
-        "m s-1",
-        -10,
-        10,
-        "current x: uniform value or surface value of the power law",
-        0.0,
-        location="environment.current.velocity[0]",
-    ),
-    _spec(
-        "current.v",
-        "m s-1",
-        -10,
-        10,
-        "current y: uniform value or surface value of the power law",
-        0.0,
-        location="environment.current.velocity[1]",
-    ),
-    _spec(
-        "current.exponent",
-        "1",
-        0,
-        1,
-        "power-law exponent, U(h) = U_s (h/d)^exponent (seed 004 eq. (38))",
-        1.0 / 7.0,
-        incl=_OPEN_LOW,
-        location="environment.current.exponent",
-    ),
-    # --- sediment -------------------------------------------------------------
-    _spec("sediment.density", "kg m-3", 1000, 2700, "linear profile: bulk density at the seabed"),
-    _spec("sediment.density_gradient", "kg m-4", 0, 1e4, "linear profile: density gradient", 0.0),
-    _spec("sediment.strength", "Pa", 0, 1e6, "linear profile: undrained shear strength at the seabed"),
-    _spec("sediment.strength_gradient", "Pa m-1", 0, 1e6, "linear profile: strength gradient", 0.0),
-    _spec("sediment.impact_factor", "1", 1, 100, "A of seed 000 eq. (70), (72)", 10.0),
-    _spec("sediment.rest_speed", "m s-1", 0, 10, "V_rest of seed 000 eq. (70), (72)", 0.04, incl=_OPEN_LOW),
-    _spec(
-        "sediment.rate_coefficient",
-        "1",
-        0,
-        2,
-        "beta of the semi-logarithmic rate law, per log10 cycle of strain rate (~0.1: Kulhawy & Mayne 1990)",
-        0.1,
-    ),
-    _spec(
-        "sediment.reference_rate",
-        "s-1",
-        0,
-        1e6,
-        "reference strain rate of the semi-logarithmic law (1 %/h lab rate)",
-        LAB_STRAIN_RATE,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "sediment.friction",
-        "1",
-        0,
-        5,
-        "mu, tangential/normal traction ratio (seed 004 Table 2 case 1: 0.3)",
-        0.3,
-    ),
-    _spec(
-        "sediment.bearing_factor",
-        "1",
-        0,
-        50,
-        "N_c, bearing-capacity factor (pi + 2, Prandtl 1920)",
-        math.pi + 2.0,
-        incl=_OPEN_LOW,
-    ),
-    _spec("sediment.rupture_length", "m", 0, 10, "B of seed 000 eq. (73)", 0.1, incl=_OPEN_LOW),
-    _spec(
-        "sediment.permeability",
-        "m s-1",
-        0,
-        1,
-        "k_p of seed 000 eq. (73) (1e-4, seed 000 ref. [15])",
-        1e-4,
-        incl=_OPEN_LOW,
-    ),
-    _spec("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (~0.5)", 0.5, incl=_OPEN_LOW),
-    # --- numerics -------------------------------------------------------------
-    _spec("numerics.dt", "s", 0, 1, "time step; also dt <= t_max and dt <= t_max_fall", 1e-3, incl=_OPEN_LOW),
-    _spec(
-        "numerics.t_max",
-        "s",
-        0,
-        1e6,
-        "limit on the simulated time after the mine first touches the seabed (time_limit)",
-        60.0,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.t_max_fall",
-        "s",
-        0,
-        1e6,
-        "limit on the simulated time of the fall, from release to the first seabed contact",
-        600.0,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.rest_speed",
-        "m s-1",
-        0,
-        10,
-        "rest criterion on the COM speed (seed 000 eq. (89), epsilon_1); the sediment's "
-        "hold is probed at this speed",
-        1e-2,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.rest_spin", "rad s-1", 0, 100, "rest criterion on the angular speed", 5e-2, incl=_OPEN_LOW
-    ),
-    _spec(
-        "numerics.munk_factor",
-        "1",
-        0,
-        1,
-        "fraction of the potential-flow Munk moment kept by the added-mass tensor "
-        "(0: isotropic translational added mass, no Munk moment; 1: slender-body strip "
-        "theory); see docs/physics.md",
-        0.0,
-    ),
-    _spec(
-        "numerics.rtol",
-        "1",
-        0,
-        0.1,
-        "relative tolerance of the adaptive integrators (dopri5, dopri5_ros34pw2), per step on "
-        "position, velocity, attitude and angular velocity; default 3e-4 for numerics.model = "
-        "'mineburial', 1e-5 for 'impact35'",
-        3e-4,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.atol",
-        "1",
-        0,
-        1.0,
-        "absolute tolerance of the adaptive integrators, in m, m s-1, 1 (quaternion) and rad s-1; "
-        "default 3e-5 for numerics.model = 'mineburial', 1e-6 for 'impact35'",
-        3e-5,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.slip_speed",
-        "m s-1",
-        0,
-        0.1,
-        "regularisation speed of the slip direction of the sediment's tangential traction "
-        "(seed 000 eq. (67)): it ramps up over this slip speed (docs/design.md)",
-        5e-3,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "numerics.switch_speed",
-        "m s-1",
-        0,
-        0.1,
-        "regularisation speed of the advancing switch of seed 000 eq. (65): the normal "
-        "traction ramps up over this normal speed (docs/design.md)",
-        5e-3,
-        incl=_OPEN_LOW,
-    ),
-    # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
-    # impact phase; packed into the stage's own parameters by mineburial/ensembles/scour.py
-    _spec(
-        "scour.d50",
-        "m",
-        6.25e-5,
-        2e-3,
-        "median grain size of the bed's sand (Wentworth's sand, 0.0625-2 mm: the scour laws are of "
-        "non-cohesive sand, docs/scour.md)",
-        2e-4,
-    ),
-    _spec("scour.grain_density", "kg m-3", 1200, 8000, "density of the sand grains (quartz 2650)", 2650),
-    _spec(
-        "scour.mobile_layer",
-        "m",
-        0,
-        100,
-        "thickness of the mobile sand layer over a bed scour cannot dig (absent: unlimited)",
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "scour.beq_a",
-        "1",
-        0,
-        100,
-        "a of the equilibrium burial B_eq/D = a theta^b (Rennie, Brandt & Friedrichs 2017: 1.3 for "
-        "D > 8 cm, 15 for small or tapered objects)",
-        1.3,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "scour.beq_b",
-        "1",
-        0,
-        3,
-        "b of B_eq/D = a theta^b (Rennie et al. 2017: 0.36; 1.1)",
-        0.36,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "scour.theta_exponent",
-        "1",
-        -5,
-        0,
-        "exponent p of the Shields parameter in the time scale T* = c KC^m theta^p (default: the "
-        "T* law's, Whitehouse 1998 -1.29; uncertain between about -1.3 and -2.2)",
-    ),
-    _spec(
-        "scour.hs_scale",
-        "1",
-        0,
-        10,
-        "factor on every significant wave height of the forcing (forcing uncertainty)",
-        1.0,
-        incl=_OPEN_LOW,
-    ),
-    _spec(
-        "scour.window_position",
-        "1",
-        0,
-        1,
-        "where each drop's window of scour.window_days starts in the forcing: 0 its first record, "
-        "1 the last start that fits (a uniform draw is a start date drawn from a long series)",
-        0.0,
-    ),
-]
+#: every field of a scenario, by path (numbers, choices, switches, kernel codes)
+SCHEMA: dict[str, FieldSpec] = {f.path: f for f in TABLE}
 
 #: dotted path -> FieldSpec for every numeric scalar field of a scenario.
-FIELDS: dict[str, FieldSpec] = {s.path: s for s in _FIELD_LIST}
+FIELDS: dict[str, FieldSpec] = {f.path: f for f in TABLE if f.kind == "float"}
 
 #: alternative spellings accepted by :func:`check_range`: the scenario-file locations
 #: (``release.position[2]``) and ``environment.current.*`` for ``current.*``.
 ALIASES: dict[str, str] = {}
-for _s in _FIELD_LIST:
+for _s in FIELDS.values():
     if _s.location != _s.path:
         ALIASES[_s.location] = _s.path
     if _s.path.startswith("current."):
@@ -677,57 +277,40 @@ def invalid_samples(inputs: Mapping[str, Any]) -> list[InvalidSamples]:
 # ===========================================================================
 # Value checking helpers (scalar, raising)
 # ===========================================================================
-def _range_error(
-    location: str,
-    path: str,
-    value: float,
-    spec: FieldSpec,
-    *,
-    low=None,
-    high=None,
-    low_inclusive=None,
-    note: str = "",
-) -> ScenarioError:
-    label = location if location == path else f"{location} ({path})"
-    units = "" if spec.units == "1" else f" {spec.units}"
-    extra = f" ({note})" if note else ""
-    return ScenarioError(
-        f"{label} = {value!r}{units} is outside the allowed range "
-        f"{spec.range_text(low, high, low_inclusive)}{extra}"
-    )
+def _check(path: str, value, location: str | None = None):
+    """``value`` of field ``path`` checked against the table (:meth:`FieldSpec.check`)."""
+    return SCHEMA[path].check(value, location)
 
 
-def _number(value, location: str, units: str = "") -> float:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
-        u = f" ({units})" if units and units != "1" else ""
-        hint = (
-            (': an inline table is a distribution only with distribution = "..." (docs/scenario.md)')
-            if isinstance(value, Mapping)
-            else ""
-        )
-        raise ScenarioError(f"{location} = {value!r} must be a number{u}{hint}")
-    return float(value)
+def _names(section: str, kinds=("float", "int", "bool", "choice")) -> tuple[str, ...]:
+    """Names of the fields of ``section`` in the table (of the given kinds), in table order."""
+    return tuple(f.name for f in TABLE if f.section == section and f.kind in kinds)
 
 
-def _check(path: str, value, location: str | None = None) -> float:
-    spec = FIELDS[path]
-    loc = location or spec.location
-    v = _number(value, loc, spec.units)
-    if not spec.contains(v):
-        raise _range_error(loc, path, v, spec)
-    return v
+def _check_section(obj, section: str, skip=()) -> None:
+    """Check (and convert) every field of ``section`` that ``obj`` holds and is set, then
+    the rules among them. ``None`` is left to the caller (a default taken elsewhere)."""
+    values = {}
+    for name in _names(section):
+        if name in skip or not hasattr(obj, name) or getattr(obj, name) is None:
+            continue
+        value = _check(f"{section}.{name}", getattr(obj, name))
+        _set(obj, name, value)
+        values[f"{section}.{name}"] = value
+    _check_rules(values)
+
+
+#: the linear sediment profile's fields (sediment.density, ...): not options of the model
+_SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
+
+#: each field's declared default, by path (the dataclasses' defaults)
+_D = {f.path: f.default for f in TABLE}
 
 
 def _vector(value, n: int, location: str) -> tuple[float, ...]:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
         raise ScenarioError(f"{location} = {value!r} must be a list of {n} numbers")
     return tuple(_number(x, f"{location}[{i}]") for i, x in enumerate(value))
-
-
-def _choice(value, allowed, location: str) -> str:
-    if not isinstance(value, str) or value not in allowed:
-        raise ScenarioError(f"{location}: " + unknown_name_message("name", value, allowed))
-    return value
 
 
 def _set(obj, name, value):
@@ -793,6 +376,139 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
 
 
 # ===========================================================================
+# Cross-field rules, declared once: checked per scenario (the dataclasses below, through
+# _check_rules) and over packed parameter rows (check_params, _param_checks)
+# ===========================================================================
+_Q = ("release.q0", "release.q1", "release.q2", "release.q3")
+_BODY = ("mine.length", "mine.diameter", "mine.com_offset")
+
+
+def _starts_above_seabed(v) -> np.ndarray:
+    """The whole mine starts above the seabed, unless ``release.embedded`` allows it in."""
+    embedded = np.asarray(v["release.embedded"], dtype=bool)
+    if np.all(embedded):
+        return embedded
+    q = np.stack(np.broadcast_arrays(*(np.asarray(v[k], dtype=np.float64) for k in _Q)), axis=-1)
+    lowest = _lowest_point(*(v[k] for k in _BODY), q, v["release.z"])
+    return embedded | (lowest >= -np.asarray(v["environment.water_depth"]))
+
+
+def _inside_seabed_message(v) -> str:
+    z, depth = v["release.z"], v["environment.water_depth"]
+    lowest = float(_lowest_point(*(v[k] for k in _BODY), [v[k] for k in _Q], z))
+    return (
+        f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
+        f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
+        f"-environment.water_depth = {-depth:g} m), so it has no impact: release it "
+        f"at least that much higher, or set release.embedded = true for a mine placed "
+        f"in the sediment"
+    )
+
+
+def _dt_rule(limit: str) -> Rule:
+    return Rule(
+        f"numerics.dt <= {limit}",
+        ("numerics.dt", limit),
+        lambda v: v["numerics.dt"] <= v[limit],
+        note=f"dt <= {limit}",
+        bounds=lambda v: (None, min(1.0, v[limit]), None),
+    )
+
+
+#: the relations between fields (docs/scenario.md lists them with the fields they bound)
+RULES: tuple[Rule, ...] = (
+    Rule(
+        "current.table_index >= 0 exactly when current.kind is 'table'",
+        ("current.kind", "current.table_index"),
+        lambda v: (v["current.table_index"] >= 0) == (v["current.kind"] == CURRENT_KINDS.index("table")),
+    ),
+    Rule(
+        "|mine.com_offset| < mine.length/2",
+        ("mine.com_offset", "mine.length"),
+        lambda v: np.abs(v["mine.com_offset"]) < v["mine.length"] / 2,
+        note="|chi| < length/2: the COM lies inside the body",
+        bounds=lambda v: (-v["mine.length"] / 2.0, v["mine.length"] / 2.0, None),
+    ),
+    Rule(
+        "mine.inertia_axial <= 2 mine.inertia_transverse",
+        ("mine.inertia_axial", "mine.inertia_transverse"),
+        lambda v: v["mine.inertia_axial"] <= 2 * v["mine.inertia_transverse"],
+        note="J1 <= 2 J2 = 2 * mine.inertia_transverse, triangle inequality of a rigid body",
+        bounds=lambda v: (None, 2.0 * v["mine.inertia_transverse"], None),
+    ),
+    Rule(
+        "release.z > -environment.water_depth",
+        ("release.z", "environment.water_depth"),
+        lambda v: v["release.z"] > -v["environment.water_depth"],
+        note="the COM must start above the seabed, z > -environment.water_depth",
+        bounds=lambda v: (-v["environment.water_depth"], None, False),
+    ),
+    Rule(
+        "the mine starts entirely above the seabed (release.embedded = false)",
+        ("release.z", "environment.water_depth", *_BODY, *_Q, "release.embedded"),
+        _starts_above_seabed,
+        message=_inside_seabed_message,
+    ),
+    Rule(
+        "the release quaternion has unit norm (within 1e-9)",
+        _Q,
+        lambda v: np.abs(np.sqrt(sum(v[k] ** 2 for k in _Q)) - 1) <= 1e-9,
+    ),
+    _dt_rule("numerics.t_max"),
+    _dt_rule("numerics.t_max_fall"),
+)
+
+
+def _check_rules(values: Mapping) -> None:
+    """Raise on the first rule of :data:`RULES` that ``values`` (one scenario's fields by
+    path) break; a rule whose fields are not all in ``values`` is left to another part."""
+    check_rules(RULES, values, SCHEMA)
+
+
+# ===========================================================================
+# The field tables of docs/scenario.md, generated from the table and the rules
+# ===========================================================================
+def _doc_paths(section: str, keep=lambda f: True) -> tuple[str, ...]:
+    return tuple(f.path for f in TABLE if f.section == section and f.kind != "code" and keep(f))
+
+
+#: each generated table of docs/scenario.md and the fields it lists
+DOC_TABLES: dict[str, tuple[str, ...]] = {
+    "mine": _doc_paths("mine"),
+    "release": _doc_paths("release"),
+    "environment": _doc_paths("environment"),
+    "current": _doc_paths("current"),
+    "sediment-profile": _doc_paths("sediment", lambda f: f.name in _SED_LINEAR),
+    "sediment-options": _doc_paths("sediment", lambda f: f.name not in _SED_LINEAR),
+    "numerics": _doc_paths("numerics"),
+    "scour": _doc_paths("scour"),
+}
+_DOC_WRITER = "mineburial.config.write_field_tables"
+
+
+def fields_markdown(name: str) -> str:
+    """The Markdown table ``name`` of :data:`DOC_TABLES` (the rules between fields a user
+    sets shown with the field they bound)."""
+    rules = [r for r in RULES if all(SCHEMA[p].kind != "code" for p in r.paths)]
+    return markdown_table((SCHEMA[p] for p in DOC_TABLES[name]), rules)
+
+
+def field_table_block(name: str) -> str:
+    """Table ``name`` as docs/scenario.md holds it, between its markers."""
+    return generated_block(name, fields_markdown(name), _DOC_WRITER)
+
+
+def write_field_tables(path="docs/scenario.md") -> None:
+    """Regenerate every table of :data:`DOC_TABLES` in ``path`` (run from the repository
+    root after changing mineburial/scenario_fields.py; tests/test_schema.py fails until then)."""
+    path = pathlib.Path(path)
+    text = path.read_text(encoding="utf-8")
+    for name in DOC_TABLES:
+        text = replace_generated(text, name, fields_markdown(name), _DOC_WRITER)
+    path.write_text(text, encoding="utf-8")
+
+
+# ===========================================================================
 # Dataclasses
 # ===========================================================================
 @dataclass(frozen=True, kw_only=True)
@@ -808,7 +524,7 @@ class Mine:
     length: float
     diameter: float
     mass: float
-    com_offset: float = 0.0
+    com_offset: float = _D["mine.com_offset"]
     inertia_axial: float | None = None
     inertia_transverse: float | None = None
     name: str = "mine"
@@ -816,35 +532,14 @@ class Mine:
     def __post_init__(self):
         if not isinstance(self.name, str):
             raise ScenarioError(f"mine.name = {self.name!r} must be a string")
-        for f in ("length", "diameter", "mass", "com_offset"):
+        for f in ("length", "diameter", "mass", "com_offset"):  # the default inertia needs them
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
         j1, j2 = uniform_cylinder_inertia(self.mass, self.diameter, self.length)
         if self.inertia_axial is None:
             _set(self, "inertia_axial", j1)
         if self.inertia_transverse is None:
             _set(self, "inertia_transverse", j2)
-        for f in ("inertia_axial", "inertia_transverse"):
-            _set(self, f, _check(f"mine.{f}", getattr(self, f)))
-        half = self.length / 2.0
-        if not abs(self.com_offset) < half:
-            raise _range_error(
-                "mine.com_offset",
-                "mine.com_offset",
-                self.com_offset,
-                FIELDS["mine.com_offset"],
-                low=-half,
-                high=half,
-                note="|chi| < length/2: the COM lies inside the body",
-            )
-        if not self.inertia_axial <= 2.0 * self.inertia_transverse:
-            raise _range_error(
-                "mine.inertia_axial",
-                "mine.inertia_axial",
-                self.inertia_axial,
-                FIELDS["mine.inertia_axial"],
-                high=2.0 * self.inertia_transverse,
-                note="J1 <= 2 J2 = 2 * mine.inertia_transverse, triangle inequality of a rigid body",
-            )
+        _check_section(self, "mine")
 
     @property
     def radius(self) -> float:
@@ -897,12 +592,10 @@ class Release:
     pitch_deg: float | None = None
     heading_deg: float | None = None
     quaternion: tuple | None = None
-    embedded: bool = False
+    embedded: bool = _D["release.embedded"]
 
     def __post_init__(self):
-        if not isinstance(self.embedded, (bool, np.bool_)):
-            raise ScenarioError(f"release.embedded = {self.embedded!r} must be true or false")
-        _set(self, "embedded", bool(self.embedded))
+        _set(self, "embedded", _check("release.embedded", self.embedded))
         for name, paths in (
             ("position", ("release.x", "release.y", "release.z")),
             ("velocity", ("release.u", "release.v", "release.w")),
@@ -987,16 +680,16 @@ class Current:
     Fields not used by the kind must keep their defaults (so a Current has one meaning).
     """
 
-    kind: str = "none"
-    u: float = 0.0
-    v: float = 0.0
-    exponent: float = 1.0 / 7.0
+    kind: str = _D["current.kind"]
+    u: float = _D["current.u"]
+    v: float = _D["current.v"]
+    exponent: float = _D["current.exponent"]
     depth: tuple = ()
     table_u: tuple = ()
     table_v: tuple = ()
 
     def __post_init__(self):
-        kind = _choice(self.kind, layout.CURRENT_KINDS, "environment.current.kind")
+        kind = _check("current.kind", self.kind)
         vel = "surface_velocity" if kind == "power_law" else "velocity"
         for i, f in enumerate(("u", "v")):
             _set(self, f, _check(f"current.{f}", getattr(self, f), f"environment.current.{vel}[{i}]"))
@@ -1020,7 +713,7 @@ class Current:
                 f"environment.current: u, v = ({self.u!r}, {self.v!r}) are only "
                 f"used by kind 'uniform' or 'power_law', not '{kind}'"
             )
-        if kind != "power_law" and self.exponent != 1.0 / 7.0:
+        if kind != "power_law" and self.exponent != _D["current.exponent"]:
             raise ScenarioError(
                 f"environment.current.exponent = {self.exponent!r} is only used "
                 f"by kind 'power_law', not '{kind}'"
@@ -1068,23 +761,15 @@ class Environment:
     """Fluids, gravity, water depth (the seabed is at z = -water_depth) and current."""
 
     water_depth: float
-    gravity: float = 9.81
-    air_density: float = 1.225
-    air_viscosity: float = 1.5e-5
-    water_density: float = 1025.0
-    water_viscosity: float = 1.05e-6
+    gravity: float = _D["environment.gravity"]
+    air_density: float = _D["environment.air_density"]
+    air_viscosity: float = _D["environment.air_viscosity"]
+    water_density: float = _D["environment.water_density"]
+    water_viscosity: float = _D["environment.water_viscosity"]
     current: Current = field(default_factory=Current)
 
     def __post_init__(self):
-        for f in (
-            "water_depth",
-            "gravity",
-            "air_density",
-            "air_viscosity",
-            "water_density",
-            "water_viscosity",
-        ):
-            _set(self, f, _check(f"environment.{f}", getattr(self, f)))
+        _check_section(self, "environment")
         if not isinstance(self.current, Current):
             raise ScenarioError(f"environment.current = {self.current!r} must be a Current")
 
@@ -1133,18 +818,8 @@ MODEL_DEFAULTS = {
     },
 }
 
-_SED_OPTIONS = (
-    "impact_factor",
-    "rest_speed",
-    "rate_coefficient",
-    "reference_rate",
-    "friction",
-    "bearing_factor",
-    "rupture_length",
-    "permeability",
-    "void_ratio",
-)
-_SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
+#: the options of the resistance model: the sediment's numbers that are not the linear profile
+_SED_OPTIONS = tuple(f for f in _names("sediment", ("float",)) if f not in _SED_LINEAR)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -1168,16 +843,16 @@ class Sediment:
     strength_gradient: float | None = None
     resistance: str | None = None
     rate_law: str | None = None
-    impact_factor: float = 10.0
-    rest_speed: float = 0.04
-    rate_coefficient: float = 0.1
-    reference_rate: float = LAB_STRAIN_RATE
-    friction: float = 0.3
-    bearing_factor: float = math.pi + 2.0
-    pore_pressure: bool = False
-    rupture_length: float = 0.1
-    permeability: float = 1e-4
-    void_ratio: float = 0.5
+    impact_factor: float = _D["sediment.impact_factor"]
+    rest_speed: float = _D["sediment.rest_speed"]
+    rate_coefficient: float = _D["sediment.rate_coefficient"]
+    reference_rate: float = _D["sediment.reference_rate"]
+    friction: float = _D["sediment.friction"]
+    bearing_factor: float = _D["sediment.bearing_factor"]
+    pore_pressure: bool = _D["sediment.pore_pressure"]
+    rupture_length: float = _D["sediment.rupture_length"]
+    permeability: float = _D["sediment.permeability"]
+    void_ratio: float = _D["sediment.void_ratio"]
 
     def __post_init__(self):
         linear_given = [f for f in _SED_LINEAR if getattr(self, f) is not None]
@@ -1201,15 +876,7 @@ class Sediment:
             for f in _SED_LINEAR:
                 value = getattr(self, f)
                 _set(self, f, _check(f"sediment.{f}", 0.0 if value is None else value))
-        if self.resistance is not None:
-            _choice(self.resistance, layout.RESISTANCE_NAMES, "sediment.resistance")
-        if self.rate_law is not None:
-            _choice(self.rate_law, layout.RATE_LAW_NAMES, "sediment.rate_law")
-        for f in _SED_OPTIONS:
-            _set(self, f, _check(f"sediment.{f}", getattr(self, f)))
-        if not isinstance(self.pore_pressure, (bool, np.bool_)):
-            raise ScenarioError(f"sediment.pore_pressure = {self.pore_pressure!r} must be true or false")
-        _set(self, "pore_pressure", bool(self.pore_pressure))
+        _check_section(self, "sediment", skip=_SED_LINEAR)
 
     @classmethod
     def from_class(cls, name: str, **options) -> Sediment:
@@ -1275,60 +942,29 @@ class Numerics:
     ``t_max`` guards only the motion in the sediment (docs/design.md, "The end of a drop").
     """
 
-    model: str = "mineburial"
+    model: str = _D["numerics.model"]
     integrator: str | None = None
-    dt: float = 1e-3
-    t_max: float = 60.0
-    t_max_fall: float = 600.0
-    rest_speed: float = 1e-2
-    rest_spin: float = 5e-2
-    drag: bool = True
-    munk_factor: float = 0.0
+    dt: float = _D["numerics.dt"]
+    t_max: float = _D["numerics.t_max"]
+    t_max_fall: float = _D["numerics.t_max_fall"]
+    rest_speed: float = _D["numerics.rest_speed"]
+    rest_spin: float = _D["numerics.rest_spin"]
+    drag: bool = _D["numerics.drag"]
+    munk_factor: float = _D["numerics.munk_factor"]
     rtol: float | None = None
     atol: float | None = None
-    sediment_quadrature: str = "fast"
-    slip_speed: float = 5e-3
-    switch_speed: float = 5e-3
-    water_column: str = "munk_factor"
-    overburden_quadrature: str = "fast"
+    sediment_quadrature: str = _D["numerics.sediment_quadrature"]
+    slip_speed: float = _D["numerics.slip_speed"]
+    switch_speed: float = _D["numerics.switch_speed"]
+    water_column: str = _D["numerics.water_column"]
+    overburden_quadrature: str = _D["numerics.overburden_quadrature"]
 
     def __post_init__(self):
-        _choice(self.model, layout.MODEL_NAMES, "numerics.model")
-        _choice(self.water_column, layout.WATER_COLUMN_NAMES, "numerics.water_column")
+        _set(self, "model", _check("numerics.model", self.model))
         for f in ("integrator", "rtol", "atol"):
             if getattr(self, f) is None:
                 _set(self, f, MODEL_DEFAULTS[self.model][f])
-        _choice(self.integrator, layout.INTEGRATOR_NAMES, "numerics.integrator")
-        _choice(self.sediment_quadrature, layout.SEDIMENT_QUADRATURE_NAMES, "numerics.sediment_quadrature")
-        _choice(
-            self.overburden_quadrature, layout.OVERBURDEN_QUADRATURE_NAMES, "numerics.overburden_quadrature"
-        )
-        for f in (
-            "dt",
-            "t_max",
-            "t_max_fall",
-            "rest_speed",
-            "rest_spin",
-            "munk_factor",
-            "rtol",
-            "atol",
-            "slip_speed",
-            "switch_speed",
-        ):
-            _set(self, f, _check(f"numerics.{f}", getattr(self, f)))
-        for limit in ("t_max", "t_max_fall"):
-            if not self.dt <= getattr(self, limit):
-                raise _range_error(
-                    "numerics.dt",
-                    "numerics.dt",
-                    self.dt,
-                    FIELDS["numerics.dt"],
-                    high=min(1.0, getattr(self, limit)),
-                    note=f"dt <= numerics.{limit}",
-                )
-        if not isinstance(self.drag, (bool, np.bool_)):
-            raise ScenarioError(f"numerics.drag = {self.drag!r} must be true or false")
-        _set(self, "drag", bool(self.drag))
+        _check_section(self, "numerics")
 
     def to_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
@@ -1338,7 +974,7 @@ class Numerics:
 # Scenario
 # ===========================================================================
 _SECTIONS = ("description", "mine", "release", "environment", "sediment", "numerics")
-_MINE_KEYS = ("name", "length", "diameter", "mass", "com_offset", "inertia_axial", "inertia_transverse")
+_MINE_KEYS = ("name",) + _names("mine")
 _RELEASE_KEYS = (
     "position",
     "velocity",
@@ -1349,17 +985,9 @@ _RELEASE_KEYS = (
     "quaternion",
     "embedded",
 )
-_ENV_KEYS = (
-    "gravity",
-    "air_density",
-    "air_viscosity",
-    "water_density",
-    "water_viscosity",
-    "water_depth",
-    "current",
-)
+_ENV_KEYS = _names("environment") + ("current",)
 _SED_SOURCES = ("class", "profile", "file")
-_SED_KEYS = _SED_SOURCES + _SED_LINEAR + ("resistance", "rate_law", "pore_pressure") + _SED_OPTIONS
+_SED_KEYS = _SED_SOURCES + _names("sediment")
 _NUM_KEYS = tuple(f.name for f in dataclasses.fields(Numerics))
 
 
@@ -1442,27 +1070,13 @@ class Scenario:
         if not isinstance(self.description, str):
             raise ScenarioError(f"description = {self.description!r} must be a string")
         _set(self, "sediment", self.sediment.resolved(self.numerics.model))
-        z, depth = self.release.position[2], self.environment.water_depth
-        if not z > -depth:
-            raise _range_error(
-                "release.position[2]",
-                "release.z",
-                z,
-                FIELDS["release.z"],
-                low=-depth,
-                low_inclusive=False,
-                note="the COM must start above the seabed, z > -environment.water_depth",
-            )
-        m = self.mine
-        lowest = float(_lowest_point(m.length, m.diameter, m.com_offset, self.release.q, z))
-        if not self.release.embedded and lowest < -depth:
-            raise ScenarioError(
-                f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
-                f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
-                f"-environment.water_depth = {-depth:g} m), so it has no impact: release it "
-                f"at least that much higher, or set release.embedded = true for a mine placed "
-                f"in the sediment"
-            )
+        m, r = self.mine, self.release
+        values = {f"mine.{f}": getattr(m, f) for f in ("length", "diameter", "com_offset")}
+        values.update({k: x for k, x in zip(_Q, r.q)})
+        values["release.z"] = r.position[2]
+        values["environment.water_depth"] = self.environment.water_depth
+        values["release.embedded"] = r.embedded
+        _check_rules(values)
 
     # -- reading -------------------------------------------------------------
     @classmethod
@@ -1564,65 +1178,28 @@ class Scenario:
         else:
             cur_bank, cur_index = pack_banks([]), -1
         values = {
-            "mine.length": m.length,
-            "mine.diameter": m.diameter,
-            "mine.mass": m.mass,
-            "mine.com_offset": m.com_offset,
-            "mine.inertia_axial": m.inertia_axial,
-            "mine.inertia_transverse": m.inertia_transverse,
-            "release.x": r.position[0],
-            "release.y": r.position[1],
-            "release.z": r.position[2],
-            "release.u": r.velocity[0],
-            "release.v": r.velocity[1],
-            "release.w": r.velocity[2],
             "release.q0": q[0],
             "release.q1": q[1],
             "release.q2": q[2],
             "release.q3": q[3],
-            "release.omega1": r.angular_velocity[0],
-            "release.omega2": r.angular_velocity[1],
-            "release.omega3": r.angular_velocity[2],
-            "environment.gravity": e.gravity,
-            "environment.air_density": e.air_density,
-            "environment.air_viscosity": e.air_viscosity,
-            "environment.water_density": e.water_density,
-            "environment.water_viscosity": e.water_viscosity,
-            "environment.water_depth": e.water_depth,
-            "current.kind": layout.CURRENT_KINDS.index(c.kind),
-            "current.u": c.u,
-            "current.v": c.v,
-            "current.exponent": c.exponent,
             "current.table_index": cur_index,
             "sediment.profile_index": sed_index,
             "sediment.density": rho0,
             "sediment.density_gradient": krho,
             "sediment.strength": s0,
             "sediment.strength_gradient": ks,
-            "sediment.resistance": layout.RESISTANCE_NAMES.index(s.resistance),
-            "sediment.rate_law": layout.RATE_LAW_NAMES.index(s.rate_law),
-            "sediment.pore_pressure": float(s.pore_pressure),
-            "numerics.model": layout.MODEL_NAMES.index(n.model),
-            "numerics.integrator": layout.INTEGRATOR_NAMES.index(n.integrator),
-            "numerics.dt": n.dt,
-            "numerics.t_max": n.t_max,
-            "numerics.t_max_fall": n.t_max_fall,
-            "numerics.rest_speed": n.rest_speed,
-            "numerics.rest_spin": n.rest_spin,
-            "numerics.drag": float(n.drag),
-            "numerics.munk_factor": n.munk_factor,
-            "numerics.rtol": n.rtol,
-            "numerics.atol": n.atol,
-            "numerics.slip_speed": n.slip_speed,
-            "numerics.switch_speed": n.switch_speed,
-            "numerics.sediment_quadrature": layout.SEDIMENT_QUADRATURE_NAMES.index(n.sediment_quadrature),
-            "numerics.water_column": layout.WATER_COLUMN_NAMES.index(n.water_column),
-            "numerics.overburden_quadrature": layout.OVERBURDEN_QUADRATURE_NAMES.index(
-                n.overburden_quadrature
-            ),
         }
-        for f in _SED_OPTIONS:
-            values[f"sediment.{f}"] = getattr(s, f)
+        for i, k in enumerate("xyz"):
+            values[f"release.{k}"] = r.position[i]
+        for i, k in enumerate("uvw"):
+            values[f"release.{k}"] = r.velocity[i]
+        for i in range(3):
+            values[f"release.omega{i + 1}"] = r.angular_velocity[i]
+        parts = {"mine": m, "environment": e, "current": c, "sediment": s, "numerics": n}
+        for name in layout.PARAM_NAMES:
+            if name not in values:
+                section, _, key = name.partition(".")
+                values[name] = SCHEMA[name].pack(getattr(parts[section], key))
         missing = set(layout.PARAM_NAMES) - set(values)
         extra = set(values) - set(layout.PARAM_NAMES)
         if missing or extra:  # pragma: no cover - guards layout changes
@@ -1640,7 +1217,7 @@ def _current_from_dict(cur) -> Current:
     if not isinstance(cur, Mapping):
         raise ScenarioError(f"environment.current must be a table, got {cur!r}")
     kind = cur.get("kind", "none")
-    kind = _choice(kind, layout.CURRENT_KINDS, "environment.current.kind")
+    kind = _check("current.kind", kind)
     allowed = _CURRENT_KEYS[kind]
     all_keys = sorted({k for ks in _CURRENT_KEYS.values() for k in ks})
     unknown = [key for key in cur if key not in all_keys]
@@ -1659,7 +1236,7 @@ def _current_from_dict(cur) -> Current:
         if key not in cur:
             raise ScenarioError(f"environment.current.{key} = [u, v] (m s-1) is required for kind '{kind}'")
         u, v = _vector(cur[key], 2, f"environment.current.{key}")
-        return Current(kind=kind, u=u, v=v, exponent=cur.get("exponent", 1.0 / 7.0))
+        return Current(kind=kind, u=u, v=v, exponent=cur.get("exponent", _D["current.exponent"]))
     if kind == "table":
         for key in ("depth", "u", "v"):
             if key not in cur:
@@ -1694,114 +1271,46 @@ def _sediment_from_dict(sed: dict, base_dir) -> Sediment:
 # ===========================================================================
 # Vectorised validation of packed parameter rows (for ensembles)
 # ===========================================================================
-_CODE_LIMITS = {
-    "current.kind": len(layout.CURRENT_KINDS),
-    "sediment.resistance": len(layout.RESISTANCE_NAMES),
-    "sediment.rate_law": len(layout.RATE_LAW_NAMES),
-    "numerics.model": len(layout.MODEL_NAMES),
-    "numerics.integrator": len(layout.INTEGRATOR_NAMES),
-    "numerics.sediment_quadrature": len(layout.SEDIMENT_QUADRATURE_NAMES),
-    "numerics.water_column": len(layout.WATER_COLUMN_NAMES),
-    "numerics.overburden_quadrature": len(layout.OVERBURDEN_QUADRATURE_NAMES),
-    "sediment.pore_pressure": 2,
-    "numerics.drag": 2,
-}
+_SED_LINEAR_PATHS = tuple(f"sediment.{f}" for f in _SED_LINEAR)
+#: the slots by what their check is: ranges of numbers, codes of choices and switches, bank rows
+_SLOT_GROUPS = tuple(
+    tuple(name for name in layout.PARAM_NAMES if SCHEMA[name].kind in kinds)
+    for kinds in (("float",), ("choice", "bool"), ("code",))
+)
 
 
 def _param_checks(P: np.ndarray, n_sediment, n_current, embedded=False):
-    """List of (text, slot names involved, ok mask) over rows of P."""
+    """List of (text, slot names involved, ok mask) over rows of P: each slot against its
+    field, then every rule of :data:`RULES`."""
     P = np.atleast_2d(np.asarray(P, dtype=np.float64))
     if P.ndim != 2 or P.shape[-1] != layout.N_PARAMS:
         raise ScenarioError(f"parameter rows must have {layout.N_PARAMS} columns, got shape {P.shape}")
     col = {name: P[:, i] for i, name in enumerate(layout.PARAM_NAMES)}
+    col["release.embedded"] = np.full(P.shape[0], bool(embedded))
+    numbers, codes, rows = _SLOT_GROUPS
     checks = []
     tabulated = col["sediment.profile_index"] != -1
-    for name in layout.PARAM_NAMES:
-        spec = FIELDS.get(name)
-        if spec is None:
-            continue
+    for name in numbers:
+        spec = SCHEMA[name]
         ok = spec.contains(col[name])
-        if name in (
-            "sediment.density",
-            "sediment.density_gradient",
-            "sediment.strength",
-            "sediment.strength_gradient",
-        ):
+        if name in _SED_LINEAR_PATHS:
             ok |= tabulated & np.isfinite(col[name])  # informational for tables
         checks.append((f"{name} in {spec.range_text()}", (name,), ok))
-    for name, n in _CODE_LIMITS.items():
-        v = col[name]
+    for name in codes:
+        v, n = col[name], int(SCHEMA[name].high) + 1
         checks.append(
             (f"{name} is an integer code in [0, {n - 1}]", (name,), (v == np.floor(v)) & (v >= 0) & (v < n))
         )
-    for name, n in (("sediment.profile_index", n_sediment), ("current.table_index", n_current)):
-        v = col[name]
+    banks = {"sediment.profile_index": n_sediment, "current.table_index": n_current}
+    for name in rows:
+        v, n = col[name], banks[name]
         ok = (v == np.floor(v)) & (v >= -1)
         if n is not None:
             ok &= v < n
         bound = f" < {n}" if n is not None else ""
         checks.append((f"{name} is -1 or a bank row{bound}", (name,), ok))
-    checks.append(
-        (
-            "current.table_index >= 0 exactly when current.kind is 'table'",
-            ("current.kind", "current.table_index"),
-            (col["current.table_index"] >= 0) == (col["current.kind"] == layout.CURRENT_KINDS.index("table")),
-        )
-    )
-    checks.append(
-        (
-            "|mine.com_offset| < mine.length/2",
-            ("mine.com_offset", "mine.length"),
-            np.abs(col["mine.com_offset"]) < col["mine.length"] / 2,
-        )
-    )
-    checks.append(
-        (
-            "mine.inertia_axial <= 2 mine.inertia_transverse",
-            ("mine.inertia_axial", "mine.inertia_transverse"),
-            col["mine.inertia_axial"] <= 2 * col["mine.inertia_transverse"],
-        )
-    )
-    checks.append(
-        (
-            "release.z > -environment.water_depth",
-            ("release.z", "environment.water_depth"),
-            col["release.z"] > -col["environment.water_depth"],
-        )
-    )
-    if not embedded:
-        q = np.stack([col[f"release.q{i}"] for i in range(4)], axis=-1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            lowest = _lowest_point(
-                col["mine.length"], col["mine.diameter"], col["mine.com_offset"], q, col["release.z"]
-            )
-        checks.append(
-            (
-                "the mine starts entirely above the seabed (release.embedded = false)",
-                (
-                    "release.z",
-                    "environment.water_depth",
-                    "mine.length",
-                    "mine.diameter",
-                    "mine.com_offset",
-                    "release.q0",
-                    "release.q1",
-                    "release.q2",
-                    "release.q3",
-                ),
-                lowest >= -col["environment.water_depth"],
-            )
-        )
-    qn = np.sqrt(sum(col[f"release.q{i}"] ** 2 for i in range(4)))
-    checks.append(
-        (
-            "the release quaternion has unit norm (within 1e-9)",
-            tuple(f"release.q{i}" for i in range(4)),
-            np.abs(qn - 1) <= 1e-9,
-        )
-    )
-    for limit in ("numerics.t_max", "numerics.t_max_fall"):
-        checks.append((f"numerics.dt <= {limit}", ("numerics.dt", limit), col["numerics.dt"] <= col[limit]))
+    for rule in RULES:
+        checks.append((rule.text, tuple(p for p in rule.paths if p in layout.INDEX), rule.holds(col)))
     return checks
 
 
@@ -1833,48 +1342,6 @@ def explain_params(
         for text, names, mask in _param_checks(p, n_sediment, n_current, embedded)
         if not mask[0]
     ]
-
-
-# ===========================================================================
-# Minimal TOML writer for to_dict() output
-# ===========================================================================
-def _toml_value(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        v = float(v)
-        if math.isnan(v):
-            return "nan"
-        if math.isinf(v):
-            return "inf" if v > 0 else "-inf"
-        return repr(v)
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def dumps_toml(d: Mapping, _prefix: str = "") -> str:
-    """TOML text of a nested dict of scalars, lists and sub-dicts (sub-dicts become
-    ``[a.b]`` tables)."""
-    lines, tables = [], []
-    for key, value in d.items():
-        if isinstance(value, Mapping):
-            tables.append((key, value))
-        else:
-            lines.append(f"{key} = {_toml_value(value)}")
-    out = []
-    if lines:
-        if _prefix:
-            out.append(f"[{_prefix}]")
-        out.extend(lines)
-        out.append("")
-    for key, value in tables:
-        out.append(dumps_toml(value, f"{_prefix}.{key}" if _prefix else key))
-    return "\n".join(out)
 
 
 # ===========================================================================

@@ -592,9 +592,9 @@ BAD = {
     ),
     "not a number": (
         '[ship]\nspeed = "fast"\n',
-        r"ship\.speed = 'fast' is not a number; allowed range \(0, 50\] m s-1",
+        r"ship\.speed = 'fast' must be a number \(m s-1\); allowed range \(0, 50\] m s-1",
     ),
-    "method": ('[numerics]\nmethod = "euler"\n', r"unknown numerics\.method 'euler'"),
+    "method": ('[numerics]\nmethod = "euler"\n', r"numerics\.method: unknown name 'euler'"),
     "links": ("[chain]\nlinks = 2.5\n", r"chain\.links = 2\.5 must be a whole number"),
     "switch": ("[model]\nfriction = 1\n", r"model\.friction = 1 must be true or false"),
     "not toml": ("[ship\n", r"is not valid TOML"),

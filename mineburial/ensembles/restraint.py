@@ -192,9 +192,7 @@ def _check_distribution(spec: rs.FieldSpec, d: dist.Distribution) -> None:
     :func:`mineburial.config.check_distribution`)."""
     if getattr(d, "categorical", False):
         raise ScenarioError(f"{spec.path}: a choice for a number needs numeric values")
-    lo = -math.inf if spec.lo is None else spec.lo
-    hi = math.inf if spec.hi is None else spec.hi
-    p = d.probability_outside(lo, hi, not spec.lo_open, not spec.hi_open)
+    p = d.probability_outside(spec.low, spec.high, spec.low_inclusive, spec.high_inclusive)
     tolerance = 0.0 if d.discrete else SUPPORT_TOLERANCE
     if p <= tolerance:
         return

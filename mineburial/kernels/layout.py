@@ -22,6 +22,18 @@ codes, the columns of a recorded trajectory and the per-drop summary are declare
 here too, once.
 """
 
+from mineburial.scenario_fields import (  # noqa: F401 - the names of the coded choices, re-exported
+    CURRENT_KINDS,
+    INTEGRATOR_NAMES,
+    MODEL_NAMES,
+    OVERBURDEN_QUADRATURE_NAMES,
+    RATE_LAW_NAMES,
+    RESISTANCE_NAMES,
+    SEDIMENT_QUADRATURE_NAMES,
+    WATER_COLUMN_NAMES,
+)
+from mineburial.scenario_fields import TABLE as _TABLE
+
 # --- state -----------------------------------------------------------------
 X, Y, Z, U, V, W, Q0, Q1, Q2, Q3, P, Q, R = range(13)
 N_STATE = 13
@@ -62,159 +74,85 @@ TRAJ_COLUMNS = (
 N_TRAJ = len(TRAJ_COLUMNS)
 
 # --- parameter vector ------------------------------------------------------
-PARAM_NAMES = (
-    # mine (body)
-    "mine.length",  # m
-    "mine.diameter",  # m
-    "mine.mass",  # kg
-    "mine.com_offset",  # m, chi of seed 000 (COM towards the nose > 0)
-    "mine.inertia_axial",  # kg m2, J1 about the COM
-    "mine.inertia_transverse",  # kg m2, J2 = J3 about the COM
-    # release (initial state)
-    "release.x",
-    "release.y",
-    "release.z",  # m
-    "release.u",
-    "release.v",
-    "release.w",  # m s-1
-    "release.q0",
-    "release.q1",
-    "release.q2",
-    "release.q3",
-    "release.omega1",
-    "release.omega2",
-    "release.omega3",  # rad s-1, body frame
-    # environment
-    "environment.gravity",  # m s-2
-    "environment.air_density",  # kg m-3
-    "environment.air_viscosity",  # m2 s-1 (kinematic)
-    "environment.water_density",  # kg m-3
-    "environment.water_viscosity",  # m2 s-1 (kinematic)
-    "environment.water_depth",  # m
-    "current.kind",  # 0 none, 1 uniform, 2 power law (seed 004 eq. (38)), 3 table
-    "current.u",  # m s-1, uniform value or surface value of the power law
-    "current.v",  # m s-1
-    "current.exponent",  # power-law exponent (1/7 in seed 004)
-    "current.table_index",  # row of current_bank, -1 for none
-    # sediment
-    "sediment.profile_index",  # row of sediment_bank, -1: linear profile below
-    "sediment.density",  # kg m-3 at the seabed (linear profile)
-    "sediment.density_gradient",  # kg m-4
-    "sediment.strength",  # Pa at the seabed (linear profile)
-    "sediment.strength_gradient",  # Pa m-1
-    "sediment.resistance",  # code of the resistance model (kernels.sediment)
-    "sediment.rate_law",  # code of the strain-rate law
-    "sediment.impact_factor",  # A of seed 000 eq. (70)
-    "sediment.rest_speed",  # V_rest of seed 000 eq. (70), m s-1
-    "sediment.rate_coefficient",  # beta of the semi-logarithmic law
-    "sediment.reference_rate",  # reference strain rate of the semi-log law, s-1
-    "sediment.friction",  # mu, tangential/normal traction ratio
-    "sediment.bearing_factor",  # N_c, bearing-capacity factor
-    "sediment.pore_pressure",  # 0/1, seed 000 eq. (73) on or off
-    "sediment.rupture_length",  # B of eq. (73), m
-    "sediment.permeability",  # k_p of eq. (73), m s-1
-    "sediment.void_ratio",  # e_v of eq. (73)
-    # numerics
-    "numerics.model",  # 0 mineburial (default), 1 impact35
-    "numerics.integrator",  # 0 rk4, 1 local_linear (seed 000 eqs. (83)-(87)), 2 dopri5
-    "numerics.dt",  # s
-    "numerics.t_max",  # s, limit on the simulated time after the first seabed contact
-    "numerics.rest_speed",  # m s-1, eq. (89) speed criterion
-    "numerics.rest_spin",  # rad s-1
-    "numerics.drag",  # 1/0: fluid drag and lift on (0 for energy tests)
-    "numerics.munk_factor",  # fraction of the potential-flow Munk moment kept (docs/physics.md)
-    "numerics.rtol",  # relative tolerance of the adaptive integrator
-    "numerics.atol",  # absolute tolerance of the adaptive integrator (scaled units)
-    "numerics.sediment_quadrature",  # 0 fast (fixed-cost rule), 1 reference (adaptive quadrature)
-    "numerics.slip_speed",  # m s-1, regularisation speed of the sediment's slip direction
-    "numerics.switch_speed",  # m s-1, regularisation speed of the sediment's advancing switch
-    "numerics.t_max_fall",  # s, limit on the simulated time of the fall (release to seabed contact)
-    "numerics.water_column",  # code of the water-column added-mass/moment model (WATER_COLUMN_NAMES)
-    "numerics.overburden_quadrature",  # 0 fast (bounded cost), 1 reference (a slice per table depth)
-)
+# The slots are the fields of mineburial.scenario_fields.TABLE that have one, in the
+# table's order: a field is declared there once. The constants below are looked up by
+# name, so no positional list can drift from the table (tests/test_schema.py checks that
+# every slot has exactly one constant and that the kernels use no other). A new slot is
+# appended after the last slotted field: numba's disk cache is keyed on each kernel's own
+# file, so a kernel compiled before a slot moved would read the old index (the test pins
+# the order).
+PARAM_NAMES = tuple(f.path for f in _TABLE if f.slot)
 N_PARAMS = len(PARAM_NAMES)
 INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
 
 # Module-level integer constants for use inside kernels (numba treats them as
 # compile-time constants).
-(
-    P_LENGTH,
-    P_DIAMETER,
-    P_MASS,
-    P_CHI,
-    P_J1,
-    P_J2,
-    P_X0,
-    P_Y0,
-    P_Z0,
-    P_U0,
-    P_V0,
-    P_W0,
-    P_Q00,
-    P_Q10,
-    P_Q20,
-    P_Q30,
-    P_OM10,
-    P_OM20,
-    P_OM30,
-    P_GRAVITY,
-    P_RHO_AIR,
-    P_NU_AIR,
-    P_RHO_WATER,
-    P_NU_WATER,
-    P_DEPTH,
-    P_CURRENT_KIND,
-    P_CURRENT_U,
-    P_CURRENT_V,
-    P_CURRENT_EXPONENT,
-    P_CURRENT_TABLE,
-    P_SED_PROFILE,
-    P_SED_RHO,
-    P_SED_RHO_GRAD,
-    P_SED_S,
-    P_SED_S_GRAD,
-    P_SED_RESISTANCE,
-    P_SED_RATE_LAW,
-    P_SED_A,
-    P_SED_VREST,
-    P_SED_BETA,
-    P_SED_RATE_REF,
-    P_SED_MU,
-    P_SED_NC,
-    P_SED_PORE,
-    P_SED_B,
-    P_SED_KP,
-    P_SED_EV,
-    P_MODEL,
-    P_INTEGRATOR,
-    P_DT,
-    P_TMAX,
-    P_REST_SPEED,
-    P_REST_SPIN,
-    P_DRAG,
-    P_MUNK,
-    P_RTOL,
-    P_ATOL,
-    P_SED_QUADRATURE,
-    P_SLIP_SPEED,
-    P_SWITCH_SPEED,
-    P_TMAX_FALL,
-    P_WATER_COLUMN,
-    P_OB_QUADRATURE,
-) = range(N_PARAMS)
+P_LENGTH = INDEX["mine.length"]
+P_DIAMETER = INDEX["mine.diameter"]
+P_MASS = INDEX["mine.mass"]
+P_CHI = INDEX["mine.com_offset"]
+P_J1 = INDEX["mine.inertia_axial"]
+P_J2 = INDEX["mine.inertia_transverse"]
+P_X0 = INDEX["release.x"]
+P_Y0 = INDEX["release.y"]
+P_Z0 = INDEX["release.z"]
+P_U0 = INDEX["release.u"]
+P_V0 = INDEX["release.v"]
+P_W0 = INDEX["release.w"]
+P_Q00 = INDEX["release.q0"]
+P_Q10 = INDEX["release.q1"]
+P_Q20 = INDEX["release.q2"]
+P_Q30 = INDEX["release.q3"]
+P_OM10 = INDEX["release.omega1"]
+P_OM20 = INDEX["release.omega2"]
+P_OM30 = INDEX["release.omega3"]
+P_GRAVITY = INDEX["environment.gravity"]
+P_RHO_AIR = INDEX["environment.air_density"]
+P_NU_AIR = INDEX["environment.air_viscosity"]
+P_RHO_WATER = INDEX["environment.water_density"]
+P_NU_WATER = INDEX["environment.water_viscosity"]
+P_DEPTH = INDEX["environment.water_depth"]
+P_CURRENT_KIND = INDEX["current.kind"]
+P_CURRENT_U = INDEX["current.u"]
+P_CURRENT_V = INDEX["current.v"]
+P_CURRENT_EXPONENT = INDEX["current.exponent"]
+P_CURRENT_TABLE = INDEX["current.table_index"]
+P_SED_PROFILE = INDEX["sediment.profile_index"]
+P_SED_RHO = INDEX["sediment.density"]
+P_SED_RHO_GRAD = INDEX["sediment.density_gradient"]
+P_SED_S = INDEX["sediment.strength"]
+P_SED_S_GRAD = INDEX["sediment.strength_gradient"]
+P_SED_RESISTANCE = INDEX["sediment.resistance"]
+P_SED_RATE_LAW = INDEX["sediment.rate_law"]
+P_SED_A = INDEX["sediment.impact_factor"]
+P_SED_VREST = INDEX["sediment.rest_speed"]
+P_SED_BETA = INDEX["sediment.rate_coefficient"]
+P_SED_RATE_REF = INDEX["sediment.reference_rate"]
+P_SED_MU = INDEX["sediment.friction"]
+P_SED_NC = INDEX["sediment.bearing_factor"]
+P_SED_PORE = INDEX["sediment.pore_pressure"]
+P_SED_B = INDEX["sediment.rupture_length"]
+P_SED_KP = INDEX["sediment.permeability"]
+P_SED_EV = INDEX["sediment.void_ratio"]
+P_MODEL = INDEX["numerics.model"]
+P_INTEGRATOR = INDEX["numerics.integrator"]
+P_DT = INDEX["numerics.dt"]
+P_TMAX = INDEX["numerics.t_max"]
+P_REST_SPEED = INDEX["numerics.rest_speed"]
+P_REST_SPIN = INDEX["numerics.rest_spin"]
+P_DRAG = INDEX["numerics.drag"]
+P_MUNK = INDEX["numerics.munk_factor"]
+P_RTOL = INDEX["numerics.rtol"]
+P_ATOL = INDEX["numerics.atol"]
+P_SED_QUADRATURE = INDEX["numerics.sediment_quadrature"]
+P_SLIP_SPEED = INDEX["numerics.slip_speed"]
+P_SWITCH_SPEED = INDEX["numerics.switch_speed"]
+P_TMAX_FALL = INDEX["numerics.t_max_fall"]
+P_WATER_COLUMN = INDEX["numerics.water_column"]
+P_OB_QUADRATURE = INDEX["numerics.overburden_quadrature"]
 
-# model and integrator codes
-MODEL_NAMES = ("mineburial", "impact35")
-INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
-SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
-OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/overburden.py
-CURRENT_KINDS = ("none", "uniform", "power_law", "table")
-# water-column models (docs/physics.md, "Water-column model choices"): the strip added mass
-# with the tuned numerics.munk_factor, or the viscous-crossflow method with the added-mass
-# tensor of the finite cylinder
-WATER_COLUMN_NAMES = ("munk_factor", "viscous_crossflow")
-WC_MUNK_FACTOR = 0
-WC_VISCOUS_CROSSFLOW = 1
+WC_MUNK_FACTOR = WATER_COLUMN_NAMES.index("munk_factor")
+WC_VISCOUS_CROSSFLOW = WATER_COLUMN_NAMES.index("viscous_crossflow")
 
 # --- per-drop summary (results) -------------------------------------------
 SUMMARY_NAMES = (
@@ -261,7 +199,3 @@ SUMMARY_INDEX = {name: i for i, name in enumerate(SUMMARY_NAMES)}
     S_MAX_DECEL,
     S_N_STEPS,
 ) = range(N_SUMMARY)
-
-# sediment model codes (kernels.sediment)
-RESISTANCE_NAMES = ("delta", "friction", "bearing")
-RATE_LAW_NAMES = ("impact35", "semilog", "none")

@@ -33,6 +33,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.io.inputs import parse_toml, read_toml
+from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
 
 # ---------------------------------------------------------------------------
@@ -40,77 +41,26 @@ from mineburial.sediment_profiles import ScenarioError, unknown_name_message, un
 # ---------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class FieldSpec:
-    """One field of a case file: its default, unit, allowed range and source."""
-
-    section: str
-    name: str
-    default: Any
-    unit: str
-    lo: float | None = None
-    hi: float | None = None
-    lo_open: bool = True
-    hi_open: bool = False
-    kind: str = "float"  # float, int, bool, or the allowed strings joined by '|'
-    source: str = ""
-    assumption: bool = False
-
-    @property
-    def path(self) -> str:
-        return f"{self.section}.{self.name}"
-
-    def range_text(self) -> str:
-        if self.kind == "bool":
-            return "true or false"
-        if "|" in self.kind:
-            return " or ".join(repr(v) for v in self.kind.split("|"))
-        lo = "-inf" if self.lo is None else f"{self.lo:g}"
-        hi = "inf" if self.hi is None else f"{self.hi:g}"
-        left = "(" if (self.lo is None or self.lo_open) else "["
-        right = ")" if (self.hi is None or self.hi_open) else "]"
-        unit = f" {self.unit}" if self.unit and self.unit != "1" else ""
-        return f"{left}{lo}, {hi}{right}{unit}"
-
-    def check(self, value):
-        """The value converted to the field's type; ScenarioError naming the field, the
-        value and the allowed range otherwise."""
-        unit = f" {self.unit}" if self.unit and self.unit != "1" else ""
-        if self.kind == "bool":
-            if not isinstance(value, bool):
-                raise ScenarioError(f"{self.path} = {value!r} must be true or false")
-            return value
-        if "|" in self.kind:
-            allowed = self.kind.split("|")
-            if value not in allowed:
-                raise ScenarioError(unknown_name_message(self.path, value, allowed))
-            return value
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ScenarioError(f"{self.path} = {value!r} is not a number; allowed range {self.range_text()}")
-        if self.kind == "int":
-            if not math.isfinite(value):
-                raise ScenarioError(
-                    f"{self.path} = {value!r} is not a finite whole number; allowed range {self.range_text()}"
-                )
-            if float(value) != int(value):
-                raise ScenarioError(f"{self.path} = {value!r} must be a whole number in {self.range_text()}")
-            value = int(value)
-        else:
-            value = float(value)
-        ok = math.isfinite(value)
-        if ok and self.lo is not None:
-            ok = value > self.lo if self.lo_open else value >= self.lo
-        if ok and self.hi is not None:
-            ok = value < self.hi if self.hi_open else value <= self.hi
-        if not ok:
-            raise ScenarioError(
-                f"{self.path} = {value:g}{unit} is outside the allowed range {self.range_text()}"
-            )
-        return value
+#: one field of a case file: its default, unit, allowed range and source (the schema
+#: mechanism the mine's scenario uses too, mineburial/schema.py)
+FieldSpec = Field
 
 
-def _f(section, name, default, unit, lo=None, hi=None, source="", assumption=False, **kw):
-    return FieldSpec(section, name, default, unit, lo, hi, source=source, assumption=assumption, **kw)
+def _f(section, name, default, unit, lo=None, hi=None, *, source, low_inclusive=False, kind="float"):
+    """A field; ``lo``/``hi`` None are unbounded; the low end is open unless
+    ``low_inclusive``, the high end closed; ``kind`` 'a|b' is a choice between a and b."""
+    choices = tuple(kind.split("|")) if "|" in kind else ()
+    return Field(
+        f"{section}.{name}",
+        unit,
+        -math.inf if lo is None else float(lo),
+        math.inf if hi is None else float(hi),
+        low_inclusive=low_inclusive,
+        default=default,
+        source=source,
+        kind="choice" if choices else kind,
+        choices=choices,
+    )
 
 
 _S41 = "seed 004 §4.1"
@@ -137,7 +87,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         0.0,
         2.0,
         source="seed 004 Table 2 (0.3; 0.5, 0.7 in cases 2, 3)",
-        lo_open=False,
+        low_inclusive=True,
     ),
     _f(
         "anchor",
@@ -147,7 +97,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         0.0,
         10.0,
         source="seed 004 §3.2.1 after eq. (39) (Saleh 2002)",
-        lo_open=False,
+        low_inclusive=True,
     ),
     _f(
         "anchor",
@@ -156,13 +106,12 @@ FIELDS: tuple[FieldSpec, ...] = (
         "m s-1",
         1.0e-5,
         1.0,
-        lo_open=False,
+        low_inclusive=True,
         source="ASSUMPTION: the sign of eq. (37) smoothed as v / sqrt(v^2 + scale^2) (the seabed-contact "
         "law of docs/multibody.md); 1 mm/s = 0.03 % of the ship speed (seed 004 switches stick/slip on the "
         "previous step's tension instead). At least 1e-5 m/s: the friction's stiffness mu N / (m scale) "
         "(~2e4 1/s at 1e-5 m/s for case 1) sets the step, and a smaller scale makes the run stiff beyond "
         "any step budget",
-        assumption=True,
     ),
     # --- anchor chain (bodies 2..16)
     _f(
@@ -173,7 +122,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         1,
         1000,
         kind="int",
-        lo_open=False,
+        low_inclusive=True,
         source=f"{_S41}: 15 links, 1 m each, 15 m",
     ),
     _f("chain", "link_length", 1.0, "m", 0.0, 100.0, source=f"{_S41}: each link 1 m"),
@@ -241,7 +190,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         0,
         10000,
         kind="int",
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 §4.2: elements 17 to 19 (3 x 2 m)",
     ),
     _f("cable", "stage1_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
@@ -262,7 +211,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         0,
         10000,
         kind="int",
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 §4.2: elements 32 to 44 (13 x 2 m)",
     ),
     _f("cable", "stage3_element_length", 2.0, "m", 0.0, 1000.0, source=f"{_S41}: 2 m"),
@@ -296,10 +245,9 @@ FIELDS: tuple[FieldSpec, ...] = (
         "m",
         -500.0,
         500.0,
-        lo_open=False,
+        low_inclusive=True,
         source="ASSUMPTION: d_x (seed 004 §4.1, Figure 2) is not printed; 0 = the rod hangs from the "
         "ship's midship section (the pitch it drives is negligible, GM_L ~ 200 m)",
-        assumption=True,
     ),
     _f(
         "ship",
@@ -308,10 +256,9 @@ FIELDS: tuple[FieldSpec, ...] = (
         "m",
         -500.0,
         500.0,
-        lo_open=False,
+        low_inclusive=True,
         source="ASSUMPTION: d_z is not printed; = rod length, so that the rod is just above the free "
         "surface (§3.2.2) and the water depth equals the cable's vertical component (§4.3.3)",
-        assumption=True,
     ),
     _f(
         "ship",
@@ -320,7 +267,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "m",
         0.0,
         1.0,
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 eq. (61): k_s = 150e-6 m (Molland et al. 2011)",
     ),
     _f(
@@ -344,7 +291,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "m s-1",
         -10.0,
         10.0,
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 Table 2 seawater velocity U_ST along +x (1, 2 m/s in cases 18, 19), eq. (38)",
     ),
     _f(
@@ -354,7 +301,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "1",
         0.0,
         10.0,
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 §3.2.2: C_D = 1.21 (Huston 1981)",
     ),
     _f(
@@ -364,7 +311,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "1",
         0.0,
         10.0,
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 §3.2.2: C_F = 0.062 (Huston 1981) = seed 001 eq. (7): C_T = 0.062 for Re_T > 100.55",
     ),
     _f(
@@ -384,7 +331,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "1",
         0.0,
         10.0,
-        lo_open=False,
+        low_inclusive=True,
         source="seed 004 §3.2.2: C_M = 1 (Huston 1981)",
     ),
     _f(
@@ -444,7 +391,6 @@ FIELDS: tuple[FieldSpec, ...] = (
         1e-3,
         source="ASSUMPTION: relative tolerance of dopri5 (at most 1e-3: a looser run cannot close the "
         "energy balance that every run is checked against, 1e-3 of the initial energy)",
-        assumption=True,
     ),
     _f(
         "numerics",
@@ -454,7 +400,6 @@ FIELDS: tuple[FieldSpec, ...] = (
         0.0,
         1e-3,
         source="ASSUMPTION: absolute tolerance of dopri5 (m, rad, m/s, rad/s; at most 1e-3, as rtol)",
-        assumption=True,
     ),
     _f(
         "numerics",
@@ -475,7 +420,6 @@ FIELDS: tuple[FieldSpec, ...] = (
         0.0,
         1e5,
         source="ASSUMPTION: time limit; a case not stopped by then ends with status time_limit",
-        assumption=True,
     ),
     _f(
         "numerics",
@@ -500,6 +444,22 @@ FIELDS: tuple[FieldSpec, ...] = (
 
 SECTIONS = tuple(dict.fromkeys(f.section for f in FIELDS))
 _BY_PATH = {f.path: f for f in FIELDS}
+_DOC_WRITER = "mineburial.systems.restraint.write_field_table"
+
+
+def field_table_block() -> str:
+    """The field table of docs/restraint.md (section 10), between its markers."""
+    return generated_block("case-fields", markdown_table(FIELDS), _DOC_WRITER)
+
+
+def write_field_table(path="docs/restraint.md") -> None:
+    """Regenerate the field table in ``path`` (run from the repository root after changing
+    :data:`FIELDS`; tests/test_schema.py fails until then)."""
+    path = pathlib.Path(path)
+    text = path.read_text(encoding="utf-8")
+    path.write_text(
+        replace_generated(text, "case-fields", markdown_table(FIELDS), _DOC_WRITER), encoding="utf-8"
+    )
 
 
 @dataclass(frozen=True)
@@ -797,16 +757,6 @@ def example_names() -> tuple[str, ...]:
     return tuple(f"{EXAMPLE_PREFIX}{k}" for k in range(1, N_CASES + 1))
 
 
-def _toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str):
-        return f'"{value}"'
-    if isinstance(value, int):
-        return str(value)
-    return repr(float(value))
-
-
 def example_text(name: str) -> str:
     """Case file of example ``name`` (``restraint_caseN``): every value with its source in
     seed 004, every value the seed does not print marked ASSUMPTION."""
@@ -838,7 +788,7 @@ def example_text(name: str) -> str:
         elif spec.path in set_by_table:
             source = f"seed 004 Table 2 case {number} (column: {spec.source})"
         unit = f" [{spec.unit}]" if spec.unit and spec.unit != "1" else ""
-        lines.append(f"{spec.name} = {_toml_value(value)}  #{unit} {source}")
+        lines.append(f"{spec.name} = {toml_value(value)}  #{unit} {source}")
     return "\n".join(lines) + "\n"
 
 

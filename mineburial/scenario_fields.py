@@ -1,0 +1,681 @@
+"""The mine scenario's fields and cross-field rules, each declared once (issue 18 item 3).
+
+:data:`TABLE` lists every field of a scenario file (``docs/scenario.md``), in the order of
+the kernels' parameter slots for those with one (``slot=True``): the slot order of
+:data:`mineburial.kernels.layout.PARAM_NAMES` is this table's, so a new slot goes at the
+end of the slotted fields (the compiled kernels index slots by the constants of layout.py,
+which are looked up by name). :data:`RULES` are the relations between fields, checked per
+scenario by :mod:`mineburial.config` and over the packed rows of an ensemble by
+:func:`mineburial.config.check_params`, from the same declaration.
+
+Sources: seed 000 (Chu's IMPACT35 drop model), seed 004 (Liu et al.), and the references
+named in each description; ``docs/scenario.md`` is generated from this table.
+"""
+
+from __future__ import annotations
+
+import math
+
+from mineburial.schema import Field
+
+# --- names of the choices (the kernels receive their indices) ---------------
+MODEL_NAMES = ("mineburial", "impact35")
+INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
+SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
+OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/overburden.py
+CURRENT_KINDS = ("none", "uniform", "power_law", "table")
+# water-column models (docs/physics.md, "Water-column model choices"): the strip added mass
+# with the tuned numerics.munk_factor, or the viscous-crossflow method with the added-mass
+# tensor of the finite cylinder
+WATER_COLUMN_NAMES = ("munk_factor", "viscous_crossflow")
+# sediment model codes (kernels.sediment)
+RESISTANCE_NAMES = ("delta", "friction", "bearing")
+RATE_LAW_NAMES = ("impact35", "semilog", "none")
+
+#: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
+LAB_STRAIN_RATE = 0.01 / 3600.0
+
+_OPEN_LOW = (False, True)
+_OPEN = (False, False)
+
+
+def _f(path, units, low, high, description, default=None, *, incl=(True, True), location=None, **kw):
+    """A numeric field with a kernel slot unless ``slot=False``."""
+    kw.setdefault("slot", True)
+    return Field(
+        path,
+        units,
+        float(low),
+        float(high),
+        incl[0],
+        incl[1],
+        description,
+        None if default is None else float(default),
+        location or path,
+        **kw,
+    )
+
+
+def _choice(path, names, description, default=None, *, location=None, **kw):
+    """A choice among ``names`` (the slot holds its index)."""
+    return Field(
+        path,
+        "1",
+        0,
+        len(names) - 1,
+        True,
+        True,
+        description,
+        default,
+        location or path,
+        kind="choice",
+        choices=names,
+        slot=True,
+        **kw,
+    )
+
+
+def _switch(path, description, default):
+    return Field(path, "1", 0, 1, True, True, description, default, path, kind="bool", slot=True)
+
+
+def _code(path, description):
+    """An internal integer of the kernels that no file holds (a bank row, -1 for none)."""
+    return Field(
+        path, "1", -1, math.inf, True, False, description, None, None, kind="code", slot=True, sampled=False
+    )
+
+
+TABLE: tuple[Field, ...] = (
+    # --- mine ---------------------------------------------------------------
+    _f("mine.length", "m", 0, 50, "length L of the cylinder", incl=_OPEN_LOW),
+    _f("mine.diameter", "m", 0, 10, "diameter d = 2R of the cylinder", incl=_OPEN_LOW),
+    _f("mine.mass", "kg", 0, 1e5, "mass m", incl=_OPEN_LOW),
+    _f(
+        "mine.com_offset",
+        "m",
+        -25,
+        25,
+        (
+            "χ: displacement of the centre of mass (COM) from the centre of volume towards the nose "
+            "(seed 000 Fig. 1). χ > 0: nose-heavy"
+        ),
+        0.0,
+        incl=_OPEN,
+    ),
+    _f(
+        "mine.inertia_axial",
+        "kg m2",
+        0,
+        1e7,
+        "J1, moment of inertia about the main axis through the COM",
+        incl=_OPEN_LOW,
+        default_text="m R²/2",
+    ),
+    _f(
+        "mine.inertia_transverse",
+        "kg m2",
+        0,
+        1e7,
+        "J2 = J3, moment of inertia about a transverse axis through the COM",
+        incl=_OPEN_LOW,
+        default_text="m (3R² + L²)/12",
+    ),
+    # --- release ------------------------------------------------------------
+    _f("release.x", "m", -1e5, 1e5, "initial x of the COM", 0.0, location="release.position[0]"),
+    _f("release.y", "m", -1e5, 1e5, "initial y of the COM", 0.0, location="release.position[1]"),
+    _f(
+        "release.z",
+        "m",
+        -11000,
+        20000,
+        "initial height of the COM above the calm water surface; also > -environment.water_depth",
+        0.0,
+        location="release.position[2]",
+    ),
+    _f("release.u", "m s-1", -500, 500, "initial COM velocity, x", 0.0, location="release.velocity[0]"),
+    _f("release.v", "m s-1", -500, 500, "initial COM velocity, y", 0.0, location="release.velocity[1]"),
+    _f("release.w", "m s-1", -500, 500, "initial COM velocity, z (up)", 0.0, location="release.velocity[2]"),
+    _f("release.roll_deg", "deg", -360, 360, "ψ1, roll about the main axis", 0.0, slot=False),
+    _f(
+        "release.pitch_deg",
+        "deg",
+        -90,
+        90,
+        "ψ2, dip of the nose below the horizontal (+90 = nose straight down)",
+        0.0,
+        slot=False,
+    ),
+    _f(
+        "release.heading_deg",
+        "deg",
+        -360,
+        360,
+        "ψ3, heading of the nose, from +x towards +y",
+        0.0,
+        slot=False,
+    ),
+    _f(
+        "release.q0",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, scalar part",
+        location="release.quaternion[0]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q1",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, x part",
+        location="release.quaternion[1]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q2",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, y part",
+        location="release.quaternion[2]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.q3",
+        "1",
+        -1,
+        1,
+        "orientation quaternion, z part",
+        location="release.quaternion[3]",
+        default_text="— (or the angles)",
+    ),
+    _f(
+        "release.omega1",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 1",
+        0.0,
+        location="release.angular_velocity[0]",
+    ),
+    _f(
+        "release.omega2",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 2",
+        0.0,
+        location="release.angular_velocity[1]",
+    ),
+    _f(
+        "release.omega3",
+        "rad s-1",
+        -1000,
+        1000,
+        "initial angular velocity, body axis 3",
+        0.0,
+        location="release.angular_velocity[2]",
+    ),
+    Field(
+        "release.embedded",
+        "1",
+        description="allow the mine to start partly inside the seabed (a mine placed on or pressed into the "
+        "sediment)",
+        default=False,
+        kind="bool",
+        sampled=False,
+    ),
+    # --- environment ----------------------------------------------------------
+    _f("environment.gravity", "m s-2", 0, 100, "gravitational acceleration g", 9.81, incl=_OPEN_LOW),
+    _f("environment.air_density", "kg m-3", 0, 10, "air density (ISA sea level)", 1.225),
+    _f(
+        "environment.air_viscosity",
+        "m2 s-1",
+        0,
+        1e-3,
+        "kinematic viscosity of air (ISA 15 °C: 1.46e-5)",
+        1.5e-5,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "environment.water_density",
+        "kg m-3",
+        0,
+        1300,
+        (
+            "sea water (seed 004 sec. 4); fresh water ≈ 998; 0 (with `air_density = 0`) removes the "
+            "fluids for ballistic checks"
+        ),
+        1025.0,
+    ),
+    _f(
+        "environment.water_viscosity",
+        "m2 s-1",
+        0,
+        1e-4,
+        "kinematic viscosity of sea water (seed 004 sec. 4); fresh water at 20 °C ≈ 1.0e-6",
+        1.05e-6,
+        incl=_OPEN_LOW,
+    ),
+    _f("environment.water_depth", "m", 0, 11000, "water depth H; the seabed is at z = −H", incl=_OPEN_LOW),
+    _choice(
+        "current.kind",
+        CURRENT_KINDS,
+        "current profile: none, uniform, power law (seed 004 eq. (38)) or table",
+        "none",
+        location="environment.current.kind",
+        sampled=False,
+    ),
+    _f(
+        "current.u",
+        "m s-1",
+        -10,
+        10,
+        "current x: uniform value or surface value of the power law",
+        0.0,
+        location="environment.current.velocity[0]",
+    ),
+    _f(
+        "current.v",
+        "m s-1",
+        -10,
+        10,
+        "current y: uniform value or surface value of the power law",
+        0.0,
+        location="environment.current.velocity[1]",
+    ),
+    _f(
+        "current.exponent",
+        "1",
+        0,
+        1,
+        "power-law exponent, U(h) = U_s (h/d)^exponent (seed 004 eq. (38))",
+        1.0 / 7.0,
+        incl=_OPEN_LOW,
+        location="environment.current.exponent",
+        default_text="1/7",
+    ),
+    _code("current.table_index", "row of the current bank, -1: the parametric current"),
+    _code("sediment.profile_index", "row of the sediment bank, -1: the linear profile"),
+    # --- sediment -------------------------------------------------------------
+    _f(
+        "sediment.density",
+        "kg m-3",
+        1000,
+        2700,
+        "linear profile: bulk density at the seabed",
+        default_text="required (linear)",
+    ),
+    _f("sediment.density_gradient", "kg m-4", 0, 1e4, "linear profile: density gradient", 0.0),
+    _f(
+        "sediment.strength",
+        "Pa",
+        0,
+        1e6,
+        "linear profile: undrained shear strength at the seabed",
+        default_text="required (linear)",
+    ),
+    _f("sediment.strength_gradient", "Pa m-1", 0, 1e6, "linear profile: strength gradient", 0.0),
+    _choice(
+        "sediment.resistance",
+        RESISTANCE_NAMES,
+        (
+            "normal/tangential traction model: `delta` = seed 000 eq. (74); `friction` = the friction"
+            " law of seed 000 sec. 10 item 4 (tangential ∝ normal); `bearing` = bearing-factor method"
+            " (Chu & Fan 2007, IEEE J. Oceanic Eng. 32(1):34)"
+        ),
+        default_text="by model",
+    ),
+    _choice(
+        "sediment.rate_law",
+        RATE_LAW_NAMES,
+        (
+            "strain-rate factor on the strength: `impact35` = G(V) of seed 000 eq. (70); `semilog` = "
+            "1 + β log10(γ̇/γ̇_ref); `none` = 1"
+        ),
+        default_text="by model",
+    ),
+    _f("sediment.impact_factor", "1", 1, 100, "A of seed 000 eq. (70); 10 in its eq. (72)", 10.0),
+    _f(
+        "sediment.rest_speed",
+        "m s-1",
+        0,
+        10,
+        "V_rest of eq. (70); 0.04 in seed 000 eq. (72)",
+        0.04,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "sediment.rate_coefficient",
+        "1",
+        0,
+        2,
+        (
+            "β, strength increase per log10 cycle of strain rate; ≈ 0.1 (about 10 % per cycle, "
+            "Kulhawy & Mayne 1990)"
+        ),
+        0.1,
+    ),
+    _f(
+        "sediment.reference_rate",
+        "s-1",
+        0,
+        1e6,
+        "γ̇_ref: 1 %/h, the conventional laboratory shear rate at which s_u is usually quoted",
+        LAB_STRAIN_RATE,
+        incl=_OPEN_LOW,
+        default_text="2.78e-6 (1 %/h)",
+    ),
+    _f(
+        "sediment.friction",
+        "1",
+        0,
+        5,
+        (
+            "μ, tangential/normal traction ratio (μ of seed 000 eq. (74), never given a value there; "
+            "0.3 is the seabed friction of seed 004 Table 2 case 1)"
+        ),
+        0.3,
+    ),
+    _f(
+        "sediment.bearing_factor",
+        "1",
+        0,
+        50,
+        (
+            "N_c for undrained bearing at the surface (Prandtl 1920); deep penetration tends to ≈ 9 "
+            "(Skempton 1951)"
+        ),
+        math.pi + 2.0,
+        incl=_OPEN_LOW,
+        default_text="π + 2 ≈ 5.14",
+    ),
+    _switch("sediment.pore_pressure", "add the pore-water force of seed 000 eq. (73)", False),
+    _f(
+        "sediment.rupture_length",
+        "m",
+        0,
+        10,
+        "B of seed 000 eq. (73), undefined there; the force grows as B³ ([physics.md](physics.md))",
+        0.1,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "sediment.permeability",
+        "m s-1",
+        0,
+        1,
+        "k_p of seed 000 eq. (73) (1e-4: its ref. [15])",
+        1e-4,
+        incl=_OPEN_LOW,
+    ),
+    _f("sediment.void_ratio", "1", 0, 20, "e_v of seed 000 eq. (73) (≈ 0.5 there)", 0.5, incl=_OPEN_LOW),
+    # --- numerics -------------------------------------------------------------
+    _choice(
+        "numerics.model",
+        MODEL_NAMES,
+        "force model: this engine's, or seed 000's IMPACT35",
+        "mineburial",
+    ),
+    _choice(
+        "numerics.integrator",
+        INTEGRATOR_NAMES,
+        (
+            "error-controlled Dormand–Prince 5(4) in air and water and the Rosenbrock-W method "
+            "ROS34PW2 (linearly implicit in the velocities) in contact with the seabed (default of "
+            "the `mineburial` model); Dormand–Prince 5(4) throughout (default of the `impact35` "
+            "model, whose delta law the Rosenbrock-W step does not speed up); the fixed-step "
+            "classical Runge–Kutta reference; or the local-linearisation step of seed 000 eqs. "
+            "(83)–(87)"
+        ),
+        default_text="by model",
+    ),
+    _f(
+        "numerics.dt",
+        "s",
+        0,
+        1,
+        "time step of `rk4` and `local_linear`; first trial step of the adaptive integrators",
+        1e-3,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "numerics.t_max",
+        "s",
+        0,
+        1e6,
+        (
+            "limit on the simulated time after the mine first touches the seabed (status "
+            "`time_limit`, or `buried_sinking`, when reached); a mine released in contact with the "
+            "seabed counts it from release"
+        ),
+        60.0,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "numerics.rest_speed",
+        "m s-1",
+        0,
+        10,
+        (
+            "the mine is at rest when its COM speed is below this (seed 000 eq. (89); printed as ε1 ="
+            ' 1e-6 "m", a speed) and the sediment can hold it against forces and torques (rigid-'
+            "plastic hold test probed at this speed; `mineburial/kernels/rest.py`, docs/design.md); "
+            "see also numerics.rest_spin"
+        ),
+        1e-2,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "numerics.rest_spin",
+        "rad s-1",
+        0,
+        100,
+        "the mine is at rest only when its angular speed is below this too (with numerics.rest_speed)",
+        5e-2,
+        incl=_OPEN_LOW,
+    ),
+    _switch("numerics.drag", "fluid drag and lift on (switch off for energy checks)", True),
+    _f(
+        "numerics.munk_factor",
+        "1",
+        0,
+        1,
+        (
+            "fraction of the potential-flow Munk moment kept by the added-mass tensor: 0 gives the "
+            "axial direction the transverse added mass (no Munk moment; chosen on the Exp-1 drops), 1"
+            " is slender-body strip theory (docs/physics.md §2)"
+        ),
+        0.0,
+    ),
+    _f(
+        "numerics.rtol",
+        "1",
+        0,
+        0.1,
+        (
+            "relative tolerance of the adaptive integrators (per step, RMS over position, velocity, "
+            "quaternion, angular velocity); chosen from the work-precision measurements "
+            "(docs/design.md)"
+        ),
+        3e-4,
+        incl=_OPEN_LOW,
+        default_text="3e-4 (`mineburial`), 1e-5 (`impact35`)",
+    ),
+    _f(
+        "numerics.atol",
+        "1",
+        0,
+        1.0,
+        "absolute tolerance of the adaptive integrators (m, m s⁻¹, 1, rad s⁻¹)",
+        3e-5,
+        incl=_OPEN_LOW,
+        default_text="3e-5 (`mineburial`), 1e-6 (`impact35`)",
+    ),
+    _choice(
+        "numerics.sediment_quadrature",
+        SEDIMENT_QUADRATURE_NAMES,
+        (
+            "rule for the sediment tractions over the embedded surface: the fixed-cost rule, smooth "
+            "in the state (docs/notes/sediment_fast.md), or the accurate adaptive quadrature "
+            "(docs/notes/sediment.md)"
+        ),
+        "fast",
+    ),
+    _f(
+        "numerics.slip_speed",
+        "m s-1",
+        0,
+        0.1,
+        (
+            "regularisation speed of the slip direction of the sediment's tangential traction (seed "
+            "000 eq. (67)): it ramps up over this slip speed (1e-3 before the adaptive integrator; "
+            'the rest test uses the unregularised law; docs/design.md, "Time stepping")'
+        ),
+        5e-3,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "numerics.switch_speed",
+        "m s-1",
+        0,
+        0.1,
+        (
+            "regularisation speed of the advancing switch δ of seed 000 eq. (65): the normal traction"
+            " ramps up over this normal speed (1e-4 before the adaptive integrator)"
+        ),
+        5e-3,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "numerics.t_max_fall",
+        "s",
+        0,
+        1e6,
+        (
+            "limit on the simulated time of the fall, from release to the first seabed contact "
+            "(status `time_limit` when reached while still falling); the fall ends by itself at the "
+            "seabed, so this only guards a mine that barely sinks, or stops a fall at a chosen time. "
+            'Until version 0.1.0 `t_max` bounded the whole drop (docs/design.md, "The end of a drop")'
+        ),
+        600.0,
+        incl=_OPEN_LOW,
+    ),
+    _choice(
+        "numerics.water_column",
+        WATER_COLUMN_NAMES,
+        (
+            "water-column added-mass and moment model: strip-theory added mass with the axial added "
+            "mass set by `munk_factor` (default), or the viscous-crossflow method (Allen & Perkins "
+            "1951; Jorgensen, NASA TR R-474) with the added-mass tensor of the finite closed cylinder"
+            " (BEM tables) and the Munk moment × cos(α/2), `munk_factor` unused (docs/physics.md, "
+            '"Water-column model choices")'
+        ),
+        "munk_factor",
+    ),
+    _choice(
+        "numerics.overburden_quadrature",
+        OVERBURDEN_QUADRATURE_NAMES,
+        (
+            "rule for the geostatic overburden force (`friction`, `bearing`): `fast` slices the body "
+            "at the table's depths while at most 12 lie inside it (exact) and in 12 equal slices "
+            "beyond (cost independent of the table's rows; error ~1e-5 on smooth profiles), "
+            "`reference` always at every table depth (cost grows with the rows) "
+            "(docs/notes/sediment.md)"
+        ),
+        "fast",
+    ),
+    # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
+    # impact phase; packed into the stage's own parameters by mineburial/ensembles/scour.py
+    _f(
+        "scour.d50",
+        "m",
+        6.25e-5,
+        2e-3,
+        "median grain size of the bed's sand (Wentworth's sand)",
+        2e-4,
+        slot=False,
+    ),
+    _f(
+        "scour.grain_density",
+        "kg m-3",
+        1200,
+        8000,
+        "density of the sand grains (quartz 2650)",
+        2650,
+        slot=False,
+    ),
+    _f(
+        "scour.mobile_layer",
+        "m",
+        0,
+        100,
+        "thickness of the mobile sand layer over a bed scour cannot dig: caps the burial",
+        incl=_OPEN_LOW,
+        slot=False,
+        default_text="unlimited",
+    ),
+    _f(
+        "scour.beq_a",
+        "1",
+        0,
+        100,
+        (
+            "a of B_eq/D = a θ^b (Rennie, Brandt & Friedrichs 2017: 1.3 for D > 8 cm; 15 for small or"
+            " tapered objects). **Sampling range: about 1.1–1.5** around the fit (assumption: the "
+            "paper gives the fit, not its spread)"
+        ),
+        1.3,
+        incl=_OPEN_LOW,
+        slot=False,
+    ),
+    _f(
+        "scour.beq_b",
+        "1",
+        0,
+        3,
+        (
+            "b of the same law (0.36; 1.1 for small objects). **Sampling range: about 0.30–0.42** "
+            "(assumption, as for a)"
+        ),
+        0.36,
+        incl=_OPEN_LOW,
+        slot=False,
+    ),
+    _f(
+        "scour.theta_exponent",
+        "1",
+        -5,
+        0,
+        (
+            "exponent p of θ in T*. **Sampling range: −2.2 to −1.3** (Whitehouse 1998 −1.29; piles in"
+            " current −2.2, Sumer et al. 1992; Larsen & Fuhrman 2023 about −1.5 at field scale)"
+        ),
+        slot=False,
+        default_text="the law's (−1.29 Whitehouse; −5/3 pipeline; −3 pile in waves)",
+    ),
+    _f(
+        "scour.hs_scale",
+        "1",
+        0,
+        10,
+        ("factor on every significant wave height of the forcing (hindcast uncertainty; the period is kept)"),
+        1.0,
+        incl=_OPEN_LOW,
+        slot=False,
+    ),
+    _f(
+        "scour.window_position",
+        "1",
+        0,
+        1,
+        (
+            "where each drop's window of scour.window_days starts in the forcing: 0 its first record, "
+            "1 the last start that fits (a uniform draw is a start date drawn from a long series)"
+        ),
+        0.0,
+        slot=False,
+    ),
+)

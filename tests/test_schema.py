@@ -1,0 +1,344 @@
+"""The one schema mechanism (issue 18 item 3): each scenario field declared once in
+mineburial/scenario_fields.py, each cross-field rule once in config.RULES, and what derives
+from them (the kernels' slot layout, the scalar and vectorised checks, the docs' tables).
+
+References: the slot layout of the kernels at 6f4af93 (the compiled kernels index slots by
+these constants, and numba's on-disk cache is keyed on the kernel's own file, not on
+layout.py, so a slot that moves would be read at its old index by a stale cache); the
+per-scenario check and the check over packed rows must refuse the same inputs.
+"""
+
+import ast
+import math
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mineburial import config, scenario_fields
+from mineburial.config import RULES, SCHEMA, Scenario, ScenarioError, check_params, explain_params
+from mineburial.kernels import layout
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: (constant, slot) of the kernels' parameter vector at 6f4af93, in slot order: the
+#: positional unpack ``(P_LENGTH, ...) = range(N_PARAMS)`` of layout.py as it was then
+PINNED = (
+    ("P_LENGTH", "mine.length"),
+    ("P_DIAMETER", "mine.diameter"),
+    ("P_MASS", "mine.mass"),
+    ("P_CHI", "mine.com_offset"),
+    ("P_J1", "mine.inertia_axial"),
+    ("P_J2", "mine.inertia_transverse"),
+    ("P_X0", "release.x"),
+    ("P_Y0", "release.y"),
+    ("P_Z0", "release.z"),
+    ("P_U0", "release.u"),
+    ("P_V0", "release.v"),
+    ("P_W0", "release.w"),
+    ("P_Q00", "release.q0"),
+    ("P_Q10", "release.q1"),
+    ("P_Q20", "release.q2"),
+    ("P_Q30", "release.q3"),
+    ("P_OM10", "release.omega1"),
+    ("P_OM20", "release.omega2"),
+    ("P_OM30", "release.omega3"),
+    ("P_GRAVITY", "environment.gravity"),
+    ("P_RHO_AIR", "environment.air_density"),
+    ("P_NU_AIR", "environment.air_viscosity"),
+    ("P_RHO_WATER", "environment.water_density"),
+    ("P_NU_WATER", "environment.water_viscosity"),
+    ("P_DEPTH", "environment.water_depth"),
+    ("P_CURRENT_KIND", "current.kind"),
+    ("P_CURRENT_U", "current.u"),
+    ("P_CURRENT_V", "current.v"),
+    ("P_CURRENT_EXPONENT", "current.exponent"),
+    ("P_CURRENT_TABLE", "current.table_index"),
+    ("P_SED_PROFILE", "sediment.profile_index"),
+    ("P_SED_RHO", "sediment.density"),
+    ("P_SED_RHO_GRAD", "sediment.density_gradient"),
+    ("P_SED_S", "sediment.strength"),
+    ("P_SED_S_GRAD", "sediment.strength_gradient"),
+    ("P_SED_RESISTANCE", "sediment.resistance"),
+    ("P_SED_RATE_LAW", "sediment.rate_law"),
+    ("P_SED_A", "sediment.impact_factor"),
+    ("P_SED_VREST", "sediment.rest_speed"),
+    ("P_SED_BETA", "sediment.rate_coefficient"),
+    ("P_SED_RATE_REF", "sediment.reference_rate"),
+    ("P_SED_MU", "sediment.friction"),
+    ("P_SED_NC", "sediment.bearing_factor"),
+    ("P_SED_PORE", "sediment.pore_pressure"),
+    ("P_SED_B", "sediment.rupture_length"),
+    ("P_SED_KP", "sediment.permeability"),
+    ("P_SED_EV", "sediment.void_ratio"),
+    ("P_MODEL", "numerics.model"),
+    ("P_INTEGRATOR", "numerics.integrator"),
+    ("P_DT", "numerics.dt"),
+    ("P_TMAX", "numerics.t_max"),
+    ("P_REST_SPEED", "numerics.rest_speed"),
+    ("P_REST_SPIN", "numerics.rest_spin"),
+    ("P_DRAG", "numerics.drag"),
+    ("P_MUNK", "numerics.munk_factor"),
+    ("P_RTOL", "numerics.rtol"),
+    ("P_ATOL", "numerics.atol"),
+    ("P_SED_QUADRATURE", "numerics.sediment_quadrature"),
+    ("P_SLIP_SPEED", "numerics.slip_speed"),
+    ("P_SWITCH_SPEED", "numerics.switch_speed"),
+    ("P_TMAX_FALL", "numerics.t_max_fall"),
+    ("P_WATER_COLUMN", "numerics.water_column"),
+    ("P_OB_QUADRATURE", "numerics.overburden_quadrature"),
+)
+
+
+def _layout_constants():
+    """(constant, slot path) of every ``P_X = INDEX["path"]`` in layout.py, in file order."""
+    tree = ast.parse((ROOT / "mineburial" / "kernels" / "layout.py").read_text())
+    pairs = []
+    for node in tree.body:
+        if not isinstance(node, ast.Assign):
+            continue
+        for target in node.targets:
+            assert not (
+                isinstance(target, ast.Tuple)
+                and any(getattr(e, "id", "").startswith("P_") for e in target.elts)
+            ), "a positional unpack of the slot constants is back in layout.py: look them up by name"
+        name = getattr(node.targets[0], "id", "")
+        if name.startswith("P_"):
+            value = node.value
+            assert isinstance(value, ast.Subscript) and getattr(value.value, "id", "") == "INDEX", name
+            pairs.append((name, value.slice.value))
+    return pairs
+
+
+def test_slot_layout_did_not_drift_from_the_compiled_kernels_layout():
+    assert layout.PARAM_NAMES == tuple(path for _, path in PINNED)
+    assert layout.PARAM_NAMES == tuple(f.path for f in scenario_fields.TABLE if f.slot)
+    for constant, path in PINNED:
+        assert getattr(layout, constant) == PINNED.index((constant, path)), constant
+
+
+def test_every_slot_has_exactly_one_constant_looked_up_by_name():
+    pairs = _layout_constants()
+    assert sorted(pairs) == sorted(PINNED)
+    assert len({c for c, _ in pairs}) == len({p for _, p in pairs}) == layout.N_PARAMS
+
+
+def test_kernels_import_only_slot_constants_that_exist():
+    """A slot constant a kernel imports (or reads as ``layout.P_X``) is one of layout's."""
+    used = set()
+    for path in (ROOT / "mineburial").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module == "mineburial.kernels.layout":
+                used |= {(path.name, a.name) for a in node.names if a.name.startswith("P_")}
+            if isinstance(node, ast.Attribute) and getattr(node.value, "id", "") == "layout":
+                if node.attr.startswith("P_"):
+                    used.add((path.name, node.attr))
+    assert used, "found no use of the slot constants: the scan is broken"
+    defined = {c for c, _ in PINNED}
+    assert {(f, c) for f, c in used if c not in defined} == set()
+
+
+def test_every_declared_default_lies_inside_its_own_range():
+    for f in scenario_fields.TABLE:
+        assert f.description, f.path
+        if f.default is None:
+            continue
+        if f.kind == "choice":
+            assert f.default in f.choices, f.path
+        elif f.kind == "bool":
+            assert isinstance(f.default, bool), f.path
+        else:
+            assert f.contains(f.default), (f.path, f.default, f.range_text())
+
+
+def test_fields_is_the_numeric_part_of_the_table_and_codes_are_not_sampled():
+    assert set(config.FIELDS) == {f.path for f in scenario_fields.TABLE if f.kind == "float"}
+    assert all(config.ALIASES[a] in config.FIELDS for a in config.ALIASES)
+    assert {f.path for f in scenario_fields.TABLE if f.kind == "code"} == {
+        "sediment.profile_index",
+        "current.table_index",
+    }
+    assert not any(f.sampled for f in scenario_fields.TABLE if f.kind == "code")
+
+
+def test_range_text_shows_open_and_closed_ends():
+    assert SCHEMA["mine.length"].range_text() == "(0, 50] m"
+    assert SCHEMA["mine.com_offset"].range_text() == "(-25, 25) m"
+    assert SCHEMA["environment.air_density"].range_text() == "[0, 10] kg m-3"
+    assert SCHEMA["numerics.drag"].range_text() == "true or false"
+
+
+# ---------------------------------------------------------------------------
+# cross-field rules: one declaration, the same verdict per scenario and over packed rows
+# ---------------------------------------------------------------------------
+def _scenario_dict(v):
+    return {
+        "mine": {
+            "length": v["length"],
+            "diameter": 0.5,
+            "mass": 700.0,
+            "com_offset": v["com_offset"],
+            "inertia_axial": v["j1"],
+            "inertia_transverse": v["j2"],
+        },
+        "release": {"position": [0.0, 0.0, v["z"]], "pitch_deg": v["pitch"], "embedded": v["embedded"]},
+        "environment": {"water_depth": v["depth"]},
+        "sediment": {"density": 1500.0, "strength": 2000.0},
+        "numerics": {"dt": v["dt"], "t_max": v["t_max"], "t_max_fall": v["t_max_fall"]},
+    }
+
+
+_BASE = Scenario.from_dict(
+    _scenario_dict(
+        {
+            "length": 2.0,
+            "com_offset": 0.0,
+            "j1": 20.0,
+            "j2": 200.0,
+            "z": 1.0,
+            "pitch": 0.0,
+            "embedded": False,
+            "depth": 30.0,
+            "dt": 1e-3,
+            "t_max": 60.0,
+            "t_max_fall": 600.0,
+        }
+    )
+).to_params()[0]
+
+
+def _packed_row(v):
+    p = _BASE.copy()
+    q = config.quaternion_from_angles(0.0, math.radians(v["pitch"]), 0.0)
+    slots = {
+        "mine.length": v["length"],
+        "mine.com_offset": v["com_offset"],
+        "mine.inertia_axial": v["j1"],
+        "mine.inertia_transverse": v["j2"],
+        "release.z": v["z"],
+        "environment.water_depth": v["depth"],
+        "numerics.dt": v["dt"],
+        "numerics.t_max": v["t_max"],
+        "numerics.t_max_fall": v["t_max_fall"],
+    }
+    slots.update({f"release.q{i}": q[i] for i in range(4)})
+    for path, value in slots.items():
+        p[layout.INDEX[path]] = value
+    return p
+
+
+_inputs = st.fixed_dictionaries(
+    {
+        "length": st.floats(0.2, 4.0),
+        "com_offset": st.floats(-2.5, 2.5),
+        "j1": st.floats(1.0, 400.0),
+        "j2": st.floats(1.0, 200.0),
+        "z": st.floats(-25.0, 3.0),
+        "pitch": st.floats(-90.0, 90.0),
+        "embedded": st.booleans(),
+        "depth": st.floats(1.0, 20.0),
+        "dt": st.floats(1e-4, 1.0),
+        "t_max": st.floats(1e-3, 2.0),
+        "t_max_fall": st.floats(1e-3, 2.0),
+    }
+)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_inputs)
+def test_each_rule_refuses_the_same_inputs_per_scenario_and_over_packed_rows(v):
+    try:
+        Scenario.from_dict(_scenario_dict(v))
+        scalar_ok = True
+    except ScenarioError:
+        scalar_ok = False
+    row = _packed_row(v)
+    assert bool(check_params(row, 0, 0, embedded=v["embedded"])[0]) == scalar_ok, explain_params(
+        row, 0, 0, embedded=v["embedded"]
+    )
+
+
+def test_each_rule_is_exercised_and_named_in_explanations():
+    """Every rule that a scenario can break shows up by its text when its row is broken."""
+    broken = {
+        "|mine.com_offset| < mine.length/2": {"mine.com_offset": 1.5},
+        "mine.inertia_axial <= 2 mine.inertia_transverse": {"mine.inertia_axial": 500.0},
+        "release.z > -environment.water_depth": {"release.z": -31.0},
+        "the mine starts entirely above the seabed (release.embedded = false)": {"release.z": -29.9},
+        "numerics.dt <= numerics.t_max": {"numerics.t_max": 1e-4},
+        "numerics.dt <= numerics.t_max_fall": {"numerics.t_max_fall": 1e-4},
+        "the release quaternion has unit norm (within 1e-9)": {"release.q0": 0.5},
+        "current.table_index >= 0 exactly when current.kind is 'table'": {"current.table_index": 0.0},
+    }
+    assert set(broken) == {r.text for r in RULES}
+    for text, changes in broken.items():
+        p = _BASE.copy()
+        for path, value in changes.items():
+            p[layout.INDEX[path]] = value
+        reasons = explain_params(p, 0, 1)
+        assert any(r.startswith(text) for r in reasons), (text, reasons)
+
+
+def test_scalar_rule_message_names_field_value_range_and_unit():
+    d = _scenario_dict(
+        {
+            "length": 2.0,
+            "com_offset": 1.0,
+            "j1": 20.0,
+            "j2": 200.0,
+            "z": 1.0,
+            "pitch": 0.0,
+            "embedded": False,
+            "depth": 30.0,
+            "dt": 1e-3,
+            "t_max": 60.0,
+            "t_max_fall": 600.0,
+        }
+    )
+    with pytest.raises(
+        ScenarioError, match=r"mine\.com_offset = 1\.0 m is outside the allowed range \(-1, 1\) m"
+    ):
+        Scenario.from_dict(d)
+    d["mine"]["com_offset"] = 0.0
+    d["numerics"]["t_max"] = 1e-4
+    with pytest.raises(
+        ScenarioError, match=r"numerics\.dt = 0\.001 s is outside the allowed range \(0, 0\.0001\] s"
+    ):
+        Scenario.from_dict(d)
+
+
+# ---------------------------------------------------------------------------
+# the documentation's field tables are generated from the declarations
+# ---------------------------------------------------------------------------
+@pytest.mark.parametrize("name", sorted(config.DOC_TABLES))
+def test_scenario_doc_field_table_did_not_drift_from_the_table(name):
+    doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    assert config.field_table_block(name) in doc, (
+        "regenerate: python -c 'from mineburial.config import write_field_tables; write_field_tables()'"
+    )
+
+
+def test_restraint_doc_field_table_did_not_drift_from_its_fields():
+    from mineburial.systems import restraint
+
+    doc = (ROOT / "docs" / "restraint.md").read_text(encoding="utf-8")
+    assert restraint.field_table_block() in doc, (
+        "regenerate: python -c 'from mineburial.systems.restraint import write_field_table; "
+        "write_field_table()'"
+    )
+
+
+def test_every_field_a_user_sets_is_in_one_doc_table():
+    listed = [p for paths in config.DOC_TABLES.values() for p in paths]
+    assert sorted(listed) == sorted(f.path for f in scenario_fields.TABLE if f.kind != "code")
+
+
+def test_write_field_tables_restores_an_edited_table(tmp_path):
+    original = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    edited = original.replace("| `length` | `mine.length` | m | required | (0, 50] |", "| `length` | x |", 1)
+    assert edited != original
+    path = tmp_path / "scenario.md"
+    path.write_text(edited, encoding="utf-8")
+    config.write_field_tables(path)
+    assert path.read_text(encoding="utf-8") == original
