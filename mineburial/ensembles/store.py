@@ -51,7 +51,7 @@ import zipfile
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.config import ScenarioError
+from mineburial.errors import RunError, RunLockedError
 from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
 from mineburial.kernels import layout
 
@@ -72,14 +72,6 @@ _LOCK = "lock"
 #: the mark of a working folder mineburial created (module docstring)
 MARK = ".mineburial-parts"
 _CHUNK = re.compile(r"^chunk-(\d{12})-(\d{12})\.npz$")
-
-
-class RunError(ScenarioError):
-    """A run that cannot start: its output path, or another run holding it."""
-
-
-class RunLockedError(RunError):
-    """Another live run writes the same output path."""
 
 
 def notice(message: str) -> None:
