@@ -53,6 +53,7 @@ import numpy as np
 from mineburial._version import __version__
 from mineburial.errors import RunError, RunLockedError
 from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
+from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels import layout
 
 __all__ = [
@@ -540,8 +541,6 @@ class OutputRun:
 
     def commit(self, ds) -> pathlib.Path:
         """Write ``ds`` to the output atomically, then remove the parts folder."""
-        from mineburial.io.netcdf import write_netcdf
-
         write_netcdf(ds, self.output)
         self._remove_parts()
         return self.output
