@@ -40,7 +40,7 @@ from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.ensembles.store import notice
-from mineburial.errors import EnsembleError
+from mineburial.errors import EnsembleError, ScenarioError, unknown_names_message
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.kernels.stepper import MAX_STEPS
@@ -184,7 +184,7 @@ class EnsembleSpec:
 def refuse_scour(spec, command: str) -> None:
     """One line for a command that does not run the post-impact stage yet (docs/scour.md)."""
     if getattr(spec, "scour", None) is not None:
-        raise cfg.ScenarioError(
+        raise ScenarioError(
             f"[scour]: `mineburial {command}` does not run the post-impact stage yet; "
             "use `mineburial run`, or remove the section"
         )
@@ -198,12 +198,12 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     ens = dict(ENSEMBLE_DEFAULTS)
     given = raw.pop("ensemble", {})
     if not isinstance(given, Mapping):
-        raise cfg.ScenarioError(
+        raise ScenarioError(
             f"ensemble = {given!r} must be a table: [ensemble] with {', '.join(_ENSEMBLE_KEYS)}"
         )
     unknown = [key for key in given if key not in _ENSEMBLE_KEYS]
     if unknown:
-        raise cfg.ScenarioError("[ensemble]: " + cfg.unknown_names_message("key", unknown, _ENSEMBLE_KEYS))
+        raise ScenarioError("[ensemble]: " + unknown_names_message("key", unknown, _ENSEMBLE_KEYS))
     ens.update(given)
     for key, value in overrides.items():
         if value is not None:

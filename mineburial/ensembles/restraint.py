@@ -38,12 +38,13 @@ import numpy as np
 import xarray as xr
 
 from mineburial._version import __version__
-from mineburial.config import SUPPORT_TOLERANCE, ScenarioError, unknown_names_message
+from mineburial.config import SUPPORT_TOLERANCE
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.ensembles.statistics import wilson_interval
+from mineburial.errors import ScenarioError, unknown_names_message
 from mineburial.io import netcdf as ncio
 from mineburial.io.variables import input_variable_name
 from mineburial.kernels import multibody as kmb
