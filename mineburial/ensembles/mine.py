@@ -32,9 +32,8 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial._version import __version__
+from mineburial.ensembles import batch, model_form, scour
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import model_form, scour
-from mineburial.ensembles.batch import run_batch
 from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import sample_fields
@@ -351,7 +350,7 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
     ``partial`` the dict of the drops finished first, ``[start, start + done)``."""
     P, valid, inputs = chunk_inputs(spec, start, stop)
     try:
-        summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+        summary, status = batch.run_batch(P, valid, spec.sediment_bank, spec.current_bank)
     except Interrupted as exc:  # Ctrl-C: the drops finished first are a chunk of their own
         k = exc.done
         if k == 0:  # nothing to keep (and no stage to load while a drop thread may hold the compiler)
