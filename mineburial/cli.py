@@ -69,24 +69,14 @@ def _cmd_drop(args):
 
 
 def _cmd_example(args):
-    from mineburial.config import ensemble_example_names, example_names, example_path
-    from mineburial.ensembles import restraint as restraint_ensemble
-    from mineburial.systems import restraint
+    from mineburial.systems import registry
 
     if args.name is None:
-        names = example_names() + ensemble_example_names()
-        for name in names + (restraint_ensemble.EXAMPLE_NAME,) + restraint.example_names():
-            print(name)
+        for system in registry.SYSTEMS.values():
+            for name in system.example_names():
+                print(name)
         return 0
-    if args.name == restraint_ensemble.EXAMPLE_NAME:
-        text = restraint_ensemble.example_text()
-        what = "restraint ensemble"
-    elif args.name.startswith(restraint.EXAMPLE_PREFIX):
-        text = restraint.example_text(args.name)
-        what = "restraint case"
-    else:
-        text = Path(example_path(args.name)).read_text()
-        what = "scenario"
+    what, text = registry.example(args.name)
     target = Path(args.output or f"{args.name}.toml")
     _write_example(target, text, args.force)
     print(f"wrote example {what} {args.name!r} to {target}")

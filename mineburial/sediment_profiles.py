@@ -22,8 +22,8 @@ Profiles come from
 Several profiles are stacked into the NaN-padded bank that the kernels read with
 :func:`pack_banks` (layout in :mod:`mineburial.kernels.layout`).
 
-The error type :class:`ScenarioError` lives here (the lowest module of the
-configuration layer) and is re-exported by :mod:`mineburial.config`.
+The error type :class:`ScenarioError` and the did-you-mean helpers live in the leaf
+module :mod:`mineburial.errors`; they are importable from here too.
 """
 
 from __future__ import annotations
@@ -32,11 +32,12 @@ import csv
 import difflib
 import math
 import pathlib
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from mineburial.errors import ScenarioError, unknown_name_message, unknown_names_message
 from mineburial.io import inputs
 from mineburial.io.inputs import InputFileError
 
@@ -60,35 +61,8 @@ __all__ = [
 ]
 
 
-class ScenarioError(ValueError):
-    """An invalid scenario or profile; the message names the field path, the value and
-    the allowed range with units."""
-
-
 def _rebuild_profile(depth, density, strength, name, description, source):
     return SedimentProfile(depth, density, strength, name=name, description=description, source=source)
-
-
-def unknown_name_message(what: str, name: str, allowed: Iterable[str]) -> str:
-    """``unknown <what> 'name': did you mean 'x'? Allowed: a, b, c`` (difflib suggestion)."""
-    allowed = sorted(allowed)
-    close = difflib.get_close_matches(str(name), allowed, n=1, cutoff=0.5)
-    hint = f" did you mean '{close[0]}'?" if close else ""
-    return f"unknown {what} '{name}':{hint} allowed: {', '.join(allowed)}"
-
-
-def unknown_names_message(what: str, names: Iterable[str], allowed: Iterable[str]) -> str:
-    """:func:`unknown_name_message` for every unknown name at once:
-    ``unknown keys 'lenght' (did you mean 'length'?), 'x': allowed: a, b, c``."""
-    names = list(names)
-    if len(names) == 1:
-        return unknown_name_message(what, names[0], allowed)
-    allowed = sorted(allowed)
-    parts = []
-    for name in names:
-        close = difflib.get_close_matches(str(name), allowed, n=1, cutoff=0.5)
-        parts.append(f"'{name}'" + (f" (did you mean '{close[0]}'?)" if close else ""))
-    return f"unknown {what}s {', '.join(parts)}: allowed: {', '.join(allowed)}"
 
 
 #: Allowed bulk density of a sediment [kg m-3]: from (fresh) water to the grain

@@ -18,10 +18,11 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
   the scheduler, and the client saves each chunk file as its result arrives, so
   resuming still works from the client's copy.
 * The numba kernels are compiled (or loaded from numba's on-disk cache) once
-  per worker before the first chunk: ``client.run(warm_up)`` runs one tiny drop
-  on every worker. The cache lives beside the sources, so the worker processes of
-  one machine share it; on a cluster every node with its own copy of the
-  package compiles once, the first time.
+  per worker before the first chunk: ``client.run(warm_up)`` runs the tiny warm-up
+  chunk of the run's system (the mine's: one drop of one time step) on every worker.
+  The cache lives beside the sources, so the worker processes of one machine share
+  it; on a cluster every node with its own copy of the package compiles once, the
+  first time.
 * A worker that dies (killed, out of memory, node lost) costs a retry of the
   chunks it was running: the scheduler reschedules them on the other workers
   (up to ``distributed.scheduler.allowed-failures`` times, default 3), and an
@@ -50,8 +51,11 @@ import time
 import uuid
 from collections.abc import Iterable, Iterator
 
+import numba
+
 from mineburial.ensembles import engine
 from mineburial.ensembles.store import RunError, notice
+from mineburial.systems import registry
 
 __all__ = [
     "warm_up",
@@ -76,30 +80,20 @@ def _available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def _warm_up_spec():
-    """A one-drop ensemble that ends after one time step (the embedded default scenario,
-    whose random inputs exercise every sampler, with both time limits,
-    ``numerics.t_max_fall`` and ``numerics.t_max``, equal to ``numerics.dt``)."""
-    with open(engine.DEFAULT_SCENARIO, "rb") as fh:
-        raw = engine.tomllib.load(fh)
-    numerics = raw.setdefault("numerics", {})
-    numerics["t_max"] = numerics["t_max_fall"] = float(numerics.get("dt", 1e-3))
-    return engine.load_ensemble(raw, n=1, chunk_size=1)
-
-
-def warm_up() -> dict:
-    """Compile (or load from numba's cache) the batch kernel and the samplers in this
-    process by running one drop that stops after one time step.
+def warm_up(system: str = registry.DEFAULT) -> dict:
+    """Compile (or load from numba's cache) the kernels of ``system`` in this process by
+    computing the one-realization chunk of its ``warm_up_spec`` (the mine's: one drop
+    that stops after one time step; a system without one is not warmed up).
 
     Returns ``{"seconds": time taken, "pid": process id, "threading_layer": numba's}``.
     Called on every worker by :func:`run_tasks_distributed` (``client.run``), where the
     work is done in a thread so that the worker's event loop keeps answering the
     scheduler during a long first compile.
     """
-    import numba
-
     t0 = time.perf_counter()
-    engine.compute_chunk(_warm_up_spec(), 0, 1)
+    make_spec = registry.get(system).warm_up_spec
+    if make_spec is not None:
+        engine.compute_chunk(make_spec(), 0, 1)
     try:
         layer = numba.threading_layer()
     except ValueError:  # pragma: no cover - no parallel region has run
@@ -107,8 +101,8 @@ def warm_up() -> dict:
     return {"seconds": time.perf_counter() - t0, "pid": os.getpid(), "threading_layer": layer}
 
 
-async def _warm_up_on_worker(dask_worker=None):
-    return await asyncio.to_thread(warm_up)
+async def _warm_up_on_worker(dask_worker=None, system: str = registry.DEFAULT):
+    return await asyncio.to_thread(warm_up, system)
 
 
 def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = None) -> dict:
@@ -122,8 +116,6 @@ def chunk_task(spec, start: int, stop: int, store, numba_threads: int | None = N
     filesystem) the worker writes nothing and the client saves the chunk when the
     result arrives (:func:`run_tasks_distributed`).
     """
-    import numba
-
     shared = store is not None and store.shared()
     if shared:
         done = store.load(start, stop)
@@ -238,7 +230,8 @@ def run_tasks_distributed(
     if not items:
         return
     if warm:
-        client.run(_warm_up_on_worker)
+        for system in dict.fromkeys(spec.system for _, spec, _, _, _ in items):
+            client.run(_warm_up_on_worker, system=system)
     if numba_threads is None:
         numba_threads = numba_threads_per_task(client)
     run_id = uuid.uuid4().hex[:8]

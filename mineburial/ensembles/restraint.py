@@ -33,13 +33,20 @@ import math
 from collections.abc import Mapping
 from typing import ClassVar
 
+import numba
 import numpy as np
+import xarray as xr
 
-from mineburial.config import SUPPORT_TOLERANCE, ScenarioError, unknown_names_message
+from mineburial._version import __version__
+from mineburial.config import SUPPORT_TOLERANCE
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
+from mineburial.ensembles.statistics import wilson_interval
+from mineburial.errors import ScenarioError, unknown_names_message
+from mineburial.io import netcdf as ncio
+from mineburial.io.variables import input_variable_name
 from mineburial.kernels import multibody as kmb
 from mineburial.systems import restraint as rs
 
@@ -54,6 +61,10 @@ __all__ = [
     "summarize",
     "EXAMPLE_NAME",
     "example_text",
+    "example_names",
+    "example",
+    "warn_run",
+    "bytes_a_case",
 ]
 
 #: the value of the scenario's top-level ``system`` key that selects this module
@@ -306,8 +317,6 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     the multibody integrator is compiled ``nogil``, so they run in parallel; each case writes
     only its own row, so the result does not depend on the thread count.
     """
-    import numba
-
     n = stop - start
     table = sample_fields(spec.random, spec.seed, start, stop, spec.sampling) if spec.random else {}
     summary = np.full((n, len(OUTPUTS)), np.nan)
@@ -347,6 +356,17 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     return out
 
 
+def bytes_a_case(spec: RestraintEnsembleSpec) -> int:
+    """Bytes of the per-case values of a run kept until the statistics are computed: the
+    row of :data:`OUTPUTS`, the status and the sampled fields."""
+    return spec.summary_width * 8 + 1 + 8 * len(spec.random)
+
+
+def warn_run(spec: RestraintEnsembleSpec) -> None:
+    """Nothing to warn about before computing: a restraint case's fixed step and time
+    limit are checked by the case's own field ranges (:mod:`mineburial.systems.restraint`)."""
+
+
 # ---------------------------------------------------------------------------
 # the output
 # ---------------------------------------------------------------------------
@@ -362,8 +382,6 @@ def statistics(summary: np.ndarray, status: np.ndarray) -> dict:
     share of the cases run that stopped (with its 95 % Wilson interval), and the mean,
     standard deviation (n - 1), extremes and :data:`QUANTILES` of the stopping time and
     the means and maxima of the peak tensions over the cases that stopped."""
-    from mineburial.ensembles.statistics import wilson_interval
-
     counts = np.bincount(status.astype(np.int64), minlength=len(kmb.STATUS_NAMES))
     ran = int(status.size - counts[kmb.INVALID_INPUT])
     stopped = status == kmb.STOPPED
@@ -397,12 +415,6 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     the statistics (:func:`statistics`), with ``per_drop`` the per-case results and sampled
     inputs along ``realization``, and the resolved scenario, seed, sampling method and
     mineburial version in the global attributes."""
-    import xarray as xr
-
-    from mineburial._version import __version__
-    from mineburial.io import netcdf as ncio
-    from mineburial.io.variables import input_variable_name
-
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     st = statistics(summary, status)
@@ -643,3 +655,16 @@ def example_text(name: str = EXAMPLE_NAME) -> str:
             line = f"{key} = {value}  # {source}"
         out.append(line)
     return "\n".join(out) + "\n"
+
+
+def example_names() -> tuple[str, ...]:
+    """The examples of this system: the ensemble :data:`EXAMPLE_NAME` and the cases of
+    seed 004's Table 2 (for ``mineburial restrain``)."""
+    return (EXAMPLE_NAME,) + rs.example_names()
+
+
+def example(name: str) -> tuple[str, str]:
+    """(what it is, text) of example ``name`` (:func:`example_names`)."""
+    if name == EXAMPLE_NAME:
+        return "restraint ensemble", example_text(name)
+    return "restraint case", rs.example_text(name)

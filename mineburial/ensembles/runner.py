@@ -31,14 +31,19 @@ from typing import Any
 
 import numpy as np
 
-from mineburial._version import __version__
-from mineburial.ensembles import engine, model_form, scour
+from mineburial.ensembles import engine
 from mineburial.ensembles.interrupt import Interrupted
+from mineburial.ensembles.mine import (  # the mine's report, reached here by its callers
+    STEPS_WARNING,
+    class_labels,
+    invalid_inputs_text,
+    summarize,
+)
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
-from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, notice
-from mineburial.kernels.stepper import MAX_STEPS
+from mineburial.ensembles.store import ChunkStore, OutputRun, RunError
 from mineburial.resources import memory_refusal
+from mineburial.systems import registry
 
 __all__ = [
     "Job",
@@ -53,14 +58,12 @@ __all__ = [
     "numba_threads",
     "connect_scheduler",
     "STEPS_WARNING",
+    "class_labels",
+    "invalid_inputs_text",
 ]
 
-#: time steps a drop above which a fixed-step integrator gets a warning: the stepper's step
-#: budget, after which a drop still moving ends ``time_limit``
-STEPS_WARNING = float(MAX_STEPS)
 #: seconds to wait for a dask scheduler to answer before giving up
 SCHEDULER_TIMEOUT = 10.0
-_FIXED_STEP = ("rk4", "local_linear")
 _CHUNK_NAME = re.compile(r"^chunk-\d{12}-(\d{12})\.npz$")
 
 
@@ -128,16 +131,7 @@ def memory_needed(spec) -> int:
 
 
 def _bytes_a_drop(spec) -> int:
-    return spec.summary_width * 8 + 1 + 8 * len(spec.random) + scour.bytes_a_drop(spec)
-
-
-def _extremes(spec, path, fixed):
-    """(smallest, largest) value of input ``path`` (its distribution's central 1 - 2e-9)."""
-    d = spec.random.get(path)
-    if d is None:
-        return fixed, fixed
-    lo, hi = d.ppf(np.array([1e-9, 1.0 - 1e-9]))
-    return float(lo), float(hi)
+    return registry.of(spec).bytes_a_realization(spec)
 
 
 def check_run(spec, *, what: str = "the ensemble") -> None:
@@ -157,26 +151,9 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
 
 
 def warn_run(spec) -> None:
-    """A warning when a fixed-step integrator would take more than :data:`STEPS_WARNING`
-    steps a drop (the adaptive default ``dopri5`` is not warned about). A restraint case's
-    fixed step is checked by its own field ranges."""
-    if spec.system != "mine":
-        return
-    num = spec.base.numerics
-    if num.integrator in _FIXED_STEP:
-        dt_lo, _ = _extremes(spec, "numerics.dt", num.dt)
-        _, t_hi = _extremes(spec, "numerics.t_max", num.t_max)
-        _, t_fall_hi = _extremes(spec, "numerics.t_max_fall", num.t_max_fall)
-        t_hi += t_fall_hi
-        steps = t_hi / dt_lo if dt_lo > 0 else math.inf
-        if steps > STEPS_WARNING:
-            notice(
-                f"warning: (numerics.t_max_fall + numerics.t_max) / numerics.dt = {t_hi:g} s / {dt_lo:g} s = "
-                f"{steps:.3g} time steps a drop with the fixed-step integrator "
-                f"'{num.integrator}': a drop that does not come to rest early may run for "
-                f"hours, and one still moving after {STEPS_WARNING:.0e} steps ends time_limit; "
-                f"use the adaptive integrator 'dopri5' or a larger dt"
-            )
+    """Warnings of the ensemble's system before computing (the mine's: a fixed-step
+    integrator that would take more than :data:`STEPS_WARNING` steps a drop)."""
+    registry.of(spec).warn_run(spec)
 
 
 def check_threads(threads, what: str = "threads") -> int | None:
@@ -385,49 +362,10 @@ def input_paths(scenario, spec) -> list:
     return [p for p in paths if p is not None]
 
 
-def invalid_inputs_text(reasons: dict) -> str:
-    """One line for the drops whose sampled inputs were invalid (empty if none)."""
-    return "; ".join(
-        f"{rule}: {count} drop{'s' * (count != 1)} (e.g. {example})"
-        for rule, (count, example) in sorted(reasons.items(), key=lambda kv: -kv[1][0])
-    )
-
-
 def ensemble_dataset(spec, chunks):
-    """The output Dataset of ensemble ``spec`` from its chunk results in drop order (of a
-    restraint ensemble: :func:`mineburial.ensembles.restraint.dataset`)."""
-    if spec.system == "restraint":
-        from mineburial.ensembles import restraint
-
-        return restraint.dataset(spec, chunks)
-    from mineburial.ensembles.dataset import build_dataset
-
-    summary = np.concatenate([r["summary"] for r in chunks])
-    status = np.concatenate([r["status"] for r in chunks])
-    inputs = {
-        key[6:]: np.concatenate([r[key] for r in chunks]) for key in chunks[0] if key.startswith("input:")
-    }
-    meta = {path: engine.input_metadata(spec, path) for path in inputs}
-    invalid = invalid_inputs_text(merge_invalid_reasons(chunks))
-    attrs = {**model_form.attributes(spec), **({"invalid_inputs": invalid} if invalid else {})}
-    ds = build_dataset(
-        summary,
-        status,
-        inputs=inputs,
-        input_metadata=meta,
-        scenario=spec.resolved(),
-        seed=spec.seed,
-        version=__version__,
-        sampling_method=spec.sampling,
-        n_drops=spec.n,
-        per_drop=spec.per_drop,
-        statistics_options={"class_basis": spec.class_basis},
-        title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
-        attrs=attrs,
-    )
-    if spec.scour is not None:
-        ds = scour.dataset(spec.scour, chunks, ds, per_drop=spec.per_drop, class_basis=spec.class_basis)
-    return ds
+    """The output Dataset of ensemble ``spec`` from its chunk results in drop order (its
+    system's ``dataset``)."""
+    return registry.of(spec).dataset(spec, chunks)
 
 
 def run_ensemble(
@@ -527,83 +465,5 @@ def run_ensemble_cli(args) -> int:
         if client is not None:
             client.close()
     elapsed = time.monotonic() - t0
-    if spec.system == "restraint":
-        from mineburial.ensembles import restraint
-
-        print(restraint.summarize(ds, elapsed, args.output))
-    else:
-        print(summarize(ds, elapsed, args.output))
+    print(registry.of(spec).summarize(ds, elapsed, args.output))
     return 0
-
-
-def class_labels(ds) -> list[str]:
-    """Names of the impact-burial classes of the statistics, in the order of
-    ``burial_class_probability`` (from its class coordinate's flag values and meanings)."""
-    coord = ds["burial_class_probability"].dims[0]
-    c = ds[coord]
-    values = np.atleast_1d(c.attrs.get("flag_values", np.arange(c.size))).tolist()
-    meanings = str(c.attrs.get("flag_meanings", "")).split()
-    table = dict(zip(values, meanings))
-    return [table.get(v, str(v)) for v in np.asarray(c.values).tolist()]
-
-
-def summarize(ds, elapsed: float | None = None, output=None) -> str:
-    """A short human-readable report of an ensemble Dataset."""
-    from mineburial.kernels import status as st
-
-    lines = [ds.attrs.get("title", "mineburial ensemble")]
-    n = int(ds.attrs.get("n_drops", ds.sizes.get("realization", 0)) or 0)
-    counts = ds["status_count"].values if "status_count" in ds else None
-    used = None
-    if counts is not None:
-        parts = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
-        lines.append(f"drops: {n} (" + ", ".join(parts) + ")")
-        used = int(sum(int(counts[k]) for k in st.IN_STATISTICS if k < len(counts)))
-        lines.append(
-            f"burial statistics over {used} of {n} drops (at_rest and buried_sinking; "
-            f"a buried_sinking penetration is a lower bound)"
-        )
-        left = [f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k not in st.IN_STATISTICS]
-        if left:
-            lines.append(
-                "warning: left out of the burial statistics: "
-                + ", ".join(left)
-                + " (floated: lighter than the water, never reached the seabed)"
-                * bool(counts[st.FLOATED] if st.FLOATED < len(counts) else 0)
-            )
-    invalid = ds.attrs.get("invalid_inputs")
-    if invalid:
-        k = int(counts[st.INVALID_INPUT]) if counts is not None else 0
-        lines.append(
-            f"warning: {k} of {n} drops were not run because their sampled inputs are invalid: {invalid}"
-        )
-    for name, label, unit in (
-        ("burial_volume", "burial by volume", "%"),
-        ("penetration_depth", "penetration depth", "m"),
-    ):
-        mean = ds.get(f"{name}_mean")
-        if mean is not None:
-            q = ds.get(f"{name}_quantile")
-            qtxt = ""
-            if q is not None:
-                qtxt = ", 5-50-95 % quantiles " + " / ".join(
-                    f"{float(v):.3g}" for v in q.sel(quantile=[0.05, 0.5, 0.95]).values
-                )
-            lines.append(f"{label}: mean {float(mean):.3g} {unit}{qtxt} {unit}")
-    if "burial_class_probability" in ds:
-        p = ds["burial_class_probability"].values
-        lo = ds["burial_class_probability_lower"].values if "burial_class_probability_lower" in ds else None
-        hi = ds["burial_class_probability_upper"].values if "burial_class_probability_upper" in ds else None
-        basis = ds.attrs.get("burial_class_basis", "burial_volume")
-        of = f" of the {used} drops at rest" if used is not None else ""
-        lines.append(f"impact-burial classes (by {basis}){of}:")
-        for name, pk, k in zip(class_labels(ds), p, range(len(p))):
-            ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
-            lines.append(f"  P({name}) = {pk:.3f}{ci}")
-    lines.extend(model_form.summary_lines(ds))
-    lines.extend(scour.summary_lines(ds))
-    if elapsed is not None:
-        lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
-    if output is not None:
-        lines.append(f"wrote {output}")
-    return "\n".join(lines)

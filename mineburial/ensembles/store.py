@@ -51,8 +51,9 @@ import zipfile
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.config import ScenarioError
+from mineburial.errors import RunError, RunLockedError
 from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
+from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels import layout
 
 __all__ = [
@@ -72,14 +73,6 @@ _LOCK = "lock"
 #: the mark of a working folder mineburial created (module docstring)
 MARK = ".mineburial-parts"
 _CHUNK = re.compile(r"^chunk-(\d{12})-(\d{12})\.npz$")
-
-
-class RunError(ScenarioError):
-    """A run that cannot start: its output path, or another run holding it."""
-
-
-class RunLockedError(RunError):
-    """Another live run writes the same output path."""
 
 
 def notice(message: str) -> None:
@@ -548,8 +541,6 @@ class OutputRun:
 
     def commit(self, ds) -> pathlib.Path:
         """Write ``ds`` to the output atomically, then remove the parts folder."""
-        from mineburial.io.netcdf import write_netcdf
-
         write_netcdf(ds, self.output)
         self._remove_parts()
         return self.output
