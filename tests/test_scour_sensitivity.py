@@ -18,14 +18,14 @@ from test_sensitivity_driver import assert_same_indices
 from mineburial.cli import main
 from mineburial.config import dumps_toml
 from mineburial.ensembles import engine
-from mineburial.validation.sensitivity import run_sensitivity
+from mineburial.validation.sensitivity import CLASS_OUTPUTS, run_sensitivity
 
 N = 8
 BEQ_A = {"distribution": "uniform", "low": 1.1, "high": 1.5}
 PITCH = {"distribution": "uniform", "low": 0.0, "high": 60.0}
 
 
-def scenario(tmp_path, pitch=30.0, **scour):
+def scenario(tmp_path, pitch=30.0, beq_a=BEQ_A, with_scour=True, **scour):
     """A short drop of the test cylinder onto soft clay in 3 m of water, then the constant
     0.7 m/s current of tests/test_scour_run.py over fine sand (the burial grows towards
     B_eq = a theta^b D within the last lead time, 0.5 d); only ``beq_a`` (and ``pitch``
@@ -38,7 +38,8 @@ def scenario(tmp_path, pitch=30.0, **scour):
     )
     d["mine"]["mass"] = 80.0
     d["ensemble"] = {"n": N, "chunk_size": 8, "seed": 3}
-    d["scour"] = scour_section(tmp_path, beq_a=BEQ_A, **scour)
+    if with_scour:
+        d["scour"] = scour_section(tmp_path, beq_a=beq_a, **scour)
     path = tmp_path / "scenario.toml"
     path.write_text(dumps_toml(d))
     return path
@@ -74,6 +75,19 @@ def test_a_scour_input_has_no_share_of_the_burial_at_lead_time_zero(two_inputs):
         scour_input = ds.sel(output=out, input="scour.beq_a")
         assert float(scour_input.first_order) == 0.0 and float(scour_input.total_order) == 0.0, out
         assert float(ds.total_order.sel(output=out, input="release.pitch_deg")) > 0.5, out
+
+
+def test_at_lead_time_zero_the_burial_indices_are_the_impacts(tmp_path):
+    """Invariance (docs/scour.md: at lead time 0 the burial by volume is the impact's): with no
+    scour input sampled the design is the impact-only one, and the indices of the burial by
+    volume and of its classes are those of the same analysis without [scour]."""
+    with_stage = run_sensitivity(scenario(tmp_path, pitch=PITCH, beq_a=1.3), n=N, seed=1, lead_time=0.0)
+    impact = run_sensitivity(scenario(tmp_path, pitch=PITCH, with_scour=False), n=N, seed=1)
+    outputs = ["burial_volume", *CLASS_OUTPUTS]
+    for key in ("first_order", "total_order", "output_variance"):
+        a, b = with_stage[key].sel(output=outputs).values, impact[key].sel(output=outputs).values
+        np.testing.assert_allclose(a, b, rtol=1e-6, atol=1e-9, err_msg=key)
+    assert float(impact.output_variance.sel(output="burial_volume")) > 0.0
 
 
 def test_two_threads_and_an_interrupted_run_give_the_same_bits(two_inputs, monkeypatch, capsys):
