@@ -246,6 +246,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="base sample size (power of two); n (d + 2) drops are run",
     )
     sens.add_argument("--seed", type=int, default=None, help="random seed")
+    sens.add_argument(
+        "--lead-time",
+        type=float,
+        default=None,
+        metavar="DAYS",
+        help="with [scour]: lead time of the analysed burial (default: the last of scour.lead_times_days)",
+    )
     sens.add_argument("-o", "--output", default=None, help="write the indices (NetCDF)")
     sens.add_argument("--plot", default=None, help="draw the indices to this PNG")
     sens.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")

@@ -298,15 +298,15 @@ def test_storm_start_as_a_toml_datetime_or_with_z_is_the_same_utc_instant():
         assert storm_series(2.0, 9.0, 24.0, start=start).start == want, start
 
 
-@pytest.mark.parametrize("command", ["compare", "sensitivity", "map"])
+@pytest.mark.parametrize("command", ["compare", "map"])
 def test_commands_without_the_stage_refuse_a_scour_section(tmp_path, capsys, no_computing, command):
-    """Regression (review): map, compare and sensitivity ran or ignored [scour] silently."""
+    """Regression (review): map and compare ran or ignored [scour] silently (sensitivity runs the
+    stage: tests/test_scour_sensitivity.py)."""
     from mineburial.synthetic import synthetic_environment
 
     path = scenario(tmp_path, scour_section(tmp_path))
     extra = {
         "compare": ["--vary", "sediment.resistance=bearing,delta", "-n", "4"],
-        "sensitivity": ["-n", "4"],
         "map": ["--environment", str(tmp_path / "env.nc"), "-n", "4"],
     }[command]
     if command == "map":

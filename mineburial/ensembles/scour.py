@@ -157,9 +157,8 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     if unknown:
         raise cfg.ScenarioError("[scour]: " + cfg.unknown_names_message("key", unknown, KEYS))
     forcing, record = _forcing(sec, base_dir)
-    span_days = forcing.duration_s / DAY
-    window = _window_days(sec, span_days)
-    high = span_days if window is None else window
+    window = _window_days(sec, forcing.duration_s / DAY)
+    high = longest_lead_days(forcing, window)
     leads = _numbers(sec.get("lead_times_days"), "scour.lead_times_days", low=0.0, high=high, default=())
     levels = _numbers(
         sec.get("burial_levels"), "scour.burial_levels", low=0.0, high=1.0, default=DEFAULT_LEVELS
@@ -185,6 +184,12 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
         forcing.kernel_arrays(depth, values["d50"])
     return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window)
+
+
+def longest_lead_days(forcing, window_days) -> float:
+    """The longest lead time [d] a section allows: each drop's window (``window_days``), or the
+    forcing's span without one."""
+    return forcing.duration_s / DAY if window_days is None else window_days
 
 
 def _window_days(sec, span_days):

@@ -32,6 +32,15 @@ resamples of the n rows of the design, seeded: the same seed gives the same
 intervals). scipy's own ``SobolResult.bootstrap`` draws from an unseeded generator,
 so its intervals would change from run to run.
 
+Burial after scour (issue 20): with a ``[scour]`` section the outputs are the burial measures
+of the post-impact stage at **one lead time** (:func:`at_lead_time`: ``--lead-time DAYS``,
+default the section's last lead time; docs/validation.md), and the stage's sampled inputs
+(``scour.hs_scale``, ``scour.beq_a``, ...) are inputs of the design beside the impact's. The
+stage runs inside every chunk of the design (the run driver's chunks carry it), so threads, a
+dask cluster and resume behave as without it. A drop whose stage gives no value (its impact
+ended outside the statistics, or the stage refused its parameters or forcing) keeps its impact
+measures -- burial never decreases in the stage -- and is counted in ``scour_status_counts``.
+
 Drops that end outside the burial statistics (``time_limit``, ``floated``, ...) still
 have a penetration and burial at their last state; they are kept (a Sobol' design
 cannot drop points) and counted in the attribute ``n_not_in_statistics``.
@@ -50,7 +59,7 @@ from scipy import stats
 
 from mineburial._version import __version__
 from mineburial.config import ScenarioError
-from mineburial.ensembles import engine, model_form, runner
+from mineburial.ensembles import engine, model_form, runner, scour
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
 from mineburial.kernels import layout
@@ -69,6 +78,7 @@ __all__ = [
     "CLASS_OUTPUTS",
     "model_form_share",
     "model_form_lines",
+    "at_lead_time",
 ]
 
 #: Outputs whose indices are computed and printed per input.
@@ -303,11 +313,37 @@ class DesignSpec(engine.EnsembleSpec):
         return super().identity_items() + [("design", recipe)]
 
 
+def at_lead_time(spec: engine.EnsembleSpec, lead_time: float | None) -> engine.EnsembleSpec:
+    """``spec`` whose scour stage gives its burial measures at the one lead time [d] analysed:
+    ``lead_time``, or the section's last lead time (the end of each drop's window of the
+    forcing when the section names none). Without a ``[scour]`` section the outputs are the
+    impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
+    outside [0, the forcing's span or ``scour.window_days``]."""
+    if spec.scour is None:
+        if lead_time is not None:
+            raise ScenarioError(
+                f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
+                "impact's (give a [scour] section, or leave --lead-time out)"
+            )
+        return spec
+    longest = scour.longest_lead_days(spec.scour.forcing, spec.scour.window_days)
+    if lead_time is None:
+        lead_time = spec.scour.lead_times_days[-1] if spec.scour.lead_times_days else longest
+    elif not (0.0 <= lead_time <= longest):
+        what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
+        raise ScenarioError(
+            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
+        )
+    stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
+    return dataclasses.replace(spec, scour=stage)
+
+
 def run_sensitivity(
     scenario=None,
     n: int = 256,
     seed: int | None = None,
     *,
+    lead_time: float | None = None,
     threads: int | None = None,
     progress: bool = False,
     client=None,
@@ -316,14 +352,15 @@ def run_sensitivity(
     """Sobol' indices of penetration, burial by volume and the burial-class indicators
     (:data:`CLASS_OUTPUTS`), with the model-form share (:func:`model_form_share`), for
     every random input of an ensemble scenario (see the module docstring); ``n (d + 2)`` drops are run.
+    With a ``[scour]`` section the outputs are those after the stage at ``lead_time`` days
+    (:func:`at_lead_time`).
 
     The drops of the design are one ensemble of the run driver
     (:func:`mineburial.ensembles.runner.run_jobs`: ``threads`` numba threads here, or the
     cluster of a dask ``client``); with ``output_run`` (an
     :class:`~mineburial.ensembles.store.OutputRun`) its finished chunks are kept in the
     parts folder, so an interrupted analysis resumes."""
-    spec = engine.load_ensemble(scenario, seed=seed)
-    engine.refuse_scour(spec, "sensitivity")
+    spec = at_lead_time(engine.load_ensemble(scenario, seed=seed), lead_time)
     if not spec.random:
         raise engine.EnsembleError("the scenario has no random input: nothing to analyse")
     threads = runner.check_threads(threads)
@@ -337,6 +374,7 @@ def run_sensitivity(
     if refusal:
         raise engine.EnsembleError(refusal)
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
+    scour_counts = np.zeros(len(V.SCOUR_STATUS_NAMES), dtype=np.int64)
 
     def model(values):
         points = DesignSpec.of(spec, n)
@@ -349,6 +387,10 @@ def run_sensitivity(
         summary = np.concatenate([r["summary"] for r in chunks])
         status = np.concatenate([r["status"] for r in chunks])
         counts[:] = np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
+        if spec.scour is not None:
+            codes = np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64)
+            scour_counts[:] = np.bincount(codes, minlength=len(scour_counts))
+            summary = _after_scour(summary, np.concatenate([r["scour:measures"] for r in chunks]))
         return _outputs(summary, spec.class_basis)
 
     t0 = time.monotonic()
@@ -357,9 +399,17 @@ def run_sensitivity(
     warning = failure_warning(left, total, counts)
     if warning:
         ds.attrs["warning"] = warning
+    title = f"mineburial Sobol' sensitivity: {spec.base.mine.name}"
+    if spec.scour is not None:
+        lead = spec.scour.lead_times_days[0]
+        title += f", burial after scour at lead time {lead:g} d"
+        ds.attrs["lead_time_days"] = lead
+        ds.attrs["scour_status_counts"] = ", ".join(
+            f"{V.SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(scour_counts) if c
+        )
     ds.attrs.update(
         {
-            "title": f"mineburial Sobol' sensitivity: {spec.base.mine.name}",
+            "title": title,
             "scenario": json.dumps(spec.resolved(), default=str),
             "random_seed": str(spec.seed),
             "mineburial_version": __version__,
@@ -369,6 +419,18 @@ def run_sensitivity(
         }
     )
     return ds
+
+
+def _after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
+    """``summary`` with its burial measures replaced by the scour stage's at its one lead time
+    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
+    gave a value; a drop without one keeps its impact measures (module docstring)."""
+    out = summary.copy()
+    for k, name in enumerate(V.SCOUR_MEASURES):
+        column = layout.SUMMARY_INDEX[name]
+        value = measures[:, k, 0]
+        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
+    return out
 
 
 def _outputs(summary: np.ndarray, class_basis: str) -> np.ndarray:
@@ -525,12 +587,15 @@ def run_sensitivity_cli(args) -> int:
             f"-n {n}: the base sample size must be a power of two >= 2 "
             f"(the Sobol' design); n (d + 2) drops are run"
         )
-    inputs = runner.input_paths(args.scenario, engine.load_ensemble(args.scenario, seed=args.seed))
+    spec = engine.load_ensemble(args.scenario, seed=args.seed)
+    at_lead_time(spec, args.lead_time)  # a lead time outside the forcing: one line before -o is opened
+    inputs = runner.input_paths(args.scenario, spec)
     with cli_output(args, inputs) as out, cli_client(args) as client:  # -o, --plot checked first
         ds = run_sensitivity(
             args.scenario,
             n,
             args.seed,
+            lead_time=args.lead_time,
             threads=args.threads,
             progress=not args.quiet,
             client=client,
@@ -543,6 +608,8 @@ def run_sensitivity_cli(args) -> int:
         )
         if ds.attrs.get("warning"):
             print(ds.attrs["warning"])
+        if ds.attrs.get("scour_status_counts"):
+            print(f"scour stage: {ds.attrs['scour_status_counts']} (scour_status; docs/scour.md)")
         print(sensitivity_table(ds.sel(output=list(OUTPUTS))))
         print("\n".join(model_form_lines(ds)))
         if out is not None:
