@@ -22,17 +22,18 @@ from mineburial.validation import sensitivity
 from mineburial.validation.sensitivity import DesignSpec, run_sensitivity
 
 N, SEED = 4, 1
-DROPS = N * (9 + 2)  # short_default() has 9 random inputs
+D = len(engine.load_ensemble(short_default()).random)  # the design's dimension: its random inputs
+DROPS = N * (D + 2)
 
 
 def test_a_design_of_the_ensembles_own_draws_gives_its_drops(monkeypatch):
     spec = engine.load_ensemble(short_default(), seed=SEED)
-    points = DesignSpec.of(spec, 1)  # n (d + 2) = 11 points ...
-    assert points.n == 11 and spec.n == 10
-    own = {k: np.asarray(v) for k, v in spec.sampled_inputs(0, 11).items()}  # ... the ensemble's draws
+    points = DesignSpec.of(spec, 1)  # n (d + 2) = D + 2 points ...
+    assert points.n == D + 2
+    own = {k: np.asarray(v) for k, v in spec.sampled_inputs(0, D + 2).items()}  # ... the ensemble's draws
     monkeypatch.setattr(sensitivity, "design_points", lambda random, n, seed: own)
     ((_, chunks),) = runner.run_jobs([runner.Job(None, points)], threads=1)
-    ref = engine.compute_chunk(dataclasses.replace(spec, n=11), 0, 11)
+    ref = engine.compute_chunk(dataclasses.replace(spec, n=D + 2), 0, D + 2)
     for key in ("summary", "status"):
         np.testing.assert_array_equal(np.concatenate([c[key] for c in chunks]), ref[key])
 
