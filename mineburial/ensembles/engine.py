@@ -59,6 +59,7 @@ ENSEMBLE_DEFAULTS = {
     "chunk_size": 256,
     "per_drop": False,
     "class_basis": "burial_volume",
+    "accuracy_check": 32,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 #: the systems an ensemble scenario may name with its top-level ``system`` key
@@ -130,6 +131,7 @@ class EnsembleSpec:
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
     scour: scour.ScourSpec | None = None  # the optional post-impact scour stage ([scour])
+    accuracy_check: int = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
 
     system: ClassVar[str] = "mine"
     #: columns of a chunk's ``summary``
@@ -339,6 +341,7 @@ def load_ensemble(
         angles_deg=angles,
         input_files=files,
         scour=scour_spec,
+        accuracy_check=int(ens["accuracy_check"]),
     )
 
 

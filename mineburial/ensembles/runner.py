@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.ensembles import engine, model_form, scour
+from mineburial.ensembles import accuracy, engine, model_form, scour
 from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
@@ -414,6 +414,7 @@ def run_ensemble(
     progress: bool = False,
     client=None,
     class_basis: str | None = None,
+    self_check: bool = False,
 ):
     """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
 
@@ -436,6 +437,10 @@ def run_ensemble(
         Print rate-limited progress lines to stderr.
     client : dask.distributed.Client, optional
         Spread chunks over a dask cluster (:mod:`mineburial.ensembles.distributed`).
+    self_check : bool
+        Re-run ``ensemble.accuracy_check`` drops on a tight reference path here, after the
+        chunks are in, and record the differences in the ``numerical_check_*`` attributes
+        (:mod:`mineburial.ensembles.accuracy`; ``mineburial run`` does).
     """
     spec = engine.load_ensemble(
         scenario,
@@ -456,11 +461,18 @@ def run_ensemble(
         numba.set_num_threads(threads)
     if output is None:
         ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress)
-        return ensemble_dataset(spec, chunks)
+        return _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
     with OutputRun(output, input_paths(scenario, spec)) as out:
         ((_, chunks),) = run_jobs([Job(None, spec, out.store(spec))], client=client, progress=progress)
-        ds = ensemble_dataset(spec, chunks)
+        ds = _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
         out.commit(ds)
+    return ds
+
+
+def _checked(ds, spec, chunks, self_check: bool):
+    """``ds`` with the numerical self-check's attributes when asked (results untouched)."""
+    if self_check:
+        ds.attrs.update(accuracy.self_check(spec, chunks))
     return ds
 
 
@@ -495,6 +507,7 @@ def run_ensemble_cli(args) -> int:
             threads=args.threads,
             progress=not args.quiet,
             client=client,
+            self_check=True,
         )
     finally:
         if client is not None:
@@ -575,6 +588,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
     lines.extend(model_form.summary_lines(ds))
     lines.extend(scour.summary_lines(ds))
+    lines.extend(accuracy.summary_lines(ds))
     if elapsed is not None:
         lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
     if output is not None:
