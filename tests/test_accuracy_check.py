@@ -1,7 +1,7 @@
 """The numerical self-check of every ``mineburial run`` (issue 19 item 6).
 
 Independent reference: the same drops run by the test as a second ensemble whose scenario
-asks for the reference numerics in its own ``[numerics]`` table (rtol 1e-7, atol 1e-8, the
+asks for the reference numerics in its own ``[numerics]`` table (rtol 1e-5, atol 1e-6, the
 reference sediment and overburden quadratures: the same sampled inputs, since a fixed field
 changes no draw), the differences recomputed here with numpy from the two runs' per-drop
 outputs; and the main results compared bit for bit with a run without the check.
@@ -19,8 +19,8 @@ from mineburial.ensembles.runner import run_ensemble, summarize
 
 N, SEED, SIZE = 8, 3, 5
 REFERENCE = {
-    "rtol": 1e-7,
-    "atol": 1e-8,
+    "rtol": 1e-5,
+    "atol": 1e-6,
     "sediment_quadrature": "reference",
     "overburden_quadrature": "reference",
 }

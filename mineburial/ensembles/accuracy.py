@@ -3,11 +3,15 @@ numerics measured on a small random subsample of its own drops, not assumed.
 
 After the ensemble is assembled, :func:`self_check` re-runs ``ensemble.accuracy_check``
 of its drops (default 32; 0 switches it off) on a tight reference path
-(:func:`reference_params`): ``numerics.rtol`` 1e-7 with ``numerics.atol`` 1e-8 (the
+(:func:`reference_params`): ``numerics.rtol`` 1e-5 with ``numerics.atol`` 1e-6 (the
 defaults' ratio atol = rtol / 10, docs/design.md), the reference sediment quadrature and the
 reference overburden quadrature; a fixed-step integrator (``rk4``, ``local_linear``) is
 replaced by the adaptive ``dopri5`` (the explicit reference of docs/design.md), since a
-tolerance does not tighten a fixed step. The drops are chosen reproducibly from the seed
+tolerance does not tighten a fixed step. Why 1e-5 and not the 1e-7 of issue 19's
+measurement: with the reference quadrature the steps grow several-fold a decade of rtol
+(measured on 4 drops of the default ensemble: 870-2,430 steps at 1e-5, 6,000-9,100 at 1e-6, 9x
+the time), while their penetrations at 1e-5 and 1e-6 agree within 0.1 mm (docs/design.md,
+"The numerical self-check"). The drops are chosen reproducibly from the seed
 (their own generator: the sampled inputs of every drop are untouched), among the drops that
 were run, and their inputs are those of the ensemble (re-packed by
 :func:`~mineburial.ensembles.engine.chunk_inputs` from ``(seed, drop index)``). The check
@@ -36,8 +40,8 @@ from mineburial.kernels import status as st
 __all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
 
 #: the reference path's relative tolerance, and its absolute one (the defaults' ratio 1/10)
-REFERENCE_RTOL = 1e-7
-REFERENCE_ATOL = 1e-8
+REFERENCE_RTOL = 1e-5
+REFERENCE_ATOL = 1e-6
 #: (p95, max) of the relative penetration change, percent: the accuracy targets (issue 19)
 TARGETS = (1.0, 5.0)
 #: a penetration change of at most this many metres counts as 0 (answers-vs, bench_fast_drops)
