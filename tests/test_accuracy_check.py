@@ -88,6 +88,27 @@ def test_the_self_check_attributes_equal_the_subsample_recomputed_on_the_referen
     assert float(a["numerical_check_wall_time_s"]) > 0.0
 
 
+def test_a_resumed_run_checks_the_same_drops_with_the_same_differences(runs, tmp_path, monkeypatch):
+    checked, _, _ = runs
+    out, real, calls = tmp_path / "resumed.nc", engine.compute_chunk, []
+
+    def dying(spec, start, stop):  # Ctrl-C after two chunks of 2 drops
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(start)
+        return real(spec, start, stop)
+
+    monkeypatch.setattr(engine, "compute_chunk", dying)
+    with pytest.raises(KeyboardInterrupt):
+        run_ensemble(steep(), n=N, seed=SEED, chunk_size=2, output=out, self_check=True)
+    monkeypatch.undo()
+    resumed = run_ensemble(steep(), n=N, seed=SEED, chunk_size=2, output=out, self_check=True)
+    for ds in (resumed, xr.load_dataset(out)):
+        for key, value in checked.attrs.items():
+            if key.startswith("numerical_check") and key != "numerical_check_wall_time_s":
+                assert np.array_equal(np.asarray(ds.attrs[key]), np.asarray(value)), key
+
+
 def test_a_loose_tolerance_warns_and_the_defaults_do_not(runs, tmp_path, capsys):
     checked, _, _ = runs
     assert int(checked.attrs["numerical_check_exceeds_targets"]) == 0

@@ -150,7 +150,8 @@ def summary_lines(ds) -> list[str]:
         return [f"numerical self-check: {state}"]
     n = int(a["numerical_check_drops"])
     lines = [
-        f"numerical self-check ({n} drop{'s' * (n != 1)} against {a['numerical_check_reference']}): "
+        f"numerical self-check ({n} drop{'s' * (n != 1)} against rtol {REFERENCE_RTOL:g} with the reference "
+        "quadratures): "
         f"penetration change p95 {float(a['numerical_check_penetration_p95_percent']):.2f} %, "
         f"max {float(a['numerical_check_penetration_max_percent']):.2f} % "
         f"(drop {int(a['numerical_check_penetration_max_drop'])}), burial class changed on "
