@@ -59,7 +59,7 @@ ENSEMBLE_DEFAULTS = {
     "chunk_size": 256,
     "per_drop": False,
     "class_basis": "burial_volume",
-    "accuracy_check": 32,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
+    "accuracy_check": 8,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 #: the systems an ensemble scenario may name with its top-level ``system`` key
