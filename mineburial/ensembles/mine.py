@@ -32,7 +32,7 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial._version import __version__
-from mineburial.ensembles import batch, model_form, scour
+from mineburial.ensembles import accuracy, batch, model_form, scour
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.interrupt import Interrupted
@@ -63,6 +63,7 @@ ENSEMBLE_DEFAULTS = {
     "chunk_size": 256,
     "per_drop": False,
     "class_basis": "burial_volume",
+    "accuracy_check": 8,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
@@ -132,6 +133,7 @@ class EnsembleSpec:
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
     scour: scour.ScourSpec | None = None  # the optional post-impact scour stage ([scour])
+    accuracy_check: int = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
 
     system: ClassVar[str] = SYSTEM
     #: columns of a chunk's ``summary``
@@ -295,6 +297,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
         angles_deg=angles,
         input_files=files,
         scour=scour_spec,
+        accuracy_check=int(ens["accuracy_check"]),
     )
 
 
@@ -358,6 +361,12 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
         exc.partial = _chunk_result(spec, start, start + k, P[:k], valid[:k], exc.summary, exc.status, part)
         raise
     return _chunk_result(spec, start, stop, P, valid, summary, status, inputs)
+
+
+def check_accuracy(spec, chunks) -> dict:
+    """The numerical self-check's global attributes of a finished run
+    (:func:`mineburial.ensembles.accuracy.self_check`)."""
+    return accuracy.self_check(spec, chunks, chunk_inputs)
 
 
 def _chunk_result(spec, start, stop, P, valid, summary, status, inputs) -> dict:
@@ -561,6 +570,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
     lines.extend(model_form.summary_lines(ds))
     lines.extend(scour.summary_lines(ds))
+    lines.extend(accuracy.summary_lines(ds))
     if elapsed is not None:
         lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")
     if output is not None:

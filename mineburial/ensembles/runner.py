@@ -381,6 +381,7 @@ def run_ensemble(
     progress: bool = False,
     client=None,
     class_basis: str | None = None,
+    self_check: bool = False,
 ):
     """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
 
@@ -404,6 +405,11 @@ def run_ensemble(
         Print rate-limited progress lines to stderr.
     client : dask.distributed.Client, optional
         Spread chunks over a dask cluster (:mod:`mineburial.ensembles.distributed`).
+    self_check : bool
+        Re-run ``ensemble.accuracy_check`` realizations on a tight reference path here, after
+        the chunks are in, and record the differences in global attributes (the system's
+        ``check_accuracy``, :mod:`mineburial.ensembles.accuracy` for the mine; ``mineburial
+        run`` does).
     """
     spec = engine.load_ensemble(
         scenario,
@@ -420,12 +426,20 @@ def run_ensemble(
     warn_run(spec)
     if output is None:
         ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress, threads=threads)
-        return ensemble_dataset(spec, chunks)
+        return _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
     with OutputRun(output, input_paths(scenario, spec)) as out:
         job = Job(None, spec, out.store(spec))
         ((_, chunks),) = run_jobs([job], client=client, progress=progress, threads=threads)
-        ds = ensemble_dataset(spec, chunks)
+        ds = _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
         out.commit(ds)
+    return ds
+
+
+def _checked(ds, spec, chunks, self_check: bool):
+    """``ds`` with the system's numerical self-check attributes when asked (results untouched)."""
+    check = registry.of(spec).check_accuracy
+    if self_check and check is not None:
+        ds.attrs.update(check(spec, chunks))
     return ds
 
 
@@ -460,6 +474,7 @@ def run_ensemble_cli(args) -> int:
             threads=args.threads,
             progress=not args.quiet,
             client=client,
+            self_check=True,
         )
     finally:
         if client is not None:

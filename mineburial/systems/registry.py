@@ -54,6 +54,9 @@ class System:
     #: ``warm_up_spec() -> spec``: a one-realization ensemble whose chunk compiles the
     #: system's kernels on a dask worker before its tasks arrive (None: none)
     warm_up_spec: Callable | None = None
+    #: ``check_accuracy(spec, chunks) -> dict``: global attributes of a numerical self-check
+    #: of the finished run, made after its chunks are in (None: the system has none)
+    check_accuracy: Callable | None = None
 
 
 SYSTEMS = {
@@ -70,6 +73,7 @@ SYSTEMS = {
             example_names=mine.example_names,
             example=mine.example,
             warm_up_spec=mine.warm_up_spec,
+            check_accuracy=mine.check_accuracy,
         ),
         System(
             name=restraint.SYSTEM,

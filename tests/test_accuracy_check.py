@@ -1,0 +1,154 @@
+"""The numerical self-check of every ``mineburial run`` (issue 19 item 6).
+
+Independent reference: the same drops run by the test as a second ensemble whose scenario
+asks for the reference numerics in its own ``[numerics]`` table (rtol 1e-5, atol 1e-6, the
+reference sediment and overburden quadratures: the same sampled inputs, since a fixed field
+changes no draw), the differences recomputed here with numpy from the two runs' per-drop
+outputs; and the main results compared bit for bit with a run without the check.
+"""
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import scenario_dict
+
+from mineburial.cli import main
+from mineburial.config import ScenarioError, dumps_toml
+from mineburial.ensembles import engine
+from mineburial.ensembles.runner import run_ensemble, summarize
+
+N, SEED, SIZE = 8, 3, 5
+REFERENCE = {
+    "rtol": 1e-5,
+    "atol": 1e-6,
+    "sediment_quadrature": "reference",
+    "overburden_quadrature": "reference",
+}
+
+
+def steep(numerics=None, **ensemble):
+    """A 120 kg cylinder thrown nose-down at 6 m/s through 3 m of water into soft clay
+    (penetrations of decimetres: a loose tolerance moves them by more than the 5 mm floor)."""
+    d = scenario_dict(
+        environment={"water_depth": 3.0},
+        release={
+            "position": [0.0, 0.0, 1.0],
+            "velocity": [0.0, 0.0, -6.0],
+            "pitch_deg": {"distribution": "uniform", "low": 60.0, "high": 90.0},
+        },
+        sediment={"class": "soft_clay"},
+        numerics={"t_max": 3.0, "sediment_quadrature": "fast", **(numerics or {})},
+    )
+    d["mine"]["mass"] = {"distribution": "normal", "mean": 120.0, "std": 10.0}
+    d["ensemble"] = {"accuracy_check": SIZE, **ensemble}
+    return d
+
+
+def relative_changes(pen, pen_ref):
+    d = np.abs(pen - pen_ref)
+    return np.where(d <= 0.005, 0.0, d / np.maximum(np.abs(pen_ref), 0.5))
+
+
+@pytest.fixture(scope="module")
+def runs():
+    checked = run_ensemble(steep(), n=N, seed=SEED, per_drop=True, self_check=True)
+    plain = run_ensemble(steep(), n=N, seed=SEED, per_drop=True)
+    reference = run_ensemble(steep(REFERENCE), n=N, seed=SEED, per_drop=True)
+    return checked, plain, reference
+
+
+def test_the_self_check_leaves_every_result_bit_identical(runs):
+    checked, plain, _ = runs
+    assert set(checked.variables) == set(plain.variables)
+    for name, var in plain.variables.items():
+        assert np.array_equal(var.values, checked[name].values, equal_nan=var.dtype.kind == "f"), name
+    assert not [k for k in plain.attrs if k.startswith("numerical_check")]
+
+
+def test_the_self_check_attributes_equal_the_subsample_recomputed_on_the_reference_numerics(runs):
+    checked, _, reference = runs
+    a = checked.attrs
+    idx = np.asarray(a["numerical_check_drop_indices"])
+    assert a["numerical_check"] == "done" and int(a["numerical_check_drops"]) == SIZE == idx.size
+    assert np.all(np.diff(idx) > 0) and 0 <= idx[0] and idx[-1] < N
+    for name in ("random_seed",):
+        assert checked.attrs[name] == reference.attrs[name]
+    for var in [v for v in checked.data_vars if str(v).startswith("input_")]:  # the same drops
+        assert np.array_equal(checked[var].values, reference[var].values), var
+    pen, pen_ref = checked.penetration_depth.values[idx], reference.penetration_depth.values[idx]
+    rel = 100.0 * relative_changes(pen, pen_ref)
+    assert float(a["numerical_check_penetration_p95_percent"]) == pytest.approx(
+        np.percentile(rel, 95), abs=1e-12
+    )
+    assert float(a["numerical_check_penetration_max_percent"]) == pytest.approx(rel.max(), abs=1e-12)
+    cls = checked.burial_class.values[idx] != reference.burial_class.values[idx]
+    assert int(a["numerical_check_class_changes"]) == int(cls.sum())
+    status = checked.status.values[idx] != reference.status.values[idx]
+    assert int(a["numerical_check_status_changes"]) == int(status.sum())
+    assert float(a["numerical_check_wall_time_s"]) > 0.0
+
+
+def test_a_resumed_run_checks_the_same_drops_with_the_same_differences(runs, tmp_path, monkeypatch):
+    checked, _, _ = runs
+    out, real, calls = tmp_path / "resumed.nc", engine.compute_chunk, []
+
+    def dying(spec, start, stop):  # Ctrl-C after two chunks of 2 drops
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(start)
+        return real(spec, start, stop)
+
+    monkeypatch.setattr(engine, "compute_chunk", dying)
+    with pytest.raises(KeyboardInterrupt):
+        run_ensemble(steep(), n=N, seed=SEED, chunk_size=2, output=out, self_check=True)
+    monkeypatch.undo()
+    resumed = run_ensemble(steep(), n=N, seed=SEED, chunk_size=2, output=out, self_check=True)
+    for ds in (resumed, xr.load_dataset(out)):
+        for key, value in checked.attrs.items():
+            if key.startswith("numerical_check") and key != "numerical_check_wall_time_s":
+                assert np.array_equal(np.asarray(ds.attrs[key]), np.asarray(value)), key
+
+
+def test_a_loose_tolerance_warns_and_the_defaults_do_not(runs, tmp_path, capsys):
+    checked, _, _ = runs
+    assert int(checked.attrs["numerical_check_exceeds_targets"]) == 0
+    assert "WARNING" not in summarize(checked) and "numerical self-check (5 drops" in summarize(checked)
+    scen = tmp_path / "loose.toml"
+    scen.write_text(dumps_toml(steep({"rtol": 1e-2, "atol": 1e-3}, n=N, seed=SEED)))
+    out = tmp_path / "loose.nc"
+    assert main(["run", str(scen), "-o", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "WARNING: the numerical error exceeds its targets" in printed, printed
+    with xr.open_dataset(out) as ds:  # written into the output file
+        assert int(ds.attrs["numerical_check_exceeds_targets"]) == 1
+        p95, mx = (
+            ds.attrs["numerical_check_penetration_p95_percent"],
+            ds.attrs["numerical_check_penetration_max_percent"],
+        )
+        assert p95 > 1.0 or mx > 5.0
+
+
+def test_the_check_is_skipped_and_says_so_when_switched_off_or_when_no_drop_ran():
+    off = run_ensemble(steep(accuracy_check=0), n=2, seed=SEED, self_check=True)
+    assert off.attrs["numerical_check"] == "skipped (ensemble.accuracy_check = 0)"
+    assert "numerical self-check: skipped (ensemble.accuracy_check = 0)" in summarize(off)
+    # every drop starts below the seabed (released 5 m down in 2 m of water; the choice's
+    # first value, 30 m, weight 0, only validates the scenario): none is run
+    none_run = steep()
+    none_run["release"]["position"] = [0.0, 0.0, -5.0]
+    none_run["environment"]["water_depth"] = {
+        "distribution": "choice",
+        "values": [30.0, 2.0],
+        "weights": [0, 1],
+    }
+    ds = run_ensemble(none_run, n=2, seed=SEED, self_check=True)
+    assert int(ds.status_count.sum()) == 2 and "numerical_check_drops" not in ds.attrs
+    assert ds.attrs["numerical_check"].startswith("skipped (no drop was run")
+
+
+@pytest.mark.parametrize("value", [-1, 1.5, True, "32"])
+def test_a_bad_accuracy_check_is_one_line(value):
+    with pytest.raises(
+        ScenarioError, match=r"ensemble.accuracy_check = .* outside the allowed range \[0, inf\)"
+    ):
+        engine.load_ensemble(steep(accuracy_check=value))
