@@ -49,9 +49,9 @@ forms the partial velocities explicitly for systems and tests.
 import math
 
 import numpy as np
-from numba import njit
 
-from mineburial._numba import JIT_OPTIONS, kernel
+from mineburial._numba import kernel
+from mineburial.kernels.core import all_finite, locate_event, record_until, system_event, system_rhs
 from mineburial.kernels.integrators import (
     DP_C,
     N_STAGES,
@@ -61,8 +61,6 @@ from mineburial.kernels.integrators import (
     dopri_stage_state,
     error_norm,
     hermite_dense,
-    illinois_next,
-    illinois_update,
     next_step_size,
 )
 
@@ -635,54 +633,12 @@ def kinetic_energy(q, u, desc):
     return e
 
 
-# --- time integration -----------------------------------------------------------------------------------
+# --- time integration ---------------------------------------------------------------------------------
 @kernel
-def _all_finite(y):
-    for i in range(y.shape[0]):
-        if not math.isfinite(y[i]):
-            return False
-    return True
-
-
-@kernel
-def _locate_event(system_event, r, t, h, ga, gb, params, ytmp):
-    """Fraction theta of the step at which the event crosses zero from above, by the Illinois root finder
-    on the continuous extension ``r``; returns the end of the final bracket where the event is <= 0."""
-    a = 0.0
-    b = 1.0
-    side = 0
-    tol = 1e-13 * max(1.0, abs(t) / max(h, 1e-300))
-    for _ in range(200):
-        if b - a <= tol:
-            break
-        th = illinois_next(a, ga, b, gb)
-        dense_state(r, th, ytmp)
-        gt = system_event(t + th * h, ytmp, params)
-        if not math.isfinite(gt):
-            break
-        if gt == 0.0:
-            return th
-        a, ga, b, gb, side = illinois_update(a, ga, b, gb, th, gt, side)
-    return b
-
-
-@kernel
-def _record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
-    """Record the output times ``t_out[i] <= t_stop`` (those in (t, t + h]) on the continuous extension
-    ``r`` of the step; returns the next output index."""
-    while i_rec < t_out.shape[0] and t_out[i_rec] <= t_stop:
-        th = min(1.0, max(0.0, (t_out[i_rec] - t) / h))
-        dense_state(r, th, ytmp)
-        times[i_rec] = t_out[i_rec]
-        states[i_rec, :] = ytmp
-        i_rec += 1
-    return i_rec
-
-
-@njit(**JIT_OPTIONS)
-def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps):
-    """Integrate dy/dt = system_rhs(t, y, params, dy) from t0 to t_end, stopping where
-    system_event(t, y, params) crosses zero from above (the event is armed once it has been positive).
+def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps):
+    """Integrate dy/dt = system.rhs(t, y, params, dy) from t0 to t_end, stopping where
+    system.event(t, y, params) crosses zero from above (the event is armed once it has been positive);
+    ``system`` is a :class:`mineburial.kernels.core.System`, reached by static dispatch.
 
     method: "dopri5" -- Dormand-Prince 5(4), PI step-size control on the mixed tolerance
     atol + rtol |y| per component, first step ``dt``, 4th-order continuous extension; "rk4" -- classical
@@ -698,8 +654,7 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     state) or INVALID_INPUT;
     t_stop is the time the run ended (the event time when STOPPED). Never returns NaN.
 
-    Not cached on disk: a kernel that takes functions as arguments gets a new cache entry in every
-    process (numba 0.6x), so it is compiled in memory; the kernels it calls are cached.
+    Cached on disk once per system (its type names it, :mod:`.core`): a second process compiles nothing.
     """
     n = y0.shape[0]
     if method == "dopri5":
@@ -719,7 +674,7 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
         and rtol > 0.0
         and atol > 0.0
         and max_steps > 0
-        and _all_finite(y0)
+        and all_finite(y0)
     )
     if not ok:
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
@@ -747,10 +702,10 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     states[0, :] = y
     i_rec = 1
     t = t0
-    system_rhs(t, y, params, k[0])
-    if not _all_finite(k[0]):
+    system_rhs(system, t, y, params, k[0])
+    if not all_finite(k[0]):
         return times[:1].copy(), states[:1].copy(), NUMERICAL_FAILURE, t
-    g = system_event(t, y, params)
+    g = system_event(system, t, y, params)
     armed = g > 0.0
     h = min(dt, t_end - t0)
     err_prev = 1e-4
@@ -770,9 +725,9 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
                 break
             for s in range(1, N_STAGES):
                 dopri_stage_state(y, k, s, h, ytmp)
-                system_rhs(t + DP_C[s] * h, ytmp, params, k[s])
+                system_rhs(system, t + DP_C[s] * h, ytmp, params, k[s])
             dopri_solution(y, k, h, ynew, err)
-            if _all_finite(ynew) and _all_finite(k[N_STAGES - 1]):
+            if all_finite(ynew) and all_finite(k[N_STAGES - 1]):
                 en = error_norm(y, ynew, err, groups, rtol, atol)
             else:
                 en = np.nan
@@ -792,40 +747,40 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             # classical Runge-Kutta; k[0] = f(t, y), k[1..3] the other stages, k[6] = f(t_new, y_new)
             for i in range(n):
                 ytmp[i] = y[i] + 0.5 * h * k[0, i]
-            system_rhs(t + 0.5 * h, ytmp, params, k[1])
+            system_rhs(system, t + 0.5 * h, ytmp, params, k[1])
             for i in range(n):
                 ytmp[i] = y[i] + 0.5 * h * k[1, i]
-            system_rhs(t + 0.5 * h, ytmp, params, k[2])
+            system_rhs(system, t + 0.5 * h, ytmp, params, k[2])
             for i in range(n):
                 ytmp[i] = y[i] + h * k[2, i]
-            system_rhs(t_new, ytmp, params, k[3])
+            system_rhs(system, t_new, ytmp, params, k[3])
             for i in range(n):
                 ynew[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
-            if not _all_finite(ynew):
+            if not all_finite(ynew):
                 status = NUMERICAL_FAILURE
                 break
-            system_rhs(t_new, ynew, params, k[N_STAGES - 1])
-            if not _all_finite(k[N_STAGES - 1]):
+            system_rhs(system, t_new, ynew, params, k[N_STAGES - 1])
+            if not all_finite(k[N_STAGES - 1]):
                 status = NUMERICAL_FAILURE
                 break
             hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
             h_next = dt
         i_step += 1
-        g_new = system_event(t_new, ynew, params)
+        g_new = system_event(system, t_new, ynew, params)
         if not math.isfinite(g_new):
             status = NUMERICAL_FAILURE
             break
         if armed and g_new <= 0.0:
-            th = _locate_event(system_event, r, t, h, g, g_new, params, ytmp)
+            th = locate_event(system, r, t, h, g, g_new, params, ytmp)
             t_ev = t + th * h
-            i_rec = _record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
+            i_rec = record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
             if times[i_rec - 1] < t_ev:
                 dense_state(r, th, ytmp)
                 times[i_rec] = t_ev
                 states[i_rec, :] = ytmp
                 i_rec += 1
             return times[:i_rec].copy(), states[:i_rec].copy(), STOPPED, t_ev
-        i_rec = _record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
+        i_rec = record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
         if g_new > 0.0:
             armed = True
         g = g_new

@@ -1243,8 +1243,7 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
     counts = system.params[7]
     counts[:] = 0
     res = mb.integrate(
-        rf.restraint_rhs,
-        rf.restraint_event,
+        rf.RESTRAINT,
         system.y0,
         0.0,
         case["numerics.t_max"],
