@@ -308,12 +308,16 @@ def integrate(
     atol=1e-10,
     record_dt=None,
     max_steps=_mb.MAX_STEPS,
+    jacobian_columns=None,
 ):
     """Integrate a system with :func:`mineburial.kernels.multibody.integrate`, checking the settings first.
 
     ``system`` is a :class:`System` (its right-hand side ``rhs(t, y, params, dy)`` and event
     ``event(t, y, params) -> float``, numba-compiled functions, reached by static dispatch);
-    ``method`` is one of ``"dopri5"`` (adaptive, first step ``dt``) or ``"rk4"`` (fixed step ``dt``);
+    ``method`` is one of ``"dopri5"`` (adaptive, first step ``dt``), ``"rk4"`` (fixed step ``dt``) or
+    ``"ros34pw2"`` (Rosenbrock-W, adaptive, first step ``dt``, for stiff systems; its Jacobian is
+    differenced in the state components ``jacobian_columns``, default all: a mechanical system whose
+    stiffness is in its speeds names their slots, fewer right-hand sides per Jacobian);
     ``record_dt`` defaults to ``dt``; ``max_steps`` is the step budget (a run that spends it ends as
     numerical_failure). The records are preallocated: a ``record_dt`` whose records would take more than
     half of this machine's memory is refused before the run."""
@@ -338,6 +342,14 @@ def integrate(
     )
     if refusal is not None:
         raise DescriptionError(refusal)
+    cols = np.arange(y0.size) if jacobian_columns is None else np.asarray(jacobian_columns)
+    if cols.ndim != 1 or cols.dtype.kind not in "iu" or not np.all((cols >= 0) & (cols < y0.size)):
+        raise DescriptionError(
+            f"jacobian_columns = {cols.tolist()} must be indices of the state (0 .. {y0.size - 1})"
+        )
+    if np.unique(cols).size != cols.size:
+        raise DescriptionError(f"jacobian_columns = {cols.tolist()} must not repeat an index")
+    cols = np.ascontiguousarray(cols, dtype=np.int64)
     if not isinstance(system, System):
         raise DescriptionError(f"system = {system!r} must be a mineburial.kernels.core.System")
     times, states, status, t_stop = _mb.integrate(
@@ -352,5 +364,6 @@ def integrate(
         float(atol),
         float(record_dt),
         int(max_steps),
+        cols,
     )
     return IntegrationResult(times, states, int(status), float(t_stop))

@@ -588,10 +588,12 @@ def test_invalid_settings():
     desc, q0 = mbp.chain(1, 1.0, rod(1.0, 1.0), [-0.3])
     y0 = desc.initial_state(q0)
     p = (desc.arrays(), weights_of(desc), extra())
-    times, states, status, _ = mb.integrate(PENDULUM, y0, 0.0, 1.0, p, "euler", 1e-3, 1e-8, 1e-10, 0.1, 1000)
+    times, states, status, _ = mb.integrate(
+        PENDULUM, y0, 0.0, 1.0, p, "euler", 1e-3, 1e-8, 1e-10, 0.1, 1000, np.arange(y0.size)
+    )
     assert status == mb.INVALID_INPUT and times.size == 0
     with pytest.raises(
-        mbp.DescriptionError, match="method = 'euler' is not known; the methods are dopri5, rk4"
+        mbp.DescriptionError, match="method = 'euler' is not known; the methods are dopri5, rk4, ros34pw2"
     ):
         mbp.integrate(PENDULUM, y0, 0.0, 1.0, p, method="euler")
     with pytest.raises(mbp.DescriptionError, match="record_dt = -1"):

@@ -33,7 +33,24 @@ from numba.extending import (
 )
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
-from mineburial.kernels.integrators import dense_state, illinois_next, illinois_update
+from mineburial.kernels.integrators import (
+    DP_C,
+    N_STAGES,
+    ROS_ALPHA,
+    ROS_GAMMA_DIAG,
+    ROS_STAGES,
+    dense_state,
+    dopri_solution,
+    dopri_stage_state,
+    illinois_next,
+    illinois_update,
+    j_times,
+    ros_coupling,
+    ros_solution,
+    ros_stage_state,
+    w_factor,
+    w_solve,
+)
 
 
 # --- systems reached by static dispatch ----------------------------------------------------------------
@@ -59,15 +76,16 @@ def _source_stamp(fn) -> str:
 class System:
     """A system of the integration core: its name, right-hand side and event kernels.
 
-    ``rhs(t, y, params, dy)`` fills dy/dt; ``event(t, y, params)`` returns a float whose crossing of
-    zero from above ends the run. Pass the System to :func:`integrate` (or
+    ``rhs(t, y, params, dy)`` fills dy/dt (None for a system that calls its right-hand side itself,
+    as the mine's stepper does); ``event(t, y, params)`` returns a float whose crossing of
+    zero ends the run or is located by :func:`locate_event`. Pass the System to :func:`integrate` (or
     :func:`mineburial.multibody.integrate`); ``params`` is whatever the two functions take."""
 
     def __init__(self, name, rhs, event):
         self.name = name
         self.rhs = rhs
         self.event = event
-        stamps = sorted({_source_stamp(rhs), _source_stamp(event)})
+        stamps = sorted({_source_stamp(fn) for fn in (rhs, event) if fn is not None})
         self.key = f"{name}:{','.join(stamps)}"
         _SYSTEMS[self.key] = self
         self.numba_type = SystemType(self.key)
@@ -136,14 +154,16 @@ def all_finite(y):
 
 
 @kernel
-def locate_event(system, r, t, h, ga, gb, params, ytmp):
-    """Fraction theta of the step at which the event crosses zero from above, by the Illinois root finder
-    on the continuous extension ``r``; returns the end of the final bracket where the event is <= 0."""
+def locate_event(system, r, t, h, ga, gb, params, ytmp, tol, max_iter):
+    """Fraction theta of the step (t, t + h) at which the event of ``system`` changes sign (from ``ga`` at
+    its start to ``gb`` at its end), by the Illinois root finder (:func:`.integrators.illinois_next`) on
+    the continuous extension ``r``, to the bracket width ``tol`` (a fraction of the step) in at most
+    ``max_iter`` iterations, both declared by the system; returns the end of the final bracket, where
+    the event has happened. A non-finite event value ends the search there."""
     a = 0.0
     b = 1.0
     side = 0
-    tol = 1e-13 * max(1.0, abs(t) / max(h, 1e-300))
-    for _ in range(200):
+    for _ in range(max_iter):
         if b - a <= tol:
             break
         th = illinois_next(a, ga, b, gb)
@@ -168,3 +188,88 @@ def record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
         states[i_rec, :] = ytmp
         i_rec += 1
     return i_rec
+
+
+# --- step kernels of a system reached by dispatch ------------------------------------------------------
+#: one-sided differences of the Jacobian columns: relative step and smallest absolute step
+JAC_REL_STEP = 1e-7
+JAC_MIN_STEP = 1e-9
+#: Jacobian-age policy of the Rosenbrock-W step: accepted steps before the Jacobian is evaluated
+#: again, and the age above which a rejected step has it evaluated again (measured on the mine's
+#: default ensemble: fewest right-hand sides per drop; docs/design.md)
+JAC_MAX_AGE = 50
+JAC_AGE_AT_REJECTION = 2
+#: stage times of ROS34PW2 (row sums of its alpha, Hairer & Wanner II sec. IV.7 eq. (7.4'))
+ROS_C = ROS_ALPHA.sum(axis=1)
+
+
+@kernel
+def dopri5_step(system, t, y, h, params, k, ytmp, out, err):
+    """Stages 2-7 of a Dormand-Prince step of ``system`` (k[0] = f(t, y) pre-filled): fills ``out``
+    (5th order), ``err`` and k[6] = f(t + h, out) (:mod:`.integrators`)."""
+    for s in range(1, N_STAGES):
+        dopri_stage_state(y, k, s, h, ytmp)
+        system_rhs(system, t + DP_C[s] * h, ytmp, params, k[s])
+    dopri_solution(y, k, h, out, err)
+
+
+@kernel
+def rk4_step(system, t, h, y, params, k, ytmp, out):
+    """One classical Runge-Kutta step of ``system`` from (t, y) to t + h (k[0] = f(t, y) pre-filled;
+    k[1..3] the other stages)."""
+    n = y.shape[0]
+    for i in range(n):
+        ytmp[i] = y[i] + 0.5 * h * k[0, i]
+    system_rhs(system, t + 0.5 * h, ytmp, params, k[1])
+    for i in range(n):
+        ytmp[i] = y[i] + 0.5 * h * k[1, i]
+    system_rhs(system, t + 0.5 * h, ytmp, params, k[2])
+    for i in range(n):
+        ytmp[i] = y[i] + h * k[2, i]
+    system_rhs(system, t + h, ytmp, params, k[3])
+    for i in range(n):
+        out[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
+
+
+@kernel
+def jacobian_columns(system, t, y, f0, params, cols, ytmp, ftmp, jc):
+    """Columns ``cols`` of df/dy of ``system`` by one-sided differences from f0 = f(t, y):
+    jc[:, j] = (f(y + d e_cols[j]) - f0) / d, d = max(JAC_REL_STEP |y_c|, JAC_MIN_STEP) as represented."""
+    n = y.shape[0]
+    for j in range(cols.shape[0]):
+        c = cols[j]
+        d = max(JAC_REL_STEP * abs(y[c]), JAC_MIN_STEP)
+        for i in range(n):
+            ytmp[i] = y[i]
+        ytmp[c] = y[c] + d
+        d = ytmp[c] - y[c]  # the difference actually represented
+        system_rhs(system, t, ytmp, params, ftmp)
+        for i in range(n):
+            jc[i, j] = (ftmp[i] - f0[i]) / d
+
+
+@kernel
+def ros34pw2_step(system, t, y, h, params, f0, jc, cols, wa, piv, kr, ytmp, vtmp, ztmp, out, err):
+    """One Rosenbrock-W step (ROS34PW2, :mod:`.integrators`) of ``system`` with the Jacobian columns
+    ``jc`` of ``cols`` (possibly from an earlier step; f0 = f(t, y)). Fills ``out`` and ``err``; returns
+    False when W is singular. The stages are evaluated at t + ROS_C[s] h without the df/dt term of a
+    non-autonomous W-method (Hairer & Wanner II eq. (7.4')): exact for autonomous systems (the
+    multibody systems of mineburial are)."""
+    n = y.shape[0]
+    c = h * ROS_GAMMA_DIAG
+    if not w_factor(jc, cols, c, wa, piv):
+        return False
+    for s in range(ROS_STAGES):
+        if s == 0:
+            for i in range(n):
+                vtmp[i] = f0[i]
+        else:
+            ros_stage_state(y, kr, s, ytmp)
+            system_rhs(system, t + ROS_C[s] * h, ytmp, params, vtmp)
+        ros_coupling(kr, s, ytmp)
+        j_times(jc, cols, ytmp, kr[s])
+        for i in range(n):
+            kr[s, i] = h * (vtmp[i] + kr[s, i])
+        w_solve(jc, cols, c, wa, piv, kr[s], ztmp)
+    ros_solution(y, kr, out, err)
+    return True

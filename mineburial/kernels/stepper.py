@@ -43,6 +43,7 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import status as st
+from mineburial.kernels.core import System, locate_event
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
@@ -56,8 +57,6 @@ from mineburial.kernels.integrators import (
     dopri_stage_state,
     error_norm,
     hermite_dense,
-    illinois_next,
-    illinois_update,
     j_times,
     next_step_size,
     next_step_size_order,
@@ -368,27 +367,17 @@ def _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag):
         traj[row, 17 + i] = diag[i]
 
 
-@small_kernel
-def _locate(r, p, e, gstart, gend, ytmp, gtmp):
-    """Fraction of the step at which event ``e`` changes sign, on the continuous
-    extension ``r`` (Illinois regula falsi), returned as the right end of the final
-    bracket so that the event has happened there."""
-    a = 0.0
-    ga = gstart
-    b = 1.0
-    gb = gend
-    side = 0
-    for _ in range(MAX_EVENT_ITERATIONS):
-        if b - a <= EVENT_TOLERANCE:
-            break
-        t = illinois_next(a, ga, b, gb)
-        dense_state(r, t, ytmp)
-        event_values(ytmp, p, gtmp)
-        gt = gtmp[e]
-        if gt == 0.0:
-            return t
-        a, ga, b, gb, side = illinois_update(a, ga, b, gb, t, gt, side)
-    return b
+@kernel
+def event_component(t, y, args):
+    """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
+    p, e, gtmp = args
+    event_values(y, p, gtmp)
+    return gtmp[e]
+
+
+#: the mine's events in the integration core (:func:`.core.locate_event`); the stepper calls its
+#: right-hand side itself
+MINE_EVENTS = System("mine events", None, event_component)
 
 
 def reference_paths(params):
@@ -586,7 +575,9 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
                     continue
             elif not _crossed(g0[e], g1[e]):
                 continue
-            th = _locate(r, p, e, g0[e], g1[e], ytmp, gtmp)
+            th = locate_event(
+                MINE_EVENTS, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
+            )
             if th < theta:
                 theta = th
                 first = e
