@@ -43,7 +43,14 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import status as st
-from mineburial.kernels.core import System, locate_event
+from mineburial.kernels.core import (
+    JAC_AGE_AT_REJECTION,
+    JAC_MAX_AGE,
+    JAC_MIN_STEP,
+    JAC_REL_STEP,
+    System,
+    locate_event,
+)
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
@@ -143,14 +150,6 @@ INTEGRATOR_STIFF = INTEGRATOR_NAMES.index("dopri5_ros34pw2")
 #: the Rosenbrock-W step uses (the stiffness of the sediment phase is in them)
 VELOCITY_SLOTS = np.array([3, 4, 5, 10, 11, 12], dtype=np.int64)
 N_VEL = 6
-#: relative and smallest absolute difference of the one-sided Jacobian columns
-JAC_REL_STEP = 1e-7
-JAC_MIN_STEP = 1e-9
-#: accepted Rosenbrock steps before the Jacobian is evaluated again, and the age above
-#: which a rejected step has it evaluated again (measured on the default ensemble:
-#: fewest right-hand sides per drop; docs/design.md)
-JAC_MAX_AGE = 50
-JAC_AGE_AT_REJECTION = 2
 
 #: vector groups of the error norm: position, velocity, attitude quaternion, angular velocity
 ERROR_GROUPS = ((0, 3), (3, 6), (6, 10), (10, 13))
