@@ -11,7 +11,8 @@ validates the description; the kernels never see a Python object, only the tuple
   of a slender segment (rod, cable element, chain link) with its added mass (seed 004 eq. (46)).
 * :func:`chain` -- N links laid out end to end from a start point, optionally pinned to a fixed point
   (the root is then a fixed, massless *ground* body): the building block of cables, chains and pendulums.
-* :func:`integrate` -- the Python face of the kernel driver (method by name, settings checked).
+* :func:`integrate` -- the Python face of the kernel driver (method by name, settings checked) for a
+  :class:`System` (its right-hand side and event kernels, reached by static dispatch).
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mineburial.kernels import multibody as _mb
+from mineburial.kernels.core import System
+from mineburial.resources import memory_refusal
 
 __all__ = [
     "DescriptionError",
@@ -31,6 +34,7 @@ __all__ = [
     "chain",
     "integrate",
     "IntegrationResult",
+    "System",
 ]
 
 
@@ -293,8 +297,7 @@ class IntegrationResult:
 
 
 def integrate(
-    system_rhs,
-    system_event,
+    system,
     y0,
     t0,
     t_end,
@@ -305,11 +308,16 @@ def integrate(
     atol=1e-10,
     record_dt=None,
     max_steps=_mb.MAX_STEPS,
+    jacobian_columns=None,
 ):
     """Integrate a system with :func:`mineburial.kernels.multibody.integrate`, checking the settings first.
 
-    ``system_rhs(t, y, params, dy)`` and ``system_event(t, y, params) -> float`` are numba-compiled functions;
-    ``method`` is one of ``"dopri5"`` (adaptive, first step ``dt``) or ``"rk4"`` (fixed step ``dt``);
+    ``system`` is a :class:`System` (its right-hand side ``rhs(t, y, params, dy)`` and event
+    ``event(t, y, params) -> float``, numba-compiled functions, reached by static dispatch);
+    ``method`` is one of ``"dopri5"`` (adaptive, first step ``dt``), ``"rk4"`` (fixed step ``dt``) or
+    ``"ros34pw2"`` (Rosenbrock-W, adaptive, first step ``dt``, for stiff systems; its Jacobian is
+    differenced in the state components ``jacobian_columns``, default all: a mechanical system whose
+    stiffness is in its speeds names their slots, fewer right-hand sides per Jacobian);
     ``record_dt`` defaults to ``dt``; ``max_steps`` is the step budget (a run that spends it ends as
     numerical_failure). The records are preallocated: a ``record_dt`` whose records would take more than
     half of this machine's memory is refused before the run."""
@@ -326,19 +334,26 @@ def integrate(
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
     if not np.all(np.isfinite(y0)):
         raise DescriptionError(f"y0 = {y0.tolist()} must be finite")
-    from mineburial.drop import memory_shortfall  # the drop's trajectory check
-
-    need = record_bytes(t_end - t0, record_dt, y0.size)
-    memory = memory_shortfall(need)
-    if memory is not None:
+    refusal = memory_refusal(
+        record_bytes(t_end - t0, record_dt, y0.size),
+        f"record_dt = {record_dt:g} s ({(t_end - t0) / record_dt:.3g} states over {t_end - t0:g} s)",
+        "give a larger record_dt",
+        share=0.5,
+    )
+    if refusal is not None:
+        raise DescriptionError(refusal)
+    cols = np.arange(y0.size) if jacobian_columns is None else np.asarray(jacobian_columns)
+    if cols.ndim != 1 or cols.dtype.kind not in "iu" or not np.all((cols >= 0) & (cols < y0.size)):
         raise DescriptionError(
-            f"record_dt = {record_dt:g} s would record {(t_end - t0) / record_dt:.3g} states over "
-            f"{t_end - t0:g} s, {need / 2**30:.3g} GiB, more than half of the memory available "
-            f"({memory / 2**30:.3g} GiB): give a larger record_dt"
+            f"jacobian_columns = {cols.tolist()} must be indices of the state (0 .. {y0.size - 1})"
         )
+    if np.unique(cols).size != cols.size:
+        raise DescriptionError(f"jacobian_columns = {cols.tolist()} must not repeat an index")
+    cols = np.ascontiguousarray(cols, dtype=np.int64)
+    if not isinstance(system, System):
+        raise DescriptionError(f"system = {system!r} must be a mineburial.kernels.core.System")
     times, states, status, t_stop = _mb.integrate(
-        system_rhs,
-        system_event,
+        system,
         y0,
         float(t0),
         float(t_end),
@@ -349,5 +364,6 @@ def integrate(
         float(atol),
         float(record_dt),
         int(max_steps),
+        cols,
     )
     return IntegrationResult(times, states, int(status), float(t_stop))

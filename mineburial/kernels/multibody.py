@@ -49,21 +49,31 @@ forms the partial velocities explicitly for systems and tests.
 import math
 
 import numpy as np
-from numba import njit
 
-from mineburial._numba import JIT_OPTIONS, kernel
+from mineburial._numba import kernel
+from mineburial.kernels.core import (
+    JAC_AGE_AT_REJECTION,
+    JAC_MAX_AGE,
+    all_finite,
+    dopri5_step,
+    jacobian_columns,
+    locate_event,
+    record_until,
+    rk4_step,
+    ros34pw2_step,
+    system_event,
+    system_rhs,
+)
 from mineburial.kernels.integrators import (
-    DP_C,
     N_STAGES,
+    ROS_ERROR_ORDER,
+    ROS_STAGES,
     dense_state,
     dopri_dense,
-    dopri_solution,
-    dopri_stage_state,
     error_norm,
     hermite_dense,
-    illinois_next,
-    illinois_update,
     next_step_size,
+    next_step_size_order,
 )
 
 # --- status codes of an integration (the drop statuses of kernels/status.py are the falling mine's) ------
@@ -82,13 +92,19 @@ STATUS_DESCRIPTIONS = (
 )
 
 #: integration methods of :func:`integrate`
-METHODS = ("dopri5", "rk4")
+METHODS = ("dopri5", "rk4", "ros34pw2")
 
 #: default step budget of :func:`integrate` (accepted plus rejected steps): a run that needs more has
 #: equations too stiff for its settings (e.g. a tiny friction regularisation) and ends as
 #: NUMERICAL_FAILURE instead of running for hours; seed 004's longest case takes ~1e4 dopri5 steps and
 #: its 120 s limit at the seed's rk4 step of 2 ms 6e4
 MAX_STEPS = 2_000_000
+
+
+#: the stop event is located on the continuous extension to this fraction of the step, relative to
+#: max(1, t / h) (the resolution of the time t itself), in at most MAX_EVENT_ITERATIONS iterations
+EVENT_TOLERANCE = 1e-13
+MAX_EVENT_ITERATIONS = 200
 
 
 # --- description helpers ------------------------------------------------------------------------------
@@ -635,61 +651,47 @@ def kinetic_energy(q, u, desc):
     return e
 
 
-# --- time integration -----------------------------------------------------------------------------------
+# --- time integration ---------------------------------------------------------------------------------
 @kernel
-def _all_finite(y):
-    for i in range(y.shape[0]):
-        if not math.isfinite(y[i]):
+def _columns_valid(cols, n):
+    """Whether the Jacobian columns ``cols`` are distinct indices of a state of size n."""
+    for j in range(cols.shape[0]):
+        if cols[j] < 0 or cols[j] >= n:
             return False
+        for i in range(j):
+            if cols[i] == cols[j]:
+                return False
     return True
 
 
 @kernel
-def _locate_event(system_event, r, t, h, ga, gb, params, ytmp):
-    """Fraction theta of the step at which the event crosses zero from above, by the Illinois root finder
-    on the continuous extension ``r``; returns the end of the final bracket where the event is <= 0."""
-    a = 0.0
-    b = 1.0
-    side = 0
-    tol = 1e-13 * max(1.0, abs(t) / max(h, 1e-300))
-    for _ in range(200):
-        if b - a <= tol:
-            break
-        th = illinois_next(a, ga, b, gb)
-        dense_state(r, th, ytmp)
-        gt = system_event(t + th * h, ytmp, params)
-        if not math.isfinite(gt):
-            break
-        if gt == 0.0:
-            return th
-        a, ga, b, gb, side = illinois_update(a, ga, b, gb, th, gt, side)
-    return b
+def _output_times(t0, t_end, record_dt):
+    """Output times t0 + i record_dt, ending exactly at t_end (recorded even off the grid)."""
+    n_out = int(math.floor((t_end - t0) / record_dt * (1.0 + 1e-12))) + 1
+    if t0 + (n_out - 1) * record_dt < t_end - 1e-12 * max(abs(t_end), record_dt):
+        n_out += 1
+    t_out = np.empty(n_out)
+    for i in range(n_out):
+        t_out[i] = min(t0 + i * record_dt, t_end)
+    t_out[n_out - 1] = t_end
+    return t_out
 
 
 @kernel
-def _record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
-    """Record the output times ``t_out[i] <= t_stop`` (those in (t, t + h]) on the continuous extension
-    ``r`` of the step; returns the next output index."""
-    while i_rec < t_out.shape[0] and t_out[i_rec] <= t_stop:
-        th = min(1.0, max(0.0, (t_out[i_rec] - t) / h))
-        dense_state(r, th, ytmp)
-        times[i_rec] = t_out[i_rec]
-        states[i_rec, :] = ytmp
-        i_rec += 1
-    return i_rec
-
-
-@njit(**JIT_OPTIONS)
-def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps):
-    """Integrate dy/dt = system_rhs(t, y, params, dy) from t0 to t_end, stopping where
-    system_event(t, y, params) crosses zero from above (the event is armed once it has been positive).
+def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps, jac_cols):
+    """Integrate dy/dt = system.rhs(t, y, params, dy) from t0 to t_end, stopping where
+    system.event(t, y, params) crosses zero from above (the event is armed once it has been positive);
+    ``system`` is a :class:`mineburial.kernels.core.System`, reached by static dispatch.
 
     method: "dopri5" -- Dormand-Prince 5(4), PI step-size control on the mixed tolerance
     atol + rtol |y| per component, first step ``dt``, 4th-order continuous extension; "rk4" -- classical
-    Runge-Kutta with the fixed step ``dt`` (seed 004 sec. 4.1: 2 ms), cubic Hermite continuous extension.
-    Both reuse kernels/integrators.py. The state is recorded at the exact times t0 + i record_dt on the
-    continuous extension, and the event is located on it (Illinois); when the run stops early the located
-    event state is the last record.
+    Runge-Kutta with the fixed step ``dt`` (seed 004 sec. 4.1: 2 ms), cubic Hermite continuous extension;
+    "ros34pw2" -- the Rosenbrock-W method ROS34PW2 (linearly implicit, L-stable, for stiff systems such as
+    the restraint's regularised friction), PI control on its order-3(2) error estimate, first step ``dt``,
+    the Jacobian columns ``jac_cols`` of y by differences, reused by the core's Jacobian-age policy, cubic
+    Hermite continuous extension. All reuse the steps of :mod:`.core` and :mod:`.integrators`. The state
+    is recorded at the exact times t0 + i record_dt on the continuous extension, and the event is located
+    on it (Illinois); when the run stops early the located event state is the last record.
 
     At most ``max_steps`` steps (accepted and rejected) are taken (:data:`MAX_STEPS` is the Python default).
 
@@ -698,14 +700,15 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     state) or INVALID_INPUT;
     t_stop is the time the run ended (the event time when STOPPED). Never returns NaN.
 
-    Not cached on disk: a kernel that takes functions as arguments gets a new cache entry in every
-    process (numba 0.6x), so it is compiled in memory; the kernels it calls are cached.
+    Cached on disk once per system (its type names it, :mod:`.core`): a second process compiles nothing.
     """
     n = y0.shape[0]
     if method == "dopri5":
-        use_dopri = True
+        kind = 0
     elif method == "rk4":
-        use_dopri = False
+        kind = 1
+    elif method == "ros34pw2":
+        kind = 2
     else:
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
     ok = (
@@ -719,18 +722,13 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
         and rtol > 0.0
         and atol > 0.0
         and max_steps > 0
-        and _all_finite(y0)
+        and all_finite(y0)
+        and _columns_valid(jac_cols, n)
     )
     if not ok:
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
-    # output times t0 + i record_dt, ending exactly at t_end (recorded even off the grid)
-    n_out = int(math.floor((t_end - t0) / record_dt * (1.0 + 1e-12))) + 1
-    if t0 + (n_out - 1) * record_dt < t_end - 1e-12 * max(abs(t_end), record_dt):
-        n_out += 1
-    t_out = np.empty(n_out)
-    for i in range(n_out):
-        t_out[i] = min(t0 + i * record_dt, t_end)
-    t_out[n_out - 1] = t_end
+    t_out = _output_times(t0, t_end, record_dt)
+    n_out = t_out.shape[0]
     times = np.zeros(n_out + 1)
     states = np.zeros((n_out + 1, n))
     y = y0.copy()
@@ -743,14 +741,21 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
     for i in range(n):
         groups[i, 0] = i
         groups[i, 1] = i + 1
+    m = jac_cols.shape[0]
+    jc = np.zeros((n, m))
+    wa = np.empty((m, m))
+    piv = np.empty(m, np.int64)
+    kr = np.empty((ROS_STAGES, n))
+    ztmp = np.empty(m)
+    jac_age = JAC_MAX_AGE
     times[0] = t0
     states[0, :] = y
     i_rec = 1
     t = t0
-    system_rhs(t, y, params, k[0])
-    if not _all_finite(k[0]):
+    system_rhs(system, t, y, params, k[0])
+    if not all_finite(k[0]):
         return times[:1].copy(), states[:1].copy(), NUMERICAL_FAILURE, t
-    g = system_event(t, y, params)
+    g = system_event(system, t, y, params)
     armed = g > 0.0
     h = min(dt, t_end - t0)
     err_prev = 1e-4
@@ -763,69 +768,80 @@ def integrate(system_rhs, system_event, y0, t0, t_end, params, method, dt, rtol,
             status = NUMERICAL_FAILURE
             break
         n_tried += 1
-        if use_dopri:
+        if kind != 1:
             h = min(h, t_end - t)
             if h <= 1e-14 * max(1.0, abs(t)):
                 status = NUMERICAL_FAILURE
                 break
-            for s in range(1, N_STAGES):
-                dopri_stage_state(y, k, s, h, ytmp)
-                system_rhs(t + DP_C[s] * h, ytmp, params, k[s])
-            dopri_solution(y, k, h, ynew, err)
-            if _all_finite(ynew) and _all_finite(k[N_STAGES - 1]):
-                en = error_norm(y, ynew, err, groups, rtol, atol)
+            if kind == 0:
+                dopri5_step(system, t, y, h, params, k, ytmp, ynew, err)
+                if all_finite(ynew) and all_finite(k[N_STAGES - 1]):
+                    en = error_norm(y, ynew, err, groups, rtol, atol)
+                else:
+                    en = np.nan
+                h_next, accept, err_prev = next_step_size(h, en, err_prev, accepted_before)
             else:
+                if jac_age >= JAC_MAX_AGE:
+                    jacobian_columns(system, t, y, k[0], params, jac_cols, ytmp, k[1], jc)
+                    jac_age = 0
                 en = np.nan
-            h_next, accept, err_prev = next_step_size(h, en, err_prev, accepted_before)
+                if ros34pw2_step(
+                    system, t, y, h, params, k[0], jc, jac_cols, wa, piv, kr, ytmp, k[1], ztmp, ynew, err
+                ):
+                    if all_finite(ynew):
+                        en = error_norm(y, ynew, err, groups, rtol, atol)
+                h_next, accept, err_prev = next_step_size_order(
+                    h, en, err_prev, accepted_before, ROS_ERROR_ORDER
+                )
+                if not accept and jac_age > JAC_AGE_AT_REJECTION:
+                    jac_age = JAC_MAX_AGE  # a stale Jacobian may be why: evaluate it again
             if not accept:
                 h = h_next
                 accepted_before = False
                 continue
             accepted_before = True
-            dopri_dense(y, ynew, k, h, r)
             t_new = t_end if t + h >= t_end else t + h
+            if kind == 0:
+                dopri_dense(y, ynew, k, h, r)
+            else:
+                jac_age += 1
+                system_rhs(system, t_new, ynew, params, k[N_STAGES - 1])
+                if not all_finite(k[N_STAGES - 1]):
+                    status = NUMERICAL_FAILURE
+                    break
+                hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
         else:
             t_new = t0 + (i_step + 1) * dt
             if t_end - t_new <= 1e-9 * dt:
                 t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
-            # classical Runge-Kutta; k[0] = f(t, y), k[1..3] the other stages, k[6] = f(t_new, y_new)
-            for i in range(n):
-                ytmp[i] = y[i] + 0.5 * h * k[0, i]
-            system_rhs(t + 0.5 * h, ytmp, params, k[1])
-            for i in range(n):
-                ytmp[i] = y[i] + 0.5 * h * k[1, i]
-            system_rhs(t + 0.5 * h, ytmp, params, k[2])
-            for i in range(n):
-                ytmp[i] = y[i] + h * k[2, i]
-            system_rhs(t_new, ytmp, params, k[3])
-            for i in range(n):
-                ynew[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
-            if not _all_finite(ynew):
+            rk4_step(system, t, h, y, params, k, ytmp, ynew)
+            if not all_finite(ynew):
                 status = NUMERICAL_FAILURE
                 break
-            system_rhs(t_new, ynew, params, k[N_STAGES - 1])
-            if not _all_finite(k[N_STAGES - 1]):
+            system_rhs(system, t_new, ynew, params, k[N_STAGES - 1])
+            if not all_finite(k[N_STAGES - 1]):
                 status = NUMERICAL_FAILURE
                 break
             hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
             h_next = dt
         i_step += 1
-        g_new = system_event(t_new, ynew, params)
+        g_new = system_event(system, t_new, ynew, params)
         if not math.isfinite(g_new):
             status = NUMERICAL_FAILURE
             break
         if armed and g_new <= 0.0:
-            th = _locate_event(system_event, r, t, h, g, g_new, params, ytmp)
+            tol = EVENT_TOLERANCE * max(1.0, abs(t) / max(h, 1e-300))
+            th = locate_event(system, r, t, h, g, g_new, params, ytmp, tol, MAX_EVENT_ITERATIONS)
             t_ev = t + th * h
-            i_rec = _record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
+            i_rec = record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
             if times[i_rec - 1] < t_ev:
                 dense_state(r, th, ytmp)
                 times[i_rec] = t_ev
                 states[i_rec, :] = ytmp
                 i_rec += 1
             return times[:i_rec].copy(), states[:i_rec].copy(), STOPPED, t_ev
-        i_rec = _record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
+        i_rec = record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
         if g_new > 0.0:
             armed = True
         g = g_new

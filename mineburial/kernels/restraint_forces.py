@@ -32,6 +32,7 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
+from mineburial.kernels.core import System
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.multibody import (
     accelerations,
@@ -533,3 +534,7 @@ def record_diagnostics(states, params):
         scal[r, 5] = friction
         scal[r, 6] = code
     return pos_all, vel_all, hf_all, scal
+
+
+#: the restraining system of the integration core (:func:`mineburial.multibody.integrate`)
+RESTRAINT = System("restraint", restraint_rhs, restraint_event)

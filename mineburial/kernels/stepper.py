@@ -43,6 +43,14 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import status as st
+from mineburial.kernels.core import (
+    JAC_AGE_AT_REJECTION,
+    JAC_MAX_AGE,
+    JAC_MIN_STEP,
+    JAC_REL_STEP,
+    System,
+    locate_event,
+)
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
@@ -56,8 +64,6 @@ from mineburial.kernels.integrators import (
     dopri_stage_state,
     error_norm,
     hermite_dense,
-    illinois_next,
-    illinois_update,
     j_times,
     next_step_size,
     next_step_size_order,
@@ -144,14 +150,6 @@ INTEGRATOR_STIFF = INTEGRATOR_NAMES.index("dopri5_ros34pw2")
 #: the Rosenbrock-W step uses (the stiffness of the sediment phase is in them)
 VELOCITY_SLOTS = np.array([3, 4, 5, 10, 11, 12], dtype=np.int64)
 N_VEL = 6
-#: relative and smallest absolute difference of the one-sided Jacobian columns
-JAC_REL_STEP = 1e-7
-JAC_MIN_STEP = 1e-9
-#: accepted Rosenbrock steps before the Jacobian is evaluated again, and the age above
-#: which a rejected step has it evaluated again (measured on the default ensemble:
-#: fewest right-hand sides per drop; docs/design.md)
-JAC_MAX_AGE = 50
-JAC_AGE_AT_REJECTION = 2
 
 #: vector groups of the error norm: position, velocity, attitude quaternion, angular velocity
 ERROR_GROUPS = ((0, 3), (3, 6), (6, 10), (10, 13))
@@ -368,27 +366,17 @@ def _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag):
         traj[row, 17 + i] = diag[i]
 
 
-@small_kernel
-def _locate(r, p, e, gstart, gend, ytmp, gtmp):
-    """Fraction of the step at which event ``e`` changes sign, on the continuous
-    extension ``r`` (Illinois regula falsi), returned as the right end of the final
-    bracket so that the event has happened there."""
-    a = 0.0
-    ga = gstart
-    b = 1.0
-    gb = gend
-    side = 0
-    for _ in range(MAX_EVENT_ITERATIONS):
-        if b - a <= EVENT_TOLERANCE:
-            break
-        t = illinois_next(a, ga, b, gb)
-        dense_state(r, t, ytmp)
-        event_values(ytmp, p, gtmp)
-        gt = gtmp[e]
-        if gt == 0.0:
-            return t
-        a, ga, b, gb, side = illinois_update(a, ga, b, gb, t, gt, side)
-    return b
+@kernel
+def event_component(t, y, args):
+    """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
+    p, e, gtmp = args
+    event_values(y, p, gtmp)
+    return gtmp[e]
+
+
+#: the mine's events in the integration core (:func:`.core.locate_event`); the stepper calls its
+#: right-hand side itself
+MINE_EVENTS = System("mine events", None, event_component)
 
 
 def reference_paths(params):
@@ -586,7 +574,9 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
                     continue
             elif not _crossed(g0[e], g1[e]):
                 continue
-            th = _locate(r, p, e, g0[e], g1[e], ytmp, gtmp)
+            th = locate_event(
+                MINE_EVENTS, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
+            )
             if th < theta:
                 theta = th
                 first = e

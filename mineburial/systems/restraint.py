@@ -378,9 +378,10 @@ FIELDS: tuple[FieldSpec, ...] = (
         "method",
         "dopri5",
         "",
-        kind="dopri5|rk4",
+        kind="dopri5|rk4|ros34pw2",
         source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
-        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice)",
+        "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice); 'ros34pw2' is "
+        "the Rosenbrock-W step for the stiff regularised friction (docs/multibody.md)",
     ),
     _f(
         "numerics",
@@ -1193,8 +1194,7 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
     counts = system.params[7]
     counts[:] = 0
     res = mb.integrate(
-        rf.restraint_rhs,
-        rf.restraint_event,
+        rf.RESTRAINT,
         system.y0,
         0.0,
         case["numerics.t_max"],
@@ -1204,6 +1204,8 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
         rtol=case["numerics.rtol"],
         atol=case["numerics.atol"],
         record_dt=dt_rec,
+        # the stiffness (regularised friction, seabed contact) is in the speeds u of y = (q, u, W^F, W^W)
+        jacobian_columns=np.arange(system.description.n_dof, 2 * system.description.n_dof),
     )
     contact_counts = tuple(int(c) for c in counts)
     pos, vel, hf, scal = rf.record_diagnostics(np.ascontiguousarray(res.states), system.params)

@@ -1,0 +1,275 @@
+"""The generic integration core: a system reached by static dispatch, the event locator and the
+recorder of the driver that integrates a plain state vector (the multibody systems).
+
+The tableaus, step kernels, continuous extensions, error norm and PI controller are in
+:mod:`.integrators`; this module adds what a driver needs on top of them, knowing no mine and no ship.
+
+**Systems by static dispatch.** A :class:`System` names a system's right-hand side
+``rhs(t, y, params, dy)`` and its event ``event(t, y, params) -> float`` (numba kernels). Its numba
+type (:class:`SystemType`) carries the system's name, so compiled code reaches the functions through
+:func:`system_rhs` / :func:`system_event`, overloads resolved at compile time on that type (as
+``stepper._fixed_step`` is resolved on ``reference_paths``): no first-class function values, and
+every compiled driver is cached on disk (``cache=True``) once per system instead of being compiled
+again in every process and dask worker (10-60 s each before, docs/design.md "integration core").
+numba checks a cached function against its own source file only; the type of a system therefore
+also carries the modification time and size of the files that define its functions, so that an
+edit of a system's module compiles the driver again for it.
+
+"""
+
+import inspect
+import math
+import os
+
+from numba.core import types
+from numba.core.imputils import lower_constant
+from numba.extending import (
+    NativeValue,
+    models,
+    overload,
+    register_model,
+    typeof_impl,
+    unbox,
+)
+
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
+from mineburial.kernels.integrators import (
+    DP_C,
+    N_STAGES,
+    ROS_ALPHA,
+    ROS_GAMMA_DIAG,
+    ROS_STAGES,
+    dense_state,
+    dopri_solution,
+    dopri_stage_state,
+    illinois_next,
+    illinois_update,
+    j_times,
+    ros_coupling,
+    ros_solution,
+    ros_stage_state,
+    w_factor,
+    w_solve,
+)
+
+
+# --- systems reached by static dispatch ----------------------------------------------------------------
+class SystemType(types.Dummy):
+    """The numba type of a :class:`System`: one type per system (and per version of its source)."""
+
+    def __init__(self, key):
+        self.system_key = key
+        super().__init__(name=f"System({key})")
+
+
+#: system key -> System: what the overloads of :func:`system_rhs` and :func:`system_event` call
+_SYSTEMS = {}
+
+
+def _source_stamp(fn) -> str:
+    """Modification time and size of the file that defines ``fn`` (a numba dispatcher or function)."""
+    path = inspect.getsourcefile(getattr(fn, "py_func", fn))
+    st = os.stat(path)
+    return f"{os.path.basename(path)}@{st.st_mtime_ns:x}.{st.st_size:x}"
+
+
+class System:
+    """A system of the integration core: its name, right-hand side and event kernels.
+
+    ``rhs(t, y, params, dy)`` fills dy/dt (None for a system that calls its right-hand side itself,
+    as the mine's stepper does); ``event(t, y, params)`` returns a float whose crossing of
+    zero ends the run or is located by :func:`locate_event`. Pass the System to :func:`integrate` (or
+    :func:`mineburial.multibody.integrate`); ``params`` is whatever the two functions take."""
+
+    def __init__(self, name, rhs, event):
+        self.name = name
+        self.rhs = rhs
+        self.event = event
+        stamps = sorted({_source_stamp(fn) for fn in (rhs, event) if fn is not None})
+        self.key = f"{name}:{','.join(stamps)}"
+        _SYSTEMS[self.key] = self
+        self.numba_type = SystemType(self.key)
+
+    def __repr__(self):
+        return f"System({self.name!r})"
+
+
+@typeof_impl.register(System)
+def _typeof_system(val, c):
+    return val.numba_type
+
+
+register_model(SystemType)(models.OpaqueModel)
+
+
+@unbox(SystemType)
+def _unbox_system(typ, obj, c):
+    return NativeValue(c.context.get_dummy_value())
+
+
+@lower_constant(SystemType)
+def _constant_system(context, builder, ty, pyval):
+    return context.get_dummy_value()
+
+
+def system_rhs(system, t, y, params, dy):
+    """dy = the right-hand side of ``system`` at (t, y) (compiled code only)."""
+    raise NotImplementedError("compiled code only")
+
+
+def system_event(system, t, y, params):
+    """The event value of ``system`` at (t, y) (compiled code only)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(system_rhs, jit_options=JIT_OPTIONS)
+def _system_rhs_impl(system, t, y, params, dy):
+    if isinstance(system, SystemType):
+        rhs = _SYSTEMS[system.system_key].rhs
+
+        def impl(system, t, y, params, dy):
+            rhs(t, y, params, dy)
+
+        return impl
+
+
+@overload(system_event, jit_options=JIT_OPTIONS)
+def _system_event_impl(system, t, y, params):
+    if isinstance(system, SystemType):
+        event = _SYSTEMS[system.system_key].event
+
+        def impl(system, t, y, params):
+            return event(t, y, params)
+
+        return impl
+
+
+# --- pieces of a driver ---------------------------------------------------------------------------------
+@small_kernel
+def all_finite(y):
+    for i in range(y.shape[0]):
+        if not math.isfinite(y[i]):
+            return False
+    return True
+
+
+@kernel
+def locate_event(system, r, t, h, ga, gb, params, ytmp, tol, max_iter):
+    """Fraction theta of the step (t, t + h) at which the event of ``system`` changes sign (from ``ga`` at
+    its start to ``gb`` at its end), by the Illinois root finder (:func:`.integrators.illinois_next`) on
+    the continuous extension ``r``, to the bracket width ``tol`` (a fraction of the step) in at most
+    ``max_iter`` iterations, both declared by the system; returns the end of the final bracket, where
+    the event has happened. A non-finite event value ends the search there."""
+    a = 0.0
+    b = 1.0
+    side = 0
+    for _ in range(max_iter):
+        if b - a <= tol:
+            break
+        th = illinois_next(a, ga, b, gb)
+        dense_state(r, th, ytmp)
+        gt = system_event(system, t + th * h, ytmp, params)
+        if not math.isfinite(gt):
+            break
+        if gt == 0.0:
+            return th
+        a, ga, b, gb, side = illinois_update(a, ga, b, gb, th, gt, side)
+    return b
+
+
+@kernel
+def record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
+    """Record the output times ``t_out[i] <= t_stop`` (those in (t, t + h]) on the continuous extension
+    ``r`` of the step; returns the next output index."""
+    while i_rec < t_out.shape[0] and t_out[i_rec] <= t_stop:
+        th = min(1.0, max(0.0, (t_out[i_rec] - t) / h))
+        dense_state(r, th, ytmp)
+        times[i_rec] = t_out[i_rec]
+        states[i_rec, :] = ytmp
+        i_rec += 1
+    return i_rec
+
+
+# --- step kernels of a system reached by dispatch ------------------------------------------------------
+#: one-sided differences of the Jacobian columns: relative step and smallest absolute step
+JAC_REL_STEP = 1e-7
+JAC_MIN_STEP = 1e-9
+#: Jacobian-age policy of the Rosenbrock-W step: accepted steps before the Jacobian is evaluated
+#: again, and the age above which a rejected step has it evaluated again (measured on the mine's
+#: default ensemble: fewest right-hand sides per drop; docs/design.md)
+JAC_MAX_AGE = 50
+JAC_AGE_AT_REJECTION = 2
+#: stage times of ROS34PW2 (row sums of its alpha, Hairer & Wanner II sec. IV.7 eq. (7.4'))
+ROS_C = ROS_ALPHA.sum(axis=1)
+
+
+@kernel
+def dopri5_step(system, t, y, h, params, k, ytmp, out, err):
+    """Stages 2-7 of a Dormand-Prince step of ``system`` (k[0] = f(t, y) pre-filled): fills ``out``
+    (5th order), ``err`` and k[6] = f(t + h, out) (:mod:`.integrators`)."""
+    for s in range(1, N_STAGES):
+        dopri_stage_state(y, k, s, h, ytmp)
+        system_rhs(system, t + DP_C[s] * h, ytmp, params, k[s])
+    dopri_solution(y, k, h, out, err)
+
+
+@kernel
+def rk4_step(system, t, h, y, params, k, ytmp, out):
+    """One classical Runge-Kutta step of ``system`` from (t, y) to t + h (k[0] = f(t, y) pre-filled;
+    k[1..3] the other stages)."""
+    n = y.shape[0]
+    for i in range(n):
+        ytmp[i] = y[i] + 0.5 * h * k[0, i]
+    system_rhs(system, t + 0.5 * h, ytmp, params, k[1])
+    for i in range(n):
+        ytmp[i] = y[i] + 0.5 * h * k[1, i]
+    system_rhs(system, t + 0.5 * h, ytmp, params, k[2])
+    for i in range(n):
+        ytmp[i] = y[i] + h * k[2, i]
+    system_rhs(system, t + h, ytmp, params, k[3])
+    for i in range(n):
+        out[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
+
+
+@kernel
+def jacobian_columns(system, t, y, f0, params, cols, ytmp, ftmp, jc):
+    """Columns ``cols`` of df/dy of ``system`` by one-sided differences from f0 = f(t, y):
+    jc[:, j] = (f(y + d e_cols[j]) - f0) / d, d = max(JAC_REL_STEP |y_c|, JAC_MIN_STEP) as represented."""
+    n = y.shape[0]
+    for j in range(cols.shape[0]):
+        c = cols[j]
+        d = max(JAC_REL_STEP * abs(y[c]), JAC_MIN_STEP)
+        for i in range(n):
+            ytmp[i] = y[i]
+        ytmp[c] = y[c] + d
+        d = ytmp[c] - y[c]  # the difference actually represented
+        system_rhs(system, t, ytmp, params, ftmp)
+        for i in range(n):
+            jc[i, j] = (ftmp[i] - f0[i]) / d
+
+
+@kernel
+def ros34pw2_step(system, t, y, h, params, f0, jc, cols, wa, piv, kr, ytmp, vtmp, ztmp, out, err):
+    """One Rosenbrock-W step (ROS34PW2, :mod:`.integrators`) of ``system`` with the Jacobian columns
+    ``jc`` of ``cols`` (possibly from an earlier step; f0 = f(t, y)). Fills ``out`` and ``err``; returns
+    False when W is singular. The stages are evaluated at t + ROS_C[s] h without the df/dt term of a
+    non-autonomous W-method (Hairer & Wanner II eq. (7.4')): exact for autonomous systems (the
+    multibody systems of mineburial are)."""
+    n = y.shape[0]
+    c = h * ROS_GAMMA_DIAG
+    if not w_factor(jc, cols, c, wa, piv):
+        return False
+    for s in range(ROS_STAGES):
+        if s == 0:
+            for i in range(n):
+                vtmp[i] = f0[i]
+        else:
+            ros_stage_state(y, kr, s, ytmp)
+            system_rhs(system, t + ROS_C[s] * h, ytmp, params, vtmp)
+        ros_coupling(kr, s, ytmp)
+        j_times(jc, cols, ytmp, kr[s])
+        for i in range(n):
+            kr[s, i] = h * (vtmp[i] + kr[s, i])
+        w_solve(jc, cols, c, wa, piv, kr[s], ztmp)
+    ros_solution(y, kr, out, err)
+    return True
