@@ -903,14 +903,14 @@ def test_invalid_samples_are_counted_per_field():
 def test_sampled_angle_outside_range_marks_the_drop_invalid(monkeypatch):
     """The packed rows hold the angles only as a quaternion, so check_params cannot see a
     sampled pitch of 120 deg: chunk_inputs must mark that drop invalid_input."""
-    from mineburial.ensembles import engine
+    from mineburial.ensembles import engine, mine
     from mineburial.ensembles.sampling import SampleTable
 
     spec = engine.load_ensemble(
         _ensemble(**{"release.pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0}})
     )
     monkeypatch.setattr(
-        engine,
+        mine,
         "sample_fields",
         lambda *a, **k: SampleTable({"release.pitch_deg": np.array([10.0, 120.0, -90.0])}),
     )
