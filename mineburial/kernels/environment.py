@@ -43,7 +43,7 @@ def _below(a, x, strict):
     return a < x if strict else a <= x
 
 
-@small_kernel
+@kernel
 def bracket(bank, row, x, last, strict):
     """``(lo, lo + 1)`` with ``lo`` the last point of bank row ``row`` below ``x``
     (``bank[row, 0, lo] <= x``, or ``< x`` when ``strict``), for ``x`` between the first

@@ -206,15 +206,14 @@ def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     h = (depth_max - top) / SLICES
     v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - top)
     r1, s1 = _profile_at(top, p, bank, row, last, rho_w, g)
-    # slice i is finished once slice i + 1 is known (its centroid's rate with depth)
-    vc, xc, ec, tc, wc, sc, qc, v1, x1, e1, r1, s1 = _slice(
-        L, R, chi, a_z, c, z_c, seabed_z, top, top + h, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
-    )
-    xp, ep, tp = xc, ec, tc  # the previous slice (none yet: the current one)
+    # slice i is finished once slice i + 1 is known (its centroid's rate with depth); _slice
+    # has one call site: it is inlined, and a second copy doubled this compile (docs/design.md)
+    vc, xc, ec, tc, wc, sc, qc = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    xp, ep, tp = 0.0, 0.0, 0.0  # the previous slice (at i = 2: the first one)
     f_tot = 0.0
     mx = 0.0
     me = 0.0
-    for i in range(2, SLICES + 2):
+    for i in range(1, SLICES + 2):
         if i <= SLICES:
             a = top + (i - 1) * h
             b = depth_max if i == SLICES else top + i * h
@@ -223,7 +222,9 @@ def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
             )
         else:  # the last slice: one-sided rate
             vn, xn, en, tn, wn, sn, qn = 0.0, xc, ec, tc, 0.0, 0.0, 0.0
-        if vc > 0.0:
+        if i == 1:
+            xp, ep, tp = xn, en, tn
+        elif vc > 0.0:
             t0 = tp
             t1 = tn
             x0, e0, x2, e2 = xp, ep, xn, en
@@ -234,7 +235,6 @@ def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
             f_tot += f
             mx += f * xc + corr * _rate(x0, t0, x2, t1)
             me += f * ec + corr * _rate(e0, t0, e2, t1)
-        if vc > 0.0:
             xp, ep, tp = xc, ec, tc
         vc, xc, ec, tc, wc, sc, qc = vn, xn, en, tn, wn, sn, qn
     return f_tot, mx, me
