@@ -4,6 +4,8 @@ import copy
 
 import pytest
 
+from mineburial.ensembles import mine
+
 BASE = {
     "mine": {"name": "test cylinder", "length": 1.0, "diameter": 0.25, "mass": 80.0, "com_offset": 0.0},
     "release": {
@@ -69,3 +71,13 @@ def cheap_ensemble():
     )
     d["mine"]["mass"] = {"distribution": "normal", "mean": 80.0, "std": 5.0}
     return d
+
+
+@pytest.fixture(autouse=True)
+def _self_check_off_unless_asked(request, monkeypatch):
+    """The numerical self-check of ``mineburial run`` (8 reference drops, ~100 default drops'
+    worth) is off in the suite's in-process runs unless a scenario sets
+    ``ensemble.accuracy_check`` itself: it is tested in tests/test_accuracy_check.py, and
+    paying it in every CLI test would cost minutes of the suite's budget."""
+    if request.module.__name__ != "test_accuracy_check":
+        monkeypatch.setitem(mine.ENSEMBLE_DEFAULTS, "accuracy_check", 0)
