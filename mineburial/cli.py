@@ -179,6 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
     )
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    run.add_argument("--plot", default=None, help="with [scour]: draw burial against lead time to this image")
     run.set_defaults(func=_cmd_run)
 
     drop = sub.add_parser("drop", help="simulate one drop and write its trajectory (NetCDF)")
