@@ -17,6 +17,7 @@ from mineburial.cli import main
 from mineburial.ensembles import engine, runner, scour
 from mineburial.kernels import layout
 from mineburial.kernels import scour as sc
+from mineburial.validation import compare
 
 G = 9.81
 RHO = 1025.0  # the test scenario's water (tests/conftest.py)
@@ -126,4 +127,34 @@ def test_bad_convention_is_one_line_naming_the_key(tmp_path, capsys, no_computin
     assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and needle in err and ("spectral" in err or "swart" in err), err
+    assert not (tmp_path / "out.nc").exists()
+
+
+def test_compare_varies_a_convention_at_a_lead_time_and_gives_each_closed_form(wave_runs, tmp_path):
+    """``mineburial compare`` with [scour] (issue 20): the burial compared is the stage's at
+    ``--lead-time``, each variant's that of its convention (the drops' impact burial is the same
+    in every run of this scenario and seed: their sampled inputs are checked equal)."""
+    ref = wave_runs["hs", "swart"]
+    forcing = str(forcing_csv(tmp_path / "waves.csv", hs=HS, u=0.0))
+    path = scenario(tmp_path, scour_section(tmp_path, forcing=forcing, friction="swart"))
+    lead = LEADS[2]
+    ds = compare.run_comparison(path, "scour.orbital", ["hrms", "hs"], lead_time=lead)
+    assert ds.attrs["lead_time_days"] == lead and "hrms: ok 8; hs: ok 8" in ds.attrs["scour_status_counts"]
+    np.testing.assert_array_equal(
+        ds["input_environment_water_depth"].values, ref["input_environment_water_depth"].values
+    )
+    for k, orbital in enumerate(["hrms", "hs"]):
+        for i, b0 in enumerate(lying_b0(ref)):
+            depth = float(ref["input_environment_water_depth"][i])
+            (want,), _ = closed_form_waves(b0, depth, [lead * 86400.0], orbital, "swart")
+            assert ds["drop_penetration_depth"].values[k, i] == pytest.approx(want, rel=1e-9)
+    assert np.all(ds["drop_penetration_depth"].values[1] > ds["drop_penetration_depth"].values[0])
+
+
+def test_compare_lead_time_without_scour_is_one_line(tmp_path, capsys, no_computing):
+    path = scenario(tmp_path, None)
+    argv = ["compare", str(path), "--vary", "sediment.resistance=bearing,delta", "-n", "4"]
+    assert main([*argv, "--lead-time", "1", "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--lead-time 1: the scenario has no [scour] section" in err, err
     assert not (tmp_path / "out.nc").exists()

@@ -203,6 +203,45 @@ def longest_lead_days(forcing, window_days) -> float:
     return forcing.duration_s / DAY if window_days is None else window_days
 
 
+def at_lead_time(spec, lead_time: float | None):
+    """``spec`` whose scour stage gives its burial measures at the one lead time [d] analysed:
+    ``lead_time``, or the section's last lead time (the end of each drop's window of the
+    forcing when the section names none). Without a ``[scour]`` section the outputs are the
+    impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
+    outside [0, the forcing's span or ``scour.window_days``]."""
+    if spec.scour is None:
+        if lead_time is not None:
+            raise cfg.ScenarioError(
+                f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
+                "impact's (give a [scour] section, or leave --lead-time out)"
+            )
+        return spec
+    longest = longest_lead_days(spec.scour.forcing, spec.scour.window_days)
+    if lead_time is None:
+        lead_time = spec.scour.lead_times_days[-1] if spec.scour.lead_times_days else longest
+    elif not (0.0 <= lead_time <= longest):
+        what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
+        raise cfg.ScenarioError(
+            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
+        )
+    stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
+    return dataclasses.replace(spec, scour=stage)
+
+
+def after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
+    """``summary`` with its burial measures replaced by the scour stage's at its one lead time
+    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
+    gave a value; a drop without one keeps its impact measures (the outputs of ``sensitivity``
+    and ``compare`` at ``--lead-time``; burial never decreases in the stage, so such a drop's
+    measures are what it had)."""
+    out = summary.copy()
+    for k, name in enumerate(V.SCOUR_MEASURES):
+        column = layout.SUMMARY_INDEX[name]
+        value = measures[:, k, 0]
+        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
+    return out
+
+
 def _window_days(sec, span_days):
     """The length [d] of each drop's window of the forcing (``window_days``), or None (the whole
     series); ``window_position`` (where in the series the window starts) needs it."""
