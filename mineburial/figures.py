@@ -3,7 +3,8 @@
 :func:`check_lead_time_plot` checks before computing that the figure can be drawn (the scenario
 has the section; matplotlib, the image type, the path: :func:`mineburial.maps.check_plot_path`);
 :func:`plot_lead_time` draws it from the run's Dataset (or the NetCDF it wrote) after the run.
-matplotlib is the optional extra ``plot``, imported only when drawing (docs/scour.md, Figures).
+matplotlib is the optional extra ``plot``, imported only when drawing (docs/scour.md, "Figure:
+burial against lead time").
 """
 
 from __future__ import annotations
@@ -15,8 +16,9 @@ from mineburial.io import variables as V
 from mineburial.maps import check_plot_path
 from mineburial.validation.compare import pyplot, save_figure
 
-#: the lead-time figure's lines of the burial classes: viridis at 5 points (colour-blind safe and
-#: legible as lines on white, which the map's pale YlOrRd class fills are not)
+#: the lead-time figure's lines of the burial classes: viridis at 0, 0.25, 0.5, 0.75 and a darker
+#: yellow for the last (viridis' own end is too pale on white); colour-blind safe, and legible as
+#: lines, which the map's pale YlOrRd class fills are not
 CLASS_LINE_COLOURS = ("#440154", "#3b528b", "#21918c", "#5ec962", "#e6b400")
 
 
