@@ -179,6 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
     )
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    run.add_argument("--plot", default=None, help="with [scour]: draw burial against lead time to this image")
     run.set_defaults(func=_cmd_run)
 
     drop = sub.add_parser("drop", help="simulate one drop and write its trajectory (NetCDF)")
@@ -226,6 +227,13 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--seed", type=int, default=None, help="random seed")
     cmp_.add_argument("-o", "--output", default=None, help="write the comparison (NetCDF)")
     cmp_.add_argument("--plot", default=None, help="draw the comparison to this PNG")
+    cmp_.add_argument(
+        "--lead-time",
+        type=float,
+        default=None,
+        metavar="DAYS",
+        help="with [scour]: lead time of the compared burial (default: the last of scour.lead_times_days)",
+    )
     cmp_.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
     cmp_.add_argument(
         "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"

@@ -31,6 +31,9 @@ WATER_COLUMN_NAMES = ("munk_factor", "viscous_crossflow")
 # sediment model codes (kernels.sediment)
 RESISTANCE_NAMES = ("delta", "friction", "bearing")
 RATE_LAW_NAMES = ("impact35", "semilog", "none")
+# scour conventions (kernels.scour: ORBITAL_*, FRICTION_* are these indices; docs/scour.md)
+SCOUR_ORBITAL_NAMES = ("spectral", "hrms", "hs")
+SCOUR_FRICTION_NAMES = ("swart", "soulsby")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
 LAB_STRAIN_RATE = 0.01 / 3600.0
@@ -70,8 +73,7 @@ def _choice(path, names, description, default=None, *, location=None, **kw):
         location or path,
         kind="choice",
         choices=names,
-        slot=True,
-        **kw,
+        **{"slot": True, **kw},
     )
 
 
@@ -677,5 +679,25 @@ TABLE: tuple[Field, ...] = (
         ),
         0.0,
         slot=False,
+    ),
+    _choice(
+        "scour.orbital",
+        SCOUR_ORBITAL_NAMES,
+        (
+            "near-bed orbital velocity and period: `spectral` from a JONSWAP spectrum (Wiberg & "
+            "Sherwood 2008), `hrms` a monochromatic wave of height H_rms = Hs/√2 and period Tp, `hs` "
+            "one of height Hs (about 50 % above `spectral`; docs/scour.md, Choices)"
+        ),
+        "spectral",
+        slot=False,
+        sampled=False,
+    ),
+    _choice(
+        "scour.friction",
+        SCOUR_FRICTION_NAMES,
+        "wave friction factor: Swart (1974) or Soulsby (1997, eq. 62a) (docs/scour.md, Closures)",
+        "swart",
+        slot=False,
+        sampled=False,
     ),
 )

@@ -47,14 +47,19 @@ NUMERIC = {
     "hs_scale": None,  # scales the forcing, not a stage parameter
     "window_position": None,  # where the drop's window starts in the forcing, not a stage parameter
 }
+#: the conventions of the section (cfg.SCHEMA choices ``scour.<name>``) and the stage slot each fills
+CHOICES = {"orbital": sc.S_ORBITAL, "friction": sc.S_FRICTION}
 KEYS = (
     "forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law", "window_days",
-) + tuple(NUMERIC)  # fmt: skip
+) + tuple(NUMERIC) + tuple(CHOICES)  # fmt: skip
 DEFAULT_LEVELS = (0.5, 0.75)
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``
 SHIPPED = pathlib.Path(__file__).resolve().parent.parent / "data" / "forcing"
 assert MEASURE_NAMES == V.SCOUR_MEASURES
+assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HRMS] == "hrms"
+assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HS] == "hs"
+assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,6 +74,7 @@ class ScourSpec:
     forcing: fio.Forcing
     forcing_record: dict  # file path + sha256, or the storm's parameters
     window_days: float | None = None  # each drop's window of the forcing (None: the whole series)
+    conventions: dict = dataclasses.field(default_factory=dict)  # orbital, friction -> name
 
     def resolved(self) -> dict:
         out = {
@@ -77,6 +83,7 @@ class ScourSpec:
             "tstar_law": self.tstar_law,
             "cohesive": self.cohesive,
         }
+        out.update(self.conventions)
         out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
         if self.window_days is not None:
             out["window_days"] = self.window_days
@@ -181,15 +188,58 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
             if given is None and default is None
             else cfg._check(spec.path, given if given is not None else default)
         )
+    conventions = {
+        name: cfg._check(f"scour.{name}", sec.get(name, cfg.SCHEMA[f"scour.{name}"].default))
+        for name in CHOICES
+    }
     if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
         forcing.kernel_arrays(depth, values["d50"])
-    return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window)
+    return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window, conventions)
 
 
 def longest_lead_days(forcing, window_days) -> float:
     """The longest lead time [d] a section allows: each drop's window (``window_days``), or the
     forcing's span without one."""
     return forcing.duration_s / DAY if window_days is None else window_days
+
+
+def at_lead_time(spec, lead_time: float | None):
+    """``spec`` whose scour stage gives its burial measures at the one lead time [d] analysed:
+    ``lead_time``, or the section's last lead time (the end of each drop's window of the
+    forcing when the section names none). Without a ``[scour]`` section the outputs are the
+    impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
+    outside [0, the forcing's span or ``scour.window_days``]."""
+    if spec.scour is None:
+        if lead_time is not None:
+            raise cfg.ScenarioError(
+                f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
+                "impact's (give a [scour] section, or leave --lead-time out)"
+            )
+        return spec
+    longest = longest_lead_days(spec.scour.forcing, spec.scour.window_days)
+    if lead_time is None:
+        lead_time = spec.scour.lead_times_days[-1] if spec.scour.lead_times_days else longest
+    elif not (0.0 <= lead_time <= longest):
+        what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
+        raise cfg.ScenarioError(
+            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
+        )
+    stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
+    return dataclasses.replace(spec, scour=stage)
+
+
+def after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
+    """``summary`` with its burial measures replaced by the scour stage's at its one lead time
+    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
+    gave a value; a drop without one keeps its impact measures (the outputs of ``sensitivity``
+    and ``compare`` at ``--lead-time``; burial never decreases in the stage, so such a drop's
+    measures are what it had)."""
+    out = summary.copy()
+    for k, name in enumerate(V.SCOUR_MEASURES):
+        column = layout.SUMMARY_INDEX[name]
+        value = measures[:, k, 0]
+        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
+    return out
 
 
 def _window_days(sec, span_days):
@@ -243,6 +293,8 @@ def stage_parameters(spec: ScourSpec, P, inputs):
     for name, slot in NUMERIC.items():
         if slot is not None:
             S[:, slot] = _column(spec, inputs, name, n)
+    for name, value in spec.conventions.items():
+        S[:, CHOICES[name]] = cfg.SCHEMA[f"scour.{name}"].pack(value)
     return S, _column(spec, inputs, "hs_scale", n)
 
 
@@ -320,6 +372,10 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
     stats = scour_statistics(
         measures, time_to, mobile, codes, spec.lead_times_days, spec.burial_levels, class_basis=class_basis
     )
+    ok = codes == 0
+    stats["scour_mobile_fraction_by_lead_time"] = V.variable("scour_mobile_fraction_by_lead_time").data_array(
+        mobile_by_lead_time(mobile[ok], spec.lead_times_days)
+    )
     parts = [ds, stats]
     if per_drop:
         data = {
@@ -342,6 +398,15 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
         attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     out.attrs = attrs
     return out
+
+
+def mobile_by_lead_time(mobile_days, lead_days) -> np.ndarray:
+    """Share of the drops (``mobile_days``: each one's first time flagged mobile [d], inf never)
+    flagged mobile by each lead time [d] (the figure's mobile line); NaN without drops."""
+    m = np.asarray(mobile_days, dtype=np.float64)
+    if not m.size:
+        return np.full(len(lead_days), np.nan)
+    return (m[:, None] <= np.asarray(lead_days, dtype=np.float64)[None, :]).mean(axis=0)
 
 
 def summary_lines(ds) -> list[str]:

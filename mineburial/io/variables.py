@@ -623,6 +623,16 @@ def _scour_variables() -> list[Variable]:
             group="statistics",
         ),
         Variable(
+            "scour_mobile_fraction_by_lead_time",
+            ("lead_time",),
+            "float64",
+            "1",
+            "share of drops flagged mobile by the lead time",
+            "Fraction of the drops whose scour stage ran that were first flagged mobile (Rennie et al. "
+            "2017 threshold) at or before each lead time; at the forcing's end it is scour_mobile_fraction.",
+            group="statistics",
+        ),
+        Variable(
             "scour_mobile_time",
             ("realization",),
             "float64",

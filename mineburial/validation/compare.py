@@ -19,6 +19,14 @@ Intervals: means +- z standard errors (normal approximation, z for 95 %); class
 probabilities with the Wilson score interval (as ``mineburial run``); paired
 differences to the first variant over the drops in the statistics of both, mean +- z
 standard errors of the per-drop differences.
+
+Burial after scour (issue 20): with a ``[scour]`` section every variant runs the post-impact
+stage and the compared burial measures are those at **one lead time** (``--lead-time DAYS``,
+default the section's last; :func:`mineburial.ensembles.scour.at_lead_time`), as in
+``mineburial sensitivity``: a drop whose stage did not give a value keeps its impact measures.
+A ``scour.*`` field may be varied (``--vary scour.orbital=spectral,hs``): it changes no packed
+impact parameter, and the sampled inputs of the stage are checked equal across variants like
+every other.
 """
 
 from __future__ import annotations
@@ -37,7 +45,7 @@ from scipy.special import ndtri
 
 from mineburial import config as cfg
 from mineburial._version import __version__
-from mineburial.ensembles import engine, runner
+from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
@@ -175,6 +183,8 @@ def _random_slots(spec: engine.EnsembleSpec) -> set[int]:
             slots.add(layout.P_SED_PROFILE)
         elif path in engine._ANGLE_FIELDS:
             slots.update(range(layout.P_Q00, layout.P_Q30 + 1))
+        elif path.startswith("scour."):  # the stage's own inputs: no impact slot
+            continue
         else:
             slots.add(layout.INDEX[cfg.ALIASES.get(path, path)])
     if spec.recompute_inertia:
@@ -189,15 +199,17 @@ def _differs(a, b):
 # ---------------------------------------------------------------------------
 # the comparison
 # ---------------------------------------------------------------------------
-def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
-    """``(field, base spec, variant specs)`` of a comparison, every request checked."""
+def _plan(scenario, field, values, *, n=None, seed=None, sampling=None, lead_time=None):
+    """``(field, base spec, variant specs)`` of a comparison, every request checked; with a
+    ``[scour]`` section every spec's stage reports the one lead time compared."""
     field = SHORT_NAMES.get(field, field)
     if values is None or len(values) < 2:
         raise ComparisonError("compare needs at least two values of the varied field")
     if field.startswith("ensemble."):
         raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
-    base = engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False)
-    engine.refuse_scour(base, "compare")
+    base = scour.at_lead_time(
+        engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False), lead_time
+    )
     loc = _location(field)
     if field in base.random or loc in base.random:
         raise ComparisonError(
@@ -209,13 +221,15 @@ def _plan(scenario, field, values, *, n=None, seed=None, sampling=None):
     # the variants' file names are resolved like the scenario's own: against its folder
     path = scenario if isinstance(scenario, (str, os.PathLike)) else None
     base_dir = pathlib.Path(path).resolve().parent if path is not None else None
-    return field, base, [_variant_spec(base, field, v, base.n, base.seed, base_dir) for v in values]
+    lead = None if base.scour is None else base.scour.lead_times_days[0]
+    variants = [_variant_spec(base, field, v, base.n, base.seed, base_dir) for v in values]
+    return field, base, [scour.at_lead_time(spec, lead) for spec in variants]
 
 
-def comparison_inputs(scenario, field, values, *, n=None, seed=None) -> list:
+def comparison_inputs(scenario, field, values, *, n=None, seed=None, lead_time=None) -> list:
     """The files a comparison reads: the scenario file, the files it names and those the
     varied values name (``--vary sediment.file=a.csv,b.csv``)."""
-    _, base, specs = _plan(scenario, field, values, n=n, seed=seed)
+    _, base, specs = _plan(scenario, field, values, n=n, seed=seed, lead_time=lead_time)
     return runner.input_paths(scenario, base) + [
         pathlib.Path(f) for spec in specs for f, _ in spec.input_files
     ]
@@ -234,6 +248,7 @@ def run_comparison(
     confidence_level: float = 0.95,
     client=None,
     output_run=None,
+    lead_time: float | None = None,
 ) -> xr.Dataset:
     """Run the same sampled drops under ``field = value`` for each of ``values``.
 
@@ -246,9 +261,12 @@ def run_comparison(
     differences to the first variant, per-drop penetration, burial and status) and the
     sampled inputs once along ``realization``. Raises :class:`ComparisonError` for a
     field that is random in the scenario or a value the scenario rejects, and
-    ``RuntimeError`` if the sampled inputs were not identical across variants.
+    ``RuntimeError`` if the sampled inputs were not identical across variants. With a
+    ``[scour]`` section the burial measures are those after the stage at ``lead_time`` days.
     """
-    field, base, specs = _plan(scenario, field, values, n=n, seed=seed, sampling=sampling)
+    field, base, specs = _plan(
+        scenario, field, values, n=n, seed=seed, sampling=sampling, lead_time=lead_time
+    )
     threads = runner.check_threads(threads, "--threads")
     refusal = memory_refusal(  # every variant keeps its per-drop values, as one run does
         len(specs) * runner.memory_needed(specs[0]),
@@ -269,6 +287,11 @@ def run_comparison(
     summaries = [np.concatenate([r["summary"] for r in c]) for c in chunks]
     statuses = [np.concatenate([r["status"] for r in c]) for c in chunks]
     inputs = _same_inputs(chunks)
+    if base.scour is not None:
+        summaries = [
+            scour.after_scour(s, np.concatenate([r["scour:measures"] for r in c]))
+            for s, c in zip(summaries, chunks)
+        ]
     ds = _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level)
     ds.attrs.update(
         {
@@ -286,7 +309,21 @@ def run_comparison(
             "elapsed_seconds": float(elapsed),
         }
     )
+    if base.scour is not None:
+        _scour_attrs(ds, base.scour.lead_times_days[0], chunks, values)
     return ds
+
+
+def _scour_attrs(ds, lead, chunks, values) -> None:
+    """The lead time compared and each variant's count of scour statuses, in ``ds.attrs``."""
+    ds.attrs["title"] += f", burial after scour at lead time {lead:g} d"
+    ds.attrs["lead_time_days"] = lead
+    counts = []
+    for value, c in zip(values, chunks):
+        codes = np.bincount(np.concatenate([r["scour:status"] for r in c]).astype(np.int64))
+        named = ", ".join(f"{V.SCOUR_STATUS_NAMES[k]} {int(n)}" for k, n in enumerate(codes) if n)
+        counts.append(f"{value}: {named}")
+    ds.attrs["scour_status_counts"] = "; ".join(counts)
 
 
 def _changed_parameters(specs, values) -> list[set]:
@@ -617,7 +654,10 @@ def run_compare_cli(args) -> int:
     """``mineburial compare``."""
     runner.check_threads(args.threads, "--threads")
     field, values = parse_vary(args.vary)
-    inputs = comparison_inputs(args.scenario, field, values, n=args.drops, seed=args.seed)
+    lead_time = getattr(args, "lead_time", None)
+    inputs = comparison_inputs(
+        args.scenario, field, values, n=args.drops, seed=args.seed, lead_time=lead_time
+    )
     with cli_output(args, inputs) as out, cli_client(args) as client:
         ds = run_comparison(
             args.scenario,
@@ -629,12 +669,15 @@ def run_compare_cli(args) -> int:
             progress=not args.quiet,
             client=client,
             output_run=out,
+            lead_time=lead_time,
         )
         print(ds.attrs["title"])
         print(
             f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
             f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
         )
+        if ds.attrs.get("scour_status_counts"):
+            print(f"scour stage: {ds.attrs['scour_status_counts']} (scour_status; docs/scour.md)")
         print(comparison_table(ds))
         if out is not None:
             out.commit(_for_netcdf(ds))

@@ -59,7 +59,8 @@ from scipy import stats
 
 from mineburial._version import __version__
 from mineburial.config import ScenarioError
-from mineburial.ensembles import engine, model_form, runner, scour
+from mineburial.ensembles import engine, model_form, runner
+from mineburial.ensembles.scour import after_scour, at_lead_time
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
 from mineburial.kernels import layout
@@ -313,31 +314,6 @@ class DesignSpec(engine.EnsembleSpec):
         return super().identity_items() + [("design", recipe)]
 
 
-def at_lead_time(spec: engine.EnsembleSpec, lead_time: float | None) -> engine.EnsembleSpec:
-    """``spec`` whose scour stage gives its burial measures at the one lead time [d] analysed:
-    ``lead_time``, or the section's last lead time (the end of each drop's window of the
-    forcing when the section names none). Without a ``[scour]`` section the outputs are the
-    impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
-    outside [0, the forcing's span or ``scour.window_days``]."""
-    if spec.scour is None:
-        if lead_time is not None:
-            raise ScenarioError(
-                f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
-                "impact's (give a [scour] section, or leave --lead-time out)"
-            )
-        return spec
-    longest = scour.longest_lead_days(spec.scour.forcing, spec.scour.window_days)
-    if lead_time is None:
-        lead_time = spec.scour.lead_times_days[-1] if spec.scour.lead_times_days else longest
-    elif not (0.0 <= lead_time <= longest):
-        what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
-        raise ScenarioError(
-            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
-        )
-    stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
-    return dataclasses.replace(spec, scour=stage)
-
-
 def run_sensitivity(
     scenario=None,
     n: int = 256,
@@ -390,7 +366,7 @@ def run_sensitivity(
         if spec.scour is not None:
             codes = np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64)
             scour_counts[:] = np.bincount(codes, minlength=len(scour_counts))
-            summary = _after_scour(summary, np.concatenate([r["scour:measures"] for r in chunks]))
+            summary = after_scour(summary, np.concatenate([r["scour:measures"] for r in chunks]))
         return _outputs(summary, spec.class_basis)
 
     t0 = time.monotonic()
@@ -419,18 +395,6 @@ def run_sensitivity(
         }
     )
     return ds
-
-
-def _after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
-    """``summary`` with its burial measures replaced by the scour stage's at its one lead time
-    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
-    gave a value; a drop without one keeps its impact measures (module docstring)."""
-    out = summary.copy()
-    for k, name in enumerate(V.SCOUR_MEASURES):
-        column = layout.SUMMARY_INDEX[name]
-        value = measures[:, k, 0]
-        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
-    return out
 
 
 def _outputs(summary: np.ndarray, class_basis: str) -> np.ndarray:
