@@ -29,9 +29,11 @@ import time
 from collections.abc import Iterable, Iterator
 from typing import Any
 
+import numba
 import numpy as np
 
 from mineburial.ensembles import engine
+from mineburial.ensembles.distributed import probe_scheduler, run_tasks_distributed
 from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.mine import (  # the mine's report, reached here by its callers
     STEPS_WARNING,
@@ -41,7 +43,7 @@ from mineburial.ensembles.mine import (  # the mine's report, reached here by it
 )
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
-from mineburial.ensembles.store import ChunkStore, OutputRun, RunError
+from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, check_output_path
 from mineburial.resources import memory_refusal
 from mineburial.systems import registry
 
@@ -160,8 +162,6 @@ def check_threads(threads, what: str = "threads") -> int | None:
     """``threads`` as an int in 1..(the cores numba can use), or a RunError."""
     if threads is None:
         return None
-    import numba
-
     cores = int(numba.config.NUMBA_NUM_THREADS)
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= cores:
         raise RunError(
@@ -179,8 +179,6 @@ def numba_threads(threads: int | None):
     if threads is None:
         yield
         return
-    import numba
-
     before = numba.get_num_threads()
     numba.set_num_threads(threads)
     try:
@@ -202,8 +200,6 @@ def connect_scheduler(address: str, timeout: float | None = None):
     client then raises is one line.
     """
     from dask.distributed import Client
-
-    from mineburial.ensembles.distributed import probe_scheduler
 
     timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
     problem = probe_scheduler(address, timeout)
@@ -335,8 +331,6 @@ def run_jobs(
         if len(results[job.tag]) == len(bounds[job.tag]):
             yield job.tag, complete(job.tag)
     if client is not None:
-        from mineburial.ensembles.distributed import run_tasks_distributed
-
         stream = run_tasks_distributed(client, todo)
     else:
         stream = _run_local(todo, threads)
@@ -446,8 +440,6 @@ def _checked(ds, spec, chunks, self_check: bool):
 def run_ensemble_cli(args) -> int:
     """``mineburial run``: the main job. Every check that can be made before computing is
     made first (scenario, output path, threads, scheduler)."""
-    from mineburial.ensembles.store import check_output_path
-
     check_threads(args.threads, "--threads")
     spec = engine.load_ensemble(
         args.scenario,

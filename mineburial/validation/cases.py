@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import pathlib
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -33,6 +34,7 @@ from mineburial.drop import run_params, simulate_drop
 from mineburial.io.forcing import storm_shape
 from mineburial.kernels import layout, status
 from mineburial.kernels import scour as scour_kernels
+from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
 from mineburial.systems import restraint
 from mineburial.validation import references as ref
 
@@ -706,8 +708,6 @@ def _exp1_figures(drops, figures_dir, names=tuple(EXP1)):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
-
     out = []
     for name in names:
         info = EXP1[name]
@@ -1236,7 +1236,6 @@ def run_case(case: Case, quick: bool = False, figures=None) -> list[Row]:
 
 def run_cases(quick: bool = False, figures_dir=None):
     """Run every case group; returns ``(rows, figures)`` with figures as (caption, file)."""
-    import pathlib
 
     figures = FigureList(pathlib.Path(figures_dir)) if figures_dir is not None else None
     rows = []

@@ -22,6 +22,7 @@ import os
 import pathlib
 import time
 
+from mineburial._version import __version__
 from mineburial.validation.cases import CALIBRATION, CASES, KINDS, TIMING_ORIGIN, FigureList, Row, run_case
 
 __all__ = [
@@ -164,7 +165,6 @@ def _kind_tables(rows) -> str:
 
 def run_validation(output, quick: bool = False):
     """Run the cases and write the report into folder ``output``; returns the rows."""
-    from mineburial import __version__
 
     out = pathlib.Path(output)
     out.mkdir(parents=True, exist_ok=True)
