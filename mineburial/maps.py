@@ -34,10 +34,11 @@ import xarray as xr
 
 from mineburial import config as cfg
 from mineburial._version import __version__
-from mineburial.ensembles import engine, runner
+from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
-from mineburial.io.inputs import check_input
+from mineburial.io import forcing as fio
+from mineburial.io.inputs import check_input, read_toml
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
@@ -599,12 +600,130 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # the map
 # ---------------------------------------------------------------------------
 def _cell_statistics(spec, chunks):
-    """Statistics of one cell from its chunk results in drop order."""
+    """Statistics of one cell from its chunk results in drop order: the impact's and, with
+    ``[scour]``, the stage's at each lead time (:func:`mineburial.ensembles.scour.statistics`)."""
     from mineburial.ensembles.statistics import burial_statistics
 
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
-    return burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+    st = burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+    if spec.scour is None:
+        return st
+    return _merged([st, scour.statistics(spec.scour, chunks, spec.class_basis)])
+
+
+def _merged(parts) -> xr.Dataset:
+    """The datasets ``parts`` merged (shared coordinates must agree), encodings kept."""
+    out = xr.merge(parts, combine_attrs="drop_conflicts", compat="no_conflicts", join="exact")
+    for part in parts:
+        for name, da in part.variables.items():
+            out[name].encoding.update(da.encoding)
+    return out
+
+
+def _cell_variables(template) -> tuple:
+    """The statistics copied per cell: :data:`_CELL_VARIABLES` and every variable of the
+    scour stage (with a lead_time, burial_level or scour_status_code axis, or a scalar)."""
+    return _CELL_VARIABLES + tuple(v for v in template.data_vars if str(v).startswith("scour_"))
+
+
+# ---------------------------------------------------------------------------
+# a gridded forcing ([scour] forcing_grid)
+# ---------------------------------------------------------------------------
+def _scenario_raw(scenario):
+    """The scenario as a dict when it is a file or a dict; None otherwise, or when the file
+    cannot be read (engine.load_ensemble then reports it)."""
+    if isinstance(scenario, Mapping):
+        return dict(scenario)
+    if isinstance(scenario, (str, pathlib.Path)):
+        try:
+            return read_toml(pathlib.Path(scenario))
+        except (OSError, ValueError, cfg.ScenarioError):
+            return None
+    return None
+
+
+def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
+    """(gridded forcing on the environment's cells, its record) of ``scour.forcing_grid``:
+    a CF NetCDF (time, y, x) (:func:`mineburial.io.forcing.load_gridded_netcdf`) whose axes
+    are those of the environment grid (same sizes and coordinate values, either order) and
+    whose every water cell of the environment has a forcing; else one line naming the file,
+    the coordinate or the cell."""
+    if not isinstance(value, str):
+        raise MapError(f"scour.forcing_grid = {value!r} must be a NetCDF file path (time, y, x)")
+    path = pathlib.Path(value)
+    if not path.is_absolute() and base_dir is not None:
+        path = pathlib.Path(base_dir) / path
+    where = f"scour.forcing_grid '{path}'"
+    if not path.is_file():
+        raise MapError(f"{where}: no such file")
+    g = fio.load_gridded_netcdf(path)
+    if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
+        g = dataclasses.replace(
+            g,
+            dims=(grid.ydim, grid.xdim),
+            y=g.x,
+            x=g.y,
+            wet=g.wet.T,
+            fields={k: v.transpose(0, 2, 1) for k, v in g.fields.items()},
+        )
+    if g.shape != grid.shape:
+        raise MapError(
+            f"{where}: its grid ({', '.join(g.dims)}) has {g.shape[0]} x {g.shape[1]} cells, the "
+            f"environment grid ({grid.ydim}, {grid.xdim}) {grid.shape[0]} x {grid.shape[1]}; give the "
+            "forcing on the environment's cells"
+        )
+    for name, own, env in ((g.dims[0], g.y, grid.ydim), (g.dims[1], g.x, grid.xdim)):
+        own = np.asarray(own, dtype=np.float64)
+        ref = np.asarray(grid.ds[env].values, dtype=np.float64)
+        bad = np.flatnonzero(~(np.abs(own - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max()))))
+        if bad.size:
+            k = int(bad[0])
+            raise MapError(
+                f"{where}: coordinate '{name}'[{k}] = {own[k]:g} does not match the environment grid's "
+                f"'{env}'[{k}] = {ref[k]:g}; the forcing must be on the environment's cells (same "
+                "coordinates)"
+            )
+    dry = np.argwhere((grid.cell_status() == CELL_COMPUTED) & ~g.wet)
+    if dry.size:
+        j, i = (int(v) for v in dry[0])
+        raise MapError(
+            f"{where}: the wave height is missing at every time at {_cell_label(grid, j, i)}, a water "
+            f"cell of the environment grid ({len(dry)} such cell{'s' * (len(dry) > 1)}); give its "
+            "forcing, or make it land in the grid"
+        )
+    return g, {"forcing_grid_file": str(path), "forcing_grid_sha256": file_digest(path)}
+
+
+def _cell_forcing(raw: dict, gridded, j: int, i: int) -> dict:
+    """``raw`` (a cell's scenario) with its own series of the gridded forcing in
+    ``scour.forcing_grid`` (:class:`mineburial.ensembles.scour.CellForcing`)."""
+    g, record = gridded
+    raw["scour"] = dict(raw["scour"])
+    raw["scour"]["forcing_grid"] = scour.CellForcing(g.cell(j, i), {**record, "forcing_grid_cell": [j, i]})
+    return raw
+
+
+def _load_base(scenario, environment, **settings):
+    """(base ensemble spec, environment grid, gridded forcing and its record or None,
+    the scenario's folder) of a map. With ``scour.forcing_grid`` the base takes the series
+    of the first cell to compute (every cell shares the time axis, which the lead times are
+    checked against), recorded as the grid file alone."""
+    base_dir = None
+    if isinstance(scenario, (str, pathlib.Path)):
+        base_dir = pathlib.Path(scenario).resolve().parent
+    raw = _scenario_raw(scenario)
+    sec = (raw or {}).get("scour")
+    if not (isinstance(sec, Mapping) and "forcing_grid" in sec):
+        base = engine.load_ensemble(scenario, per_drop=False, base_dir=base_dir, **settings)
+        return base, read_environment(environment), None, base_dir
+    grid = read_environment(environment)
+    gridded = _read_forcing_grid(sec["forcing_grid"], base_dir, grid)
+    j, i = (int(v) for v in np.argwhere(grid.cell_status() == CELL_COMPUTED)[0])
+    raw = _cell_forcing(raw, gridded, j, i)
+    raw["scour"]["forcing_grid"] = scour.CellForcing(raw["scour"]["forcing_grid"].forcing, gridded[1])
+    base = engine.load_ensemble(raw, per_drop=False, base_dir=base_dir, **settings)
+    return base, grid, gridded, base_dir
 
 
 def run_map(
@@ -638,19 +757,12 @@ def run_map(
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
-    base_dir = None
-    if isinstance(scenario, (str, pathlib.Path)):
-        base_dir = pathlib.Path(scenario).resolve().parent
-    base = engine.load_ensemble(
-        scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False, base_dir=base_dir
-    )
-    engine.refuse_scour(base, "map")
+    base, grid, gridded, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
-    grid = read_environment(environment)
     status = grid.cell_status()
     ny, nx = grid.shape
-    _check_map_memory(base, status)
+    _check_map_memory(base, status, gridded)
     raw = copy.deepcopy(base.raw)
 
     specs: dict[int, engine.EnsembleSpec] = {}
@@ -660,8 +772,9 @@ def run_map(
                 continue
             k = j * nx + i
             try:
+                cell_raw = cell_scenario(raw, grid, j, i)
                 specs[k] = engine.load_ensemble(
-                    cell_scenario(raw, grid, j, i),
+                    cell_raw if gridded is None else _cell_forcing(cell_raw, gridded, j, i),
                     n=base.n,
                     seed=cell_seed(base.seed, k),
                     sampling=base.sampling,
@@ -674,8 +787,9 @@ def run_map(
                 raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
 
     template = _cell_statistics_template(base)
+    names = _cell_variables(template)
     arrays = {}
-    for name in _CELL_VARIABLES:
+    for name in names:
         da = template[name]
         fill = 0 if da.dtype.kind in "iu" else np.nan
         arrays[name] = np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
@@ -685,7 +799,7 @@ def run_map(
         for k, chunks in stream:
             st = _cell_statistics(specs[k], chunks)
             j, i = divmod(k, nx)
-            for name in _CELL_VARIABLES:
+            for name in names:
                 arrays[name][..., j, i] = st[name].values
             for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
@@ -708,9 +822,12 @@ def run_map(
         return finish()
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
     env_files = ((str(env_path.resolve()), file_digest(env_path)),) if env_path else ()
+    grid_files = [] if gridded is None else [pathlib.Path(gridded[1]["forcing_grid_file"])]
+    env_files += tuple((str(f.resolve()), gridded[1]["forcing_grid_sha256"]) for f in grid_files)
     inputs = (
         runner.input_paths(scenario, base)
         + ([env_path] if env_path else [])
+        + grid_files
         + [pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
     )
     with OutputRun(output, inputs) as out:
@@ -730,11 +847,23 @@ MAP_BYTES_A_COMPUTED_CELL = 20_000
 MAP_BYTES_A_GRID_CELL = 1_000
 
 
-def _check_map_memory(base, status: np.ndarray) -> None:
-    """Refuse, before computing, a map whose cells would not fit in the available memory."""
+def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
+    """Refuse, before computing, a map whose cells would not fit in the available memory: with
+    ``[scour]`` the map's lead-time arrays (three copies: the arrays, the Dataset, the file
+    being written) and a gridded forcing (its fields and each cell's copy) count too."""
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
+    per_grid_cell = MAP_BYTES_A_GRID_CELL
+    if base.scour is not None:
+        template = scour.statistics(base.scour, [], base.class_basis)
+        per_grid_cell += 3 * sum(da.nbytes for da in template.data_vars.values())
+    forcing_bytes = 0
+    if gridded is not None:
+        forcing_bytes = 2 * sum(v.nbytes for v in gridded[0].fields.values())
     need = (
-        n_comp * MAP_BYTES_A_COMPUTED_CELL + status.size * MAP_BYTES_A_GRID_CELL + runner.memory_needed(base)
+        n_comp * MAP_BYTES_A_COMPUTED_CELL
+        + status.size * per_grid_cell
+        + forcing_bytes
+        + runner.memory_needed(base)
     )
     refusal = memory_refusal(
         need,
@@ -752,12 +881,15 @@ def _cell_statistics_template(spec) -> xr.Dataset:
     from mineburial.ensembles.statistics import burial_statistics
     from mineburial.kernels import layout
 
-    return burial_statistics(
+    st = burial_statistics(
         np.empty((0, layout.N_SUMMARY)),
         np.empty(0, dtype=np.int8),
         class_basis=spec.class_basis,
         outputs=MAP_OUTPUTS,
     )
+    if spec.scour is None:
+        return st
+    return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])
 
 
 def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
@@ -830,12 +962,18 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     coords, aux = _horizontal_coords(grid)
     extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
     data: dict[str, xr.DataArray] = {}
-    for name in _CELL_VARIABLES:
+    for name in _cell_variables(template):
         t = template[name]
         attrs = {k: v for k, v in t.attrs.items() if k != "sample_size"}
         attrs.update(extra)
-        attrs["coverage_content_type"] = "qualityInformation" if name == "status_count" else "modelResult"
-        if name.endswith(("_mean", "_std", "_quantile")):
+        quality = name in ("status_count", "scour_status_count")
+        attrs["coverage_content_type"] = "qualityInformation" if quality else "modelResult"
+        if name.startswith("scour_") and not quality:
+            attrs["comment"] = attrs.get("comment", "") + (
+                " Per cell, over the drops of the cell's ensemble whose scour stage ran (scour_status "
+                "ok); NaN on land or where no drop's stage ran."
+            )
+        elif name.endswith(("_mean", "_std", "_quantile")):
             attrs["comment"] = attrs.get("comment", "") + (
                 " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
                 "where no drop came to rest, or (std) where fewer than 2 did."
@@ -968,13 +1106,19 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     if grid.grid_mapping:
         g = grid.ds[grid.grid_mapping]
         data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
-    ds = xr.Dataset(
-        data,
-        coords={**{c: template[c] for c in ("quantile", "impact_burial_class", "status_code")}, **coords},
+    shared = (
+        "quantile",
+        "impact_burial_class",
+        "status_code",
+        "lead_time",
+        "burial_level",
+        "scour_status_code",
     )
+    shared = tuple(c for c in shared if c in template.coords)
+    ds = xr.Dataset(data, coords={**{c: template[c] for c in shared}, **coords})
     for name, da in data.items():
         ds[name].encoding.update(da.encoding)
-    for c in ("quantile", "impact_burial_class", "status_code"):
+    for c in shared:
         ds[c].encoding.update(template[c].encoding)
     ds.attrs = _global_attrs(grid, status, base, version, ncio)
     return ds
@@ -1049,6 +1193,14 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "burial_class_basis": base.class_basis,
         "environment_source": grid.source or "xarray.Dataset",
     }
+    if base.scour is not None:
+        attrs["summary"] += (
+            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
+            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
+            "the times to reach the burial levels and the share of drops flagged mobile."
+        )
+        for key, value in base.scour.forcing_record.items():
+            attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     if grid.geographic:
         lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
         lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
@@ -1253,10 +1405,12 @@ def run_map_cli(args) -> int:
     environment grid, the output and plot paths, the scheduler."""
     from mineburial.ensembles.store import check_output_path
 
-    base = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed, per_drop=False)
+    base, grid, gridded, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
     runner.check_run(base, what="each cell of the map")
-    _check_map_memory(base, read_environment(args.environment).cell_status())
+    _check_map_memory(base, grid.cell_status(), gridded)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
+    if gridded is not None:
+        inputs.append(pathlib.Path(gridded[1]["forcing_grid_file"]))
     check_output_path(args.output, inputs, "-o")
     if args.plot:
         check_plot_path(args.plot, args.output, inputs)

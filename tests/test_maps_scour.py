@@ -1,0 +1,157 @@
+"""Maps with the post-impact scour stage (issue 20): a lead-time axis per cell, one forcing for all
+cells or a gridded forcing (time, y, x), each cell taking its own series.
+
+Independent references: each cell's statistics are those of ``run_ensemble`` of the cell's
+scenario written out by hand, with the cell seed from its documented definition and, for a
+gridded forcing, the cell's own series given to ``run`` as a CSV file (the grid file is built
+from the same CSV series, so the values are the same float64 numbers); the seed contract is
+checked against the map without ``[scour]`` (every impact statistic equal).
+"""
+
+import json
+
+import numpy as np
+import pytest
+from test_maps import SEED, STAT_NAMES, _scenario, cell_reference, expected_seed, uniform_environment
+
+from mineburial.cli import main
+from mineburial.config import dumps_toml
+from mineburial.ensembles.runner import run_ensemble
+from mineburial.io import forcing as fio
+from mineburial.maps import MapError, run_map
+
+N = 4
+LEADS = [0.0, 0.01, 0.5]  # days
+CURRENT = {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2}
+
+
+def forcing_csv(path, hours=12, hs=0.0, u=0.7):
+    """A constant forcing (relative times), written by hand."""
+    rows = ["time_s,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg,water_level_m"]
+    rows += [f"{3600.0 * i},{hs},8.0,270.0,{u},0.0,0.0" for i in range(hours + 1)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def scour_section(forcing):
+    return {"forcing": str(forcing), "lead_times_days": LEADS, "d50": 2.0e-4, "grain_density": 2650.0}
+
+
+def with_scour(d, sec):
+    d = dict(d)
+    d["scour"] = sec
+    return d
+
+
+def cell_run(sec, seed):
+    ref = cell_reference(3.0, {"class": "stiff_clay"}, CURRENT)
+    return run_ensemble(with_scour(ref, sec), n=N, seed=seed)
+
+
+SCOUR_NAMES = (
+    "scour_burial_class_probability",
+    "scour_burial_class_probability_lower",
+    "scour_burial_class_probability_upper",
+    "scour_burial_volume_mean",
+    "scour_burial_volume_quantile",
+    "scour_height_proud_mean",
+    "scour_time_to_level_quantile",
+    "scour_mobile_fraction",
+    "scour_status_count",
+)
+
+
+@pytest.fixture(scope="module")
+def maps(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("scourmap")
+    sec = scour_section(forcing_csv(tmp / "const.csv"))
+    plain = run_map(_scenario(), uniform_environment(), n=N, seed=SEED)
+    scoured = run_map(with_scour(_scenario(), sec), uniform_environment(), n=N, seed=SEED)
+    return tmp, sec, plain, scoured
+
+
+def test_map_with_scour_keeps_every_impact_statistic_of_the_map_without(maps):
+    _, _, plain, scoured = maps
+    for name in STAT_NAMES + ("cell_seed", "most_likely_burial_class"):
+        assert np.array_equal(plain[name].values, scoured[name].values, equal_nan=True), name
+    assert not [v for v in plain.variables if str(v).startswith("scour_")]
+
+
+def test_each_cell_holds_the_scour_statistics_of_its_single_run(maps):
+    _, sec, _, ds = maps
+    assert list(ds["lead_time"].values) == LEADS
+    assert ds["lead_time"].attrs["standard_name"] == "forecast_period"
+    assert ds["scour_burial_class_probability"].dims == (
+        "lead_time",
+        "impact_burial_class",
+        "latitude",
+        "longitude",
+    )
+    nx = ds.sizes["longitude"]
+    for j, i in ((0, 0), (1, 1)):
+        ref = cell_run(sec, expected_seed(SEED, j * nx + i))
+        for name in SCOUR_NAMES:
+            got = ds[name].values[..., j, i]
+            assert np.array_equal(got, ref[name].values, equal_nan=True), (name, j, i)
+    land = ds["scour_burial_volume_mean"].values[:, 1, 0]
+    assert np.all(np.isnan(land)) and ds["scour_status_count"].values[:, 1, 0].sum() == 0
+    assert ds.attrs["forcing_file"] == sec["forcing"]
+    assert json.loads(ds.attrs["scenario"])["scour"]["lead_times_days"] == LEADS
+
+
+def test_cells_are_bit_identical_for_any_chunking(maps):
+    _, sec, _, ds = maps
+    other = run_map(with_scour(_scenario(), sec), uniform_environment(), n=N, seed=SEED, chunk_size=1)
+    for name in SCOUR_NAMES:
+        assert np.array_equal(ds[name].values, other[name].values, equal_nan=True), name
+
+
+def grid_series(tmp, env):
+    """Per water cell its own constant series (a calm cell, a weak and a strong current), as CSV
+    files and as the gridded NetCDF built from the same numbers; the land cell dry."""
+    speeds = {(0, 0): 0.0, (0, 1): 0.3, (1, 1): 0.9}
+    files = {c: forcing_csv(tmp / f"cell{c[0]}{c[1]}.csv", u=u) for c, u in speeds.items()}
+    cells = [[fio.load_csv(files[(j, i)]) if (j, i) in files else None for i in range(2)] for j in range(2)]
+    path = fio.write_gridded_netcdf(cells, env["latitude"], env["longitude"], tmp / "grid.nc")
+    return files, path
+
+
+def test_gridded_forcing_gives_each_cell_its_own_series(tmp_path):
+    env = uniform_environment()
+    files, grid = grid_series(tmp_path, env)
+    sec = {k: v for k, v in scour_section(files[(0, 0)]).items() if k != "forcing"}
+    ds = run_map(with_scour(_scenario(), dict(sec, forcing_grid=str(grid))), env, n=N, seed=SEED)
+    for (j, i), csv in files.items():
+        ref = cell_run(dict(sec, forcing=str(csv)), expected_seed(SEED, j * 2 + i))
+        for name in SCOUR_NAMES:
+            assert np.array_equal(ds[name].values[..., j, i], ref[name].values, equal_nan=True), (name, j, i)
+    # the calm cell keeps its impact burial; the strong current buries deeper by the last lead time
+    mean = ds["scour_burial_volume_mean"].values
+    assert mean[-1, 0, 0] == mean[0, 0, 0] and mean[-1, 1, 1] > mean[0, 1, 1]
+    assert ds.attrs["forcing_grid_file"] == str(grid)
+
+
+def test_gridded_forcing_on_another_grid_is_one_line_exit_2(tmp_path, capsys):
+    env = uniform_environment()
+    env_path = tmp_path / "env.nc"
+    env.to_netcdf(env_path)
+    files, _ = grid_series(tmp_path, env)
+    shifted = env["longitude"] + 0.5
+    cells = [[fio.load_csv(files[(0, 0)])] * 2] * 2
+    bad = fio.write_gridded_netcdf(cells, env["latitude"], shifted, tmp_path / "shifted.nc")
+    sec = {"forcing_grid": str(bad), "lead_times_days": LEADS}
+    with pytest.raises(MapError, match=r"coordinate 'longitude'\[0\] = .* does not match the environment"):
+        run_map(with_scour(_scenario(), sec), env, n=N, seed=SEED)
+    dry = fio.write_gridded_netcdf(
+        [[cells[0][0], None], [None, cells[0][0]]], env["latitude"], env["longitude"], tmp_path / "dry.nc"
+    )
+    scen = tmp_path / "s.toml"
+    scen.write_text(dumps_toml(with_scour(_scenario(), dict(sec, forcing_grid=str(dry)))))
+    out = tmp_path / "map.nc"
+    assert main(["map", str(scen), "--environment", str(env_path), "-o", str(out), "-n", "2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "missing at every time at cell (0, 1)" in err and "dry.nc" in err
+    assert not out.exists()
+    assert main(["run", str(scen), "-o", str(out), "-n", "2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "read by `mineburial map` only" in err
