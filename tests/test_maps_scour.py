@@ -12,6 +12,8 @@ import json
 
 import numpy as np
 import pytest
+import rasterio
+import xarray as xr
 from test_maps import SEED, STAT_NAMES, _scenario, cell_reference, expected_seed, uniform_environment
 
 from mineburial.cli import main
@@ -66,7 +68,8 @@ def maps(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("scourmap")
     sec = scour_section(forcing_csv(tmp / "const.csv"))
     plain = run_map(_scenario(), uniform_environment(), n=N, seed=SEED)
-    scoured = run_map(with_scour(_scenario(), sec), uniform_environment(), n=N, seed=SEED)
+    # one drop a chunk here; the CLI test's map has the default chunking and must be equal
+    scoured = run_map(with_scour(_scenario(), sec), uniform_environment(), n=N, seed=SEED, chunk_size=1)
     return tmp, sec, plain, scoured
 
 
@@ -99,13 +102,6 @@ def test_each_cell_holds_the_scour_statistics_of_its_single_run(maps):
     assert json.loads(ds.attrs["scenario"])["scour"]["lead_times_days"] == LEADS
 
 
-def test_cells_are_bit_identical_for_any_chunking(maps):
-    _, sec, _, ds = maps
-    other = run_map(with_scour(_scenario(), sec), uniform_environment(), n=N, seed=SEED, chunk_size=1)
-    for name in SCOUR_NAMES:
-        assert np.array_equal(ds[name].values, other[name].values, equal_nan=True), name
-
-
 def grid_series(tmp, env):
     """Per water cell its own constant series (a calm cell, a weak and a strong current), as CSV
     files and as the gridded NetCDF built from the same numbers; the land cell dry."""
@@ -121,7 +117,8 @@ def test_gridded_forcing_gives_each_cell_its_own_series(tmp_path):
     files, grid = grid_series(tmp_path, env)
     sec = {k: v for k, v in scour_section(files[(0, 0)]).items() if k != "forcing"}
     ds = run_map(with_scour(_scenario(), dict(sec, forcing_grid=str(grid))), env, n=N, seed=SEED)
-    for (j, i), csv in files.items():
+    for j, i in ((0, 0), (1, 1)):
+        csv = files[(j, i)]
         ref = cell_run(dict(sec, forcing=str(csv)), expected_seed(SEED, j * 2 + i))
         for name in SCOUR_NAMES:
             assert np.array_equal(ds[name].values[..., j, i], ref[name].values, equal_nan=True), (name, j, i)
@@ -155,3 +152,33 @@ def test_gridded_forcing_on_another_grid_is_one_line_exit_2(tmp_path, capsys):
     assert main(["run", str(scen), "-o", str(out), "-n", "2"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "read by `mineburial map` only" in err
+
+
+def test_cli_map_draws_lead_time_panels_and_writes_the_geotiff_after_scour(maps, capsys):
+    tmp, sec, _, ds = maps
+    env = tmp / "env.nc"
+    uniform_environment().to_netcdf(env)
+    scen = tmp / "scour.toml"
+    scen.write_text(dumps_toml(with_scour(_scenario(), sec)))
+    out, png, tif = tmp / "map.nc", tmp / "map.png", tmp / "map.tif"
+    args = ["map", str(scen), "--environment", str(env), "-o", str(out), "-n", str(N), "--seed", str(SEED)]
+    # checked before computing: a lead time the map does not have, for the panels and the GeoTIFF
+    for bad in (["--plot", str(png), "--lead-times", "0,7"], ["--geotiff", str(tif), "--lead-time", "7"]):
+        assert main(args + bad) == 2
+        err = capsys.readouterr().err.strip()
+        assert (
+            len(err.splitlines()) == 1
+            and "7 d is not a lead time of the map; choose among 0, 0.01, 0.5" in err
+        )
+        assert not out.exists()
+    extra = ["--plot", str(png), "--lead-times", "0,0.5", "--geotiff", str(tif), "--lead-time", "0.5"]
+    assert main(args + extra + ["--class", "0", "--quiet"]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with rasterio.open(tif) as r:
+        band = r.read(1)
+    want = ds["scour_burial_class_probability"].values[-1, 0][::-1]  # north up
+    np.testing.assert_allclose(band[np.isfinite(band)], want[np.isfinite(want)], rtol=1e-6)
+    assert np.isnan(band[0, 0])  # the land cell (1, 0) is in the north-west
+    with xr.open_dataset(out) as written:  # default chunking: the same cells as one drop a chunk
+        for name in SCOUR_NAMES:
+            assert np.array_equal(written[name].values, ds[name].values, equal_nan=True), name
