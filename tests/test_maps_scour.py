@@ -182,3 +182,23 @@ def test_cli_map_draws_lead_time_panels_and_writes_the_geotiff_after_scour(maps,
     with xr.open_dataset(out) as written:  # default chunking: the same cells as one drop a chunk
         for name in SCOUR_NAMES:
             assert np.array_equal(written[name].values, ds[name].values, equal_nan=True), name
+
+
+def test_memory_check_counts_the_lead_time_arrays(tmp_path, monkeypatch):
+    from mineburial import maps
+    from mineburial.ensembles import engine
+
+    needs = []
+    monkeypatch.setattr(maps, "memory_refusal", lambda need, *a, **k: needs.append(need))
+    status = np.zeros((3, 4), dtype=np.int8)
+    sec = scour_section(forcing_csv(tmp_path / "f.csv"))
+    for d in (_scenario(), with_scour(_scenario(), sec)):
+        maps._check_map_memory(engine.load_ensemble(d, n=N), status)
+    # per grid cell and lead time: 5 measures x (mean + 5 quantiles) + 4 class arrays x 5 classes;
+    # per cell: 2 levels x 5 time quantiles + 2 reached fractions + 1 mobile share + 5 status
+    # counts; 8 bytes each, three copies; plus the stage's per-drop values in flight
+    lead_bytes = 8 * (len(LEADS) * (5 * 6 + 4 * 5) + 2 * 5 + 2 + 1 + 5)
+    per_drop = 8 * (5 * len(LEADS) + 2 + 1) + 1
+    extra = needs[1] - needs[0]
+    assert extra >= 3 * lead_bytes * status.size
+    assert extra <= 3 * lead_bytes * status.size + 4 * per_drop * N
