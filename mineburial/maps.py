@@ -599,17 +599,19 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 # the map
 # ---------------------------------------------------------------------------
-def _cell_statistics(spec, chunks):
-    """Statistics of one cell from its chunk results in drop order: the impact's and, with
-    ``[scour]``, the stage's at each lead time (:func:`mineburial.ensembles.scour.statistics`)."""
+def _cell_statistics(spec, chunks) -> dict:
+    """Statistics of one cell from its chunk results in drop order, name -> values: the
+    impact's and, with ``[scour]``, the stage's at each lead time
+    (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    and a merge per cell cost more than the stage (measured, benchmarks/bench_map_scour.py)."""
     from mineburial.ensembles.statistics import burial_statistics
 
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
-    st = burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
-    if spec.scour is None:
-        return st
-    return _merged([st, scour.statistics(spec.scour, chunks, spec.class_basis)])
+    parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
+    if spec.scour is not None:
+        parts.append(scour.statistics(spec.scour, chunks, spec.class_basis))
+    return {name: v.values for part in parts for name, v in part.variables.items()}
 
 
 def _merged(parts) -> xr.Dataset:
@@ -800,7 +802,7 @@ def run_map(
             st = _cell_statistics(specs[k], chunks)
             j, i = divmod(k, nx)
             for name in names:
-                arrays[name][..., j, i] = st[name].values
+                arrays[name][..., j, i] = st[name]
             for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
 
