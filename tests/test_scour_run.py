@@ -298,19 +298,12 @@ def test_storm_start_as_a_toml_datetime_or_with_z_is_the_same_utc_instant():
         assert storm_series(2.0, 9.0, 24.0, start=start).start == want, start
 
 
-@pytest.mark.parametrize("command", ["compare", "map"])
+@pytest.mark.parametrize("command", ["compare"])
 def test_commands_without_the_stage_refuse_a_scour_section(tmp_path, capsys, no_computing, command):
     """Regression (review): map and compare ran or ignored [scour] silently (sensitivity runs the
-    stage: tests/test_scour_sensitivity.py)."""
-    from mineburial.synthetic import synthetic_environment
-
+    stage: tests/test_scour_sensitivity.py; map runs it: tests/test_maps_scour.py)."""
     path = scenario(tmp_path, scour_section(tmp_path))
-    extra = {
-        "compare": ["--vary", "sediment.resistance=bearing,delta", "-n", "4"],
-        "map": ["--environment", str(tmp_path / "env.nc"), "-n", "4"],
-    }[command]
-    if command == "map":
-        synthetic_environment(ny=2, nx=2, seed=1).to_netcdf(tmp_path / "env.nc")
+    extra = ["--vary", "sediment.resistance=bearing,delta", "-n", "4"]
     assert main([command, str(path), *extra, "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and f"[scour]: `mineburial {command}` does not run" in err, err
