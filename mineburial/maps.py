@@ -603,7 +603,8 @@ def _cell_statistics(spec, chunks) -> dict:
     """Statistics of one cell from its chunk results in drop order, name -> values: the
     impact's and, with ``[scour]``, the stage's at each lead time
     (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
-    and a merge per cell cost more than the stage (measured, benchmarks/bench_map_scour.py)."""
+    and a merge per cell cost about as much as the stage of 20 drops (measured with
+    benchmarks/bench_map_scour.py)."""
     from mineburial.ensembles.statistics import burial_statistics
 
     summary = np.concatenate([r["summary"] for r in chunks])
@@ -722,8 +723,7 @@ def _load_base(scenario, environment, **settings):
     grid = read_environment(environment)
     gridded = _read_forcing_grid(sec["forcing_grid"], base_dir, grid)
     j, i = (int(v) for v in np.argwhere(grid.cell_status() == CELL_COMPUTED)[0])
-    raw = _cell_forcing(raw, gridded, j, i)
-    raw["scour"]["forcing_grid"] = scour.CellForcing(raw["scour"]["forcing_grid"].forcing, gridded[1])
+    raw = dict(raw, scour=dict(sec, forcing_grid=scour.CellForcing(gridded[0].cell(j, i), gridded[1])))
     base = engine.load_ensemble(raw, per_drop=False, base_dir=base_dir, **settings)
     return base, grid, gridded, base_dir
 

@@ -8,6 +8,7 @@ from the same CSV series, so the values are the same float64 numbers); the seed 
 checked against the map without ``[scour]`` (every impact statistic equal).
 """
 
+import hashlib
 import json
 
 import numpy as np
@@ -116,7 +117,8 @@ def test_gridded_forcing_gives_each_cell_its_own_series(tmp_path):
     env = uniform_environment()
     files, grid = grid_series(tmp_path, env)
     sec = {k: v for k, v in scour_section(files[(0, 0)]).items() if k != "forcing"}
-    ds = run_map(with_scour(_scenario(), dict(sec, forcing_grid=str(grid))), env, n=N, seed=SEED)
+    scen = with_scour(_scenario(), dict(sec, forcing_grid=str(grid)))
+    ds = run_map(scen, env, n=N, seed=SEED, output=tmp_path / "map.nc")  # through the chunk store
     for j, i in ((0, 0), (1, 1)):
         csv = files[(j, i)]
         ref = cell_run(dict(sec, forcing=str(csv)), expected_seed(SEED, j * 2 + i))
@@ -126,6 +128,8 @@ def test_gridded_forcing_gives_each_cell_its_own_series(tmp_path):
     mean = ds["scour_burial_volume_mean"].values
     assert mean[-1, 0, 0] == mean[0, 0, 0] and mean[-1, 1, 1] > mean[0, 1, 1]
     assert ds.attrs["forcing_grid_file"] == str(grid)
+    assert ds.attrs["forcing_grid_sha256"] == hashlib.sha256(grid.read_bytes()).hexdigest()
+    assert not (tmp_path / "map.nc.parts").exists()
 
 
 def test_gridded_forcing_on_another_grid_is_one_line_exit_2(tmp_path, capsys):
