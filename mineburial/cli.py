@@ -211,6 +211,24 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("-n", "--drops", type=int, default=None, help="drops per cell")
     mp.add_argument("--seed", type=int, default=None)
     mp.add_argument("--plot", default=None, help="also draw the map to this image (.png, .pdf, .svg, ...)")
+    mp.add_argument(
+        "--lead-times",
+        default=None,
+        help="with [scour] and --plot: one panel per lead time, days (e.g. 0,1,4)",
+    )
+    mp.add_argument(
+        "--geotiff", default=None, help="also write a class probability as GeoTIFF (needs rioxarray)"
+    )
+    mp.add_argument(
+        "--lead-time", type=float, default=None, help="with --geotiff: after scour at this lead time, days"
+    )
+    mp.add_argument(
+        "--class",
+        dest="burial_class",
+        type=int,
+        default=4,
+        help="burial class 0..4 of --geotiff/--lead-times",
+    )
     mp.add_argument("--scheduler", default=None)
     mp.add_argument("--quiet", action="store_true")
     mp.set_defaults(func=_cmd_map)

@@ -34,10 +34,11 @@ import xarray as xr
 
 from mineburial import config as cfg
 from mineburial._version import __version__
-from mineburial.ensembles import engine, runner
+from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
-from mineburial.io.inputs import check_input
+from mineburial.io import forcing as fio
+from mineburial.io.inputs import check_input, read_toml
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
@@ -598,13 +599,133 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 # the map
 # ---------------------------------------------------------------------------
-def _cell_statistics(spec, chunks):
-    """Statistics of one cell from its chunk results in drop order."""
+def _cell_statistics(spec, chunks) -> dict:
+    """Statistics of one cell from its chunk results in drop order, name -> values: the
+    impact's and, with ``[scour]``, the stage's at each lead time
+    (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    and a merge per cell cost about as much as the stage of 20 drops (measured with
+    benchmarks/bench_map_scour.py)."""
     from mineburial.ensembles.statistics import burial_statistics
 
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
-    return burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)
+    parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
+    if spec.scour is not None:
+        parts.append(scour.statistics(spec.scour, chunks, spec.class_basis))
+    return {name: v.values for part in parts for name, v in part.variables.items()}
+
+
+def _merged(parts) -> xr.Dataset:
+    """The datasets ``parts`` merged (shared coordinates must agree), encodings kept."""
+    out = xr.merge(parts, combine_attrs="drop_conflicts", compat="no_conflicts", join="exact")
+    for part in parts:
+        for name, da in part.variables.items():
+            out[name].encoding.update(da.encoding)
+    return out
+
+
+def _cell_variables(template) -> tuple:
+    """The statistics copied per cell: :data:`_CELL_VARIABLES` and every variable of the
+    scour stage (with a lead_time, burial_level or scour_status_code axis, or a scalar)."""
+    return _CELL_VARIABLES + tuple(v for v in template.data_vars if str(v).startswith("scour_"))
+
+
+# ---------------------------------------------------------------------------
+# a gridded forcing ([scour] forcing_grid)
+# ---------------------------------------------------------------------------
+def _scenario_raw(scenario):
+    """The scenario as a dict when it is a file or a dict; None otherwise, or when the file
+    cannot be read (engine.load_ensemble then reports it)."""
+    if isinstance(scenario, Mapping):
+        return dict(scenario)
+    if isinstance(scenario, (str, pathlib.Path)):
+        try:
+            return read_toml(pathlib.Path(scenario))
+        except (OSError, ValueError, cfg.ScenarioError):
+            return None
+    return None
+
+
+def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
+    """(gridded forcing on the environment's cells, its record) of ``scour.forcing_grid``:
+    a CF NetCDF (time, y, x) (:func:`mineburial.io.forcing.load_gridded_netcdf`) whose axes
+    are those of the environment grid (same sizes and coordinate values, either order) and
+    whose every water cell of the environment has a forcing; else one line naming the file,
+    the coordinate or the cell."""
+    if not isinstance(value, str):
+        raise MapError(f"scour.forcing_grid = {value!r} must be a NetCDF file path (time, y, x)")
+    path = pathlib.Path(value)
+    if not path.is_absolute() and base_dir is not None:
+        path = pathlib.Path(base_dir) / path
+    where = f"scour.forcing_grid '{path}'"
+    if not path.is_file():
+        raise MapError(f"{where}: no such file")
+    g = fio.load_gridded_netcdf(path)
+    if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
+        g = dataclasses.replace(
+            g,
+            dims=(grid.ydim, grid.xdim),
+            y=g.x,
+            x=g.y,
+            wet=g.wet.T,
+            fields={k: v.transpose(0, 2, 1) for k, v in g.fields.items()},
+        )
+    if g.shape != grid.shape:
+        raise MapError(
+            f"{where}: its grid ({', '.join(g.dims)}) has {g.shape[0]} x {g.shape[1]} cells, the "
+            f"environment grid ({grid.ydim}, {grid.xdim}) {grid.shape[0]} x {grid.shape[1]}; give the "
+            "forcing on the environment's cells"
+        )
+    for name, own, env in ((g.dims[0], g.y, grid.ydim), (g.dims[1], g.x, grid.xdim)):
+        own = np.asarray(own, dtype=np.float64)
+        ref = np.asarray(grid.ds[env].values, dtype=np.float64)
+        bad = np.flatnonzero(~(np.abs(own - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max()))))
+        if bad.size:
+            k = int(bad[0])
+            raise MapError(
+                f"{where}: coordinate '{name}'[{k}] = {own[k]:g} does not match the environment grid's "
+                f"'{env}'[{k}] = {ref[k]:g}; the forcing must be on the environment's cells (same "
+                "coordinates)"
+            )
+    dry = np.argwhere((grid.cell_status() == CELL_COMPUTED) & ~g.wet)
+    if dry.size:
+        j, i = (int(v) for v in dry[0])
+        raise MapError(
+            f"{where}: the wave height is missing at every time at {_cell_label(grid, j, i)}, a water "
+            f"cell of the environment grid ({len(dry)} such cell{'s' * (len(dry) > 1)}); give its "
+            "forcing, or make it land in the grid"
+        )
+    return g, {"forcing_grid_file": str(path), "forcing_grid_sha256": file_digest(path)}
+
+
+def _cell_forcing(raw: dict, gridded, j: int, i: int) -> dict:
+    """``raw`` (a cell's scenario) with its own series of the gridded forcing in
+    ``scour.forcing_grid`` (:class:`mineburial.ensembles.scour.CellForcing`)."""
+    g, record = gridded
+    raw["scour"] = dict(raw["scour"])
+    raw["scour"]["forcing_grid"] = scour.CellForcing(g.cell(j, i), {**record, "forcing_grid_cell": [j, i]})
+    return raw
+
+
+def _load_base(scenario, environment, **settings):
+    """(base ensemble spec, environment grid, gridded forcing and its record or None,
+    the scenario's folder) of a map. With ``scour.forcing_grid`` the base takes the series
+    of the first cell to compute (every cell shares the time axis, which the lead times are
+    checked against), recorded as the grid file alone."""
+    base_dir = None
+    if isinstance(scenario, (str, pathlib.Path)):
+        base_dir = pathlib.Path(scenario).resolve().parent
+    raw = _scenario_raw(scenario)
+    sec = (raw or {}).get("scour")
+    if not (isinstance(sec, Mapping) and "forcing_grid" in sec):
+        base = engine.load_ensemble(scenario, per_drop=False, base_dir=base_dir, **settings)
+        return base, read_environment(environment), None, base_dir
+    grid = read_environment(environment)
+    gridded = _read_forcing_grid(sec["forcing_grid"], base_dir, grid)
+    j, i = (int(v) for v in np.argwhere(grid.cell_status() == CELL_COMPUTED)[0])
+    raw = dict(raw, scour=dict(sec, forcing_grid=scour.CellForcing(gridded[0].cell(j, i), gridded[1])))
+    base = engine.load_ensemble(raw, per_drop=False, base_dir=base_dir, **settings)
+    return base, grid, gridded, base_dir
 
 
 def run_map(
@@ -638,19 +759,12 @@ def run_map(
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
-    base_dir = None
-    if isinstance(scenario, (str, pathlib.Path)):
-        base_dir = pathlib.Path(scenario).resolve().parent
-    base = engine.load_ensemble(
-        scenario, n=n, seed=seed, chunk_size=chunk_size, per_drop=False, base_dir=base_dir
-    )
-    engine.refuse_scour(base, "map")
+    base, grid, gridded, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
-    grid = read_environment(environment)
     status = grid.cell_status()
     ny, nx = grid.shape
-    _check_map_memory(base, status)
+    _check_map_memory(base, status, gridded)
     raw = copy.deepcopy(base.raw)
 
     specs: dict[int, engine.EnsembleSpec] = {}
@@ -660,8 +774,9 @@ def run_map(
                 continue
             k = j * nx + i
             try:
+                cell_raw = cell_scenario(raw, grid, j, i)
                 specs[k] = engine.load_ensemble(
-                    cell_scenario(raw, grid, j, i),
+                    cell_raw if gridded is None else _cell_forcing(cell_raw, gridded, j, i),
                     n=base.n,
                     seed=cell_seed(base.seed, k),
                     sampling=base.sampling,
@@ -674,8 +789,9 @@ def run_map(
                 raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
 
     template = _cell_statistics_template(base)
+    names = _cell_variables(template)
     arrays = {}
-    for name in _CELL_VARIABLES:
+    for name in names:
         da = template[name]
         fill = 0 if da.dtype.kind in "iu" else np.nan
         arrays[name] = np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
@@ -685,8 +801,8 @@ def run_map(
         for k, chunks in stream:
             st = _cell_statistics(specs[k], chunks)
             j, i = divmod(k, nx)
-            for name in _CELL_VARIABLES:
-                arrays[name][..., j, i] = st[name].values
+            for name in names:
+                arrays[name][..., j, i] = st[name]
             for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
 
@@ -708,9 +824,12 @@ def run_map(
         return finish()
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
     env_files = ((str(env_path.resolve()), file_digest(env_path)),) if env_path else ()
+    grid_files = [] if gridded is None else [pathlib.Path(gridded[1]["forcing_grid_file"])]
+    env_files += tuple((str(f.resolve()), gridded[1]["forcing_grid_sha256"]) for f in grid_files)
     inputs = (
         runner.input_paths(scenario, base)
         + ([env_path] if env_path else [])
+        + grid_files
         + [pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
     )
     with OutputRun(output, inputs) as out:
@@ -730,11 +849,23 @@ MAP_BYTES_A_COMPUTED_CELL = 20_000
 MAP_BYTES_A_GRID_CELL = 1_000
 
 
-def _check_map_memory(base, status: np.ndarray) -> None:
-    """Refuse, before computing, a map whose cells would not fit in the available memory."""
+def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
+    """Refuse, before computing, a map whose cells would not fit in the available memory: with
+    ``[scour]`` the map's lead-time arrays (three copies: the arrays, the Dataset, the file
+    being written) and a gridded forcing (its fields and each cell's copy) count too."""
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
+    per_grid_cell = MAP_BYTES_A_GRID_CELL
+    if base.scour is not None:
+        template = scour.statistics(base.scour, [], base.class_basis)
+        per_grid_cell += 3 * sum(da.nbytes for da in template.data_vars.values())
+    forcing_bytes = 0
+    if gridded is not None:
+        forcing_bytes = 2 * sum(v.nbytes for v in gridded[0].fields.values())
     need = (
-        n_comp * MAP_BYTES_A_COMPUTED_CELL + status.size * MAP_BYTES_A_GRID_CELL + runner.memory_needed(base)
+        n_comp * MAP_BYTES_A_COMPUTED_CELL
+        + status.size * per_grid_cell
+        + forcing_bytes
+        + runner.memory_needed(base)
     )
     refusal = memory_refusal(
         need,
@@ -752,12 +883,15 @@ def _cell_statistics_template(spec) -> xr.Dataset:
     from mineburial.ensembles.statistics import burial_statistics
     from mineburial.kernels import layout
 
-    return burial_statistics(
+    st = burial_statistics(
         np.empty((0, layout.N_SUMMARY)),
         np.empty(0, dtype=np.int8),
         class_basis=spec.class_basis,
         outputs=MAP_OUTPUTS,
     )
+    if spec.scour is None:
+        return st
+    return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])
 
 
 def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
@@ -830,12 +964,18 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     coords, aux = _horizontal_coords(grid)
     extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
     data: dict[str, xr.DataArray] = {}
-    for name in _CELL_VARIABLES:
+    for name in _cell_variables(template):
         t = template[name]
         attrs = {k: v for k, v in t.attrs.items() if k != "sample_size"}
         attrs.update(extra)
-        attrs["coverage_content_type"] = "qualityInformation" if name == "status_count" else "modelResult"
-        if name.endswith(("_mean", "_std", "_quantile")):
+        quality = name in ("status_count", "scour_status_count")
+        attrs["coverage_content_type"] = "qualityInformation" if quality else "modelResult"
+        if name.startswith("scour_") and not quality:
+            attrs["comment"] = attrs.get("comment", "") + (
+                " Per cell, over the drops of the cell's ensemble whose scour stage ran (scour_status "
+                "ok); NaN on land or where no drop's stage ran."
+            )
+        elif name.endswith(("_mean", "_std", "_quantile")):
             attrs["comment"] = attrs.get("comment", "") + (
                 " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
                 "where no drop came to rest, or (std) where fewer than 2 did."
@@ -968,13 +1108,19 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     if grid.grid_mapping:
         g = grid.ds[grid.grid_mapping]
         data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
-    ds = xr.Dataset(
-        data,
-        coords={**{c: template[c] for c in ("quantile", "impact_burial_class", "status_code")}, **coords},
+    shared = (
+        "quantile",
+        "impact_burial_class",
+        "status_code",
+        "lead_time",
+        "burial_level",
+        "scour_status_code",
     )
+    shared = tuple(c for c in shared if c in template.coords)
+    ds = xr.Dataset(data, coords={**{c: template[c] for c in shared}, **coords})
     for name, da in data.items():
         ds[name].encoding.update(da.encoding)
-    for c in ("quantile", "impact_burial_class", "status_code"):
+    for c in shared:
         ds[c].encoding.update(template[c].encoding)
     ds.attrs = _global_attrs(grid, status, base, version, ncio)
     return ds
@@ -1049,6 +1195,14 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "burial_class_basis": base.class_basis,
         "environment_source": grid.source or "xarray.Dataset",
     }
+    if base.scour is not None:
+        attrs["summary"] += (
+            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
+            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
+            "the times to reach the burial levels and the share of drops flagged mobile."
+        )
+        for key, value in base.scour.forcing_record.items():
+            attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     if grid.geographic:
         lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
         lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
@@ -1096,36 +1250,84 @@ def _cell_edges(c: np.ndarray, other: np.ndarray) -> np.ndarray:
     return np.array([c[0] - 0.5 * step, c[0] + 0.5 * step])
 
 
-def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
+@dataclasses.dataclass
+class _Grid:
+    """The geometry of a map for drawing: cell centres and edges, axis labels, cell status."""
+
+    x: np.ndarray
+    y: np.ndarray
+    xe: np.ndarray
+    ye: np.ndarray
+    geographic: bool
+    xlabel: str
+    ylabel: str
+    status: np.ndarray
+
+    @classmethod
+    def of(cls, ds):
+        ydim, xdim = ds["cell_status"].dims
+        y = np.asarray(ds[ydim].values, dtype=np.float64)
+        x = np.asarray(ds[xdim].values, dtype=np.float64)
+        geographic = _is_axis(ds[ydim], "lat")
+        if geographic:
+            xlabel, ylabel = "longitude (degrees east)", "latitude (degrees north)"
+        else:
+            xlabel = f"{ds[xdim].attrs.get('long_name', xdim)} ({ds[xdim].attrs.get('units', '')})"
+            ylabel = f"{ds[ydim].attrs.get('long_name', ydim)} ({ds[ydim].attrs.get('units', '')})"
+        ye, xe = _cell_edges(y, x), _cell_edges(x, y)
+        return cls(x, y, xe, ye, geographic, xlabel, ylabel, ds["cell_status"].values)
+
+    def mesh(self, ax, values, **kw):
+        return ax.pcolormesh(self.xe, self.ye, values, shading="flat", **kw)
+
+    def background(self, ax, nodata):
+        """Land tan, the cells flagged ``nodata`` grey, axis labels and equal ground scale."""
+        from matplotlib.colors import ListedColormap
+
+        land = (self.status == CELL_LAND).astype(float)
+        nodata = (nodata & (self.status != CELL_LAND)).astype(float)
+        self.mesh(ax, np.ma.masked_where(land == 0, land), cmap=ListedColormap([_LAND_COLOUR]))
+        self.mesh(
+            ax,
+            np.ma.masked_where(nodata == 0, nodata),
+            cmap=ListedColormap([_NODATA_COLOUR]),
+            edgecolors="white",
+            linewidth=0.5,
+        )
+        ax.set_xlabel(self.xlabel)
+        ax.set_ylabel(self.ylabel)
+        if self.geographic:  # equal ground distances in x and y
+            ax.set_aspect(1.0 / max(math.cos(math.radians(float(np.mean(self.y)))), 1e-3))
+        else:
+            ax.set_aspect("equal")
+            ax.tick_params(axis="x", labelrotation=30)  # long projected coordinates
+        ax.ticklabel_format(useOffset=False, style="plain")
+
+
+def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_class: int = 4) -> pathlib.Path:
     """Draw a map produced by :func:`run_map` to a PNG for a planner.
 
     Left: the most likely impact-burial class per cell in class colours (legend), with
     its probability written in each cell of small grids; right: P(burial > 75 %) as a
     colour map with a colour bar. Land is drawn tan, water cells without a result grey.
-    Needs matplotlib (the optional extra ``plot``).
+    With ``lead_times`` (days, among the map's ``lead_time``; a map with ``[scour]``): one
+    panel per lead time of the probability of ``burial_class`` after scour instead
+    (:func:`plot_lead_times`). Needs matplotlib (the optional extra ``plot``).
     """
+    if lead_times is not None:
+        return plot_lead_times(ds, path, lead_times, burial_class=burial_class, dpi=dpi)
     Figure = _import_matplotlib()
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    cs = ds["cell_status"]
-    ydim, xdim = cs.dims
-    y = np.asarray(ds[ydim].values, dtype=np.float64)
-    x = np.asarray(ds[xdim].values, dtype=np.float64)
-    ye, xe = _cell_edges(y, x), _cell_edges(x, y)
-    geographic = _is_axis(ds[ydim], "lat")
-    status = cs.values
+    g = _Grid.of(ds)
+    x, y, status, mesh = g.x, g.y, g.status, g.mesh
     likely = ds["most_likely_burial_class"].values.astype(float)
     prob = ds["burial_class_probability"].values
     p75 = prob[4]
     likely_p = np.take_along_axis(
         np.where(np.isfinite(prob), prob, 0.0), np.clip(likely, 0, 4).astype(int)[None], axis=0
     )[0]
-    land = (status == CELL_LAND).astype(float)
-    nodata = ((status != CELL_LAND) & (likely < 0)).astype(float)
-
-    def mesh(ax, values, **kw):
-        return ax.pcolormesh(xe, ye, values, shading="flat", **kw)
 
     fig = Figure(figsize=(13.0, 6.8), layout="constrained")
     gs = fig.add_gridspec(2, 2, height_ratios=(1.0, 0.16))
@@ -1134,29 +1336,9 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
     legend_ax.axis("off")
     cbar_gs = gs[1, 1].subgridspec(2, 3, width_ratios=(0.1, 0.8, 0.1), height_ratios=(0.3, 0.7))
     cax = fig.add_subplot(cbar_gs[0, 1])
-    if geographic:
-        xlabel, ylabel = "longitude (degrees east)", "latitude (degrees north)"
-    else:
-        xlabel = f"{ds[xdim].attrs.get('long_name', xdim)} ({ds[xdim].attrs.get('units', '')})"
-        ylabel = f"{ds[ydim].attrs.get('long_name', ydim)} ({ds[ydim].attrs.get('units', '')})"
 
     def background(ax):
-        mesh(ax, np.ma.masked_where(land == 0, land), cmap=ListedColormap([_LAND_COLOUR]))
-        mesh(
-            ax,
-            np.ma.masked_where(nodata == 0, nodata),
-            cmap=ListedColormap([_NODATA_COLOUR]),
-            edgecolors="white",
-            linewidth=0.5,
-        )
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(ylabel)
-        if geographic:  # equal ground distances in x and y
-            ax.set_aspect(1.0 / max(math.cos(math.radians(float(np.mean(y)))), 1e-3))
-        else:
-            ax.set_aspect("equal")
-            ax.tick_params(axis="x", labelrotation=30)  # long projected coordinates
-        ax.ticklabel_format(useOffset=False, style="plain")
+        g.background(ax, likely < 0)
 
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
     ax = axes[0]
@@ -1212,14 +1394,178 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150) -> pathlib.Path:
         f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
     )
 
+    fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
+    path = pathlib.Path(path)
+    fig.savefig(path, dpi=dpi)
+    return path
+
+
+def _plot_title(ds) -> str:
     n = int(ds.attrs.get("n_drops_per_cell", 0))
     name = ds.attrs.get("scenario_name") or ds.attrs.get("title", "").replace(
         "mineburial impact-burial probability map: ", ""
     )
-    seed = ds.attrs.get("random_seed", "")
-    fig.suptitle(f"Impact burial of {name}: {n} drops per cell, map seed {seed}", fontsize=13)
+    return f"{name}: {n} drops per cell, map seed {ds.attrs.get('random_seed', '')}"
+
+
+def lead_indices(available, wanted, option="--lead-times") -> list[int]:
+    """Indices into a map's lead times (days) of the ``wanted`` ones (each within 1e-9 d of one),
+    else one line naming the value and the map's lead times."""
+    available = np.asarray(available, dtype=np.float64)
+    if available.size == 0:
+        raise MapError(f"{option}: the map has no lead times (give [scour] lead_times_days in the scenario)")
+    out = []
+    for w in wanted:
+        k = np.flatnonzero(np.abs(available - float(w)) <= 1e-9)
+        if not k.size:
+            have = ", ".join(f"{v:g}" for v in available)
+            raise MapError(f"{option}: {float(w):g} d is not a lead time of the map; choose among {have} d")
+        out.append(int(k[0]))
+    return out
+
+
+def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 150) -> pathlib.Path:
+    """One panel per lead time (days) of a map with ``[scour]``: the probability of the burial
+    class ``burial_class`` (0..4, default '> 75 %') after scour, on one 0-1 colour scale with a
+    colour bar; each cell of small grids shows it and n, the drops whose stage ran there."""
+    Figure = _import_matplotlib()
+    if "scour_burial_class_probability" not in ds:
+        raise MapError("--lead-times: the map has no lead-time axis (run it with a [scour] section)")
+    ks = lead_indices(ds["lead_time"].values, lead_times)
+    g = _Grid.of(ds)
+    prob = ds["scour_burial_class_probability"].values[:, burial_class]
+    count = ds["scour_burial_class_count"].values.sum(axis=1)
+    ncol = min(len(ks), 3)
+    nrow = -(-len(ks) // ncol)
+    fig = Figure(figsize=(4.6 * ncol + 0.8, 4.4 * nrow + 0.9), layout="constrained")
+    axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
+    basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
+    label = _CLASS_LABELS[burial_class]
+    for ax, k in zip(axes, ks):
+        p = np.where(g.status == CELL_COMPUTED, prob[k], np.nan)
+        g.background(ax, ~np.isfinite(p))
+        last = g.mesh(
+            ax, np.ma.masked_invalid(p), cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5
+        )
+        ax.set_title(f"lead time {ds['lead_time'].values[k]:g} d", fontsize=11)
+        if g.status.size <= 100:
+            for (j, i), v in np.ndenumerate(p):
+                if np.isfinite(v):
+                    text = f"{v:.2f}\nn={int(count[k, j, i])}"
+                    ax.text(g.x[i], g.y[j], text, ha="center", va="center", fontsize=7,
+                            color="white" if v > 0.6 else "black")  # fmt: skip
+    for ax in axes[len(ks) :]:
+        ax.axis("off")
+    cb = fig.colorbar(last, ax=list(axes[: len(ks)]), orientation="horizontal", shrink=0.6)
+    cb.set_label(f"P(burial by {basis} in class '{label}') after scour, probability (0 to 1)")
+    fig.suptitle(
+        f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
+        "land tan; grey: no drop's scour stage ran",
+        fontsize=12,
+    )
     path = pathlib.Path(path)
     fig.savefig(path, dpi=dpi)
+    return path
+
+
+# ---------------------------------------------------------------------------
+# GeoTIFF
+# ---------------------------------------------------------------------------
+def _import_rioxarray():
+    """rioxarray (registers ``.rio``) and pyproj, or one line naming the extra."""
+    try:
+        import pyproj
+        import rioxarray  # noqa: F401
+    except ImportError:
+        raise MapError(
+            "--geotiff needs rioxarray, an optional dependency: pip install 'mineburial[geotiff]' "
+            "(or pip install rioxarray)"
+        ) from None
+    return pyproj
+
+
+def _regular_edges(c: np.ndarray, other: np.ndarray, name: str) -> tuple[float, float]:
+    """(first edge, step) of a regular axis (a GeoTIFF has one cell size per axis); the edges
+    are those of the map (:func:`_cell_edges`), else one line naming the axis."""
+    if c.size > 1:
+        step = np.diff(c)
+        if not np.allclose(step, step[0], rtol=1e-6, atol=0.0):
+            raise MapError(
+                f"--geotiff: the axis '{name}' is not evenly spaced (steps {step.min():g} to "
+                f"{step.max():g}); a GeoTIFF needs one cell size per axis"
+            )
+    e = _cell_edges(c, other)
+    return float(e[0]), float((e[-1] - e[0]) / c.size)
+
+
+def map_crs(ds: xr.Dataset, pyproj):
+    """The map's coordinate reference system: its CF grid mapping (``grid_mapping`` of
+    ``cell_status``; :meth:`pyproj.crs.CRS.from_cf` reads ``crs_wkt`` or the mapping's
+    parameters), else for latitude/longitude axes WGS 84 (EPSG:4326, an assumption the
+    GeoTIFF's description states), else one line."""
+    gm = ds["cell_status"].attrs.get("grid_mapping")
+    if gm is not None and gm in ds.variables:
+        try:
+            return pyproj.CRS.from_cf(dict(ds[gm].attrs))
+        except pyproj.exceptions.CRSError as exc:
+            raise MapError(
+                f"--geotiff: the grid mapping '{gm}' is not a CRS pyproj can read: {exc}"
+            ) from None
+    if _is_axis(ds[ds["cell_status"].dims[0]], "lat"):
+        return pyproj.CRS.from_epsg(4326)
+    raise MapError("--geotiff: the map has projected axes but no grid_mapping variable (CF 5.6)")
+
+
+def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4) -> pathlib.Path:
+    """Write the probability of ``burial_class`` (0..4, default '> 75 %') of a map as a
+    one-band float32 GeoTIFF (NaN where not computed) with the map's CRS (:func:`map_crs`),
+    atomically: the impact map, or after scour at ``lead_time`` days (one of the map's lead
+    times). Rows run north to south (or down the y axis), the transform from the cell edges
+    of the coordinates (midpoints; an evenly spaced axis is required). Needs rioxarray."""
+    from mineburial.io.files import atomic_path
+
+    pyproj = _import_rioxarray()
+    if not (0 <= int(burial_class) <= 4):
+        raise MapError(f"--class {burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")
+    if lead_time is None:
+        field = ds["burial_class_probability"].isel(impact_burial_class=int(burial_class))
+        what = "impact burial"
+    else:
+        if "scour_burial_class_probability" not in ds:
+            raise MapError("--lead-time: the map has no lead-time axis (run it with a [scour] section)")
+        k = lead_indices(ds["lead_time"].values, [lead_time], "--lead-time")[0]
+        field = ds["scour_burial_class_probability"].isel(lead_time=k, impact_burial_class=int(burial_class))
+        what = f"burial after scour at lead time {float(lead_time):g} d"
+    ydim, xdim = ds["cell_status"].dims
+    values = np.where(ds["cell_status"].values == CELL_COMPUTED, field.values, np.nan).astype(np.float32)
+    y = np.asarray(ds[ydim].values, dtype=np.float64)
+    x = np.asarray(ds[xdim].values, dtype=np.float64)
+    if y.size > 1 and y[1] > y[0]:  # north (or +y) up: the first row is the largest y
+        y, values = y[::-1], values[::-1]
+    if x.size > 1 and x[1] < x[0]:
+        x, values = x[::-1], values[:, ::-1]
+    x0, dx = _regular_edges(x, y, xdim)
+    y0, dy = _regular_edges(y, x, ydim)
+    if dy > 0:  # a single row: its top edge first
+        y0, dy = y0 + dy, -dy
+    crs = map_crs(ds, pyproj)
+    from affine import Affine  # a dependency of rasterio, which rioxarray needs
+
+    basis = ds.attrs.get("burial_class_basis", "burial_volume")
+    label = _CLASS_LABELS[int(burial_class)]
+    da = xr.DataArray(values, dims=("y", "x"), coords={"y": y, "x": x})
+    da = da.rio.write_crs(crs.to_wkt()).rio.write_transform(Affine(dx, 0.0, x0, 0.0, dy, y0))
+    da = da.rio.write_nodata(np.nan)
+    da.attrs = {
+        "long_name": f"probability of the burial class '{label}' ({basis}), {what}",
+        "units": "1",
+        "comment": f"mineburial map {ds.attrs.get('id', '')}; {_plot_title(ds)}; NaN: not computed"
+        + ("; CRS: WGS 84 assumed for the latitude/longitude axes" if "grid_mapping" not in
+           ds["cell_status"].attrs else ""),
+    }  # fmt: skip
+    path = pathlib.Path(path)
+    with atomic_path(path) as tmp:
+        da.rio.to_raster(tmp, driver="GTiff")
     return path
 
 
@@ -1253,13 +1599,16 @@ def run_map_cli(args) -> int:
     environment grid, the output and plot paths, the scheduler."""
     from mineburial.ensembles.store import check_output_path
 
-    base = engine.load_ensemble(args.scenario, n=args.drops, seed=args.seed, per_drop=False)
+    base, grid, gridded, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
     runner.check_run(base, what="each cell of the map")
-    _check_map_memory(base, read_environment(args.environment).cell_status())
+    _check_map_memory(base, grid.cell_status(), gridded)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
+    if gridded is not None:
+        inputs.append(pathlib.Path(gridded[1]["forcing_grid_file"]))
     check_output_path(args.output, inputs, "-o")
     if args.plot:
         check_plot_path(args.plot, args.output, inputs)
+    leads = _check_map_options(args, base, inputs)
     client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
@@ -1290,6 +1639,52 @@ def run_map_cli(args) -> int:
         )
     print(f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\nwrote {args.output}")
     if args.plot:
-        plot_map(ds, args.plot)
+        plot_map(ds, args.plot, lead_times=leads, burial_class=args.burial_class)
         print(f"wrote {args.plot}")
+    if args.geotiff:
+        write_geotiff(ds, args.geotiff, lead_time=args.lead_time, burial_class=args.burial_class)
+        print(f"wrote {args.geotiff}")
     return 0
+
+
+def _check_map_options(args, base, inputs):
+    """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
+    lead times (days) of the panels, or None."""
+    from mineburial.ensembles.store import check_output_path, same_file
+
+    available = () if base.scour is None else base.scour.lead_times_days
+    if not (0 <= args.burial_class <= 4):
+        raise MapError(f"--class {args.burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")
+    leads = None
+    if args.lead_times is not None:
+        if not args.plot:
+            raise MapError("--lead-times draws the panels of --plot; give --plot MAP.png")
+        try:
+            leads = [float(v) for v in args.lead_times.split(",")]
+        except ValueError:
+            raise MapError(
+                f"--lead-times {args.lead_times!r}: give days separated by commas, e.g. 0,1,4"
+            ) from None
+        if base.scour is None:
+            raise MapError(
+                "--lead-times: the map has no lead-time axis (give the scenario a [scour] section)"
+            )
+        lead_indices(available, leads)
+    if args.lead_time is not None and not args.geotiff:
+        raise MapError("--lead-time chooses the field of --geotiff; give --geotiff MAP.tif")
+    if args.geotiff:
+        _import_rioxarray()
+        path = pathlib.Path(args.geotiff)
+        if path.suffix.lower() not in (".tif", ".tiff"):
+            raise MapError(f"--geotiff '{path}': the file name must end in .tif or .tiff")
+        for other, opt in ((args.output, "-o"), (args.plot, "--plot")):
+            if other and same_file(path, pathlib.Path(other)):
+                raise MapError(f"--geotiff '{path}' is also the map's {opt}; choose another path")
+        check_output_path(path, inputs, "--geotiff")
+        if args.lead_time is not None:
+            if base.scour is None:
+                raise MapError(
+                    "--lead-time: the map has no lead-time axis (give the scenario a [scour] section)"
+                )
+            lead_indices(available, [args.lead_time], "--lead-time")
+    return leads

@@ -298,24 +298,6 @@ def test_storm_start_as_a_toml_datetime_or_with_z_is_the_same_utc_instant():
         assert storm_series(2.0, 9.0, 24.0, start=start).start == want, start
 
 
-@pytest.mark.parametrize("command", ["map"])
-def test_commands_without_the_stage_refuse_a_scour_section(tmp_path, capsys, no_computing, command):
-    """Regression (review): map and compare ran or ignored [scour] silently (sensitivity and
-    compare run the stage: tests/test_scour_sensitivity.py, tests/test_scour_conventions.py)."""
-    from mineburial.synthetic import synthetic_environment
-
-    path = scenario(tmp_path, scour_section(tmp_path))
-    extra = {
-        "map": ["--environment", str(tmp_path / "env.nc"), "-n", "4"],
-    }[command]
-    if command == "map":
-        synthetic_environment(ny=2, nx=2, seed=1).to_netcdf(tmp_path / "env.nc")
-    assert main([command, str(path), *extra, "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and f"[scour]: `mineburial {command}` does not run" in err, err
-    assert not (tmp_path / "out.nc").exists()
-
-
 def test_stage_results_do_not_depend_on_threads_or_chunking(runs, tmp_path):
     """The stage runs in blocks on every thread: each drop's lead-time values must be those of
     a run on one thread in chunks of 3 (an invariance, bit for bit)."""

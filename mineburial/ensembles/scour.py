@@ -50,7 +50,8 @@ NUMERIC = {
 #: the conventions of the section (cfg.SCHEMA choices ``scour.<name>``) and the stage slot each fills
 CHOICES = {"orbital": sc.S_ORBITAL, "friction": sc.S_FRICTION}
 KEYS = (
-    "forcing", "storm", "lead_times_days", "burial_levels", "cohesive", "tstar_law", "window_days",
+    "forcing", "storm", "forcing_grid", "lead_times_days", "burial_levels", "cohesive", "tstar_law",
+    "window_days",
 ) + tuple(NUMERIC) + tuple(CHOICES)  # fmt: skip
 DEFAULT_LEVELS = (0.5, 0.75)
 DAY = 86400.0
@@ -96,6 +97,19 @@ class ScourSpec:
         return repr(sorted(self.resolved().items())).encode() + b"".join(a.tobytes() for a in arrays)
 
 
+@dataclasses.dataclass(frozen=True, eq=False)
+class CellForcing:
+    """A map cell's own series of a gridded forcing (``scour.forcing_grid``, docs/maps.md), put in
+    the cell's scenario by :mod:`mineburial.maps` in place of the file name (a scenario file
+    cannot hold one). Immutable, so copies of a scenario share it."""
+
+    forcing: fio.Forcing
+    record: dict  # the grid file, its sha256 (and the cell) for the output's attributes
+
+    def __deepcopy__(self, memo):
+        return self
+
+
 def _numbers(value, location, *, low, high, default):
     if value is None:
         return tuple(default)
@@ -114,9 +128,18 @@ def _numbers(value, location, *, low, high, default):
 
 def _forcing(sec, base_dir):
     """The forcing of the section and what identifies it (file path and sha256, or the storm)."""
-    if ("forcing" in sec) == ("storm" in sec):
+    if sum(k in sec for k in ("forcing", "storm", "forcing_grid")) != 1:
         raise cfg.ScenarioError(
-            "[scour]: give exactly one of forcing = '<file .csv or .nc>' or storm = {peak_hs = ..., ...}"
+            "[scour]: give exactly one of forcing = '<file .csv or .nc>', storm = {peak_hs = ..., ...} "
+            "or (maps only) forcing_grid = '<file .nc>'"
+        )
+    if "forcing_grid" in sec:
+        cell = sec["forcing_grid"]
+        if isinstance(cell, CellForcing):
+            return cell.forcing, dict(cell.record)
+        raise cfg.ScenarioError(
+            f"scour.forcing_grid = {cell!r}: a gridded forcing (time, y, x) is read by `mineburial map` "
+            "only, each cell its own series; other commands take forcing = '<file>' or storm = {...}"
         )
     if "forcing" in sec:
         path = sec["forcing"]
@@ -362,13 +385,32 @@ def bytes_a_drop(spec) -> int:
     return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 1) + 1
 
 
+def _per_drop(spec: ScourSpec, chunks):
+    """(measures, time_to, mobile, status) of the chunks' drops in order (empty arrays of the
+    right shapes without chunks)."""
+    if not chunks:
+        n_lead, n_lev = len(spec.lead_times_days), len(spec.burial_levels)
+        return (
+            np.empty((0, len(MEASURE_NAMES), n_lead)),
+            np.empty((0, n_lev)),
+            np.empty(0),
+            np.empty(0, np.int8),
+        )
+    keys = ("scour:measures", "scour:time_to", "scour:mobile", "scour:status")
+    return tuple(np.concatenate([r[key] for r in chunks]) for key in keys)
+
+
+def statistics(spec: ScourSpec, chunks, class_basis: str) -> xr.Dataset:
+    """The stage's statistics of an ensemble's chunks (a map cell's; none: the empty template)."""
+    return scour_statistics(
+        *_per_drop(spec, chunks), spec.lead_times_days, spec.burial_levels, class_basis=class_basis
+    )
+
+
 def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_basis: str) -> xr.Dataset:
     """``ds`` with the stage's statistics (and per-drop variables with ``per_drop``) and the
     forcing's record in the global attributes."""
-    measures = np.concatenate([r["scour:measures"] for r in chunks])
-    time_to = np.concatenate([r["scour:time_to"] for r in chunks])
-    mobile = np.concatenate([r["scour:mobile"] for r in chunks])
-    codes = np.concatenate([r["scour:status"] for r in chunks])
+    measures, time_to, mobile, codes = _per_drop(spec, chunks)
     stats = scour_statistics(
         measures, time_to, mobile, codes, spec.lead_times_days, spec.burial_levels, class_basis=class_basis
     )

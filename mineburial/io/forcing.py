@@ -725,6 +725,51 @@ def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_byte
     )
 
 
+#: CF attributes of the variables :func:`write_gridded_netcdf` writes: (name, Forcing field, units,
+#: standard name)
+_GRID_VARIABLES = (
+    ("hs", "hs", "m", "sea_surface_wave_significant_height"),
+    ("tp", "tp", "s", "sea_surface_wave_period_at_variance_spectral_density_maximum"),
+    ("wave_dir", "wave_from", "degree", "sea_surface_wave_from_direction"),
+    ("current_speed", "current_speed", "m s-1", "sea_water_speed"),
+    ("current_dir", "current_to", "degree", "direction_of_sea_water_velocity"),
+    ("water_level", "water_level", "m", "sea_surface_height_above_mean_sea_level"),
+)
+
+
+def write_gridded_netcdf(cells, y, x, path) -> pathlib.Path:
+    """Write a gridded forcing (time, y, x) as the CF NetCDF :func:`load_gridded_netcdf` reads:
+    ``cells[j][i]`` the :class:`Forcing` of cell (j, i), all on one time axis, or None for a dry
+    cell (NaN at every time); ``y``, ``x``: the horizontal coordinates as
+    :class:`xarray.DataArray` (their names and attributes are kept, e.g. an environment grid's)."""
+    y, x = (c if isinstance(c, xr.DataArray) else xr.DataArray(np.asarray(c), dims=(n,), name=n)
+            for c, n in ((y, "y"), (x, "x")))  # fmt: skip
+    first = next(f for row in cells for f in row if f is not None)
+    shape = (len(first), y.size, x.size)
+    data = {}
+    for name, field, units, sn in _GRID_VARIABLES:
+        values = np.full(shape, np.nan)
+        for (j, i), f in np.ndenumerate(np.array(cells, dtype=object).reshape(shape[1:])):
+            if f is not None:
+                if f.time.shape != first.time.shape or not np.array_equal(f.time, first.time):
+                    raise ScenarioError(
+                        f"gridded forcing: cell ({j}, {i}) is not on the time axis of the others"
+                    )
+                values[:, j, i] = getattr(f, field)
+        data[name] = xr.DataArray(
+            values, dims=("time", y.dims[0], x.dims[0]), attrs={"units": units, "standard_name": sn}
+        )
+    start = first.start if first.start is not None else np.datetime64("1970-01-01T00:00:00", "ns")
+    iso = str(np.datetime_as_string(start, unit="s"))
+    time = xr.DataArray(
+        np.array(first.time), dims=("time",), attrs={"units": f"seconds since {iso}", "standard_name": "time"}
+    )
+    ds = xr.Dataset(data, coords={"time": time, y.dims[0]: y, x.dims[0]: x})
+    path = pathlib.Path(path)
+    ds.to_netcdf(path, encoding={"time": {"dtype": "float64"}})
+    return path
+
+
 def load_forcing(path, base_dir=None, **kwargs) -> Forcing:
     """A forcing series by file type (``.csv``; ``.nc``, ``.nc4``, ``.cdf``), a relative ``path``
     resolved against ``base_dir`` (the scenario file's folder); keywords as :func:`load_csv`."""
