@@ -31,7 +31,6 @@ from mineburial.ensembles.mine import (  # the mine's names, reached here by the
     chunk_inputs,
     input_metadata,
     invalid_reasons,
-    refuse_scour,
 )
 from mineburial.errors import EnsembleError, ScenarioError
 from mineburial.io.inputs import read_toml
@@ -54,7 +53,6 @@ __all__ = [
     "chunk_inputs",
     "input_metadata",
     "invalid_reasons",
-    "refuse_scour",
 ]
 
 #: the systems an ensemble scenario may name with its top-level ``system`` key

@@ -189,15 +189,6 @@ class EnsembleSpec:
         return out
 
 
-def refuse_scour(spec, command: str) -> None:
-    """One line for a command that does not run the post-impact stage yet (docs/scour.md)."""
-    if getattr(spec, "scour", None) is not None:
-        raise ScenarioError(
-            f"[scour]: `mineburial {command}` does not run the post-impact stage yet; "
-            "use `mineburial run`, or remove the section"
-        )
-
-
 def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     """A mine ensemble from the parsed scenario ``raw`` (without its ``system`` key; its
     ``[ensemble]`` table, if any, still in it); ``overrides``: the run's settings given on
