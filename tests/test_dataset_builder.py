@@ -22,6 +22,8 @@ from mineburial.io import variables as V
 from mineburial.io.dataset import build, registry_mismatches, standard_attrs
 from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels import layout
+from mineburial.sediment_profiles import class_names
+from mineburial.synthetic import synthetic_environment
 
 
 def _conventions_and_version(attrs):
@@ -36,7 +38,13 @@ def test_an_ensemble_file_has_only_registry_variables_and_the_common_attributes(
     summary, status, inputs = synthetic(16)
     units = {p: ("kg" if p == "mine.mass" else "1", "x") for p in inputs}
     ds = build_dataset(
-        summary, status, inputs=inputs, input_metadata=units, version=mineburial.__version__, seed=1
+        summary,
+        status,
+        inputs=inputs,
+        input_metadata=units,
+        version=mineburial.__version__,
+        seed=1,
+        statistics_options={"outputs": ("penetration_depth", "burial_volume")},  # two: the suite's time
     )
     assert registry_mismatches(ds, "ensemble") == []
     _conventions_and_version(ds.attrs)
@@ -102,3 +110,13 @@ def test_the_restraint_outputs_keep_their_units():
         "peak_ship_tension": "N",
         "energy_closure": "1",
     }
+
+
+def test_the_synthetic_environment_grid_is_built_from_its_family(tmp_path):
+    ds = synthetic_environment(ny=2, nx=3)
+    assert registry_mismatches(ds, "environment") == []
+    _conventions_and_version(ds.attrs)
+    back = xr.open_dataset(write_netcdf(ds, tmp_path / "env.nc"), mask_and_scale=False)
+    assert back["sediment_class"].attrs["_FillValue"] == -1  # land: no sediment
+    assert back["sediment_class"].attrs["flag_meanings"].split() == list(class_names())
+    assert back["water_depth"].attrs["standard_name"] == "sea_floor_depth_below_sea_surface"

@@ -1265,6 +1265,87 @@ def _sensitivity_variables() -> list[Variable]:
     return out
 
 
+#: the label of every value of the synthetic environment grid (:mod:`mineburial.synthetic`)
+SYNTHETIC_NOTE = (
+    "SYNTHETIC DATA: invented values to demonstrate mineburial maps; not a survey, "
+    "not a chart, not for operational use."
+)
+
+
+def _environment_variables() -> list[Variable]:
+    """The synthetic environment grid of :mod:`mineburial.synthetic` (the format the maps read,
+    docs/maps.md): depth, sediment class and current on a WGS 84 latitude/longitude grid."""
+    g, gm = ("latitude", "longitude"), {"grid_mapping": "crs"}
+    out = [
+        Variable(
+            axis,
+            (axis,),
+            "float64",
+            f"degrees_{'north' if axis == 'latitude' else 'east'}",
+            axis,
+            "",
+            standard_name=axis,
+            attrs={"axis": "Y" if axis == "latitude" else "X"},
+            fill_value=_NO_FILL,
+        )
+        for axis in g
+    ]
+    out += [
+        Variable(
+            "water_depth",
+            g,
+            "float64",
+            "m",
+            "water depth (synthetic)",
+            "NaN on land. " + SYNTHETIC_NOTE,
+            standard_name="sea_floor_depth_below_sea_surface",
+            attrs=gm,
+        ),
+        Variable(
+            "sediment_class",
+            g,
+            "int8",
+            None,
+            "seabed sediment class (synthetic)",
+            "Index into the mineburial sediment catalogue "
+            "(mineburial.sediment_profiles.class_names()); -1 (fill) on land. " + SYNTHETIC_NOTE,
+            attrs=gm,
+            fill_value=-1,
+            runtime_flags="mineburial.sediment_profiles.class_names()",
+        ),
+    ]
+    out += [
+        Variable(
+            f"current_{c}",
+            g,
+            "float64",
+            "m s-1",
+            f"{way} current (synthetic)",
+            "",
+            standard_name=f"{way}_sea_water_velocity",
+            attrs=gm,
+        )
+        for c, way in (("u", "eastward"), ("v", "northward"))
+    ]
+    out.append(
+        Variable(
+            "crs",
+            (),
+            "int32",
+            None,
+            "WGS 84",
+            "",
+            attrs={
+                "grid_mapping_name": "latitude_longitude",
+                "longitude_of_prime_meridian": 0.0,
+                "semi_major_axis": 6378137.0,
+                "inverse_flattening": 298.257223563,
+            },
+        )
+    )
+    return out
+
+
 #: what a file of each kind is (the default ``history`` line of :func:`mineburial.io.dataset.standard_attrs`)
 FAMILY_TITLES = {
     "ensemble": "Monte Carlo ensemble of mine drops",
@@ -1272,6 +1353,8 @@ FAMILY_TITLES = {
     "restraint_run": "time series of one case of the restraining system",
     "restraint_ensemble": "ensemble of cases of the restraining system",
     "sensitivity": "Sobol' sensitivity indices",
+    "environment": "synthetic environment grid (invented values)",
+    "map": "burial map over an environment grid",  # its variables: mineburial.maps (no family yet)
 }
 #: the variables of each file kind: the mine ensemble's (:data:`VARIABLES`) and one family each for
 #: the single drop's trajectory, the restraint's time series, the restraint ensemble and the Sobol'
@@ -1282,6 +1365,7 @@ FAMILIES: dict[str, dict[str, Variable]] = {
     "restraint_run": _family(_restraint_run_variables(), "restraint_run"),
     "restraint_ensemble": _family(_restraint_ensemble_variables(), "restraint_ensemble"),
     "sensitivity": _family(_sensitivity_variables(), "sensitivity"),
+    "environment": _family(_environment_variables(), "environment"),
 }
 
 
@@ -1407,4 +1491,5 @@ _FAMILY_HEADINGS = {
     "restraint_run": "Restraining-system time series (`mineburial restrain`)",
     "restraint_ensemble": "Restraining-system ensemble (`mineburial run` of a restraint scenario)",
     "sensitivity": "Sobol' sensitivity indices (`mineburial sensitivity`)",
+    "environment": "Synthetic environment grid (`python -m mineburial.synthetic`, the maps' input format)",
 }
