@@ -120,3 +120,8 @@ def test_the_synthetic_environment_grid_is_built_from_its_family(tmp_path):
     assert back["sediment_class"].attrs["_FillValue"] == -1  # land: no sediment
     assert back["sediment_class"].attrs["flag_meanings"].split() == list(class_names())
     assert back["water_depth"].attrs["standard_name"] == "sea_floor_depth_below_sea_surface"
+
+
+def test_a_plain_tuple_is_values_not_values_and_attributes():
+    ds = build({}, {"quantile": (0.05, 0.5)}, kind="restraint_ensemble")
+    assert ds["quantile"].values.tolist() == [0.05, 0.5] and ds["quantile"].attrs["units"] == "1"

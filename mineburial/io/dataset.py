@@ -58,7 +58,7 @@ def _data_array(family: Mapping[str, V.Variable], name: str, value) -> xr.DataAr
         return value.rename(name) if value.name != name else value
     if name not in family:
         raise KeyError(V._unknown("output variable", name, family))
-    if isinstance(value, tuple):
+    if isinstance(value, tuple) and len(value) == 2 and isinstance(value[1], Mapping):
         array, extra = value
         return family[name].data_array(array, **extra)
     return family[name].data_array(value)
