@@ -25,7 +25,12 @@ Three families of variables exist:
 * **ensemble-wide** statistics: burial-class probabilities with Wilson
   intervals and the count of every status code.
 
-Only ``realization`` carries a CF standard name: the CF Standard Name Table
+Those are the variables of a mine ensemble's file. The other files have a family each in
+:data:`FAMILIES` (one drop's trajectory, the restraining system's time series and ensemble,
+the Sobol' indices, the synthetic environment grid); :func:`mineburial.io.dataset.build`
+makes every file from the family of its kind.
+
+In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
 rest (``platform_pitch`` and friends describe observation platforms, not the
 observed object), so those variables carry a ``long_name`` only.
