@@ -9,44 +9,12 @@ import numpy as np
 import xarray as xr
 
 from mineburial import resources
-from mineburial.io.variables import SUMMARY_OUTPUTS
+from mineburial.io import variables as V
+from mineburial.io.dataset import build
 from mineburial.kernels import layout, status
-from mineburial.kernels.layout import N_TRAJ, PHASE_NAMES, TRAJ_COLUMNS
+from mineburial.kernels.layout import N_TRAJ, TRAJ_COLUMNS
 from mineburial.kernels.rotation import euler_angles
 from mineburial.kernels.stepper import reference_paths, run_drop
-
-_TRAJ_ATTRS = {
-    "x": ("m", "x coordinate of the centre of mass (E-frame)"),
-    "y": ("m", "y coordinate of the centre of mass (E-frame)"),
-    "z": ("m", "height of the centre of mass above the calm water surface (E-frame, z up)"),
-    "u": ("m s-1", "x component of the centre-of-mass velocity"),
-    "v": ("m s-1", "y component of the centre-of-mass velocity"),
-    "w": ("m s-1", "vertical component of the centre-of-mass velocity (up positive)"),
-    "q0": ("1", "orientation quaternion, scalar part (body to earth)"),
-    "q1": ("1", "orientation quaternion, first vector component"),
-    "q2": ("1", "orientation quaternion, second vector component"),
-    "q3": ("1", "orientation quaternion, third vector component"),
-    "omega1": ("rad s-1", "angular velocity about the mine axis i_M (body frame)"),
-    "omega2": ("rad s-1", "angular velocity about j_M (body frame)"),
-    "omega3": ("rad s-1", "angular velocity about k_M (body frame)"),
-    "work_fluid": ("J", "work done on the mine by fluid forces (buoyancy, drag, lift, added mass)"),
-    "work_sediment": ("J", "work done on the mine by sediment forces"),
-}
-_FORCE_ATTRS = {
-    "fluid_force_x": ("N", "fluid force on the mine, x component (E-frame)"),
-    "fluid_force_y": ("N", "fluid force on the mine, y component (E-frame)"),
-    "fluid_force_z": ("N", "fluid force on the mine, z component (E-frame)"),
-    "sediment_force_x": ("N", "sediment force on the mine, x component (E-frame)"),
-    "sediment_force_y": ("N", "sediment force on the mine, y component (E-frame)"),
-    "sediment_force_z": ("N", "sediment force on the mine, z component (E-frame)"),
-    "torque_1": ("N m", "total torque about the centre of mass, i_M component (body frame)"),
-    "torque_2": ("N m", "total torque about the centre of mass, j_M component (body frame)"),
-    "torque_3": ("N m", "total torque about the centre of mass, k_M component (body frame)"),
-}
-
-#: units and long name of each per-drop summary value, from the one variable registry
-#: (:data:`mineburial.io.variables.SUMMARY_OUTPUTS`)
-SUMMARY_ATTRS = {name: (out.units, out.long_name) for name, out in SUMMARY_OUTPUTS.items()}
 
 
 def memory_shortfall(need: float) -> float | None:
@@ -159,7 +127,6 @@ def simulate_drop(
     burial summary as scalar variables; the status code and the resolved scenario
     in the attributes.
     """
-    from mineburial._version import __version__
     from mineburial.config import Scenario
 
     if not isinstance(scenario, Scenario):
@@ -174,61 +141,24 @@ def simulate_drop(
         record_interval = 10.0 * p[layout.P_DT]
     code, summary, traj = run_params(p, sed_bank, cur_bank, record_interval, record_name)
     cols = {name: traj[:, i] for i, name in enumerate(TRAJ_COLUMNS)}
-    time = cols["time"]
-    data = {}
-    for name, (units, desc) in _TRAJ_ATTRS.items():
-        data[name] = ("time", cols[name], {"units": units, "long_name": desc})
-    angles = np.array([euler_angles(*row) for row in traj[:, 7:11]]).reshape(-1, 3)
-    for k, (name, desc) in enumerate(
-        (
-            ("psi1", "roll about the mine axis (seed 000 psi1)"),
-            ("psi2", "dip of the nose below the horizontal (seed 000 psi2)"),
-            ("psi3", "heading of the mine axis (seed 000 psi3)"),
-        )
-    ):
-        data[name] = ("time", np.degrees(angles[:, k]), {"units": "degree", "long_name": desc})
-    data["phase"] = (
-        "time",
-        cols["phase"].astype(np.int8),
-        {
-            "long_name": "medium the mine is in or crossing",
-            "flag_values": np.arange(len(PHASE_NAMES), dtype=np.int8),
-            "flag_meanings": " ".join(PHASE_NAMES),
-        },
-    )
+    data = {name: cols[name] for name in V.TRAJ_STATE_COLUMNS}
+    quaternion = np.stack([cols[q] for q in ("q0", "q1", "q2", "q3")], axis=1)
+    angles = np.degrees(np.array([euler_angles(*row) for row in quaternion]).reshape(-1, 3))
+    data.update({name: angles[:, k] for k, name in enumerate(V.TRAJ_ANGLES)})
+    data["phase"] = cols["phase"]
     if forces:
-        for name, (units, desc) in _FORCE_ATTRS.items():
-            data[name] = ("time", cols[name], {"units": units, "long_name": desc})
-    for i, name in enumerate(layout.SUMMARY_NAMES):
-        units, desc = SUMMARY_ATTRS[name]
-        data[name] = ((), summary[i], {"units": units, "long_name": desc})
-    data["status"] = (
-        (),
-        np.int8(code),
-        {
-            "long_name": "drop status",
-            "flag_values": np.arange(len(status.NAMES), dtype=np.int8),
-            "flag_meanings": " ".join(status.NAMES),
-        },
-    )
-    ds = xr.Dataset(
-        data,
-        coords={
-            "time": ("time", time, {"units": "s", "standard_name": "time", "long_name": "time since release"})
-        },
-    )
-    ds.attrs.update(
-        {
-            "title": f"mineburial drop trajectory: {scenario.mine.name}",
-            "status": status.NAMES[code],
-            "status_description": status.DESCRIPTIONS[code],
-            "scenario": json.dumps(scenario.to_dict()),
-            "mineburial_version": __version__,
-            "model": layout.MODEL_NAMES[int(p[layout.P_MODEL])],
-            "integrator": layout.INTEGRATOR_NAMES[int(p[layout.P_INTEGRATOR])],
-        }
-    )
-    return ds
+        data.update({name: cols[name] for name in V.TRAJ_FORCE_COLUMNS})
+    data.update({name: summary[i] for i, name in enumerate(layout.SUMMARY_NAMES)})
+    data["status"] = np.int8(code)
+    attrs = {
+        "title": f"mineburial drop trajectory: {scenario.mine.name}",
+        "status": status.NAMES[code],
+        "status_description": status.DESCRIPTIONS[code],
+        "scenario": json.dumps(scenario.to_dict()),
+        "model": layout.MODEL_NAMES[int(p[layout.P_MODEL])],
+        "integrator": layout.INTEGRATOR_NAMES[int(p[layout.P_INTEGRATOR])],
+    }
+    return build(data, {"time": cols["time"]}, attrs, kind="trajectory")
 
 
 def drop_summary(ds: xr.Dataset, name: str, output) -> str:

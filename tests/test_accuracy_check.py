@@ -14,8 +14,9 @@ from conftest import scenario_dict
 
 from mineburial.cli import main
 from mineburial.config import ScenarioError, dumps_toml
-from mineburial.ensembles import engine
+from mineburial.ensembles import accuracy, engine
 from mineburial.ensembles.runner import run_ensemble, summarize
+from mineburial.kernels import layout
 
 N, SEED, SIZE = 6, 3, 3  # 9 reference drops in all (~3 s each): the suite's budget
 REFERENCE = {
@@ -152,3 +153,30 @@ def test_a_bad_accuracy_check_is_one_line(value):
         ScenarioError, match=r"ensemble.accuracy_check = .* outside the allowed range \[0, inf\)"
     ):
         engine.load_ensemble(steep(accuracy_check=value))
+
+
+def test_max_drop_named_the_first_drop_when_no_penetration_changed():
+    """Regression: with every difference 0 (or within the 5 mm floor) ``argmax`` of the
+    zeros named drop 0 as the worst; now -1 (no drop) and the summary line says so."""
+    summary = np.zeros((4, layout.N_SUMMARY))
+    summary[:, layout.S_PENETRATION] = [0.3, 1.2, 0.8, 2.0]
+    status = np.zeros(4, np.int8)
+    near = summary.copy()
+    near[2, layout.S_PENETRATION] += 0.004  # within the floor: counts as 0
+    assert accuracy.differences(summary, status, near, status)["argmax"] == -1
+    moved = summary.copy()
+    moved[1, layout.S_PENETRATION] += 0.1  # 0.1 / 1.2 relative: the largest change, drop 1
+    assert accuracy.differences(summary, status, moved, status)["argmax"] == 1
+    attrs = {
+        "numerical_check": "done",
+        "numerical_check_drops": 4,
+        "numerical_check_penetration_p95_percent": 0.0,
+        "numerical_check_penetration_max_percent": 0.0,
+        "numerical_check_penetration_max_drop": -1,
+        "numerical_check_class_changes": 0,
+        "numerical_check_status_changes": 0,
+        "numerical_check_wall_time_s": 1.0,
+        "numerical_check_exceeds_targets": 0,
+    }
+    line = accuracy.summary_lines(xr.Dataset(attrs=attrs))[0]
+    assert "(no drop changed)" in line and "drop -1" not in line

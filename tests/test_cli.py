@@ -17,6 +17,7 @@ from mineburial import __version__
 from mineburial.cli import main
 from mineburial.config import Scenario, ensemble_example_names, example_names, example_path
 from mineburial.drop import simulate_drop
+from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels import status
 
 DROP = """
@@ -95,6 +96,7 @@ def test_drop_writes_the_trajectory_of_simulate_drop(tmp_path, capsys):
         np.testing.assert_array_equal(ds.time.values, ref.time.values)
         np.testing.assert_array_equal(ds.z.values, ref.z.values)
         assert "sediment_force_z" in ds
+        assert registry_mismatches(ds, "trajectory") == []  # every variable as declared, Conventions
         assert float(ds.penetration_depth) == float(ref.penetration_depth) > 0.0
     text = capsys.readouterr().out
     assert "status at_rest" in text and f"wrote {out}" in text

@@ -23,6 +23,7 @@ import xarray as xr
 from scipy import integrate, optimize
 
 from mineburial.cli import main
+from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels import restraint_forces as rf
 from mineburial.kernels.multibody import joint_forces
 from mineburial.systems import restraint as R
@@ -474,6 +475,7 @@ def test_a_normal_case_reports_its_contact_counts(case3):
     assert ds.attrs["anchor_friction_unsolvable_evaluations"] == 0
     assert np.all(ds.anchor_contact.values == 0)
     assert "seabed's reaction" in ds.pin_tension.attrs["long_name"]
+    assert registry_mismatches(ds, "restraint_run") == []  # every variable as declared, Conventions
 
 
 def test_case_does_not_change_the_callers_dict():

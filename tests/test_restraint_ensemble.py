@@ -34,6 +34,7 @@ from mineburial.ensembles import engine
 from mineburial.ensembles import restraint as ens
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.ensembles.sampling import field_id
+from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels import multibody as kmb
 from mineburial.systems import restraint as rs
 
@@ -254,6 +255,7 @@ def test_run_command_prints_the_stopping_time_statistics(tmp_path, capsys):
     with xr.open_dataset(tmp_path / "o.nc") as ds:
         assert ds.attrs["n_cases"] == 2 and ds.sizes["realization"] == 2
         assert list(ds.status_count.values) == [0, 2, 0, 0]
+        assert registry_mismatches(ds, "restraint_ensemble") == []  # as declared, Conventions
     assert path.read_text() == raw_before
 
 

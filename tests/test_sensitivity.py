@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from mineburial.ensembles.distributions import from_dict
+from mineburial.io.dataset import registry_mismatches
 from mineburial.validation.sensitivity import ranking, run_sensitivity, sobol_analysis
 
 A, B = 7.0, 0.1
@@ -63,6 +64,7 @@ def test_same_seed_same_indices_and_intervals():
     b = sobol_analysis(ishigami, inputs, 2**8, seed=3, n_resamples=49)
     for name in a.data_vars:
         np.testing.assert_array_equal(a[name], b[name])
+    assert registry_mismatches(a, "sensitivity") == []  # every variable as declared, Conventions
 
 
 def test_bad_sample_size():

@@ -83,7 +83,8 @@ def choose_drops(seed: int, status, size: int) -> np.ndarray:
 def differences(summary, status, ref_summary, ref_status, class_basis="burial_volume") -> dict:
     """How the results (``summary``, ``status``) of some drops differ from their reference
     results: p95 and max of the relative penetration change (percent; :data:`FLOOR_M`,
-    :data:`SCALE_M`), the position of the largest, and the burial-class and status changes."""
+    :data:`SCALE_M`), the position of the largest (``argmax``: -1 when no penetration changed
+    beyond :data:`FLOOR_M`, so that no drop is named), and the burial-class and status changes."""
     pen, pen_ref = summary[:, layout.S_PENETRATION], ref_summary[:, layout.S_PENETRATION]
     both = np.isfinite(pen) & np.isfinite(pen_ref)
     d = np.abs(pen - pen_ref)
@@ -94,7 +95,7 @@ def differences(summary, status, ref_summary, ref_status, class_basis="burial_vo
     return {
         "p95": 100.0 * float(np.percentile(rel[both], 95)) if both.any() else float("nan"),
         "max": 100.0 * float(rel.max()) if both.any() else float("nan"),
-        "argmax": int(np.argmax(rel)) if both.any() else -1,
+        "argmax": int(np.argmax(rel)) if both.any() and rel.max() > 0.0 else -1,
         "class_changes": int(cls_changed.sum()),
         "status_changes": int(np.sum(np.asarray(status) != np.asarray(ref_status))),
     }
@@ -138,6 +139,11 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
     }
 
 
+def _worst_drop(index: int) -> str:
+    """The drop named beside the largest change: -1 means no drop changed (docs/notes/output.md)."""
+    return f"drop {index}" if index >= 0 else "no drop changed"
+
+
 def summary_lines(ds) -> list[str]:
     """The printed summary's lines for the self-check recorded in ``ds``'s attributes."""
     a = ds.attrs
@@ -152,7 +158,7 @@ def summary_lines(ds) -> list[str]:
         "quadratures): "
         f"penetration change p95 {float(a['numerical_check_penetration_p95_percent']):.2f} %, "
         f"max {float(a['numerical_check_penetration_max_percent']):.2f} % "
-        f"(drop {int(a['numerical_check_penetration_max_drop'])}), burial class changed on "
+        f"({_worst_drop(int(a['numerical_check_penetration_max_drop']))}), burial class changed on "
         f"{int(a['numerical_check_class_changes'])}, status on {int(a['numerical_check_status_changes'])}; "
         f"{float(a['numerical_check_wall_time_s']):.1f} s"
     ]

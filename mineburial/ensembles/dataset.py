@@ -24,6 +24,7 @@ import xarray as xr
 from mineburial.ensembles.statistics import burial_class, burial_statistics
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
+from mineburial.io.dataset import build
 from mineburial.kernels import layout
 from mineburial.kernels import status as status_codes
 
@@ -92,15 +93,11 @@ def build_dataset(
         statistics = burial_statistics(summary, status, **opts)
     class_basis = statistics.attrs.get("burial_class_basis", opts.get("class_basis", "burial_volume"))
 
-    parts = [statistics]
+    data = dict(statistics.data_vars)
+    coords = dict(statistics.coords)
     if per_drop:
-        parts.append(
-            _per_drop_dataset(summary, status, inputs, input_metadata, realization, class_basis, burial_class)
-        )
-    ds = xr.merge(parts, combine_attrs="override", compat="no_conflicts", join="exact")
-    for part in parts:  # merge may drop encodings (fill values): restore them
-        for name, da in part.variables.items():
-            ds[name].encoding.update(da.encoding)
+        data.update(_per_drop_variables(summary, status, inputs, input_metadata, class_basis))
+        coords["realization"] = _realization(realization, n)
 
     n_total = int(n if n_drops is None else n_drops)
     created = date_created or ncio.utc_now()
@@ -114,7 +111,6 @@ def build_dataset(
     )
     cr = dict(creator or {})
     global_attrs = {
-        "Conventions": ncio.CONVENTIONS,
         "title": title or ncio.DEFAULT_TITLE,
         "summary": summary_text or ncio.DEFAULT_SUMMARY,
         "keywords": ncio.KEYWORDS,
@@ -140,7 +136,6 @@ def build_dataset(
         "scenario": scen,
         "random_seed": ncio.seed_attr(seed),
         "sampling_method": sampling_method,
-        "mineburial_version": version_s,
         "n_drops": np.int64(n_total),
         "n_at_rest": np.int64(np.count_nonzero(status == status_codes.AT_REST)),
     }
@@ -148,24 +143,25 @@ def build_dataset(
     for k, v in statistics.attrs.items():
         global_attrs.setdefault(k, v)
     global_attrs.update(attrs or {})
-    ds.attrs = ncio.clean_attrs(global_attrs)
-    return ds
+    return build(data, coords, global_attrs, kind="ensemble", version=version_s)
 
 
-def _per_drop_dataset(
-    summary, status, inputs, input_metadata, realization, class_basis, burial_class
-) -> xr.Dataset:
-    n = summary.shape[0]
+def _realization(realization, n: int) -> np.ndarray:
     idx = np.arange(n, dtype=np.int64) if realization is None else np.asarray(realization)
     if idx.shape != (n,):
         raise ValueError(f"realization must have shape ({n},), got {idx.shape}")
-    data = {}
-    for j, name in enumerate(layout.SUMMARY_NAMES):
-        data[name] = V.variable(name).data_array(summary[:, j])
-    data["status"] = V.variable("status").data_array(status)
+    return idx
+
+
+def _per_drop_variables(summary, status, inputs, input_metadata, class_basis) -> dict:
+    """The per-drop variables along ``realization``: every summary column, the status, the
+    burial class on ``class_basis`` and the sampled inputs (``input_<path>``)."""
+    n = summary.shape[0]
+    data: dict = {name: summary[:, j] for j, name in enumerate(layout.SUMMARY_NAMES)}
+    data["status"] = status
     cls = burial_class(summary[:, layout.SUMMARY_INDEX[class_basis]])
     cls = np.where(np.isin(status, status_codes.IN_STATISTICS), cls, np.int8(V.UNCLASSIFIED)).astype(np.int8)
-    data["burial_class"] = V.variable("burial_class").data_array(cls, burial_class_basis=class_basis)
+    data["burial_class"] = (cls, {"burial_class_basis": class_basis})
     meta = dict(input_metadata or {})
     for path, values in (inputs or {}).items():
         units, desc = meta.get(path, (None, None))
@@ -176,8 +172,4 @@ def _per_drop_dataset(
         if arr.shape != (n,):
             raise ValueError(f"sampled input {path!r} must have shape ({n},), got {arr.shape}")
         data[var.name] = var.data_array(arr)
-    coords = {"realization": V.variable("realization").data_array(idx)}
-    ds = xr.Dataset(data, coords=coords)
-    for name, da in {**data, **coords}.items():
-        ds[name].encoding.update(da.encoding)
-    return ds
+    return data

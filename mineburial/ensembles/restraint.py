@@ -35,7 +35,6 @@ from typing import ClassVar
 
 import numba
 import numpy as np
-import xarray as xr
 
 from mineburial._version import __version__
 from mineburial.config import SUPPORT_TOLERANCE
@@ -46,7 +45,8 @@ from mineburial.ensembles.settings import check_ensemble_settings, input_files_o
 from mineburial.ensembles.statistics import wilson_interval
 from mineburial.errors import ScenarioError, unknown_names_message
 from mineburial.io import netcdf as ncio
-from mineburial.io.variables import input_variable_name
+from mineburial.io.dataset import build
+from mineburial.io.variables import RESTRAINT_OUTPUTS, input_variable
 from mineburial.kernels import multibody as kmb
 from mineburial.systems import restraint as rs
 
@@ -77,30 +77,8 @@ ENSEMBLE_DEFAULTS = {"n": 100, "seed": 0, "sampling": "mc", "chunk_size": 8, "pe
 ANCHOR_LENGTH_PER_MASS = 2.0 / 40000.0
 
 #: the per-case results, in the column order of a chunk's ``summary``: units, long name, comment
-OUTPUTS = {
-    "stopping_time": (
-        "s",
-        "time at which the ship's surge speed first reaches zero",
-        "located on the integrator's continuous extension; missing (NaN) where the case did not stop: "
-        "its status says why",
-    ),
-    "end_time": ("s", "time at which the run ended (the stopping time, or the time limit)", ""),
-    "peak_chain_tension": (
-        "N",
-        "largest force of the pin joining the anchor chain to the anchor",
-        "maximum over the records, every numerics.record_interval (a lower bound of the true peak)",
-    ),
-    "peak_ship_tension": (
-        "N",
-        "largest force of the pin joining the auxiliary rod to the ship (the restraining force on the ship)",
-        "maximum over the records, every numerics.record_interval (a lower bound of the true peak)",
-    ),
-    "energy_closure": (
-        "1",
-        "energy balance error: max |E(t) - E(0)| over the initial kinetic and hydrostatic energy",
-        "seed 004 §4.2 reports closure within 0.5 %",
-    ),
-}
+#: (declared in the variable registry, :data:`mineburial.io.variables.RESTRAINT_OUTPUTS`)
+OUTPUTS = RESTRAINT_OUTPUTS
 _COLUMN = {name: k for k, name in enumerate(OUTPUTS)}
 #: quantiles of the stopping time in the statistics
 QUANTILES = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -414,121 +392,28 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     """The CF NetCDF dataset of a restraint ensemble from its chunk results in case order:
     the statistics (:func:`statistics`), with ``per_drop`` the per-case results and sampled
     inputs along ``realization``, and the resolved scenario, seed, sampling method and
-    mineburial version in the global attributes."""
+    mineburial version in the global attributes. Every variable's metadata comes from the
+    registry's ``restraint_ensemble`` family (:mod:`mineburial.io.variables`), the file
+    through :func:`mineburial.io.dataset.build`."""
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     st = statistics(summary, status)
-    data = {
-        "status_count": (
-            ("status",),
-            st["status_count"].astype(np.int64),
-            {"long_name": "number of cases with each status", "units": "1"},
-        ),
-        "stopped_fraction": (
-            (),
-            st["stopped_fraction"],
-            {
-                "long_name": "share of the cases run whose ship stopped within numerics.t_max",
-                "units": "1",
-                "comment": "cases with invalid sampled inputs are not run and not counted",
-            },
-        ),
-    }
-    for end in ("lower", "upper"):
-        data[f"stopped_fraction_{end}"] = (
-            (),
-            st[f"stopped_fraction_{end}"],
-            {"long_name": f"{end} end of the 95 % Wilson interval of stopped_fraction", "units": "1"},
-        )
-    stats = (("mean", "mean"), ("std", "standard deviation (n - 1)"), ("min", "minimum"), ("max", "maximum"))
-    for stat, what in stats:
-        method = {"std": "standard_deviation", "min": "minimum", "max": "maximum"}.get(stat, stat)
-        data[f"stopping_time_{stat}"] = (
-            (),
-            st[f"stopping_time_{stat}"],
-            {
-                "long_name": f"{what} of the stopping time over the cases that stopped",
-                "units": "s",
-                "cell_methods": f"realization: {method} where stopped",
-            },
-        )
-    data["stopping_time_quantile"] = (
-        ("quantile",),
-        st["stopping_time_quantile"],
-        {
-            "long_name": "quantiles of the stopping time over the cases that stopped",
-            "units": "s",
-            "comment": "numpy.quantile method 'linear' (Hyndman & Fan 1996 type 7)",
-        },
-    )
-    for name in ("peak_chain_tension", "peak_ship_tension"):
-        units, long_name, _ = OUTPUTS[name]
-        for stat in ("mean", "max"):
-            data[f"{name}_{stat}"] = (
-                (),
-                st[f"{name}_{stat}"],
-                {
-                    "long_name": f"{'mean' if stat == 'mean' else 'maximum'} over the cases that stopped of "
-                    f"the {long_name}",
-                    "units": units,
-                    "cell_methods": f"realization: {'mean' if stat == 'mean' else 'maximum'} where stopped",
-                },
-            )
+    names = ("stopped_fraction", "stopped_fraction_lower", "stopped_fraction_upper")
+    names += tuple(f"stopping_time_{s}" for s in ("mean", "std", "min", "max", "quantile"))
+    names += tuple(f"{o}_{s}" for o in ("peak_chain_tension", "peak_ship_tension") for s in ("mean", "max"))
+    data = {"status_count": st["status_count"], **{name: st[name] for name in names}}
     coords = {
-        "status": (
-            "status",
-            np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
-            {"long_name": "run status of a case", **_status_attrs()},
-        ),
-        "quantile": ("quantile", np.asarray(QUANTILES), {"long_name": "probability level", "units": "1"}),
+        "status": (np.arange(len(kmb.STATUS_NAMES)), _status_attrs()),
+        "quantile": np.asarray(QUANTILES),
     }
     if spec.per_drop:
-        n = summary.shape[0]
-        coords["realization"] = (
-            "realization",
-            np.arange(n, dtype=np.int64),
-            {"long_name": "case index in the ensemble", "standard_name": "realization", "units": "1"},
-        )
-        for name, (units, long_name, comment) in OUTPUTS.items():
-            attrs = {"long_name": long_name, "units": units}
-            if comment:
-                attrs["comment"] = comment
-            data[name] = (("realization",), summary[:, _COLUMN[name]], attrs)
-        data["case_status"] = (
-            ("realization",),
-            status.astype(np.int8),
-            {"long_name": "run status of the case", **_status_attrs()},
-        )
-        for key in chunks[0]:
-            if not key.startswith("input:"):
-                continue
-            path = key[6:]
-            field = next(f for f in rs.FIELDS if f.path == path)
-            values = np.concatenate([r[key] for r in chunks])
-            data[input_variable_name(path)] = (
-                ("realization",),
-                values,
-                {
-                    "long_name": f"sampled {path}",
-                    "units": field.unit,
-                    "scenario_path": path,
-                    "comment": f"value of the restraint case field {path} in each case ({field.source})",
-                    "coverage_content_type": "auxiliaryInformation",
-                },
-            )
-    ds = xr.Dataset(data, coords=coords)
-    for name in ds.variables:
-        if ds[name].dtype.kind in "iu":
-            ds[name].encoding["_FillValue"] = None
-    invalid = merge_invalid_reasons(chunks)
-    created = ncio.utc_now()
+        coords["realization"] = np.arange(summary.shape[0])
+        data.update({name: summary[:, _COLUMN[name]] for name in OUTPUTS})
+        data["case_status"] = (status, _status_attrs())
+        data.update(_sampled_inputs(chunks))
     scen = ncio.scenario_json(spec.resolved())
-    line = (
-        f"{created} mineburial {__version__}: ensemble of {spec.n} cases of the restraining system, "
-        f"{spec.sampling} sampling, seed {spec.seed}"
-    )
+    created = ncio.utc_now()
     attrs = {
-        "Conventions": ncio.CONVENTIONS,
         "title": f"mineburial restraining-system ensemble (seed 004): {spec.base.name}",
         "summary": "Monte Carlo ensemble of seed 004's restraining system (a powerless ship stopped by an "
         "overhead restraining system, planar Kane-method multibody model): the stopping time of each "
@@ -537,7 +422,8 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
         + hashlib.sha256(
             json.dumps([scen, str(spec.seed), spec.sampling, spec.n, __version__]).encode()
         ).hexdigest()[:16],
-        "history": line,
+        "history": f"{created} mineburial {__version__}: ensemble of {spec.n} cases of the restraining "
+        f"system, {spec.sampling} sampling, seed {spec.seed}",
         "date_created": created,
         "product_version": __version__,
         "source": f"mineburial {__version__} (numba-compiled multibody model of seed 004)",
@@ -545,19 +431,33 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
         "scenario": scen,
         "random_seed": ncio.seed_attr(spec.seed),
         "sampling_method": spec.sampling,
-        "mineburial_version": __version__,
         "n_cases": np.int64(spec.n),
         "n_stopped": np.int64(st["n_stopped"]),
         "comment": "Statistics of the stopping time use only the cases whose ship stopped (status "
         "stopped); status_count gives the number of cases with every status.",
     }
+    invalid = merge_invalid_reasons(chunks)
     if invalid:
         attrs["invalid_inputs"] = "; ".join(
             f"{field}: {count} case{'s' * (count != 1)} (e.g. {example})"
             for field, (count, example) in sorted(invalid.items(), key=lambda kv: -kv[1][0])
         )
-    ds.attrs = ncio.clean_attrs(attrs)
-    return ds
+    return build(data, coords, attrs, kind="restraint_ensemble")
+
+
+def _sampled_inputs(chunks) -> dict:
+    """The sampled case fields of the chunks as registry input variables (``input_<path>``)."""
+    out = {}
+    for key in chunks[0]:
+        if not key.startswith("input:"):
+            continue
+        path = key[6:]
+        field = next(f for f in rs.FIELDS if f.path == path)
+        var = input_variable(path, field.unit)
+        values = np.concatenate([r[key] for r in chunks])
+        comment = f"value of the restraint case field {path} in each case ({field.source})"
+        out[var.name] = var.data_array(values, comment=comment)
+    return out
 
 
 def summarize(ds, elapsed: float | None = None, output=None) -> str:

@@ -2,9 +2,10 @@
 
 :func:`write_netcdf` writes a Dataset atomically in NETCDF4 format with zlib
 compression (encodings from the one variable registry :mod:`mineburial.io.variables`).
-The datasets themselves are assembled by the layers that compute them (an ensemble:
+The datasets themselves are made by the one builder :func:`mineburial.io.dataset.build`
+from what the layers that compute them hand it (an ensemble:
 :func:`mineburial.ensembles.dataset.build_dataset`; a map: :mod:`mineburial.maps`);
-this module only provides the shared global attributes (conventions, keywords,
+this module only provides the shared attribute values (conventions, keywords,
 references) and the helpers that make attribute values netCDF-safe.
 """
 

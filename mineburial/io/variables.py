@@ -25,7 +25,12 @@ Three families of variables exist:
 * **ensemble-wide** statistics: burial-class probabilities with Wilson
   intervals and the count of every status code.
 
-Only ``realization`` carries a CF standard name: the CF Standard Name Table
+Those are the variables of a mine ensemble's file. The other files have a family each in
+:data:`FAMILIES` (one drop's trajectory, the restraining system's time series and ensemble,
+the Sobol' indices, the synthetic environment grid); :func:`mineburial.io.dataset.build`
+makes every file from the family of its kind.
+
+In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
 rest (``platform_pitch`` and friends describe observation platforms, not the
 observed object), so those variables carry a ``long_name`` only.
@@ -261,6 +266,9 @@ class Variable:
     #: a CF boundary variable (7.1): written without attributes, its metadata
     #: (units included) is that of its parent coordinate (xarray drops them anyway)
     is_bounds: bool = False
+    #: the kernel-side names of the flags that the writer hands in as ``flag_values``/``flag_meanings``
+    #: at run time (the registry does not import the kernel module that owns them)
+    runtime_flags: str | None = None
 
     def cf_attrs(self, **extra: Any) -> dict[str, Any]:
         """CF attributes of the variable (``extra`` overrides or adds, ``None`` removes)."""
@@ -273,7 +281,8 @@ class Variable:
         if self.units is not None:
             out["units"] = self.units
         out.update(self.attrs)
-        out["comment"] = self.description
+        if self.description:  # an empty description writes no comment
+            out["comment"] = self.description
         for k, v in extra.items():
             if v is None:
                 out.pop(k, None)
@@ -911,6 +920,479 @@ def input_variable(path: str, units: str | None, description: str | None = None)
 
 
 # ---------------------------------------------------------------------------
+# the families of the other files: one drop's trajectory, the restraining system's
+# time series and ensembles, the Sobol' sensitivity analysis
+# ---------------------------------------------------------------------------
+# Their names, units and long names are those the files have carried since they were
+# written; a declaration with an empty description writes no ``comment``. Flags owned by a
+# kernel module (the restraint's status and contact codes, which the registry must not
+# import: mineburial.kernels.multibody costs ~0.2 s of start-up) are handed to the
+# builder at run time and named in the description.
+
+#: the restraint's per-case results, in the column order of a chunk's ``summary``
+#: (:mod:`mineburial.ensembles.restraint`): units, long name, comment
+RESTRAINT_OUTPUTS: dict[str, tuple[str, str, str]] = {
+    "stopping_time": (
+        "s",
+        "time at which the ship's surge speed first reaches zero",
+        "located on the integrator's continuous extension; missing (NaN) where the case did not stop: "
+        "its status says why",
+    ),
+    "end_time": ("s", "time at which the run ended (the stopping time, or the time limit)", ""),
+    "peak_chain_tension": (
+        "N",
+        "largest force of the pin joining the anchor chain to the anchor",
+        "maximum over the records, every numerics.record_interval (a lower bound of the true peak)",
+    ),
+    "peak_ship_tension": (
+        "N",
+        "largest force of the pin joining the auxiliary rod to the ship (the restraining force on the ship)",
+        "maximum over the records, every numerics.record_interval (a lower bound of the true peak)",
+    ),
+    "energy_closure": (
+        "1",
+        "energy balance error: max |E(t) - E(0)| over the initial kinetic and hydrostatic energy",
+        "seed 004 §4.2 reports closure within 0.5 %",
+    ),
+}
+#: the derived quantities of a restraint case written as scalars (seed 004's equations)
+RESTRAINT_DERIVED: dict[str, tuple[str, str]] = {
+    "water_depth": ("m", "water depth d of eq. (38): height of the ship's water plane above the seabed"),
+    "ship_draught": ("m", "draught of the cuboid ship, m / (rho L B)"),
+    "ship_wetted_area": ("m2", "wetted surface S_W of the cuboid ship, eq. (62)"),
+    "ship_gm_longitudinal": ("m", "longitudinal metacentric height G_y^M, eq. (57)"),
+    "catenary_b": ("1", "catenary parameter b = x_s / a, eq. (30)"),
+    "catenary_a": ("m", "catenary parameter a = T_h / w_c, eq. (31)"),
+    "catenary_horizontal_tension": ("N", "horizontal tension T_h of the initial catenary, eq. (31)"),
+    "chain_axis_height": ("m", "initial height of the chain's axis above the seabed (equilibrium sinkage)"),
+    "cable_axis_height": ("m", "initial height of the cable's axis above the seabed (equilibrium sinkage)"),
+}
+_RESTRAINT_STATUS = "mineburial.kernels.multibody.STATUS_NAMES"
+
+
+def _family(vars_: list[Variable], group: str) -> dict[str, Variable]:
+    out: dict[str, Variable] = {}
+    for var in vars_:
+        if var.name in out:  # pragma: no cover - guards the registry itself
+            raise RuntimeError(f"output variable {var.name!r} declared twice in {group}")
+        out[var.name] = dataclasses.replace(var, group=group)
+    return out
+
+
+# the columns of a recorded trajectory row (layout.TRAJ_COLUMNS) written along ``time``
+_TRAJ_COLUMNS: dict[str, tuple[str, str]] = {
+    "x": ("m", "x coordinate of the centre of mass (E-frame)"),
+    "y": ("m", "y coordinate of the centre of mass (E-frame)"),
+    "z": ("m", "height of the centre of mass above the calm water surface (E-frame, z up)"),
+    "u": ("m s-1", "x component of the centre-of-mass velocity"),
+    "v": ("m s-1", "y component of the centre-of-mass velocity"),
+    "w": ("m s-1", "vertical component of the centre-of-mass velocity (up positive)"),
+    "q0": ("1", "orientation quaternion, scalar part (body to earth)"),
+    "q1": ("1", "orientation quaternion, first vector component"),
+    "q2": ("1", "orientation quaternion, second vector component"),
+    "q3": ("1", "orientation quaternion, third vector component"),
+    "omega1": ("rad s-1", "angular velocity about the mine axis i_M (body frame)"),
+    "omega2": ("rad s-1", "angular velocity about j_M (body frame)"),
+    "omega3": ("rad s-1", "angular velocity about k_M (body frame)"),
+    "work_fluid": ("J", "work done on the mine by fluid forces (buoyancy, drag, lift, added mass)"),
+    "work_sediment": ("J", "work done on the mine by sediment forces"),
+}
+#: the force columns of a trajectory row, written with ``mineburial drop --forces``
+TRAJ_FORCE_COLUMNS: dict[str, tuple[str, str]] = {
+    "fluid_force_x": ("N", "fluid force on the mine, x component (E-frame)"),
+    "fluid_force_y": ("N", "fluid force on the mine, y component (E-frame)"),
+    "fluid_force_z": ("N", "fluid force on the mine, z component (E-frame)"),
+    "sediment_force_x": ("N", "sediment force on the mine, x component (E-frame)"),
+    "sediment_force_y": ("N", "sediment force on the mine, y component (E-frame)"),
+    "sediment_force_z": ("N", "sediment force on the mine, z component (E-frame)"),
+    "torque_1": ("N m", "total torque about the centre of mass, i_M component (body frame)"),
+    "torque_2": ("N m", "total torque about the centre of mass, j_M component (body frame)"),
+    "torque_3": ("N m", "total torque about the centre of mass, k_M component (body frame)"),
+}
+if set(layout.TRAJ_COLUMNS) != {"time", "phase", *_TRAJ_COLUMNS, *TRAJ_FORCE_COLUMNS}:  # pragma: no cover
+    raise RuntimeError(
+        "mineburial.io.variables' trajectory columns are out of step with layout.TRAJ_COLUMNS: "
+        f"{layout.TRAJ_COLUMNS}"
+    )
+#: the trajectory's columns written as they are recorded (every TRAJ_COLUMNS entry but
+#: ``time``, the coordinate, and ``phase``, an int8 flag variable)
+TRAJ_STATE_COLUMNS = tuple(_TRAJ_COLUMNS)
+#: the attitude angles derived from the quaternion (seed 000 eq. (4))
+TRAJ_ANGLES: dict[str, str] = {
+    "psi1": "roll about the mine axis (seed 000 psi1)",
+    "psi2": "dip of the nose below the horizontal (seed 000 psi2)",
+    "psi3": "heading of the mine axis (seed 000 psi3)",
+}
+
+
+def _trajectory_variables() -> list[Variable]:
+    t = ("time",)
+    out = [
+        Variable(
+            "time", t, "float64", "s", "time since release", "", standard_name="time", fill_value=_NO_FILL
+        )
+    ]
+    for name, (units, long_name) in {**_TRAJ_COLUMNS, **TRAJ_FORCE_COLUMNS}.items():
+        out.append(Variable(name, t, "float64", units, long_name, ""))
+    out += [Variable(name, t, "float64", "degree", ln, "") for name, ln in TRAJ_ANGLES.items()]
+    out.append(
+        Variable(
+            "phase",
+            t,
+            "int8",
+            None,
+            "medium the mine is in or crossing",
+            "",
+            attrs=_flag_attrs(range(len(layout.PHASE_NAMES)), layout.PHASE_NAMES),
+        )
+    )
+    out += [Variable(name, (), "float64", o.units, o.long_name, "") for name, o in SUMMARY_OUTPUTS.items()]
+    out.append(
+        Variable(
+            "status",
+            (),
+            "int8",
+            None,
+            "drop status",
+            "",
+            attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+        )
+    )
+    return out
+
+
+def _restraint_run_variables() -> list[Variable]:
+    b, t = ("elapsed_time", "body"), ("elapsed_time",)
+
+    def f(name, dims, units, long_name, comment=""):
+        return Variable(name, dims, "float64", units, long_name, comment)
+
+    pin = "horizontal force of the pin joining the body to the previous one, on the body"
+    return [
+        f("elapsed_time", t, "s", "time since the start of the restraint (elapsed time)"),
+        Variable("body", ("body",), "int32", None, "body number (seed 004: 1 = anchor, N = ship)", ""),
+        Variable("body_name", ("body",), "object", None, "body", ""),
+        Variable("body_kind", ("body",), "object", None, "kind of body", ""),
+        f("body_length", ("body",), "m", "body length"),
+        f("x", b, "m", "horizontal position of the body's centroid"),
+        f("z", b, "m", "height of the body's centroid above the seabed"),
+        f("theta", b, "rad", "attitude of the body, counter-clockwise from +x toward +z"),
+        f("vx", b, "m s-1", "horizontal velocity of the body's centroid"),
+        f("vz", b, "m s-1", "vertical velocity of the body's centroid"),
+        f("omega", b, "rad s-1", "angular velocity of the body"),
+        f(
+            "pin_force_x",
+            b,
+            "N",
+            pin,
+            "seed 004 eq. (52); body 1 (the anchor): the seabed's reaction on its locked coordinates",
+        ),
+        f(
+            "pin_force_z",
+            b,
+            "N",
+            pin.replace("horizontal", "vertical"),
+            "seed 004 eq. (52); body 1 (the anchor): the seabed's normal reaction",
+        ),
+        f(
+            "pin_tension",
+            b,
+            "N",
+            "magnitude of the pin force (joint constraint force); body 1 (the anchor): magnitude of the "
+            "seabed's reaction on its locked coordinates",
+        ),
+        f("ship_x", t, "m", "ship surge position (centroid)"),
+        f("ship_speed", t, "m s-1", "ship surge speed"),
+        f("ship_heave", t, "m", "ship heave"),
+        f("ship_pitch", t, "rad", "ship pitch angle"),
+        f("anchor_x", t, "m", "anchor position (centroid)"),
+        f("anchor_speed", t, "m s-1", "anchor speed along the seabed"),
+        f("anchor_normal_force", t, "N", "seabed normal reaction on the anchor"),
+        f("anchor_friction", t, "N", "seabed friction on the anchor", "seed 004 eq. (37)"),
+        Variable(
+            "anchor_contact",
+            t,
+            "int8",
+            None,
+            "state of the anchor's seabed contact",
+            "lifted: the solved normal reaction is <= 0; friction_unsolvable: eq. (37) has "
+            "no solution (1 + mu s dN/df <= 0); in both the friction is zero (docs/restraint.md)",
+            runtime_flags="mineburial.systems.restraint.CONTACT_NAMES",
+        ),
+        f("kinetic_energy", t, "J", "kinetic energy (with the added mass)", "eq. (64)"),
+        f(
+            "gravitational_energy",
+            t,
+            "J",
+            "potential energy of weight and buoyancy above the seabed",
+            "eq. (65)",
+        ),
+        f("hydrostatic_energy", t, "J", "elastic energy of the ship's heave and pitch restoring", "eq. (66)"),
+        f(
+            "foundation_energy",
+            t,
+            "J",
+            "elastic energy stored in the seabed foundation",
+            "eq. (68): W^S with the opposite sign",
+        ),
+        f(
+            "friction_dissipation",
+            t,
+            "J",
+            "energy dissipated by the anchor's seabed friction",
+            "-W^F, eq. (67)",
+        ),
+        f(
+            "water_dissipation",
+            t,
+            "J",
+            "energy taken from the system by the water (drag, ship resistance)",
+            "-W^W, eq. (69); negative where a current feeds energy in",
+        ),
+        f("total_energy", t, "J", "kinetic + potential + dissipated energy (constant)", "eq. (63)"),
+        Variable("status", (), "int8", None, "run status", "", runtime_flags=_RESTRAINT_STATUS),
+        f("stopping_time", (), "s", "time at which the ship's surge speed first reaches zero"),
+    ] + [f(name, (), units, long_name) for name, (units, long_name) in RESTRAINT_DERIVED.items()]
+
+
+def _restraint_ensemble_variables() -> list[Variable]:
+    r = ("realization",)
+
+    def f(name, dims, units, long_name, comment="", **attrs):
+        return Variable(name, dims, "float64", units, long_name, comment, attrs=attrs)
+
+    out = [
+        Variable(
+            "status", ("status",), "int8", None, "run status of a case", "", runtime_flags=_RESTRAINT_STATUS
+        ),
+        f("quantile", ("quantile",), "1", "probability level"),
+        Variable(
+            "realization",
+            r,
+            "int64",
+            "1",
+            "case index in the ensemble",
+            "",
+            standard_name="realization",
+            fill_value=_NO_FILL,
+        ),
+        Variable("status_count", ("status",), "int64", "1", "number of cases with each status", ""),
+        f(
+            "stopped_fraction",
+            (),
+            "1",
+            "share of the cases run whose ship stopped within numerics.t_max",
+            "cases with invalid sampled inputs are not run and not counted",
+        ),
+    ]
+    out += [
+        f(f"stopped_fraction_{end}", (), "1", f"{end} end of the 95 % Wilson interval of stopped_fraction")
+        for end in ("lower", "upper")
+    ]
+    stats = (("mean", "mean"), ("std", "standard deviation (n - 1)"), ("min", "minimum"), ("max", "maximum"))
+    for stat, what in stats:
+        method = {"std": "standard_deviation", "min": "minimum", "max": "maximum"}.get(stat, stat)
+        out.append(
+            f(
+                f"stopping_time_{stat}",
+                (),
+                "s",
+                f"{what} of the stopping time over the cases that stopped",
+                cell_methods=f"realization: {method} where stopped",
+            )
+        )
+    out.append(
+        f(
+            "stopping_time_quantile",
+            ("quantile",),
+            "s",
+            "quantiles of the stopping time over the cases that stopped",
+            "numpy.quantile method 'linear' (Hyndman & Fan 1996 type 7)",
+        )
+    )
+    for name in ("peak_chain_tension", "peak_ship_tension"):
+        units, long_name, _ = RESTRAINT_OUTPUTS[name]
+        for stat, what in (("mean", "mean"), ("max", "maximum")):
+            out.append(
+                f(
+                    f"{name}_{stat}",
+                    (),
+                    units,
+                    f"{what} over the cases that stopped of the {long_name}",
+                    cell_methods=f"realization: {what} where stopped",
+                )
+            )
+    out += [f(name, r, units, ln, comment) for name, (units, ln, comment) in RESTRAINT_OUTPUTS.items()]
+    out.append(
+        Variable(
+            "case_status", r, "int8", None, "run status of the case", "", runtime_flags=_RESTRAINT_STATUS
+        )
+    )
+    return out
+
+
+def _sensitivity_variables() -> list[Variable]:
+    """The Sobol' indices of :func:`mineburial.validation.sensitivity.sobol_analysis` (seeds: Saltelli
+    et al. 2010 first order, Jansen 1999 total; bootstrap intervals) and the model-form shares."""
+    oi = ("output", "input")
+    out = [
+        Variable("output", ("output",), "object", None, "output analysed", "", fill_value=_NO_FILL),
+        Variable("input", ("input",), "object", None, "random input of the design", "", fill_value=_NO_FILL),
+    ]
+    for key, symbol, estimator in (
+        ("first_order", "first-order Sobol' index S_i", "Saltelli et al. 2010"),
+        ("total_order", "total Sobol' index S_Ti", "Jansen 1999"),
+    ):
+        out.append(Variable(key, oi, "float64", None, symbol, "", attrs={"estimator": estimator}))
+        out += [
+            Variable(f"{key}_{side}", oi, "float64", None, f"{side} confidence limit of the {symbol}", "")
+            for side in ("lower", "upper")
+        ]
+    out += [
+        Variable("output_variance", ("output",), "float64", None, "variance of the output over A and B", ""),
+        Variable(
+            "index_status",
+            ("output",),
+            "int8",
+            None,
+            "whether the Sobol' indices of the output are defined",
+            "1: the output took one value at every point of the design, its "
+            "variance is 0 and every index 0 / 0, written NaN.",
+            attrs=_flag_attrs((0, 1), ("defined", "undefined_output_constant")),
+        ),
+        Variable(
+            "model_form_first_order",
+            ("output",),
+            "float64",
+            None,
+            "sum of the model-form inputs' first-order indices (<= the group's closed index)",
+            "",
+        ),
+        Variable(
+            "model_form_total_order",
+            ("output",),
+            "float64",
+            None,
+            "sum of the model-form inputs' total indices (>= the group's total index)",
+            "",
+        ),
+    ]
+    return out
+
+
+#: the label of every value of the synthetic environment grid (:mod:`mineburial.synthetic`)
+SYNTHETIC_NOTE = (
+    "SYNTHETIC DATA: invented values to demonstrate mineburial maps; not a survey, "
+    "not a chart, not for operational use."
+)
+
+
+def _environment_variables() -> list[Variable]:
+    """The synthetic environment grid of :mod:`mineburial.synthetic` (the format the maps read,
+    docs/maps.md): depth, sediment class and current on a WGS 84 latitude/longitude grid."""
+    g, gm = ("latitude", "longitude"), {"grid_mapping": "crs"}
+    out = [
+        Variable(
+            axis,
+            (axis,),
+            "float64",
+            f"degrees_{'north' if axis == 'latitude' else 'east'}",
+            axis,
+            "",
+            standard_name=axis,
+            attrs={"axis": "Y" if axis == "latitude" else "X"},
+            fill_value=_NO_FILL,
+        )
+        for axis in g
+    ]
+    out += [
+        Variable(
+            "water_depth",
+            g,
+            "float64",
+            "m",
+            "water depth (synthetic)",
+            "NaN on land. " + SYNTHETIC_NOTE,
+            standard_name="sea_floor_depth_below_sea_surface",
+            attrs=gm,
+        ),
+        Variable(
+            "sediment_class",
+            g,
+            "int8",
+            None,
+            "seabed sediment class (synthetic)",
+            "Index into the mineburial sediment catalogue "
+            "(mineburial.sediment_profiles.class_names()); -1 (fill) on land. " + SYNTHETIC_NOTE,
+            attrs=gm,
+            fill_value=-1,
+            runtime_flags="mineburial.sediment_profiles.class_names()",
+        ),
+    ]
+    out += [
+        Variable(
+            f"current_{c}",
+            g,
+            "float64",
+            "m s-1",
+            f"{way} current (synthetic)",
+            "",
+            standard_name=f"{way}_sea_water_velocity",
+            attrs=gm,
+        )
+        for c, way in (("u", "eastward"), ("v", "northward"))
+    ]
+    out.append(
+        Variable(
+            "crs",
+            (),
+            "int32",
+            None,
+            "WGS 84",
+            "",
+            attrs={
+                "grid_mapping_name": "latitude_longitude",
+                "longitude_of_prime_meridian": 0.0,
+                "semi_major_axis": 6378137.0,
+                "inverse_flattening": 298.257223563,
+            },
+        )
+    )
+    return out
+
+
+#: what a file of each kind is (the default ``history`` line of :func:`mineburial.io.dataset.standard_attrs`)
+FAMILY_TITLES = {
+    "ensemble": "Monte Carlo ensemble of mine drops",
+    "trajectory": "trajectory of one mine drop",
+    "restraint_run": "time series of one case of the restraining system",
+    "restraint_ensemble": "ensemble of cases of the restraining system",
+    "sensitivity": "Sobol' sensitivity indices",
+    "environment": "synthetic environment grid (invented values)",
+    "map": "burial map over an environment grid",  # its variables: mineburial.maps (no family yet)
+}
+#: the variables of each file kind: the mine ensemble's (:data:`VARIABLES`) and one family each for
+#: the single drop's trajectory, the restraint's time series, the restraint ensemble and the Sobol'
+#: sensitivity analysis
+FAMILIES: dict[str, dict[str, Variable]] = {
+    "ensemble": VARIABLES,
+    "trajectory": _family(_trajectory_variables(), "trajectory"),
+    "restraint_run": _family(_restraint_run_variables(), "restraint_run"),
+    "restraint_ensemble": _family(_restraint_ensemble_variables(), "restraint_ensemble"),
+    "sensitivity": _family(_sensitivity_variables(), "sensitivity"),
+    "environment": _family(_environment_variables(), "environment"),
+}
+
+
+def family(kind: str) -> dict[str, Variable]:
+    """The declared variables of a file of ``kind`` (a key of :data:`FAMILIES`)."""
+    try:
+        return FAMILIES[kind]
+    except KeyError:
+        raise KeyError(_unknown("dataset kind", kind, FAMILIES)) from None
+
+
+# ---------------------------------------------------------------------------
 # look-up and documentation
 # ---------------------------------------------------------------------------
 
@@ -941,6 +1423,10 @@ def _md_row(var: Variable, name: str | None = None) -> str:
     if "flag_values" in var.attrs:
         pairs = zip(np.asarray(var.attrs["flag_values"]).tolist(), var.attrs["flag_meanings"].split())
         extra = " Flags: " + ", ".join(f"{v} `{m}`" for v, m in pairs) + "."
+    elif var.runtime_flags:
+        extra = (
+            f" Flags: the codes of `{var.runtime_flags}` (flag_values/flag_meanings written by the writer)."
+        )
     return (
         f"| `{name or var.name}` | {dims} | {var.dtype} | {units} | {cf} | "
         f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |"
@@ -994,6 +1480,12 @@ def variables_markdown(expand: bool = False) -> str:
                 stats.append(_md_row(tv))
             elif v.name not in others:
                 stats.append(_md_row(v))
+    others = "".join(
+        f"\n### {heading}\n\n{_MD_HEADER}\n"
+        + "\n".join(_md_row(var) for var in FAMILIES[kind].values())
+        + "\n"
+        for kind, heading in _FAMILY_HEADINGS.items()
+    )
     return (
         "### Per-drop variables (dimension `realization`)\n\n"
         + _MD_HEADER
@@ -1004,4 +1496,15 @@ def variables_markdown(expand: bool = False) -> str:
         + "\n"
         + "\n".join(stats)
         + "\n"
+        + others
     )
+
+
+#: the Markdown headings of the families other than the mine ensemble's
+_FAMILY_HEADINGS = {
+    "trajectory": "Drop trajectory (`mineburial drop`; the forces and torques with `--forces`)",
+    "restraint_run": "Restraining-system time series (`mineburial restrain`)",
+    "restraint_ensemble": "Restraining-system ensemble (`mineburial run` of a restraint scenario)",
+    "sensitivity": "Sobol' sensitivity indices (`mineburial sensitivity`)",
+    "environment": "Synthetic environment grid (`python -m mineburial.synthetic`, the maps' input format)",
+}

@@ -1260,211 +1260,92 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
 # ---------------------------------------------------------------------------
 
 
-#: derived quantities of a case written as scalar variables: units, long name
-_DERIVED = {
-    "water_depth": ("m", "water depth d of eq. (38): height of the ship's water plane above the seabed"),
-    "ship_draught": ("m", "draught of the cuboid ship, m / (rho L B)"),
-    "ship_wetted_area": ("m2", "wetted surface S_W of the cuboid ship, eq. (62)"),
-    "ship_gm_longitudinal": ("m", "longitudinal metacentric height G_y^M, eq. (57)"),
-    "catenary_b": ("1", "catenary parameter b = x_s / a, eq. (30)"),
-    "catenary_a": ("m", "catenary parameter a = T_h / w_c, eq. (31)"),
-    "catenary_horizontal_tension": ("N", "horizontal tension T_h of the initial catenary, eq. (31)"),
-    "chain_axis_height": ("m", "initial height of the chain's axis above the seabed (equilibrium sinkage)"),
-    "cable_axis_height": ("m", "initial height of the cable's axis above the seabed (equilibrium sinkage)"),
-}
-
-
 def to_dataset(result: RestraintResult):
     """The time series of a run as a CF-1.11 dataset: every body's centroid position,
     attitude and velocities, the pin forces (eq. (52)), the anchor's normal and friction
     forces (eq. (37)), the energy terms of eqs. (64)-(69); the resolved case and the
-    mineburial version in the attributes. Write it with
+    mineburial version in the attributes. Every variable's metadata comes from the
+    registry's ``restraint_run`` family (:mod:`mineburial.io.variables`), the file through
+    :func:`mineburial.io.dataset.build`. Write it with
     :func:`mineburial.io.netcdf.write_netcdf` (atomic)."""
     import json
 
-    import xarray as xr
-
-    from mineburial._version import __version__
-    from mineburial.io.netcdf import CONVENTIONS, utc_now
+    from mineburial.io.dataset import build
+    from mineburial.io.variables import RESTRAINT_DERIVED
     from mineburial.kernels import multibody as kmb
 
     sysm = result.system
     lay = sysm.layout
     case = sysm.case
     n = lay.kinds.size
-    kind_names = np.array(["anchor", "element", "rod", "ship"])[lay.kinds]
-    tdims = ("elapsed_time",)
-    bdims = ("elapsed_time", "body")
-
-    def var(dims, data, units, long_name, **extra):
-        attrs = {"units": units, "long_name": long_name}
-        attrs.update(extra)
-        return (dims, np.asarray(data, dtype=np.float64), attrs)
-
-    ship = n - 1
-    e = result.energy
+    ship, e = n - 1, result.energy
+    pos, vel, pin = result.pos, result.vel, result.pin_force
     data = {
-        "x": var(bdims, result.pos[:, :, 0], "m", "horizontal position of the body's centroid"),
-        "z": var(bdims, result.pos[:, :, 1], "m", "height of the body's centroid above the seabed"),
-        "theta": var(
-            bdims, result.pos[:, :, 2], "rad", "attitude of the body, counter-clockwise from +x toward +z"
-        ),
-        "vx": var(bdims, result.vel[:, :, 0], "m s-1", "horizontal velocity of the body's centroid"),
-        "vz": var(bdims, result.vel[:, :, 1], "m s-1", "vertical velocity of the body's centroid"),
-        "omega": var(bdims, result.vel[:, :, 2], "rad s-1", "angular velocity of the body"),
-        "pin_force_x": var(
-            bdims,
-            result.pin_force[:, :, 0],
-            "N",
-            "horizontal force of the pin joining the body to the previous one, on the body",
-            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's reaction on its locked coordinates",
-        ),
-        "pin_force_z": var(
-            bdims,
-            result.pin_force[:, :, 1],
-            "N",
-            "vertical force of the pin joining the body to the previous one, on the body",
-            comment="seed 004 eq. (52); body 1 (the anchor): the seabed's normal reaction",
-        ),
-        "pin_tension": var(
-            bdims,
-            np.hypot(result.pin_force[:, :, 0], result.pin_force[:, :, 1]),
-            "N",
-            "magnitude of the pin force (joint constraint force); body 1 (the anchor): magnitude of the "
-            "seabed's reaction on its locked coordinates",
-        ),
-        "ship_x": var(tdims, result.pos[:, ship, 0], "m", "ship surge position (centroid)"),
-        "ship_speed": var(tdims, result.vel[:, ship, 0], "m s-1", "ship surge speed"),
-        "ship_heave": var(tdims, result.pos[:, ship, 1] - sysm.water_depth, "m", "ship heave"),
-        "ship_pitch": var(tdims, result.pos[:, ship, 2], "rad", "ship pitch angle"),
-        "anchor_x": var(tdims, result.pos[:, 0, 0], "m", "anchor position (centroid)"),
-        "anchor_speed": var(tdims, result.vel[:, 0, 0], "m s-1", "anchor speed along the seabed"),
-        "anchor_normal_force": var(tdims, result.scalars[:, 4], "N", "seabed normal reaction on the anchor"),
-        "anchor_friction": var(
-            tdims, result.scalars[:, 5], "N", "seabed friction on the anchor", comment="seed 004 eq. (37)"
-        ),
-        "anchor_contact": (
-            tdims,
-            result.scalars[:, 6].astype(np.int8),
-            {
-                "long_name": "state of the anchor's seabed contact",
-                "flag_values": np.arange(len(CONTACT_NAMES), dtype=np.int8),
-                "flag_meanings": " ".join(CONTACT_NAMES),
-                "comment": "lifted: the solved normal reaction is <= 0; friction_unsolvable: eq. (37) has "
-                "no solution (1 + mu s dN/df <= 0); in both the friction is zero (docs/restraint.md)",
-            },
-        ),
-        "kinetic_energy": var(
-            tdims, e["kinetic"], "J", "kinetic energy (with the added mass)", comment="eq. (64)"
-        ),
-        "gravitational_energy": var(
-            tdims,
-            e["gravity"],
-            "J",
-            "potential energy of weight and buoyancy above the seabed",
-            comment="eq. (65)",
-        ),
-        "hydrostatic_energy": var(
-            tdims,
-            e["hydrostatic"],
-            "J",
-            "elastic energy of the ship's heave and pitch restoring",
-            comment="eq. (66)",
-        ),
-        "foundation_energy": var(
-            tdims,
-            e["foundation"],
-            "J",
-            "elastic energy stored in the seabed foundation",
-            comment="eq. (68): W^S with the opposite sign",
-        ),
-        "friction_dissipation": var(
-            tdims,
-            e["friction_dissipated"],
-            "J",
-            "energy dissipated by the anchor's seabed friction",
-            comment="-W^F, eq. (67)",
-        ),
-        "water_dissipation": var(
-            tdims,
-            e["water_dissipated"],
-            "J",
-            "energy taken from the system by the water (drag, ship resistance)",
-            comment="-W^W, eq. (69); negative where a current feeds energy in",
-        ),
-        "total_energy": var(
-            tdims, e["total"], "J", "kinetic + potential + dissipated energy (constant)", comment="eq. (63)"
-        ),
+        **{name: pos[:, :, k] for k, name in enumerate(("x", "z", "theta"))},
+        **{name: vel[:, :, k] for k, name in enumerate(("vx", "vz", "omega"))},
+        "pin_force_x": pin[:, :, 0],
+        "pin_force_z": pin[:, :, 1],
+        "pin_tension": np.hypot(pin[:, :, 0], pin[:, :, 1]),
+        "ship_x": pos[:, ship, 0],
+        "ship_speed": vel[:, ship, 0],
+        "ship_heave": pos[:, ship, 1] - sysm.water_depth,
+        "ship_pitch": pos[:, ship, 2],
+        "anchor_x": pos[:, 0, 0],
+        "anchor_speed": vel[:, 0, 0],
+        "anchor_normal_force": result.scalars[:, 4],
+        "anchor_friction": result.scalars[:, 5],
+        "anchor_contact": (result.scalars[:, 6].astype(np.int8), _flags(CONTACT_NAMES)),
+        "kinetic_energy": e["kinetic"],
+        "gravitational_energy": e["gravity"],
+        "hydrostatic_energy": e["hydrostatic"],
+        "foundation_energy": e["foundation"],
+        "friction_dissipation": e["friction_dissipated"],
+        "water_dissipation": e["water_dissipated"],
+        "total_energy": e["total"],
     }
-    coords = {
-        "elapsed_time": (
-            "elapsed_time",
-            np.asarray(result.times, dtype=np.float64),
-            {"units": "s", "long_name": "time since the start of the restraint (elapsed time)"},
-        ),
-        "body": (
-            "body",
-            np.arange(1, n + 1, dtype=np.int32),
-            {"long_name": "body number (seed 004: 1 = anchor, N = ship)"},
-        ),
-        "body_name": ("body", np.array(lay.names, dtype=object), {"long_name": "body"}),
-        "body_kind": ("body", kind_names.astype(object), {"long_name": "kind of body"}),
-        "body_length": ("body", lay.lengths, {"units": "m", "long_name": "body length"}),
-    }
-    ds = xr.Dataset(data, coords=coords)
     status, status_name, failure = result.status, result.status_name, result.failure
     stopping_time = result.stopping_time
-    bad = [name for name in ds.data_vars if not np.all(np.isfinite(ds[name].values))]
+    bad = [name for name, v in data.items() if not np.all(np.isfinite(v[0] if isinstance(v, tuple) else v))]
     if bad:  # never a silent NaN: a non-finite value makes the run a numerical failure
         status = kmb.NUMERICAL_FAILURE
         status_name = kmb.STATUS_NAMES[status]
         failure = f"non-finite values in {', '.join(bad)}"
         stopping_time = None
-    ds["status"] = (
-        (),
-        np.int8(status),
-        {
-            "long_name": "run status",
-            "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
-            "flag_meanings": " ".join(kmb.STATUS_NAMES),
-        },
-    )
+    data["status"] = (np.int8(status), _flags(kmb.STATUS_NAMES))
     if stopping_time is not None:
-        ds["stopping_time"] = (
-            (),
-            float(stopping_time),
-            {
-                "units": "s",
-                "long_name": "time at which the ship's surge speed first reaches zero",
-            },
-        )
-    ds.attrs.update(
-        {
-            "Conventions": CONVENTIONS,
-            "title": f"mineburial restraining system (seed 004): {case.name}",
-            "summary": "Planar Kane-method multibody model of a powerless ship stopped by an overhead "
-            "restraining system (Liu, Hearn, Chen et al.): ship, auxiliary rod, restraining cable, "
-            "anchor chain and a gravity anchor dragged over the seabed; docs/restraint.md.",
-            "source": f"mineburial {__version__}",
-            "date_created": utc_now(),
-            "status": status_name,
-            "status_description": kmb.STATUS_DESCRIPTIONS[status],
-            "failure": failure,
-            "anchor_lifted_evaluations": int(result.contact_counts[1]),
-            "anchor_friction_unsolvable_evaluations": int(result.contact_counts[2]),
-            "end_time": float(result.t_end),
-            "case": json.dumps(case.to_dict()),
-            "mineburial_version": __version__,
-            "energy_closure": result.energy_closure(),
-            "n_bodies": int(sysm.derived["n_bodies"]),
-            "cable_stage2_elements": int(sysm.derived["cable_stage2_elements"]),
-        }
-    )
-    for name, (units, long_name) in _DERIVED.items():
-        ds[name] = ((), float(sysm.derived[name]), {"units": units, "long_name": long_name})
+        data["stopping_time"] = float(stopping_time)
+    data.update({name: float(sysm.derived[name]) for name in RESTRAINT_DERIVED})
+    coords = {
+        "elapsed_time": result.times,
+        "body": np.arange(1, n + 1),
+        "body_name": np.array(lay.names, dtype=object),
+        "body_kind": np.array(["anchor", "element", "rod", "ship"], dtype=object)[lay.kinds],
+        "body_length": lay.lengths,
+    }
+    attrs = {
+        "title": f"mineburial restraining system (seed 004): {case.name}",
+        "summary": "Planar Kane-method multibody model of a powerless ship stopped by an overhead "
+        "restraining system (Liu, Hearn, Chen et al.): ship, auxiliary rod, restraining cable, "
+        "anchor chain and a gravity anchor dragged over the seabed; docs/restraint.md.",
+        "status": status_name,
+        "status_description": kmb.STATUS_DESCRIPTIONS[status],
+        "failure": failure,
+        "anchor_lifted_evaluations": int(result.contact_counts[1]),
+        "anchor_friction_unsolvable_evaluations": int(result.contact_counts[2]),
+        "end_time": float(result.t_end),
+        "case": json.dumps(case.to_dict()),
+        "energy_closure": result.energy_closure(),
+        "n_bodies": int(sysm.derived["n_bodies"]),
+        "cable_stage2_elements": int(sysm.derived["cable_stage2_elements"]),
+    }
     if stopping_time is not None:
-        ds.attrs["stopping_time"] = float(stopping_time)
-    return ds
+        attrs["stopping_time"] = float(stopping_time)
+    return build(data, coords, attrs, kind="restraint_run")
+
+
+def _flags(names) -> dict:
+    """CF flag attributes of the codes 0..len(names)-1."""
+    return {"flag_values": np.arange(len(names), dtype=np.int8), "flag_meanings": " ".join(names)}
 
 
 def run_case_file(path, output) -> RestraintResult:

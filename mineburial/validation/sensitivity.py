@@ -57,12 +57,12 @@ import scipy
 import xarray as xr
 from scipy import stats
 
-from mineburial._version import __version__
 from mineburial.config import ScenarioError
 from mineburial.ensembles import engine, model_form, runner
 from mineburial.ensembles.scour import after_scour, at_lead_time
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
+from mineburial.io.dataset import build
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
@@ -211,58 +211,30 @@ def sobol_analysis(
     )
     for arr in (point[0], point[1], lo[0], lo[1], hi[0], hi[1]):
         arr[constant] = np.nan  # scipy writes 0 for 0 / 0: the index is undefined, not zero
-    dims = ("output", "input")
     ci = {
         "confidence_level": confidence_level,
         "interval_method": f"percentile bootstrap, {n_resamples} resamples of the design rows",
     }
-    ds = xr.Dataset(
-        {
-            "first_order": (
-                dims,
-                point[0],
-                {"long_name": "first-order Sobol' index S_i", "estimator": "Saltelli et al. 2010"},
-            ),
-            "first_order_lower": (dims, lo[0], ci),
-            "first_order_upper": (dims, hi[0], ci),
-            "total_order": (
-                dims,
-                point[1],
-                {"long_name": "total Sobol' index S_Ti", "estimator": "Jansen 1999"},
-            ),
-            "total_order_lower": (dims, lo[1], ci),
-            "total_order_upper": (dims, hi[1], ci),
-            "output_variance": (
-                "output",
-                np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
-                {"long_name": "variance of the output over A and B"},
-            ),
-            "index_status": (
-                "output",
-                constant.astype(np.int8),
-                {
-                    "long_name": "whether the Sobol' indices of the output are defined",
-                    "flag_values": np.array([0, 1], dtype=np.int8),
-                    "flag_meanings": "defined undefined_output_constant",
-                    "comment": "1: the output took one value at every point of the design, its "
-                    "variance is 0 and every index 0 / 0, written NaN.",
-                },
-            ),
-        },
-        coords={
-            "output": ("output", np.array(outputs, dtype=object)),
-            "input": ("input", np.array(names, dtype=object)),
-        },
-        attrs={
-            "base_sample_size": np.int64(n),
-            "n_evaluations": np.int64(n * (d + 2)),
-            "design_seed": str(seed),
-            "confidence_level": confidence_level,
-            "method": "scipy.stats.sobol_indices (saltelli_2010) on a scrambled Sobol' "
-            "design; percentile bootstrap intervals",
-        },
-    )
-    return ds
+    data = {
+        "first_order": point[0],
+        "first_order_lower": (lo[0], ci),
+        "first_order_upper": (hi[0], ci),
+        "total_order": point[1],
+        "total_order_lower": (lo[1], ci),
+        "total_order_upper": (hi[1], ci),
+        "output_variance": np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
+        "index_status": constant,
+    }
+    coords = {"output": np.array(outputs, dtype=object), "input": np.array(names, dtype=object)}
+    attrs = {
+        "base_sample_size": np.int64(n),
+        "n_evaluations": np.int64(n * (d + 2)),
+        "design_seed": str(seed),
+        "confidence_level": confidence_level,
+        "method": "scipy.stats.sobol_indices (saltelli_2010) on a scrambled Sobol' "
+        "design; percentile bootstrap intervals",
+    }
+    return build(data, coords, attrs, kind="sensitivity")
 
 
 #: the last design made by :func:`design_points` in this process, as ``(key, points)``
@@ -388,7 +360,6 @@ def run_sensitivity(
             "title": title,
             "scenario": json.dumps(spec.resolved(), default=str),
             "random_seed": str(spec.seed),
-            "mineburial_version": __version__,
             "n_not_in_statistics": np.int64(left),
             "status_counts": ", ".join(f"{st.NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c),
             "elapsed_seconds": time.monotonic() - t0,
@@ -457,15 +428,13 @@ def model_form_share(ds: xr.Dataset) -> xr.Dataset:
     group = [str(k) for k in ds.input.values if str(k) in model_form.MODEL_FORM_INPUTS]
     out = ds.copy()
     members = {"model_form_inputs": ", ".join(group) or "none"}
-    for key, text in (
-        ("first_order", "sum of the model-form inputs' first-order indices (<= the group's closed index)"),
-        ("total_order", "sum of the model-form inputs' total indices (>= the group's total index)"),
-    ):
+    for key in ("first_order", "total_order"):  # long names: the registry's sensitivity family
         share = (
             ds[key].sel(input=group).sum("input", skipna=False) if group else 0.0 * abs(ds[key].isel(input=0))
         )
-        out[f"model_form_{key}"] = share.drop_vars("input", errors="ignore").assign_attrs(
-            long_name=text, **members
+        name = f"model_form_{key}"
+        out[name] = share.drop_vars("input", errors="ignore").assign_attrs(
+            **V.family("sensitivity")[name].cf_attrs(**members)
         )
     return out
 
