@@ -1,20 +1,80 @@
 """Figures of a run's results (issue 20): the burial over time of a run with a ``[scour]`` section.
 
 :func:`check_lead_time_plot` checks before computing that the figure can be drawn (the scenario
-has the section; matplotlib, the image type, the path: :func:`mineburial.maps.check_plot_path`);
+has the section; matplotlib, the image type, the path: :func:`check_plot_path`);
 :func:`plot_lead_time` draws it from the run's Dataset (or the NetCDF it wrote) after the run.
 matplotlib is the optional extra ``plot``, imported only when drawing (docs/scour.md, "Figure:
 burial against lead time").
+
+It is also the one home of what every command that draws shares (``run``, ``map``, ``compare``,
+``sensitivity``): matplotlib imported on demand with a one-line error when it is missing
+(:func:`figure_class`, :func:`pyplot`), the check of a ``--plot`` path before computing
+(:func:`check_plot_path`) and the atomic save (:func:`save_figure`). It imports no command module,
+so each of them can import it (tests/test_imports.py).
 """
 
 from __future__ import annotations
 
+import pathlib
+
 import xarray as xr
 
-from mineburial.ensembles.store import RunError
+from mineburial.ensembles.store import RunError, check_output_path, same_file
 from mineburial.io import variables as V
-from mineburial.maps import check_plot_path
-from mineburial.validation.compare import pyplot, save_figure
+from mineburial.io.files import atomic_path
+
+#: the one line when matplotlib is missing
+NO_MATPLOTLIB = (
+    "needs matplotlib, an optional dependency: pip install 'mineburial[plot]' (or pip install matplotlib)"
+)
+
+
+def figure_class(what: str = "--plot"):
+    """matplotlib's Figure class (no pyplot: the caller's backend and state are untouched), or a
+    one-line RunError naming ``what`` needs it."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise RunError(f"{what} {NO_MATPLOTLIB}") from None
+    return Figure
+
+
+def pyplot(what: str = "--plot"):
+    """matplotlib.pyplot on the Agg backend, or a one-line RunError when matplotlib is missing."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise RunError(f"{what} {NO_MATPLOTLIB}") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def check_plot_path(path, output=None, inputs=(), what: str = "the command's output") -> pathlib.Path:
+    """Check before computing that a figure can be drawn to ``path``: matplotlib is there, it can
+    write the file type of the extension, the folder exists, and the path is neither the command's
+    output (``what`` names it in the message) nor one of its inputs."""
+    Figure = figure_class()
+    path = pathlib.Path(path)
+    if output is not None and same_file(path, pathlib.Path(output)):
+        raise RunError(f"--plot '{path}' is also {what} (-o); choose another path")
+    types = Figure().canvas.get_supported_filetypes()
+    ext = path.suffix.lower().lstrip(".")
+    if ext not in types:
+        raise RunError(
+            f"--plot '{path}': unsupported image type "
+            f"'{path.suffix or '(no extension)'}'; use one of " + ", ".join(f".{t}" for t in sorted(types))
+        )
+    return check_output_path(path, inputs, "--plot")
+
+
+def save_figure(fig, path, **kw) -> None:
+    """Draw ``fig`` to ``path`` atomically (:func:`mineburial.io.files.atomic_path`: a regular file
+    or nothing there, the previous image kept if drawing fails), in the image type of its extension."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=pathlib.Path(path).suffix.lstrip(".").lower(), **kw)
+
 
 #: the lead-time figure's lines of the burial classes: viridis at 0, 0.25, 0.5, 0.75 and a darker
 #: yellow for the last (viridis' own end is too pale on white); colour-blind safe, and legible as
@@ -31,7 +91,7 @@ def check_lead_time_plot(path, spec, output=None, inputs=()):
             "[scour] section, and this scenario has none (docs/scour.md; example: mineburial example "
             "scour_storm)"
         )
-    return check_plot_path(path, output, inputs)
+    return check_plot_path(path, output, inputs, "the run's output")
 
 
 def lead_time_series(ds: xr.Dataset) -> dict:

@@ -37,7 +37,9 @@ from mineburial._version import __version__
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
+from mineburial.figures import check_plot_path, figure_class
 from mineburial.io import forcing as fio
+from mineburial.io.dataset import standard_attrs
 from mineburial.io.inputs import check_input, read_toml
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
@@ -1155,7 +1157,6 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         f"{base.n} drops in each of {n_comp} cells, seed {base.seed}"
     )
     attrs = {
-        "Conventions": ncio.CONVENTIONS,
         "title": f"mineburial impact-burial probability map: {name}",
         "summary": (
             "Map of the Monte Carlo prediction of naval mine impact burial: for every "
@@ -1186,7 +1187,6 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         "random_seed": ncio.seed_attr(base.seed),
         "seed_derivation": resolved["map"]["seed_derivation"],
         "sampling_method": base.sampling,
-        "mineburial_version": str(version),
         "n_drops_per_cell": np.int64(base.n),
         "n_cells": np.int64(n_cells),
         "n_cells_computed": np.int64(n_comp),
@@ -1214,7 +1214,7 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
             geospatial_lat_units="degrees_north",
             geospatial_lon_units="degrees_east",
         )
-    return ncio.clean_attrs(attrs)
+    return standard_attrs("map", attrs, version=version)
 
 
 # ---------------------------------------------------------------------------
@@ -1226,18 +1226,6 @@ CLASS_COLOURS = ("#ffffb2", "#fecc5c", "#fd8d3c", "#f03b20", "#bd0026")
 _CLASS_LABELS = ("0 % (not buried)", "0-10 %", "10-20 %", "20-75 %", "> 75 %")
 _LAND_COLOUR = "#c8b48c"
 _NODATA_COLOUR = "#d9d9d9"
-
-
-def _import_matplotlib():
-    """matplotlib's Figure class (no pyplot: the caller's backend and state are untouched)."""
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:
-        raise MapError(
-            "drawing the map needs matplotlib, an optional dependency: "
-            "pip install 'mineburial[plot]' (or pip install matplotlib)"
-        ) from None
-    return Figure
 
 
 def _cell_edges(c: np.ndarray, other: np.ndarray) -> np.ndarray:
@@ -1316,7 +1304,7 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     """
     if lead_times is not None:
         return plot_lead_times(ds, path, lead_times, burial_class=burial_class, dpi=dpi)
-    Figure = _import_matplotlib()
+    Figure = figure_class("drawing the map")
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -1428,7 +1416,7 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     """One panel per lead time (days) of a map with ``[scour]``: the probability of the burial
     class ``burial_class`` (0..4, default '> 75 %') after scour, on one 0-1 colour scale with a
     colour bar; each cell of small grids shows it and n, the drops whose stage ran there."""
-    Figure = _import_matplotlib()
+    Figure = figure_class("drawing the map")
     if "scour_burial_class_probability" not in ds:
         raise MapError("--lead-times: the map has no lead-time axis (run it with a [scour] section)")
     ks = lead_indices(ds["lead_time"].values, lead_times)
@@ -1572,26 +1560,6 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
 # ---------------------------------------------------------------------------
 # CLI
 # ---------------------------------------------------------------------------
-def check_plot_path(path, output=None, inputs=()) -> pathlib.Path:
-    """Check before computing that the map can be drawn to ``path``: matplotlib is there,
-    it can write the file type of the extension, the folder exists, and the path is
-    neither the map's output nor one of its inputs."""
-    from mineburial.ensembles.store import check_output_path, same_file
-
-    Figure = _import_matplotlib()
-    path = pathlib.Path(path)
-    if output is not None and same_file(path, pathlib.Path(output)):
-        raise MapError(f"--plot '{path}' is also the map's output (-o); choose another path")
-    types = Figure().canvas.get_supported_filetypes()
-    ext = path.suffix.lower().lstrip(".")
-    if ext not in types:
-        raise MapError(
-            f"--plot '{path}': unsupported image type "
-            f"'{path.suffix or '(no extension)'}'; use one of " + ", ".join(f".{t}" for t in sorted(types))
-        )
-    return check_output_path(path, inputs, "--plot")
-
-
 def run_map_cli(args) -> int:
     """``mineburial map SCENARIO --environment ENV.nc -o MAP.nc [--plot MAP.png]``.
 
@@ -1607,7 +1575,7 @@ def run_map_cli(args) -> int:
         inputs.append(pathlib.Path(gridded[1]["forcing_grid_file"]))
     check_output_path(args.output, inputs, "-o")
     if args.plot:
-        check_plot_path(args.plot, args.output, inputs)
+        check_plot_path(args.plot, args.output, inputs, "the map's output")
     leads = _check_map_options(args, base, inputs)
     client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()

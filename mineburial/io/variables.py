@@ -1370,6 +1370,7 @@ FAMILY_TITLES = {
     "sensitivity": "Sobol' sensitivity indices",
     "environment": "synthetic environment grid (invented values)",
     "map": "burial map over an environment grid",  # its variables: mineburial.maps (no family yet)
+    "comparison": "comparison of variants of an ensemble scenario",  # validation.compare (no family yet)
 }
 #: the variables of each file kind: the mine ensemble's (:data:`VARIABLES`) and one family each for
 #: the single drop's trajectory, the restraint's time series, the restraint ensemble and the Sobol'

@@ -44,16 +44,15 @@ import xarray as xr
 from scipy.special import ndtri
 
 from mineburial import config as cfg
-from mineburial._version import __version__
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
+from mineburial.figures import check_plot_path, pyplot, save_figure
 from mineburial.io import variables as V
-from mineburial.io.files import atomic_path
+from mineburial.io.dataset import standard_attrs
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
-from mineburial.maps import check_plot_path
 from mineburial.resources import memory_refusal
 
 __all__ = [
@@ -293,8 +292,10 @@ def run_comparison(
             for s, c in zip(summaries, chunks)
         ]
     ds = _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level)
-    ds.attrs.update(
+    ds.attrs = standard_attrs(
+        "comparison",
         {
+            **ds.attrs,
             "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
             + ", ".join(str(v) for v in values),
             "varied_field": field,
@@ -302,12 +303,11 @@ def run_comparison(
             "random_seed": str(base.seed),
             "sampling_method": base.sampling,
             "n_drops": np.int64(base.n),
-            "mineburial_version": __version__,
             "inputs_identical_across_variants": "yes (checked chunk by chunk: the same sampled "
             "inputs, and only the varied field's parameter "
             "slots differ)",
             "elapsed_seconds": float(elapsed),
-        }
+        },
     )
     if base.scour is not None:
         _scour_attrs(ds, base.scour.lead_times_days[0], chunks, values)
@@ -547,27 +547,6 @@ def comparison_table(ds: xr.Dataset) -> str:
     sep = "|---|" + "---|" * nv
     body = [f"| {r} | " + " | ".join(v) + " |" for r, v in rows]
     return "\n".join([head, sep, *body])
-
-
-def pyplot():
-    """matplotlib.pyplot on the Agg backend, or a one-line error when matplotlib is missing
-    (the plots of ``compare`` and ``sensitivity``)."""
-    try:
-        import matplotlib
-    except ImportError:
-        raise cfg.ScenarioError("--plot needs matplotlib: pip install 'mineburial[plot]'") from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save_figure(fig, path, **kw) -> None:
-    """Draw ``fig`` to ``path`` atomically (:func:`mineburial.io.files.atomic_path`: a
-    regular file or nothing there, the previous image kept if drawing fails), in the image
-    type of its extension."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=pathlib.Path(path).suffix.lstrip(".").lower(), **kw)
 
 
 def plot_comparison(ds: xr.Dataset, path) -> None:

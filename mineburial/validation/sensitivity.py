@@ -61,12 +61,13 @@ from mineburial.config import ScenarioError
 from mineburial.ensembles import engine, model_form, runner
 from mineburial.ensembles.scour import after_scour, at_lead_time
 from mineburial.ensembles.statistics import burial_class
+from mineburial.figures import pyplot, save_figure
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
-from mineburial.validation.compare import cli_client, cli_output, pyplot, save_figure
+from mineburial.validation.compare import cli_client, cli_output
 
 __all__ = [
     "sobol_analysis",
