@@ -6,7 +6,8 @@
 * the Rosenbrock-W step (ROS34PW2) of the multibody driver on a stiff system -- a pendulum with regularised
   Coulomb friction at its pin -- against scipy's Radau on the same equation written out by hand, and its
   stop event;
-* the restraint of seed 004 run with ROS34PW2 stops where dopri5 at a tight tolerance does.
+* the restraint of seed 004 run with ROS34PW2 stops where dopri5 at a tight tolerance does;
+* the mine runs on the core's step kernels (it kept copies of them before).
 """
 
 import math
@@ -18,6 +19,7 @@ from scipy.integrate import solve_ivp
 
 from mineburial import _numba
 from mineburial import multibody as mbp
+from mineburial.kernels import core, stepper
 from mineburial.kernels import multibody as mb
 from mineburial.kernels.core import System
 from mineburial.systems import restraint as R
@@ -135,3 +137,11 @@ def test_restraint_ros34pw2_stops_where_tight_dopri5_does(number):
     assert ros.status_name == "stopped" and ref.status_name == "stopped"
     assert ros.stopping_time == pytest.approx(ref.stopping_time, abs=ROS_STOP_TOLERANCE)
     assert ros.energy_closure() < 1e-6  # the energy balance of eqs. (63)-(69) closes as with dopri5
+
+
+def test_the_mine_steps_are_the_cores():
+    """The mine's stepper kept line-for-line copies of the core's steps; now it calls the core's."""
+    for name in ("dopri5_step", "rk4_step", "ros34pw2_step", "jacobian_columns"):
+        assert getattr(stepper, name) is getattr(core, name), name
+    assert not hasattr(stepper, "velocity_jacobian")
+    assert stepper.MINE.rhs is stepper.mine_rhs

@@ -815,7 +815,7 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
             if t_end - t_new <= 1e-9 * dt:
                 t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
-            rk4_step(system, t, h, y, params, k, ytmp, ynew)
+            rk4_step(system, t, y, h, params, k, ytmp, ynew)
             if not all_finite(ynew):
                 status = NUMERICAL_FAILURE
                 break
