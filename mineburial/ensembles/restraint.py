@@ -182,6 +182,7 @@ def _real_field(path: str) -> rs.FieldSpec:
     """The field ``path`` of a restraint case that may vary, or an error naming it."""
     spec = next((f for f in rs.FIELDS if f.path == path), None)
     if spec is None:
+        rs.refuse_renamed([path])
         section, _, name = path.partition(".")
         if section not in rs.SECTIONS:
             raise ScenarioError(
@@ -372,8 +373,8 @@ def warn_run(spec: RestraintEnsembleSpec) -> None:
 # ---------------------------------------------------------------------------
 def _status_attrs() -> dict:
     return {
-        "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
-        "flag_meanings": " ".join(kmb.STATUS_NAMES),
+        "flag_values": kmb.STATUS_CODES,
+        "flag_meanings": kmb.STATUS_MEANINGS,
     }
 
 
@@ -382,13 +383,13 @@ def statistics(summary: np.ndarray, status: np.ndarray) -> dict:
     share of the cases run that stopped (with its 95 % Wilson interval), and the mean,
     standard deviation (n - 1), extremes and :data:`QUANTILES` of the stopping time and
     the means and maxima of the peak tensions over the cases that stopped."""
-    counts = np.bincount(status.astype(np.int64), minlength=len(kmb.STATUS_NAMES))
+    counts = np.bincount(status.astype(np.int64), minlength=int(kmb.STATUS_CODES.max()) + 1)
     ran = int(status.size - counts[kmb.INVALID_INPUT])
     stopped = status == kmb.STOPPED
     k = int(np.count_nonzero(stopped))
     lo, hi = wilson_interval(k, ran)
     out = {
-        "status_count": counts,
+        "status_count": counts[kmb.STATUS_CODES],  # along kmb.STATUS_CODES
         "n_run": ran,
         "n_stopped": k,
         "stopped_fraction": k / ran if ran else math.nan,
@@ -477,7 +478,7 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     coords = {
         "status": (
             "status",
-            np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
+            kmb.STATUS_CODES,
             {"long_name": "run status of a case", **_status_attrs()},
         ),
         "quantile": ("quantile", np.asarray(QUANTILES), {"long_name": "probability level", "units": "1"}),
@@ -563,8 +564,8 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
 def summarize(ds, elapsed: float | None = None, output=None) -> str:
     """A short human-readable report of a restraint-ensemble dataset."""
     n = int(ds.attrs.get("n_cases", 0))
-    counts = ds["status_count"].values
-    parts = [f"{kmb.STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
+    counts = dict(zip(ds["status"].values.tolist(), ds["status_count"].values.tolist()))
+    parts = [f"{kmb.STATUS_NAMES[k]} {int(c)}" for k, c in counts.items() if c]
     lines = [
         str(ds.attrs.get("title", "mineburial restraint ensemble")),
         f"cases: {n} (" + ", ".join(parts) + ")",

@@ -1,5 +1,7 @@
 """The generic integration core: a system reached by static dispatch, the event locator and the
-recorder of the driver that integrates a plain state vector (the multibody systems).
+recorder of the driver that integrates a plain state vector (the multibody systems). The status codes
+that every system shares are in :mod:`.status` (a leaf module: the variable registry reads them without
+importing numba).
 
 The tableaus, step kernels, continuous extensions, error norm and PI controller are in
 :mod:`.integrators`; this module adds what a driver needs on top of them, knowing no mine and no ship.
