@@ -1,11 +1,11 @@
-"""Seed 004 Table 3 with the Rosenbrock-W step (numerics.method = "ros34pw2") beside dopri5.
+"""Seed 004 Table 3 with the Rosenbrock-W step (numerics.integrator = "ros34pw2") beside dopri5.
 
 Run:  python benchmarks/bench_restraint_ros34pw2.py [--cases 1,2,3] [--out FILE]
 
-Each case of Table 2 (``mineburial example restraint_caseN``) is run with ``numerics.method = "ros34pw2"`` at
-its own tolerances (rtol 1e-7, atol 1e-9); one line per case is printed as it finishes. The dopri5 column is
-read from the committed dopri5 table, benchmarks/results/restraint_table3.txt (same cases, same tolerances).
-Written to benchmarks/results/restraint_table3_ros34pw2.txt.
+Each case of Table 2 (``mineburial example restraint_caseN``) is run with ``numerics.integrator = "ros34pw2"``
+at its own tolerances (rtol 1e-7, atol 1e-9); one line per case is printed as it finishes. The dopri5
+column is read from the committed dopri5 table, benchmarks/results/restraint_table3.txt (same cases, same
+tolerances). Written to benchmarks/results/restraint_table3_ros34pw2.txt.
 """
 
 import argparse
@@ -34,7 +34,7 @@ def dopri5_column(path=RESULTS / "restraint_table3.txt"):
 def run_case(number):
     """(status, stopping time, energy closure, wall s) of case ``number`` with ros34pw2."""
     t0 = time.perf_counter()
-    res = R.simulate(R.table2_case(number).replace(**{"numerics.method": "ros34pw2"}))
+    res = R.simulate(R.table2_case(number).replace(**{"numerics.integrator": "ros34pw2"}))
     return res.status_name, res.stopping_time, res.energy_closure(), time.perf_counter() - t0
 
 

@@ -134,7 +134,7 @@ def main(argv=None):
             + "Seed 004 Table 3: stopping time of the restraining system "
             "(benchmarks/bench_restraint_table3.py)",
             f"mineburial {__version__}; {machine()}",
-            f"method {first['numerics.method']} (rtol {first['numerics.rtol']:g}, atol "
+            f"method {first['numerics.integrator']} (rtol {first['numerics.rtol']:g}, atol "
             f"{first['numerics.atol']:g}, dt {first['numerics.dt']:g} s), solver {first['numerics.solver']}, "
             "stop located on the continuous extension; energy closure = max |E(t) - E(0)| / E^K(0), "
             "E = kinetic + potential + dissipated (eqs. (63)-(69))",

@@ -6,10 +6,15 @@
 * the Rosenbrock-W step (ROS34PW2) of the multibody driver on a stiff system -- a pendulum with regularised
   Coulomb friction at its pin -- against scipy's Radau on the same equation written out by hand, and its
   stop event;
-* the restraint of seed 004 run with ROS34PW2 stops where dopri5 at a tight tolerance does.
+* the restraint of seed 004 run with ROS34PW2 stops where dopri5 at a tight tolerance does;
+* one status vocabulary: the codes the mine and the multibody systems share are those issue 18 fixed, and
+  the mine's are still those of its status table in docs/design.md;
+* the mine runs on the core's step kernels (it kept copies of them before).
 """
 
 import math
+import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -18,7 +23,9 @@ from scipy.integrate import solve_ivp
 
 from mineburial import _numba
 from mineburial import multibody as mbp
+from mineburial.kernels import core, stepper
 from mineburial.kernels import multibody as mb
+from mineburial.kernels import status as st
 from mineburial.kernels.core import System
 from mineburial.systems import restraint as R
 
@@ -130,8 +137,38 @@ ROS_STOP_TOLERANCE = 1e-5
 
 @pytest.mark.parametrize("number", [3])  # one case: a full tight dopri5 run costs ~30-70 s
 def test_restraint_ros34pw2_stops_where_tight_dopri5_does(number):
-    ros = R.simulate(R.table2_case(number).replace(**{"numerics.method": "ros34pw2"}))
+    ros = R.simulate(R.table2_case(number).replace(**{"numerics.integrator": "ros34pw2"}))
     ref = R.simulate(R.table2_case(number).replace(**{"numerics.rtol": 1e-9, "numerics.atol": 1e-11}))
     assert ros.status_name == "stopped" and ref.status_name == "stopped"
     assert ros.stopping_time == pytest.approx(ref.stopping_time, abs=ROS_STOP_TOLERANCE)
     assert ros.energy_closure() < 1e-6  # the energy balance of eqs. (63)-(69) closes as with dopri5
+
+
+# --- one status vocabulary ----------------------------------------------------------------------------
+#: the shared codes as issue 18 fixed them: 0 the system's own normal end, then these three
+SHARED = {1: "time_limit", 3: "numerical_failure", 4: "invalid_input"}
+
+
+def test_the_shared_status_codes_mean_the_same_in_every_system():
+    for code, name in SHARED.items():
+        assert st.NAMES[code] == name and mb.STATUS_NAMES[code] == name, code
+    assert (st.END, st.TIME_LIMIT, st.NUMERICAL_FAILURE, st.INVALID_INPUT) == (0, 1, 3, 4)
+    assert st.NAMES[0] == "at_rest" and mb.STATUS_NAMES[0] == "stopped"  # each names its own end
+    # the multibody systems use no code of their own; their CF flags list exactly the shared ones
+    assert mb.STATUS_CODES.tolist() == [0, 1, 3, 4]
+    assert mb.STATUS_MEANINGS.split() == ["stopped", "time_limit", "numerical_failure", "invalid_input"]
+
+
+def test_the_mine_status_codes_are_those_of_its_documented_table():
+    """The mine's codes are in its NetCDF files: they must not move (docs/design.md, "Status codes")."""
+    text = (pathlib.Path(__file__).parents[1] / "docs" / "design.md").read_text(encoding="utf-8")
+    table = dict((int(c), n) for c, n in re.findall(r"^\| (\d) \| `(\w+)` \|", text, flags=re.M))
+    assert table == dict(enumerate(st.NAMES)) and len(table) == 7
+
+
+def test_the_mine_steps_are_the_cores():
+    """The mine's stepper kept line-for-line copies of the core's steps; now it calls the core's."""
+    for name in ("dopri5_step", "rk4_step", "ros34pw2_step", "jacobian_columns"):
+        assert getattr(stepper, name) is getattr(core, name), name
+    assert not hasattr(stepper, "velocity_jacobian")
+    assert stepper.MINE.rhs is stepper.mine_rhs

@@ -160,6 +160,7 @@ def _real_field(path: str) -> rs.FieldSpec:
     """The field ``path`` of a restraint case that may vary, or an error naming it."""
     spec = next((f for f in rs.FIELDS if f.path == path), None)
     if spec is None:
+        rs.refuse_renamed([path])
         section, _, name = path.partition(".")
         if section not in rs.SECTIONS:
             raise ScenarioError(
@@ -350,8 +351,8 @@ def warn_run(spec: RestraintEnsembleSpec) -> None:
 # ---------------------------------------------------------------------------
 def _status_attrs() -> dict:
     return {
-        "flag_values": np.arange(len(kmb.STATUS_NAMES), dtype=np.int8),
-        "flag_meanings": " ".join(kmb.STATUS_NAMES),
+        "flag_values": kmb.STATUS_CODES,
+        "flag_meanings": kmb.STATUS_MEANINGS,
     }
 
 
@@ -360,13 +361,13 @@ def statistics(summary: np.ndarray, status: np.ndarray) -> dict:
     share of the cases run that stopped (with its 95 % Wilson interval), and the mean,
     standard deviation (n - 1), extremes and :data:`QUANTILES` of the stopping time and
     the means and maxima of the peak tensions over the cases that stopped."""
-    counts = np.bincount(status.astype(np.int64), minlength=len(kmb.STATUS_NAMES))
+    counts = np.bincount(status.astype(np.int64), minlength=int(kmb.STATUS_CODES.max()) + 1)
     ran = int(status.size - counts[kmb.INVALID_INPUT])
     stopped = status == kmb.STOPPED
     k = int(np.count_nonzero(stopped))
     lo, hi = wilson_interval(k, ran)
     out = {
-        "status_count": counts,
+        "status_count": counts[kmb.STATUS_CODES],  # along kmb.STATUS_CODES
         "n_run": ran,
         "n_stopped": k,
         "stopped_fraction": k / ran if ran else math.nan,
@@ -403,7 +404,7 @@ def dataset(spec: RestraintEnsembleSpec, chunks):
     names += tuple(f"{o}_{s}" for o in ("peak_chain_tension", "peak_ship_tension") for s in ("mean", "max"))
     data = {"status_count": st["status_count"], **{name: st[name] for name in names}}
     coords = {
-        "status": (np.arange(len(kmb.STATUS_NAMES)), _status_attrs()),
+        "status": (kmb.STATUS_CODES, _status_attrs()),
         "quantile": np.asarray(QUANTILES),
     }
     if spec.per_drop:
@@ -463,8 +464,8 @@ def _sampled_inputs(chunks) -> dict:
 def summarize(ds, elapsed: float | None = None, output=None) -> str:
     """A short human-readable report of a restraint-ensemble dataset."""
     n = int(ds.attrs.get("n_cases", 0))
-    counts = ds["status_count"].values
-    parts = [f"{kmb.STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c]
+    counts = dict(zip(ds["status"].values.tolist(), ds["status_count"].values.tolist()))
+    parts = [f"{kmb.STATUS_NAMES[k]} {int(c)}" for k, c in counts.items() if c]
     lines = [
         str(ds.attrs.get("title", "mineburial restraint ensemble")),
         f"cases: {n} (" + ", ".join(parts) + ")",

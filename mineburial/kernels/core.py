@@ -1,5 +1,7 @@
 """The generic integration core: a system reached by static dispatch, the event locator and the
-recorder of the driver that integrates a plain state vector (the multibody systems).
+recorder of the driver that integrates a plain state vector (the multibody systems). The status codes
+that every system shares are in :mod:`.status` (a leaf module: the variable registry reads them without
+importing numba).
 
 The tableaus, step kernels, continuous extensions, error norm and PI controller are in
 :mod:`.integrators`; this module adds what a driver needs on top of them, knowing no mine and no ship.
@@ -76,10 +78,12 @@ def _source_stamp(fn) -> str:
 class System:
     """A system of the integration core: its name, right-hand side and event kernels.
 
-    ``rhs(t, y, params, dy)`` fills dy/dt (None for a system that calls its right-hand side itself,
-    as the mine's stepper does); ``event(t, y, params)`` returns a float whose crossing of
-    zero ends the run or is located by :func:`locate_event`. Pass the System to :func:`integrate` (or
-    :func:`mineburial.multibody.integrate`); ``params`` is whatever the two functions take."""
+    ``rhs(t, y, params, dy)`` fills dy/dt; ``event(t, y, params)`` returns a float whose crossing of
+    zero ends the run or is located by :func:`locate_event`. Pass the System to the step kernels below,
+    :func:`locate_event`, :func:`mineburial.kernels.multibody.integrate` (or
+    :func:`mineburial.multibody.integrate`); ``params`` is whatever the two functions take (a driver may
+    pass the event other parameters than the right-hand side, as the mine's does: numba compiles a
+    kernel once per argument type)."""
 
     def __init__(self, name, rhs, event):
         self.name = name
@@ -214,9 +218,10 @@ def dopri5_step(system, t, y, h, params, k, ytmp, out, err):
 
 
 @kernel
-def rk4_step(system, t, h, y, params, k, ytmp, out):
+def rk4_step(system, t, y, h, params, k, ytmp, out):
     """One classical Runge-Kutta step of ``system`` from (t, y) to t + h (k[0] = f(t, y) pre-filled;
-    k[1..3] the other stages)."""
+    k[1..3] the other stages). The weights are applied as h (k1 + 2 k2 + 2 k3 + k4) / 6, the mine's
+    order of operations since its first release (the restraint's h / 6 (...) differed in the last bit)."""
     n = y.shape[0]
     for i in range(n):
         ytmp[i] = y[i] + 0.5 * h * k[0, i]
@@ -228,7 +233,7 @@ def rk4_step(system, t, h, y, params, k, ytmp, out):
         ytmp[i] = y[i] + h * k[2, i]
     system_rhs(system, t + h, ytmp, params, k[3])
     for i in range(n):
-        out[i] = y[i] + h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
+        out[i] = y[i] + h * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i]) / 6.0
 
 
 @kernel

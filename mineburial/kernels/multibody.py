@@ -75,21 +75,33 @@ from mineburial.kernels.integrators import (
     next_step_size,
     next_step_size_order,
 )
+from mineburial.kernels.status import END, INVALID_INPUT, NUMERICAL_FAILURE, TIME_LIMIT
 
-# --- status codes of an integration (the drop statuses of kernels/status.py are the falling mine's) ------
-STOPPED = 0
-TIME_LIMIT = 1
-NUMERICAL_FAILURE = 2
-INVALID_INPUT = 3
+# --- status codes of an integration: the integration core's shared vocabulary (kernels/status.py), whose
+# normal end (0) a multibody system calls "stopped"; the drop statuses there are the falling mine's ------
+STOPPED = END
 
-STATUS_NAMES = ("stopped", "time_limit", "numerical_failure", "invalid_input")
-STATUS_DESCRIPTIONS = (
-    "the system's event function crossed zero from above (e.g. the ship stopped); the run ends there",
-    "the time limit was reached before the event",
-    "a non-finite value appeared in the state or its rate, the step size underflowed, the step budget "
-    "(max_steps) was spent, or the system's own check of the run failed (e.g. its energy balance)",
-    "the integration settings were invalid (method, step, tolerances, record interval); nothing was run",
-)
+#: status code -> name (codes 0, 1, 3, 4; 2 is not used by a multibody system: issue 18 made the codes
+#: the core's, they were 0-3 before; docs/restraint.md)
+STATUS_NAMES = {
+    STOPPED: "stopped",
+    TIME_LIMIT: "time_limit",
+    NUMERICAL_FAILURE: "numerical_failure",
+    INVALID_INPUT: "invalid_input",
+}
+STATUS_DESCRIPTIONS = {
+    STOPPED: "the system's event function crossed zero from above (e.g. the ship stopped); the run ends "
+    "there",
+    TIME_LIMIT: "the time limit was reached before the event",
+    NUMERICAL_FAILURE: "a non-finite value appeared in the state or its rate, the step size underflowed, "
+    "the step budget (max_steps) was spent, or the system's own check of the run failed (e.g. its energy "
+    "balance)",
+    INVALID_INPUT: "the integration settings were invalid (integrator, step, tolerances, record interval); "
+    "nothing was run",
+}
+#: the codes in order: the CF ``flag_values`` of a status variable (``flag_meanings``: their names)
+STATUS_CODES = np.array(list(STATUS_NAMES), dtype=np.int8)
+STATUS_MEANINGS = " ".join(STATUS_NAMES.values())
 
 #: integration methods of :func:`integrate`
 METHODS = ("dopri5", "rk4", "ros34pw2")
@@ -815,7 +827,7 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
             if t_end - t_new <= 1e-9 * dt:
                 t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
-            rk4_step(system, t, h, y, params, k, ytmp, ynew)
+            rk4_step(system, t, y, h, params, k, ytmp, ynew)
             if not all_finite(ynew):
                 status = NUMERICAL_FAILURE
                 break

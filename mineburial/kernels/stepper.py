@@ -46,32 +46,25 @@ from mineburial.kernels import status as st
 from mineburial.kernels.core import (
     JAC_AGE_AT_REJECTION,
     JAC_MAX_AGE,
-    JAC_MIN_STEP,
-    JAC_REL_STEP,
     System,
+    dopri5_step,
+    jacobian_columns,
     locate_event,
+    rk4_step,
+    ros34pw2_step,
 )
 from mineburial.kernels.dynamics import derivatives
 from mineburial.kernels.geometry import burial_measures, vertical_extent
 from mineburial.kernels.integrators import (
     N_STAGES,
     ROS_ERROR_ORDER,
-    ROS_GAMMA_DIAG,
     ROS_STAGES,
     dense_state,
     dopri_dense,
-    dopri_solution,
-    dopri_stage_state,
     error_norm,
     hermite_dense,
-    j_times,
     next_step_size,
     next_step_size_order,
-    ros_coupling,
-    ros_solution,
-    ros_stage_state,
-    w_factor,
-    w_solve,
 )
 from mineburial.kernels.layout import (
     I_WORK_FLUID,
@@ -222,28 +215,6 @@ def rest_measure(y, p):
 
 
 @kernel
-def rk4_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, k4, ytmp, diag, out):
-    """One classical Runge-Kutta step from y (k1 = f(y) must already be filled)."""
-    n = y.shape[0]
-    for i in range(n):
-        ytmp[i] = y[i] + 0.5 * dt * k1[i]
-    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k2, diag)
-    for i in range(n):
-        ytmp[i] = y[i] + 0.5 * dt * k2[i]
-    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k3, diag)
-    for i in range(n):
-        ytmp[i] = y[i] + dt * k3[i]
-    derivatives(ytmp, p, law, sed_bank, cur_bank, work, k4, diag)
-    for i in range(n):
-        out[i] = y[i] + dt * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]) / 6.0
-    q0, q1, q2, q3 = normalize_quaternion(out[6], out[7], out[8], out[9])
-    out[6] = q0
-    out[7] = q1
-    out[8] = q2
-    out[9] = q3
-
-
-@kernel
 def _exact_linear(v, d, beta, dt):
     """v(t+dt) and the integral of v over the step for dv/dt = -d v + beta.
 
@@ -291,60 +262,6 @@ def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp,
 
 
 @small_kernel
-def dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out, err):
-    """Stages 2-7 of a Dormand-Prince step (k[0] = f(y) pre-filled): fills ``out`` (5th
-    order), ``err`` and k[6] = f(out)."""
-    for s in range(1, N_STAGES):
-        dopri_stage_state(y, k, s, h, ytmp)
-        derivatives(ytmp, p, law, sed_bank, cur_bank, work, k[s], diag)
-    dopri_solution(y, k, h, out, err)
-
-
-@small_kernel
-def velocity_jacobian(y, f0, p, law, sed_bank, cur_bank, work, ytmp, ftmp, diag, jc):
-    """Columns of df/dy for the velocity slots (VELOCITY_SLOTS) by one-sided differences
-    from f0 = f(y): jc[:, j] = (f(y + d e_j) - f0) / d."""
-    n = y.shape[0]
-    for j in range(N_VEL):
-        c = VELOCITY_SLOTS[j]
-        d = max(JAC_REL_STEP * abs(y[c]), JAC_MIN_STEP)
-        for i in range(n):
-            ytmp[i] = y[i]
-        ytmp[c] = y[c] + d
-        d = ytmp[c] - y[c]  # the difference actually represented
-        derivatives(ytmp, p, law, sed_bank, cur_bank, work, ftmp, diag)
-        for i in range(n):
-            jc[i, j] = (ftmp[i] - f0[i]) / d
-
-
-@small_kernel
-def ros34pw2_step(
-    y, h, p, law, sed_bank, cur_bank, work, f0, jc, wa, piv, kr, ytmp, vtmp, ztmp, diag, out, err
-):
-    """One Rosenbrock-W step (ROS34PW2, :mod:`.integrators`) with the velocity Jacobian
-    ``jc`` (possibly from an earlier step; f0 = f(y)). Fills ``out`` and ``err``; returns
-    False when W is singular."""
-    n = y.shape[0]
-    c = h * ROS_GAMMA_DIAG
-    if not w_factor(jc, VELOCITY_SLOTS, c, wa, piv):
-        return False
-    for s in range(ROS_STAGES):
-        if s == 0:
-            for i in range(n):
-                vtmp[i] = f0[i]
-        else:
-            ros_stage_state(y, kr, s, ytmp)
-            derivatives(ytmp, p, law, sed_bank, cur_bank, work, vtmp, diag)
-        ros_coupling(kr, s, ytmp)
-        j_times(jc, VELOCITY_SLOTS, ytmp, kr[s])
-        for i in range(n):
-            kr[s, i] = h * (vtmp[i] + kr[s, i])
-        w_solve(jc, VELOCITY_SLOTS, c, wa, piv, kr[s], ztmp)
-    ros_solution(y, kr, out, err)
-    return True
-
-
-@small_kernel
 def _crossed(g0, g1):
     return (g0 > 0.0 and g1 <= 0.0) or (g0 <= 0.0 and g1 > 0.0)
 
@@ -366,6 +283,14 @@ def _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag):
         traj[row, 17 + i] = diag[i]
 
 
+@small_kernel
+def mine_rhs(t, y, args, dy):
+    """The mine's right-hand side for the integration core: dy = :func:`.dynamics.derivatives` at y
+    (autonomous: t unused); args = (p, law, sed_bank, cur_bank, work, diag), diag filled as a side effect."""
+    p, law, sed_bank, cur_bank, work, diag = args
+    derivatives(y, p, law, sed_bank, cur_bank, work, dy, diag)
+
+
 @kernel
 def event_component(t, y, args):
     """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
@@ -374,9 +299,10 @@ def event_component(t, y, args):
     return gtmp[e]
 
 
-#: the mine's events in the integration core (:func:`.core.locate_event`); the stepper calls its
-#: right-hand side itself
-MINE_EVENTS = System("mine events", None, event_component)
+#: the falling mine as a system of the integration core: its steps are the core's (:mod:`.core`) over
+#: :func:`mine_rhs`; its events, located by :func:`.core.locate_event`, take the parameters (p, e, gtmp)
+#: of :func:`event_component` (one component of :func:`event_values` at a time)
+MINE = System("mine", mine_rhs, event_component)
 
 
 def reference_paths(params):
@@ -417,7 +343,8 @@ def _fixed_step_impl(reference_paths, integrator, y, h, p, law, sed_bank, cur_ba
         if integrator == INTEGRATOR_LOCAL_LINEAR:
             local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp, diag, out)
         else:
-            rk4_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], k[3], ytmp, diag, out)
+            rk4_step(MINE, 0.0, y, h, (p, law, sed_bank, cur_bank, work, diag), k, ytmp, out)
+            _normalize_attitude(out)
 
     return step
 
@@ -453,6 +380,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     kr = np.empty((ROS_STAGES, N_EXT))
     vtmp = np.empty(N_EXT)
     ztmp = np.empty(N_VEL)
+    args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
     initial_state(p, y)
     integrator = int(p[P_INTEGRATOR])
     adaptive = integrator == INTEGRATOR_DOPRI5 or integrator == INTEGRATOR_STIFF
@@ -510,27 +438,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             if stiff_in_sediment and g0[2] < 0.0:
                 # in contact with the sediment: the linearly implicit Rosenbrock-W step
                 if jac_age >= JAC_MAX_AGE:
-                    velocity_jacobian(y, k[0], p, law, sed_bank, cur_bank, work, ytmp, dy, diag, jc)
+                    jacobian_columns(MINE, t, y, k[0], args, VELOCITY_SLOTS, ytmp, dy, jc)
                     jac_age = 0
                 ok = ros34pw2_step(
-                    y,
-                    h,
-                    p,
-                    law,
-                    sed_bank,
-                    cur_bank,
-                    work,
-                    k[0],
-                    jc,
-                    wa,
-                    piv,
-                    kr,
-                    ytmp,
-                    vtmp,
-                    ztmp,
-                    diag,
-                    ynew,
-                    err,
+                    MINE, t, y, h, args, k[0], jc, VELOCITY_SLOTS, wa, piv, kr, ytmp, vtmp, ztmp, ynew, err
                 )
                 enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol) if ok else np.nan
                 h_next, accept, err_prev = next_step_size_order(
@@ -546,7 +457,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
                 hermite_dense(y, ynew, k[0], k[6], h, r)
                 jac_age += 1
             else:
-                dopri5_step(y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew, err)
+                dopri5_step(MINE, t, y, h, args, k, ytmp, ynew, err)
                 enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol)
                 h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
                 accepted_before = accept
@@ -575,7 +486,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             elif not _crossed(g0[e], g1[e]):
                 continue
             th = locate_event(
-                MINE_EVENTS, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
+                MINE, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
             )
             if th < theta:
                 theta = th

@@ -33,6 +33,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.io.inputs import parse_toml, read_toml
+from mineburial.resources import memory_refusal
 from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
 
@@ -375,7 +376,7 @@ FIELDS: tuple[FieldSpec, ...] = (
     # --- numerics
     _f(
         "numerics",
-        "method",
+        "integrator",
         "dopri5",
         "",
         kind="dopri5|rk4|ros34pw2",
@@ -445,6 +446,24 @@ FIELDS: tuple[FieldSpec, ...] = (
 
 SECTIONS = tuple(dict.fromkeys(f.section for f in FIELDS))
 _BY_PATH = {f.path: f for f in FIELDS}
+#: fields renamed since an earlier release -> their name now: a case or ensemble that still uses an old
+#: name is refused with one line saying what to rename (numerics.method became numerics.integrator with
+#: issue 18, the name the mine's scenarios give the same setting; docs/restraint.md section 10)
+RENAMED = {"numerics.method": "numerics.integrator"}
+
+
+def refuse_renamed(paths) -> None:
+    """ScenarioError naming the first of ``paths`` (``section.field``) that is an old name in RENAMED."""
+    for path in paths:
+        if path in RENAMED:
+            section, _, old = path.partition(".")
+            new = RENAMED[path].partition(".")[2]
+            raise ScenarioError(
+                f"{path} is now called {RENAMED[path]} (the mine's name for the same setting): "
+                f"rename {old} to {new} in [{section}]"
+            )
+
+
 _DOC_WRITER = "mineburial.systems.restraint.write_field_table"
 
 
@@ -475,6 +494,7 @@ class RestraintCase:
 
     def __post_init__(self):
         object.__setattr__(self, "values", dict(self.values))  # never change the caller's dict
+        refuse_renamed(self.values)
         for spec in FIELDS:
             if spec.path not in self.values:
                 self.values[spec.path] = spec.default
@@ -604,6 +624,7 @@ class RestraintCase:
             if not isinstance(table, dict):
                 raise ScenarioError(f"[{section}] must be a table of fields, not {table!r}")
             allowed = [f.name for f in FIELDS if f.section == section]
+            refuse_renamed(f"{section}.{k}" for k in table)
             bad = [k for k in table if k not in allowed]
             if bad:
                 raise ScenarioError(unknown_names_message(f"field of [{section}]", bad, allowed))
@@ -1143,23 +1164,23 @@ class RestraintResult:
 
 def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, name: str) -> None:
     """ScenarioError naming ``name`` when the records of a run (states and the diagnostics
-    computed from them) would take more than half of the available memory (the same check
-    as the drop's trajectory, :func:`mineburial.drop.trajectory_rows`)."""
-    from mineburial.drop import memory_shortfall
+    computed from them) would take more than half of the available memory (the one memory
+    check of :mod:`mineburial.resources`, as for the drop's trajectory)."""
     from mineburial.multibody import record_bytes
 
     n = system.layout.kinds.size
     # per record: the state, and positions, velocities, pin forces and scalars of every body,
     # held twice while the dataset is built
     values = system.y0.size + 2 * (8 * n + 7)
-    need = record_bytes(case["numerics.t_max"], dt_rec, values)
-    memory = memory_shortfall(need)
-    if memory is not None:
-        raise ScenarioError(
-            f"{name} = {dt_rec:g} s would record {case['numerics.t_max'] / dt_rec:.3g} states over "
-            f"numerics.t_max = {case['numerics.t_max']:g} s, {need / 2**30:.3g} GiB, more than half of the "
-            f"memory available ({memory / 2**30:.3g} GiB): give a larger {name}"
-        )
+    t_max = case["numerics.t_max"]
+    refusal = memory_refusal(
+        record_bytes(t_max, dt_rec, values),
+        f"{name} = {dt_rec:g} s ({t_max / dt_rec:.3g} states over numerics.t_max = {t_max:g} s)",
+        f"give a larger {name}",
+        share=0.5,
+    )
+    if refusal is not None:
+        raise ScenarioError(refusal)
 
 
 def _last_finite_record(*arrays) -> int:
@@ -1199,7 +1220,7 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
         0.0,
         case["numerics.t_max"],
         system.params,
-        method=case["numerics.method"],
+        method=case["numerics.integrator"],
         dt=case["numerics.dt"],
         rtol=case["numerics.rtol"],
         atol=case["numerics.atol"],
@@ -1244,7 +1265,7 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
             failure = (
                 f"the energy balance does not close: {closure:.2g} of the initial energy "
                 f"(limit {ENERGY_CLOSURE_LIMIT:g}); the run is not converged "
-                f"(numerics.method, dt, rtol, atol)"
+                f"(numerics.integrator, dt, rtol, atol)"
             )
     return dataclasses.replace(
         result,
@@ -1311,7 +1332,10 @@ def to_dataset(result: RestraintResult):
         status_name = kmb.STATUS_NAMES[status]
         failure = f"non-finite values in {', '.join(bad)}"
         stopping_time = None
-    data["status"] = (np.int8(status), _flags(kmb.STATUS_NAMES))
+    data["status"] = (
+        np.int8(status),
+        {"flag_values": kmb.STATUS_CODES, "flag_meanings": kmb.STATUS_MEANINGS},
+    )
     if stopping_time is not None:
         data["stopping_time"] = float(stopping_time)
     data.update({name: float(sysm.derived[name]) for name in RESTRAINT_DERIVED})
