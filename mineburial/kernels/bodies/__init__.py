@@ -1,0 +1,187 @@
+"""The mine's body behind a small protocol, resolved at compile time on the body's type.
+
+A body is a ``typing.NamedTuple`` of floats (its shape's dimensions in the body frame, M-frame of
+``docs/design.md``: axis ``i_M`` through the centre of mass). Its numba type (``NamedUniTuple``)
+carries the class (``instance_class``), so each protocol function below is an ``overload`` that
+looks the class up in :data:`SHAPES` and compiles that shape's implementation into the caller: no
+run-time branch, no first-class function, cached on disk with the caller (as ``core.system_rhs``
+and ``stepper._fixed_step`` dispatch on types).
+
+The protocol (what a shape module defines, as plain functions of ``body`` that numba compiles;
+heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
+
+* ``cut(body, a_z, z_c, level)`` -> ``(volume, x_c, eta_c, lateral, nose_end, tail_end)``: the part
+  below the plane, its centroid ``x_c i_M + eta_c e_down`` about the COM and its wetted areas;
+* ``extent(body, a_z, z_c)`` -> ``(z_min, z_max)``;
+* ``burial(body, a_z, z_c, level)`` -> ``(pct_volume, pct_height, pct_area, height_proud,
+  penetration)`` (the results table's burial measures);
+* ``equivalent_part(body, V, x_c, eta)`` -> ``(l, x_a, x_b, eta)``: the equivalent body of a part
+  (seed 000 section 4.1) that the strip forces of the fluid integrate over;
+* ``volume(body)``; ``ends(body)`` -> ``(x_tail, x_nose)``, the axial span about the COM;
+* ``lowest_offset(body, k1, k2, k3)``: height of the lowest point above the COM for the E-frame
+  vertical ``k`` in body components; ``deepest_point(body, k1, k2, k3)``: a lowest point (body
+  frame) about which the body topples; ``sizes(body)`` -> ``(extent_scale, reach)``: the length
+  that scales a rotation's speed to a surface speed, and a bound on the distance of any body point
+  from the COM;
+* ``surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank)``: the sediment's
+  force (body frame) and torque on the embedded surface by the rule the law names (the fast rule,
+  or the reference quadrature when ``reference_paths`` is not None), ``d0`` the seabed's height
+  above the COM; ``pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank)``: the pore-water
+  pressure of seed 000 eq. (73).
+
+Adding a shape: a module here with its NamedTuple class and these functions, which registers
+itself (:func:`register`; docs/design.md, "Adding a body shape"). This package imports no shape,
+so the sediment package can use the protocol while the cylinder's module uses the sediment rules.
+"""
+
+from numba.core import types
+from numba.extending import overload
+
+from mineburial._numba import JIT_OPTIONS
+
+#: body class -> the module that implements the protocol for it (filled by :func:`register`)
+SHAPES = {}
+
+#: the protocol's functions, in the order of the module docstring
+PROTOCOL = (
+    "cut",
+    "extent",
+    "burial",
+    "equivalent_part",
+    "volume",
+    "ends",
+    "lowest_offset",
+    "deepest_point",
+    "sizes",
+    "surface_tractions",
+    "pore",
+)
+
+__all__ = ["SHAPES", "PROTOCOL", "register", *PROTOCOL]
+
+
+def register(cls, module):
+    """Make the NamedTuple class ``cls`` a body whose protocol ``module`` implements (each
+    shape module calls this for itself; the kernels that build a body import that module)."""
+    missing = [name for name in PROTOCOL if not callable(getattr(module, name, None))]
+    if missing:
+        raise TypeError(f"body module {module.__name__} lacks protocol functions {missing}")
+    SHAPES[cls] = module
+
+
+def _impl(body, name):
+    """The shape's implementation of protocol function ``name`` for the numba type ``body``
+    (None, so that numba reports no match, when ``body`` is not a registered body)."""
+    if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class in SHAPES:
+        return getattr(SHAPES[body.instance_class], name)
+    return None
+
+
+def cut(body, a_z, z_c, level):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(cut, jit_options=JIT_OPTIONS)
+def _cut(body, a_z, z_c, level):
+    return _impl(body, "cut")
+
+
+def extent(body, a_z, z_c):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(extent, jit_options=JIT_OPTIONS)
+def _extent(body, a_z, z_c):
+    return _impl(body, "extent")
+
+
+def burial(body, a_z, z_c, level):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(burial, jit_options=JIT_OPTIONS)
+def _burial(body, a_z, z_c, level):
+    return _impl(body, "burial")
+
+
+def equivalent_part(body, volume, x_c, eta):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(equivalent_part, jit_options=JIT_OPTIONS)
+def _equivalent_part(body, volume, x_c, eta):
+    return _impl(body, "equivalent_part")
+
+
+def volume(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(volume, jit_options=JIT_OPTIONS)
+def _volume(body):
+    return _impl(body, "volume")
+
+
+def ends(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(ends, jit_options=JIT_OPTIONS)
+def _ends(body):
+    return _impl(body, "ends")
+
+
+def lowest_offset(body, k1, k2, k3):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(lowest_offset, jit_options=JIT_OPTIONS)
+def _lowest_offset(body, k1, k2, k3):
+    return _impl(body, "lowest_offset")
+
+
+def deepest_point(body, k1, k2, k3):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(deepest_point, jit_options=JIT_OPTIONS)
+def _deepest_point(body, k1, k2, k3):
+    return _impl(body, "deepest_point")
+
+
+def sizes(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(sizes, jit_options=JIT_OPTIONS)
+def _sizes(body):
+    return _impl(body, "sizes")
+
+
+def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(surface_tractions, jit_options=JIT_OPTIONS)
+def _surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
+    return _impl(body, "surface_tractions")
+
+
+def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(pore, jit_options=JIT_OPTIONS)
+def _pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
+    return _impl(body, "pore")
