@@ -37,6 +37,7 @@ def _probe(body, k1, k2, k3, z_c, level):
         bodies.sizes(body),
         bodies.lowest_offset(body, k1, k2, k3),
         bodies.deepest_point(body, k1, k2, k3),
+        bodies.strip_section(body),
     )
 
 
@@ -54,7 +55,7 @@ def test_horizontal_cylinder_cut_at_its_axis_is_half_below():
     assert lateral == pytest.approx(math.pi * R * L, rel=REL)
     assert nose == pytest.approx(0.5 * math.pi * R * R, rel=REL)
     assert tail == pytest.approx(0.5 * math.pi * R * R, rel=REL)
-    assert vol == pytest.approx(math.pi * R * R * L, rel=REL)
+    assert vol == pytest.approx((math.pi * R * R * L, -CHI), rel=REL)
     pct_v, pct_h, pct_a, proud, pen = burial
     assert (pct_v, pct_h, pct_a) == pytest.approx((50.0, 50.0, 50.0), rel=REL)
     assert proud == pytest.approx(R, rel=REL)
@@ -84,7 +85,8 @@ def test_vertical_cylinder_cut_at_height_h_holds_pi_r2_h(h):
 def test_fully_buried_body_is_wholly_below_with_nothing_proud(a_z):
     z_c = -5.0
     cut, (z_min, z_max), burial, vol, *_ = _probe(BODY, *_attitude(a_z), z_c, 0.0)
-    assert cut[0] == pytest.approx(vol, rel=REL)
+    # the whole body below: the cut's volume and centroid are the whole body's
+    assert cut[:3] == pytest.approx((vol[0], vol[1], 0.0), rel=REL, abs=1e-15)
     assert burial[:3] == pytest.approx((100.0, 100.0, 100.0), rel=REL)
     assert burial[3] == 0.0
     assert burial[4] == pytest.approx(0.0 - z_min, rel=REL)
@@ -94,7 +96,7 @@ def test_fully_buried_body_is_wholly_below_with_nothing_proud(a_z):
 def test_extent_lowest_point_and_sizes_match_the_cylinders_closed_forms(a_z):
     k = _attitude(a_z)
     z_c = 1.5
-    _, (z_min, z_max), _, _, ends, sizes, lowest, deepest = _probe(BODY, *k, z_c, 0.0)
+    _, (z_min, z_max), _, _, ends, sizes, lowest, deepest, section = _probe(BODY, *k, z_c, 0.0)
     xa, xb = -0.5 * L - CHI, 0.5 * L - CHI
     assert ends == pytest.approx((xa, xb), rel=REL)
     drop = R * math.sqrt(1.0 - a_z * a_z)  # the rim below an end section's centre
@@ -105,6 +107,7 @@ def test_extent_lowest_point_and_sizes_match_the_cylinders_closed_forms(a_z):
     height = k[0] * deepest[0] + k[1] * deepest[1] + k[2] * deepest[2]
     assert height == pytest.approx(lowest, rel=1e-12, abs=1e-15)
     assert sizes == pytest.approx((L + R, 0.5 * L + abs(CHI) + R), rel=REL)
+    assert section == (R, L)  # the strip theory's constant section and reference length
 
 
 def test_equivalent_part_of_a_third_has_a_third_of_the_length():
@@ -124,7 +127,7 @@ def test_the_body_is_built_from_the_parameter_vector_slots():
 
 
 def test_a_shape_module_lacking_a_protocol_function_is_refused():
-    shape = types.SimpleNamespace(**{name: (lambda body: 0.0) for name in bodies.PROTOCOL[:-1]})
+    shape = types.SimpleNamespace(**{name: (lambda body: 0.0) for name in bodies.PROTOCOL if name != "pore"})
     shape.__name__ = "half_a_shape"
     with pytest.raises(TypeError, match="pore"):
         bodies.register(tuple, shape)

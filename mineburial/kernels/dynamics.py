@@ -30,8 +30,6 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels import bodies
 from mineburial.kernels.added_mass import (
-    crossflow_efficiency,
-    cylinder_added_mass,
     finite_body_cross_drag,
     munk_incidence_factor,
 )
@@ -73,6 +71,11 @@ from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
+
+
+#: the mine's body from its parameter vector (``layout.P_*``): the one place that names the shape
+#: of the drop's kernels (docs/design.md, "Body protocol")
+drop_body = cylinder.from_params
 
 
 @kernel
@@ -275,11 +278,9 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     added mass (transverse, water), pore-pressure added mass.
     Returns the phase code.
     """
-    body = cylinder.from_params(p)
-    L = body.length  # the strip forces below are the cylinder's (docs/design.md, body protocol)
-    R = body.radius
+    body = drop_body(p)
+    R, L = bodies.strip_section(body)  # of the strip theory (docs/design.md, "Body protocol")
     m = p[P_MASS]
-    chi = body.com_offset
     J1 = p[P_J1]
     J2 = p[P_J2]
     g = p[P_GRAVITY]
@@ -290,7 +291,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     drag_on = int(p[P_DRAG])
     crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
     # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
-    eta = crossflow_efficiency(L / (2.0 * R)) if crossflow_model else 1.0
+    eta = bodies.crossflow_efficiency(body) if crossflow_model else 1.0
 
     x = y[0]
     yy = y[1]
@@ -316,7 +317,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     u2 = r[1] * vx + r[4] * vy + r[7] * vz
     u3 = r[2] * vx + r[5] * vy + r[8] * vz
 
-    v_total = bodies.volume(body)
+    v_total, x_total = bodies.volume(body)
     z_lo, z_hi = bodies.extent(body, a_z, z)
     phase = phase_of(z_lo, z_hi, depth)
 
@@ -347,7 +348,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     fa = rho_a * g * va
     fb1, fb2, fb3, mb1, mb2, mb3 = vertical_load(
         fw + fa,
-        fw * xs + rho_a * g * (v_total * (-chi) - vs * xs),
+        fw * xs + rho_a * g * (v_total * x_total - vs * xs),
         fw * es - rho_a * g * vs * es,
         dn2,
         dn3,
@@ -402,7 +403,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     aa = 0.0
     ab = 0.0
     if va > 1e-15 * v_total and rho_a > 0.0:
-        xa_c = (v_total * (-chi) - vs * xs) / va
+        xa_c = (v_total * x_total - vs * xs) / va
         _, aa, ab, _ = bodies.equivalent_part(body, va, xa_c, 0.0)
         fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
             impact35,
@@ -486,7 +487,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
         # rotational inertia k_r of strip theory's about the wetted centroid, moved to the
         # COM with the transverse mass (parallel axes; docs/physics.md)
-        kt, ka, kr = cylinder_added_mass(L / (2.0 * R))
+        kt, ka, kr = bodies.finite_added_mass(body)
         a11 = ka * a0
         if a0 > 0.0:
             shift = a1 * a1 / a0

@@ -44,7 +44,6 @@ from numba.extending import overload
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels import status as st
-from mineburial.kernels.bodies import cylinder
 from mineburial.kernels.core import (
     JAC_AGE_AT_REJECTION,
     JAC_MAX_AGE,
@@ -53,7 +52,7 @@ from mineburial.kernels.core import (
     System,
     locate_event,
 )
-from mineburial.kernels.dynamics import derivatives
+from mineburial.kernels.dynamics import derivatives, drop_body
 from mineburial.kernels.integrators import (
     N_STAGES,
     ROS_ERROR_ORDER,
@@ -201,7 +200,7 @@ def event_values(y, p, g):
     water surface (g0, g1) and to the seabed (g2, g3), and the rest measure (g4)."""
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     a_z = 2.0 * (y[7] * y[9] - y[6] * y[8]) / (qn * qn)  # R[2,0] = i_M . k
-    lo, hi = bodies.extent(cylinder.from_params(p), a_z, y[2])
+    lo, hi = bodies.extent(drop_body(p), a_z, y[2])
     depth = p[P_DEPTH]
     g[0] = lo
     g[1] = hi
@@ -463,7 +462,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     z_release = p[P_Z0]
     L = p[P_LENGTH]
     R = 0.5 * p[P_DIAMETER]
-    body = cylinder.from_params(p)
+    body = drop_body(p)
     buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * L
     n_rows = 0
     if traj is not None:

@@ -17,7 +17,8 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
   penetration)`` (the results table's burial measures);
 * ``equivalent_part(body, V, x_c, eta)`` -> ``(l, x_a, x_b, eta)``: the equivalent body of a part
   (seed 000 section 4.1) that the strip forces of the fluid integrate over;
-* ``volume(body)``; ``ends(body)`` -> ``(x_tail, x_nose)``, the axial span about the COM;
+* ``volume(body)`` -> ``(volume, x_centroid)``: the whole body's volume and the axial position of
+  its centroid about the COM; ``ends(body)`` -> ``(x_tail, x_nose)``, the axial span about the COM;
 * ``lowest_offset(body, k1, k2, k3)``: height of the lowest point above the COM for the E-frame
   vertical ``k`` in body components; ``deepest_point(body, k1, k2, k3)``: a lowest point (body
   frame) about which the body topples; ``sizes(body)`` -> ``(extent_scale, reach)``: the length
@@ -27,7 +28,12 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
   force (body frame) and torque on the embedded surface by the rule the law names (the fast rule,
   or the reference quadrature when ``reference_paths`` is not None), ``d0`` the seabed's height
   above the COM; ``pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank)``: the pore-water
-  pressure of seed 000 eq. (73).
+  pressure of seed 000 eq. (73);
+* the fluid forces' strip theory (kernels/dynamics.py, seeds 000 and 001) integrates a body of
+  constant section along its axis: ``strip_section(body)`` -> ``(radius, length)`` of that
+  section and the reference length, ``finite_added_mass(body)`` -> ``(k_t, k_a, k_r)``, the
+  finite body's added-mass factors on the strip values, and ``crossflow_efficiency(body)``, the
+  viscous-crossflow model's eta (both from kernels/added_mass.py's tables of the closed cylinder).
 
 Adding a shape: a module here with its NamedTuple class and these functions, which registers
 itself (:func:`register`; docs/design.md, "Adding a body shape"). This package imports no shape,
@@ -55,6 +61,9 @@ PROTOCOL = (
     "sizes",
     "surface_tractions",
     "pore",
+    "strip_section",
+    "finite_added_mass",
+    "crossflow_efficiency",
 )
 
 __all__ = ["SHAPES", "PROTOCOL", "register", *PROTOCOL]
@@ -185,3 +194,33 @@ def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
 @overload(pore, jit_options=JIT_OPTIONS)
 def _pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
     return _impl(body, "pore")
+
+
+def strip_section(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(strip_section, jit_options=JIT_OPTIONS)
+def _strip_section(body):
+    return _impl(body, "strip_section")
+
+
+def finite_added_mass(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(finite_added_mass, jit_options=JIT_OPTIONS)
+def _finite_added_mass(body):
+    return _impl(body, "finite_added_mass")
+
+
+def crossflow_efficiency(body):
+    """Protocol function (module docstring); compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(crossflow_efficiency, jit_options=JIT_OPTIONS)
+def _crossflow_efficiency(body):
+    return _impl(body, "crossflow_efficiency")

@@ -3,9 +3,10 @@
 A solid cylinder of length ``length`` and radius ``radius`` whose centre of mass sits ``com_offset``
 (``chi``, seed 000 eq. (42)) behind its middle: in the M-frame it spans
 ``x in [-L/2 - chi, L/2 - chi]``. The protocol functions (:mod:`mineburial.kernels.bodies`) call the
-cylinder's closed forms in :mod:`mineburial.kernels.geometry` and its embedded-surface integrals in
+cylinder's closed forms in :mod:`mineburial.kernels.geometry`, its embedded-surface integrals in
 :mod:`mineburial.kernels.sediment` (the fast rule, :mod:`~.sediment.fast`; the reference
-quadrature, :mod:`~.sediment.reference`; the pore pressure, :mod:`~.sediment.pore`).
+quadrature, :mod:`~.sediment.reference`; the pore pressure, :mod:`~.sediment.pore`) and the closed
+cylinder's added-mass and crossflow tables (:mod:`mineburial.kernels.added_mass`).
 """
 
 import math
@@ -17,6 +18,8 @@ from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel
 from mineburial.kernels import bodies
+from mineburial.kernels.added_mass import crossflow_efficiency as cylinder_crossflow_efficiency
+from mineburial.kernels.added_mass import cylinder_added_mass
 from mineburial.kernels.geometry import (
     PI,
     burial_measures,
@@ -64,7 +67,7 @@ def equivalent_part(body, volume, x_c, eta):
 
 
 def volume(body):
-    return PI * body.radius * body.radius * body.length
+    return PI * body.radius * body.radius * body.length, -body.com_offset
 
 
 def ends(body):
@@ -94,6 +97,18 @@ def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
 
 def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
     return pore_pressure(body.length, body.radius, body.com_offset, k1, k2, k3, d0, zeta_tip, w_z, law, bank)
+
+
+def strip_section(body):
+    return body.radius, body.length
+
+
+def finite_added_mass(body):
+    return cylinder_added_mass(body.length / (2.0 * body.radius))
+
+
+def crossflow_efficiency(body):
+    return cylinder_crossflow_efficiency(body.length / (2.0 * body.radius))
 
 
 def _rule(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
