@@ -4,8 +4,9 @@ A body is a ``typing.NamedTuple`` of floats (its shape's dimensions in the body 
 ``docs/design.md``: axis ``i_M`` through the centre of mass). Its numba type (``NamedUniTuple``)
 carries the class (``instance_class``), so each protocol function below is an ``overload`` that
 looks the class up in :data:`SHAPES` and compiles that shape's implementation into the caller: no
-run-time branch, no first-class function, cached on disk with the caller (as ``core.system_rhs``
-and ``stepper._fixed_step`` dispatch on types).
+run-time branch, no first-class function, cached on disk with the caller (not inlined at numba's IR
+level: ``inline="always"`` cost ~5 s more CPU of cold compile, docs/design.md "Body protocol"), as
+``core.system_rhs`` and ``stepper._fixed_step`` dispatch on types.
 
 The protocol (what a shape module defines, as plain functions of ``body`` that numba compiles;
 heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
@@ -66,7 +67,7 @@ PROTOCOL = (
     "crossflow_efficiency",
 )
 
-__all__ = ["SHAPES", "PROTOCOL", "register", *PROTOCOL]
+__all__ = ["SHAPES", "PROTOCOL", "register", "by_type", *PROTOCOL]
 
 
 def register(cls, module):
@@ -78,11 +79,20 @@ def register(cls, module):
     SHAPES[cls] = module
 
 
-def _impl(body, name):
-    """The shape's implementation of protocol function ``name`` for the numba type ``body``
-    (None, so that numba reports no match, when ``body`` is not a registered body)."""
+def by_type(chooser):
+    """Mark a shape's protocol function as a chooser: called with the numba types of the
+    arguments, it returns the implementation (as an ``overload`` template does), so that a shape
+    picks among compiled paths without a compile unit of its own between them and the caller."""
+    chooser.by_type = True
+    return chooser
+
+
+def _impl(name, body, *args):
+    """The shape's implementation of protocol function ``name`` for the numba types ``body,
+    *args`` (None, so that numba reports no match, when ``body`` is not a registered body)."""
     if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class in SHAPES:
-        return getattr(SHAPES[body.instance_class], name)
+        fn = getattr(SHAPES[body.instance_class], name)
+        return fn(body, *args) if getattr(fn, "by_type", False) else fn
     return None
 
 
@@ -93,7 +103,7 @@ def cut(body, a_z, z_c, level):
 
 @overload(cut, jit_options=JIT_OPTIONS)
 def _cut(body, a_z, z_c, level):
-    return _impl(body, "cut")
+    return _impl("cut", body, a_z, z_c, level)
 
 
 def extent(body, a_z, z_c):
@@ -103,7 +113,7 @@ def extent(body, a_z, z_c):
 
 @overload(extent, jit_options=JIT_OPTIONS)
 def _extent(body, a_z, z_c):
-    return _impl(body, "extent")
+    return _impl("extent", body, a_z, z_c)
 
 
 def burial(body, a_z, z_c, level):
@@ -113,7 +123,7 @@ def burial(body, a_z, z_c, level):
 
 @overload(burial, jit_options=JIT_OPTIONS)
 def _burial(body, a_z, z_c, level):
-    return _impl(body, "burial")
+    return _impl("burial", body, a_z, z_c, level)
 
 
 def equivalent_part(body, volume, x_c, eta):
@@ -123,7 +133,7 @@ def equivalent_part(body, volume, x_c, eta):
 
 @overload(equivalent_part, jit_options=JIT_OPTIONS)
 def _equivalent_part(body, volume, x_c, eta):
-    return _impl(body, "equivalent_part")
+    return _impl("equivalent_part", body, volume, x_c, eta)
 
 
 def volume(body):
@@ -133,7 +143,7 @@ def volume(body):
 
 @overload(volume, jit_options=JIT_OPTIONS)
 def _volume(body):
-    return _impl(body, "volume")
+    return _impl("volume", body)
 
 
 def ends(body):
@@ -143,7 +153,7 @@ def ends(body):
 
 @overload(ends, jit_options=JIT_OPTIONS)
 def _ends(body):
-    return _impl(body, "ends")
+    return _impl("ends", body)
 
 
 def lowest_offset(body, k1, k2, k3):
@@ -153,7 +163,7 @@ def lowest_offset(body, k1, k2, k3):
 
 @overload(lowest_offset, jit_options=JIT_OPTIONS)
 def _lowest_offset(body, k1, k2, k3):
-    return _impl(body, "lowest_offset")
+    return _impl("lowest_offset", body, k1, k2, k3)
 
 
 def deepest_point(body, k1, k2, k3):
@@ -163,7 +173,7 @@ def deepest_point(body, k1, k2, k3):
 
 @overload(deepest_point, jit_options=JIT_OPTIONS)
 def _deepest_point(body, k1, k2, k3):
-    return _impl(body, "deepest_point")
+    return _impl("deepest_point", body, k1, k2, k3)
 
 
 def sizes(body):
@@ -173,7 +183,7 @@ def sizes(body):
 
 @overload(sizes, jit_options=JIT_OPTIONS)
 def _sizes(body):
-    return _impl(body, "sizes")
+    return _impl("sizes", body)
 
 
 def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
@@ -183,7 +193,7 @@ def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
 
 @overload(surface_tractions, jit_options=JIT_OPTIONS)
 def _surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
-    return _impl(body, "surface_tractions")
+    return _impl("surface_tractions", body, reference_paths, k1, k2, k3, d0, vbody, law, bank)
 
 
 def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
@@ -193,7 +203,7 @@ def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
 
 @overload(pore, jit_options=JIT_OPTIONS)
 def _pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
-    return _impl(body, "pore")
+    return _impl("pore", body, k1, k2, k3, d0, zeta_tip, w_z, law, bank)
 
 
 def strip_section(body):
@@ -203,7 +213,7 @@ def strip_section(body):
 
 @overload(strip_section, jit_options=JIT_OPTIONS)
 def _strip_section(body):
-    return _impl(body, "strip_section")
+    return _impl("strip_section", body)
 
 
 def finite_added_mass(body):
@@ -213,7 +223,7 @@ def finite_added_mass(body):
 
 @overload(finite_added_mass, jit_options=JIT_OPTIONS)
 def _finite_added_mass(body):
-    return _impl(body, "finite_added_mass")
+    return _impl("finite_added_mass", body)
 
 
 def crossflow_efficiency(body):
@@ -223,4 +233,4 @@ def crossflow_efficiency(body):
 
 @overload(crossflow_efficiency, jit_options=JIT_OPTIONS)
 def _crossflow_efficiency(body):
-    return _impl(body, "crossflow_efficiency")
+    return _impl("crossflow_efficiency", body)

@@ -122,6 +122,7 @@ def sediment_tractions(body, rot, com, vel, omega, seabed_z, law, bank):
 def sediment_force_torque(body, rot, com, vel, omega, seabed_z, water_density, gravity, p, sediment_bank):
     """:func:`sediment_tractions` with the law packed from the parameter vector ``p``
     (``water_density`` and ``gravity`` as given, for tests that vary them)."""
-    law = pack_law(p, 2.0 * body.radius)
+    radius, _ = bodies.strip_section(body)
+    law = pack_law(p, 2.0 * radius)
     law = law[:9] + (water_density, gravity) + law[11:]
     return sediment_tractions(body, rot, com, vel, omega, seabed_z, law, sediment_bank)
