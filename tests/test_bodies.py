@@ -10,10 +10,12 @@ with the right arguments. One small compiled probe calls every geometric protoco
 
 import math
 import types
+from typing import NamedTuple
 
 import numpy as np
 import pytest
 from numba import njit
+from numba.core import types as nbtypes
 
 from mineburial.kernels import bodies, layout
 from mineburial.kernels.bodies import cylinder
@@ -133,3 +135,31 @@ def test_a_shape_module_lacking_a_protocol_function_is_refused():
         bodies.register(tuple, shape)
     assert tuple not in bodies.SHAPES
     assert bodies.SHAPES[Cylinder] is cylinder
+
+
+class _Cube(NamedTuple):
+    side: float
+
+
+def test_a_registered_shape_is_reached_by_its_type_and_a_chooser_sees_the_argument_types():
+    shape = types.SimpleNamespace(**{name: (lambda body: 0.0) for name in bodies.PROTOCOL})
+    shape.__name__ = "cube"
+    shape.volume = lambda body: (body.side**3, 0.0)
+
+    @bodies.by_type
+    def extent(body, a_z, z_c):
+        if isinstance(a_z, nbtypes.Integer):
+            return lambda body, a_z, z_c: (-1.0, -1.0)
+        return lambda body, a_z, z_c: (z_c - body.side, z_c + body.side)
+
+    shape.extent = extent
+    bodies.register(_Cube, shape)
+    try:
+        probe = njit(cache=False)(lambda b, a: (bodies.volume(b), bodies.extent(b, a, 5.0)))
+        assert probe(_Cube(2.0), 0.5) == ((8.0, 0.0), (3.0, 7.0))
+        assert probe(_Cube(2.0), 1) == ((8.0, 0.0), (-1.0, -1.0))
+        assert probe(BODY, 0.0)[0] == pytest.approx(
+            (math.pi * R * R * L, -CHI), rel=REL
+        )  # still the cylinder
+    finally:
+        del bodies.SHAPES[_Cube]
