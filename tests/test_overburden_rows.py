@@ -21,6 +21,7 @@ from mineburial.config import Scenario, ScenarioError
 from mineburial.drop import run_params
 from mineburial.kernels import layout
 from mineburial.kernels import overburden as ob
+from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.geometry import vertical_extent
 from mineburial.kernels.sediment.laws import drop_bank
 
@@ -63,7 +64,7 @@ def force(p, bank, a_z, penetration, quadrature):
     L, R, chi = q[layout.P_LENGTH], 0.5 * q[layout.P_DIAMETER], q[layout.P_CHI]
     z_lo, _ = vertical_extent(L, R, chi, a_z, 0.0)
     z_c = -penetration - z_lo
-    return np.array(ob.overburden_force(L, R, chi, a_z, z_c, 0.0, -penetration, RHO_W, G, q, bank))
+    return np.array(ob.overburden_force(Cylinder(L, R, chi), a_z, z_c, 0.0, -penetration, RHO_W, G, q, bank))
 
 
 def geometry(p):

@@ -13,6 +13,7 @@ import pytest
 from scipy.optimize import brentq
 
 from mineburial.kernels import scour as S
+from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.scour_batch import G_AZ, G_ZC, MEASURE_NAMES, N_GEOM, lying_burial, scour_drops
 
 L = 2.0
@@ -35,7 +36,7 @@ def segment_burial(fraction, radius=R):
 @pytest.mark.parametrize("pen", [1e-4, 0.02, 0.1, R, 0.4, D - 1e-4])
 def test_a_mine_already_lying_keeps_its_burial(pen):
     # horizontal axis (a_z = 0): lowest point at z_c - R = -pen
-    assert lying_burial(L, R, CHI, 0.0, R - pen) == pytest.approx(pen, rel=1e-12, abs=1e-15)
+    assert lying_burial(Cylinder(L, R, CHI), 0.0, R - pen) == pytest.approx(pen, rel=1e-12, abs=1e-15)
 
 
 @pytest.mark.parametrize("pen", [0.05, 0.4, 1.0, 1.7])
@@ -44,7 +45,7 @@ def test_nose_down_mine_lies_with_the_same_buried_volume(pen):
     buried, most of it standing proud) started the stage at B = 1 m > D, fully buried."""
     # vertical, nose down (a_z = -1): the nose end is at z_c - (L/2 - chi) = -pen
     z_c = (0.5 * L - CHI) - pen
-    b0 = lying_burial(L, R, CHI, -1.0, z_c)
+    b0 = lying_burial(Cylinder(L, R, CHI), -1.0, z_c)
     assert b0 == pytest.approx(segment_burial(pen / L), rel=1e-12)
     if pen == 1.0:
         assert b0 == pytest.approx(R, rel=1e-12)  # half the volume: lying half buried
@@ -52,11 +53,11 @@ def test_nose_down_mine_lies_with_the_same_buried_volume(pen):
 
 def test_a_mine_whose_top_is_below_the_bed_lies_as_deep():
     z_c = -(0.5 * L + CHI) - 0.3  # vertical, nose down, tail end 0.3 m below the bed
-    assert lying_burial(L, R, CHI, -1.0, z_c) == pytest.approx(D + 0.3, rel=1e-12)
+    assert lying_burial(Cylinder(L, R, CHI), -1.0, z_c) == pytest.approx(D + 0.3, rel=1e-12)
     # a tilted one: its top is 0.1 m below the bed
     a = -math.sin(math.radians(30.0))
     top = max(a * (-0.5 * L - CHI), a * (0.5 * L - CHI)) + R * math.sqrt(1 - a * a)
-    assert lying_burial(L, R, CHI, a, -top - 0.1) == pytest.approx(D + 0.1, rel=1e-12)
+    assert lying_burial(Cylinder(L, R, CHI), a, -top - 0.1) == pytest.approx(D + 0.1, rel=1e-12)
 
 
 def test_stage_measures_are_those_of_the_lying_mine_and_keep_the_volume_class():

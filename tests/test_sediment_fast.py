@@ -19,6 +19,7 @@ from test_sediment_kernel import V_REG, V_REG_N  # the regularisation pinned by 
 from test_sediment_kernel import params as _kernel_params
 
 from mineburial.kernels import layout as lay
+from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.sediment import pack_law, sediment_force_torque
 from mineburial.kernels.sediment.fast import fast_tractions
 from mineburial.kernels.sediment.reference import reference_tractions
@@ -95,9 +96,7 @@ def fast(L, R, chi, c2, d0, vb, p, bank=EMPTY_BANK):
 def kernel_call(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK):
     """Through the dispatcher: (force E-frame, torque body-frame)."""
     out = sediment_force_torque(
-        L,
-        R,
-        chi,
+        Cylinder(L, R, chi),
         tuple(float(v) for v in C.ravel()),
         tuple(float(v) for v in com),
         tuple(float(v) for v in vel),

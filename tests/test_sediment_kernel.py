@@ -25,6 +25,7 @@ import pytest
 from scipy import integrate
 
 from mineburial.kernels import layout as lay
+from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.sediment import rate_factor, sediment_force_torque, sediment_properties
 
 # the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
@@ -97,9 +98,7 @@ def ypr_matrix(yaw, pitch, roll):
 def kernel_call(L, R, chi, C, com, vel, omega, p, bank=EMPTY_BANK):
     """(force E-frame, torque body-frame, added mass) from the kernel."""
     out = sediment_force_torque(
-        L,
-        R,
-        chi,
+        Cylinder(L, R, chi),
         tuple(float(v) for v in C.ravel()),
         tuple(float(v) for v in com),
         tuple(float(v) for v in vel),

@@ -28,16 +28,16 @@ same scheme so that energy bookkeeping closes to the integration error.
 import math
 
 from mineburial._numba import kernel
+from mineburial.kernels import bodies
 from mineburial.kernels.added_mass import (
-    crossflow_efficiency,
-    cylinder_added_mass,
     finite_body_cross_drag,
     munk_incidence_factor,
 )
+from mineburial.kernels.bodies import cylinder
 from mineburial.kernels.coefficients import axial_drag_coefficient, cross_drag_coefficient, lift_coefficient
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.environment import current_velocity
-from mineburial.kernels.geometry import cut_cylinder, e_down_body, equivalent_of_part, vertical_extent
+from mineburial.kernels.geometry import e_down_body
 
 # the extended state, the scratch and diagnostics sizes (N_EXT, I_WORK_*, N_WORK, N_DIAG,
 # re-exported for the driver) and the phase codes live in kernels.layout
@@ -45,14 +45,11 @@ from mineburial.kernels.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
     N_DIAG,  # noqa: F401
-    P_CHI,
     P_DEPTH,
-    P_DIAMETER,
     P_DRAG,
     P_GRAVITY,
     P_J1,
     P_J2,
-    P_LENGTH,
     P_MASS,
     P_MODEL,
     P_MUNK,
@@ -74,6 +71,11 @@ from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
+
+
+#: the mine's body from its parameter vector (``layout.P_*``): the one place that names the shape
+#: of the drop's kernels (docs/design.md, "Body protocol")
+drop_body = cylinder.from_params
 
 
 @kernel
@@ -276,10 +278,9 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     added mass (transverse, water), pore-pressure added mass.
     Returns the phase code.
     """
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
+    body = drop_body(p)
+    R, L = bodies.strip_section(body)  # of the strip theory (docs/design.md, "Body protocol")
     m = p[P_MASS]
-    chi = p[P_CHI]
     J1 = p[P_J1]
     J2 = p[P_J2]
     g = p[P_GRAVITY]
@@ -290,7 +291,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     drag_on = int(p[P_DRAG])
     crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
     # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
-    eta = crossflow_efficiency(L / (2.0 * R)) if crossflow_model else 1.0
+    eta = bodies.crossflow_efficiency(body) if crossflow_model else 1.0
 
     x = y[0]
     yy = y[1]
@@ -316,19 +317,19 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     u2 = r[1] * vx + r[4] * vy + r[7] * vz
     u3 = r[2] * vx + r[5] * vy + r[8] * vz
 
-    v_total = math.pi * R * R * L
-    z_lo, z_hi = vertical_extent(L, R, chi, a_z, z)
+    v_total, x_total = bodies.volume(body)
+    z_lo, z_hi = bodies.extent(body, a_z, z)
     phase = phase_of(z_lo, z_hi, depth)
 
     # ---- partition of the body by the two interfaces (seed 000 section 4) ----
     # below the water surface (water and embedded parts together)
-    vs, xs, es, _, _, _ = cut_cylinder(L, R, chi, a_z, z, 0.0)
+    vs, xs, es, _, _, _ = bodies.cut(body, a_z, z, 0.0)
     # below the seabed
     vb = 0.0
     xb = 0.0
     eb = 0.0
     if z_lo < -depth:
-        vb, xb, eb, _, _, _ = cut_cylinder(L, R, chi, a_z, z, -depth)
+        vb, xb, eb, _, _, _ = bodies.cut(body, a_z, z, -depth)
     va = v_total - vs
     if va < 0.0:
         va = 0.0
@@ -347,7 +348,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     fa = rho_a * g * va
     fb1, fb2, fb3, mb1, mb2, mb3 = vertical_load(
         fw + fa,
-        fw * xs + rho_a * g * (v_total * (-chi) - vs * xs),
+        fw * xs + rho_a * g * (v_total * x_total - vs * xs),
         fw * es - rho_a * g * vs * es,
         dn2,
         dn3,
@@ -362,7 +363,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     wb = 0.0
     if vw > 1e-15 * v_total:
         xw = (vs * xs - vb * xb) / vw
-        _, wa, wb, _ = equivalent_of_part(L, R, chi, vw, xw, 0.0)
+        _, wa, wb, _ = bodies.equivalent_part(body, vw, xw, 0.0)
         # current at the height of the water part's centre
         zc_w = z + a_z * xw
         cu, cv = current_velocity(zc_w, p, current_bank)
@@ -402,8 +403,8 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     aa = 0.0
     ab = 0.0
     if va > 1e-15 * v_total and rho_a > 0.0:
-        xa_c = (v_total * (-chi) - vs * xs) / va
-        _, aa, ab, _ = equivalent_of_part(L, R, chi, va, xa_c, 0.0)
+        xa_c = (v_total * x_total - vs * xs) / va
+        _, aa, ab, _ = bodies.equivalent_part(body, va, xa_c, 0.0)
         fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
             impact35,
             rho_a,
@@ -438,11 +439,11 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     added_pore = 0.0
     if z_lo < -depth:
         sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_tractions(
-            L, R, chi, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank
+            body, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank
         )
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
-            fo, fox, foe = overburden_force(L, R, chi, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank)
+            fo, fox, foe = overburden_force(body, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank)
             sf3 += fo
             _, _, _, t1, t2, t3 = vertical_load(fo, fox, foe, dn2, dn3, kb1, kb2, kb3)
             sm1 += t1
@@ -486,7 +487,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
         # rotational inertia k_r of strip theory's about the wetted centroid, moved to the
         # COM with the transverse mass (parallel axes; docs/physics.md)
-        kt, ka, kr = cylinder_added_mass(L / (2.0 * R))
+        kt, ka, kr = bodies.finite_added_mass(body)
         a11 = ka * a0
         if a0 > 0.0:
             shift = a1 * a1 / a0

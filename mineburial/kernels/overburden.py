@@ -9,7 +9,7 @@ embedded part (sigma' vanishes on the seabed plane, which closes the surface):
     F = g int_emb (rho_s(zeta) - rho_w) dV  k,
 
 an upward "sediment buoyancy" - Archimedes with the sediment's density. The embedded
-part is cut into horizontal slices by planes (``geometry.cut_cylinder``: each slice's
+part is cut into horizontal slices by planes (the body protocol's ``cut``, :mod:`.bodies`: each slice's
 volume and centroid exactly), each slice acting at its centroid. Two rules
 (``numerics.overburden_quadrature``, ``layout.OVERBURDEN_QUADRATURE_NAMES``):
 
@@ -28,8 +28,8 @@ volume and centroid exactly), each slice acting at its centroid. Two rules
 import math
 
 from mineburial._numba import kernel, small_kernel
+from mineburial.kernels import bodies
 from mineburial.kernels.environment import bracket, interpolate_row, last_point
-from mineburial.kernels.geometry import cut_cylinder, vertical_extent
 from mineburial.kernels.layout import (
     P_OB_QUADRATURE,
     P_SED_PROFILE,
@@ -81,7 +81,7 @@ def depths_inside(bank, row, depth_max):
 
 
 @kernel
-def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
+def overburden_force(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
     """(F, F*x, F*eta): upward force [N] of the effective overburden and its first
     moments about the COM in the body frame (x along the axis, eta along e_down):
     the torque is (F*x i_M + F*eta e_down) x k. The rule: ``p[P_OB_QUADRATURE]``."""
@@ -91,12 +91,12 @@ def overburden_force(L, R, chi, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
     row = int(p[P_SED_PROFILE])
     if row >= 0 and int(p[P_OB_QUADRATURE]) != OB_REFERENCE:
         if depths_inside(bank, row, depth_max) > EXACT_DEPTHS:
-            return _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
-    return _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+            return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+    return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
 
 
 @kernel
-def _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     """The reference rule: one slice between consecutive table depths (see the module)."""
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
     f_tot = 0.0
@@ -107,7 +107,7 @@ def _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     k = 1
     # the part below each slice boundary; a slice's bottom cut is the next slice's top cut
     # (one cut per boundary: a tabulated profile has one boundary per depth in the body)
-    v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - top)
+    v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
     while top < depth_max:
         # next slice boundary: the next table depth, or the bottom of the body
         bottom = depth_max
@@ -118,7 +118,7 @@ def _exact(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
                         bottom = bank[row, 0, k]
                     break
                 k += 1
-        v2, x2, e2, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - bottom)
+        v2, x2, e2, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - bottom)
         v = v1 - v2  # the part between the two planes, its centroid (xs, es)
         if v > 0.0:
             xs = (v1 * x1 - v2 * x2) / v
@@ -151,14 +151,14 @@ def _profile_at(zeta, p, bank, row, last, rho_w, g):
 
 
 @small_kernel
-def _slice(L, R, chi, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last):
+def _slice(body, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last):
     """The slice between the depths ``a`` and ``b`` (the part below ``a``: ``v1, x1, e1``,
     the profile at ``a``: ``r1, s1``): ``(V, x_s, eta_s, zeta_c, w, w', var)`` with its
     volume, centroid and centroid depth, the force per volume w (:func:`_bounded`), the
     slope w' = g (rho_s(b) - rho_s(a)) / (b - a) and the variance of the depth over the
     slice, h^2/12 - (zeta_c - (a + b)/2)^2 (exact for a cross-section linear in depth);
     then the same at ``b`` for the next slice."""
-    v2, x2, e2, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - b)
+    v2, x2, e2, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - b)
     r2, s2 = _profile_at(b, p, bank, row, last, rho_w, g)
     v = v1 - v2
     if not (v > 0.0 and b > a):
@@ -181,7 +181,7 @@ def _rate(x0, t0, x1, t1):
 
 
 @kernel
-def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     """The bounded rule: :data:`SLICES` equal slices from the top of the embedded part
     (the seabed, or the body's top when it is buried) to ``depth_max``. A slice [a, b]
     of volume V and centroid (x_s, eta_s) at depth zeta_c carries
@@ -201,10 +201,10 @@ def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
     row = int(p[P_SED_PROFILE])
     last = last_point(bank, row)
-    _, z_hi = vertical_extent(L, R, chi, a_z, z_c)
+    _, z_hi = bodies.extent(body, a_z, z_c)
     top = max(0.0, seabed_z - z_hi)
     h = (depth_max - top) / SLICES
-    v1, x1, e1, _, _, _ = cut_cylinder(L, R, chi, a_z, z_c, seabed_z - top)
+    v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
     r1, s1 = _profile_at(top, p, bank, row, last, rho_w, g)
     # slice i is finished once slice i + 1 is known (its centroid's rate with depth); _slice
     # has one call site: it is inlined, and a second copy doubled this compile (docs/design.md)
@@ -218,7 +218,7 @@ def _bounded(L, R, chi, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
             a = top + (i - 1) * h
             b = depth_max if i == SLICES else top + i * h
             vn, xn, en, tn, wn, sn, qn, v1, x1, e1, r1, s1 = _slice(
-                L, R, chi, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
+                body, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
             )
         else:  # the last slice: one-sided rate
             vn, xn, en, tn, wn, sn, qn = 0.0, xc, ec, tc, 0.0, 0.0, 0.0

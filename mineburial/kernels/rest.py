@@ -38,14 +38,12 @@ rest speed in REST_TIME seconds is no load).
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels.dynamics import vertical_load
-from mineburial.kernels.geometry import cut_cylinder, e_down_body, vertical_extent
+from mineburial.kernels import bodies
+from mineburial.kernels.dynamics import drop_body, vertical_load
+from mineburial.kernels.geometry import e_down_body
 from mineburial.kernels.layout import (
-    P_CHI,
     P_DEPTH,
-    P_DIAMETER,
     P_GRAVITY,
-    P_LENGTH,
     P_MASS,
     P_RHO_WATER,
     P_SED_RESISTANCE,
@@ -65,9 +63,7 @@ def static_load(y, p, law, bank):
     of gravity, water buoyancy of the immersed part (seed 000 eqs. (34)-(36)) and, for the
     ``friction`` and ``bearing`` laws, the geostatic overburden on the embedded part
     (:mod:`.overburden`). Returns (Fx, Fy, Fz, M1, M2, M3)."""
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
-    chi = p[P_CHI]
+    body = drop_body(p)
     g = p[P_GRAVITY]
     rho_w = p[P_RHO_WATER]
     depth = p[P_DEPTH]
@@ -77,13 +73,13 @@ def static_load(y, p, law, bank):
     kb2 = r[7]
     kb3 = r[8]
     z = y[2]
-    z_lo, _ = vertical_extent(L, R, chi, kb1, z)
-    vs, xs, es, _, _, _ = cut_cylinder(L, R, chi, kb1, z, 0.0)
+    z_lo, _ = bodies.extent(body, kb1, z)
+    vs, xs, es, _, _, _ = bodies.cut(body, kb1, z, 0.0)
     f = rho_w * g * vs
     fx = f * xs
     fe = f * es
     if z_lo < -depth and int(p[P_SED_RESISTANCE]) != RES_DELTA:
-        fo, fox, foe = overburden_force(L, R, chi, kb1, z, -depth, z_lo, rho_w, g, p, bank)
+        fo, fox, foe = overburden_force(body, kb1, z, -depth, z_lo, rho_w, g, p, bank)
         f += fo
         fx += fox
         fe += foe
@@ -97,13 +93,11 @@ def static_load(y, p, law, bank):
 def _resisted(y, p, law, bank, r, v1, v2, v3, w1, w2, w3, load_power, tol_power):
     """Does the sediment dissipate at least the load's power on the body twist
     (v body-frame, w body-frame)?"""
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
     vx = r[0] * v1 + r[1] * v2 + r[2] * v3
     vy = r[3] * v1 + r[4] * v2 + r[5] * v3
     vz = r[6] * v1 + r[7] * v2 + r[8] * v3
     fx, fy, fz, m1, m2, m3, _ = sediment_tractions(
-        L, R, p[P_CHI], r, (y[0], y[1], y[2]), (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH], law, bank
+        drop_body(p), r, (y[0], y[1], y[2]), (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH], law, bank
     )
     dissipated = -(fx * vx + fy * vy + fz * vz + m1 * w1 + m2 * w2 + m3 * w3)
     return dissipated >= load_power - tol_power
@@ -113,13 +107,11 @@ def _resisted(y, p, law, bank, r, v1, v2, v3, w1, w2, w3, load_power, tol_power)
 def held_by_sediment(y, p, law, bank, probe_speed):
     """Rigid-plastic hold test (module docstring): True when no probed mechanism lets the
     static load move the mine against the sediment's resistance at ``probe_speed``."""
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
-    chi = p[P_CHI]
+    body = drop_body(p)
     depth = p[P_DEPTH]
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     r = rotation_matrix(y[6] / qn, y[7] / qn, y[8] / qn, y[9] / qn)
-    z_lo, _ = vertical_extent(L, R, chi, r[6], y[2])
+    z_lo, _ = bodies.extent(body, r[6], y[2])
     if not (z_lo < -depth):
         return False
     fx, fy, fz, m1, m2, m3 = static_load(y, p, law, bank)
@@ -130,7 +122,7 @@ def held_by_sediment(y, p, law, bank, probe_speed):
     f2 = r[1] * fx + r[4] * fy + r[7] * fz
     f3 = r[2] * fx + r[5] * fy + r[8] * fz
     tol = p[P_MASS] * probe_speed / REST_TIME
-    lc = 0.5 * L + abs(chi) + R
+    _, lc = bodies.sizes(body)
     fn = math.sqrt(f1 * f1 + f2 * f2 + f3 * f3)
     mn = math.sqrt(m1 * m1 + m2 * m2 + m3 * m3)
     tol_power = tol * probe_speed
@@ -150,12 +142,7 @@ def held_by_sediment(y, p, law, bank, probe_speed):
             return False
         # 4. toppling about the deepest point of the body: the end of the axis that is
         # lower, on the rim towards e_down
-        xa = -0.5 * L - chi
-        xb = 0.5 * L - chi
-        xp = xa if r[6] * xa < r[6] * xb else xb
-        _, dn2, dn3 = e_down_body(r[6], r[7], r[8])
-        py = R * dn2
-        pz = R * dn3
+        xp, py, pz = bodies.deepest_point(body, r[6], r[7], r[8])
         w1 = m1 * s
         w2 = m2 * s
         w3 = m3 * s

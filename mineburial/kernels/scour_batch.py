@@ -7,7 +7,7 @@ bed (Rennie, Brandt & Friedrichs 2017: B/D = 1 puts the top of the horizontal cy
 the bed), so the stage's mine lies down: it starts from the burial ``B0`` of the horizontal
 cylinder that has the same fraction of its volume below the bed as the mine at its impact rest
 attitude (:func:`lying_burial`), and the burial measures of the impact phase
-(:func:`mineburial.kernels.geometry.burial_measures`) are evaluated at each lead time for that
+(the body protocol's ``burial``, :mod:`mineburial.kernels.bodies`) are evaluated at each lead time for that
 lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest attitude). A plain loop
 rather than ``prange``: the stage costs about 1 ms a drop, a few percent of the impact phase
 (docs/design.md, batch driver).
@@ -18,8 +18,10 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
+from mineburial.kernels import bodies
 from mineburial.kernels import scour as sc
-from mineburial.kernels.geometry import burial_measures, segment_area_unit, vertical_extent
+from mineburial.kernels.bodies.cylinder import Cylinder
+from mineburial.kernels.geometry import segment_area_unit
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
 SCOUR_NOT_RUN = 4
@@ -38,17 +40,19 @@ MEASURE_NAMES = ("penetration_depth", "burial_volume", "burial_height", "burial_
 
 
 @kernel
-def lying_burial(L, R, chi, a_z, z_c):
+def lying_burial(body, a_z, z_c):
     """Initial burial [m] of the stage's lying mine from the impact's rest state (bed at z = 0):
     the depth of the lowest point of the horizontal cylinder with the same fraction ``f`` of its
     volume below the bed, ``R (1 - cos t)`` with ``(t - sin t cos t)/pi = f`` (the circular
     segment of half-angle ``t``, seed 000 eq. (25a)), solved by bisection to the last bit. A mine
     whose top lies below the bed (f = 1) lies with its top as deep: ``2R`` + that depth, so the
-    map is continuous and never unburies a buried mine. A lying mine maps to its own burial."""
-    _, z_max = vertical_extent(L, R, chi, a_z, z_c)
+    map is continuous and never unburies a buried mine. A lying mine maps to its own burial.
+    ``body`` is a :class:`~.bodies.cylinder.Cylinder` (the scour laws are a lying cylinder's)."""
+    R = body.radius
+    _, z_max = bodies.extent(body, a_z, z_c)
     if z_max <= 0.0:
         return 2.0 * R - z_max
-    pct_v, _, _, _, _ = burial_measures(L, R, chi, a_z, z_c, 0.0)
+    pct_v, _, _, _, _ = bodies.burial(body, a_z, z_c, 0.0)
     f = pct_v / 100.0
     if f >= 1.0:
         return 2.0 * R
@@ -165,10 +169,8 @@ def scour_drops(
             wdir_w[m] = wdir[k]
             uc_w[m] = uc[k]
             cdir_w[m] = cdir[k]
-        L = geom[i, G_LENGTH]
-        R = geom[i, G_RADIUS]
-        chi = geom[i, G_CHI]
-        S[i, sc.S_B0] = lying_burial(L, R, chi, geom[i, G_AZ], geom[i, G_ZC])
+        body = Cylinder(geom[i, G_LENGTH], geom[i, G_RADIUS], geom[i, G_CHI])
+        S[i, sc.S_B0] = lying_burial(body, geom[i, G_AZ], geom[i, G_ZC])
         code, t_mobile, _ = sc.scour_stage(
             S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
             lead_times, fractions, burial, out_time_to[i],
@@ -183,7 +185,7 @@ def scour_drops(
             if not math.isfinite(b):
                 continue
             # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
-            pv, ph, pa, proud, pen = burial_measures(L, R, chi, 0.0, 0.0, b - R)
+            pv, ph, pa, proud, pen = bodies.burial(body, 0.0, 0.0, b - body.radius)
             out_measures[i, 0, j] = pen
             out_measures[i, 1, j] = pv
             out_measures[i, 2, j] = ph

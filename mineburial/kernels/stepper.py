@@ -42,6 +42,7 @@ from numba.core import types
 from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
+from mineburial.kernels import bodies
 from mineburial.kernels import status as st
 from mineburial.kernels.core import (
     JAC_AGE_AT_REJECTION,
@@ -53,8 +54,7 @@ from mineburial.kernels.core import (
     rk4_step,
     ros34pw2_step,
 )
-from mineburial.kernels.dynamics import derivatives
-from mineburial.kernels.geometry import burial_measures, vertical_extent
+from mineburial.kernels.dynamics import derivatives, drop_body
 from mineburial.kernels.integrators import (
     N_STAGES,
     ROS_ERROR_ORDER,
@@ -76,7 +76,6 @@ from mineburial.kernels.layout import (
     N_SUMMARY,
     N_WORK,
     P_ATOL,
-    P_CHI,
     P_DEPTH,
     P_DIAMETER,
     P_DT,
@@ -192,11 +191,9 @@ def _normalize_attitude(y):
 def event_values(y, p, g):
     """Event functions of the state: signed distances of the lowest/highest point to the
     water surface (g0, g1) and to the seabed (g2, g3), and the rest measure (g4)."""
-    L = p[P_LENGTH]
-    R = 0.5 * p[P_DIAMETER]
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     a_z = 2.0 * (y[7] * y[9] - y[6] * y[8]) / (qn * qn)  # R[2,0] = i_M . k
-    lo, hi = vertical_extent(L, R, p[P_CHI], a_z, y[2])
+    lo, hi = bodies.extent(drop_body(p), a_z, y[2])
     depth = p[P_DEPTH]
     g[0] = lo
     g[1] = hi
@@ -393,7 +390,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     z_release = p[P_Z0]
     L = p[P_LENGTH]
     R = 0.5 * p[P_DIAMETER]
-    chi = p[P_CHI]
+    body = drop_body(p)
     buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * L
     n_rows = 0
     if traj is not None:
@@ -579,7 +576,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             row += 1
     # ---- burial measures and final attitude ----
     rot = rotation_matrix(y[6], y[7], y[8], y[9])
-    pv, ph, pa, proud, pen = burial_measures(L, R, chi, rot[6], y[2], -depth)
+    pv, ph, pa, proud, pen = bodies.burial(body, rot[6], y[2], -depth)
     summary[S_PENETRATION] = pen
     summary[S_COM_DEPTH] = -depth - y[2]
     summary[S_BURIAL_VOLUME] = pv

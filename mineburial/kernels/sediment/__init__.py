@@ -15,15 +15,11 @@ A small package with methods chosen by name:
 
 import math
 
-from numba.core import types
-from numba.extending import overload
-
-from mineburial._numba import JIT_OPTIONS, kernel
-from mineburial.kernels.sediment.fast import fast_tractions
+from mineburial._numba import kernel
+from mineburial.kernels import bodies
 from mineburial.kernels.sediment.laws import (
     DEPTH_FACTOR,
     LAW_PORE,
-    LAW_QUADRATURE,
     LAW_REFERENCE_PATHS,
     RATE_IMPACT35,
     RATE_NONE,
@@ -37,8 +33,6 @@ from mineburial.kernels.sediment.laws import (
     rate_factor,
     sediment_properties,
 )
-from mineburial.kernels.sediment.pore import pore_pressure
-from mineburial.kernels.sediment.reference import reference_tractions
 
 QUADRATURE_FAST = 0
 QUADRATURE_REFERENCE = 1
@@ -63,43 +57,15 @@ __all__ = [
 ]
 
 
-def _surface_tractions(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
-    """The tractions integrated over the embedded surface by the rule the law names.
-
-    Compiled only through the overload below, which looks at the *type* of
-    ``reference_paths`` (``law[LAW_REFERENCE_PATHS]``, see :func:`.pack_law`): for
-    ``None`` it is the fast rule alone, so that the reference quadrature (a third of the
-    engine's compile time) is not compiled at all; otherwise the rule is chosen per drop
-    by the quadrature code.
-    """
-    raise NotImplementedError("compiled code only")
-
-
-@overload(_surface_tractions, jit_options=JIT_OPTIONS)
-def _surface_tractions_impl(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
-    if isinstance(reference_paths, (types.NoneType, types.Omitted)):
-
-        def fast_only(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
-            return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
-
-        return fast_only
-
-    def by_name(reference_paths, L, R, chi, c20, c21, c22, d0, vbody, law, bank):
-        if law[LAW_QUADRATURE] == QUADRATURE_REFERENCE:
-            return reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
-        return fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank)
-
-    return by_name
-
-
 @kernel
-def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
+def sediment_tractions(body, rot, com, vel, omega, seabed_z, law, bank):
     """Resistance of the sediment on the embedded part of the mine.
 
-    L, R, chi: length, radius, COM offset (body spans x in [-L/2 - chi, L/2 - chi]);
-    rot: 9 floats, row-major rotation matrix body->earth; com, vel: COM position and
-    velocity (E-frame, z up); omega: angular velocity (body frame); seabed_z: height of
-    the seabed; law: :func:`pack_law`; bank: sediment profile bank (``layout``).
+    body: the mine's body (:mod:`mineburial.kernels.bodies`: its embedded surface, the rule
+    that integrates the tractions over it, its pore pressure); rot: 9 floats, row-major
+    rotation matrix body->earth; com, vel: COM position and velocity (E-frame, z up);
+    omega: angular velocity (body frame); seabed_z: height of the seabed; law:
+    :func:`pack_law`; bank: sediment profile bank (``layout``).
 
     Returns ``(Fx, Fy, Fz, Mx, My, Mz, added_mass_z)``: the force in the E-frame, the
     torque about the COM in the body frame, and the vertical added mass (kg) of the
@@ -109,11 +75,8 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
     c20 = rot[6]
     c21 = rot[7]
     c22 = rot[8]
-    xa = -0.5 * L - chi
-    xb = 0.5 * L - chi
     d0 = seabed_z - com[2]
-    rperp = math.sqrt(c21 * c21 + c22 * c22)
-    zeta_tip = d0 - (min(c20 * xa, c20 * xb) - R * rperp)
+    zeta_tip = d0 - bodies.lowest_offset(body, c20, c21, c22)
     if not (zeta_tip > 0.0):
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     # COM velocity in the body frame (C^T vel)
@@ -125,31 +88,30 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
     w3 = omega[2]
     # velocity components at the rounding level of the others are zero (an axial motion
     # stays exactly tangential to the lateral surface, so delta = 1 holds there)
-    vtiny = 1e-13 * (
-        math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R)
-    )
+    scale, _ = bodies.sizes(body)
+    vtiny = 1e-13 * (math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * scale)
     if abs(v1) < vtiny:
         v1 = 0.0
     if abs(v2) < vtiny:
         v2 = 0.0
     if abs(v3) < vtiny:
         v3 = 0.0
-    if abs(w1) * (L + R) < vtiny:
+    if abs(w1) * scale < vtiny:
         w1 = 0.0
-    if abs(w2) * (L + R) < vtiny:
+    if abs(w2) * scale < vtiny:
         w2 = 0.0
-    if abs(w3) * (L + R) < vtiny:
+    if abs(w3) * scale < vtiny:
         w3 = 0.0
     vbody = (v1, v2, v3, w1, w2, w3)
-    f1, f2, f3, m1, m2, m3 = _surface_tractions(
-        law[LAW_REFERENCE_PATHS], L, R, chi, c20, c21, c22, d0, vbody, law, bank
+    f1, f2, f3, m1, m2, m3 = bodies.surface_tractions(
+        body, law[LAW_REFERENCE_PATHS], c20, c21, c22, d0, vbody, law, bank
     )
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
     fz = rot[6] * f1 + rot[7] * f2 + rot[8] * f3
     added = 0.0
     if law[LAW_PORE]:
-        fpw, t2, t3, added = pore_pressure(L, R, chi, c20, c21, c22, d0, zeta_tip, vel[2], law, bank)
+        fpw, t2, t3, added = bodies.pore(body, c20, c21, c22, d0, zeta_tip, vel[2], law, bank)
         fz += fpw
         m2 += t2
         m3 += t3
@@ -157,11 +119,10 @@ def sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, bank):
 
 
 @kernel
-def sediment_force_torque(
-    L, R, chi, rot, com, vel, omega, seabed_z, water_density, gravity, p, sediment_bank
-):
+def sediment_force_torque(body, rot, com, vel, omega, seabed_z, water_density, gravity, p, sediment_bank):
     """:func:`sediment_tractions` with the law packed from the parameter vector ``p``
     (``water_density`` and ``gravity`` as given, for tests that vary them)."""
-    law = pack_law(p, 2.0 * R)
+    radius, _ = bodies.strip_section(body)
+    law = pack_law(p, 2.0 * radius)
     law = law[:9] + (water_density, gravity) + law[11:]
-    return sediment_tractions(L, R, chi, rot, com, vel, omega, seabed_z, law, sediment_bank)
+    return sediment_tractions(body, rot, com, vel, omega, seabed_z, law, sediment_bank)
