@@ -49,10 +49,13 @@ from mineburial.ensembles.engine import chunk_inputs, load_ensemble
 t_import = time.perf_counter() - t0
 spec = load_ensemble(None)
 P, valid, _ = chunk_inputs(spec, 0, 1)
-if {reference}:
+if {reference!r} == "reference":
     from mineburial.kernels import layout
     P[:, layout.P_INTEGRATOR] = layout.INTEGRATOR_NAMES.index("rk4")
     P[:, layout.P_SED_QUADRATURE] = layout.SEDIMENT_QUADRATURE_NAMES.index("reference")
+elif {reference!r} == "self-check":
+    from mineburial.ensembles.accuracy import reference_params
+    P = reference_params(P)
 run_batch(P, valid, spec.sediment_bank, spec.current_bank)
 print(t_import, time.perf_counter() - t0)
 """
@@ -168,16 +171,23 @@ def _run(code, cache_dir):
     return out.stdout, cpu
 
 
-def measure(cache_dir, reference=False):
-    """(import wall s, total wall s, total CPU s) of one start-up."""
+def measure(cache_dir, reference=None):
+    """(import wall s, total wall s, total CPU s) of one start-up: of the default paths, or
+    (``reference``) of the "reference" paths (``rk4`` and the reference sediment quadrature)
+    or of the "self-check" path (``accuracy.reference_params``: ``dopri5`` at rtol 1e-5 with
+    the reference sediment and overburden quadratures)."""
     stdout, cpu = _run(SNIPPET.format(reference=reference), cache_dir)
     t_import, total = map(float, stdout.splitlines()[-1].split())
     return t_import, total, cpu
 
 
-def profile(top, dump=None):
+def profile(top, dump=None, reference=None):
+    """List the ``top`` costliest compile units of one cold compile of the default paths, or
+    (``reference``, see :func:`measure`) of that path compiled after the default paths."""
     with tempfile.TemporaryDirectory() as cache:
-        stdout, cpu = _run(PROFILER + SNIPPET.format(reference=False) + PROFILE_TAIL, cache)
+        if reference:
+            measure(cache)
+        stdout, cpu = _run(PROFILER + SNIPPET.format(reference=reference) + PROFILE_TAIL, cache)
     lines = stdout.splitlines()
     data = json.loads(next(l for l in lines if l.startswith("PROFILE "))[8:])
     if dump:
@@ -195,7 +205,7 @@ def profile(top, dump=None):
     save_total = sum(data["save"].values())
     print(f"machine: {machine()}")
     print(
-        f"cold compile of the default paths: {cpu:.2f} s CPU, {wall:.2f} s wall; "
+        f"cold compile of the {reference or 'default'} paths: {cpu:.2f} s CPU, {wall:.2f} s wall; "
         f"{len(units)} compile units, {own_total:.2f} s CPU inside them, "
         f"{save_total:.2f} s writing cache files"
     )
@@ -240,18 +250,28 @@ def main():
     ap.add_argument(
         "--profile-json", metavar="PATH", help="with --profile: also write every unit's times to PATH"
     )
+    ap.add_argument(
+        "--reference",
+        choices=("reference", "self-check"),
+        help="with --profile or --cold-only: the compile of these paths after the default paths' "
+        "(reference: rk4 and the reference sediment quadrature; self-check: the path of "
+        "ensembles/accuracy.py)",
+    )
     args = ap.parse_args()
     if args.profile:
-        profile(args.profile, args.profile_json)
+        profile(args.profile, args.profile_json, args.reference)
         return
     print(f"machine: {machine()}")
     if args.cold_only:
         runs = []
         for _ in range(args.repeat):
             with tempfile.TemporaryDirectory() as cache:
-                runs.append(measure(cache))
+                if args.reference:
+                    measure(cache)
+                runs.append(measure(cache, args.reference))
             print(
-                f"cold (empty cache), default paths: {runs[-1][1]:6.2f} s wall, {runs[-1][2]:6.2f} s CPU",
+                f"cold (empty cache), {args.reference or 'default'} paths: {runs[-1][1]:6.2f} s wall, "
+                f"{runs[-1][2]:6.2f} s CPU",
                 flush=True,
             )
         print(
@@ -267,8 +287,9 @@ def main():
             f"warm (cache filled), default paths: {warm[1]:6.2f} s  "
             f"(imports {warm[0]:.2f} s; CPU {warm[2]:.2f} s)"
         )
-        imp, cold_ref, cpu = measure(cache, reference=True)
-        print(f"cold, reference paths (compiled on first use): {cold_ref:6.2f} s  (CPU {cpu:.2f} s)")
+        for reference in ("self-check", "reference"):
+            imp, cold_ref, cpu = measure(cache, reference)
+            print(f"cold, {reference} paths (compiled on first use): {cold_ref:6.2f} s  (CPU {cpu:.2f} s)")
 
 
 if __name__ == "__main__":

@@ -22,6 +22,7 @@ from mineburial.kernels import layout as lay
 from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.sediment import pack_law, sediment_force_torque
 from mineburial.kernels.sediment.fast import fast_tractions
+from mineburial.kernels.sediment.laws import LAW_REFERENCE_PATHS
 from mineburial.kernels.sediment.reference import reference_tractions
 
 G = 9.81
@@ -57,7 +58,9 @@ def ypr_matrix(yaw, pitch, roll):
 
 
 def law_of(p, R):
-    return pack_law(p, 2.0 * R)
+    """The law as ``sediment_tractions`` hands it to the rules: without its last slot (whose
+    type selects what the engine compiles), so that the rules' compiled code is shared."""
+    return pack_law(p, 2.0 * R)[:LAW_REFERENCE_PATHS]
 
 
 def both(L, R, chi, c2, d0, vb, p, bank=EMPTY_BANK):

@@ -103,15 +103,20 @@ def sediment_tractions(body, rot, com, vel, omega, seabed_z, law, bank):
     if abs(w3) * scale < vtiny:
         w3 = 0.0
     vbody = (v1, v2, v3, w1, w2, w3)
+    # the rules and the pore law get the law without its last slot, whose type selects what
+    # is compiled (pack_law): their compiled code is then one for the default and the
+    # reference paths, not compiled again when a drop first needs the reference paths
+    # (docs/design.md, compile time)
+    rule_law = law[:LAW_REFERENCE_PATHS]
     f1, f2, f3, m1, m2, m3 = bodies.surface_tractions(
-        body, law[LAW_REFERENCE_PATHS], c20, c21, c22, d0, vbody, law, bank
+        body, law[LAW_REFERENCE_PATHS], c20, c21, c22, d0, vbody, rule_law, bank
     )
     fx = rot[0] * f1 + rot[1] * f2 + rot[2] * f3
     fy = rot[3] * f1 + rot[4] * f2 + rot[5] * f3
     fz = rot[6] * f1 + rot[7] * f2 + rot[8] * f3
     added = 0.0
     if law[LAW_PORE]:
-        fpw, t2, t3, added = bodies.pore(body, c20, c21, c22, d0, zeta_tip, vel[2], law, bank)
+        fpw, t2, t3, added = bodies.pore(body, c20, c21, c22, d0, zeta_tip, vel[2], rule_law, bank)
         fz += fpw
         m2 += t2
         m3 += t3
