@@ -599,6 +599,7 @@ TABLE: tuple[Field, ...] = (
         "median grain size of the bed's sand (Wentworth's sand)",
         2e-4,
         slot=False,
+        default_text="`sediment.class`'s (sand 0.0002), else 0.0002",
     ),
     _f(
         "scour.grain_density",
@@ -608,6 +609,7 @@ TABLE: tuple[Field, ...] = (
         "density of the sand grains (quartz 2650)",
         2650,
         slot=False,
+        default_text="`sediment.class`'s (2650), else 2650",
     ),
     _f(
         "scour.mobile_layer",

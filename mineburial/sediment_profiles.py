@@ -504,7 +504,10 @@ def drained_equivalent_strength(
 
 @dataclass(frozen=True)
 class SedimentClass:
-    """A named sediment class with linear profiles rho = rho0 + k_rho z, S = S0 + k_S z."""
+    """A named sediment class with linear profiles rho = rho0 + k_rho z, S = S0 + k_S z, and the
+    sediment the post-impact scour stage needs (docs/scour.md, Sediment): the median grain size
+    ``d50`` [m] (None for a cohesive class: the scour laws have no grain size for it), the grain
+    density [kg m-3] and whether the bed is cohesive (a cohesive bed does not scour in this model)."""
 
     name: str
     description: str
@@ -513,6 +516,9 @@ class SedimentClass:
     strength: float  # Pa at the seabed
     strength_gradient: float  # Pa m-1
     source: str
+    cohesive: bool
+    d50: float | None  # m; None for a cohesive class
+    grain_density: float = 2650.0  # kg m-3
 
     def profile(self) -> SedimentProfile:
         """The class as a two-point table on [0, CATALOGUE_MAX_DEPTH] m (constant below)."""
@@ -530,17 +536,24 @@ class SedimentClass:
 
 _HB82 = "bulk density after Hamilton & Bachman (1982), J. Acoust. Soc. Am. 72(6):1891-1904"
 _MESRI = "gradient = 0.22 (rho(2.5 m) - 1025) g, NC clay s_u/sigma'_v of Mesri (1975)"
+#: The scour sediment of a cohesive class (docs/scour.md, Sediment).
+_COHESIVE = (
+    "scour: cohesive, no scour in this model -- the scour laws (Rennie et al. 2017; Whitehouse 1998; "
+    "Sumer & Fredsoe 2002) are fitted to non-cohesive sand, while a mud's erosion is set by its "
+    "consolidation-dependent critical erosion stress (Whitehouse, Soulsby, Roberts & Mitchener 2000, "
+    "Dynamics of Estuarine Muds, Thomas Telford); no d50; grain density 2650 kg m-3 (clay minerals "
+    "2600-2800, Mitchell & Soga 2005, Fundamentals of Soil Behavior)"
+)
 
 
 def _clay(name, description, rho0, k_rho, s0, source):
-    return SedimentClass(
-        name, description, rho0, k_rho, s0, nc_clay_strength_gradient(rho0 + 2.5 * k_rho), source
-    )
+    k_s = nc_clay_strength_gradient(rho0 + 2.5 * k_rho)
+    return SedimentClass(name, description, rho0, k_rho, s0, k_s, f"{source}; {_COHESIVE}", True, None)
 
 
-def _granular(name, description, rho0, k_rho, phi, source):
+def _granular(name, description, rho0, k_rho, phi, source, *, cohesive, d50):
     s0, k = drained_equivalent_strength(phi, rho0)
-    return SedimentClass(name, description, rho0, k_rho, s0, k, source)
+    return SedimentClass(name, description, rho0, k_rho, s0, k, source, cohesive, d50)
 
 
 #: Named sediment classes, from very soft clay to sand. Clays: the mudline strength
@@ -607,7 +620,13 @@ CATALOGUE: dict[str, SedimentClass] = {
             28.0,
             f"rho0 = 1770 kg m-3, {_HB82}; equivalent strength from drained bearing "
             "capacity, phi' = 28 deg, B = 0.5 m, divided by N_c = pi + 2 (Vesic 1973): "
-            "a crude proxy",
+            "a crude proxy; scour: cohesive, no scour in this model -- a silt-dominated bed "
+            "(Hamilton & Bachman 1982's sandy silt: mean grain size in the silt range, below "
+            "the 0.0625 mm of sand that scour.d50 allows) with more than about 5-10 % clay "
+            "erodes as a cohesive bed (van Ledden, van Kesteren & Winterwerp 2004, Cont. Shelf "
+            f"Res. 24(1):1-11), outside the sand scour laws; {_COHESIVE.removeprefix('scour: cohesive, ')}",
+            cohesive=True,
+            d50=None,
         ),
         _granular(
             "sand",
@@ -617,7 +636,12 @@ CATALOGUE: dict[str, SedimentClass] = {
             33.0,
             f"rho0 = 1940 kg m-3 ~ fine sand, {_HB82}; equivalent strength from drained "
             "bearing capacity, phi' = 33 deg, B = 0.5 m, divided by N_c = pi + 2 "
-            "(Vesic 1973): a crude proxy",
+            "(Vesic 1973): a crude proxy; scour: non-cohesive, d50 = 0.2 mm (fine sand, "
+            "Wentworth 0.125-0.25 mm; the d50 of Soulsby & Whitehouse 1997's threshold check "
+            "and of the shipped scour examples), quartz grains 2650 kg m-3 (Soulsby 1997, "
+            "Dynamics of Marine Sands)",
+            cohesive=False,
+            d50=2.0e-4,
         ),
     )
 }

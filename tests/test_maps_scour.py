@@ -37,7 +37,8 @@ def forcing_csv(path, hours=12, hs=0.0, u=0.7):
 
 
 def scour_section(forcing):
-    return {"forcing": str(forcing), "lead_times_days": LEADS, "d50": 2.0e-4, "grain_density": 2650.0}
+    sand = {"d50": 2.0e-4, "grain_density": 2650.0, "cohesive": False}  # on the cells' clay classes
+    return {"forcing": str(forcing), "lead_times_days": LEADS, **sand}
 
 
 def with_scour(d, sec):

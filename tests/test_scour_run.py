@@ -66,6 +66,7 @@ def scour_section(tmp_path, **over):
         "burial_levels": LEVELS,
         "d50": D50,
         "grain_density": RHO_S,
+        "cohesive": False,  # sand on the scenario's soft_clay class (else the class's cohesive bed)
     }
     sec.update(over)
     return sec

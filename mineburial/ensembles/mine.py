@@ -227,7 +227,8 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     scour_section = template.pop("scour", None)
     base = cfg.Scenario.from_dict(template, base_dir=base_dir)
     fixed_depth = None if "environment.water_depth" in random else base.environment.water_depth
-    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir, fixed_depth)
+    classes = scour.sediment_classes(template.get("sediment"), random.get("sediment.class"))
+    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir, fixed_depth, classes)
     p, sed_bank, cur_bank = base.to_params()
 
     labels = ()

@@ -35,6 +35,7 @@ from mineburial.kernels import layout
 from mineburial.kernels import scour as sc
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.scour_batch import MEASURE_NAMES, N_GEOM, scour_drops
+from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
 #: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
 NUMERIC = {
@@ -53,6 +54,9 @@ KEYS = (
     "forcing", "storm", "forcing_grid", "lead_times_days", "burial_levels", "cohesive", "tstar_law",
     "window_days",
 ) + tuple(NUMERIC) + tuple(CHOICES)  # fmt: skip
+#: the scour sediment a scenario's sediment class gives where the section does not (docs/scour.md, Sediment)
+SEDIMENT = ("d50", "grain_density", "cohesive")
+SLOT = dict(NUMERIC, cohesive=sc.S_COHESIVE)
 DEFAULT_LEVELS = (0.5, 0.75)
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``
@@ -76,6 +80,9 @@ class ScourSpec:
     forcing_record: dict  # file path + sha256, or the storm's parameters
     window_days: float | None = None  # each drop's window of the forcing (None: the whole series)
     conventions: dict = dataclasses.field(default_factory=dict)  # orbital, friction -> name
+    # scour sediment taken from the scenario's sediment class: key -> one value, or (sampled class)
+    # a value per label of the sediment.class choice, in bank order
+    from_class: dict = dataclasses.field(default_factory=dict)
 
     def resolved(self) -> dict:
         out = {
@@ -86,6 +93,10 @@ class ScourSpec:
         }
         out.update(self.conventions)
         out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
+        for key, value in self.from_class.items():  # one value per label of a sampled class: a list
+            out[key] = list(value) if isinstance(value, tuple) else value
+        if self.from_class:
+            out["sediment_from_class"] = sorted(self.from_class)
         if self.window_days is not None:
             out["window_days"] = self.window_days
         out.update(self.forcing_record)
@@ -176,11 +187,44 @@ def _forcing(sec, base_dir):
     return fio.storm_series(**storm), {"forcing_storm": dict(storm)}
 
 
-def parse(sec, base_dir=None, depth=None) -> ScourSpec:
+def sediment_classes(sediment, choice) -> tuple:
+    """The catalogue classes (:class:`~mineburial.sediment_profiles.SedimentClass`) of a scenario's
+    ``[sediment]`` table: the labels of a sampled ``sediment.class`` (``choice``, bank order), its
+    fixed class, or none (a profile, a file, a linear table)."""
+    if choice is not None:
+        names = choice.values
+    elif isinstance(sediment, Mapping) and isinstance(sediment.get("class"), str):
+        names = (sediment["class"],)
+    else:
+        return ()
+    for name in names:
+        catalogue_profile(name)  # an unknown class: its one ScenarioError line
+    return tuple(CATALOGUE[name] for name in names)
+
+
+def _from_class(sec, classes) -> dict:
+    """The scour sediment keys the section does not give, from ``classes`` (docs/scour.md, Sediment):
+    one value when every class agrees, else a tuple with one per class. A cohesive class has no d50:
+    the stage, which does not scour it, keeps the field's default there (mobility roughness only)."""
+    out = {}
+    for key in SEDIMENT:
+        if key in sec or not classes:
+            continue
+        values = tuple(
+            cfg.FIELDS["scour.d50"].default if key == "d50" and c.d50 is None else getattr(c, key)
+            for c in classes
+        )
+        out[key] = values[0] if len(set(values)) == 1 else values
+    return out
+
+
+def parse(sec, base_dir=None, depth=None, classes=()) -> ScourSpec:
     """The :class:`ScourSpec` of a ``[scour]`` table whose sampled fields hold a representative
     value; every problem is one :class:`~mineburial.config.ScenarioError` line naming the field.
     ``depth``: the scenario's water depth when it is fixed (a forcing water level that dries the
-    bed is then refused here; with a sampled depth such drops get scour status invalid_forcing)."""
+    bed is then refused here; with a sampled depth such drops get scour status invalid_forcing).
+    ``classes``: the scenario's sediment classes (:func:`sediment_classes`), whose d50, grain
+    density and cohesion fill the keys the section does not give."""
     if not isinstance(sec, Mapping):
         raise cfg.ScenarioError(f"scour = {sec!r} must be a table: [scour]")
     unknown = [k for k in sec if k not in KEYS]
@@ -198,13 +242,15 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
         raise cfg.ScenarioError(f"scour.tstar_law = {law!r} must be a name: {', '.join(sc.TSTAR_LAWS)}")
     if law not in sc.TSTAR_LAWS:
         raise cfg.ScenarioError("scour.tstar_law: " + cfg.unknown_names_message("name", [law], sc.TSTAR_LAWS))
-    cohesive = sec.get("cohesive", False)
+    from_class = _from_class(sec, classes)
+    first = {key: v[0] if isinstance(v, tuple) else v for key, v in from_class.items()}
+    cohesive = sec.get("cohesive", first.get("cohesive", False))
     if not isinstance(cohesive, bool):
         raise cfg.ScenarioError(f"scour.cohesive = {cohesive!r} must be true or false")
     values = {}
     for name in NUMERIC:
         spec = cfg.FIELDS[f"scour.{name}"]
-        default = sc.TSTAR_LAWS[law][2] if name == "theta_exponent" else spec.default
+        default = sc.TSTAR_LAWS[law][2] if name == "theta_exponent" else first.get(name, spec.default)
         given = sec.get(name)
         values[name] = (
             math.inf
@@ -217,7 +263,7 @@ def parse(sec, base_dir=None, depth=None) -> ScourSpec:
     }
     if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
         forcing.kernel_arrays(depth, values["d50"])
-    return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window, conventions)
+    return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window, conventions, from_class)
 
 
 def longest_lead_days(forcing, window_days) -> float:
@@ -318,6 +364,11 @@ def stage_parameters(spec: ScourSpec, P, inputs):
             S[:, slot] = _column(spec, inputs, name, n)
     for name, value in spec.conventions.items():
         S[:, CHOICES[name]] = cfg.SCHEMA[f"scour.{name}"].pack(value)
+    for name, per_class in spec.from_class.items():  # a sampled class: each drop its class's value
+        if isinstance(per_class, tuple):
+            S[:, SLOT[name]] = np.asarray(per_class, dtype=np.float64)[
+                inputs["sediment.class"].astype(np.intp)
+            ]
     return S, _column(spec, inputs, "hs_scale", n)
 
 
