@@ -100,39 +100,15 @@ def build_dataset(
         coords["realization"] = _realization(realization, n)
 
     n_total = int(n if n_drops is None else n_drops)
-    created = date_created or ncio.utc_now()
     version_s = str(version) if version is not None else "unknown"
     scen = ncio.scenario_json(scenario) if scenario is not None else None
-    ident_src = json.dumps([scen, str(seed), sampling_method, n_total, version_s])
-    line = (
-        f"{created} mineburial {version_s}: Monte Carlo ensemble of {n_total} drops"
-        + (f", {sampling_method} sampling" if sampling_method else "")
-        + (f", seed {seed}" if seed is not None else "")
-    )
-    cr = dict(creator or {})
     global_attrs = {
         "title": title or ncio.DEFAULT_TITLE,
         "summary": summary_text or ncio.DEFAULT_SUMMARY,
         "keywords": ncio.KEYWORDS,
-        "id": "mineburial-" + hashlib.sha256(ident_src.encode()).hexdigest()[:16],
-        "history": f"{history}\n{line}" if history else line,
-        "date_created": created,
-        "creator_name": cr.get("name"),
-        "creator_email": cr.get("email"),
-        "creator_url": cr.get("url"),
-        "creator_type": cr.get("type"),
-        "institution": cr.get("institution"),
-        "product_version": version_s,
-        "source": f"mineburial {version_s} (numba-compiled Monte Carlo impact-burial model)",
-        "processing_level": "model output: Monte Carlo ensemble statistics",
-        "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
-        "references": ncio.REFERENCES,
-        "comment": (
-            "Statistics use only drops with status at_rest or buried_sinking; "
-            "status_count gives the "
-            "number of drops with every status code. Variable definitions: "
-            "docs/notes/output.md of the mineburial sources."
-        ),
+        **_provenance(scen, seed, sampling_method, n_total, version_s, history, date_created),
+        **_creator_attrs(creator),
+        **_source_attrs(version_s),
         "scenario": scen,
         "random_seed": ncio.seed_attr(seed),
         "sampling_method": sampling_method,
@@ -144,6 +120,49 @@ def build_dataset(
         global_attrs.setdefault(k, v)
     global_attrs.update(attrs or {})
     return build(data, coords, global_attrs, kind="ensemble", version=version_s)
+
+
+def _creator_attrs(creator: Mapping[str, str] | None) -> dict:
+    """ACDD ``creator_*`` and ``institution`` attributes from ``creator``'s keys (None where not given)."""
+    cr = dict(creator or {})
+    return {
+        **{f"creator_{k}": cr.get(k) for k in ("name", "email", "url", "type")},
+        "institution": cr.get("institution"),
+    }
+
+
+def _source_attrs(version_s: str) -> dict:
+    """The attributes saying what made an ensemble file and where its variables are defined."""
+    return {
+        "product_version": version_s,
+        "source": f"mineburial {version_s} (numba-compiled Monte Carlo impact-burial model)",
+        "processing_level": "model output: Monte Carlo ensemble statistics",
+        "standard_name_vocabulary": ncio.STANDARD_NAME_VOCABULARY,
+        "references": ncio.REFERENCES,
+        "comment": (
+            "Statistics use only drops with status at_rest or buried_sinking; "
+            "status_count gives the "
+            "number of drops with every status code. Variable definitions: "
+            "docs/notes/output.md of the mineburial sources."
+        ),
+    }
+
+
+def _provenance(scen, seed, sampling_method, n_total: int, version_s: str, history, date_created) -> dict:
+    """ACDD ``id`` (a hash of what makes the run), ``history`` (the run's line appended) and
+    ``date_created`` of an ensemble file."""
+    created = date_created or ncio.utc_now()
+    ident_src = json.dumps([scen, str(seed), sampling_method, n_total, version_s])
+    line = (
+        f"{created} mineburial {version_s}: Monte Carlo ensemble of {n_total} drops"
+        + (f", {sampling_method} sampling" if sampling_method else "")
+        + (f", seed {seed}" if seed is not None else "")
+    )
+    return {
+        "id": "mineburial-" + hashlib.sha256(ident_src.encode()).hexdigest()[:16],
+        "history": f"{history}\n{line}" if history else line,
+        "date_created": created,
+    }
 
 
 def _realization(realization, n: int) -> np.ndarray:

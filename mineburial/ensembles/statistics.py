@@ -237,6 +237,37 @@ def burial_statistics(
     With no drop at rest every statistic is NaN (counts 0) and the attribute
     ``statistics_note`` says why; nothing raises and no warning is emitted.
     """
+    summary, counts, q, outputs = _checked_inputs(summary, status, quantiles, class_basis, outputs)
+    used = np.isin(np.asarray(status), status_codes.IN_STATISTICS)
+    n_at_rest = int(np.count_nonzero(np.asarray(status) == status_codes.AT_REST))
+    n_used = int(np.count_nonzero(used))
+    ok = summary[used]
+
+    data_vars: dict[str, xr.DataArray] = {}
+    coords: dict[str, xr.DataArray] = {"quantile": V.variable("quantile").data_array(q)}
+
+    for name in outputs:
+        col = ok[:, layout.SUMMARY_INDEX[name]]
+        values = col[np.isfinite(col)]
+        _describe_output(name, values, q, exceedance_levels, histogram_bins, data_vars, coords)
+
+    basis = ok[:, layout.SUMMARY_INDEX[class_basis]]
+    _describe_burial_classes(basis[np.isfinite(basis)], class_basis, confidence_level, data_vars, coords)
+
+    coords["status_code"] = V.variable("status_code").data_array(np.arange(counts.size))
+    data_vars["status_count"] = V.variable("status_count").data_array(counts)
+
+    attrs = _statistics_attrs(int(summary.shape[0]), n_at_rest, n_used, class_basis, confidence_level)
+    ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
+    # xarray keeps encodings on the variables; restore them in case construction dropped any
+    for name, da in {**data_vars, **coords}.items():
+        ds[name].encoding.update(da.encoding)
+    return ds
+
+
+def _checked_inputs(summary, status, quantiles, class_basis, outputs):
+    """``(summary, status counts, quantile levels, outputs)`` of :func:`burial_statistics`'s
+    arguments; a ValueError (TypeError for non-integer status codes) names a bad one."""
     summary = np.asarray(summary, dtype=np.float64)
     if summary.ndim != 2 or summary.shape[1] != layout.N_SUMMARY:
         raise ValueError(
@@ -255,56 +286,36 @@ def burial_statistics(
     for o in outputs:
         if o not in V.SUMMARY_OUTPUTS:
             raise ValueError(V._unknown("summary output", o, V.SUMMARY_OUTPUTS))
+    return summary, counts, q, outputs
 
-    used = np.isin(np.asarray(status), status_codes.IN_STATISTICS)
-    n_drops = int(summary.shape[0])
-    n_at_rest = int(np.count_nonzero(np.asarray(status) == status_codes.AT_REST))
-    n_used = int(np.count_nonzero(used))
-    ok = summary[used]
 
-    data_vars: dict[str, xr.DataArray] = {}
-    coords: dict[str, xr.DataArray] = {"quantile": V.variable("quantile").data_array(q)}
-
-    for name in outputs:
-        col = ok[:, layout.SUMMARY_INDEX[name]]
-        values = col[np.isfinite(col)]
-        _describe_output(name, values, q, exceedance_levels, histogram_bins, data_vars, coords)
-
-    # --- impact-burial classes ---------------------------------------------
-    basis = ok[:, layout.SUMMARY_INDEX[class_basis]]
-    basis = basis[np.isfinite(basis)]
+def _describe_burial_classes(basis, class_basis, confidence_level, data_vars, coords):
+    """Add the impact-burial classes of the finite ``basis`` values to ``data_vars``/``coords``:
+    class bounds, counts, probabilities k/n and their Wilson intervals."""
     n_cls = int(basis.size)
     k = np.bincount(burial_class(basis).astype(np.int64), minlength=5) if n_cls else np.zeros(5, np.int64)
     prob = k / n_cls if n_cls else np.full(5, np.nan)
     lo, hi = wilson_interval(k, np.full(5, n_cls), confidence_level)
     coords["impact_burial_class"] = V.variable("impact_burial_class").data_array(np.arange(5))
     cls_attrs = dict(burial_class_basis=class_basis, sample_size=np.int64(n_cls))
-    data_vars["burial_class_lower_percent"] = V.variable("burial_class_lower_percent").data_array(
-        V.BURIAL_CLASS_LOWER
-    )
-    data_vars["burial_class_upper_percent"] = V.variable("burial_class_upper_percent").data_array(
-        V.BURIAL_CLASS_UPPER
-    )
-    data_vars["burial_class_count"] = V.variable("burial_class_count").data_array(k, **cls_attrs)
-    data_vars["burial_class_probability"] = V.variable("burial_class_probability").data_array(
-        prob, **cls_attrs
-    )
     ci_attrs = dict(
         cls_attrs,
         confidence_level=float(confidence_level),
         interval_method="Wilson score interval (Wilson 1927)",
     )
-    data_vars["burial_class_probability_lower"] = V.variable("burial_class_probability_lower").data_array(
-        lo, **ci_attrs
-    )
-    data_vars["burial_class_probability_upper"] = V.variable("burial_class_probability_upper").data_array(
-        hi, **ci_attrs
-    )
+    for name, values, attrs in (
+        ("burial_class_lower_percent", V.BURIAL_CLASS_LOWER, {}),
+        ("burial_class_upper_percent", V.BURIAL_CLASS_UPPER, {}),
+        ("burial_class_count", k, cls_attrs),
+        ("burial_class_probability", prob, cls_attrs),
+        ("burial_class_probability_lower", lo, ci_attrs),
+        ("burial_class_probability_upper", hi, ci_attrs),
+    ):
+        data_vars[name] = V.variable(name).data_array(values, **attrs)
 
-    # --- status counts -------------------------------------------------------
-    coords["status_code"] = V.variable("status_code").data_array(np.arange(counts.size))
-    data_vars["status_count"] = V.variable("status_count").data_array(counts)
 
+def _statistics_attrs(n_drops: int, n_at_rest: int, n_used: int, class_basis: str, confidence_level) -> dict:
+    """Global attributes of the statistics: the drop counts, the class basis and the methods."""
     attrs = {
         "n_drops": np.int64(n_drops),
         "n_at_rest": np.int64(n_at_rest),
@@ -326,11 +337,7 @@ def burial_statistics(
             "n_in_statistics = 0): every burial statistic is NaN and "
             "every count is 0; see status_count"
         )
-    ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
-    # xarray keeps encodings on the variables; restore them in case construction dropped any
-    for name, da in {**data_vars, **coords}.items():
-        ds[name].encoding.update(da.encoding)
-    return ds
+    return attrs
 
 
 def _describe_output(name, values, q, exceedance_levels, histogram_bins, data_vars, coords):

@@ -324,19 +324,14 @@ def _flag_attrs(values, meanings) -> dict[str, Any]:
     return {"flag_values": np.asarray(values, dtype=np.int8), "flag_meanings": " ".join(meanings)}
 
 
-def _declare() -> dict[str, Variable]:
-    v: dict[str, Variable] = {}
-
-    def add(var: Variable) -> None:
-        if var.name in v:  # pragma: no cover - guards the registry itself
-            raise RuntimeError(f"output variable {var.name!r} declared twice")
-        v[var.name] = var
-
-    # --- per-drop -------------------------------------------------------------
-    add(
+def _drop_variables() -> list[Variable]:
+    """The per-drop variables along ``realization``: the index, every summary output, the
+    termination status and the impact-burial class."""
+    drop = ("realization",)
+    out = [
         Variable(
             "realization",
-            ("realization",),
+            drop,
             "int64",
             "1",
             "index of the drop in the ensemble",
@@ -345,24 +340,24 @@ def _declare() -> dict[str, Variable]:
             standard_name="realization",
             fill_value=_NO_FILL,
         )
-    )
-    for name, out in SUMMARY_OUTPUTS.items():
-        add(
-            Variable(
-                name,
-                ("realization",),
-                "float64",
-                out.units,
-                out.long_name,
-                out.description + " Reported for every drop; only drops with status "
-                "at_rest or buried_sinking enter the statistics.",
-                attrs={"coverage_content_type": "modelResult"},
-            )
+    ]
+    out += [
+        Variable(
+            name,
+            drop,
+            "float64",
+            o.units,
+            o.long_name,
+            o.description + " Reported for every drop; only drops with status "
+            "at_rest or buried_sinking enter the statistics.",
+            attrs={"coverage_content_type": "modelResult"},
         )
-    add(
+        for name, o in SUMMARY_OUTPUTS.items()
+    ]
+    out.append(
         Variable(
             "status",
-            ("realization",),
+            drop,
             "int8",
             None,
             "termination status of the drop",
@@ -378,10 +373,10 @@ def _declare() -> dict[str, Variable]:
             },
         )
     )
-    add(
+    out.append(
         Variable(
             "burial_class",
-            ("realization",),
+            drop,
             "int8",
             None,
             "impact-burial class of the drop",
@@ -395,26 +390,17 @@ def _declare() -> dict[str, Variable]:
             },
         )
     )
+    return out
 
-    # --- statistics shared coordinates ----------------------------------------
-    add(
-        Variable(
-            "quantile",
-            ("quantile",),
-            "float64",
-            "1",
-            "probability level of the quantile",
-            "Probability p of the quantiles X_quantile: P(X <= X_quantile) = p, linear "
-            "interpolation between order statistics (Hyndman & Fan 1996 type 7, numpy "
-            "method 'linear').",
-            fill_value=_NO_FILL,
-            group="statistics",
-        )
-    )
-    add(
+
+def _burial_class_variables() -> list[Variable]:
+    """The ensemble's impact-burial classes: the class coordinate, its bounds, the count of
+    drops at rest in each class and its probability with the Wilson interval."""
+    cls = ("impact_burial_class",)
+    out = [
         Variable(
             "impact_burial_class",
-            ("impact_burial_class",),
+            cls,
             "int8",
             None,
             "impact-burial class",
@@ -424,35 +410,28 @@ def _declare() -> dict[str, Variable]:
             fill_value=_NO_FILL,
             group="statistics",
         )
-    )
-    add(
+    ]
+    bound_descriptions = {
+        "lower": "Lower bound of the class (exclusive, except class 0 which is the point 0 %).",
+        "upper": "Upper bound of the class (inclusive).",
+    }
+    out += [
         Variable(
-            "burial_class_lower_percent",
-            ("impact_burial_class",),
+            f"burial_class_{side}_percent",
+            cls,
             "float64",
             "percent",
-            "lower bound of the impact-burial class",
-            "Lower bound of the class (exclusive, except class 0 which is the point 0 %).",
+            f"{side} bound of the impact-burial class",
+            description,
             fill_value=_NO_FILL,
             group="statistics",
         )
-    )
-    add(
-        Variable(
-            "burial_class_upper_percent",
-            ("impact_burial_class",),
-            "float64",
-            "percent",
-            "upper bound of the impact-burial class",
-            "Upper bound of the class (inclusive).",
-            fill_value=_NO_FILL,
-            group="statistics",
-        )
-    )
-    add(
+        for side, description in bound_descriptions.items()
+    ]
+    out.append(
         Variable(
             "burial_class_count",
-            ("impact_burial_class",),
+            cls,
             "int64",
             "1",
             "number of drops at rest in the impact-burial class",
@@ -461,10 +440,10 @@ def _declare() -> dict[str, Variable]:
             group="statistics",
         )
     )
-    add(
+    out.append(
         Variable(
             "burial_class_probability",
-            ("impact_burial_class",),
+            cls,
             "float64",
             "1",
             "probability of the impact-burial class",
@@ -477,78 +456,86 @@ def _declare() -> dict[str, Variable]:
             },
         )
     )
-    add(
+    out += [
         Variable(
-            "burial_class_probability_lower",
-            ("impact_burial_class",),
+            f"burial_class_probability_{side}",
+            cls,
             "float64",
             "1",
-            "lower confidence limit of the impact-burial class probability",
-            "Lower limit of the Wilson score interval (Wilson 1927) at the confidence level "
+            f"{side} confidence limit of the impact-burial class probability",
+            f"{side.capitalize()} limit of the Wilson score interval (Wilson 1927) at the confidence level "
             "given by the attribute confidence_level.",
             group="statistics",
         )
-    )
-    add(
-        Variable(
-            "burial_class_probability_upper",
-            ("impact_burial_class",),
-            "float64",
-            "1",
-            "upper confidence limit of the impact-burial class probability",
-            "Upper limit of the Wilson score interval (Wilson 1927) at the confidence level "
-            "given by the attribute confidence_level.",
-            group="statistics",
-        )
-    )
-    add(
-        Variable(
-            "status_code",
-            ("status_code",),
-            "int8",
-            None,
-            "termination status code",
-            "Status codes of mineburial.kernels.status.",
-            attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
-            fill_value=_NO_FILL,
-            group="statistics",
-        )
-    )
-    add(
-        Variable(
-            "status_count",
-            ("status_code",),
-            "int64",
-            "1",
-            "number of drops with the status",
-            "Number of drops of the ensemble that ended with each status code.",
-            fill_value=_NO_FILL,
-            group="statistics",
-        )
-    )
+        for side in ("lower", "upper")
+    ]
+    return out
 
-    # --- statistics of every summary output (templates) --------------------
-    for name, out in SUMMARY_OUTPUTS.items():
-        for var in _statistics_of(name, out):
-            add(var)
 
-    # --- the post-impact scour stage (optional [scour] section, docs/scour.md) ----
-    for var in _scour_variables():
-        add(var)
+def _ensemble_variables() -> list[Variable]:
+    """The ensemble-wide statistics: the ``quantile`` coordinate, the burial classes and the
+    count of every status code."""
+    quantile = Variable(
+        "quantile",
+        ("quantile",),
+        "float64",
+        "1",
+        "probability level of the quantile",
+        "Probability p of the quantiles X_quantile: P(X <= X_quantile) = p, linear "
+        "interpolation between order statistics (Hyndman & Fan 1996 type 7, numpy "
+        "method 'linear').",
+        fill_value=_NO_FILL,
+        group="statistics",
+    )
+    status_code = Variable(
+        "status_code",
+        ("status_code",),
+        "int8",
+        None,
+        "termination status code",
+        "Status codes of mineburial.kernels.status.",
+        attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+        fill_value=_NO_FILL,
+        group="statistics",
+    )
+    status_count = Variable(
+        "status_count",
+        ("status_code",),
+        "int64",
+        "1",
+        "number of drops with the status",
+        "Number of drops of the ensemble that ended with each status code.",
+        fill_value=_NO_FILL,
+        group="statistics",
+    )
+    return [quantile, *_burial_class_variables(), status_code, status_count]
 
-    # ACDD-1.3 coverage_content_type of every variable that does not set its own
+
+def _coverage_content_type(name: str, var: Variable) -> str:
+    """ACDD-1.3 coverage_content_type of a variable that does not set its own."""
+    if var.dims == (name,):
+        return "coordinate"
+    if name.startswith("burial_class_") and name.endswith("_percent"):
+        return "referenceInformation"
+    if name == "status_count":
+        return "qualityInformation"
+    return "modelResult"
+
+
+def _declare() -> dict[str, Variable]:
+    """The mine ensemble's registry: per-drop variables, ensemble-wide statistics, the statistics
+    of every summary output (templates) and the post-impact scour stage (optional [scour]
+    section, docs/scour.md), each with its ACDD coverage_content_type."""
+    stats = [var for name, o in SUMMARY_OUTPUTS.items() for var in _statistics_of(name, o)]
+    v: dict[str, Variable] = {}
+    for var in [*_drop_variables(), *_ensemble_variables(), *stats, *_scour_variables()]:
+        if var.name in v:  # pragma: no cover - guards the registry itself
+            raise RuntimeError(f"output variable {var.name!r} declared twice")
+        v[var.name] = var
     for name, var in v.items():
-        if var.is_bounds or "coverage_content_type" in var.attrs:
-            continue
-        if var.dims == (name,):
-            cct = "coordinate"
-        elif name.startswith("burial_class_") and name.endswith("_percent"):
-            cct = "referenceInformation"
-        elif name == "status_count":
-            cct = "qualityInformation"
-        else:
-            cct = "modelResult"
-        v[name] = dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
+        if not (var.is_bounds or "coverage_content_type" in var.attrs):
+            cct = _coverage_content_type(name, var)
+            v[name] = dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
     return v
 
 
@@ -559,16 +546,13 @@ SCOUR_STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forc
 _SCOUR_BASIS = "over the drops whose scour stage ran (scour_status ok) and a finite value"
 
 
-def _scour_variables() -> list[Variable]:
-    """The variables of the scour stage: the ``lead_time`` and ``burial_level`` coordinates, the
-    statistics of each burial measure at each lead time, the burial-class probabilities per lead
-    time, the times to reach the burial levels, the share of drops flagged mobile; per drop the
-    measures, times and statuses."""
-    lt = ("lead_time",)
-    out = [
+def _scour_coordinates() -> list[Variable]:
+    """The scour stage's ``lead_time`` and ``burial_level`` coordinates and its status codes, their
+    count and the status of each drop."""
+    return [
         Variable(
             "lead_time",
-            lt,
+            ("lead_time",),
             "float64",
             "days",
             "time after the start of the forcing",
@@ -620,6 +604,12 @@ def _scour_variables() -> list[Variable]:
             attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
             fill_value=-127,
         ),
+    ]
+
+
+def _scour_time_variables() -> list[Variable]:
+    """When the mines of the scour stage are first flagged mobile and reach the burial levels."""
+    return [
         Variable(
             "scour_mobile_fraction",
             (),
@@ -678,6 +668,12 @@ def _scour_variables() -> list[Variable]:
             f"Fraction of the drops {_SCOUR_BASIS} that reach the level within the forcing.",
             group="statistics",
         ),
+    ]
+
+
+def _scour_class_variables() -> list[Variable]:
+    """The burial-class counts and probabilities (with the Wilson interval) at each lead time."""
+    out = [
         Variable(
             "scour_burial_class_count",
             ("lead_time", "impact_burial_class"),
@@ -715,6 +711,13 @@ def _scour_variables() -> list[Variable]:
                 group="statistics",
             )
         )
+    return out
+
+
+def _scour_measure_variables() -> list[Variable]:
+    """Each burial measure after the scour stage: per drop at each lead time, its mean and quantiles."""
+    lt = ("lead_time",)
+    out = []
     for name in SCOUR_MEASURES:
         o = SUMMARY_OUTPUTS[name]
         out.append(
@@ -752,6 +755,19 @@ def _scour_variables() -> list[Variable]:
             )
         )
     return out
+
+
+def _scour_variables() -> list[Variable]:
+    """The variables of the scour stage: the ``lead_time`` and ``burial_level`` coordinates, the
+    statistics of each burial measure at each lead time, the burial-class probabilities per lead
+    time, the times to reach the burial levels, the share of drops flagged mobile; per drop the
+    measures, times and statuses."""
+    return [
+        *_scour_coordinates(),
+        *_scour_time_variables(),
+        *_scour_class_variables(),
+        *_scour_measure_variables(),
+    ]
 
 
 def _statistics_of(name: str, out: _Output) -> list[Variable]:

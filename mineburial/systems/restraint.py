@@ -974,6 +974,26 @@ class System:
     derived: dict
 
 
+#: force parameters (kernels/restraint_forces.py ``P_*``) that are a field of the case as it is
+_CASE_PARAMETERS = (
+    ("P_G", "water.gravity"),
+    ("P_RHO", "water.density"),
+    ("P_NU", "water.kinematic_viscosity"),
+    ("P_MU", "anchor.friction"),
+    ("P_VSCALE", "anchor.friction_velocity_scale"),
+    ("P_CD_ANCHOR", "anchor.drag_coefficient"),
+    ("P_ANCHOR_W", "anchor.width"),
+    ("P_ANCHOR_H", "anchor.height"),
+    ("P_CD", "water.normal_drag"),
+    ("P_CF", "water.tangential_drag"),
+    ("P_KZ", "seabed.foundation_stiffness"),
+    ("P_USURF", "water.current_speed"),
+    ("P_SHIP_L", "ship.length"),
+    ("P_SHIP_KS", "ship.roughness"),
+    ("P_CM", "water.added_mass"),
+)
+
+
 def build_system(case: RestraintCase) -> System:
     """The multibody description of a case (a chain of N bodies is N bodies), the
     parameters of its forces and its initial state (ship at x = 0, speed ``ship.speed``,
@@ -1038,29 +1058,16 @@ def build_system(case: RestraintCase) -> System:
     gm_long = ls**3 * bs / (12.0 * volume) - 0.5 * draught  # eq. (57), z_B = T/2, z_G = T (assumption (8))
     wetted = ls * bs + 2.0 * (ls + bs) * draught
     p = np.zeros(rf.N_PARAMS)
-    p[rf.P_G] = g
-    p[rf.P_RHO] = rho
-    p[rf.P_NU] = case["water.kinematic_viscosity"]
-    p[rf.P_MU] = case["anchor.friction"]
-    p[rf.P_VSCALE] = case["anchor.friction_velocity_scale"]
-    p[rf.P_CD_ANCHOR] = case["anchor.drag_coefficient"]
-    p[rf.P_ANCHOR_W] = wa
-    p[rf.P_ANCHOR_H] = ha
-    p[rf.P_CD] = case["water.normal_drag"]
-    p[rf.P_CF] = case["water.tangential_drag"]
-    p[rf.P_KZ] = case["seabed.foundation_stiffness"]
-    p[rf.P_USURF] = case["water.current_speed"]
+    for index, path in _CASE_PARAMETERS:
+        p[getattr(rf, index)] = case[path]
     p[rf.P_DEPTH] = z_water
-    p[rf.P_SHIP_L] = ls
     p[rf.P_SHIP_SW] = wetted
-    p[rf.P_SHIP_KS] = case["ship.roughness"]
     p[rf.P_HALF] = 1.0 if case["ship.resistance_form"] == "printed" else 0.5
     perimeter = case["water.tangential_drag_form"] == "perimeter"
     p[rf.P_TANGENTIAL] = rf.TANGENTIAL_PERIMETER if perimeter else rf.TANGENTIAL_DIAMETER
     p[rf.P_AW] = ls * bs
     p[rf.P_VOL] = volume
     p[rf.P_GML] = gm_long
-    p[rf.P_CM] = ca
     p[rf.P_SOLVER] = rf.SOLVER_KANE if case["numerics.solver"] == "kane" else rf.SOLVER_RECURSIVE
     p[rf.P_FRICTION] = 1.0 if case["model.friction"] else 0.0
     p[rf.P_DRAG] = 1.0 if case["model.drag"] else 0.0
@@ -1068,24 +1075,30 @@ def build_system(case: RestraintCase) -> System:
     contact_counts = np.zeros(rf.N_CONTACT_CODES, np.int64)
     params = (desc.arrays(), p, lay.kinds, lay.lengths.copy(), diameter, weight, buoy, contact_counts)
     y0 = np.concatenate([q0, u0, [0.0, 0.0]])
-    derived = {
+    derived = _derived(case, lay, z_water, wetted, gm_long)
+    return System(case, lay, desc, params, y0, z_water, derived)
+
+
+def _derived(case: RestraintCase, lay: Layout, z_water: float, wetted: float, gm_long: float) -> dict:
+    """The values a run derives from its case (water depth, ship hydrostatics, catenary), reported
+    with its result; the catenary's horizontal tension is a w of the submerged cable weight w."""
+    return {
         "water_depth": z_water,
-        "ship_draught": draught,
+        "ship_draught": case.ship_draught,
         "ship_wetted_area": wetted,
         "ship_gm_longitudinal": gm_long,
         "catenary_b": lay.catenary_b,
         "catenary_a": lay.catenary_a,
         "catenary_horizontal_tension": lay.catenary_a
-        * (case["cable.density"] - rho)
-        * g
+        * (case["cable.density"] - case["water.density"])
+        * case["water.gravity"]
         * math.pi
         * case["cable.radius"] ** 2,
-        "n_bodies": n,
+        "n_bodies": lay.kinds.size,
         "cable_stage2_elements": case.stage2_elements,
         "chain_axis_height": lay.chain_height,
         "cable_axis_height": lay.cable_height,
     }
-    return System(case, lay, desc, params, y0, z_water, derived)
 
 
 #: the energy balance every run must close, relative to the energy the ship brings
@@ -1299,31 +1312,7 @@ def to_dataset(result: RestraintResult):
     lay = sysm.layout
     case = sysm.case
     n = lay.kinds.size
-    ship, e = n - 1, result.energy
-    pos, vel, pin = result.pos, result.vel, result.pin_force
-    data = {
-        **{name: pos[:, :, k] for k, name in enumerate(("x", "z", "theta"))},
-        **{name: vel[:, :, k] for k, name in enumerate(("vx", "vz", "omega"))},
-        "pin_force_x": pin[:, :, 0],
-        "pin_force_z": pin[:, :, 1],
-        "pin_tension": np.hypot(pin[:, :, 0], pin[:, :, 1]),
-        "ship_x": pos[:, ship, 0],
-        "ship_speed": vel[:, ship, 0],
-        "ship_heave": pos[:, ship, 1] - sysm.water_depth,
-        "ship_pitch": pos[:, ship, 2],
-        "anchor_x": pos[:, 0, 0],
-        "anchor_speed": vel[:, 0, 0],
-        "anchor_normal_force": result.scalars[:, 4],
-        "anchor_friction": result.scalars[:, 5],
-        "anchor_contact": (result.scalars[:, 6].astype(np.int8), _flags(CONTACT_NAMES)),
-        "kinetic_energy": e["kinetic"],
-        "gravitational_energy": e["gravity"],
-        "hydrostatic_energy": e["hydrostatic"],
-        "foundation_energy": e["foundation"],
-        "friction_dissipation": e["friction_dissipated"],
-        "water_dissipation": e["water_dissipated"],
-        "total_energy": e["total"],
-    }
+    data = _time_series(result)
     status, status_name, failure = result.status, result.status_name, result.failure
     stopping_time = result.stopping_time
     bad = [name for name, v in data.items() if not np.all(np.isfinite(v[0] if isinstance(v, tuple) else v))]
@@ -1365,6 +1354,38 @@ def to_dataset(result: RestraintResult):
     if stopping_time is not None:
         attrs["stopping_time"] = float(stopping_time)
     return build(data, coords, attrs, kind="restraint_run")
+
+
+def _time_series(result: RestraintResult) -> dict:
+    """The time series of a run by output name: every body's centroid position, attitude and
+    velocities, the pin forces (eq. (52)), the ship's and the anchor's motion, the anchor's
+    normal and friction forces (eq. (37)) and contact code, the energy terms of eqs. (64)-(69)."""
+    ship, e = result.system.layout.kinds.size - 1, result.energy
+    pos, vel, pin = result.pos, result.vel, result.pin_force
+    data = {
+        **{name: pos[:, :, k] for k, name in enumerate(("x", "z", "theta"))},
+        **{name: vel[:, :, k] for k, name in enumerate(("vx", "vz", "omega"))},
+        "pin_force_x": pin[:, :, 0],
+        "pin_force_z": pin[:, :, 1],
+        "pin_tension": np.hypot(pin[:, :, 0], pin[:, :, 1]),
+        "ship_x": pos[:, ship, 0],
+        "ship_speed": vel[:, ship, 0],
+        "ship_heave": pos[:, ship, 1] - result.system.water_depth,
+        "ship_pitch": pos[:, ship, 2],
+        "anchor_x": pos[:, 0, 0],
+        "anchor_speed": vel[:, 0, 0],
+        "anchor_normal_force": result.scalars[:, 4],
+        "anchor_friction": result.scalars[:, 5],
+        "anchor_contact": (result.scalars[:, 6].astype(np.int8), _flags(CONTACT_NAMES)),
+        "kinetic_energy": e["kinetic"],
+        "gravitational_energy": e["gravity"],
+        "hydrostatic_energy": e["hydrostatic"],
+        "foundation_energy": e["foundation"],
+        "friction_dissipation": e["friction_dissipated"],
+        "water_dissipation": e["water_dissipated"],
+        "total_energy": e["total"],
+    }
+    return data
 
 
 def _flags(names) -> dict:
