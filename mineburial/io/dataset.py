@@ -84,7 +84,14 @@ def build(
     family = V.family(kind)
     data = {name: _data_array(family, name, value) for name, value in variables.items()}
     cs = {name: _data_array(family, name, value) for name, value in (coords or {}).items()}
-    ds = xr.Dataset(data, coords=cs)
+    # the Dataset is made from plain Variables, the coordinates the DataArrays carry collected
+    # once: from DataArrays xarray aligns every variable against every coordinate (measured
+    # 0.25 s of a 1,000-drop run's 6.4 s, against 0.01 s so)
+    coord_vars = {name: da.variable for name, da in cs.items()}
+    for da in data.values():
+        for cname, c in da.coords.items():
+            coord_vars.setdefault(cname, c.variable)
+    ds = xr.Dataset({name: da.variable for name, da in data.items()}, coords=coord_vars)
     for name, da in {**data, **cs}.items():  # construction may drop encodings: restore them
         ds[name].encoding.update(da.encoding)
     ds.attrs = standard_attrs(kind, attrs, version=version)
