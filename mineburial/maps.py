@@ -1189,24 +1189,9 @@ def _environment_fields(grid, hdims, extra) -> dict:
 
 
 def _global_attrs(grid, status, base, version, ncio) -> dict:
+    """The map's global attributes (ACDD/CF, :func:`standard_attrs`), scenario included."""
     created = ncio.utc_now()
-    resolved = base.resolved()
-    overridden = [
-        "environment.water_depth",
-        "sediment.class"
-        if grid.sediment_class is not None
-        else "sediment.density, sediment.density_gradient, sediment.strength, sediment.strength_gradient",
-    ]
-    if grid.current_u is not None:
-        overridden.append("environment.current")
-    resolved["map"] = {
-        "environment": grid.source or "xarray.Dataset",
-        "environment_title": str(grid.ds.attrs.get("title", "")),
-        "overridden_per_cell": overridden,
-        "drops_per_cell": base.n,
-        "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
-        "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
-    }
+    resolved = _map_scenario(grid, base)
     scen = ncio.scenario_json(resolved)
     n_cells = int(status.size)
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
@@ -1264,17 +1249,44 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         for key, value in base.scour.forcing_record.items():
             attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     if grid.geographic:
-        lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
-        lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
-        attrs.update(
-            geospatial_lat_min=float(lat.min()),
-            geospatial_lat_max=float(lat.max()),
-            geospatial_lon_min=float(lon.min()),
-            geospatial_lon_max=float(lon.max()),
-            geospatial_lat_units="degrees_north",
-            geospatial_lon_units="degrees_east",
-        )
+        attrs.update(_geospatial_bounds(grid))
     return standard_attrs("map", attrs, version=version)
+
+
+def _map_scenario(grid, base) -> dict:
+    """The resolved scenario with a ``map`` section: the grid, what it overrides per cell, the seeds."""
+    resolved = base.resolved()
+    overridden = [
+        "environment.water_depth",
+        "sediment.class"
+        if grid.sediment_class is not None
+        else "sediment.density, sediment.density_gradient, sediment.strength, sediment.strength_gradient",
+    ]
+    if grid.current_u is not None:
+        overridden.append("environment.current")
+    resolved["map"] = {
+        "environment": grid.source or "xarray.Dataset",
+        "environment_title": str(grid.ds.attrs.get("title", "")),
+        "overridden_per_cell": overridden,
+        "drops_per_cell": base.n,
+        "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
+        "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
+    }
+    return resolved
+
+
+def _geospatial_bounds(grid) -> dict:
+    """ACDD latitude/longitude bounds of a geographic grid."""
+    lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
+    lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
+    return dict(
+        geospatial_lat_min=float(lat.min()),
+        geospatial_lat_max=float(lat.max()),
+        geospatial_lon_min=float(lon.min()),
+        geospatial_lon_max=float(lon.max()),
+        geospatial_lat_units="degrees_north",
+        geospatial_lon_units="degrees_east",
+    )
 
 
 # ---------------------------------------------------------------------------
