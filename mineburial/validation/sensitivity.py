@@ -189,16 +189,7 @@ def sobol_analysis(
         raise RuntimeError(
             "scipy.stats.sobol_indices arranged its evaluations differently from what the bootstrap assumes"
         )
-    boot = stats.bootstrap(
-        (np.arange(n),),
-        lambda idx: indices(idx),
-        vectorized=False,
-        n_resamples=n_resamples,
-        confidence_level=confidence_level,
-        method="percentile",
-        rng=np.random.default_rng([seed, 1]),
-    )
-    lo, hi = boot.confidence_interval
+    lo, hi = _bootstrap_intervals(indices, n, seed, confidence_level, n_resamples)
     constant = np.array(
         [_constant(np.concatenate([f_a[k], f_b[k], f_ab[:, k].ravel()])) for k in range(len(outputs))]
     )
@@ -217,6 +208,20 @@ def sobol_analysis(
         confidence_level,
         n_resamples,
     )
+
+
+def _bootstrap_intervals(indices, n, seed, confidence_level, n_resamples):
+    """(lower, upper) percentile-bootstrap bounds of ``indices`` over resampled design rows."""
+    boot = stats.bootstrap(
+        (np.arange(n),),
+        lambda idx: indices(idx),
+        vectorized=False,
+        n_resamples=n_resamples,
+        confidence_level=confidence_level,
+        method="percentile",
+        rng=np.random.default_rng([seed, 1]),
+    )
+    return boot.confidence_interval
 
 
 def _evaluate(func, names, points, n_outputs):
