@@ -157,7 +157,19 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser.add_argument("--version", action="version", version=f"mineburial {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
+    _add_run_parser(sub)
+    _add_drop_parser(sub)
+    _add_example_parser(sub)
+    _add_map_parser(sub)
+    _add_compare_parser(sub)
+    _add_sensitivity_parser(sub)
+    _add_restrain_parser(sub)
+    _add_validate_parser(sub)
+    return parser
 
+
+def _add_run_parser(sub) -> None:
+    """``mineburial run``: an ensemble, its burial statistics (NetCDF)."""
     run = sub.add_parser(
         "run",
         help="run a Monte Carlo ensemble and write burial statistics "
@@ -187,6 +199,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", default=None, help="with [scour]: draw burial against lead time to this image")
     run.set_defaults(func=_cmd_run)
 
+
+def _add_drop_parser(sub) -> None:
+    """``mineburial drop``: one drop's trajectory (NetCDF)."""
     drop = sub.add_parser("drop", help="simulate one drop and write its trajectory (NetCDF)")
     drop.add_argument("scenario", help="scenario TOML with fixed values")
     drop.add_argument("-o", "--output", default="trajectory.nc")
@@ -196,6 +211,9 @@ def build_parser() -> argparse.ArgumentParser:
     drop.add_argument("--forces", action="store_true", help="also write forces and torques")
     drop.set_defaults(func=_cmd_drop)
 
+
+def _add_example_parser(sub) -> None:
+    """``mineburial example``: write an example scenario."""
     ex = sub.add_parser(
         "example", help="write an example scenario, single-drop or ensemble (no name: list them)"
     )
@@ -204,6 +222,9 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--force", action="store_true", help="overwrite an existing file of that name")
     ex.set_defaults(func=_cmd_example)
 
+
+def _add_map_parser(sub) -> None:
+    """``mineburial map``: burial probability over an environment grid."""
     mp = sub.add_parser("map", help="burial-probability map over an environment grid")
     mp.add_argument("scenario")
     mp.add_argument("--environment", required=True, help="environment grid NetCDF")
@@ -233,6 +254,9 @@ def build_parser() -> argparse.ArgumentParser:
     mp.add_argument("--quiet", action="store_true")
     mp.set_defaults(func=_cmd_map)
 
+
+def _add_compare_parser(sub) -> None:
+    """``mineburial compare``: the same drops under several values of one field."""
     cmp_ = sub.add_parser(
         "compare",
         help="the same sampled drops under several values of one "
@@ -264,6 +288,9 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--quiet", action="store_true", help="no progress lines")
     cmp_.set_defaults(func=_cmd_compare)
 
+
+def _add_sensitivity_parser(sub) -> None:
+    """``mineburial sensitivity``: Sobol' indices of every random input."""
     sens = sub.add_parser(
         "sensitivity",
         help="first-order and total Sobol' indices of penetration and burial for every random input",
@@ -293,6 +320,9 @@ def build_parser() -> argparse.ArgumentParser:
     sens.add_argument("--quiet", action="store_true", help="no progress lines")
     sens.set_defaults(func=_cmd_sensitivity)
 
+
+def _add_restrain_parser(sub) -> None:
+    """``mineburial restrain``: one case of seed 004's restraining system."""
     rs = sub.add_parser(
         "restrain",
         help="run one case of seed 004's ship restraining system and write its time series (NetCDF)",
@@ -301,13 +331,15 @@ def build_parser() -> argparse.ArgumentParser:
     rs.add_argument("-o", "--output", default="restraint.nc", help="output NetCDF (default restraint.nc)")
     rs.set_defaults(func=_cmd_restrain)
 
+
+def _add_validate_parser(sub) -> None:
+    """``mineburial validate``: every validation case and the report."""
     val = sub.add_parser(
         "validate", help="run every validation case and write the report (Markdown, PNG, JSON)"
     )
     val.add_argument("-o", "--output", default="validation", help="report folder")
     val.add_argument("--quick", action="store_true", help="only the quick cases (as in CI)")
     val.set_defaults(func=_cmd_validate)
-    return parser
 
 
 def _one_line(text: str) -> str:

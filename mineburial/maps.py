@@ -248,6 +248,36 @@ def read_environment(source) -> EnvironmentGrid:
     with ``current_direction`` (degrees clockwise from north, direction *towards* which the
     water flows, as CF ``direction_of_sea_water_velocity``).
     """
+    ds, label = _open_grid(source)
+    ydim, xdim, geographic, gm = _horizontal_axes(ds)
+    dims = (ydim, xdim)
+    depth_da = _field(ds, "water_depth", dims)
+    _check_units(depth_da, _METRE, "m", "water_depth")
+    sign, vertical = _vertical_sign(depth_da)
+    depth = sign * np.asarray(depth_da.values, dtype=np.float64)
+    _check_conflicts(ds)
+    sed_class, sed_params = _read_sediment(ds, dims)
+    cu, cv = _read_currents(ds, dims)
+    grid = EnvironmentGrid(
+        ds=ds,
+        ydim=ydim,
+        xdim=xdim,
+        geographic=geographic,
+        grid_mapping=gm,
+        water_depth=depth,
+        sediment_class=sed_class,
+        sediment_params=sed_params,
+        current_u=cu,
+        current_v=cv,
+        source=label,
+        vertical=vertical,
+    )
+    _check_cells(grid)
+    return grid
+
+
+def _open_grid(source):
+    """(Dataset, label): ``source`` itself, or the NetCDF file it names, loaded and checked."""
     label = ""
     if isinstance(source, xr.Dataset):
         ds = source
@@ -262,6 +292,11 @@ def read_environment(source) -> EnvironmentGrid:
         except (OSError, ValueError) as exc:
             raise MapError(f"cannot read environment grid '{path}' as NetCDF: {exc}") from None
         label = str(path)
+    return ds, label
+
+
+def _horizontal_axes(ds):
+    """(ydim, xdim, geographic, grid_mapping) of ``water_depth``: lat/lon or projected y/x."""
     if "water_depth" not in ds:
         raise MapError(
             "environment grid: the variable 'water_depth' (m) is required; found "
@@ -306,15 +341,13 @@ def read_environment(source) -> EnvironmentGrid:
             "environment grid: a projected y/x grid needs a grid_mapping variable "
             "(CF 5.6) named by the grid_mapping attribute of water_depth"
         )
-    dims = (ydim, xdim)
     _check_axis(yc)
     _check_axis(xc)
-    depth_da = _field(ds, "water_depth", dims)
-    _check_units(depth_da, _METRE, "m", "water_depth")
-    sign, vertical = _vertical_sign(depth_da)
-    depth = sign * np.asarray(depth_da.values, dtype=np.float64)
-    _check_conflicts(ds)
+    return ydim, xdim, geographic, gm
 
+
+def _read_sediment(ds, dims):
+    """(class codes, None) from ``sediment_class``, or (None, linear-profile fields)."""
     sed_class = sed_params = None
     if "sediment_class" in ds:
         sed_class = _read_classes(_field(ds, "sediment_class", dims))
@@ -340,7 +373,11 @@ def read_environment(source) -> EnvironmentGrid:
                 da = _field(ds, name, dims)
                 _check_units(da, want[name][1], want[name][0], name)
                 sed_params[key] = np.asarray(da.values, dtype=np.float64)
+    return sed_class, sed_params
 
+
+def _read_currents(ds, dims):
+    """(eastward, northward) current, m s-1, from u/v or speed/direction; (None, None) if absent."""
     cu = cv = None
     if "current_u" in ds or "current_v" in ds:
         if not ("current_u" in ds and "current_v" in ds):
@@ -358,22 +395,7 @@ def read_environment(source) -> EnvironmentGrid:
         speed = np.asarray(sp.values, np.float64)
         rad = np.radians(np.asarray(di.values, np.float64))
         cu, cv = speed * np.sin(rad), speed * np.cos(rad)  # towards-direction, clockwise from N
-    grid = EnvironmentGrid(
-        ds=ds,
-        ydim=ydim,
-        xdim=xdim,
-        geographic=geographic,
-        grid_mapping=gm,
-        water_depth=depth,
-        sediment_class=sed_class,
-        sediment_params=sed_params,
-        current_u=cu,
-        current_v=cv,
-        source=label,
-        vertical=vertical,
-    )
-    _check_cells(grid)
-    return grid
+    return cu, cv
 
 
 def _vertical_sign(da) -> tuple[float, str]:
@@ -767,36 +789,10 @@ def run_map(
     status = grid.cell_status()
     ny, nx = grid.shape
     _check_map_memory(base, status, gridded)
-    raw = copy.deepcopy(base.raw)
-
-    specs: dict[int, engine.EnsembleSpec] = {}
-    for j in range(ny):
-        for i in range(nx):
-            if status[j, i] != CELL_COMPUTED:
-                continue
-            k = j * nx + i
-            try:
-                cell_raw = cell_scenario(raw, grid, j, i)
-                specs[k] = engine.load_ensemble(
-                    cell_raw if gridded is None else _cell_forcing(cell_raw, gridded, j, i),
-                    n=base.n,
-                    seed=cell_seed(base.seed, k),
-                    sampling=base.sampling,
-                    chunk_size=base.chunk_size,
-                    per_drop=False,
-                    class_basis=base.class_basis,
-                    base_dir=base_dir,
-                )
-            except cfg.ScenarioError as exc:
-                raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
-
+    specs = _cell_specs(base, grid, gridded, base_dir, status)
     template = _cell_statistics_template(base)
     names = _cell_variables(template)
-    arrays = {}
-    for name in names:
-        da = template[name]
-        fill = 0 if da.dtype.kind in "iu" else np.nan
-        arrays[name] = np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
+    arrays = {name: _empty_cell_array(template[name], ny, nx) for name in names}
     invalid: dict = {}
 
     def reduce(stream):
@@ -824,6 +820,50 @@ def run_map(
             )
         )
         return finish()
+    inputs, env_files = _map_inputs(scenario, base, environment, gridded, specs)
+    with OutputRun(output, inputs) as out:
+        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files)) for k, spec in specs.items()]
+        reduce(runner.run_jobs(jobs, client=client, progress=progress))
+        ds = finish()
+        out.commit(ds)
+    return ds
+
+
+def _cell_specs(base, grid, gridded, base_dir, status) -> dict:
+    """The ensemble of each computed cell, by row-major index ``k``, seeded :func:`cell_seed`."""
+    ny, nx = grid.shape
+    raw = copy.deepcopy(base.raw)
+    specs: dict[int, engine.EnsembleSpec] = {}
+    for j in range(ny):
+        for i in range(nx):
+            if status[j, i] != CELL_COMPUTED:
+                continue
+            k = j * nx + i
+            try:
+                cell_raw = cell_scenario(raw, grid, j, i)
+                specs[k] = engine.load_ensemble(
+                    cell_raw if gridded is None else _cell_forcing(cell_raw, gridded, j, i),
+                    n=base.n,
+                    seed=cell_seed(base.seed, k),
+                    sampling=base.sampling,
+                    chunk_size=base.chunk_size,
+                    per_drop=False,
+                    class_basis=base.class_basis,
+                    base_dir=base_dir,
+                )
+            except cfg.ScenarioError as exc:
+                raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
+    return specs
+
+
+def _empty_cell_array(da, ny, nx) -> np.ndarray:
+    """A (statistic's shape, ny, nx) array for ``da`` per cell: 0 for integers, NaN otherwise."""
+    fill = 0 if da.dtype.kind in "iu" else np.nan
+    return np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
+
+
+def _map_inputs(scenario, base, environment, gridded, specs):
+    """(input paths, (file, digest) pairs of the grids) that identify a map's run on disk."""
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
     env_files = ((str(env_path.resolve()), file_digest(env_path)),) if env_path else ()
     grid_files = [] if gridded is None else [pathlib.Path(gridded[1]["forcing_grid_file"])]
@@ -834,12 +874,7 @@ def run_map(
         + grid_files
         + [pathlib.Path(f) for spec in specs.values() for f, _ in spec.input_files]
     )
-    with OutputRun(output, inputs) as out:
-        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files)) for k, spec in specs.items()]
-        reduce(runner.run_jobs(jobs, client=client, progress=progress))
-        ds = finish()
-        out.commit(ds)
-    return ds
+    return inputs, env_files
 
 
 #: bytes of memory a map needs per cell it computes (the cell's scenario and ensemble, its
@@ -958,13 +993,38 @@ def _latlon_from_projection(grid: EnvironmentGrid):
 
 
 def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
+    """The map Dataset: per-cell results, the cells' status and seeds, the environment used."""
     from mineburial.io import netcdf as ncio
     from mineburial.io import variables as V
 
-    ny, nx = grid.shape
     hdims = (grid.ydim, grid.xdim)
     coords, aux = _horizontal_coords(grid)
     extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
+    data = _result_fields(arrays, template, hdims, extra)
+    prob = arrays["burial_class_probability"]
+    data["most_likely_burial_class"] = _most_likely_class(prob, hdims, extra, V.BURIAL_CLASS_MEANINGS)
+    data.update(_cell_fields(grid, status, base.seed, hdims, extra))
+    data.update(_environment_fields(grid, hdims, extra))
+    shared = (
+        "quantile",
+        "impact_burial_class",
+        "status_code",
+        "lead_time",
+        "burial_level",
+        "scour_status_code",
+    )
+    shared = tuple(c for c in shared if c in template.coords)
+    ds = xr.Dataset(data, coords={**{c: template[c] for c in shared}, **coords})
+    for name, da in data.items():
+        ds[name].encoding.update(da.encoding)
+    for c in shared:
+        ds[c].encoding.update(template[c].encoding)
+    ds.attrs = _global_attrs(grid, status, base, version, ncio)
+    return ds
+
+
+def _result_fields(arrays, template, hdims, extra) -> dict:
+    """Each cell's ensemble statistics (``arrays``) on the grid, attributes from the template run."""
     data: dict[str, xr.DataArray] = {}
     for name in _cell_variables(template):
         t = template[name]
@@ -987,18 +1047,20 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
         data[name] = da
     for name in ("burial_class_lower_percent", "burial_class_upper_percent"):
         data[name] = template[name].copy()
+    return data
 
-    # most likely class, and the per-cell status
-    prob = arrays["burial_class_probability"]
+
+def _most_likely_class(prob, hdims, extra, class_meanings) -> xr.DataArray:
+    """The class of highest probability per cell (the lower on ties), -1 without data."""
     finite = np.isfinite(prob).all(axis=0)
     likely = np.where(finite, np.argmax(np.where(np.isfinite(prob), prob, -1.0), axis=0), -1)
-    data["most_likely_burial_class"] = xr.DataArray(
+    return xr.DataArray(
         likely.astype(np.int8),
         dims=hdims,
         attrs={
             "long_name": "most likely impact-burial class",
             "flag_values": np.arange(-1, 5, dtype=np.int8),
-            "flag_meanings": "no_data " + " ".join(V.BURIAL_CLASS_MEANINGS),
+            "flag_meanings": "no_data " + " ".join(class_meanings),
             "comment": "Class with the highest burial_class_probability in the cell (the lower "
             "class on ties); -1 where the cell was not computed or no drop came to "
             "rest.",
@@ -1006,6 +1068,12 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
             **extra,
         },
     )
+
+
+def _cell_fields(grid, status, seed, hdims, extra) -> dict:
+    """Per-cell status, ensemble seed (:func:`cell_seed`) and the water depth used."""
+    ny, nx = grid.shape
+    data = {}
     data["cell_status"] = xr.DataArray(
         status,
         dims=hdims,
@@ -1023,7 +1091,7 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     for j in range(ny):
         for i in range(nx):
             if status[j, i] == CELL_COMPUTED:
-                seeds[j, i] = cell_seed(base.seed, j * nx + i)
+                seeds[j, i] = cell_seed(seed, j * nx + i)
     data["cell_seed"] = xr.DataArray(
         seeds,
         dims=hdims,
@@ -1050,6 +1118,13 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
             **extra,
         },
     )
+    return data
+
+
+def _environment_fields(grid, hdims, extra) -> dict:
+    """The sediment, currents and grid mapping of the environment grid, as the cells used them."""
+    ny, nx = grid.shape
+    data = {}
     if grid.sediment_class is not None:
         names = class_names()
         codes = np.full((ny, nx), -1, dtype=np.int8)
@@ -1110,43 +1185,13 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     if grid.grid_mapping:
         g = grid.ds[grid.grid_mapping]
         data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
-    shared = (
-        "quantile",
-        "impact_burial_class",
-        "status_code",
-        "lead_time",
-        "burial_level",
-        "scour_status_code",
-    )
-    shared = tuple(c for c in shared if c in template.coords)
-    ds = xr.Dataset(data, coords={**{c: template[c] for c in shared}, **coords})
-    for name, da in data.items():
-        ds[name].encoding.update(da.encoding)
-    for c in shared:
-        ds[c].encoding.update(template[c].encoding)
-    ds.attrs = _global_attrs(grid, status, base, version, ncio)
-    return ds
+    return data
 
 
 def _global_attrs(grid, status, base, version, ncio) -> dict:
+    """The map's global attributes (ACDD/CF, :func:`standard_attrs`), scenario included."""
     created = ncio.utc_now()
-    resolved = base.resolved()
-    overridden = [
-        "environment.water_depth",
-        "sediment.class"
-        if grid.sediment_class is not None
-        else "sediment.density, sediment.density_gradient, sediment.strength, sediment.strength_gradient",
-    ]
-    if grid.current_u is not None:
-        overridden.append("environment.current")
-    resolved["map"] = {
-        "environment": grid.source or "xarray.Dataset",
-        "environment_title": str(grid.ds.attrs.get("title", "")),
-        "overridden_per_cell": overridden,
-        "drops_per_cell": base.n,
-        "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
-        "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
-    }
+    resolved = _map_scenario(grid, base)
     scen = ncio.scenario_json(resolved)
     n_cells = int(status.size)
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
@@ -1204,17 +1249,44 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
         for key, value in base.scour.forcing_record.items():
             attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     if grid.geographic:
-        lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
-        lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
-        attrs.update(
-            geospatial_lat_min=float(lat.min()),
-            geospatial_lat_max=float(lat.max()),
-            geospatial_lon_min=float(lon.min()),
-            geospatial_lon_max=float(lon.max()),
-            geospatial_lat_units="degrees_north",
-            geospatial_lon_units="degrees_east",
-        )
+        attrs.update(_geospatial_bounds(grid))
     return standard_attrs("map", attrs, version=version)
+
+
+def _map_scenario(grid, base) -> dict:
+    """The resolved scenario with a ``map`` section: the grid, what it overrides per cell, the seeds."""
+    resolved = base.resolved()
+    overridden = [
+        "environment.water_depth",
+        "sediment.class"
+        if grid.sediment_class is not None
+        else "sediment.density, sediment.density_gradient, sediment.strength, sediment.strength_gradient",
+    ]
+    if grid.current_u is not None:
+        overridden.append("environment.current")
+    resolved["map"] = {
+        "environment": grid.source or "xarray.Dataset",
+        "environment_title": str(grid.ds.attrs.get("title", "")),
+        "overridden_per_cell": overridden,
+        "drops_per_cell": base.n,
+        "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
+        "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
+    }
+    return resolved
+
+
+def _geospatial_bounds(grid) -> dict:
+    """ACDD latitude/longitude bounds of a geographic grid."""
+    lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
+    lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
+    return dict(
+        geospatial_lat_min=float(lat.min()),
+        geospatial_lat_max=float(lat.max()),
+        geospatial_lon_min=float(lon.min()),
+        geospatial_lon_max=float(lon.max()),
+        geospatial_lat_units="degrees_north",
+        geospatial_lon_units="degrees_east",
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -1305,18 +1377,8 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     if lead_times is not None:
         return plot_lead_times(ds, path, lead_times, burial_class=burial_class, dpi=dpi)
     Figure = figure_class("drawing the map")
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
-
     g = _Grid.of(ds)
-    x, y, status, mesh = g.x, g.y, g.status, g.mesh
     likely = ds["most_likely_burial_class"].values.astype(float)
-    prob = ds["burial_class_probability"].values
-    p75 = prob[4]
-    likely_p = np.take_along_axis(
-        np.where(np.isfinite(prob), prob, 0.0), np.clip(likely, 0, 4).astype(int)[None], axis=0
-    )[0]
-
     fig = Figure(figsize=(13.0, 6.8), layout="constrained")
     gs = fig.add_gridspec(2, 2, height_ratios=(1.0, 0.16))
     axes = (fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[0, 1]))
@@ -1324,13 +1386,27 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     legend_ax.axis("off")
     cbar_gs = gs[1, 1].subgridspec(2, 3, width_ratios=(0.1, 0.8, 0.1), height_ratios=(0.3, 0.7))
     cax = fig.add_subplot(cbar_gs[0, 1])
-
-    def background(ax):
-        g.background(ax, likely < 0)
-
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
-    ax = axes[0]
-    background(ax)
+    _draw_likely_class(axes[0], legend_ax, ds, g, likely, basis)
+    _draw_burial_over_75(fig, axes[1], cax, ds, g, likely, basis)
+    fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
+    path = pathlib.Path(path)
+    fig.savefig(path, dpi=dpi)
+    return path
+
+
+def _draw_likely_class(ax, legend_ax, ds, g, likely, basis) -> None:
+    """Left panel of :func:`plot_map`: the most likely class per cell, its legend, and on
+    small grids the class probability and the drops at rest written in each cell."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    x, y, status, mesh = g.x, g.y, g.status, g.mesh
+    prob = ds["burial_class_probability"].values
+    likely_p = np.take_along_axis(
+        np.where(np.isfinite(prob), prob, 0.0), np.clip(likely, 0, 4).astype(int)[None], axis=0
+    )[0]
+    g.background(ax, likely < 0)
     cmap = ListedColormap(CLASS_COLOURS)
     norm = BoundaryNorm(np.arange(-0.5, 5.5), cmap.N)
     mesh(ax, np.ma.masked_where(likely < 0, likely), cmap=cmap, norm=norm, edgecolors="white", linewidth=0.5)
@@ -1365,11 +1441,14 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
                     color="white" if c >= 3 else "black",
                 )
 
-    ax = axes[1]
-    background(ax)
-    p75_mesh = mesh(
+
+def _draw_burial_over_75(fig, ax, cax, ds, g, likely, basis) -> None:
+    """Right panel of :func:`plot_map`: P(burial > 75 %) per computed cell, colour bar in ``cax``."""
+    p75 = ds["burial_class_probability"].values[4]
+    g.background(ax, likely < 0)
+    p75_mesh = g.mesh(
         ax,
-        np.ma.masked_invalid(np.where(status == CELL_COMPUTED, p75, np.nan)),
+        np.ma.masked_invalid(np.where(g.status == CELL_COMPUTED, p75, np.nan)),
         cmap="magma_r",
         vmin=0.0,
         vmax=1.0,
@@ -1381,11 +1460,6 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     ax.set_title(
         f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
     )
-
-    fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
-    path = pathlib.Path(path)
-    fig.savefig(path, dpi=dpi)
-    return path
 
 
 def _plot_title(ds) -> str:

@@ -367,13 +367,24 @@ def _same_inputs(chunks) -> dict:
 
 
 def _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level):
+    """The comparison Dataset: statistics per variant, paired differences, per-drop values."""
     z = float(ndtri(0.5 + 0.5 * confidence_level))
     labels = [str(v) for v in values]
+    ds = _variant_statistics(base, summaries, statuses, confidence_level, z)
+    ds = ds.assign_coords(
+        variant=("variant", np.array(labels, dtype=object), {"long_name": f"value of {field}"})
+    )
+    _add_paired_differences(ds, summaries, statuses, labels[0], confidence_level, z)
+    return _add_drops(ds, summaries, statuses, inputs, changed)
+
+
+def _variant_statistics(base, summaries, statuses, confidence_level, z):
+    """Each variant's burial statistics (no histograms) with normal bounds of the means, along ``variant``."""
     per_variant = []
-    for k in range(len(values)):
+    for summary, status in zip(summaries, statuses):
         stats = burial_statistics(
-            summaries[k],
-            statuses[k],
+            summary,
+            status,
             class_basis=base.class_basis,
             outputs=OUTPUTS,
             confidence_level=confidence_level,
@@ -404,15 +415,17 @@ def _assemble(base, field, values, summaries, statuses, inputs, changed, confide
     ):
         if name in ds and "variant" in ds[name].dims:
             ds[name] = ds[name].isel(variant=0, drop=True)
-    ds = ds.assign_coords(
-        variant=("variant", np.array(labels, dtype=object), {"long_name": f"value of {field}"})
-    )
-    # paired differences to the first variant over drops in the statistics of both
+    return ds
+
+
+def _add_paired_differences(ds, summaries, statuses, first_label, confidence_level, z):
+    """Paired differences to the first variant, over the drops in the statistics of both."""
     used = [np.isin(s, st.IN_STATISTICS) for s in statuses]
+    bound = "bound of the paired difference (normal approximation)"
     for name in ("penetration_depth", "burial_volume"):
         col = layout.SUMMARY_INDEX[name]
         diff, lo, hi, npair = [], [], [], []
-        for k in range(len(values)):
+        for k in range(len(summaries)):
             both = used[0] & used[k] & np.isfinite(summaries[0][:, col]) & np.isfinite(summaries[k][:, col])
             d = summaries[k][both, col] - summaries[0][both, col]
             m = d.mean() if d.size else np.nan
@@ -422,38 +435,25 @@ def _assemble(base, field, values, summaries, statuses, inputs, changed, confide
             hi.append(m + z * se)
             npair.append(d.size)
         units = "m" if name == "penetration_depth" else "percent"
-        ds[f"{name}_mean_difference"] = (
-            "variant",
-            np.array(diff),
-            {
-                "units": units,
-                "long_name": f"mean paired difference of {name} to variant {labels[0]} (same drops)",
-            },
-        )
-        ds[f"{name}_mean_difference_lower"] = (
-            "variant",
-            np.array(lo),
-            {
-                "units": units,
-                "long_name": f"lower {confidence_level:.0%} bound of the paired "
-                f"difference (normal approximation)",
-            },
-        )
-        ds[f"{name}_mean_difference_upper"] = (
-            "variant",
-            np.array(hi),
-            {
-                "units": units,
-                "long_name": f"upper {confidence_level:.0%} bound of the paired "
-                f"difference (normal approximation)",
-            },
-        )
+        for suffix, vals, long_name in (
+            ("", diff, f"mean paired difference of {name} to variant {first_label} (same drops)"),
+            ("_lower", lo, f"lower {confidence_level:.0%} {bound}"),
+            ("_upper", hi, f"upper {confidence_level:.0%} {bound}"),
+        ):
+            ds[f"{name}_mean_difference{suffix}"] = (
+                "variant",
+                np.array(vals),
+                {"units": units, "long_name": long_name},
+            )
         ds[f"{name}_n_paired"] = (
             "variant",
             np.array(npair, dtype=np.int64),
             {"units": "1", "long_name": "drops in the statistics of this and the first variant"},
         )
-    # per-drop values, and the sampled inputs once
+
+
+def _add_drops(ds, summaries, statuses, inputs, changed):
+    """Per-drop values and statuses of each variant, the sampled inputs once, the changed slots."""
     n = summaries[0].shape[0]
     for name in PER_DROP:
         col = layout.SUMMARY_INDEX[name]

@@ -160,15 +160,7 @@ def sobol_analysis(
         raise ValueError(f"n = {n} must be a power of two >= 2 (the Sobol' design)")
     dists = [_OnUnitInterval(inputs[k]) for k in names]
     points = _design(dists, n, seed)
-    x = np.concatenate(points, axis=1)
-    y = np.atleast_2d(np.asarray(func({k: x[i] for i, k in enumerate(names)}), dtype=np.float64))
-    if y.shape != (len(outputs), x.shape[1]):
-        raise ValueError(f"func returned shape {y.shape}, expected ({len(outputs)}, {x.shape[1]})")
-    if not np.all(np.isfinite(y)):
-        raise ValueError(
-            f"func returned {int(np.count_nonzero(~np.isfinite(y)))} "
-            "non-finite values; Sobol' indices need every point"
-        )
+    y = _evaluate(func, names, points, len(outputs))
     # the evaluations, as scipy arranged them: f(A), f(B), then the d pages AB_i
     f_a, f_b, f_ab = np.split(y, np.cumsum([p.shape[1] for p in points])[:-1], axis=1)
     replay = iter(zip(points, (f_a, f_b, f_ab)))
@@ -197,6 +189,29 @@ def sobol_analysis(
         raise RuntimeError(
             "scipy.stats.sobol_indices arranged its evaluations differently from what the bootstrap assumes"
         )
+    lo, hi = _bootstrap_intervals(indices, n, seed, confidence_level, n_resamples)
+    constant = np.array(
+        [_constant(np.concatenate([f_a[k], f_b[k], f_ab[:, k].ravel()])) for k in range(len(outputs))]
+    )
+    for arr in (point[0], point[1], lo[0], lo[1], hi[0], hi[1]):
+        arr[constant] = np.nan  # scipy writes 0 for 0 / 0: the index is undefined, not zero
+    return _indices_dataset(
+        point,
+        lo,
+        hi,
+        constant,
+        np.concatenate([f_a, f_b], axis=1),
+        outputs,
+        names,
+        n,
+        seed,
+        confidence_level,
+        n_resamples,
+    )
+
+
+def _bootstrap_intervals(indices, n, seed, confidence_level, n_resamples):
+    """(lower, upper) percentile-bootstrap bounds of ``indices`` over resampled design rows."""
     boot = stats.bootstrap(
         (np.arange(n),),
         lambda idx: indices(idx),
@@ -206,12 +221,29 @@ def sobol_analysis(
         method="percentile",
         rng=np.random.default_rng([seed, 1]),
     )
-    lo, hi = boot.confidence_interval
-    constant = np.array(
-        [_constant(np.concatenate([f_a[k], f_b[k], f_ab[:, k].ravel()])) for k in range(len(outputs))]
-    )
-    for arr in (point[0], point[1], lo[0], lo[1], hi[0], hi[1]):
-        arr[constant] = np.nan  # scipy writes 0 for 0 / 0: the index is undefined, not zero
+    return boot.confidence_interval
+
+
+def _evaluate(func, names, points, n_outputs):
+    """``func`` on the whole design at once, checked: (n_outputs, points) and all finite."""
+    x = np.concatenate(points, axis=1)
+    y = np.atleast_2d(np.asarray(func({k: x[i] for i, k in enumerate(names)}), dtype=np.float64))
+    if y.shape != (n_outputs, x.shape[1]):
+        raise ValueError(f"func returned shape {y.shape}, expected ({n_outputs}, {x.shape[1]})")
+    if not np.all(np.isfinite(y)):
+        raise ValueError(
+            f"func returned {int(np.count_nonzero(~np.isfinite(y)))} "
+            "non-finite values; Sobol' indices need every point"
+        )
+    return y
+
+
+def _indices_dataset(point, lo, hi, constant, f_a_b, outputs, names, n, seed, confidence_level, n_resamples):
+    """The Sobol' indices, their bootstrap bounds and status as a ``kind="sensitivity"`` Dataset.
+
+    ``f_a_b`` holds the evaluations f(A) and f(B) side by side (the output variance).
+    """
+    d = len(names)
     ci = {
         "confidence_level": confidence_level,
         "interval_method": f"percentile bootstrap, {n_resamples} resamples of the design rows",
@@ -223,7 +255,7 @@ def sobol_analysis(
         "total_order": point[1],
         "total_order_lower": (lo[1], ci),
         "total_order_upper": (hi[1], ci),
-        "output_variance": np.var(np.concatenate([f_a, f_b], axis=1), axis=1),
+        "output_variance": np.var(f_a_b, axis=1),
         "index_status": constant,
     }
     coords = {"output": np.array(outputs, dtype=object), "input": np.array(names, dtype=object)}
