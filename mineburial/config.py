@@ -113,8 +113,9 @@ _EPS = np.finfo(np.float64).eps
 #: every field of a scenario, by path (numbers, choices, switches, kernel codes)
 SCHEMA: dict[str, FieldSpec] = {f.path: f for f in TABLE}
 
-#: dotted path -> FieldSpec for every numeric scalar field of a scenario.
-FIELDS: dict[str, FieldSpec] = {f.path: f for f in TABLE if f.kind == "float"}
+#: dotted path -> FieldSpec for every numeric scalar field of a scenario that an ensemble may
+#: sample (``scour.window_days``, a number the stage's reader checks, is not one).
+FIELDS: dict[str, FieldSpec] = {f.path: f for f in TABLE if f.kind == "float" and f.sampled}
 
 #: alternative spellings accepted by :func:`check_range`: the scenario-file locations
 #: (``release.position[2]``) and ``environment.current.*`` for ``current.*``.
@@ -493,18 +494,37 @@ def fields_markdown(name: str) -> str:
     return markdown_table((SCHEMA[p] for p in DOC_TABLES[name]), rules)
 
 
+def _model_defaults_markdown() -> str:
+    """The table of the choices that follow ``numerics.model`` (:data:`MODEL_DEFAULTS`)."""
+    cols = ("resistance", "rate_law", "integrator")
+    rows = ["| `numerics.model` | " + " | ".join(f"`{c}`" for c in cols) + " |", "|" + "---|" * 4]
+    for model, chosen in MODEL_DEFAULTS.items():
+        label = f'`"{model}"`' + (" (default)" if model == _D["numerics.model"] else "")
+        rows.append(f"| {label} | " + " | ".join(f'`"{chosen[c]}"`' for c in cols) + " |")
+    return "\n".join(rows) + "\n"
+
+
+#: every generated table of docs/scenario.md: the field tables (:data:`DOC_TABLES`) and the
+#: model-dependent defaults
+DOC_BLOCKS = (*DOC_TABLES, "model-defaults")
+
+
+def _doc_block(name: str) -> str:
+    return _model_defaults_markdown() if name == "model-defaults" else fields_markdown(name)
+
+
 def field_table_block(name: str) -> str:
-    """Table ``name`` as docs/scenario.md holds it, between its markers."""
-    return generated_block(name, fields_markdown(name), _DOC_WRITER)
+    """Table ``name`` of :data:`DOC_BLOCKS` as docs/scenario.md holds it, between its markers."""
+    return generated_block(name, _doc_block(name), _DOC_WRITER)
 
 
 def write_field_tables(path="docs/scenario.md") -> None:
-    """Regenerate every table of :data:`DOC_TABLES` in ``path`` (run from the repository
+    """Regenerate every table of :data:`DOC_BLOCKS` in ``path`` (run from the repository
     root after changing mineburial/scenario_fields.py; tests/test_schema.py fails until then)."""
     path = pathlib.Path(path)
     text = path.read_text(encoding="utf-8")
-    for name in DOC_TABLES:
-        text = replace_generated(text, name, fields_markdown(name), _DOC_WRITER)
+    for name in DOC_BLOCKS:
+        text = replace_generated(text, name, _doc_block(name), _DOC_WRITER)
     path.write_text(text, encoding="utf-8")
 
 
