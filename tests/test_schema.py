@@ -370,3 +370,32 @@ def test_every_key_of_the_scour_section_is_a_declared_field_listed_in_its_doc_ta
         "window_days", "d50", "grain_density", "mobile_layer", "beq_a", "beq_b", "theta_exponent", "hs_scale",
         "window_position", "orbital", "friction",
     ]  # fmt: skip
+
+
+def test_the_dataclasses_take_keys_defaults_and_resolved_order_from_the_declarations():
+    # as config.py wrote them by hand at ee0fb46 (the resolved scenario's key order is in every output file)
+    assert set(config._RELEASE_KEYS) == {
+        "position", "velocity", "angular_velocity", "roll_deg", "pitch_deg", "heading_deg", "quaternion",
+        "embedded",
+    }  # fmt: skip
+    d = {"mine": {"length": 2.0, "diameter": 0.5, "mass": 700.0}, "environment": {"water_depth": 30.0}}
+    s = Scenario.from_dict({**d, "sediment": {"class": "soft_clay"}})
+    out = s.to_dict()
+    assert list(out["mine"]) == [
+        "name", "length", "diameter", "mass", "com_offset", "inertia_axial", "inertia_transverse",
+    ]  # fmt: skip
+    assert list(out["environment"]) == [
+        "gravity", "air_density", "air_viscosity", "water_density", "water_viscosity", "water_depth",
+        "current",
+    ]  # fmt: skip
+    # defaults written once, in scenario_fields.py (docs/scenario.md: 9.81, 1025, 0.3, 0.05, false)
+    assert (s.environment.gravity, s.environment.water_density) == (9.81, 1025.0)
+    assert (s.sediment.friction, s.numerics.rest_spin, s.release.embedded) == (0.3, 0.05, False)
+    with pytest.raises(ScenarioError, match=r"^mine\.mass \[kg\] is required$"):
+        Scenario.from_dict(
+            {**d, "mine": {"length": 2.0, "diameter": 0.5}, "sediment": {"class": "soft_clay"}}
+        )
+    p, _, _ = Scenario.from_dict(
+        {**d, "sediment": {"class": "soft_clay"}, "release": {"position": [1, 2, 3]}}
+    ).to_params()
+    assert [p[layout.INDEX[k]] for k in ("release.x", "release.y", "release.z")] == [1.0, 2.0, 3.0]
