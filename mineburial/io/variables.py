@@ -1396,11 +1396,15 @@ MAP_STATISTICS = (
     "burial_class_probability_upper",
     "status_count",
 ) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
-#: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis)
+#: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis,
+#: but the mobile share by lead time that only a run's file holds: ensembles.scour.dataset)
 MAP_SCOUR_STATISTICS = tuple(
     name
     for name, var in VARIABLES.items()
-    if name.startswith("scour_") and "realization" not in var.dims and var.dims != (name,)
+    if name.startswith("scour_")
+    and "realization" not in var.dims
+    and var.dims != (name,)
+    and name != "scour_mobile_fraction_by_lead_time"
 )
 #: the horizontal dims of a map as declared; a file names them (and its grid mapping variable) as
 #: its environment grid does (:func:`mineburial.io.dataset.build`'s ``names``)
