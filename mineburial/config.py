@@ -410,7 +410,7 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
 # Cross-field rules, declared once: checked per scenario (the dataclasses below, through
 # _check_rules) and over packed parameter rows (check_params, _param_checks)
 # ===========================================================================
-_Q = ("release.q0", "release.q1", "release.q2", "release.q3")
+_Q = _list_paths("release.quaternion")
 _BODY = ("mine.length", "mine.diameter", "mine.com_offset")
 
 
