@@ -7,8 +7,8 @@ from the one variable registry :mod:`mineburial.io.variables`, in the family of 
 what every mineburial file must (:func:`standard_attrs`): ``Conventions``,
 ``mineburial_version``, ``source``, ``date_created`` and ``history``. The layers that
 compute a file's contents (ensembles, the single drop, the restraining system, the
-sensitivity analysis) hand their arrays and their own global attributes to it; none of
-them writes ``Conventions`` or the version itself. docs/notes/output.md lists the
+sensitivity analysis, the maps, the comparisons) hand their arrays and their own global
+attributes to it; none of them writes ``Conventions`` or the version itself. docs/notes/output.md lists the
 families and the attributes.
 """
 

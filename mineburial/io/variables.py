@@ -27,8 +27,9 @@ Three families of variables exist:
 
 Those are the variables of a mine ensemble's file. The other files have a family each in
 :data:`FAMILIES` (one drop's trajectory, the restraining system's time series and ensemble,
-the Sobol' indices, the synthetic environment grid); :func:`mineburial.io.dataset.build`
-makes every file from the family of its kind.
+the Sobol' indices, the synthetic environment grid, the burial map and the comparison of
+variants, whose statistics are the ensemble's declarations per cell or per variant);
+:func:`mineburial.io.dataset.build` makes every file from the family of its kind.
 
 In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
@@ -1697,8 +1698,8 @@ FAMILY_TITLES = {
     "comparison": "comparison of variants of an ensemble scenario",
 }
 #: the variables of each file kind: the mine ensemble's (:data:`VARIABLES`) and one family each for
-#: the single drop's trajectory, the restraint's time series, the restraint ensemble and the Sobol'
-#: sensitivity analysis
+#: the single drop's trajectory, the restraint's time series, the restraint ensemble, the Sobol'
+#: sensitivity analysis, the synthetic environment grid, the burial map and the comparison
 FAMILIES: dict[str, dict[str, Variable]] = {
     "ensemble": VARIABLES,
     "trajectory": _family(_trajectory_variables(), "trajectory"),
