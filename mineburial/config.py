@@ -113,8 +113,9 @@ _EPS = np.finfo(np.float64).eps
 #: every field of a scenario, by path (numbers, choices, switches, kernel codes)
 SCHEMA: dict[str, FieldSpec] = {f.path: f for f in TABLE}
 
-#: dotted path -> FieldSpec for every numeric scalar field of a scenario.
-FIELDS: dict[str, FieldSpec] = {f.path: f for f in TABLE if f.kind == "float"}
+#: dotted path -> FieldSpec for every numeric scalar field of a scenario that an ensemble may
+#: sample (``scour.window_days``, a number the stage's reader checks, is not one).
+FIELDS: dict[str, FieldSpec] = {f.path: f for f in TABLE if f.kind == "float" and f.sampled}
 
 #: alternative spellings accepted by :func:`check_range`: the scenario-file locations
 #: (``release.position[2]``) and ``environment.current.*`` for ``current.*``.
@@ -307,6 +308,36 @@ _SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
 _D = {f.path: f.default for f in TABLE}
 
 
+def _required_names(section: str) -> tuple[str, ...]:
+    """The fields of ``section`` a file must give: no declared default, none computed."""
+    return tuple(f.name for f in TABLE if f.section == section and f.default is None and not f.default_text)
+
+
+def _file_key(f: FieldSpec) -> str:
+    """The key of the file table that holds field ``f`` (``release.position[2]`` -> ``position``)."""
+    return f.location.rpartition(".")[2].partition("[")[0]
+
+
+def _list_paths(location: str) -> tuple[str, ...]:
+    """The fields a list of a file holds, in order (``release.position`` -> release.x, .y, .z)."""
+    return tuple(f.path for f in TABLE if f.location and f.location.startswith(location + "["))
+
+
+def _table_defaults(section: str):
+    """Class decorator, under ``@dataclass``: each annotated field of ``section`` that the class
+    does not give a default gets its declared one (:data:`_D`), so that a default is written
+    once, in mineburial/scenario_fields.py. A field declared without a default (a required
+    one, or one computed when None) keeps what the class says."""
+
+    def decorate(cls):
+        for name in cls.__annotations__:
+            if name not in cls.__dict__ and _D.get(f"{section}.{name}") is not None:
+                setattr(cls, name, _D[f"{section}.{name}"])
+        return cls
+
+    return decorate
+
+
 def _vector(value, n: int, location: str) -> tuple[float, ...]:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
         raise ScenarioError(f"{location} = {value!r} must be a list of {n} numbers")
@@ -379,7 +410,7 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
 # Cross-field rules, declared once: checked per scenario (the dataclasses below, through
 # _check_rules) and over packed parameter rows (check_params, _param_checks)
 # ===========================================================================
-_Q = ("release.q0", "release.q1", "release.q2", "release.q3")
+_Q = _list_paths("release.quaternion")
 _BODY = ("mine.length", "mine.diameter", "mine.com_offset")
 
 
@@ -493,18 +524,37 @@ def fields_markdown(name: str) -> str:
     return markdown_table((SCHEMA[p] for p in DOC_TABLES[name]), rules)
 
 
+def _model_defaults_markdown() -> str:
+    """The table of the choices that follow ``numerics.model`` (:data:`MODEL_DEFAULTS`)."""
+    cols = ("resistance", "rate_law", "integrator")
+    rows = ["| `numerics.model` | " + " | ".join(f"`{c}`" for c in cols) + " |", "|" + "---|" * 4]
+    for model, chosen in MODEL_DEFAULTS.items():
+        label = f'`"{model}"`' + (" (default)" if model == _D["numerics.model"] else "")
+        rows.append(f"| {label} | " + " | ".join(f'`"{chosen[c]}"`' for c in cols) + " |")
+    return "\n".join(rows) + "\n"
+
+
+#: every generated table of docs/scenario.md: the field tables (:data:`DOC_TABLES`) and the
+#: model-dependent defaults
+DOC_BLOCKS = (*DOC_TABLES, "model-defaults")
+
+
+def _doc_block(name: str) -> str:
+    return _model_defaults_markdown() if name == "model-defaults" else fields_markdown(name)
+
+
 def field_table_block(name: str) -> str:
-    """Table ``name`` as docs/scenario.md holds it, between its markers."""
-    return generated_block(name, fields_markdown(name), _DOC_WRITER)
+    """Table ``name`` of :data:`DOC_BLOCKS` as docs/scenario.md holds it, between its markers."""
+    return generated_block(name, _doc_block(name), _DOC_WRITER)
 
 
 def write_field_tables(path="docs/scenario.md") -> None:
-    """Regenerate every table of :data:`DOC_TABLES` in ``path`` (run from the repository
+    """Regenerate every table of :data:`DOC_BLOCKS` in ``path`` (run from the repository
     root after changing mineburial/scenario_fields.py; tests/test_schema.py fails until then)."""
     path = pathlib.Path(path)
     text = path.read_text(encoding="utf-8")
-    for name in DOC_TABLES:
-        text = replace_generated(text, name, fields_markdown(name), _DOC_WRITER)
+    for name in DOC_BLOCKS:
+        text = replace_generated(text, name, _doc_block(name), _DOC_WRITER)
     path.write_text(text, encoding="utf-8")
 
 
@@ -512,6 +562,7 @@ def write_field_tables(path="docs/scenario.md") -> None:
 # Dataclasses
 # ===========================================================================
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("mine")
 class Mine:
     """The rigid cylinder (seed 000 sec. 2, Table 2). SI units.
 
@@ -524,7 +575,7 @@ class Mine:
     length: float
     diameter: float
     mass: float
-    com_offset: float = _D["mine.com_offset"]
+    com_offset: float  # the declared default (_table_defaults), as every unassigned field below
     inertia_axial: float | None = None
     inertia_transverse: float | None = None
     name: str = "mine"
@@ -555,21 +606,18 @@ class Mine:
         return self.mass / self.volume
 
     def to_dict(self) -> dict:
-        return {
-            "name": self.name,
-            "length": self.length,
-            "diameter": self.diameter,
-            "mass": self.mass,
-            "com_offset": self.com_offset,
-            "inertia_axial": self.inertia_axial,
-            "inertia_transverse": self.inertia_transverse,
-        }
+        return {"name": self.name, **{f: getattr(self, f) for f in _names("mine")}}
 
 
 _ANGLES = ("roll_deg", "pitch_deg", "heading_deg")
+#: the release's lists of numbers and the fields each holds (position -> release.x, .y, .z)
+_RELEASE_VECTORS = {
+    key: _list_paths(f"release.{key}") for key in ("position", "velocity", "angular_velocity")
+}
 
 
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("release")
 class Release:
     """Initial state of the drop.
 
@@ -592,15 +640,11 @@ class Release:
     pitch_deg: float | None = None
     heading_deg: float | None = None
     quaternion: tuple | None = None
-    embedded: bool = _D["release.embedded"]
+    embedded: bool  # the declared default (_table_defaults)
 
     def __post_init__(self):
         _set(self, "embedded", _check("release.embedded", self.embedded))
-        for name, paths in (
-            ("position", ("release.x", "release.y", "release.z")),
-            ("velocity", ("release.u", "release.v", "release.w")),
-            ("angular_velocity", ("release.omega1", "release.omega2", "release.omega3")),
-        ):
+        for name, paths in _RELEASE_VECTORS.items():
             vec = _vector(getattr(self, name), 3, f"release.{name}")
             _set(self, name, tuple(_check(p, x) for p, x in zip(paths, vec)))
         given = [a for a in _ANGLES if getattr(self, a) is not None]
@@ -667,6 +711,7 @@ _CURRENT_KEYS = {
 
 
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("current")
 class Current:
     """Horizontal water current (E-frame x, y components).
 
@@ -680,10 +725,10 @@ class Current:
     Fields not used by the kind must keep their defaults (so a Current has one meaning).
     """
 
-    kind: str = _D["current.kind"]
-    u: float = _D["current.u"]
-    v: float = _D["current.v"]
-    exponent: float = _D["current.exponent"]
+    kind: str  # the declared defaults (_table_defaults)
+    u: float
+    v: float
+    exponent: float
     depth: tuple = ()
     table_u: tuple = ()
     table_v: tuple = ()
@@ -757,15 +802,16 @@ class Current:
 
 
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("environment")
 class Environment:
     """Fluids, gravity, water depth (the seabed is at z = -water_depth) and current."""
 
     water_depth: float
-    gravity: float = _D["environment.gravity"]
-    air_density: float = _D["environment.air_density"]
-    air_viscosity: float = _D["environment.air_viscosity"]
-    water_density: float = _D["environment.water_density"]
-    water_viscosity: float = _D["environment.water_viscosity"]
+    gravity: float  # the declared defaults (_table_defaults)
+    air_density: float
+    air_viscosity: float
+    water_density: float
+    water_viscosity: float
     current: Current = field(default_factory=Current)
 
     def __post_init__(self):
@@ -774,19 +820,7 @@ class Environment:
             raise ScenarioError(f"environment.current = {self.current!r} must be a Current")
 
     def to_dict(self) -> dict:
-        d = {
-            f: getattr(self, f)
-            for f in (
-                "gravity",
-                "air_density",
-                "air_viscosity",
-                "water_density",
-                "water_viscosity",
-                "water_depth",
-            )
-        }
-        d["current"] = self.current.to_dict()
-        return d
+        return {**{f: getattr(self, f) for f in _names("environment")}, "current": self.current.to_dict()}
 
 
 #: Defaults that depend on ``numerics.model`` (used where the field is None / absent).
@@ -823,6 +857,7 @@ _SED_OPTIONS = tuple(f for f in _names("sediment", ("float",)) if f not in _SED_
 
 
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("sediment")
 class Sediment:
     """Seabed sediment: a profile and the resistance-model options.
 
@@ -843,16 +878,16 @@ class Sediment:
     strength_gradient: float | None = None
     resistance: str | None = None
     rate_law: str | None = None
-    impact_factor: float = _D["sediment.impact_factor"]
-    rest_speed: float = _D["sediment.rest_speed"]
-    rate_coefficient: float = _D["sediment.rate_coefficient"]
-    reference_rate: float = _D["sediment.reference_rate"]
-    friction: float = _D["sediment.friction"]
-    bearing_factor: float = _D["sediment.bearing_factor"]
-    pore_pressure: bool = _D["sediment.pore_pressure"]
-    rupture_length: float = _D["sediment.rupture_length"]
-    permeability: float = _D["sediment.permeability"]
-    void_ratio: float = _D["sediment.void_ratio"]
+    impact_factor: float  # the declared defaults (_table_defaults)
+    rest_speed: float
+    rate_coefficient: float
+    reference_rate: float
+    friction: float
+    bearing_factor: float
+    pore_pressure: bool
+    rupture_length: float
+    permeability: float
+    void_ratio: float
 
     def __post_init__(self):
         linear_given = [f for f in _SED_LINEAR if getattr(self, f) is not None]
@@ -917,6 +952,7 @@ class Sediment:
 
 
 @dataclass(frozen=True, kw_only=True)
+@_table_defaults("numerics")
 class Numerics:
     """Model choice, integrator and stopping criteria.
 
@@ -942,22 +978,22 @@ class Numerics:
     ``t_max`` guards only the motion in the sediment (docs/design.md, "The end of a drop").
     """
 
-    model: str = _D["numerics.model"]
+    model: str  # the declared defaults (_table_defaults) where no default is written
     integrator: str | None = None
-    dt: float = _D["numerics.dt"]
-    t_max: float = _D["numerics.t_max"]
-    t_max_fall: float = _D["numerics.t_max_fall"]
-    rest_speed: float = _D["numerics.rest_speed"]
-    rest_spin: float = _D["numerics.rest_spin"]
-    drag: bool = _D["numerics.drag"]
-    munk_factor: float = _D["numerics.munk_factor"]
+    dt: float
+    t_max: float
+    t_max_fall: float
+    rest_speed: float
+    rest_spin: float
+    drag: bool
+    munk_factor: float
     rtol: float | None = None
     atol: float | None = None
-    sediment_quadrature: str = _D["numerics.sediment_quadrature"]
-    slip_speed: float = _D["numerics.slip_speed"]
-    switch_speed: float = _D["numerics.switch_speed"]
-    water_column: str = _D["numerics.water_column"]
-    overburden_quadrature: str = _D["numerics.overburden_quadrature"]
+    sediment_quadrature: str
+    slip_speed: float
+    switch_speed: float
+    water_column: str
+    overburden_quadrature: str
 
     def __post_init__(self):
         _set(self, "model", _check("numerics.model", self.model))
@@ -975,16 +1011,7 @@ class Numerics:
 # ===========================================================================
 _SECTIONS = ("description", "mine", "release", "environment", "sediment", "numerics")
 _MINE_KEYS = ("name",) + _names("mine")
-_RELEASE_KEYS = (
-    "position",
-    "velocity",
-    "angular_velocity",
-    "roll_deg",
-    "pitch_deg",
-    "heading_deg",
-    "quaternion",
-    "embedded",
-)
+_RELEASE_KEYS = tuple(dict.fromkeys(_file_key(f) for f in TABLE if f.section == "release"))
 _ENV_KEYS = _names("environment") + ("current",)
 _SED_SOURCES = ("class", "profile", "file")
 _SED_KEYS = _SED_SOURCES + _names("sediment")
@@ -1090,10 +1117,10 @@ class Scenario:
         if unknown:
             raise ScenarioError(unknown_names_message("section", unknown, _SECTIONS))
         mine = _section(d, "mine", _MINE_KEYS, required=True)
-        _required(mine, "mine", ("length", "diameter", "mass"))
+        _required(mine, "mine", _required_names("mine"))
         release = _section(d, "release", _RELEASE_KEYS)
         env = _section(d, "environment", _ENV_KEYS, required=True)
-        _required(env, "environment", ("water_depth",))
+        _required(env, "environment", _required_names("environment"))
         current = env.pop("current", {"kind": "none"})
         sed = _section(d, "sediment", _SED_KEYS, required=True)
         num = _section(d, "numerics", _NUM_KEYS)
@@ -1178,10 +1205,7 @@ class Scenario:
         else:
             cur_bank, cur_index = pack_banks([]), -1
         values = {
-            "release.q0": q[0],
-            "release.q1": q[1],
-            "release.q2": q[2],
-            "release.q3": q[3],
+            **dict(zip(_list_paths("release.quaternion"), q)),
             "current.table_index": cur_index,
             "sediment.profile_index": sed_index,
             "sediment.density": rho0,
@@ -1189,12 +1213,8 @@ class Scenario:
             "sediment.strength": s0,
             "sediment.strength_gradient": ks,
         }
-        for i, k in enumerate("xyz"):
-            values[f"release.{k}"] = r.position[i]
-        for i, k in enumerate("uvw"):
-            values[f"release.{k}"] = r.velocity[i]
-        for i in range(3):
-            values[f"release.omega{i + 1}"] = r.angular_velocity[i]
+        for key, paths in _RELEASE_VECTORS.items():
+            values.update(zip(paths, getattr(r, key)))
         parts = {"mine": m, "environment": e, "current": c, "sediment": s, "numerics": n}
         for name in layout.PARAM_NAMES:
             if name not in values:

@@ -39,7 +39,9 @@ from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.store import OutputRun
 from mineburial.figures import check_plot_path, figure_class
 from mineburial.io import forcing as fio
-from mineburial.io.dataset import standard_attrs
+from mineburial.io import netcdf as ncio
+from mineburial.io import variables as V
+from mineburial.io.dataset import build
 from mineburial.io.inputs import check_input, read_toml
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
@@ -57,19 +59,21 @@ __all__ = [
     "CELL_STATUS_MEANINGS",
 ]
 
-#: summary outputs whose mean, standard deviation and quantiles go into the map
-MAP_OUTPUTS = ("burial_volume", "penetration_depth")
-#: statistics variables copied per cell (plus the class dimension and status ones)
-_CELL_VARIABLES = (
-    "burial_class_count",
-    "burial_class_probability",
-    "burial_class_probability_lower",
-    "burial_class_probability_upper",
-    "status_count",
-) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
+#: summary outputs whose mean, standard deviation and quantiles go into the map (the registry's
+#: map family, :mod:`mineburial.io.variables`, declares the map's variables)
+MAP_OUTPUTS = V.MAP_OUTPUTS
 #: codes of the per-cell variable ``cell_status``
 CELL_COMPUTED, CELL_LAND, CELL_NO_SEDIMENT = 0, 1, 2
-CELL_STATUS_MEANINGS = ("computed", "land_or_no_water_depth", "no_sediment_data")
+CELL_STATUS_MEANINGS = V.CELL_STATUS_MEANINGS
+#: the coordinates of the statistics that a map shares with its cells' template run
+_SHARED_COORDS = (
+    "quantile",
+    "impact_burial_class",
+    "status_code",
+    "lead_time",
+    "burial_level",
+    "scour_status_code",
+)
 
 _SEDIMENT_PARAMS = {
     "sediment_density": "density",
@@ -649,9 +653,10 @@ def _merged(parts) -> xr.Dataset:
 
 
 def _cell_variables(template) -> tuple:
-    """The statistics copied per cell: :data:`_CELL_VARIABLES` and every variable of the
-    scour stage (with a lead_time, burial_level or scour_status_code axis, or a scalar)."""
-    return _CELL_VARIABLES + tuple(v for v in template.data_vars if str(v).startswith("scour_"))
+    """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
+    variable of the scour stage (with a lead_time, burial_level or scour_status_code axis, or a
+    scalar)."""
+    return V.MAP_STATISTICS + tuple(v for v in template.data_vars if str(v).startswith("scour_"))
 
 
 # ---------------------------------------------------------------------------
@@ -931,23 +936,24 @@ def _cell_statistics_template(spec) -> xr.Dataset:
     return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])
 
 
-def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
-    """Coordinate DataArrays of the map and the names of auxiliary lat/lon coordinates."""
+def _horizontal_coords(grid: EnvironmentGrid) -> dict:
+    """The map's coordinates by their names in the map family: the grid's axes as the grid gives
+    them (``y``, ``x``: DataArrays with the grid's names and attributes) and, on a projected
+    grid, the latitude and longitude of each cell where they can be had."""
     ds = grid.ds
-    coords: dict[str, xr.DataArray] = {}
-    for dim in (grid.ydim, grid.xdim):
+    coords: dict = {}
+    for key, dim in ((V.MAP_Y, grid.ydim), (V.MAP_X, grid.xdim)):
         c = ds[dim]
         attrs = {k: v for k, v in c.attrs.items() if k not in ("_FillValue",)}
-        coords[dim] = xr.DataArray(np.asarray(c.values), dims=(dim,), attrs=attrs)
+        coords[key] = xr.DataArray(np.asarray(c.values), dims=(dim,), attrs=attrs)
     if grid.geographic:
-        coords[grid.ydim].attrs.setdefault("standard_name", "latitude")
-        coords[grid.ydim].attrs.setdefault("units", "degrees_north")
-        coords[grid.ydim].attrs.setdefault("axis", "Y")
-        coords[grid.xdim].attrs.setdefault("standard_name", "longitude")
-        coords[grid.xdim].attrs.setdefault("units", "degrees_east")
-        coords[grid.xdim].attrs.setdefault("axis", "X")
-        return coords, []
-    aux = []
+        coords[V.MAP_Y].attrs.setdefault("standard_name", "latitude")
+        coords[V.MAP_Y].attrs.setdefault("units", "degrees_north")
+        coords[V.MAP_Y].attrs.setdefault("axis", "Y")
+        coords[V.MAP_X].attrs.setdefault("standard_name", "longitude")
+        coords[V.MAP_X].attrs.setdefault("units", "degrees_east")
+        coords[V.MAP_X].attrs.setdefault("axis", "X")
+        return coords
     lat = lon = None
     for name in ds.coords:
         c = ds[name]
@@ -959,19 +965,9 @@ def _horizontal_coords(grid: EnvironmentGrid) -> tuple[dict, list[str]]:
     if lat is None or lon is None:
         lat, lon = _latlon_from_projection(grid)
     if lat is not None:
-        lat, lon = np.asarray(getattr(lat, "values", lat)), np.asarray(getattr(lon, "values", lon))
-        coords["latitude"] = xr.DataArray(
-            lat,
-            dims=(grid.ydim, grid.xdim),
-            attrs={"standard_name": "latitude", "long_name": "latitude", "units": "degrees_north"},
-        )
-        coords["longitude"] = xr.DataArray(
-            lon,
-            dims=(grid.ydim, grid.xdim),
-            attrs={"standard_name": "longitude", "long_name": "longitude", "units": "degrees_east"},
-        )
-        aux = ["latitude", "longitude"]
-    return coords, aux
+        coords["latitude"] = np.asarray(getattr(lat, "values", lat))
+        coords["longitude"] = np.asarray(getattr(lon, "values", lon))
+    return coords
 
 
 def _latlon_from_projection(grid: EnvironmentGrid):
@@ -993,203 +989,91 @@ def _latlon_from_projection(grid: EnvironmentGrid):
 
 
 def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
-    """The map Dataset: per-cell results, the cells' status and seeds, the environment used."""
-    from mineburial.io import netcdf as ncio
-    from mineburial.io import variables as V
-
-    hdims = (grid.ydim, grid.xdim)
-    coords, aux = _horizontal_coords(grid)
+    """The map Dataset, built from the registry's map family (:func:`mineburial.io.dataset.build`):
+    per-cell results, the cells' status and seeds, the environment used. The family's ``y``, ``x``
+    and ``grid_mapping`` take the grid's names."""
     extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
-    data = _result_fields(arrays, template, hdims, extra)
-    prob = arrays["burial_class_probability"]
-    data["most_likely_burial_class"] = _most_likely_class(prob, hdims, extra, V.BURIAL_CLASS_MEANINGS)
-    data.update(_cell_fields(grid, status, base.seed, hdims, extra))
-    data.update(_environment_fields(grid, hdims, extra))
-    shared = (
-        "quantile",
-        "impact_burial_class",
-        "status_code",
-        "lead_time",
-        "burial_level",
-        "scour_status_code",
-    )
-    shared = tuple(c for c in shared if c in template.coords)
-    ds = xr.Dataset(data, coords={**{c: template[c] for c in shared}, **coords})
-    for name, da in data.items():
-        ds[name].encoding.update(da.encoding)
-    for c in shared:
-        ds[c].encoding.update(template[c].encoding)
-    ds.attrs = _global_attrs(grid, status, base, version, ncio)
-    return ds
+    data = _result_fields(arrays, template, extra)
+    data["most_likely_burial_class"] = (_most_likely_class(arrays["burial_class_probability"]), extra)
+    data.update(_cell_fields(grid, status, base.seed, extra))
+    data.update(_environment_fields(grid, extra))
+    coords = {c: template[c] for c in _SHARED_COORDS if c in template.coords}
+    coords.update(_horizontal_coords(grid))
+    names = {V.MAP_Y: grid.ydim, V.MAP_X: grid.xdim}
+    if grid.grid_mapping:
+        names["grid_mapping"] = grid.grid_mapping
+    attrs = _global_attrs(grid, status, base, version)
+    return build(data, coords, attrs, kind="map", version=version, names=names)
 
 
-def _result_fields(arrays, template, hdims, extra) -> dict:
-    """Each cell's ensemble statistics (``arrays``) on the grid, attributes from the template run."""
-    data: dict[str, xr.DataArray] = {}
+def _result_fields(arrays, template, extra) -> dict:
+    """Each cell's ensemble statistics (``arrays``) with the run-time attributes of the template
+    run (the class basis; not its sample size, which is per cell), and the class bounds."""
+    family = V.family("map")
+    data: dict = {}
     for name in _cell_variables(template):
-        t = template[name]
-        attrs = {k: v for k, v in t.attrs.items() if k != "sample_size"}
-        attrs.update(extra)
-        quality = name in ("status_count", "scour_status_count")
-        attrs["coverage_content_type"] = "qualityInformation" if quality else "modelResult"
-        if name.startswith("scour_") and not quality:
-            attrs["comment"] = attrs.get("comment", "") + (
-                " Per cell, over the drops of the cell's ensemble whose scour stage ran (scour_status "
-                "ok); NaN on land or where no drop's stage ran."
-            )
-        elif name.endswith(("_mean", "_std", "_quantile")):
-            attrs["comment"] = attrs.get("comment", "") + (
-                " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
-                "where no drop came to rest, or (std) where fewer than 2 did."
-            )
-        da = xr.DataArray(arrays[name], dims=t.dims + hdims, attrs=attrs)
-        da.encoding.update(t.encoding)
-        data[name] = da
+        declared = family[name].cf_attrs()
+        runtime = {k: v for k, v in template[name].attrs.items() if k not in declared and k != "sample_size"}
+        data[name] = (arrays[name], {**runtime, **extra})
     for name in ("burial_class_lower_percent", "burial_class_upper_percent"):
-        data[name] = template[name].copy()
+        data[name] = template[name].values
     return data
 
 
-def _most_likely_class(prob, hdims, extra, class_meanings) -> xr.DataArray:
+def _most_likely_class(prob) -> np.ndarray:
     """The class of highest probability per cell (the lower on ties), -1 without data."""
     finite = np.isfinite(prob).all(axis=0)
     likely = np.where(finite, np.argmax(np.where(np.isfinite(prob), prob, -1.0), axis=0), -1)
-    return xr.DataArray(
-        likely.astype(np.int8),
-        dims=hdims,
-        attrs={
-            "long_name": "most likely impact-burial class",
-            "flag_values": np.arange(-1, 5, dtype=np.int8),
-            "flag_meanings": "no_data " + " ".join(class_meanings),
-            "comment": "Class with the highest burial_class_probability in the cell (the lower "
-            "class on ties); -1 where the cell was not computed or no drop came to "
-            "rest.",
-            "coverage_content_type": "modelResult",
-            **extra,
-        },
-    )
+    return likely.astype(np.int8)
 
 
-def _cell_fields(grid, status, seed, hdims, extra) -> dict:
+def _cell_fields(grid, status, seed, extra) -> dict:
     """Per-cell status, ensemble seed (:func:`cell_seed`) and the water depth used."""
     ny, nx = grid.shape
-    data = {}
-    data["cell_status"] = xr.DataArray(
-        status,
-        dims=hdims,
-        attrs={
-            "long_name": "status of the map cell",
-            "flag_values": np.arange(3, dtype=np.int8),
-            "flag_meanings": " ".join(CELL_STATUS_MEANINGS),
-            "comment": "0: an ensemble was run; 1: land (water depth missing or <= 0), skipped; "
-            "2: no sediment data, skipped.",
-            "coverage_content_type": "qualityInformation",
-            **extra,
-        },
-    )
     seeds = np.zeros((ny, nx), dtype=np.uint64)
     for j in range(ny):
         for i in range(nx):
             if status[j, i] == CELL_COMPUTED:
                 seeds[j, i] = cell_seed(seed, j * nx + i)
-    data["cell_seed"] = xr.DataArray(
-        seeds,
-        dims=hdims,
-        attrs={
-            "long_name": "random seed of the cell's ensemble",
-            "comment": "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-cell:<seed>:<k>' "
-            "with <seed> the global attribute random_seed and k = row * n_columns + column; "
-            "rerun a cell with mineburial run --seed <cell_seed>. 0 for skipped cells.",
-            "coverage_content_type": "auxiliaryInformation",
-            **extra,
-        },
-    )
     depth = np.where(status == CELL_LAND, np.nan, grid.water_depth)
-    data["water_depth"] = xr.DataArray(
-        depth,
-        dims=hdims,
-        attrs={
-            "standard_name": "sea_floor_depth_below_sea_surface",
-            "long_name": "water depth",
-            "units": "m",
-            "comment": "Water depth of the cell used by its ensemble (from the environment grid's "
-            f"water_depth, read as {grid.vertical}).",
-            "coverage_content_type": "referenceInformation",
-            **extra,
-        },
+    how = (
+        "Water depth of the cell used by its ensemble (from the environment grid's "
+        f"water_depth, read as {grid.vertical})."
     )
-    return data
+    return {
+        "cell_status": (status, extra),
+        "cell_seed": (seeds, extra),
+        "water_depth": (depth, {"comment": how, **extra}),
+    }
 
 
-def _environment_fields(grid, hdims, extra) -> dict:
+def _environment_fields(grid, extra) -> dict:
     """The sediment, currents and grid mapping of the environment grid, as the cells used them."""
     ny, nx = grid.shape
-    data = {}
+    data: dict = {}
     if grid.sediment_class is not None:
         names = class_names()
         codes = np.full((ny, nx), -1, dtype=np.int8)
         for (j, i), v in np.ndenumerate(grid.sediment_class):
             if v is not None:
                 codes[j, i] = names.index(v)
-        da = xr.DataArray(
-            codes,
-            dims=hdims,
-            attrs={
-                "long_name": "seabed sediment class",
-                "flag_values": np.arange(len(names), dtype=np.int8),
-                "flag_meanings": " ".join(names),
-                "comment": "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
-                "coverage_content_type": "referenceInformation",
-                **extra,
-            },
-        )
-        da.encoding["_FillValue"] = np.int8(-1)
-        data["sediment_class"] = da
+        flags = {"flag_values": np.arange(len(names), dtype=np.int8), "flag_meanings": " ".join(names)}
+        data["sediment_class"] = (codes, {**flags, **extra})
     else:
-        units = {
-            "density": "kg m-3",
-            "density_gradient": "kg m-4",
-            "strength": "Pa",
-            "strength_gradient": "Pa m-1",
-        }
         for key, arr in grid.sediment_params.items():
-            data[f"sediment_{key}"] = xr.DataArray(
-                arr,
-                dims=hdims,
-                attrs={
-                    "long_name": f"seabed sediment {key.replace('_', ' ')} at the seabed"
-                    if key in ("density", "strength")
-                    else f"seabed sediment {key.replace('_', ' ')}",
-                    "units": units[key],
-                    "coverage_content_type": "referenceInformation",
-                    **extra,
-                },
-            )
+            data[f"sediment_{key}"] = (arr, extra)
     if grid.current_u is not None:
-        for name, arr, sn in (
-            ("current_u", grid.current_u, "eastward_sea_water_velocity"),
-            ("current_v", grid.current_v, "northward_sea_water_velocity"),
-        ):
-            data[name] = xr.DataArray(
-                arr,
-                dims=hdims,
-                attrs={
-                    "standard_name": sn,
-                    "units": "m s-1",
-                    "long_name": f"{sn.split('_')[0]} current",
-                    "comment": "Current used by the cell's ensemble (E-frame x = east, y = north).",
-                    "coverage_content_type": "referenceInformation",
-                    **extra,
-                },
-            )
+        data["current_u"] = (grid.current_u, extra)
+        data["current_v"] = (grid.current_v, extra)
     if grid.grid_mapping:
         g = grid.ds[grid.grid_mapping]
-        data[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
+        data["grid_mapping"] = xr.DataArray(np.int32(0), attrs=dict(g.attrs))
     return data
 
 
-def _global_attrs(grid, status, base, version, ncio) -> dict:
-    """The map's global attributes (ACDD/CF, :func:`standard_attrs`), scenario included."""
+def _global_attrs(grid, status, base, version) -> dict:
+    """The map's own global attributes (ACDD/CF; :func:`mineburial.io.dataset.build` adds the
+    ones every file carries), scenario included."""
     created = ncio.utc_now()
     resolved = _map_scenario(grid, base)
     scen = ncio.scenario_json(resolved)
@@ -1250,7 +1134,7 @@ def _global_attrs(grid, status, base, version, ncio) -> dict:
             attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     if grid.geographic:
         attrs.update(_geospatial_bounds(grid))
-    return standard_attrs("map", attrs, version=version)
+    return attrs
 
 
 def _map_scenario(grid, base) -> dict:

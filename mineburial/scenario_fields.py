@@ -34,6 +34,8 @@ RATE_LAW_NAMES = ("impact35", "semilog", "none")
 # scour conventions (kernels.scour: ORBITAL_*, FRICTION_* are these indices; docs/scour.md)
 SCOUR_ORBITAL_NAMES = ("spectral", "hrms", "hs")
 SCOUR_FRICTION_NAMES = ("swart", "soulsby")
+# scour time-scale laws T* = c KC^m theta^p (kernels.scour.TSTAR_LAWS holds their constants)
+SCOUR_TSTAR_LAWS = ("whitehouse", "pipeline", "pile_waves")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
 LAB_STRAIN_RATE = 0.01 / 3600.0
@@ -85,6 +87,24 @@ def _code(path, description):
     """An internal integer of the kernels that no file holds (a bank row, -1 for none)."""
     return Field(
         path, "1", -1, math.inf, True, False, description, None, None, kind="code", slot=True, sampled=False
+    )
+
+
+def _setup(path, kind, description, allowed, *, units="", low=-math.inf, high=math.inf, **kw):
+    """A key of a section that is no number of the kernels: a file or name (``text``), an inline
+    table (``table``) or a list of numbers (``list``, each in [``low``, ``high``]), whose checks
+    its reader makes (``allowed`` says them)."""
+    kw.setdefault("default_text", "—")
+    return Field(
+        path,
+        units,
+        low,
+        high,
+        description=description,
+        kind=kind,
+        sampled=False,
+        allowed_text=allowed,
+        **kw,
     )
 
 
@@ -590,7 +610,84 @@ TABLE: tuple[Field, ...] = (
         "fast",
     ),
     # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
-    # impact phase; packed into the stage's own parameters by mineburial/ensembles/scour.py
+    # impact phase; read by mineburial/ensembles/scour.py (its key list is this table's), the
+    # numbers packed into the stage's own parameters there. First the keys that set up the stage
+    # (a forcing, lists, a switch, a law: none may be sampled), then its numbers and conventions.
+    _setup(
+        "scour.forcing",
+        "text",
+        "the forcing series: Hs, a period, wave direction, current, optional water level (formats and "
+        "checks: docs/scour.md, Forcing)",
+        "a `.csv` or `.nc` path (relative to the scenario file), or the name of a shipped forcing "
+        "(`storm_example`)",
+    ),
+    _setup(
+        "scour.storm",
+        "table",
+        "a parametrised storm instead of a file (exactly one of `forcing`, `storm`)",
+        "inline table of `storm_series` keywords: `peak_hs`, `peak_tp`, `duration_h` (required), `ramp`, "
+        "`current`, `start`, `step_h`, `peak_h`, `total_h`, `background_hs`, `background_current`, "
+        "`wave_from`, `current_to`, `surge`",
+    ),
+    _setup(
+        "scour.forcing_grid",
+        "text",
+        "`mineburial map` only: each water cell takes its own series (docs/maps.md, Burial over time); "
+        "`run`, `compare` and `sensitivity` refuse it",
+        "a `.nc` path (relative to the scenario file) with (time, y, x) variables on the environment "
+        "grid's cells",
+    ),
+    _setup(
+        "scour.lead_times_days",
+        "list",
+        "times after the forcing's first record at which the burial is reported (coordinate `lead_time`)",
+        "non-empty, strictly increasing, in [0, the forcing's span]",
+        units="d",
+        low=0.0,
+        default_text="— (required)",
+    ),
+    _setup(
+        "scour.burial_levels",
+        "list",
+        "levels of B/D whose time to reach is reported",
+        "strictly increasing, in [0, 1]",
+        units="1",
+        low=0.0,
+        high=1.0,
+        default=(0.5, 0.75),
+        default_text="`[0.5, 0.75]`",
+    ),
+    Field(
+        "scour.cohesive",
+        "1",
+        description="a cohesive bed (mud, clay) does not scour in this model: the laws used are fitted to "
+        "non-cohesive sand and contain no bed strength (Whitehouse et al. 2000; docs/scour.md)",
+        default=False,
+        kind="bool",
+        sampled=False,
+        default_text="`sediment.class`'s (`true` for every class but `sand`), else `false`",
+    ),
+    _choice(
+        "scour.tstar_law",
+        SCOUR_TSTAR_LAWS,
+        "the time-scale law T* = c KC^m θ^p (docs/scour.md)",
+        "whitehouse",
+        slot=False,
+        sampled=False,
+    ),
+    Field(
+        "scour.window_days",
+        "d",
+        0.0,
+        math.inf,
+        False,
+        True,
+        "each drop sees only a window of this length of the forcing, lead times counted from the "
+        "window's start; where it starts is `scour.window_position` (docs/scour.md, Forcing window)",
+        sampled=False,
+        default_text="the whole series",
+        allowed_text="(0, the forcing's span]",
+    ),
     _f(
         "scour.d50",
         "m",

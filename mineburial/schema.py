@@ -45,7 +45,9 @@ __all__ = [
     "fmt",
 ]
 
-KINDS = ("float", "int", "bool", "choice", "code")
+#: a number, a whole number, a switch, one of named choices, an internal code of the kernels; and
+#: keys whose checks their reader makes: a file path or name, an inline table, a list of numbers
+KINDS = ("float", "int", "bool", "choice", "code", "text", "table", "list")
 
 
 def fmt(x: float) -> str:
@@ -63,7 +65,9 @@ class Field:
     ``release.z``; ``None`` for a kernel code no file holds). ``default`` is ``None`` for a
     required field or one whose default is computed (``default_text`` then says how).
     ``kind`` is ``float``, ``int``, ``bool``, ``choice`` (one of ``choices``, packed as its
-    index) or ``code`` (an internal integer of the kernels, such as a bank row).
+    index) or ``code`` (an internal integer of the kernels, such as a bank row); ``text``,
+    ``table`` and ``list`` (a list of numbers) are keys that their section's reader checks
+    itself, ``allowed_text`` saying in the documentation what it allows.
     """
 
     path: str
@@ -81,6 +85,7 @@ class Field:
     slot: bool = False
     sampled: bool = True
     default_text: str = ""
+    allowed_text: str = ""
 
     def __post_init__(self):
         if self.kind not in KINDS:  # pragma: no cover - guards the tables
@@ -260,7 +265,9 @@ def default_text(f: Field) -> str:
 
 def allowed_text(f: Field, rules=()) -> str:
     """The allowed values as the documentation writes them, with the rules on the field."""
-    if f.kind == "bool":
+    if f.allowed_text:
+        text = f.allowed_text
+    elif f.kind == "bool":
         text = "`true`/`false`"
     elif f.kind == "choice":
         text = ", ".join(f"`{json.dumps(c)}`" for c in f.choices)
@@ -280,7 +287,7 @@ def markdown_table(fields, rules=()) -> str:
     rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for f in fields:
         key = f.location.rpartition(".")[2] if f.location else "—"
-        units = f.units if f.numeric else "—"
+        units = f.units if f.numeric or (f.kind == "list" and f.units) else "—"
         cells = [f"`{key}`", f"`{f.path}`", units, default_text(f), allowed_text(f, rules)]
         cells += ([f.description] if meanings else []) + ([f.source or "—"] if sources else [])
         rows.append("| " + " | ".join(c.replace("\n", " ").replace("|", "\\|") for c in cells) + " |")

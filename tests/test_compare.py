@@ -10,6 +10,7 @@ import xarray as xr
 from mineburial.cli import main
 from mineburial.ensembles.engine import DEFAULT_SCENARIO
 from mineburial.ensembles.runner import run_ensemble
+from mineburial.io.dataset import registry_mismatches
 from mineburial.validation.compare import ComparisonError, parse_vary, run_comparison
 
 
@@ -47,6 +48,11 @@ def test_every_variant_equals_its_own_ensemble_run(resistances):
 
 def test_only_the_varied_field_changes(resistances):
     assert list(resistances.changed_parameters.values) == ["", "sediment.resistance", "sediment.resistance"]
+    assert registry_mismatches(resistances, "comparison") == []  # every variable from the registry
+    assert resistances.variant.attrs["long_name"] == "value of sediment.resistance"
+    assert resistances.penetration_depth_mean_difference_lower.attrs["long_name"] == (
+        "lower 95% bound of the paired difference (normal approximation)"
+    )
     # the variants do differ in their results
     assert not np.array_equal(resistances.drop_burial_volume[0], resistances.drop_burial_volume[2])
 

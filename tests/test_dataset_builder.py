@@ -125,3 +125,38 @@ def test_the_synthetic_environment_grid_is_built_from_its_family(tmp_path):
 def test_a_plain_tuple_is_values_not_values_and_attributes():
     ds = build({}, {"quantile": (0.05, 0.5)}, kind="restraint_ensemble")
     assert ds["quantile"].values.tolist() == [0.05, 0.5] and ds["quantile"].attrs["units"] == "1"
+
+
+def test_a_map_takes_its_grids_names_and_copies_the_grids_axes_and_grid_mapping():
+    names = {"y": "northing", "x": "easting", "grid_mapping": "utm"}
+    axis = {"standard_name": "projection_y_coordinate", "units": "m"}
+    ds = build(
+        {
+            "cell_status": np.zeros((2, 3), dtype=np.int8),
+            "water_depth": (np.ones((2, 3)), {"comment": "read as a depth"}),
+            "grid_mapping": xr.DataArray(np.int32(0), attrs={"grid_mapping_name": "transverse_mercator"}),
+        },
+        {
+            "y": xr.DataArray([0.0, 1.0], dims=("northing",), attrs=axis),
+            "x": xr.DataArray(np.arange(3.0, dtype=np.float32), dims=("easting",)),  # the grid's dtype
+        },
+        kind="map",
+        names=names,
+    )
+    assert ds["cell_status"].dims == ("northing", "easting") and ds["water_depth"].attrs["units"] == "m"
+    assert ds["utm"].attrs == {"grid_mapping_name": "transverse_mercator"} and ds["northing"].attrs == axis
+    assert registry_mismatches(ds, "map", names=names) == []
+    del ds["water_depth"].attrs["comment"]  # a run-time attribute must still be there
+    assert registry_mismatches(ds, "map", names=names) == ["water_depth: attribute comment = None, declared "
+        + repr(V.FAMILIES["map"]["water_depth"].description)]  # fmt: skip
+
+
+def test_the_map_and_comparison_families_derive_their_statistics_from_the_ensembles():
+    ens, m, c = V.FAMILIES["ensemble"], V.FAMILIES["map"], V.FAMILIES["comparison"]
+    for name in V.MAP_STATISTICS + V.MAP_SCOUR_STATISTICS:
+        assert m[name].dims == ens[name].dims + ("y", "x") and m[name].units == ens[name].units, name
+        assert m[name].long_name == ens[name].long_name and m[name].description.startswith(
+            ens[name].description
+        )
+    for name in ("burial_volume_mean", "height_proud_exceedance", "status_count"):
+        assert c[name].dims == ("variant",) + ens[name].dims and c[name].cf_attrs() == ens[name].cf_attrs()

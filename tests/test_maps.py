@@ -22,10 +22,13 @@ from conftest import scenario_dict
 from mineburial.cli import main
 from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
+from mineburial.io.dataset import registry_mismatches
 from mineburial.maps import MAP_OUTPUTS, MapError, plot_map, read_environment, run_map
 from mineburial.synthetic import synthetic_environment, write_synthetic_environment
 
 N, SEED = 5, 424242
+#: the names the synthetic (lat/lon) grid gives the map family's y, x and grid mapping
+GRID_NAMES = {"y": "latitude", "x": "longitude", "grid_mapping": "crs"}
 STAT_NAMES = (
     "burial_class_count",
     "burial_class_probability",
@@ -129,6 +132,27 @@ def test_land_cells_are_skipped(uniform_map):
     assert ds.attrs["n_cells_land"] == 1 and ds.attrs["n_cells_computed"] == 3
 
 
+def test_a_map_has_only_its_registry_familys_variables_and_the_text_map_files_had(uniform_map):
+    ds, _ = uniform_map
+    assert registry_mismatches(ds, "map", names=GRID_NAMES) == []
+    assert registry_mismatches(ds, "map") != []  # the grid's own names are not the declared y, x
+    # as the maps wrote them by hand before the family (mineburial/maps.py at ee0fb46)
+    assert ds["cell_status"].attrs["flag_meanings"] == "computed land_or_no_water_depth no_sediment_data"
+    assert ds["most_likely_burial_class"].attrs["flag_values"].tolist() == [-1, 0, 1, 2, 3, 4]
+    assert ds["most_likely_burial_class"].attrs["flag_meanings"].split()[:2] == ["no_data", "not_buried"]
+    comment = ds["burial_volume_mean"].attrs["comment"]
+    assert comment.endswith(
+        "Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
+        "where no drop came to rest, or (std) where fewer than 2 did."
+    )
+    assert "sample_size" not in ds["burial_volume_mean"].attrs  # the template run's, not a cell's
+    assert ds["burial_class_probability"].attrs["burial_class_basis"] == "burial_volume"
+    depth = "Water depth of the cell used by its ensemble (from the environment grid's water_depth, read as a"
+    assert ds["water_depth"].attrs["comment"].startswith(depth + " depth")
+    assert ds["sediment_class"].attrs["flag_meanings"].split()[4] == "stiff_clay"
+    assert ds["latitude"].attrs["axis"] == "Y" and ds["crs"].attrs["long_name"] == "WGS 84"  # the grid's
+
+
 def test_map_file_metadata_and_round_trip(uniform_map):
     ds, out = uniform_map
     back = xr.load_dataset(out)
@@ -206,6 +230,7 @@ def test_projected_grid_with_profile_values_and_speed_direction_current():
     assert ds["burial_volume_mean"].dims == ("y", "x")
     assert ds["burial_volume_mean"].attrs["grid_mapping"] == "utm"
     assert "utm" in ds and ds["utm"].attrs["grid_mapping_name"] == "transverse_mercator"
+    assert registry_mismatches(ds, "map", names={"y": "y", "x": "x", "grid_mapping": "utm"}) == []
     # UTM 32N: easting 580 km, northing 6040 km lies near 54.5 N, 10.2 E
     assert abs(float(ds["latitude"][0, 0]) - 54.5) < 0.1
     assert abs(float(ds["longitude"][0, 0]) - 10.23) < 0.1

@@ -15,12 +15,22 @@ import numpy as np
 import pytest
 import rasterio
 import xarray as xr
-from test_maps import SEED, STAT_NAMES, _scenario, cell_reference, expected_seed, uniform_environment
+from test_maps import (
+    GRID_NAMES,
+    SEED,
+    STAT_NAMES,
+    _scenario,
+    cell_reference,
+    expected_seed,
+    uniform_environment,
+)
 
 from mineburial.cli import main
 from mineburial.config import dumps_toml
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io import forcing as fio
+from mineburial.io.dataset import registry_mismatches
+from mineburial.io.variables import MAP_SCOUR_STATISTICS
 from mineburial.maps import MapError, run_map
 
 N = 4
@@ -84,6 +94,10 @@ def test_map_with_scour_keeps_every_impact_statistic_of_the_map_without(maps):
 
 def test_each_cell_holds_the_scour_statistics_of_its_single_run(maps):
     _, sec, _, ds = maps
+    assert registry_mismatches(ds, "map", names=GRID_NAMES) == []  # the stage's statistics declared too
+    assert set(MAP_SCOUR_STATISTICS) == {
+        v for v in ds.data_vars if str(v).startswith("scour_")
+    }  # and no more
     assert list(ds["lead_time"].values) == LEADS
     assert ds["lead_time"].attrs["standard_name"] == "forecast_period"
     assert ds["scour_burial_class_probability"].dims == (

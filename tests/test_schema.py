@@ -12,6 +12,7 @@ import ast
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -148,12 +149,12 @@ def test_every_declared_default_lies_inside_its_own_range():
             assert f.default in f.choices, f.path
         elif f.kind == "bool":
             assert isinstance(f.default, bool), f.path
-        else:
-            assert f.contains(f.default), (f.path, f.default, f.range_text())
+        else:  # a list's every element (scour.burial_levels)
+            assert np.all(f.contains(f.default)), (f.path, f.default, f.range_text())
 
 
 def test_fields_is_the_numeric_part_of_the_table_and_codes_are_not_sampled():
-    assert set(config.FIELDS) == {f.path for f in scenario_fields.TABLE if f.kind == "float"}
+    assert set(config.FIELDS) == {f.path for f in scenario_fields.TABLE if f.kind == "float" and f.sampled}
     assert all(config.ALIASES[a] in config.FIELDS for a in config.ALIASES)
     assert {f.path for f in scenario_fields.TABLE if f.kind == "code"} == {
         "sediment.profile_index",
@@ -311,7 +312,7 @@ def test_scalar_rule_message_names_field_value_range_and_unit():
 # ---------------------------------------------------------------------------
 # the documentation's field tables are generated from the declarations
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("name", sorted(config.DOC_TABLES))
+@pytest.mark.parametrize("name", sorted(config.DOC_BLOCKS))
 def test_scenario_doc_field_table_did_not_drift_from_the_table(name):
     doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
     assert config.field_table_block(name) in doc, (
@@ -342,3 +343,59 @@ def test_write_field_tables_restores_an_edited_table(tmp_path):
     path.write_text(edited, encoding="utf-8")
     config.write_field_tables(path)
     assert path.read_text(encoding="utf-8") == original
+
+
+def test_the_model_defaults_table_says_what_a_scenario_of_each_model_resolves_to():
+    doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    block = doc.split("<!-- table model-defaults")[1].split("<!-- end of table")[0]
+    rows = [[c.strip().strip("`").split('"')[1] for c in line.strip("|").split("|")]
+            for line in block.splitlines()[3:]]  # fmt: skip
+    assert {r[0] for r in rows} == {"mineburial", "impact35"}
+    for model, resistance, rate_law, integrator in rows:
+        d = {"mine": {"length": 2.0, "diameter": 0.5, "mass": 700.0}, "environment": {"water_depth": 30.0}}
+        s = Scenario.from_dict({**d, "sediment": {"class": "soft_clay"}, "numerics": {"model": model}})
+        assert (s.sediment.resistance, s.sediment.rate_law) == (resistance, rate_law)
+        assert s.numerics.integrator == integrator
+
+
+def test_every_key_of_the_scour_section_is_a_declared_field_listed_in_its_doc_table():
+    from mineburial.ensembles import scour
+
+    doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    block = doc.split("<!-- table scour:")[1].split("<!-- end of table scour")[0]
+    listed = [line.split("|")[1].strip().strip("`") for line in block.splitlines()[3:]]
+    # the keys its reader accepted before they were declared (mineburial/ensembles/scour.py, ee0fb46)
+    assert listed == list(scour.KEYS) == [
+        "forcing", "storm", "forcing_grid", "lead_times_days", "burial_levels", "cohesive", "tstar_law",
+        "window_days", "d50", "grain_density", "mobile_layer", "beq_a", "beq_b", "theta_exponent", "hs_scale",
+        "window_position", "orbital", "friction",
+    ]  # fmt: skip
+
+
+def test_the_dataclasses_take_keys_defaults_and_resolved_order_from_the_declarations():
+    # as config.py wrote them by hand at ee0fb46 (the resolved scenario's key order is in every output file)
+    assert set(config._RELEASE_KEYS) == {
+        "position", "velocity", "angular_velocity", "roll_deg", "pitch_deg", "heading_deg", "quaternion",
+        "embedded",
+    }  # fmt: skip
+    d = {"mine": {"length": 2.0, "diameter": 0.5, "mass": 700.0}, "environment": {"water_depth": 30.0}}
+    s = Scenario.from_dict({**d, "sediment": {"class": "soft_clay"}})
+    out = s.to_dict()
+    assert list(out["mine"]) == [
+        "name", "length", "diameter", "mass", "com_offset", "inertia_axial", "inertia_transverse",
+    ]  # fmt: skip
+    assert list(out["environment"]) == [
+        "gravity", "air_density", "air_viscosity", "water_density", "water_viscosity", "water_depth",
+        "current",
+    ]  # fmt: skip
+    # defaults written once, in scenario_fields.py (docs/scenario.md: 9.81, 1025, 0.3, 0.05, false)
+    assert (s.environment.gravity, s.environment.water_density) == (9.81, 1025.0)
+    assert (s.sediment.friction, s.numerics.rest_spin, s.release.embedded) == (0.3, 0.05, False)
+    with pytest.raises(ScenarioError, match=r"^mine\.mass \[kg\] is required$"):
+        Scenario.from_dict(
+            {**d, "mine": {"length": 2.0, "diameter": 0.5}, "sediment": {"class": "soft_clay"}}
+        )
+    p, _, _ = Scenario.from_dict(
+        {**d, "sediment": {"class": "soft_clay"}, "release": {"position": [1, 2, 3]}}
+    ).to_params()
+    assert [p[layout.INDEX[k]] for k in ("release.x", "release.y", "release.z")] == [1.0, 2.0, 3.0]

@@ -50,14 +50,12 @@ NUMERIC = {
 }
 #: the conventions of the section (cfg.SCHEMA choices ``scour.<name>``) and the stage slot each fills
 CHOICES = {"orbital": sc.S_ORBITAL, "friction": sc.S_FRICTION}
-KEYS = (
-    "forcing", "storm", "forcing_grid", "lead_times_days", "burial_levels", "cohesive", "tstar_law",
-    "window_days",
-) + tuple(NUMERIC) + tuple(CHOICES)  # fmt: skip
+#: the keys of the section, declared in mineburial/scenario_fields.py
+KEYS = tuple(f.name for f in cfg.SCHEMA.values() if f.section == "scour")
 #: the scour sediment a scenario's sediment class gives where the section does not (docs/scour.md, Sediment)
 SEDIMENT = ("d50", "grain_density", "cohesive")
 SLOT = dict(NUMERIC, cohesive=sc.S_COHESIVE)
-DEFAULT_LEVELS = (0.5, 0.75)
+DEFAULT_LEVELS = cfg.SCHEMA["scour.burial_levels"].default
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``
 SHIPPED = pathlib.Path(__file__).resolve().parent.parent / "data" / "forcing"
@@ -65,6 +63,8 @@ assert MEASURE_NAMES == V.SCOUR_MEASURES
 assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HRMS] == "hrms"
 assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HS] == "hs"
 assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
+assert cfg.SCHEMA["scour.tstar_law"].choices == tuple(sc.TSTAR_LAWS)
+assert {*NUMERIC, *CHOICES} <= set(KEYS)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -237,7 +237,7 @@ def parse(sec, base_dir=None, depth=None, classes=()) -> ScourSpec:
     levels = _numbers(
         sec.get("burial_levels"), "scour.burial_levels", low=0.0, high=1.0, default=DEFAULT_LEVELS
     )
-    law = sec.get("tstar_law", "whitehouse")
+    law = sec.get("tstar_law", cfg.SCHEMA["scour.tstar_law"].default)
     if not isinstance(law, str):
         raise cfg.ScenarioError(f"scour.tstar_law = {law!r} must be a name: {', '.join(sc.TSTAR_LAWS)}")
     if law not in sc.TSTAR_LAWS:

@@ -27,8 +27,9 @@ Three families of variables exist:
 
 Those are the variables of a mine ensemble's file. The other files have a family each in
 :data:`FAMILIES` (one drop's trajectory, the restraining system's time series and ensemble,
-the Sobol' indices, the synthetic environment grid); :func:`mineburial.io.dataset.build`
-makes every file from the family of its kind.
+the Sobol' indices, the synthetic environment grid, the burial map and the comparison of
+variants, whose statistics are the ensemble's declarations per cell or per variant);
+:func:`mineburial.io.dataset.build` makes every file from the family of its kind.
 
 In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
@@ -269,6 +270,12 @@ class Variable:
     #: the kernel-side names of the flags that the writer hands in as ``flag_values``/``flag_meanings``
     #: at run time (the registry does not import the kernel module that owns them)
     runtime_flags: str | None = None
+    #: attributes whose text the writer completes at run time (a comparison's varied field, how a
+    #: map's grid gives its depth); the declared text says what they hold
+    runtime_attrs: tuple[str, ...] = ()
+    #: copied with its attributes and dtype from a file the command reads (a map's grid axes and
+    #: grid mapping): the declaration names it and its dims, the input its metadata
+    from_input: bool = False
 
     def cf_attrs(self, **extra: Any) -> dict[str, Any]:
         """CF attributes of the variable (``extra`` overrides or adds, ``None`` removes)."""
@@ -1377,7 +1384,309 @@ def _environment_variables() -> list[Variable]:
     return out
 
 
-#: what a file of each kind is (the default ``history`` line of :func:`mineburial.io.dataset.standard_attrs`)
+# ---------------------------------------------------------------------------
+# the burial map (mineburial.maps): ensemble statistics per cell of an environment grid
+# ---------------------------------------------------------------------------
+#: summary outputs whose mean, standard deviation and quantiles a map holds per cell
+MAP_OUTPUTS = ("burial_volume", "penetration_depth")
+#: the ensemble statistics a map holds per cell; with [scour] also the stage's (MAP_SCOUR_STATISTICS)
+MAP_STATISTICS = (
+    "burial_class_count",
+    "burial_class_probability",
+    "burial_class_probability_lower",
+    "burial_class_probability_upper",
+    "status_count",
+) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
+#: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis,
+#: but the mobile share by lead time that only a run's file holds: ensembles.scour.dataset)
+MAP_SCOUR_STATISTICS = tuple(
+    name
+    for name, var in VARIABLES.items()
+    if name.startswith("scour_")
+    and "realization" not in var.dims
+    and var.dims != (name,)
+    and name != "scour_mobile_fraction_by_lead_time"
+)
+#: the horizontal dims of a map as declared; a file names them (and its grid mapping variable) as
+#: its environment grid does (:func:`mineburial.io.dataset.build`'s ``names``)
+MAP_Y, MAP_X = "y", "x"
+#: codes of the per-cell variable ``cell_status``
+CELL_STATUS_MEANINGS = ("computed", "land_or_no_water_depth", "no_sediment_data")
+_PER_CELL_IMPACT = (
+    " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
+    "where no drop came to rest, or (std) where fewer than 2 did."
+)
+_PER_CELL_SCOUR = (
+    " Per cell, over the drops of the cell's ensemble whose scour stage ran (scour_status "
+    "ok); NaN on land or where no drop's stage ran."
+)
+
+
+def _per_cell(name: str) -> Variable:
+    """The ensemble statistic ``name`` on a map: one value per cell (the grid's axes appended)."""
+    var = VARIABLES[name]
+    quality = name in ("status_count", "scour_status_count")
+    note = ""
+    if name.startswith("scour_") and not quality:
+        note = _PER_CELL_SCOUR
+    elif name.endswith(("_mean", "_std", "_quantile")):
+        note = _PER_CELL_IMPACT
+    cct = "qualityInformation" if quality else "modelResult"
+    return dataclasses.replace(
+        var,
+        dims=var.dims + (MAP_Y, MAP_X),
+        description=var.description + note,
+        attrs={**var.attrs, "coverage_content_type": cct},
+    )
+
+
+def _map_cell_variables() -> list[Variable]:
+    """What a map holds of each cell besides the statistics: its most likely class, its status,
+    its ensemble's seed and the water depth it used."""
+    yx = (MAP_Y, MAP_X)
+    return [
+        Variable(
+            "most_likely_burial_class",
+            yx,
+            "int8",
+            None,
+            "most likely impact-burial class",
+            "Class with the highest burial_class_probability in the cell (the lower class on ties); "
+            "-1 where the cell was not computed or no drop came to rest.",
+            attrs={
+                **_flag_attrs(range(-1, 5), ("no_data", *BURIAL_CLASS_MEANINGS)),
+                "coverage_content_type": "modelResult",
+            },
+        ),
+        Variable(
+            "cell_status",
+            yx,
+            "int8",
+            None,
+            "status of the map cell",
+            "0: an ensemble was run; 1: land (water depth missing or <= 0), skipped; 2: no sediment "
+            "data, skipped.",
+            attrs={
+                **_flag_attrs(range(3), CELL_STATUS_MEANINGS),
+                "coverage_content_type": "qualityInformation",
+            },
+        ),
+        Variable(
+            "cell_seed",
+            yx,
+            "uint64",
+            None,
+            "random seed of the cell's ensemble",
+            "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-cell:<seed>:<k>' with <seed> "
+            "the global attribute random_seed and k = row * n_columns + column; rerun a cell with "
+            "mineburial run --seed <cell_seed>. 0 for skipped cells.",
+            attrs={"coverage_content_type": "auxiliaryInformation"},
+        ),
+        Variable(
+            "water_depth",
+            yx,
+            "float64",
+            "m",
+            "water depth",
+            "Water depth of the cell used by its ensemble (from the environment grid's water_depth, "
+            "read as <how the grid gives it: a depth or an elevation, and by which attribute>).",
+            standard_name="sea_floor_depth_below_sea_surface",
+            attrs={"coverage_content_type": "referenceInformation"},
+            runtime_attrs=("comment",),
+        ),
+    ]
+
+
+#: units of a map's linear sediment profile, by key of the environment grid's ``sediment_<key>``
+MAP_SEDIMENT_UNITS = {
+    "density": "kg m-3",
+    "density_gradient": "kg m-4",
+    "strength": "Pa",
+    "strength_gradient": "Pa m-1",
+}
+
+
+def _map_environment_variables() -> list[Variable]:
+    """The environment of each cell as its ensemble used it: the sediment (a catalogue class or a
+    linear profile), the current, and the grid's axes and grid mapping as the grid gives them."""
+    yx, ref = (MAP_Y, MAP_X), {"coverage_content_type": "referenceInformation"}
+    out = [
+        Variable(
+            "sediment_class",
+            yx,
+            "int8",
+            None,
+            "seabed sediment class",
+            "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
+            attrs=ref,
+            fill_value=-1,
+            runtime_flags="mineburial.sediment_profiles.class_names()",
+        )
+    ]
+    out += [
+        Variable(
+            f"sediment_{key}",
+            yx,
+            "float64",
+            units,
+            f"seabed sediment {key.replace('_', ' ')}" + (" at the seabed" if "_" not in key else ""),
+            "",
+            attrs=ref,
+        )
+        for key, units in MAP_SEDIMENT_UNITS.items()
+    ]
+    out += [
+        Variable(
+            f"current_{c}",
+            yx,
+            "float64",
+            "m s-1",
+            f"{way} current",
+            "Current used by the cell's ensemble (E-frame x = east, y = north).",
+            standard_name=f"{way}_sea_water_velocity",
+            attrs=ref,
+        )
+        for c, way in (("u", "eastward"), ("v", "northward"))
+    ]
+    grid = "Named as in the environment grid, with its attributes"
+    out += [
+        Variable("grid_mapping", (), "int32", None, "grid mapping of the environment grid", grid + ".",
+                 from_input=True),
+        Variable(MAP_Y, (MAP_Y,), "float64", None, "y axis of the environment grid",
+                 grid + " (latitude: standard_name, units degrees_north and axis Y added where missing).",
+                 from_input=True),
+        Variable(MAP_X, (MAP_X,), "float64", None, "x axis of the environment grid",
+                 grid + " (longitude: standard_name, units degrees_east and axis X added where missing).",
+                 from_input=True),
+    ]  # fmt: skip
+    out += [
+        Variable(
+            axis,
+            yx,
+            "float64",
+            f"degrees_{'north' if axis == 'latitude' else 'east'}",
+            axis,
+            "",
+            standard_name=axis,
+        )
+        for axis in ("latitude", "longitude")  # of each cell of a projected grid (its grid mapping)
+    ]
+    return out
+
+
+def _map_variables() -> list[Variable]:
+    """The burial map of :mod:`mineburial.maps`: the ensemble statistics per cell, the class
+    bounds and the coordinates of the statistics, each cell's status, seed and environment."""
+    shared = (
+        "quantile",
+        "impact_burial_class",
+        "status_code",
+        "lead_time",
+        "burial_level",
+        "scour_status_code",
+    )
+    return [
+        *(_per_cell(name) for name in MAP_STATISTICS + MAP_SCOUR_STATISTICS),
+        VARIABLES["burial_class_lower_percent"],
+        VARIABLES["burial_class_upper_percent"],
+        *_map_cell_variables(),
+        *_map_environment_variables(),
+        *(VARIABLES[name] for name in shared),
+    ]
+
+
+# ---------------------------------------------------------------------------
+# the comparison of variants (mineburial.validation.compare): the same drops under each value
+# of one field
+# ---------------------------------------------------------------------------
+#: the burial measures whose statistics a comparison holds per variant
+COMPARE_OUTPUTS = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
+#: the measures whose paired differences and per-drop values it holds
+COMPARE_PER_DROP = ("penetration_depth", "burial_volume")
+_COMPARE_CLASS = (
+    "burial_class_count",
+    "burial_class_probability",
+    "burial_class_probability_lower",
+    "burial_class_probability_upper",
+    "status_count",
+)
+
+
+def _per_variant(name: str) -> Variable:
+    """The ensemble statistic ``name`` of each variant (a ``variant`` axis first)."""
+    var = VARIABLES[name]
+    return dataclasses.replace(var, dims=("variant", *var.dims))
+
+
+def _paired_variables(name: str) -> list[Variable]:
+    """The paired difference of output ``name`` to the first variant over the drops in both
+    statistics, its normal bounds at the run's confidence level, and that number of drops."""
+    v, units = ("variant",), SUMMARY_OUTPUTS[name].units
+    bound = "bound of the paired difference (normal approximation)"
+    runtime = ("long_name",)  # the first variant's value, the confidence level
+    return [
+        Variable(f"{name}_mean_difference", v, "float64", units,
+                 f"mean paired difference of {name} to variant <the first> (same drops)", "",
+                 runtime_attrs=runtime),
+        Variable(f"{name}_mean_difference_lower", v, "float64", units,
+                 f"lower <confidence level> {bound}", "", runtime_attrs=runtime),
+        Variable(f"{name}_mean_difference_upper", v, "float64", units,
+                 f"upper <confidence level> {bound}", "", runtime_attrs=runtime),
+        Variable(f"{name}_n_paired", v, "int64", "1",
+                 "drops in the statistics of this and the first variant", ""),
+    ]  # fmt: skip
+
+
+def _comparison_variables() -> list[Variable]:
+    """A comparison (:func:`mineburial.validation.compare.run_comparison`): each variant's burial
+    statistics (no histograms) with normal bounds of the means, the paired differences to the first
+    variant, each drop's values and status per variant, the slots each variant changed; the
+    sampled inputs (``input_*``, the same for every variant) once."""
+    stats = [f"{o}_{s}" for o in COMPARE_OUTPUTS for s in ("mean", "std", "stderr", "quantile", "exceedance")]
+    out = [_per_variant(name) for name in stats]
+    out += [VARIABLES["burial_class_lower_percent"], VARIABLES["burial_class_upper_percent"]]
+    out += [_per_variant(name) for name in _COMPARE_CLASS]
+    out += [
+        Variable(
+            f"{o}_mean_{side}",
+            ("variant",),
+            "float64",
+            SUMMARY_OUTPUTS[o].units,
+            f"{side} bound of the mean of {o} (normal approximation, mean -/+ z stderr)",
+            "",
+            attrs={"cell_methods": "realization: mean", "coverage_content_type": "modelResult"},
+        )
+        for o in COMPARE_OUTPUTS
+        for side in ("lower", "upper")
+    ]
+    out.append(
+        Variable("n_in_statistics", ("variant",), "int64", "1", "drops in the statistics of the variant", "")
+    )
+    out += [var for name in COMPARE_PER_DROP for var in _paired_variables(name)]
+    vr = ("variant", "realization")
+    out += [
+        Variable(f"drop_{o}", vr, "float64", SUMMARY_OUTPUTS[o].units, f"{o} of each drop", "")
+        for o in COMPARE_PER_DROP
+    ]
+    out.append(
+        Variable("drop_status", vr, "int8", None, "drop status", "",
+                 attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES))
+    )  # fmt: skip
+    out.append(
+        Variable("changed_parameters", ("variant",), "object", None,
+                 "packed parameter slots that differ from the first variant", "")
+    )  # fmt: skip
+    out += [VARIABLES[name] for name in ("quantile", *(f"{o}_level" for o in COMPARE_OUTPUTS))]
+    out += [VARIABLES["impact_burial_class"], VARIABLES["status_code"]]
+    out += [
+        Variable("variant", ("variant",), "object", None, "value of <the varied field>", "",
+                 runtime_attrs=("long_name",)),
+        Variable("realization", ("realization",), "int64", None, "drop index", ""),
+    ]  # fmt: skip
+    return out
+
+
+#: what a file of each kind is (the default ``history`` line of :func:`mineburial.io.dataset.standard_attrs)
 FAMILY_TITLES = {
     "ensemble": "Monte Carlo ensemble of mine drops",
     "trajectory": "trajectory of one mine drop",
@@ -1385,12 +1694,12 @@ FAMILY_TITLES = {
     "restraint_ensemble": "ensemble of cases of the restraining system",
     "sensitivity": "Sobol' sensitivity indices",
     "environment": "synthetic environment grid (invented values)",
-    "map": "burial map over an environment grid",  # its variables: mineburial.maps (no family yet)
-    "comparison": "comparison of variants of an ensemble scenario",  # validation.compare (no family yet)
+    "map": "burial map over an environment grid",
+    "comparison": "comparison of variants of an ensemble scenario",
 }
 #: the variables of each file kind: the mine ensemble's (:data:`VARIABLES`) and one family each for
-#: the single drop's trajectory, the restraint's time series, the restraint ensemble and the Sobol'
-#: sensitivity analysis
+#: the single drop's trajectory, the restraint's time series, the restraint ensemble, the Sobol'
+#: sensitivity analysis, the synthetic environment grid, the burial map and the comparison
 FAMILIES: dict[str, dict[str, Variable]] = {
     "ensemble": VARIABLES,
     "trajectory": _family(_trajectory_variables(), "trajectory"),
@@ -1398,6 +1707,8 @@ FAMILIES: dict[str, dict[str, Variable]] = {
     "restraint_ensemble": _family(_restraint_ensemble_variables(), "restraint_ensemble"),
     "sensitivity": _family(_sensitivity_variables(), "sensitivity"),
     "environment": _family(_environment_variables(), "environment"),
+    "map": _family(_map_variables(), "map"),
+    "comparison": _family(_comparison_variables(), "comparison"),
 }
 
 
@@ -1435,6 +1746,8 @@ def _md_escape(text: str) -> str:
 def _md_row(var: Variable, name: str | None = None) -> str:
     dims = ", ".join(var.dims) if var.dims else "(scalar)"
     units = f"(from `{var.dims[0]}`)" if var.is_bounds else (var.units or "")
+    if var.from_input:
+        units = "(the input's)"
     cf = var.standard_name or ""
     extra = ""
     if "flag_values" in var.attrs:
@@ -1444,6 +1757,8 @@ def _md_row(var: Variable, name: str | None = None) -> str:
         extra = (
             f" Flags: the codes of `{var.runtime_flags}` (flag_values/flag_meanings written by the writer)."
         )
+    if var.runtime_attrs:
+        extra += f" The writer completes `{'`, `'.join(var.runtime_attrs)}` (<...> above) at run time."
     return (
         f"| `{name or var.name}` | {dims} | {var.dtype} | {units} | {cf} | "
         f"{_md_escape(var.long_name)} | {_md_escape(var.description + extra)} |"
@@ -1524,4 +1839,6 @@ _FAMILY_HEADINGS = {
     "restraint_ensemble": "Restraining-system ensemble (`mineburial run` of a restraint scenario)",
     "sensitivity": "Sobol' sensitivity indices (`mineburial sensitivity`)",
     "environment": "Synthetic environment grid (`python -m mineburial.synthetic`, the maps' input format)",
+    "map": "Burial map (`mineburial map`; `y`, `x` and `grid_mapping` named as in the environment grid)",
+    "comparison": "Comparison of variants (`mineburial compare`; the sampled inputs `input_<path>` once)",
 }

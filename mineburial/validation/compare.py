@@ -50,7 +50,7 @@ from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
 from mineburial.figures import check_plot_path, pyplot, save_figure
 from mineburial.io import variables as V
-from mineburial.io.dataset import standard_attrs
+from mineburial.io.dataset import build
 from mineburial.kernels import layout
 from mineburial.kernels import status as st
 from mineburial.resources import memory_refusal
@@ -75,10 +75,10 @@ SHORT_NAMES = {
     "water_column": "numerics.water_column",
 }
 
-#: Outputs whose statistics are compared.
-OUTPUTS = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
+#: Outputs whose statistics are compared (the registry's comparison family declares the file).
+OUTPUTS = V.COMPARE_OUTPUTS
 #: Per-drop outputs stored for every variant.
-PER_DROP = ("penetration_depth", "burial_volume")
+PER_DROP = V.COMPARE_PER_DROP
 
 
 class ComparisonError(cfg.ScenarioError):
@@ -291,24 +291,20 @@ def run_comparison(
             scour.after_scour(s, np.concatenate([r["scour:measures"] for r in c]))
             for s, c in zip(summaries, chunks)
         ]
-    ds = _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level)
-    ds.attrs = standard_attrs(
-        "comparison",
-        {
-            **ds.attrs,
-            "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
-            + ", ".join(str(v) for v in values),
-            "varied_field": field,
-            "scenario": json.dumps(base.resolved(), default=str),
-            "random_seed": str(base.seed),
-            "sampling_method": base.sampling,
-            "n_drops": np.int64(base.n),
-            "inputs_identical_across_variants": "yes (checked chunk by chunk: the same sampled "
-            "inputs, and only the varied field's parameter "
-            "slots differ)",
-            "elapsed_seconds": float(elapsed),
-        },
-    )
+    attrs = {
+        "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
+        + ", ".join(str(v) for v in values),
+        "varied_field": field,
+        "scenario": json.dumps(base.resolved(), default=str),
+        "random_seed": str(base.seed),
+        "sampling_method": base.sampling,
+        "n_drops": np.int64(base.n),
+        "inputs_identical_across_variants": "yes (checked chunk by chunk: the same sampled "
+        "inputs, and only the varied field's parameter "
+        "slots differ)",
+        "elapsed_seconds": float(elapsed),
+    }
+    ds = _assemble(base, field, values, (summaries, statuses, inputs, changed), confidence_level, attrs)
     if base.scour is not None:
         _scour_attrs(ds, base.scour.lead_times_days[0], chunks, values)
     return ds
@@ -366,16 +362,26 @@ def _same_inputs(chunks) -> dict:
     return {key[6:]: np.concatenate([r[key] for r in first]) for key in first[0] if key.startswith("input:")}
 
 
-def _assemble(base, field, values, summaries, statuses, inputs, changed, confidence_level):
-    """The comparison Dataset: statistics per variant, paired differences, per-drop values."""
+def _assemble(base, field, values, per_drop, confidence_level, attrs) -> xr.Dataset:
+    """The comparison Dataset, built from the registry's comparison family
+    (:func:`mineburial.io.dataset.build`): statistics per variant, paired differences, per-drop
+    values; ``per_drop`` is (summaries, statuses, sampled inputs, changed slots) of the variants,
+    ``attrs`` the run's global attributes."""
+    summaries, statuses, inputs, changed = per_drop
     z = float(ndtri(0.5 + 0.5 * confidence_level))
     labels = [str(v) for v in values]
-    ds = _variant_statistics(base, summaries, statuses, confidence_level, z)
-    ds = ds.assign_coords(
-        variant=("variant", np.array(labels, dtype=object), {"long_name": f"value of {field}"})
-    )
-    _add_paired_differences(ds, summaries, statuses, labels[0], confidence_level, z)
-    return _add_drops(ds, summaries, statuses, inputs, changed)
+    stats = _variant_statistics(base, summaries, statuses, confidence_level, z)
+    family = V.family("comparison")
+    data = {  # each statistic with the attributes its computation gave beyond the declaration
+        name: (da.values, {k: v for k, v in da.attrs.items() if k not in family[name].cf_attrs()})
+        for name, da in stats.data_vars.items()
+    }
+    data.update(_paired_differences(summaries, statuses, labels[0], confidence_level, z))
+    data.update(_drops(summaries, statuses, inputs, changed))
+    coords = {name: stats[name].values for name in stats.coords}
+    coords["variant"] = (np.array(labels, dtype=object), {"long_name": f"value of {field}"})
+    coords["realization"] = np.arange(summaries[0].shape[0], dtype=np.int64)
+    return build(data, coords, {**stats.attrs, **attrs}, kind="comparison")
 
 
 def _variant_statistics(base, summaries, statuses, confidence_level, z):
@@ -418,11 +424,12 @@ def _variant_statistics(base, summaries, statuses, confidence_level, z):
     return ds
 
 
-def _add_paired_differences(ds, summaries, statuses, first_label, confidence_level, z):
+def _paired_differences(summaries, statuses, first_label, confidence_level, z) -> dict:
     """Paired differences to the first variant, over the drops in the statistics of both."""
     used = [np.isin(s, st.IN_STATISTICS) for s in statuses]
     bound = "bound of the paired difference (normal approximation)"
-    for name in ("penetration_depth", "burial_volume"):
+    out = {}
+    for name in PER_DROP:
         col = layout.SUMMARY_INDEX[name]
         diff, lo, hi, npair = [], [], [], []
         for k in range(len(summaries)):
@@ -434,58 +441,32 @@ def _add_paired_differences(ds, summaries, statuses, first_label, confidence_lev
             lo.append(m - z * se)
             hi.append(m + z * se)
             npair.append(d.size)
-        units = "m" if name == "penetration_depth" else "percent"
         for suffix, vals, long_name in (
             ("", diff, f"mean paired difference of {name} to variant {first_label} (same drops)"),
             ("_lower", lo, f"lower {confidence_level:.0%} {bound}"),
             ("_upper", hi, f"upper {confidence_level:.0%} {bound}"),
         ):
-            ds[f"{name}_mean_difference{suffix}"] = (
-                "variant",
-                np.array(vals),
-                {"units": units, "long_name": long_name},
-            )
-        ds[f"{name}_n_paired"] = (
-            "variant",
-            np.array(npair, dtype=np.int64),
-            {"units": "1", "long_name": "drops in the statistics of this and the first variant"},
-        )
+            out[f"{name}_mean_difference{suffix}"] = (np.array(vals), {"long_name": long_name})
+        out[f"{name}_n_paired"] = np.array(npair, dtype=np.int64)
+    return out
 
 
-def _add_drops(ds, summaries, statuses, inputs, changed):
+def _drops(summaries, statuses, inputs, changed) -> dict:
     """Per-drop values and statuses of each variant, the sampled inputs once, the changed slots."""
-    n = summaries[0].shape[0]
-    for name in PER_DROP:
-        col = layout.SUMMARY_INDEX[name]
-        ds[f"drop_{name}"] = (
-            ("variant", "realization"),
-            np.stack([s[:, col] for s in summaries]),
-            {"units": "m" if name == "penetration_depth" else "percent", "long_name": f"{name} of each drop"},
-        )
-    ds["drop_status"] = (
-        ("variant", "realization"),
-        np.stack(statuses).astype(np.int8),
-        {
-            "long_name": "drop status",
-            "flag_values": np.arange(len(st.NAMES), dtype=np.int8),
-            "flag_meanings": " ".join(st.NAMES),
-        },
-    )
-    ds = ds.assign_coords(
-        realization=("realization", np.arange(n, dtype=np.int64), {"long_name": "drop index"})
-    )
+    out = {
+        f"drop_{name}": np.stack([s[:, layout.SUMMARY_INDEX[name]] for s in summaries]) for name in PER_DROP
+    }
+    out["drop_status"] = np.stack(statuses).astype(np.int8)
     for path, vals in inputs.items():
-        ds[V.input_variable_name(path)] = (
-            "realization",
+        out[V.input_variable_name(path)] = xr.DataArray(
             vals,
-            {"long_name": f"sampled {path} (the same for every variant)", "scenario_path": path},
+            dims=("realization",),
+            attrs={"long_name": f"sampled {path} (the same for every variant)", "scenario_path": path},
         )
-    ds["changed_parameters"] = (
-        "variant",
-        np.array([" ".join(layout.PARAM_NAMES[i] for i in sorted(c)) for c in changed], dtype=object),
-        {"long_name": "packed parameter slots that differ from the first variant"},
+    out["changed_parameters"] = np.array(
+        [" ".join(layout.PARAM_NAMES[i] for i in sorted(c)) for c in changed], dtype=object
     )
-    return ds
+    return out
 
 
 # ---------------------------------------------------------------------------
