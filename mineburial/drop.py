@@ -13,6 +13,7 @@ from mineburial.io import variables as V
 from mineburial.io.dataset import build
 from mineburial.kernels import layout, status
 from mineburial.kernels.layout import N_TRAJ, TRAJ_COLUMNS
+from mineburial.kernels.overburden import with_long_tables
 from mineburial.kernels.rotation import euler_angles
 from mineburial.kernels.stepper import reference_paths, run_drop
 
@@ -88,12 +89,13 @@ def run_params(params, sediment_bank, current_bank, record_interval=None, name="
         np.ascontiguousarray(sediment_bank, dtype=np.float64),
         np.ascontiguousarray(current_bank, dtype=np.float64),
     )
-    code, rows = run_drop(params, *banks, summary, traj, dt_rec, reference_paths(params))
+    paths = with_long_tables(reference_paths(params), params, banks[0])
+    code, rows = run_drop(params, *banks, summary, traj, dt_rec, paths)
     end = summary[layout.S_TOTAL_TIME]
     if traj is not None and rows == traj.shape[0] and traj[rows - 1, 0] < end:
         # the drop ran past the buffer: again, with a buffer that reaches its end
         traj = np.empty((trajectory_rows(dt_rec, end, name), N_TRAJ))
-        code, rows = run_drop(params, *banks, summary, traj, dt_rec, reference_paths(params))
+        code, rows = run_drop(params, *banks, summary, traj, dt_rec, paths)
     return int(code), summary, (traj[:rows] if record_interval is not None else None)
 
 

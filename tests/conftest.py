@@ -1,6 +1,12 @@
-"""Shared helpers for the tests: build scenarios from small dict overrides."""
+"""Shared helpers for the tests: build scenarios from small dict overrides; the warm-up of
+numba's cache before the xdist workers start (:func:`pytest_configure`)."""
 
 import copy
+import os
+import pathlib
+import subprocess
+import sys
+import time
 
 import pytest
 
@@ -81,3 +87,59 @@ def _self_check_off_unless_asked(request, monkeypatch):
     paying it in every CLI test would cost minutes of the suite's budget."""
     if request.module.__name__ != "test_accuracy_check":
         monkeypatch.setitem(mine.ENSEMBLE_DEFAULTS, "accuracy_check", 0)
+
+
+#: one drop of the BASE scenario on the sediment quadrature named by argv[1] (``fast``: the
+#: default paths, reference_paths None; ``reference``: reference_paths True), through the batch
+#: driver and with a trajectory: the four run_drop specialisations most test files share
+WARM_UP = """
+import sys
+sys.path.insert(0, sys.argv[2])
+from conftest import make_scenario
+from mineburial.drop import run_params
+from mineburial.ensembles.batch import run_batch
+p, sb, cb = make_scenario(numerics={"sediment_quadrature": sys.argv[1]}).to_params()
+run_batch(p[None, :], [1], sb, cb, threads=1)
+run_params(p, sb, cb, record_interval=0.5)
+"""
+
+
+def _warm_up_wanted(config) -> bool:
+    """Whether this process is the xdist controller of a run of the whole suite on workers,
+    with numba's on-disk cache on (a run of a few files should not wait for it)."""
+    if hasattr(config, "workerinput") or config.getoption("collectonly", False):
+        return False
+    if not (config.getoption("numprocesses", 0) or 0) or config.getoption("dist", "no") == "no":
+        return False
+    env = os.environ
+    if env.get("NUMBA_DISABLE_JIT", "0") != "0" or env.get("MINEBURIAL_NUMBA_CACHE", "1") in ("0", "false"):
+        return False
+    here = pathlib.Path(__file__).parent.resolve()
+    return all(pathlib.Path(a.split("::")[0]).resolve() in (here, here.parent) for a in config.args)
+
+
+def pytest_configure(config):
+    """Compile the engine's shared paths once, in the xdist controller, before the workers start:
+    from an empty cache (CI) both workers otherwise compile the same kernels at the same time
+    (one run_drop specialisation is 20-60 s of CPU). Two processes (one per core) fill numba's
+    on-disk cache (``NUMBA_CACHE_DIR`` or the package's ``__pycache__``), from which the workers
+    load; on a warm cache it costs the two processes' start-up and cache loads (16 s wall on the
+    loaded 2-core host). Results are unaffected: a kernel loaded from the cache is the one
+    compiled (docs/design.md, "Developing kernels")."""
+    config.warm_up_note = None
+    if not _warm_up_wanted(config):
+        return
+    t0 = time.perf_counter()
+    here = str(pathlib.Path(__file__).parent.resolve())
+    procs = [
+        subprocess.Popen([sys.executable, "-c", WARM_UP, quadrature, here], stdout=subprocess.DEVNULL)
+        for quadrature in ("fast", "reference")
+    ]
+    codes = [proc.wait() for proc in procs]
+    config.warm_up_note = (
+        f"numba cache warmed before the workers started: {time.perf_counter() - t0:.1f} s, exit codes {codes}"
+    )
+
+
+def pytest_report_header(config):
+    return getattr(config, "warm_up_note", None)

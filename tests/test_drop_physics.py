@@ -22,6 +22,7 @@ from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import layout, status
 from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.overburden import overburden_force
+from mineburial.kernels.sediment.laws import pack_law
 
 
 def make_scenario(**sections):
@@ -293,7 +294,8 @@ def test_tabulated_overburden_against_quadrature(a_z, zeta_lo, table):
     # place the COM so that the lowest point is zeta_lo below the seabed (chi = 0)
     z_c = seabed - zeta_lo + 0.5 * L * abs(a_z) + R * b
     z_lo = seabed - zeta_lo
-    f, fx, fe = overburden_force(Cylinder(L, R, 0.0), a_z, z_c, seabed, z_lo, RHO, G, p, sb)
+    law = pack_law(p, p[layout.P_DIAMETER], True)
+    f, fx, fe = overburden_force(Cylinder(L, R, 0.0), a_z, z_c, seabed, z_lo, RHO, G, p, sb, law)
 
     def rho(zeta):
         return np.interp(zeta, tab[0], tab[1])

@@ -78,3 +78,24 @@ def test_compiled_callers_call_the_twin_without_cpython_wrapper():
     twin = scaled_sum._callee
     assert twin.targetoptions["no_cpython_wrapper"] is True
     assert len(twin.signatures) == 1  # the constants 2 and 3 typed as one int64 argument
+
+
+def test_importing_the_engine_makes_no_cache_folder_until_a_kernel_is_used(tmp_path):
+    """numba's cache of a kernel is made at its first compile or load, not at import (each one
+    made creates its folder and a test file in it; docs/design.md, "Warm start"): importing the
+    engine leaves NUMBA_CACHE_DIR empty, and calling one kernel fills its cache there."""
+    code = (
+        "import os, sys\n"
+        "import mineburial.ensembles.engine, mineburial.ensembles.batch\n"
+        "print(sum(len(dirs) + len(files) for _, dirs, files in os.walk(sys.argv[1])))\n"
+        "from mineburial.kernels.rotation import rotation_matrix\n"
+        "rotation_matrix(1.0, 0.0, 0.0, 0.0)\n"
+        "print(sorted(f.split('-')[0] for _, _, fs in os.walk(sys.argv[1]) for f in fs))\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), CACHE_ENV: "1"}
+    out = subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path)], env=env, capture_output=True, text=True, check=True
+    )
+    before, after = out.stdout.splitlines()
+    assert before == "0"
+    assert after == "['rotation.rotation_matrix', 'rotation.rotation_matrix']"  # its index and its code

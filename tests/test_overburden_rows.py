@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 import pytest
+from numba import types
 from scipy import integrate
 
 from mineburial.config import Scenario, ScenarioError
@@ -23,7 +24,7 @@ from mineburial.kernels import layout
 from mineburial.kernels import overburden as ob
 from mineburial.kernels.bodies.cylinder import Cylinder
 from mineburial.kernels.geometry import vertical_extent
-from mineburial.kernels.sediment.laws import drop_bank
+from mineburial.kernels.sediment.laws import drop_bank, pack_law
 
 DEFAULT = pathlib.Path(__file__).resolve().parents[1] / "mineburial" / "data" / "default_mine.toml"
 RHO_W = 1025.0
@@ -57,14 +58,18 @@ def drop_inputs(depth, density, quadrature="fast"):
     return drop_bank(p, sed_bank)
 
 
-def force(p, bank, a_z, penetration, quadrature):
-    """(F, F x, F eta) of the body whose lowest point is ``penetration`` below the seabed (z = 0)."""
+def force(p, bank, a_z, penetration, quadrature, paths=True):
+    """(F, F x, F eta) of the body whose lowest point is ``penetration`` below the seabed (z = 0),
+    with the law's ``reference_paths`` slot ``paths`` (True: both rules compiled)."""
     q = p.copy()
     q[layout.P_OB_QUADRATURE] = layout.OVERBURDEN_QUADRATURE_NAMES.index(quadrature)
     L, R, chi = q[layout.P_LENGTH], 0.5 * q[layout.P_DIAMETER], q[layout.P_CHI]
     z_lo, _ = vertical_extent(L, R, chi, a_z, 0.0)
     z_c = -penetration - z_lo
-    return np.array(ob.overburden_force(Cylinder(L, R, chi), a_z, z_c, 0.0, -penetration, RHO_W, G, q, bank))
+    law = pack_law(q, q[layout.P_DIAMETER], paths)
+    return np.array(
+        ob.overburden_force(Cylinder(L, R, chi), a_z, z_c, 0.0, -penetration, RHO_W, G, q, bank, law)
+    )
 
 
 def geometry(p):
@@ -196,6 +201,40 @@ def test_short_table_drops_are_bit_identical_with_either_rule():
     for pitch in (0.0, 30.0):
         out = [run_params(*scenario(z, rho, q, pitch).to_params())[:2] for q in ("fast", "reference")]
         assert out[0][0] == out[1][0] and np.array_equal(out[0][1], out[1][1])
+
+
+def test_bounded_rule_compiled_only_for_a_batch_with_a_long_table():
+    # with_long_tables decides before the batch; a table of EXACT_DEPTHS depths below the
+    # seabed can never put more inside the body (depths_inside checked at every depth)
+    def paths(depth, quadrature="fast", given=None):
+        p, bank, _ = scenario(depth, np.full(len(depth), 1500.0), quadrature).to_params()
+        return ob.with_long_tables(given, np.stack([p, p]), bank), p, bank
+
+    short = np.linspace(0.0, 6.0, ob.EXACT_DEPTHS + 1)  # EXACT_DEPTHS depths below the seabed
+    decided, p, bank = paths(short)
+    q, own = drop_bank(p, bank)
+    assert decided is None
+    assert max(ob.depths_inside(own, 0, d) for d in np.linspace(-1.0, 20.0, 400)) == ob.EXACT_DEPTHS
+    longer = np.linspace(0.0, 6.0, ob.EXACT_DEPTHS + 2)
+    assert paths(longer)[0] is True
+    assert paths(longer, "reference")[0] is None  # the reference rule never takes it
+    assert paths(short, given=True)[0] is True  # a batch with reference paths keeps them
+    p, bank, _ = Scenario.from_toml(DEFAULT).to_params()  # a linear profile
+    assert ob.with_long_tables(None, p, bank) is None
+
+
+def test_without_long_tables_the_bounded_rule_is_not_compiled():
+    # the law's reference_paths slot None: the reference rule even for a long table (never
+    # reached in a run: with_long_tables), and no code of the bounded rule in the kernel
+    z = np.linspace(0.0, 10.0, 3000)
+    p, bank = drop_inputs(z, smooth(z))
+    for a_z, pen in ((0.0, 0.8), (0.6, 2.5)):
+        exact = force(p, bank, a_z, pen, "reference")
+        assert np.array_equal(force(p, bank, a_z, pen, "fast", None), exact)
+        assert not np.array_equal(force(p, bank, a_z, pen, "fast"), exact)
+    ir = {sig[-1]: ob.overburden_force.inspect_llvm(sig) for sig in ob.overburden_force.signatures}
+    laws = {law.types[-1]: text for law, text in ir.items()}
+    assert "_bounded" not in laws[types.none] and "_bounded" in laws[types.boolean]
 
 
 def test_long_table_penetration_within_a_millimetre_of_the_exact_rule():

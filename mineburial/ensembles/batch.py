@@ -28,6 +28,7 @@ import numpy as np
 from mineburial.ensembles.interrupt import Interrupted, sigint_flag
 from mineburial.kernels import status as st
 from mineburial.kernels.layout import N_SUMMARY
+from mineburial.kernels.overburden import with_long_tables
 from mineburial.kernels.stepper import reference_paths, run_drop
 
 BLOCK_SIZE = 2  # drops a thread takes at a time (drops are long: balance, not overhead)
@@ -73,7 +74,7 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
         np.ascontiguousarray(current_bank, dtype=np.float64),
         summary,
         codes,
-        reference_paths(params),
+        with_long_tables(reference_paths(params), params, sediment_bank),
     )
     threads = numba.get_num_threads() if threads is None else int(threads)
     try:

@@ -443,7 +443,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         )
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
-            fo, fox, foe = overburden_force(body, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank)
+            fo, fox, foe = overburden_force(body, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank, law)
             sf3 += fo
             _, _, _, t1, t2, t3 = vertical_load(fo, fox, foe, dn2, dn3, kb1, kb2, kb3)
             sm1 += t1

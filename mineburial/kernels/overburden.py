@@ -23,20 +23,31 @@ volume and centroid exactly), each slice acting at its centroid. Two rules
   bit-identical to it), else :func:`_bounded`: :data:`SLICES` equal slices of the
   embedded span whatever the table's length (docs/notes/sediment.md, "The overburden
   of a long table").
+
+:func:`_bounded` is compiled only for a batch that may need it, like the reference paths
+(:func:`.stepper.reference_paths`, whose ``None`` or ``True`` rides in the law's
+``LAW_REFERENCE_PATHS`` slot): :func:`with_long_tables` makes it ``True`` when some drop has a
+table longer than :data:`EXACT_DEPTHS` depths; with ``None`` the reference rule alone is
+compiled (docs/design.md, compile time).
 """
 
 import math
 
-from mineburial._numba import kernel, small_kernel
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels.environment import bracket, interpolate_row, last_point
 from mineburial.kernels.layout import (
+    N_PARAMS,
     P_OB_QUADRATURE,
     P_SED_PROFILE,
     P_SED_RHO,
     P_SED_RHO_GRAD,
 )
-from mineburial.kernels.sediment.laws import COLUMN_OVERBURDEN, sediment_properties
+from mineburial.kernels.sediment.laws import COLUMN_OVERBURDEN, LAW_REFERENCE_PATHS, sediment_properties
 
 #: codes of ``numerics.overburden_quadrature`` (``layout.OVERBURDEN_QUADRATURE_NAMES``)
 OB_FAST = 0
@@ -81,18 +92,61 @@ def depths_inside(bank, row, depth_max):
 
 
 @kernel
-def overburden_force(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank):
+def overburden_force(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank, law):
     """(F, F*x, F*eta): upward force [N] of the effective overburden and its first
     moments about the COM in the body frame (x along the axis, eta along e_down):
-    the torque is (F*x i_M + F*eta e_down) x k. The rule: ``p[P_OB_QUADRATURE]``."""
+    the torque is (F*x i_M + F*eta e_down) x k. The rule: ``p[P_OB_QUADRATURE]``; ``law``
+    (:func:`.laws.pack_law`): its ``LAW_REFERENCE_PATHS`` slot decides whether the bounded
+    rule is compiled (:func:`with_long_tables`)."""
     depth_max = seabed_z - z_lo  # deepest embedded point below the seabed
     if depth_max <= 0.0:
         return 0.0, 0.0, 0.0
-    row = int(p[P_SED_PROFILE])
-    if row >= 0 and int(p[P_OB_QUADRATURE]) != OB_REFERENCE:
-        if depths_inside(bank, row, depth_max) > EXACT_DEPTHS:
-            return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
-    return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+    return _rule(law[LAW_REFERENCE_PATHS], body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+
+
+def with_long_tables(paths, params, sediment_bank):
+    """``paths`` (:func:`.stepper.reference_paths` of the drops whose parameter vectors are the
+    rows of ``params``), or ``True`` when one of them may take the bounded rule: its overburden
+    quadrature ``fast`` and its sediment table with more than :data:`EXACT_DEPTHS` depths below
+    the seabed (:func:`depths_inside` counts no more). The bounded rule is then compiled with
+    the reference paths: a run's self-check (ensembles/accuracy.py) compiles those anyway, and a
+    third type of ``paths`` would compile the whole drop once more (docs/design.md)."""
+    if paths is not None:
+        return paths
+    params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
+    bank = np.asarray(sediment_bank, dtype=np.float64)
+    rows = params[params[:, P_OB_QUADRATURE] != OB_REFERENCE, P_SED_PROFILE]
+    rows = np.unique(rows[(rows >= 0) & (rows < bank.shape[0])]).astype(np.int64)
+    if rows.size and np.any(np.sum(bank[rows, 0, :] > 0.0, axis=1) > EXACT_DEPTHS):
+        return True
+    return None
+
+
+def _rule(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+    """The overburden of a body embedded down to ``depth_max``: the reference rule, or the
+    bounded one for a long table (see the module); compiled through the overload below, which
+    leaves the bounded rule out when ``paths`` is ``None``."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_rule, jit_options=JIT_OPTIONS)
+def _rule_impl(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+    if isinstance(paths, (types.NoneType, types.Omitted)):
+
+        def reference_only(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+            # no drop of the batch has a long table (with_long_tables): the fast rule is this
+            return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+
+        return reference_only
+
+    def by_table(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+        row = int(p[P_SED_PROFILE])
+        if row >= 0 and int(p[P_OB_QUADRATURE]) != OB_REFERENCE:
+            if depths_inside(bank, row, depth_max) > EXACT_DEPTHS:
+                return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+        return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+
+    return by_table
 
 
 @kernel

@@ -79,7 +79,7 @@ def static_load(y, p, law, bank):
     fx = f * xs
     fe = f * es
     if z_lo < -depth and int(p[P_SED_RESISTANCE]) != RES_DELTA:
-        fo, fox, foe = overburden_force(body, kb1, z, -depth, z_lo, rho_w, g, p, bank)
+        fo, fox, foe = overburden_force(body, kb1, z, -depth, z_lo, rho_w, g, p, bank, law)
         f += fo
         fx += fox
         fe += foe
