@@ -191,21 +191,16 @@ def test_every_method_of_the_core_is_offered_by_both_systems():
 
 
 @njit
-def decay_rhs(t, y, lam, dy):
-    dy[0] = lam * y[0]
+def linear_rhs(t, y, p, dy):
+    # y' = lam y, p = (lam, limit): finite up to y = limit, infinite at any (trial) state above it
+    dy[0] = p[0] * y[0] if y[0] <= p[1] else math.inf
 
 
-@njit
-def infinite_beyond_one(t, y, lam, dy):
-    # finite at y = 1, infinite at any trial state above it
-    dy[0] = lam * y[0] if y[0] <= 1.0 else math.inf
+#: one test system for every attempt_step test (one compile of the kernel for it)
+LINEAR = System("test linear", linear_rhs, no_event)
 
 
-DECAY = System("test decay", decay_rhs, no_event)
-BLOW_UP = System("test blow-up", infinite_beyond_one, no_event)
-
-
-def attempt(system, method, h, lam, jac_age=core.JAC_MAX_AGE, err_prev=1e-4):
+def attempt(method, h, lam, limit=math.inf, jac_age=core.JAC_MAX_AGE, err_prev=1e-4):
     """One attempt_step of y' = lam y from y = 1; returns (accepted, h_next, err_prev, jac_age, ynew, ws)."""
     n = 1
     y = np.ones(n)
@@ -214,8 +209,9 @@ def attempt(system, method, h, lam, jac_age=core.JAC_MAX_AGE, err_prev=1e-4):
     ws = (k, np.empty(n), np.empty(n), np.empty((5, n)), np.empty(n), np.array([0]), np.zeros((n, 1)),
           np.empty((1, 1)), np.empty(1, np.int64), np.empty((4, n)), np.empty(1))  # fmt: skip
     groups = np.array([[0, 1]])
+    p = np.array([lam, limit])
     out = core.attempt_step(
-        system, method, 0.0, y, h, lam, True, groups, 1e-6, 1e-9, err_prev, True, jac_age, ws
+        LINEAR, method, 0.0, y, h, p, True, groups, 1e-6, 1e-9, err_prev, True, jac_age, ws
     )
     return (*out, ws[1][0], ws)
 
@@ -232,7 +228,7 @@ def attempt(system, method, h, lam, jac_age=core.JAC_MAX_AGE, err_prev=1e-4):
 )
 def test_attempt_step_gives_each_explicit_methods_stability_function(method, polynomial):
     lam, h = -1.0, 0.05
-    accepted, h_next, _, _, ynew, ws = attempt(DECAY, method, h, lam)
+    accepted, h_next, _, _, ynew, ws = attempt(method, h, lam)
     z = h * lam
     assert accepted
     assert ynew == pytest.approx(sum(c * z**j for j, c in enumerate(polynomial)), rel=1e-14)
@@ -248,7 +244,7 @@ def test_attempt_step_gives_each_explicit_methods_stability_function(method, pol
 def test_attempt_step_rosenbrock_w_is_l_stable_and_evaluates_its_jacobian_once():
     """ROS34PW2 is L-stable (Rang & Angermann 2005): R(z) -> 0 as z -> -inf; with the exact Jacobian of a
     linear equation (differences are exact for it) a huge step of a very stiff decay lands near 0."""
-    accepted, _, _, age, ynew, ws = attempt(DECAY, methods.ROS34PW2, 1.0, -1e8, err_prev=1e-4)
+    accepted, _, _, age, ynew, ws = attempt(methods.ROS34PW2, 1.0, -1e8)
     assert ws[6][0, 0] == pytest.approx(-1e8, rel=1e-7)  # the Jacobian column by differences
     assert abs(ynew) < 1e-6
     assert age == (1 if accepted else 0)  # evaluated now (age 0), one accepted step on it
@@ -258,7 +254,7 @@ def test_attempt_step_rosenbrock_w_is_l_stable_and_evaluates_its_jacobian_once()
 def test_attempt_step_rejects_a_non_finite_trial_by_the_largest_shrink(method):
     """A trial that reaches an infinite rate is rejected and the step cut by the controller's largest
     shrink factor (0.2, Hairer, Norsett & Wanner I sec. II.4 'facmin')."""
-    accepted, h_next, err_prev, _, _, _ = attempt(BLOW_UP, method, 0.5, 1.0, err_prev=3e-3)
+    accepted, h_next, err_prev, _, _, _ = attempt(method, 0.5, 1.0, limit=1.0, err_prev=3e-3)
     assert not accepted
     assert h_next == pytest.approx(0.1, rel=1e-15)
     assert err_prev == 3e-3  # the error memory of the PI controller is kept over a rejection

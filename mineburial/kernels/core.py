@@ -11,7 +11,7 @@ The tableaus, step kernels, continuous extensions, error norm and PI controller 
 ``rhs(t, y, params, dy)`` and its event ``event(t, y, params) -> float`` (numba kernels). Its numba
 type (:class:`SystemType`) carries the system's name, so compiled code reaches the functions through
 :func:`system_rhs` / :func:`system_event`, overloads resolved at compile time on that type (as
-``stepper._fixed_step`` is resolved on ``reference_paths``): no first-class function values, and
+:func:`fixed_trial` is resolved on the mine's ``reference_paths``): no first-class function values, and
 every compiled driver is cached on disk (``cache=True``) once per system instead of being compiled
 again in every process and dask worker (10-60 s each before, docs/design.md "integration core").
 numba checks a cached function against its own source file only; the type of a system therefore
