@@ -15,12 +15,18 @@ The driver is built from parts that each live in one place:
   (forces and torques); floated; fully buried and still sinking at the time limit;
 * a **recorder** that samples the continuous extension at exact output times.
 
-Integrators (``numerics.integrator``):
+Integrators (``numerics.integrator``); every step is taken by the integration core's
+:func:`.core.attempt_step`, so the mine offers each method of the core (:mod:`.methods`):
 
-``dopri5`` (default)
+``dopri5_ros34pw2`` (default of the ``mineburial`` model)
+    ``dopri5`` in air and water, ``ros34pw2`` while in contact with the sediment.
+``dopri5`` (default of the ``impact35`` model)
     Dormand-Prince 5(4) with error control on a mixed tolerance
     (``numerics.rtol``, ``numerics.atol``) over position, velocity, attitude and
     angular velocity, PI step-size controller and 4th-order dense output.
+``ros34pw2``
+    The Rosenbrock-W method ROS34PW2 throughout, linearly implicit in the velocities
+    (:data:`VELOCITY_SLOTS`), cubic Hermite continuous extension.
 ``rk4``
     Classical fourth-order Runge-Kutta at the fixed step ``numerics.dt`` (the
     reference; seed 004 uses Runge-Kutta for its Kane equations; seed 000 section 10
