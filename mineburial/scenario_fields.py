@@ -16,11 +16,15 @@ from __future__ import annotations
 
 import math
 
+from mineburial.kernels.methods import METHOD_NAMES
 from mineburial.schema import Field
 
 # --- names of the choices (the kernels receive their indices) ---------------
 MODEL_NAMES = ("mineburial", "impact35")
+#: the mine's integrators: its first four (their codes are the parameter vector's P_INTEGRATOR), then
+#: every other step method of the integration core (kernels/methods.py), which the mine offers as well
 INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
+INTEGRATOR_NAMES += tuple(name for name in METHOD_NAMES if name not in INTEGRATOR_NAMES)
 SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
 OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/overburden.py
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
@@ -449,8 +453,8 @@ TABLE: tuple[Field, ...] = (
             "ROS34PW2 (linearly implicit in the velocities) in contact with the seabed (default of "
             "the `mineburial` model); Dormand–Prince 5(4) throughout (default of the `impact35` "
             "model, whose delta law the Rosenbrock-W step does not speed up); the fixed-step "
-            "classical Runge–Kutta reference; or the local-linearisation step of seed 000 eqs. "
-            "(83)–(87)"
+            "classical Runge–Kutta reference; the local-linearisation step of seed 000 eqs. "
+            "(83)–(87); or the Rosenbrock-W step ROS34PW2 throughout"
         ),
         default_text="by model",
     ),

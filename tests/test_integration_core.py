@@ -9,7 +9,9 @@
 * the restraint of seed 004 run with ROS34PW2 stops where dopri5 at a tight tolerance does;
 * one status vocabulary: the codes the mine and the multibody systems share are those issue 18 fixed, and
   the mine's are still those of its status table in docs/design.md;
-* the mine runs on the core's step kernels (it kept copies of them before).
+* both drivers step only through the core's attempt_step (the mine kept copies of the steps before), whose
+  steps have their methods' stability functions, reject a non-finite trial, and whose methods every
+  system offers.
 """
 
 import math
@@ -23,7 +25,7 @@ from scipy.integrate import solve_ivp
 
 from mineburial import _numba
 from mineburial import multibody as mbp
-from mineburial.kernels import core, stepper
+from mineburial.kernels import core, layout, methods, stepper
 from mineburial.kernels import multibody as mb
 from mineburial.kernels import status as st
 from mineburial.kernels.core import System
@@ -166,9 +168,93 @@ def test_the_mine_status_codes_are_those_of_its_documented_table():
     assert table == dict(enumerate(st.NAMES)) and len(table) == 7
 
 
-def test_the_mine_steps_are_the_cores():
-    """The mine's stepper kept line-for-line copies of the core's steps; now it calls the core's."""
-    for name in ("dopri5_step", "rk4_step", "ros34pw2_step", "jacobian_columns"):
-        assert getattr(stepper, name) is getattr(core, name), name
+def test_both_drivers_step_only_through_the_cores_attempt_step():
+    """The mine's stepper kept copies of the core's steps, then called them and its own accept/reject;
+    now both drivers take every step through :func:`core.attempt_step` (issue 18 item 1)."""
+    for driver in (stepper, mb):
+        assert driver.attempt_step is core.attempt_step
+        for name in ("dopri5_step", "rk4_step", "ros34pw2_step", "next_step_size", "error_norm"):
+            assert not hasattr(driver, name), (driver.__name__, name)
     assert not hasattr(stepper, "velocity_jacobian")
     assert stepper.MINE.rhs is stepper.mine_rhs
+
+
+# --- one table of methods: every system offers each of the core's -----------------------------------
+def test_every_method_of_the_core_is_offered_by_both_systems():
+    assert mb.METHODS == methods.METHOD_NAMES
+    field = next(f for f in R.FIELDS if f.path == "numerics.integrator")
+    assert field.choices == methods.METHOD_NAMES
+    assert set(methods.METHOD_NAMES) <= set(layout.INTEGRATOR_NAMES)
+    # the mine's first four codes are its parameter vector's P_INTEGRATOR since its first release
+    assert layout.INTEGRATOR_NAMES[:4] == ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
+    assert len(set(layout.INTEGRATOR_NAMES)) == len(layout.INTEGRATOR_NAMES)
+
+
+@njit
+def linear_rhs(t, y, p, dy):
+    # y' = lam y, p = (lam, limit): finite up to y = limit, infinite at any (trial) state above it
+    dy[0] = p[0] * y[0] if y[0] <= p[1] else math.inf
+
+
+#: one test system for every attempt_step test (one compile of the kernel for it)
+LINEAR = System("test linear", linear_rhs, no_event)
+
+
+def attempt(method, h, lam, limit=math.inf, jac_age=core.JAC_MAX_AGE, err_prev=1e-4):
+    """One attempt_step of y' = lam y from y = 1; returns (accepted, h_next, err_prev, jac_age, ynew, ws)."""
+    n = 1
+    y = np.ones(n)
+    k = np.empty((7, n))
+    k[0, 0] = lam
+    ws = (k, np.empty(n), np.empty(n), np.empty((5, n)), np.empty(n), np.array([0]), np.zeros((n, 1)),
+          np.empty((1, 1)), np.empty(1, np.int64), np.empty((4, n)), np.empty(1))  # fmt: skip
+    groups = np.array([[0, 1]])
+    p = np.array([lam, limit])
+    out = core.attempt_step(
+        LINEAR, method, 0.0, y, h, p, True, groups, 1e-6, 1e-9, err_prev, True, jac_age, ws
+    )
+    return (*out, ws[1][0], ws)
+
+
+@pytest.mark.parametrize(
+    ("method", "polynomial"),
+    [
+        # the stability functions R(z), y1 = R(h lam) y0: classical RK4 sum_{j<=4} z^j / j!; the 5th-order
+        # solution of Dormand-Prince 5(4) sum_{j<=5} z^j / j! + z^6 / 600 (Hairer, Norsett & Wanner I,
+        # sec. IV.2, the stability domain of DOPRI5)
+        (methods.RK4, [1, 1, 1 / 2, 1 / 6, 1 / 24]),
+        (methods.DOPRI5, [1, 1, 1 / 2, 1 / 6, 1 / 24, 1 / 120, 1 / 600]),
+    ],
+)
+def test_attempt_step_gives_each_explicit_methods_stability_function(method, polynomial):
+    lam, h = -1.0, 0.05
+    accepted, h_next, _, _, ynew, ws = attempt(method, h, lam)
+    z = h * lam
+    assert accepted
+    assert ynew == pytest.approx(sum(c * z**j for j, c in enumerate(polynomial)), rel=1e-14)
+    # the continuous extension of the accepted step runs from y0 to y1, and k[6] = f(y1)
+    r = ws[3]
+    out = np.empty(1)
+    for theta, want in ((0.0, 1.0), (1.0, ynew)):
+        core.dense_state(r, theta, out)
+        assert out[0] == pytest.approx(want, rel=1e-14)
+    assert ws[0][6, 0] == pytest.approx(lam * ynew, rel=1e-14)
+
+
+def test_attempt_step_rosenbrock_w_is_l_stable_and_evaluates_its_jacobian_once():
+    """ROS34PW2 is L-stable (Rang & Angermann 2005): R(z) -> 0 as z -> -inf; with the exact Jacobian of a
+    linear equation (differences are exact for it) a huge step of a very stiff decay lands near 0."""
+    accepted, _, _, age, ynew, ws = attempt(methods.ROS34PW2, 1.0, -1e8)
+    assert ws[6][0, 0] == pytest.approx(-1e8, rel=1e-7)  # the Jacobian column by differences
+    assert abs(ynew) < 1e-6
+    assert age == (1 if accepted else 0)  # evaluated now (age 0), one accepted step on it
+
+
+@pytest.mark.parametrize("method", [methods.DOPRI5, methods.ROS34PW2])
+def test_attempt_step_rejects_a_non_finite_trial_by_the_largest_shrink(method):
+    """A trial that reaches an infinite rate is rejected and the step cut by the controller's largest
+    shrink factor (0.2, Hairer, Norsett & Wanner I sec. II.4 'facmin')."""
+    accepted, h_next, err_prev, _, _, _ = attempt(method, 0.5, 1.0, limit=1.0, err_prev=3e-3)
+    assert not accepted
+    assert h_next == pytest.approx(0.1, rel=1e-15)
+    assert err_prev == 3e-3  # the error memory of the PI controller is kept over a rejection

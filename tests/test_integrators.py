@@ -278,11 +278,12 @@ def test_trajectory_of_a_drop_longer_than_its_first_buffer_reaches_its_end():
 # ---------------------------------------------------------------------------
 # a full drop: dopri5 + fast rule against RK4 at small dt + reference quadrature
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("integrator", ["dopri5_ros34pw2", "dopri5"])
+@pytest.mark.parametrize("integrator", ["dopri5_ros34pw2", "dopri5", "ros34pw2"])
 def test_default_path_matches_rk4_reference_on_the_default_mine(integrator):
     """The default path (dopri5 in air and water, the Rosenbrock-W step in the sediment, fast
-    rule) and dopri5 throughout, both at the default tolerances, against RK4 at 0.25 ms with
-    the reference quadrature."""
+    rule), dopri5 throughout and the Rosenbrock-W step throughout (the core's method the mine
+    offers since both drivers step with core.attempt_step), all at the default tolerances, against
+    RK4 at 0.25 ms with the reference quadrature."""
     from mineburial.config import Scenario, load_example
 
     d = load_example("default_mine").to_dict()

@@ -1,4 +1,5 @@
-"""The generic integration core: a system reached by static dispatch, the event locator and the
+"""The generic integration core: a system reached by static dispatch, the step kernels, the one "attempt a
+step" kernel that both drivers take their steps with (:func:`attempt_step`), the event locator and the
 recorder of the driver that integrates a plain state vector (the multibody systems). The status codes
 that every system shares are in :mod:`.status` (a leaf module: the variable registry reads them without
 importing numba).
@@ -10,7 +11,7 @@ The tableaus, step kernels, continuous extensions, error norm and PI controller 
 ``rhs(t, y, params, dy)`` and its event ``event(t, y, params) -> float`` (numba kernels). Its numba
 type (:class:`SystemType`) carries the system's name, so compiled code reaches the functions through
 :func:`system_rhs` / :func:`system_event`, overloads resolved at compile time on that type (as
-``stepper._fixed_step`` is resolved on ``reference_paths``): no first-class function values, and
+:func:`fixed_trial` is resolved on the mine's ``reference_paths``): no first-class function values, and
 every compiled driver is cached on disk (``cache=True``) once per system instead of being compiled
 again in every process and dask worker (10-60 s each before, docs/design.md "integration core").
 numba checks a cached function against its own source file only; the type of a system therefore
@@ -23,6 +24,7 @@ import inspect
 import math
 import os
 
+import numpy as np
 from numba.core import types
 from numba.core.imputils import lower_constant
 from numba.extending import (
@@ -39,20 +41,27 @@ from mineburial.kernels.integrators import (
     DP_C,
     N_STAGES,
     ROS_ALPHA,
+    ROS_ERROR_ORDER,
     ROS_GAMMA_DIAG,
     ROS_STAGES,
     dense_state,
+    dopri_dense,
     dopri_solution,
     dopri_stage_state,
+    error_norm,
+    hermite_dense,
     illinois_next,
     illinois_update,
     j_times,
+    next_step_size,
+    next_step_size_order,
     ros_coupling,
     ros_solution,
     ros_stage_state,
     w_factor,
     w_solve,
 )
+from mineburial.kernels.methods import DOPRI5, METHOD_NAMES, RK4, ROS34PW2
 
 
 # --- systems reached by static dispatch ----------------------------------------------------------------
@@ -76,20 +85,28 @@ def _source_stamp(fn) -> str:
 
 
 class System:
-    """A system of the integration core: its name, right-hand side and event kernels.
+    """A system of the integration core: its name, right-hand side and event kernels, and optionally its
+    projection and its own steps.
 
     ``rhs(t, y, params, dy)`` fills dy/dt; ``event(t, y, params)`` returns a float whose crossing of
-    zero ends the run or is located by :func:`locate_event`. Pass the System to the step kernels below,
+    zero ends the run or is located by :func:`locate_event`; ``project(y)`` (optional) puts the end
+    state of a fixed step back on the system's manifold before its rate is evaluated (the mine's unit
+    quaternion); ``own_step(method, t, y, h, params, k, ytmp, out)`` (optional) takes a fixed step of
+    one of the system's own methods (codes from :data:`.methods.OWN_METHOD` up: the mine's
+    ``local_linear``), k[0] = f(t, y) pre-filled. Pass the System to the step kernels below,
     :func:`locate_event`, :func:`mineburial.kernels.multibody.integrate` (or
     :func:`mineburial.multibody.integrate`); ``params`` is whatever the two functions take (a driver may
     pass the event other parameters than the right-hand side, as the mine's does: numba compiles a
     kernel once per argument type)."""
 
-    def __init__(self, name, rhs, event):
+    def __init__(self, name, rhs, event, project=None, own_step=None):
         self.name = name
         self.rhs = rhs
         self.event = event
-        stamps = sorted({_source_stamp(fn) for fn in (rhs, event) if fn is not None})
+        self.project = project
+        self.own_step = own_step
+        functions = (rhs, event, project, own_step)
+        stamps = sorted({_source_stamp(fn) for fn in functions if fn is not None})
         self.key = f"{name}:{','.join(stamps)}"
         _SYSTEMS[self.key] = self
         self.numba_type = SystemType(self.key)
@@ -144,6 +161,50 @@ def _system_event_impl(system, t, y, params):
 
         def impl(system, t, y, params):
             return event(t, y, params)
+
+        return impl
+
+
+def system_project(system, y):
+    """Project y onto the manifold of ``system`` (compiled code only; nothing for most systems)."""
+    raise NotImplementedError("compiled code only")
+
+
+def system_own_step(system, method, t, y, h, params, k, ytmp, out):
+    """A fixed step of one of the system's own methods (compiled code only)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(system_project, jit_options=JIT_OPTIONS)
+def _system_project_impl(system, y):
+    if isinstance(system, SystemType):
+        project = _SYSTEMS[system.system_key].project
+        if project is None:
+
+            def nothing(system, y):
+                pass
+
+            return nothing
+
+        def impl(system, y):
+            project(y)
+
+        return impl
+
+
+@overload(system_own_step, jit_options=JIT_OPTIONS)
+def _system_own_step_impl(system, method, t, y, h, params, k, ytmp, out):
+    if isinstance(system, SystemType):
+        own_step = _SYSTEMS[system.system_key].own_step
+        if own_step is None:
+
+            def none(system, method, t, y, h, params, k, ytmp, out):
+                out[:] = np.nan  # the system has no steps of its own: a failed step
+
+            return none
+
+        def impl(system, method, t, y, h, params, k, ytmp, out):
+            own_step(method, t, y, h, params, k, ytmp, out)
 
         return impl
 
@@ -278,3 +339,88 @@ def ros34pw2_step(system, t, y, h, params, f0, jc, cols, wa, piv, kr, ytmp, vtmp
         w_solve(jc, cols, c, wa, piv, kr[s], ztmp)
     ros_solution(y, kr, out, err)
     return True
+
+
+# --- one attempted step of any method: what both drivers step with -------------------------------------
+def fixed_trial(fixed, system, method, t, y, h, params, k, ytmp, out):
+    """The end state ``out`` of a fixed step (:data:`.methods.RK4`, then projected by the system, or one
+    of the system's own methods); compiled only when ``fixed`` is not None (the mine passes its
+    ``reference_paths``: its default drops never take a fixed step, and not compiling these halves its
+    cold compile, docs/design.md)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(fixed_trial, jit_options=JIT_OPTIONS)
+def _fixed_trial_impl(fixed, system, method, t, y, h, params, k, ytmp, out):
+    if isinstance(fixed, (types.NoneType, types.Omitted)):
+
+        def not_compiled(fixed, system, method, t, y, h, params, k, ytmp, out):
+            out[:] = np.nan  # never reached: the caller passes a fixed value whenever a fixed step is asked
+
+        return not_compiled
+
+    def step(fixed, system, method, t, y, h, params, k, ytmp, out):
+        if method == RK4:
+            rk4_step(system, t, y, h, params, k, ytmp, out)
+            system_project(system, out)
+        else:
+            system_own_step(system, method, t, y, h, params, k, ytmp, out)
+
+    return step
+
+
+@small_kernel
+def method_code(name):
+    """The code of the core's method ``name`` (:data:`.methods.METHOD_NAMES`), -1 if there is none."""
+    for i in range(len(METHOD_NAMES)):
+        if METHOD_NAMES[i] == name:
+            return i
+    return -1
+
+
+@small_kernel
+def attempt_step(
+    system, method, t, y, h, params, fixed, groups, rtol, atol, err_prev, accepted_before, jac_age, ws
+):
+    """Attempt one step of ``method`` (:mod:`.methods`) of ``system`` from (t, y) of size h: the trial
+    step, its error norm (:func:`.integrators.error_norm` over ``groups`` with rtol, atol; NaN, so a
+    rejection, for a non-finite trial or a singular W) and the PI controller; when accepted, k[6] = f(t +
+    h, ynew) and the continuous extension ``r`` of the step. ``ws`` = (k, ynew, err, r, ytmp, cols, jc,
+    wa, piv, kr, ztmp) are the work arrays (k[0] = f(t, y) pre-filled; cols the Jacobian columns of the
+    Rosenbrock-W step, jc their values, kept between steps under the Jacobian-age policy). A fixed step
+    (:func:`fixed_trial`) is always accepted. Returns (accepted, next step, error memory, Jacobian age).
+
+    Adding a method of the core: its name in :mod:`.methods` and its branch here; every system offers it.
+    Inlined into each driver (``small_kernel``): as a compile unit of its own it cost the mine's cold
+    compile 4.4 s CPU of its own against 1.5 s less in ``run_drop`` (docs/design.md).
+    """
+    k, ynew, err, r, ytmp, cols, jc, wa, piv, kr, ztmp = ws
+    if method == DOPRI5:
+        dopri5_step(system, t, y, h, params, k, ytmp, ynew, err)
+        en = np.nan
+        if all_finite(ynew) and all_finite(k[N_STAGES - 1]):
+            en = error_norm(y, ynew, err, groups, rtol, atol)
+        h_next, accept, err_prev = next_step_size(h, en, err_prev, accepted_before)
+        if accept:
+            dopri_dense(y, ynew, k, h, r)
+        return accept, h_next, err_prev, jac_age
+    if method == ROS34PW2:
+        if jac_age >= JAC_MAX_AGE:
+            jacobian_columns(system, t, y, k[0], params, cols, ytmp, k[1], jc)
+            jac_age = 0
+        en = np.nan
+        if ros34pw2_step(system, t, y, h, params, k[0], jc, cols, wa, piv, kr, ytmp, k[1], ztmp, ynew, err):
+            if all_finite(ynew):
+                en = error_norm(y, ynew, err, groups, rtol, atol)
+        h_next, accept, err_prev = next_step_size_order(h, en, err_prev, accepted_before, ROS_ERROR_ORDER)
+        if not accept:
+            if jac_age > JAC_AGE_AT_REJECTION:
+                jac_age = JAC_MAX_AGE  # a stale Jacobian may be why: evaluate it again
+            return False, h_next, err_prev, jac_age
+        system_rhs(system, t + h, ynew, params, k[N_STAGES - 1])
+        hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
+        return True, h_next, err_prev, jac_age + 1
+    fixed_trial(fixed, system, method, t, y, h, params, k, ytmp, ynew)
+    system_rhs(system, t + h, ynew, params, k[N_STAGES - 1])
+    hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
+    return True, h, err_prev, jac_age

@@ -52,29 +52,17 @@ import numpy as np
 
 from mineburial._numba import kernel
 from mineburial.kernels.core import (
-    JAC_AGE_AT_REJECTION,
     JAC_MAX_AGE,
     all_finite,
-    dopri5_step,
-    jacobian_columns,
+    attempt_step,
     locate_event,
+    method_code,
     record_until,
-    rk4_step,
-    ros34pw2_step,
     system_event,
     system_rhs,
 )
-from mineburial.kernels.integrators import (
-    N_STAGES,
-    ROS_ERROR_ORDER,
-    ROS_STAGES,
-    dense_state,
-    dopri_dense,
-    error_norm,
-    hermite_dense,
-    next_step_size,
-    next_step_size_order,
-)
+from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
+from mineburial.kernels.methods import ADAPTIVE, METHOD_NAMES
 from mineburial.kernels.status import END, INVALID_INPUT, NUMERICAL_FAILURE, TIME_LIMIT
 
 # --- status codes of an integration: the integration core's shared vocabulary (kernels/status.py), whose
@@ -103,8 +91,8 @@ STATUS_DESCRIPTIONS = {
 STATUS_CODES = np.array(list(STATUS_NAMES), dtype=np.int8)
 STATUS_MEANINGS = " ".join(STATUS_NAMES.values())
 
-#: integration methods of :func:`integrate`
-METHODS = ("dopri5", "rk4", "ros34pw2")
+#: integration methods of :func:`integrate`: every step method of the integration core (:mod:`.methods`)
+METHODS = METHOD_NAMES
 
 #: default step budget of :func:`integrate` (accepted plus rejected steps): a run that needs more has
 #: equations too stiff for its settings (e.g. a tiny friction regularisation) and ends as
@@ -715,13 +703,8 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     Cached on disk once per system (its type names it, :mod:`.core`): a second process compiles nothing.
     """
     n = y0.shape[0]
-    if method == "dopri5":
-        kind = 0
-    elif method == "rk4":
-        kind = 1
-    elif method == "ros34pw2":
-        kind = 2
-    else:
+    kind = method_code(method)
+    if kind < 0:
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
     ok = (
         math.isfinite(t0)
@@ -775,67 +758,36 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     i_step = 0
     n_tried = 0
     status = TIME_LIMIT
+    adaptive = ADAPTIVE[kind]
+    ws = (k, ynew, err, r, ytmp, jac_cols, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     while True:
         if n_tried >= max_steps:
             status = NUMERICAL_FAILURE
             break
         n_tried += 1
-        if kind != 1:
+        if adaptive:
             h = min(h, t_end - t)
             if h <= 1e-14 * max(1.0, abs(t)):
                 status = NUMERICAL_FAILURE
                 break
-            if kind == 0:
-                dopri5_step(system, t, y, h, params, k, ytmp, ynew, err)
-                if all_finite(ynew) and all_finite(k[N_STAGES - 1]):
-                    en = error_norm(y, ynew, err, groups, rtol, atol)
-                else:
-                    en = np.nan
-                h_next, accept, err_prev = next_step_size(h, en, err_prev, accepted_before)
-            else:
-                if jac_age >= JAC_MAX_AGE:
-                    jacobian_columns(system, t, y, k[0], params, jac_cols, ytmp, k[1], jc)
-                    jac_age = 0
-                en = np.nan
-                if ros34pw2_step(
-                    system, t, y, h, params, k[0], jc, jac_cols, wa, piv, kr, ytmp, k[1], ztmp, ynew, err
-                ):
-                    if all_finite(ynew):
-                        en = error_norm(y, ynew, err, groups, rtol, atol)
-                h_next, accept, err_prev = next_step_size_order(
-                    h, en, err_prev, accepted_before, ROS_ERROR_ORDER
-                )
-                if not accept and jac_age > JAC_AGE_AT_REJECTION:
-                    jac_age = JAC_MAX_AGE  # a stale Jacobian may be why: evaluate it again
-            if not accept:
-                h = h_next
-                accepted_before = False
-                continue
-            accepted_before = True
-            t_new = t_end if t + h >= t_end else t + h
-            if kind == 0:
-                dopri_dense(y, ynew, k, h, r)
-            else:
-                jac_age += 1
-                system_rhs(system, t_new, ynew, params, k[N_STAGES - 1])
-                if not all_finite(k[N_STAGES - 1]):
-                    status = NUMERICAL_FAILURE
-                    break
-                hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
         else:
             t_new = t0 + (i_step + 1) * dt
             if t_end - t_new <= 1e-9 * dt:
                 t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
             h = t_new - t
-            rk4_step(system, t, y, h, params, k, ytmp, ynew)
-            if not all_finite(ynew):
-                status = NUMERICAL_FAILURE
-                break
-            system_rhs(system, t_new, ynew, params, k[N_STAGES - 1])
-            if not all_finite(k[N_STAGES - 1]):
-                status = NUMERICAL_FAILURE
-                break
-            hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
+        accept, h_next, err_prev, jac_age = attempt_step(
+            system, kind, t, y, h, params, True, groups, rtol, atol, err_prev, accepted_before, jac_age, ws
+        )
+        accepted_before = accept
+        if not accept:
+            h = h_next
+            continue
+        if not (all_finite(ynew) and all_finite(k[N_STAGES - 1])):
+            status = NUMERICAL_FAILURE
+            break
+        if adaptive:
+            t_new = t_end if t + h >= t_end else t + h
+        else:
             h_next = dt
         i_step += 1
         g_new = system_event(system, t_new, ynew, params)

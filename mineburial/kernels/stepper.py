@@ -15,12 +15,18 @@ The driver is built from parts that each live in one place:
   (forces and torques); floated; fully buried and still sinking at the time limit;
 * a **recorder** that samples the continuous extension at exact output times.
 
-Integrators (``numerics.integrator``):
+Integrators (``numerics.integrator``); every step is taken by the integration core's
+:func:`.core.attempt_step`, so the mine offers each method of the core (:mod:`.methods`):
 
-``dopri5`` (default)
+``dopri5_ros34pw2`` (default of the ``mineburial`` model)
+    ``dopri5`` in air and water, ``ros34pw2`` while in contact with the sediment.
+``dopri5`` (default of the ``impact35`` model)
     Dormand-Prince 5(4) with error control on a mixed tolerance
     (``numerics.rtol``, ``numerics.atol``) over position, velocity, attitude and
     angular velocity, PI step-size controller and 4th-order dense output.
+``ros34pw2``
+    The Rosenbrock-W method ROS34PW2 throughout, linearly implicit in the velocities
+    (:data:`VELOCITY_SLOTS`), cubic Hermite continuous extension.
 ``rk4``
     Classical fourth-order Runge-Kutta at the fixed step ``numerics.dt`` (the
     reference; seed 004 uses Runge-Kutta for its Kane equations; seed 000 section 10
@@ -38,34 +44,13 @@ Integrators (``numerics.integrator``):
 import math
 
 import numpy as np
-from numba.core import types
-from numba.extending import overload
 
-from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels import status as st
-from mineburial.kernels.core import (
-    JAC_AGE_AT_REJECTION,
-    JAC_MAX_AGE,
-    System,
-    dopri5_step,
-    jacobian_columns,
-    locate_event,
-    rk4_step,
-    ros34pw2_step,
-)
+from mineburial.kernels.core import JAC_MAX_AGE, System, attempt_step, locate_event
 from mineburial.kernels.dynamics import derivatives, drop_body
-from mineburial.kernels.integrators import (
-    N_STAGES,
-    ROS_ERROR_ORDER,
-    ROS_STAGES,
-    dense_state,
-    dopri_dense,
-    error_norm,
-    hermite_dense,
-    next_step_size,
-    next_step_size_order,
-)
+from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
@@ -122,6 +107,7 @@ from mineburial.kernels.layout import (
     S_PENETRATION,
     S_TOTAL_TIME,
 )
+from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
 from mineburial.kernels.rest import held_by_sediment
 from mineburial.kernels.rotation import (
     euler_angles,
@@ -133,10 +119,19 @@ from mineburial.kernels.rotation import (
 from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
 from mineburial.kernels.sediment.laws import drop_bank
 
-INTEGRATOR_RK4 = INTEGRATOR_NAMES.index("rk4")
-INTEGRATOR_LOCAL_LINEAR = INTEGRATOR_NAMES.index("local_linear")
-INTEGRATOR_DOPRI5 = INTEGRATOR_NAMES.index("dopri5")
 INTEGRATOR_STIFF = INTEGRATOR_NAMES.index("dopri5_ros34pw2")
+#: the mine's own integrators beside the core's (:mod:`.methods`): the phase switch dopri5_ros34pw2
+#: (Dormand-Prince 5(4), the Rosenbrock-W step ROS34PW2 while in contact with the sediment) and the
+#: seed's local-linearisation step (a fixed step of the mine's own, :func:`mine_own_step`)
+_OWN = {"dopri5_ros34pw2": (DOPRI5, True), "local_linear": (OWN_METHOD, False)}
+#: per code of numerics.integrator (P_INTEGRATOR): the core's method of a step (the stiff composite's
+#: outside the sediment) and whether the steps are error-controlled
+CORE_METHOD = np.array(
+    [METHOD_NAMES.index(n) if n in METHOD_NAMES else _OWN[n][0] for n in INTEGRATOR_NAMES], dtype=np.int64
+)
+ADAPTIVE_INTEGRATOR = np.array(
+    [ADAPTIVE[METHOD_NAMES.index(n)] if n in METHOD_NAMES else _OWN[n][1] for n in INTEGRATOR_NAMES]
+)
 
 #: state slots of the velocities (u, v, w, omega1..3): the columns of the Jacobian that
 #: the Rosenbrock-W step uses (the stiffness of the sediment phase is in them)
@@ -296,54 +291,35 @@ def event_component(t, y, args):
     return gtmp[e]
 
 
-#: the falling mine as a system of the integration core: its steps are the core's (:mod:`.core`) over
-#: :func:`mine_rhs`; its events, located by :func:`.core.locate_event`, take the parameters (p, e, gtmp)
+@kernel
+def mine_own_step(method, t, y, h, args, k, ytmp, out):
+    """The mine's own fixed step for the core (:data:`.methods.OWN_METHOD`): the local-linearisation
+    step of seed 000 (:func:`local_linear_step`); args as :func:`mine_rhs`, k[0] = f(y) pre-filled."""
+    p, law, sed_bank, cur_bank, work, diag = args
+    local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp, diag, out)
+
+
+#: the falling mine as a system of the integration core: its steps are the core's (:func:`.core.attempt_step`)
+#: over :func:`mine_rhs`, with the quaternion normalised after a fixed step and :func:`mine_own_step` as
+#: its own; its events, located by :func:`.core.locate_event`, take the parameters (p, e, gtmp)
 #: of :func:`event_component` (one component of :func:`event_values` at a time)
-MINE = System("mine", mine_rhs, event_component)
+MINE = System("mine", mine_rhs, event_component, project=_normalize_attitude, own_step=mine_own_step)
 
 
 def reference_paths(params):
     """The ``reference_paths`` argument of :func:`run_drop` for the drops whose parameter
     vectors are the rows of ``params``.
 
-    ``None`` when every drop uses the default paths (``dopri5``, the fast sediment rule):
-    then the reference paths (the fixed-step ``rk4`` and ``local_linear`` integrators and
+    ``None`` when every drop uses the default paths (an adaptive integrator, the fast sediment
+    rule): then the reference paths (the fixed-step ``rk4`` and ``local_linear`` integrators and
     the reference sediment quadrature) are not even compiled, which halves the compile
     time of the engine from an empty cache. ``True`` when any drop asks for one of them:
     then all are compiled and chosen per drop by its parameters.
     """
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
-    adaptive = (params[:, P_INTEGRATOR] == INTEGRATOR_DOPRI5) | (params[:, P_INTEGRATOR] == INTEGRATOR_STIFF)
+    adaptive = ADAPTIVE_INTEGRATOR[params[:, P_INTEGRATOR].astype(np.int64)]
     uses_reference = ~adaptive | (params[:, P_SED_QUADRATURE] != QUADRATURE_FAST)
     return True if np.any(uses_reference) else None
-
-
-def _fixed_step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
-    """One step of a fixed-step reference integrator (``rk4``, ``local_linear``); compiled
-    through the overload below only when ``reference_paths`` is not ``None``."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(_fixed_step, jit_options=JIT_OPTIONS)
-def _fixed_step_impl(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
-    if isinstance(reference_paths, (types.NoneType, types.Omitted)):
-
-        def not_compiled(
-            reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out
-        ):
-            # never reached: reference_paths() is True whenever a drop asks for these
-            out[:] = np.nan
-
-        return not_compiled
-
-    def step(reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, out):
-        if integrator == INTEGRATOR_LOCAL_LINEAR:
-            local_linear_step(y, h, p, law, sed_bank, cur_bank, work, k[0], k[1], k[2], ytmp, diag, out)
-        else:
-            rk4_step(MINE, 0.0, y, h, (p, law, sed_bank, cur_bank, work, diag), k, ytmp, out)
-            _normalize_attitude(out)
-
-    return step
 
 
 @kernel
@@ -375,12 +351,12 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     wa = np.empty((N_VEL, N_VEL))
     piv = np.empty(N_VEL, dtype=np.int64)
     kr = np.empty((ROS_STAGES, N_EXT))
-    vtmp = np.empty(N_EXT)
     ztmp = np.empty(N_VEL)
+    ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
     initial_state(p, y)
     integrator = int(p[P_INTEGRATOR])
-    adaptive = integrator == INTEGRATOR_DOPRI5 or integrator == INTEGRATOR_STIFF
+    adaptive = ADAPTIVE_INTEGRATOR[integrator]
     stiff_in_sediment = integrator == INTEGRATOR_STIFF
     jac_age = JAC_MAX_AGE  # accepted steps since the Jacobian was evaluated (>= max: evaluate)
     rtol = p[P_RTOL]
@@ -427,49 +403,35 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
         n_attempts += 1
         if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
             break
+        method = CORE_METHOD[integrator]
         if adaptive:
             h = min(h_adapt, MAX_STEP, t_limit - t, h_cap)
             if h < MIN_STEP * max(1.0, t):
                 status = st.NUMERICAL_FAILURE
                 break
             if stiff_in_sediment and g0[2] < 0.0:
-                # in contact with the sediment: the linearly implicit Rosenbrock-W step
-                if jac_age >= JAC_MAX_AGE:
-                    jacobian_columns(MINE, t, y, k[0], args, VELOCITY_SLOTS, ytmp, dy, jc)
-                    jac_age = 0
-                ok = ros34pw2_step(
-                    MINE, t, y, h, args, k[0], jc, VELOCITY_SLOTS, wa, piv, kr, ytmp, vtmp, ztmp, ynew, err
-                )
-                enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol) if ok else np.nan
-                h_next, accept, err_prev = next_step_size_order(
-                    h, enorm, err_prev, accepted_before, ROS_ERROR_ORDER
-                )
-                accepted_before = accept
-                if not accept:
-                    h_adapt = h_next
-                    if jac_age > JAC_AGE_AT_REJECTION:
-                        jac_age = JAC_MAX_AGE  # a stale Jacobian may be why: evaluate it again
-                    continue
-                derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
-                hermite_dense(y, ynew, k[0], k[6], h, r)
-                jac_age += 1
-            else:
-                dopri5_step(MINE, t, y, h, args, k, ytmp, ynew, err)
-                enorm = error_norm(y, ynew, err, ERROR_GROUPS, rtol, atol)
-                h_next, accept, err_prev = next_step_size(h, enorm, err_prev, accepted_before)
-                accepted_before = accept
-                if not accept:
-                    h_adapt = h_next
-                    continue
-                dopri_dense(y, ynew, k, h, r)
-            h_adapt = h_next
+                method = ROS34PW2  # in contact with the sediment: the linearly implicit Rosenbrock-W step
         else:
             h = min(p[P_DT], t_limit - t, h_cap)
-            _fixed_step(
-                reference_paths, integrator, y, h, p, law, sed_bank, cur_bank, work, k, ytmp, diag, ynew
-            )
-            derivatives(ynew, p, law, sed_bank, cur_bank, work, k[6], diag)
-            hermite_dense(y, ynew, k[0], k[6], h, r)
+        accept, h_adapt, err_prev, jac_age = attempt_step(
+            MINE,
+            method,
+            t,
+            y,
+            h,
+            args,
+            reference_paths,
+            ERROR_GROUPS,
+            rtol,
+            atol,
+            err_prev,
+            accepted_before,
+            jac_age,
+            ws,
+        )
+        accepted_before = accept
+        if not accept:
+            continue
         event_values(ynew, p, g1)
         # ---- events on the continuous extension: the first one ends the step ----
         theta = 2.0

@@ -33,6 +33,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.io.inputs import parse_toml, read_toml
+from mineburial.kernels.methods import METHOD_NAMES
 from mineburial.resources import memory_refusal
 from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
@@ -379,7 +380,7 @@ FIELDS: tuple[FieldSpec, ...] = (
         "integrator",
         "dopri5",
         "",
-        kind="dopri5|rk4|ros34pw2",
+        kind="|".join(METHOD_NAMES),
         source="seed 004 §4.1 integrates by fixed-step Runge-Kutta ('rk4'); the default 'dopri5' is adaptive "
         "Dormand-Prince 5(4) with the stop located on its dense output (a numerical choice); 'ros34pw2' is "
         "the Rosenbrock-W step for the stiff regularised friction (docs/multibody.md)",
