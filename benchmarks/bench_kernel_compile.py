@@ -67,8 +67,10 @@ def main():
     for _ in range(args.repeat):
         with tempfile.TemporaryDirectory() as cache:
             env = {**os.environ, "NUMBA_CACHE_DIR": cache, "MINEBURIAL_NUMBA_CACHE": "0"}
+            # run in the empty folder: ``-c`` puts the working directory first on sys.path, which
+            # from a checkout's root would shadow the tree on PYTHONPATH
             out = subprocess.run(
-                [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+                [sys.executable, "-c", code], env=env, cwd=cache, capture_output=True, text=True, check=True
             )
             print(out.stdout, end="", flush=True)
 
