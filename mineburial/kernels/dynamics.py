@@ -270,8 +270,8 @@ def solve6(a, rhs, x):
 
 # ---------------------------------------------------------------------------------------------
 # the right-hand side, in pieces, each inlined into derivatives at numba's IR level (one call site
-# each). Measured (docs/design.md, "Developing kernels"): inlined, derivatives' own compile is
-# 1.4-2 s CPU more than unsplit; as kernels it is not, but 1,000 drops took ~8 % more CPU
+# each). Measured (docs/design.md, "Developing kernels"): as kernels, 1,000 drops took ~8 % more
+# CPU and the extra units are linked again at every compiled level above
 # ---------------------------------------------------------------------------------------------
 @small_kernel
 def _immersed_parts(body, a_z, z, depth, z_lo, v_total):

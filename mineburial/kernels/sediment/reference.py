@@ -733,7 +733,7 @@ _INF23 = (math.inf,) * 23
 _INF28 = (math.inf,) * 28
 
 
-@kernel
+@small_kernel
 def _screw_axis_dip(geo, dip, r, rx):
     """Group 6's candidates where the screw axis of the motion meets (or passes closest to)
     the lateral surface, the speed dip of the rate factor: the candidate angles ``r`` and
@@ -775,7 +775,7 @@ def _screw_axis_dip(geo, dip, r, rx):
     return r, rx, vmin_dip
 
 
-@kernel
+@small_kernel
 def _candidates(group, geo, f, g, tangential, dip):
     """Candidate angles of breakpoint group ``group`` (see :func:`_lateral_breaks`), the x
     where each is checked, and the least speed of the screw-axis dip (group 6; else inf)."""
@@ -801,7 +801,7 @@ def _candidates(group, geo, f, g, tangential, dip):
     return r, rx, vmin_dip
 
 
-@kernel
+@small_kernel
 def _switch_line(f, g, c, s):
     """Position x and slope dx/dtheta (of the first family's line only) at angle (c, s) of the
     line where two switch families cross, x_F = -F0/F1 (or x_G where F1 = 0)."""
@@ -819,7 +819,7 @@ def _switch_line(f, g, c, s):
     return x, sl
 
 
-@kernel
+@small_kernel
 def _axial_slip_scale(c, s, geo, fe, fd, ft, vreg):
     """Group 6's candidate at a zero of the axial slip v_x, on a generator that meets the
     domain: ``(kept, scale)``, the scale sqrt(v_theta_min^2 + V_REG^2)/|dv_x/dtheta|."""
@@ -839,7 +839,7 @@ def _axial_slip_scale(c, s, geo, fe, fd, ft, vreg):
     return True, e
 
 
-@kernel
+@small_kernel
 def _break_scales(group, t, c, s, x, sl, geo, fe, fd, ft, dip, vreg, vreg_n, pd, pt, ztol, vtol, vmin_dip):
     """Whether candidate ``t`` of group ``group`` lies on the integration domain, and its
     near-singularity scales ``(kept, e, er)`` (inf: none): the pole distance of the delta line
@@ -880,7 +880,7 @@ def _break_scales(group, t, c, s, x, sl, geo, fe, fd, ft, dip, vreg, vreg_n, pd,
     return True, e, er
 
 
-@kernel
+@small_kernel
 def _set4(q, k, v):
     """The 4-tuple ``q`` with slot ``k`` set to ``v``."""
     return (v if k == 0 else q[0], v if k == 1 else q[1], v if k == 2 else q[2], v if k == 3 else q[3])
@@ -889,13 +889,7 @@ def _set4(q, k, v):
 @kernel
 def _group_breaks(group, geo, fe, fd, ft, tangential, dip, vreg, vreg_n, pd, pt, ztol, vtol):
     """Breakpoint group ``group`` of :func:`_lateral_breaks`: its four angles (NaN: none) and
-    their scales ``e`` and ``er`` (inf: none).
-
-    Its pieces (:func:`_candidates`, :func:`_switch_line`, :func:`_axial_slip_scale`,
-    :func:`_break_scales`, :func:`_set4`) are compile units of their own, not inlined: numba's
-    IR inlining of them cost 0.6-2.0 s CPU in its ``inline_inlinables`` pass (the breakpoints'
-    cold compile 7.7 s against 5.5 s before the split, one process each, the loaded 2-core
-    host); as kernels 5.7 and 6.7 s (docs/design.md, "Developing kernels")."""
+    their scales ``e`` and ``er`` (inf: none)."""
     if not tangential and (group == 2 or group == 4 or group == 5):
         return _NO4, _INF4, _INF4
     f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or group == 5) else ft)
