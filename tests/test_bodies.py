@@ -8,6 +8,7 @@ tests are tests/test_geometry.py; here the question is whether the protocol reac
 with the right arguments. One small compiled probe calls every geometric protocol function.
 """
 
+import inspect
 import math
 import types
 from typing import NamedTuple
@@ -163,3 +164,33 @@ def test_a_registered_shape_is_reached_by_its_type_and_a_chooser_sees_the_argume
         )  # still the cylinder
     finally:
         del bodies.SHAPES[_Cube]
+
+
+def test_each_protocol_function_carries_its_declared_arguments_and_binds_keywords():
+    for name in bodies.PROTOCOL:
+        params = list(inspect.signature(getattr(bodies, name)).parameters)
+        assert params == bodies.SIGNATURES[name].split(", ") and params[0] == "body"
+        # the cylinder implements each under the same argument names (numba checks them)
+        assert list(inspect.signature(getattr(cylinder, name)).parameters) == params
+    probe = njit(cache=False)(lambda b, a: bodies.extent(b, z_c=5.0, a_z=a))
+    z_lo, z_hi = probe(BODY, 0.0)  # horizontal axis: the rim R below and above the COM
+    assert (z_lo, z_hi) == pytest.approx((5.0 - R, 5.0 + R), rel=REL)
+    with pytest.raises(NotImplementedError, match="compiled code only"):
+        bodies.extent(BODY, 0.0, 5.0)
+
+
+class _Ball(NamedTuple):  # a class of its own: numba keeps each overload's implementations by type
+    radius: float
+
+
+def test_a_shape_whose_implementation_names_other_arguments_does_not_compile():
+    shape = types.SimpleNamespace(**{name: (lambda body: 0.0) for name in bodies.PROTOCOL})
+    shape.__name__ = "misnamed"
+    shape.extent = lambda body, tilt, z_c: (z_c - 1.0, z_c + 1.0)  # protocol: (body, a_z, z_c)
+    bodies.register(_Ball, shape)
+    try:
+        probe = njit(cache=False)(lambda b: bodies.extent(b, 0.5, 5.0))
+        with pytest.raises(Exception, match="argument names"):
+            probe(_Ball(1.0))
+    finally:
+        del bodies.SHAPES[_Ball]

@@ -27,7 +27,7 @@ same scheme so that energy bookkeeping closes to the integration error.
 
 import math
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels.added_mass import (
     finite_body_cross_drag,
@@ -223,11 +223,12 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
 
 
 @kernel
-def add_strip_forces(
-    impact35, rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, f1, f2, f3, m1, m2, m3
-):
+def add_strip_forces(model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
     """Add the fluid force and torque on the strip [a, b] of the selected model
-    (:func:`impact35_strip_forces` or :func:`strip_forces`) to the accumulators."""
+    (:func:`impact35_strip_forces` or :func:`strip_forces`) to ``loads`` (body frame, about
+    the COM); ``model`` = (impact35, R, L, drag_on, eta) as in :func:`derivatives`."""
+    impact35, R, L, drag_on, eta = model
+    f1, f2, f3, m1, m2, m3 = loads
     if impact35:
         h1, h2, h3, h4, h5, h6 = impact35_strip_forces(
             rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on
@@ -267,86 +268,39 @@ def solve6(a, rhs, x):
         x[i] = t / a[i * n + i]
 
 
-@kernel
-def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
-    """Right-hand side dy/dt of the extended state ``y`` (length N_EXT).
-
-    ``law`` is the drop's sediment law, packed once (:func:`sediment.pack_law`).
-    ``work`` is a scratch array of N_WORK floats, ``diag`` receives N_DIAG
-    diagnostics: fluid force (E-frame, 3), sediment force (E-frame, 3), total
-    torque (body, 3), immersed volume, embedded volume, phase, z_lo, z_hi,
-    added mass (transverse, water), pore-pressure added mass.
-    Returns the phase code.
-    """
-    body = drop_body(p)
-    R, L = bodies.strip_section(body)  # of the strip theory (docs/design.md, "Body protocol")
-    m = p[P_MASS]
-    J1 = p[P_J1]
-    J2 = p[P_J2]
-    g = p[P_GRAVITY]
-    rho_w = p[P_RHO_WATER]
-    rho_a = p[P_RHO_AIR]
-    depth = p[P_DEPTH]
-    impact35 = int(p[P_MODEL]) == 1
-    drag_on = int(p[P_DRAG])
-    crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
-    # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
-    eta = bodies.crossflow_efficiency(body) if crossflow_model else 1.0
-
-    x = y[0]
-    yy = y[1]
-    z = y[2]
-    vx = y[3]
-    vy = y[4]
-    vz = y[5]
-    qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
-    q0 = y[6] / qn
-    q1 = y[7] / qn
-    q2 = y[8] / qn
-    q3 = y[9] / qn
-    w1 = y[10]
-    w2 = y[11]
-    w3 = y[12]
-    r = rotation_matrix(q0, q1, q2, q3)
-    # body components of a world vector: R^T v ; rows of R^T are columns of R
-    a_z = r[6]  # i_M . k
-    kb1 = r[6]  # k in body frame
-    kb2 = r[7]
-    kb3 = r[8]
-    u1 = r[0] * vx + r[3] * vy + r[6] * vz  # body-frame COM velocity
-    u2 = r[1] * vx + r[4] * vy + r[7] * vz
-    u3 = r[2] * vx + r[5] * vy + r[8] * vz
-
-    v_total, x_total = bodies.volume(body)
-    z_lo, z_hi = bodies.extent(body, a_z, z)
-    phase = phase_of(z_lo, z_hi, depth)
-
-    # ---- partition of the body by the two interfaces (seed 000 section 4) ----
-    # below the water surface (water and embedded parts together)
+# ---------------------------------------------------------------------------------------------
+# the right-hand side, in pieces, each inlined into derivatives at numba's IR level (one call site
+# each). Measured (docs/design.md, "Developing kernels"): as kernels, 1,000 drops took ~8 % more
+# CPU and the extra units are linked again at every compiled level above
+# ---------------------------------------------------------------------------------------------
+@small_kernel
+def _immersed_parts(body, a_z, z, depth, z_lo, v_total):
+    """The body cut by the two interfaces (seed 000 section 4): volume and first moments
+    ``vs, xs, es`` of the part below the water surface (water and embedded parts together),
+    ``vb, xb`` of the part below the seabed, and the volumes ``va`` of the air part and ``vw``
+    of the water part."""
     vs, xs, es, _, _, _ = bodies.cut(body, a_z, z, 0.0)
-    # below the seabed
     vb = 0.0
     xb = 0.0
-    eb = 0.0
     if z_lo < -depth:
-        vb, xb, eb, _, _, _ = bodies.cut(body, a_z, z, -depth)
+        vb, xb, _, _, _, _ = bodies.cut(body, a_z, z, -depth)
     va = v_total - vs
     if va < 0.0:
         va = 0.0
     vw = vs - vb
     if vw < 0.0:
         vw = 0.0
-    # unit vector e_down in the body frame: projection of -k normal to the axis
-    _, dn2, dn3 = e_down_body(kb1, kb2, kb3)
+    return vs, xs, es, vb, xb, va, vw
 
-    # ---- body-frame force and torque accumulators (about the COM), from buoyancy on ----
 
-    # buoyancy (seed 000 eqs. (34)-(36)): water on everything below the surface,
-    # air on the part above it; each acts at its partial centre of volume (the air
-    # part's first moments follow from the whole body's minus the immersed part's)
+@small_kernel
+def _buoyancy(rho_w, rho_a, g, vs, xs, es, va, v_total, x_total, dn2, dn3, kb1, kb2, kb3):
+    """Buoyancy (seed 000 eqs. (34)-(36)), body frame about the COM: water on everything below
+    the surface, air on the part above it; each acts at its partial centre of volume (the air
+    part's first moments follow from the whole body's minus the immersed part's)."""
     fw = rho_w * g * vs
     fa = rho_a * g * va
-    fb1, fb2, fb3, mb1, mb2, mb3 = vertical_load(
+    return vertical_load(
         fw + fa,
         fw * xs + rho_a * g * (v_total * x_total - vs * xs),
         fw * es - rho_a * g * vs * es,
@@ -357,79 +311,59 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         kb3,
     )
 
-    # ---- drag, lift and added mass of the water part and of the air part ----
-    # water part: below the surface and above the seabed, as an equivalent cylinder
+
+@small_kernel
+def _water_part_loads(body, p, current_bank, model, r, z, a_z, u, w, parts, v_total, loads):
+    """Drag, lift and roll damping of the water part (below the surface and above the seabed,
+    as its equivalent cylinder, seed 000 section 4.1) in the current at the height of the
+    part's centre, added to ``loads``. Also returns the part's axial span ``(wa, wb)`` (for its
+    added mass) and the current in the body frame (zero when no part is in the water)."""
+    vs, xs, _, vb, xb, _, vw = parts
     wa = 0.0
     wb = 0.0
+    cur = (0.0, 0.0, 0.0)
     if vw > 1e-15 * v_total:
         xw = (vs * xs - vb * xb) / vw
         _, wa, wb, _ = bodies.equivalent_part(body, vw, xw, 0.0)
         # current at the height of the water part's centre
         zc_w = z + a_z * xw
         cu, cv = current_velocity(zc_w, p, current_bank)
-        ur1 = r[0] * cu + r[3] * cv - u1
-        ur2 = r[1] * cu + r[4] * cv - u2
-        ur3 = r[2] * cu + r[5] * cv - u3
-        fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
-            impact35,
-            rho_w,
-            p[P_NU_WATER],
-            R,
-            L,
-            wa,
-            wb,
-            ur1,
-            ur2,
-            ur3,
-            w1,
-            w2,
-            w3,
-            drag_on,
-            eta,
-            fb1,
-            fb2,
-            fb3,
-            mb1,
-            mb2,
-            mb3,
+        ur1 = r[0] * cu + r[3] * cv - u[0]
+        ur2 = r[1] * cu + r[4] * cv - u[1]
+        ur3 = r[2] * cu + r[5] * cv - u[2]
+        loads = add_strip_forces(
+            model, p[P_RHO_WATER], p[P_NU_WATER], wa, wb, ur1, ur2, ur3, w[0], w[1], w[2], loads
         )
-        cur1 = r[0] * cu + r[3] * cv
-        cur2 = r[1] * cu + r[4] * cv
-        cur3 = r[2] * cu + r[5] * cv
-    else:
-        cur1 = 0.0
-        cur2 = 0.0
-        cur3 = 0.0
+        cur = (r[0] * cu + r[3] * cv, r[1] * cu + r[4] * cv, r[2] * cu + r[5] * cv)
+    return loads, wa, wb, cur
+
+
+@small_kernel
+def _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads):
+    """Drag, lift and roll damping of the part above the water surface (still air), added to
+    ``loads``; also returns the part's axial span ``(aa, ab)``."""
+    vs, xs, _, _, _, va, _ = parts
     aa = 0.0
     ab = 0.0
-    if va > 1e-15 * v_total and rho_a > 0.0:
+    if va > 1e-15 * v_total and p[P_RHO_AIR] > 0.0:
         xa_c = (v_total * x_total - vs * xs) / va
         _, aa, ab, _ = bodies.equivalent_part(body, va, xa_c, 0.0)
-        fb1, fb2, fb3, mb1, mb2, mb3 = add_strip_forces(
-            impact35,
-            rho_a,
-            p[P_NU_AIR],
-            R,
-            L,
-            aa,
-            ab,
-            -u1,
-            -u2,
-            -u3,
-            w1,
-            w2,
-            w3,
-            drag_on,
-            eta,
-            fb1,
-            fb2,
-            fb3,
-            mb1,
-            mb2,
-            mb3,
+        loads = add_strip_forces(
+            model, p[P_RHO_AIR], p[P_NU_AIR], aa, ab, -u[0], -u[1], -u[2], w[0], w[1], w[2], loads
         )
+    return loads, aa, ab
 
-    # ---- sediment tractions (seed 000 section 6) ----
+
+@small_kernel
+def _sediment_loads(body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, loads):
+    """Sediment tractions (seed 000 section 6) and, unless the resistance is the delta law, the
+    geostatic effective overburden on every embedded element (closed form), added to ``loads``
+    (body frame). Also returns the sediment's force (E-frame), its torque (body frame) and the
+    pore-pressure added mass; all zero when no part is below the seabed."""
+    kb1, kb2, kb3 = kb
+    rho_w = p[P_RHO_WATER]
+    g = p[P_GRAVITY]
+    fb1, fb2, fb3, mb1, mb2, mb3 = loads
     sf1 = 0.0
     sf2 = 0.0
     sf3 = 0.0
@@ -439,7 +373,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     added_pore = 0.0
     if z_lo < -depth:
         sf1, sf2, sf3, sm1, sm2, sm3, added_pore = sediment_tractions(
-            body, r, (x, yy, z), (vx, vy, vz), (w1, w2, w3), -depth, law, sediment_bank
+            body, r, (y[0], y[1], y[2]), (y[3], y[4], y[5]), (y[10], y[11], y[12]), -depth, law, sediment_bank
         )
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
@@ -455,18 +389,17 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         mb1 += sm1
         mb2 += sm2
         mb3 += sm3
+    return (fb1, fb2, fb3, mb1, mb2, mb3), (sf1, sf2, sf3, sm1, sm2, sm3), added_pore
 
-    # gravity (E-frame -k), no torque about the COM
-    fb1 -= m * g * kb1
-    fb2 -= m * g * kb2
-    fb3 -= m * g * kb3
 
-    # ---- generalised mass matrix (body frame, order U1 U2 U3 W1 W2 W3) ----
-    mass = work[0:36]
-    rhs = work[36:42]
-    sol = work[42:48]
-    for i in range(36):
-        mass[i] = 0.0
+@small_kernel
+def _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
+    """Added mass of the wetted parts, ``(a0, a1, a2, a11)``: the zeroth, first and second
+    moments about the COM of the transverse added mass per unit length along the axis, and
+    the axial added mass (none in the impact35 model)."""
+    impact35, R, _, _, _ = model
+    rho_w = p[P_RHO_WATER]
+    rho_a = p[P_RHO_AIR]
     # strip-theory added mass per unit length a = C_M rho pi R^2 (seed 001 eqs. (20)-(21))
     a0 = 0.0
     a1 = 0.0
@@ -500,6 +433,16 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         # slender-body value a11 = 0, munk_factor = 0 makes the translational added
         # mass isotropic and removes it (docs/physics.md, "added mass").
         a11 = (1.0 - p[P_MUNK]) * a0
+    return a0, a1, a2, a11
+
+
+@small_kernel
+def _mass_matrix(mass, m, J1, J2, added, added_pore, kb):
+    """The generalised mass matrix (body frame, order U1 U2 U3 W1 W2 W3; flat 36, row-major)
+    of the rigid body, its added mass and the pore-pressure added mass along the vertical."""
+    a0, a1, a2, a11 = added
+    for i in range(36):
+        mass[i] = 0.0
     mass[0] = m + a11
     mass[7] = m + a0
     mass[14] = m + a0
@@ -511,15 +454,26 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     mass[2 * 6 + 4] = -a1
     mass[4 * 6 + 2] = -a1
     if added_pore > 0.0:
-        kk = (kb1, kb2, kb3)
         for i in range(3):
             for j in range(3):
-                mass[i * 6 + j] += added_pore * kk[i] * kk[j]
+                mass[i * 6 + j] += added_pore * kb[i] * kb[j]
 
+
+@small_kernel
+def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, added, u, w, cur):
+    """Right side of the Kirchhoff equations M dnu/dt = rhs (body frame): the loads less the
+    rigid-body Coriolis/gyroscopic terms and the added mass's Kirchhoff terms, for the velocity
+    relative to a current steady in the E-frame. Returns the rigid-body terms C_RB(nu) nu (the
+    work rates need them)."""
+    impact35 = model[0]
+    a0, a1, a2, a11 = added
+    u1, u2, u3 = u
+    w1, w2, w3 = w
+    fb1, fb2, fb3, mb1, mb2, mb3 = loads
     # relative velocity for the added-mass terms (current assumed uniform in time)
-    vr1 = u1 - cur1
-    vr2 = u2 - cur2
-    vr3 = u3 - cur3
+    vr1 = u1 - cur[0]
+    vr2 = u2 - cur[1]
+    vr3 = u3 - cur[2]
     # added-mass momenta P_A, H_A = M_A nu_r
     pa1 = a11 * vr1
     pa2 = a0 * vr2 + a1 * w3
@@ -547,9 +501,9 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
         ca5 -= cut * (-vr1 * vr3)
         ca6 -= cut * (vr1 * vr2)
     # d(nu_c)/dt in the body frame for a current steady in the E-frame: -w x U_c
-    dc1 = -(w2 * cur3 - w3 * cur2)
-    dc2 = -(w3 * cur1 - w1 * cur3)
-    dc3 = -(w1 * cur2 - w2 * cur1)
+    dc1 = -(w2 * cur[2] - w3 * cur[1])
+    dc2 = -(w3 * cur[0] - w1 * cur[2])
+    dc3 = -(w1 * cur[1] - w2 * cur[0])
     mdc1 = a11 * dc1
     mdc2 = a0 * dc2
     mdc3 = a0 * dc3
@@ -573,59 +527,144 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     rhs[3] = mb1 - cr4 - ca4
     rhs[4] = mb2 - cr5 - ca5 + mdc5
     rhs[5] = mb3 - cr6 - ca6 + mdc6
-    solve6(mass, rhs, sol)
-    du1 = sol[0]
-    du2 = sol[1]
-    du3 = sol[2]
-    dw1 = sol[3]
-    dw2 = sol[4]
-    dw3 = sol[5]
+    return cr1, cr2, cr3, cr4, cr5, cr6
 
-    # ---- assemble dy/dt ----
-    dy[0] = vx
-    dy[1] = vy
-    dy[2] = vz
-    # dV/dt = R (dU/dt + w x U)
-    ab1 = du1 + (w2 * u3 - w3 * u2)
-    ab2 = du2 + (w3 * u1 - w1 * u3)
-    ab3 = du3 + (w1 * u2 - w2 * u1)
+
+@small_kernel
+def _state_rates(dy, y, r, q, u, w, dnu):
+    """dy/dt of the 13 physical states: position, E-frame velocity dV/dt = R (dU/dt + w x U),
+    quaternion and angular velocity, from the body-frame accelerations ``dnu``."""
+    u1, u2, u3 = u
+    w1, w2, w3 = w
+    dy[0] = y[3]
+    dy[1] = y[4]
+    dy[2] = y[5]
+    ab1 = dnu[0] + (w2 * u3 - w3 * u2)
+    ab2 = dnu[1] + (w3 * u1 - w1 * u3)
+    ab3 = dnu[2] + (w1 * u2 - w2 * u1)
     dy[3] = r[0] * ab1 + r[1] * ab2 + r[2] * ab3
     dy[4] = r[3] * ab1 + r[4] * ab2 + r[5] * ab3
     dy[5] = r[6] * ab1 + r[7] * ab2 + r[8] * ab3
-    dq0, dq1, dq2, dq3 = quaternion_rate(q0, q1, q2, q3, w1, w2, w3)
+    dq0, dq1, dq2, dq3 = quaternion_rate(q[0], q[1], q[2], q[3], w1, w2, w3)
     dy[6] = dq0
     dy[7] = dq1
     dy[8] = dq2
     dy[9] = dq3
-    dy[10] = dw1
-    dy[11] = dw2
-    dy[12] = dw3
-    # work rates: sediment force on the COM velocity plus its torque on omega
+    dy[10] = dnu[3]
+    dy[11] = dnu[4]
+    dy[12] = dnu[5]
+
+
+@small_kernel
+def _work_rates(dy, r, m, g, J1, J2, kb, u, w, dnu, crb, sed):
+    """Work rates of the sediment (its force on the COM velocity plus its torque on omega) and
+    of the fluid: everything that is neither gravity nor sediment, including the added-mass
+    reaction (m dU/dt + C_RB - gravity - sediment). Returns the fluid's force on the body
+    (body frame), which the diagnostics report in the E-frame."""
+    u1, u2, u3 = u
+    w1, w2, w3 = w
+    sf1, sf2, sf3, sm1, sm2, sm3 = sed
+    cr1, cr2, cr3, cr4, cr5, cr6 = crb
     sed_t1 = r[0] * sf1 + r[3] * sf2 + r[6] * sf3
     sed_t2 = r[1] * sf1 + r[4] * sf2 + r[7] * sf3
     sed_t3 = r[2] * sf1 + r[5] * sf2 + r[8] * sf3
     sed_power = sed_t1 * u1 + sed_t2 * u2 + sed_t3 * u3 + sm1 * w1 + sm2 * w2 + sm3 * w3
-    # everything that is neither gravity nor sediment, including the added-mass
-    # reaction (m dU/dt + C_RB - gravity - sediment), is the fluid's work
-    ft1 = m * du1 + cr1 + m * g * kb1 - sed_t1
-    ft2 = m * du2 + cr2 + m * g * kb2 - sed_t2
-    ft3 = m * du3 + cr3 + m * g * kb3 - sed_t3
-    mt1 = J1 * dw1 + cr4
-    mt2 = J2 * dw2 + cr5
-    mt3 = J2 * dw3 + cr6
+    ft1 = m * dnu[0] + cr1 + m * g * kb[0] - sed_t1
+    ft2 = m * dnu[1] + cr2 + m * g * kb[1] - sed_t2
+    ft3 = m * dnu[2] + cr3 + m * g * kb[2] - sed_t3
+    mt1 = J1 * dnu[3] + cr4
+    mt2 = J2 * dnu[4] + cr5
+    mt3 = J2 * dnu[5] + cr6
     mt1 -= sm1
     mt2 -= sm2
     mt3 -= sm3
     dy[I_WORK_FLUID] = ft1 * u1 + ft2 * u2 + ft3 * u3 + mt1 * w1 + mt2 * w2 + mt3 * w3
     dy[I_WORK_SEDIMENT] = sed_power
+    return ft1, ft2, ft3
+
+
+@kernel
+def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
+    """Right-hand side dy/dt of the extended state ``y`` (length N_EXT).
+
+    ``law`` is the drop's sediment law, packed once (:func:`sediment.pack_law`).
+    ``work`` is a scratch array of N_WORK floats, ``diag`` receives N_DIAG
+    diagnostics: fluid force (E-frame, 3), sediment force (E-frame, 3), total
+    torque (body, 3), immersed volume, embedded volume, phase, z_lo, z_hi,
+    added mass (transverse, water), pore-pressure added mass.
+    Returns the phase code.
+
+    The loads (body frame, about the COM) are summed in this order: buoyancy, the water
+    part's and the air part's fluid forces, the sediment's, gravity; then the added mass, the
+    generalised mass matrix and the Kirchhoff equations give the accelerations.
+    """
+    body = drop_body(p)
+    R, L = bodies.strip_section(body)  # of the strip theory (docs/design.md, "Body protocol")
+    m = p[P_MASS]
+    J1 = p[P_J1]
+    J2 = p[P_J2]
+    g = p[P_GRAVITY]
+    depth = p[P_DEPTH]
+    crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
+    # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
+    eta = bodies.crossflow_efficiency(body) if crossflow_model else 1.0
+    model = (int(p[P_MODEL]) == 1, R, L, int(p[P_DRAG]), eta)  # what add_strip_forces needs
+
+    qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
+    q = (y[6] / qn, y[7] / qn, y[8] / qn, y[9] / qn)
+    w = (y[10], y[11], y[12])
+    r = rotation_matrix(q[0], q[1], q[2], q[3])
+    # body components of a world vector: R^T v ; rows of R^T are columns of R
+    a_z = r[6]  # i_M . k
+    kb = (r[6], r[7], r[8])  # k in body frame
+    u = (  # body-frame COM velocity
+        r[0] * y[3] + r[3] * y[4] + r[6] * y[5],
+        r[1] * y[3] + r[4] * y[4] + r[7] * y[5],
+        r[2] * y[3] + r[5] * y[4] + r[8] * y[5],
+    )
+    z = y[2]
+    v_total, x_total = bodies.volume(body)
+    z_lo, z_hi = bodies.extent(body, a_z, z)
+    phase = phase_of(z_lo, z_hi, depth)
+    parts = _immersed_parts(body, a_z, z, depth, z_lo, v_total)
+    # unit vector e_down in the body frame: projection of -k normal to the axis
+    _, dn2, dn3 = e_down_body(kb[0], kb[1], kb[2])
+
+    vs, xs, es, vb, _, va, _ = parts
+    loads = _buoyancy(
+        p[P_RHO_WATER], p[P_RHO_AIR], g, vs, xs, es, va, v_total, x_total, dn2, dn3, kb[0], kb[1], kb[2]
+    )
+    loads, wa, wb, cur = _water_part_loads(
+        body, p, current_bank, model, r, z, a_z, u, w, parts, v_total, loads
+    )
+    loads, aa, ab = _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads)
+    loads, sed, added_pore = _sediment_loads(
+        body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, loads
+    )
+    fb1, fb2, fb3, mb1, mb2, mb3 = loads
+    # gravity (E-frame -k), no torque about the COM
+    fb1 -= m * g * kb[0]
+    fb2 -= m * g * kb[1]
+    fb3 -= m * g * kb[2]
+    loads = (fb1, fb2, fb3, mb1, mb2, mb3)
+
+    added = _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
+    mass = work[0:36]
+    rhs = work[36:42]
+    dnu = work[42:48]  # dU/dt, dW/dt (body frame)
+    _mass_matrix(mass, m, J1, J2, added, added_pore, kb)
+    crb = _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, added, u, w, cur)
+    solve6(mass, rhs, dnu)
+    _state_rates(dy, y, r, q, u, w, dnu)
+    ft1, ft2, ft3 = _work_rates(dy, r, m, g, J1, J2, kb, u, w, dnu, crb, sed)
 
     # diagnostics
     diag[0] = r[0] * ft1 + r[1] * ft2 + r[2] * ft3
     diag[1] = r[3] * ft1 + r[4] * ft2 + r[5] * ft3
     diag[2] = r[6] * ft1 + r[7] * ft2 + r[8] * ft3
-    diag[3] = sf1
-    diag[4] = sf2
-    diag[5] = sf3
+    diag[3] = sed[0]
+    diag[4] = sed[1]
+    diag[5] = sed[2]
     diag[6] = mb1
     diag[7] = mb2
     diag[8] = mb3
@@ -634,6 +673,6 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     diag[11] = phase
     diag[12] = z_lo
     diag[13] = z_hi
-    diag[14] = a0
+    diag[14] = added[0]
     diag[15] = added_pore
     return phase

@@ -61,7 +61,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 
 PI = math.pi
 
@@ -124,46 +124,10 @@ def _cap_area(d, bR, R):
 # ---------------------------------------------------------------------------
 # the part below the plane, raw moments, a_z >= 0
 # ---------------------------------------------------------------------------
-@kernel
-def _cut_raw_up(L, R, chi, a, c):
-    """Part below the plane for ``a = a_z >= 0``; ``c = z_c - level``.
-
-    Returns ``(V, Mx, Ms, lateral, nose_cap, tail_cap)``: volume, first
-    moments along ``i_M`` (about the COM) and along ``e_down``, wetted areas.
-    """
-    if a > 1.0:
-        a = 1.0
-    b = math.sqrt((1.0 - a) * (1.0 + a))
-    bR = b * R
-    xt = -0.5 * L - chi
-    xn = 0.5 * L - chi
-    dt = c + a * xt  # tail section centre above the plane
-    dn = c + a * xn  # nose section centre (dn >= dt since a >= 0)
-    cap_t = _cap_area(dt, bR, R)
-    cap_n = _cap_area(dn, bR, R)
-    area = PI * R * R
-
-    if dt >= bR:  # whole body above the plane
-        return 0.0, 0.0, 0.0, 0.0, cap_n, cap_t
-    if dn <= -bR:  # whole body below the plane
-        return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, cap_n, cap_t
-
-    # -- full sections: x in [xt, xt + full_len] (d <= -bR) --------------
-    tang1 = dt < -bR  # partial part starts at a tangency (kappa = -1)
-    tang2 = dn > bR  # partial part ends at a tangency (kappa = +1)
-    full_len = 0.0
-    if tang1:
-        full_len = -(bR + dt) / a  # a > 0 here since dn > -bR > dt
-        if full_len > L:
-            full_len = L
-    V = area * full_len
-    Mx = V * (xt + 0.5 * full_len)
-    Ms = 0.0
-    lat = 2.0 * PI * R * full_len
-
-    # -- partial sections: kappa from k1 to k2, x from p1 to p1 + w ---------
-    if bR <= 0.0:
-        return V, Mx, Ms, lat, cap_n, cap_t
+@small_kernel
+def _partial_span(L, a, bR, xt, xn, dt, dn, tang1, tang2, full_len):
+    """The sections cut by the plane, kappa from ``k1`` to ``k2`` over x from ``p1`` to
+    ``p1 + w``, and the kappa range ``dk`` that the body's length spans (``w <= 0``: none)."""
     p1 = xt + full_len
     if tang1:
         k1 = -1.0
@@ -189,33 +153,41 @@ def _cut_raw_up(L, R, chi, a, c):
         w = L
     if w > xn - p1:
         w = xn - p1
-    if w <= 0.0:
-        return V, Mx, Ms, lat, cap_n, cap_t
-    pm = p1 + 0.5 * w
     if tang1 or tang2:
         dk = k2 - k1
     else:
         dk = a * L / bR
+    return k1, k2, p1, w, dk
 
-    if dk >= TAU:
-        # closed forms: int over x = (w/dk) int over kappa
-        th1 = PI if tang1 else math.acos(k1)
-        th2 = 0.0 if tang2 else math.acos(k2)
-        s1 = math.sqrt((1.0 - k1) * (1.0 + k1))
-        s2 = math.sqrt((1.0 - k2) * (1.0 + k2))
-        a1, b1, m1, l1 = _antiderivatives(k1, th1, s1)
-        a2, b2, m2, l2 = _antiderivatives(k2, th2, s2)
-        jx = w / dk  # dx/dkappa = bR/a
-        d0 = a2 - a1
-        km = 0.5 * (k1 + k2)
-        vp = R * R * jx * d0
-        V += vp
-        Mx += pm * vp + R * R * jx * jx * ((b2 - b1) - km * d0)
-        Ms += R * R * R * jx * (m2 - m1)
-        lat += R * jx * (l2 - l1)
-        return V, Mx, Ms, lat, cap_n, cap_t
 
-    # Gauss-Legendre in theta, theta from th1 (x = p1) down to th2 (x = p1 + w)
+@small_kernel
+def _partial_closed(R, k1, k2, tang1, tang2, w, dk, pm):
+    """Volume, first moments (along ``i_M`` about the COM, along ``e_down``) and wetted
+    lateral area of the partial sections by the closed forms: the integral over x is
+    (w/dk) times the integral over kappa of :func:`_antiderivatives`."""
+    th1 = PI if tang1 else math.acos(k1)
+    th2 = 0.0 if tang2 else math.acos(k2)
+    s1 = math.sqrt((1.0 - k1) * (1.0 + k1))
+    s2 = math.sqrt((1.0 - k2) * (1.0 + k2))
+    a1, b1, m1, l1 = _antiderivatives(k1, th1, s1)
+    a2, b2, m2, l2 = _antiderivatives(k2, th2, s2)
+    jx = w / dk  # dx/dkappa = bR/a
+    d0 = a2 - a1
+    km = 0.5 * (k1 + k2)
+    vp = R * R * jx * d0
+    return (
+        vp,
+        pm * vp + R * R * jx * jx * ((b2 - b1) - km * d0),
+        R * R * R * jx * (m2 - m1),
+        R * jx * (l2 - l1),
+    )
+
+
+@small_kernel
+def _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm):
+    """The same moments as :func:`_partial_closed` by Gauss-Legendre in theta, theta from th1
+    (x = p1) down to th2 (x = p1 + w), where the kappa range is too short for the closed
+    forms' cancellation."""
     if tang1:
         dth = math.acos(-k2)  # pi - acos(k2) without cancellation
         thm = PI - 0.5 * dth
@@ -260,10 +232,63 @@ def _cut_raw_up(L, R, chi, a, c):
         ss += wk * sk * sk * sk
         sl += wk * thk
     vp = R * R * w * sv
+    return vp, pm * vp + R * R * w * w * sx, R * R * R * w * (2.0 / 3.0) * ss, R * w * 2.0 * sl
+
+
+@kernel
+def _cut_raw_up(L, R, chi, a, c):
+    """Part below the plane for ``a = a_z >= 0``; ``c = z_c - level``.
+
+    Returns ``(V, Mx, Ms, lateral, nose_cap, tail_cap)``: volume, first
+    moments along ``i_M`` (about the COM) and along ``e_down``, wetted areas:
+    the full sections (d <= -bR) in closed form, the partial ones (:func:`_partial_span`)
+    by :func:`_partial_closed` or :func:`_partial_gauss`.
+    """
+    if a > 1.0:
+        a = 1.0
+    b = math.sqrt((1.0 - a) * (1.0 + a))
+    bR = b * R
+    xt = -0.5 * L - chi
+    xn = 0.5 * L - chi
+    dt = c + a * xt  # tail section centre above the plane
+    dn = c + a * xn  # nose section centre (dn >= dt since a >= 0)
+    cap_t = _cap_area(dt, bR, R)
+    cap_n = _cap_area(dn, bR, R)
+    area = PI * R * R
+
+    if dt >= bR:  # whole body above the plane
+        return 0.0, 0.0, 0.0, 0.0, cap_n, cap_t
+    if dn <= -bR:  # whole body below the plane
+        return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, cap_n, cap_t
+
+    # -- full sections: x in [xt, xt + full_len] (d <= -bR) --------------
+    tang1 = dt < -bR  # partial part starts at a tangency (kappa = -1)
+    tang2 = dn > bR  # partial part ends at a tangency (kappa = +1)
+    full_len = 0.0
+    if tang1:
+        full_len = -(bR + dt) / a  # a > 0 here since dn > -bR > dt
+        if full_len > L:
+            full_len = L
+    V = area * full_len
+    Mx = V * (xt + 0.5 * full_len)
+    Ms = 0.0
+    lat = 2.0 * PI * R * full_len
+
+    # -- partial sections: kappa from k1 to k2, x from p1 to p1 + w ---------
+    if bR <= 0.0:
+        return V, Mx, Ms, lat, cap_n, cap_t
+    k1, k2, p1, w, dk = _partial_span(L, a, bR, xt, xn, dt, dn, tang1, tang2, full_len)
+    if w <= 0.0:
+        return V, Mx, Ms, lat, cap_n, cap_t
+    pm = p1 + 0.5 * w
+    if dk >= TAU:
+        vp, mx, ms, dlat = _partial_closed(R, k1, k2, tang1, tang2, w, dk, pm)
+    else:
+        vp, mx, ms, dlat = _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm)
     V += vp
-    Mx += pm * vp + R * R * w * w * sx
-    Ms += R * R * R * w * (2.0 / 3.0) * ss
-    lat += R * w * 2.0 * sl
+    Mx += mx
+    Ms += ms
+    lat += dlat
     return V, Mx, Ms, lat, cap_n, cap_t
 
 

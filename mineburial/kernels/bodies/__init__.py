@@ -6,7 +6,7 @@ carries the class (``instance_class``), so each protocol function below is an ``
 looks the class up in :data:`SHAPES` and compiles that shape's implementation into the caller: no
 run-time branch, no first-class function, cached on disk with the caller (not inlined at numba's IR
 level: ``inline="always"`` cost ~5 s more CPU of cold compile, docs/design.md "Body protocol"), as
-``core.system_rhs`` and ``stepper._fixed_step`` dispatch on types.
+``core.system_rhs`` and ``core.fixed_trial`` dispatch on types.
 
 The protocol (what a shape module defines, as plain functions of ``body`` that numba compiles;
 heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
@@ -41,6 +41,8 @@ itself (:func:`register`; docs/design.md, "Adding a body shape"). This package i
 so the sediment package can use the protocol while the cylinder's module uses the sediment rules.
 """
 
+import inspect
+
 from numba.core import types
 from numba.extending import overload
 
@@ -49,25 +51,9 @@ from mineburial._numba import JIT_OPTIONS
 #: body class -> the module that implements the protocol for it (filled by :func:`register`)
 SHAPES = {}
 
-#: the protocol's functions, in the order of the module docstring
-PROTOCOL = (
-    "cut",
-    "extent",
-    "burial",
-    "equivalent_part",
-    "volume",
-    "ends",
-    "lowest_offset",
-    "deepest_point",
-    "sizes",
-    "surface_tractions",
-    "pore",
-    "strip_section",
-    "finite_added_mass",
-    "crossflow_efficiency",
-)
-
-__all__ = ["SHAPES", "PROTOCOL", "register", "by_type", *PROTOCOL]
+#: protocol function name -> its argument names (a shape's implementation takes the same names:
+#: numba checks them when it compiles the implementation into a caller), filled by :func:`_declare`
+SIGNATURES = {}
 
 
 def register(cls, module):
@@ -96,141 +82,49 @@ def _impl(name, body, *args):
     return None
 
 
-def cut(body, a_z, z_c, level):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
+def _declare(name, arguments):
+    """Protocol function ``name(arguments)`` (comma-separated names, ``body`` first): a stub for
+    compiled code, resolved by an ``overload`` on the body's type (:func:`_impl`).
+
+    The stub and the overload's typing function take ``*args`` but carry the explicit signature
+    (``__signature__``), which numba reads to match the implementation's argument names; this
+    is the overload that was written out by hand for each function before (the same template,
+    the same compiled code)."""
+    signature = inspect.Signature(
+        [inspect.Parameter(arg, inspect.Parameter.POSITIONAL_OR_KEYWORD) for arg in arguments.split(", ")]
+    )
+
+    def stub(*args, **kws):
+        raise NotImplementedError(f"bodies.{name} is for compiled code only")
+
+    def typer(*args, **kws):
+        return _impl(name, *signature.bind(*args, **kws).args)
+
+    for fn, prefix in ((stub, ""), (typer, "_overload_")):
+        fn.__name__ = fn.__qualname__ = prefix + name
+        fn.__signature__ = signature
+    stub.__doc__ = f"Protocol function {name}({arguments}) (module docstring); compiled code only."
+    overload(stub, jit_options=JIT_OPTIONS)(typer)
+    SIGNATURES[name] = arguments
+    return stub
 
 
-@overload(cut, jit_options=JIT_OPTIONS)
-def _cut(body, a_z, z_c, level):
-    return _impl("cut", body, a_z, z_c, level)
+cut = _declare("cut", "body, a_z, z_c, level")
+extent = _declare("extent", "body, a_z, z_c")
+burial = _declare("burial", "body, a_z, z_c, level")
+equivalent_part = _declare("equivalent_part", "body, volume, x_c, eta")
+volume = _declare("volume", "body")
+ends = _declare("ends", "body")
+lowest_offset = _declare("lowest_offset", "body, k1, k2, k3")
+deepest_point = _declare("deepest_point", "body, k1, k2, k3")
+sizes = _declare("sizes", "body")
+surface_tractions = _declare("surface_tractions", "body, reference_paths, k1, k2, k3, d0, vbody, law, bank")
+pore = _declare("pore", "body, k1, k2, k3, d0, zeta_tip, w_z, law, bank")
+strip_section = _declare("strip_section", "body")
+finite_added_mass = _declare("finite_added_mass", "body")
+crossflow_efficiency = _declare("crossflow_efficiency", "body")
 
+#: the protocol's functions, in the order of the module docstring
+PROTOCOL = tuple(SIGNATURES)
 
-def extent(body, a_z, z_c):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(extent, jit_options=JIT_OPTIONS)
-def _extent(body, a_z, z_c):
-    return _impl("extent", body, a_z, z_c)
-
-
-def burial(body, a_z, z_c, level):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(burial, jit_options=JIT_OPTIONS)
-def _burial(body, a_z, z_c, level):
-    return _impl("burial", body, a_z, z_c, level)
-
-
-def equivalent_part(body, volume, x_c, eta):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(equivalent_part, jit_options=JIT_OPTIONS)
-def _equivalent_part(body, volume, x_c, eta):
-    return _impl("equivalent_part", body, volume, x_c, eta)
-
-
-def volume(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(volume, jit_options=JIT_OPTIONS)
-def _volume(body):
-    return _impl("volume", body)
-
-
-def ends(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(ends, jit_options=JIT_OPTIONS)
-def _ends(body):
-    return _impl("ends", body)
-
-
-def lowest_offset(body, k1, k2, k3):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(lowest_offset, jit_options=JIT_OPTIONS)
-def _lowest_offset(body, k1, k2, k3):
-    return _impl("lowest_offset", body, k1, k2, k3)
-
-
-def deepest_point(body, k1, k2, k3):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(deepest_point, jit_options=JIT_OPTIONS)
-def _deepest_point(body, k1, k2, k3):
-    return _impl("deepest_point", body, k1, k2, k3)
-
-
-def sizes(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(sizes, jit_options=JIT_OPTIONS)
-def _sizes(body):
-    return _impl("sizes", body)
-
-
-def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(surface_tractions, jit_options=JIT_OPTIONS)
-def _surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
-    return _impl("surface_tractions", body, reference_paths, k1, k2, k3, d0, vbody, law, bank)
-
-
-def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(pore, jit_options=JIT_OPTIONS)
-def _pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
-    return _impl("pore", body, k1, k2, k3, d0, zeta_tip, w_z, law, bank)
-
-
-def strip_section(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(strip_section, jit_options=JIT_OPTIONS)
-def _strip_section(body):
-    return _impl("strip_section", body)
-
-
-def finite_added_mass(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(finite_added_mass, jit_options=JIT_OPTIONS)
-def _finite_added_mass(body):
-    return _impl("finite_added_mass", body)
-
-
-def crossflow_efficiency(body):
-    """Protocol function (module docstring); compiled code only."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(crossflow_efficiency, jit_options=JIT_OPTIONS)
-def _crossflow_efficiency(body):
-    return _impl("crossflow_efficiency", body)
+__all__ = ["SHAPES", "PROTOCOL", "SIGNATURES", "register", "by_type", *PROTOCOL]

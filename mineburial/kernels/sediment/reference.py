@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.sediment.laws import (
@@ -254,34 +254,12 @@ def _line_interval(kind, c, s, sg, fe, fd):
     return lo, hi
 
 
-@kernel
-def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, n, nm):
-    """Moments of the tractions along the line at angle (c, s) for r in [lo, hi].
-
-    The line is a generator (kind 0: point (x, R c, R s), normal (0, c, s), r = x) or a
-    ray of an end cap (kind 1: point (xc, O + rho (c, s)), normal (sgn, 0, 0), r = rho,
-    weight rho). It is cut into parts, each integrated by Gauss-Legendre in u with
-    r = anchor + side eps sinh(u) (the sinh transformation of Johnston & Elliott 2005,
-    Int. J. Numer. Meth. Eng. 62:564, resolving a near-singularity at distance eps from
-    r = anchor) or r = u:
-
-    * generator: split where the circumferential slip reverses (v_theta = T0 + T1 x = 0,
-      where the slip direction turns over the length sqrt(v_x^2 + V_REG^2)/|T1|) and
-      where the speed is least (the rate factor dips over ~max(v_min, floor)/|dv/dx|),
-      mapped towards both (nm points on a mapped part, n otherwise; a part with a
-      feature at each end is halved);
-    * ray: one part, mapped from O when sg[12] > 0 (speed dip at O);
-    * with a tabulated profile each part is also split in u where it crosses a
-      tabulated depth (a kink of the profile), each piece getting a share of the
-      points proportional to its length, at least LEVEL_POINTS.
-    """
-    v1, v2, v3, w1, w2, w3 = vel
-    p1 = _NAN
-    q1 = 0.0
-    p2 = _NAN
-    q2 = 0.0
-    # an end set by the delta switch carries the ramp of the regularised switch
-    # v_n / sqrt(v_n^2 + V_REG_N^2), over the length V_REG_N/|dv_n/dr|
+@small_kernel
+def _delta_ramp_ends(kind, c, s, lo, hi, sg, fd, law):
+    """Widths ``(elo, ehi)`` of the ramp of the regularised delta switch
+    v_n / sqrt(v_n^2 + V_REG_N^2) at the ends of the line's interval [lo, hi]: an end set by
+    the delta switch carries it over the length V_REG_N/|dv_n/dr| (0: no ramp there, or one
+    thinner than RAMP_MIN of the interval)."""
     if kind == 0:
         b0 = fd[1] * c + fd[2] * s
         b1 = fd[4] * c + fd[5] * s
@@ -299,56 +277,224 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
                 elo = en
             elif abs(hi - rd) <= tol:
                 ehi = en
+    return elo, ehi
+
+
+@small_kernel
+def _generator_features(c, s, lo, hi, R, fd, ft, vel, law, tangential, dip):
+    """Split points of a generator inside (lo, hi) and their widths, ``(p1, q1, p2, q2)`` in
+    increasing x (NaN: none): where the circumferential slip reverses (v_theta = T0 + T1 x = 0;
+    the slip direction turns over sqrt(v_x^2 + V_REG^2)/|T1|) and where the speed is least
+    (the rate factor dips over ~max(v_min, floor)/|dv/dx|)."""
+    v1, _, _, _, w2, w3 = vel
+    p1 = _NAN
+    q1 = 0.0
+    p2 = _NAN
+    q2 = 0.0
+    vx = v1 - w3 * R * c + w2 * R * s
+    t0 = ft[0] + ft[1] * c + ft[2] * s
+    t1 = ft[4] * c + ft[5] * s
+    if tangential and t1 != 0.0:
+        xq = -t0 / t1
+        if xq > lo and xq < hi:
+            p1 = xq
+            q1 = math.sqrt(vx * vx + law[LAW_VREG] * law[LAW_VREG]) / abs(t1)
+    if dip[0] > 0:
+        d0 = fd[1] * c + fd[2] * s
+        d1 = fd[4] * c + fd[5] * s
+        a2 = d1 * d1 + t1 * t1
+        if a2 > 0.0:
+            xm = -(d0 * d1 + t0 * t1) / a2
+            if xm > lo and xm < hi:
+                cr = d0 * t1 - t0 * d1
+                vmin = math.sqrt(vx * vx + cr * cr / a2)
+                if vmin < dip[2]:
+                    p2 = xm
+                    q2 = max(vmin, dip[1]) / math.sqrt(a2)
+    if not (p1 == p1):
+        p1 = p2
+        q1 = q2
+        p2 = _NAN
+    elif p2 == p2 and p2 < p1:
+        p1, p2 = p2, p1
+        q1, q2 = q2, q1
+    return p1, q1, p2, q2
+
+
+@small_kernel
+def _part_map(kind, sg, h, nh, a, b, ea, eb, n, nm):
+    """The map r = anchor + side eps sinh(u) of part ``h`` (of ``nh``) of the piece [a, b]
+    whose ends carry near-singularities of widths ``ea``, ``eb`` (0: none), as
+    ``(sa, sb, anchor, eps, side, npts)``: a piece with a feature at each end is halved, each
+    half mapped towards its end (eps = 0: plain Gauss-Legendre, r = u); on a cap's ray with
+    a speed dip at the polar origin, the whole ray is mapped from it."""
+    sa = a
+    sb = b
+    anchor = a
+    eps = 0.0
+    side = 0.0
+    npts = n
+    mid = 0.5 * (a + b)
+    if kind == 1 and sg[12] > 0.0:
+        # speed dip at the polar origin: rho = eps_r sinh(u) on the whole ray
+        anchor = 0.0
+        eps = sg[12]
+        side = 1.0
+        npts = nm
+    elif nh == 2:
+        npts = nm
+        if h == 0:
+            sb = mid
+            eps = ea
+            side = 1.0
+        else:
+            sa = mid
+            anchor = b
+            eps = eb
+            side = -1.0
+    elif ea > 0.0:
+        eps = ea
+        side = 1.0
+        npts = nm
+    elif eb > 0.0:
+        anchor = b
+        eps = eb
+        side = -1.0
+        npts = nm
+    return sa, sb, anchor, eps, side, npts
+
+
+@small_kernel
+def _gauss_piece(u0, u1, kk, anchor, eps, side, line, vel, law, bank, acc):
+    """``acc`` plus the kk-point Gauss-Legendre rule on [u0, u1] of the traction moments along
+    the line ``line`` = (point, direction, normal, depth z0 + z1 r, polar weight r or not)."""
+    px, py, pz, dx, dy, dz, nx, ny, nz, z0, z1, polar = line
+    v1, v2, v3, w1, w2, w3 = vel
+    hu = 0.5 * (u1 - u0)
+    mu = 0.5 * (u1 + u0)
+    for i in range(kk):
+        u = mu + hu * _GL_NODES[kk, i]
+        if eps > 0.0:
+            r = anchor + side * eps * math.sinh(u)
+            jac = eps * math.cosh(u)
+        else:
+            r = u
+            jac = 1.0
+        x = px + r * dx
+        y = py + r * dy
+        z = pz + r * dz
+        g1, g2, g3 = _traction(x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1, w2, w3, law, bank)
+        wgt = hu * _GL_WEIGHTS[kk, i] * jac
+        if polar:
+            wgt *= r
+        acc = add_point_traction(acc, wgt, x, y, z, g1, g2, g3)
+    return acc
+
+
+@small_kernel
+def _part(sa, sb, anchor, eps, side, npts, n, line, nlev, row, vel, law, bank, acc):
+    """``acc`` plus the moments over one part [sa, sb] mapped as :func:`_part_map` says: the
+    near-singular layer within LAYER_WIDTHS eps of the anchor sinh-mapped (u <= asinh(
+    LAYER_WIDTHS)), the rest plain Gauss-Legendre; each split where it crosses one of the
+    ``nlev`` tabulated depths of profile ``row`` (a kink of the profile), each piece getting a
+    share of the points proportional to its length, at least LEVEL_POINTS."""
+    z0 = line[9]
+    z1 = line[10]
+    sa0 = sa
+    sb0 = sb
+    edge = 0.0
+    nsp = 1
+    if eps > 0.0:
+        edge = anchor + side * LAYER_WIDTHS * eps
+        if (side > 0.0 and edge <= sa0) or (side < 0.0 and edge >= sb0):
+            eps = 0.0  # the layer lies outside the part
+            side = 0.0
+            npts = n
+        elif edge > sa0 and edge < sb0:
+            nsp = 2
+    lay_side = side
+    for sp in range(nsp):
+        if nsp == 2:
+            if sp == 0:  # the layer, mapped
+                sa = sa0 if lay_side > 0.0 else edge
+                sb = edge if lay_side > 0.0 else sb0
+            else:  # the rest, plain
+                sa = edge if lay_side > 0.0 else sa0
+                sb = sb0 if lay_side > 0.0 else edge
+                eps = 0.0
+                side = 0.0
+                npts = n
+        if eps > 0.0:
+            ua = math.asinh(side * (sa - anchor) / eps)
+            ub = math.asinh(side * (sb - anchor) / eps)
+            if ua > ub:
+                ua, ub = ub, ua
+        else:
+            ua = sa
+            ub = sb
+        za = z0 + z1 * sa
+        zb = z0 + z1 * sb
+        zlo = min(za, zb)
+        zhi = max(za, zb)
+        up = (z1 > 0.0) == (side >= 0.0)  # depth increases with u
+        total = ub - ua
+        u0 = ua
+        for jj in range(nlev + 1):
+            u1 = ub
+            kk = npts
+            if jj < nlev:
+                j = jj if up else nlev - 1 - jj
+                dep = bank[row, 0, j]
+                if not (dep > zlo and dep < zhi):
+                    continue
+                rl = (dep - z0) / z1
+                u1 = math.asinh(side * (rl - anchor) / eps) if eps > 0.0 else rl
+                if not (u1 > u0 and u1 < ub):
+                    continue
+            if nlev > 0:
+                kk = min(npts, max(LEVEL_POINTS, int(npts * (u1 - u0) / total + 0.999)))
+            acc = _gauss_piece(u0, u1, kk, anchor, eps, side, line, vel, law, bank, acc)
+            u0 = u1
+    return acc
+
+
+@kernel
+def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, n, nm):
+    """Moments of the tractions along the line at angle (c, s) for r in [lo, hi].
+
+    The line is a generator (kind 0: point (x, R c, R s), normal (0, c, s), r = x) or a
+    ray of an end cap (kind 1: point (xc, O + rho (c, s)), normal (sgn, 0, 0), r = rho,
+    weight rho). It is cut into pieces at its features, and each piece into parts, each
+    integrated by Gauss-Legendre in u with r = anchor + side eps sinh(u) (the sinh
+    transformation of Johnston & Elliott 2005, Int. J. Numer. Meth. Eng. 62:564, resolving a
+    near-singularity at distance eps from r = anchor) or r = u:
+
+    * generator: split where the circumferential slip reverses and where the speed is least
+      (:func:`_generator_features`), mapped towards both (nm points on a mapped part, n
+      otherwise; a part with a feature at each end is halved, :func:`_part_map`);
+    * ray: one part, mapped from O when sg[12] > 0 (speed dip at O);
+    * an end set by the delta switch is mapped towards its ramp (:func:`_delta_ramp_ends`);
+    * with a tabulated profile each part is also split where it crosses a tabulated depth
+      (:func:`_part`).
+    """
+    elo, ehi = _delta_ramp_ends(kind, c, s, lo, hi, sg, fd, law)
+    p1 = _NAN
+    q1 = 0.0
+    p2 = _NAN
+    q2 = 0.0
     if kind == 0:
         R = sg[0]
         # point P + r D, normal N, depth z0 + z1 r
-        px, py, pz, dx, dy, dz = 0.0, R * c, R * s, 1.0, 0.0, 0.0
-        nx, ny, nz = 0.0, c, s
         z0 = fe[0] + fe[1] * c + fe[2] * s
-        z1 = fe[3]
-        polar = False
-        vx = v1 - w3 * R * c + w2 * R * s
-        t0 = ft[0] + ft[1] * c + ft[2] * s
-        t1 = ft[4] * c + ft[5] * s
-        if tangential and t1 != 0.0:
-            xq = -t0 / t1
-            if xq > lo and xq < hi:
-                p1 = xq
-                q1 = math.sqrt(vx * vx + law[LAW_VREG] * law[LAW_VREG]) / abs(t1)
-        if dip[0] > 0:
-            d0 = fd[1] * c + fd[2] * s
-            d1 = fd[4] * c + fd[5] * s
-            a2 = d1 * d1 + t1 * t1
-            if a2 > 0.0:
-                xm = -(d0 * d1 + t0 * t1) / a2
-                if xm > lo and xm < hi:
-                    cr = d0 * t1 - t0 * d1
-                    vmin = math.sqrt(vx * vx + cr * cr / a2)
-                    if vmin < dip[2]:
-                        p2 = xm
-                        q2 = max(vmin, dip[1]) / math.sqrt(a2)
-        if not (p1 == p1):
-            p1 = p2
-            q1 = q2
-            p2 = _NAN
-        elif p2 == p2 and p2 < p1:
-            p1, p2 = p2, p1
-            q1, q2 = q2, q1
+        line = (0.0, R * c, R * s, 1.0, 0.0, 0.0, 0.0, c, s, z0, fe[3], False)
+        p1, q1, p2, q2 = _generator_features(c, s, lo, hi, R, fd, ft, vel, law, tangential, dip)
     else:
-        px, py, pz, dx, dy, dz = sg[0], sg[3], sg[4], 0.0, c, s
-        nx, ny, nz = sg[1], 0.0, 0.0
         z0 = sg[6] + sg[7] * sg[3] + sg[8] * sg[4]
-        z1 = sg[7] * c + sg[8] * s
-        polar = True
+        line = (sg[0], sg[3], sg[4], 0.0, c, s, sg[1], 0.0, 0.0, z0, sg[7] * c + sg[8] * s, True)
     row = law[15]
-    nlev = bank.shape[2] if (row >= 0 and z1 != 0.0) else 0
+    nlev = bank.shape[2] if (row >= 0 and line[10] != 0.0) else 0
     npiece = 1 + (1 if p1 == p1 else 0) + (1 if p2 == p2 else 0)
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
+    acc = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for k in range(npiece):
         a = lo if k == 0 else (p1 if k == 1 else p2)
         ea = elo if k == 0 else (q1 if k == 1 else q2)
@@ -361,210 +507,159 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
         if eb >= b - a:
             eb = 0.0
         nh = 2 if (ea > 0.0 and eb > 0.0) else 1
-        mid = 0.5 * (a + b)
         for h in range(nh):
-            # one part [sa, sb]: map r = anchor + side eps sinh(u)
-            sa = a
-            sb = b
-            anchor = a
-            eps = 0.0
-            side = 0.0
-            npts = n
-            if kind == 1 and sg[12] > 0.0:
-                # speed dip at the polar origin: rho = eps_r sinh(u) on the whole ray
-                anchor = 0.0
-                eps = sg[12]
-                side = 1.0
-                npts = nm
-            elif nh == 2:
-                npts = nm
-                if h == 0:
-                    sb = mid
-                    eps = ea
-                    side = 1.0
-                else:
-                    sa = mid
-                    anchor = b
-                    eps = eb
-                    side = -1.0
-            elif ea > 0.0:
-                eps = ea
-                side = 1.0
-                npts = nm
-            elif eb > 0.0:
-                anchor = b
-                eps = eb
-                side = -1.0
-                npts = nm
-            # the near-singular layer within LAYER_WIDTHS eps of the anchor is sinh-mapped
-            # (u <= asinh(LAYER_WIDTHS)); the rest of the part is plain Gauss-Legendre
-            sa0 = sa
-            sb0 = sb
-            edge = 0.0
-            nsp = 1
-            if eps > 0.0:
-                edge = anchor + side * LAYER_WIDTHS * eps
-                if (side > 0.0 and edge <= sa0) or (side < 0.0 and edge >= sb0):
-                    eps = 0.0  # the layer lies outside the part
-                    side = 0.0
-                    npts = n
-                elif edge > sa0 and edge < sb0:
-                    nsp = 2
-            lay_side = side
-            for sp in range(nsp):
-                if nsp == 2:
-                    if sp == 0:  # the layer, mapped
-                        sa = sa0 if lay_side > 0.0 else edge
-                        sb = edge if lay_side > 0.0 else sb0
-                    else:  # the rest, plain
-                        sa = edge if lay_side > 0.0 else sa0
-                        sb = sb0 if lay_side > 0.0 else edge
-                        eps = 0.0
-                        side = 0.0
-                        npts = n
-                if eps > 0.0:
-                    ua = math.asinh(side * (sa - anchor) / eps)
-                    ub = math.asinh(side * (sb - anchor) / eps)
-                    if ua > ub:
-                        ua, ub = ub, ua
-                else:
-                    ua = sa
-                    ub = sb
-                za = z0 + z1 * sa
-                zb = z0 + z1 * sb
-                zlo = min(za, zb)
-                zhi = max(za, zb)
-                up = (z1 > 0.0) == (side >= 0.0)  # depth increases with u
-                total = ub - ua
-                u0 = ua
-                for jj in range(nlev + 1):
-                    u1 = ub
-                    kk = npts
-                    if jj < nlev:
-                        j = jj if up else nlev - 1 - jj
-                        dep = bank[row, 0, j]
-                        if not (dep > zlo and dep < zhi):
-                            continue
-                        rl = (dep - z0) / z1
-                        u1 = math.asinh(side * (rl - anchor) / eps) if eps > 0.0 else rl
-                        if not (u1 > u0 and u1 < ub):
-                            continue
-                    if nlev > 0:
-                        kk = min(npts, max(LEVEL_POINTS, int(npts * (u1 - u0) / total + 0.999)))
-                    # kk-point Gauss-Legendre rule on [u0, u1]
-                    hu = 0.5 * (u1 - u0)
-                    mu = 0.5 * (u1 + u0)
-                    for i in range(kk):
-                        u = mu + hu * _GL_NODES[kk, i]
-                        if eps > 0.0:
-                            r = anchor + side * eps * math.sinh(u)
-                            jac = eps * math.cosh(u)
-                        else:
-                            r = u
-                            jac = 1.0
-                        x = px + r * dx
-                        y = py + r * dy
-                        z = pz + r * dz
-                        g1, g2, g3 = _traction(
-                            x, y, z, nx, ny, nz, z0 + z1 * r, v1, v2, v3, w1, w2, w3, law, bank
-                        )
-                        wgt = hu * _GL_WEIGHTS[kk, i] * jac
-                        if polar:
-                            wgt *= r
-                        f1, f2, f3, m1, m2, m3 = add_point_traction(
-                            (f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3
-                        )
-                    u0 = u1
-    return f1, f2, f3, m1, m2, m3
+            sa, sb, anchor, eps, side, npts = _part_map(kind, sg, h, nh, a, b, ea, eb, n, nm)
+            acc = _part(sa, sb, anchor, eps, side, npts, n, line, nlev, row, vel, law, bank, acc)
+    return acc
 
 
 # =============================================================================
 # panels in the angle (theta on the lateral surface, phi on a cap)
 # =============================================================================
+@small_kernel
+def _depth_line_break(cur, nxt, e_nxt, er_nxt, fe, fd, xa, xb, zmax, row, bank, vtol):
+    """The next panel end ``(nxt, e, er)`` on the lateral surface with a tabulated profile:
+    the first angle after ``cur`` and before ``nxt`` where a tabulated depth line d reaches a
+    body end xe, (E0 - d) + E1 xe = 0, on the advancing side (no near-singularity there);
+    else ``nxt`` and its scales unchanged."""
+    inf = math.inf
+    for j in range(bank.shape[2]):
+        d = bank[row, 0, j]
+        if not (d < zmax):
+            break
+        if not (d > 0.0):
+            continue
+        for k in range(4):
+            xe = xa if k < 2 else xb
+            rr = _roots_lin(fe[0] - d + fe[3] * xe, fe[1], fe[2])
+            t = rr[k % 2]
+            if t > cur and t < nxt:
+                c = math.cos(t)
+                s = math.sin(t)
+                if fd[1] * c + fd[2] * s + xe * (fd[4] * c + fd[5] * s) >= -vtol:
+                    nxt = t
+                    e_nxt = inf
+                    er_nxt = inf
+    return nxt, e_nxt, er_nxt
+
+
+@small_kernel
+def _panel_modes(cur, nxt, e_cur, er_cur, e_nxt, er_nxt, trig):
+    """How the panel [cur, nxt] treats each end: mode 1 = geometric grading (a pole-like
+    near-singularity at distance e, or a front/dip of width e), mode 2 = sinh-mapped layer
+    (the ramp of the delta switch, width er, counted where not negligibly thin), 0 = none;
+    as ``(mode_a, scale_a, mode_b, scale_b)``."""
+    inf = math.inf
+    width = nxt - cur
+    ra = er_cur if er_cur > RAMP_MIN * width else inf
+    rb = er_nxt if er_nxt > RAMP_MIN * width else inf
+    mode_a = 1 if e_cur < trig * width else (2 if ra < trig * width else 0)
+    mode_b = 1 if e_nxt < trig * width else (2 if rb < trig * width else 0)
+    sc_a = min(e_cur, ra) if mode_a == 1 else ra
+    sc_b = min(e_nxt, rb) if mode_b == 1 else rb
+    return mode_a, sc_a, mode_b, sc_b
+
+
+@small_kernel
+def _half_panel(h, nh, cur, nxt, mode_a, sc_a, mode_b, sc_b):
+    """Half ``h`` (of ``nh``; a panel with a feature at each end is halved) of the panel
+    [cur, nxt] as ``(tf, tt, mode, e)``: from the end ``tf`` that carries the feature (mode,
+    scale e) towards ``tt``."""
+    mid = 0.5 * (cur + nxt)
+    if nh == 2:
+        tf = cur if h == 0 else nxt
+        tt = mid
+        mode = mode_a if h == 0 else mode_b
+        e = sc_a if h == 0 else sc_b
+    elif mode_a > 0:
+        tf = cur
+        tt = nxt
+        mode = mode_a
+        e = sc_a
+    elif mode_b > 0:
+        tf = nxt
+        tt = cur
+        mode = mode_b
+        e = sc_b
+    else:
+        tf = cur
+        tt = nxt
+        mode = 0
+        e = 0.0
+    return tf, tt, mode, e
+
+
+@small_kernel
+def _angle_rule(
+    kind, tf, sgn, pos, pnext, n, mapped, e, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, acc
+):
+    """``acc`` plus the n-point Gauss-Legendre rule in the angle on the sub-panel [pos, pnext]
+    (measured from ``tf`` in the direction ``sgn``; sinh-mapped with scale ``e`` when
+    ``mapped``): at each node the embedded advancing part of the line, by :func:`_inner`."""
+    scale = sg[0] if kind == 0 else 1.0  # R dtheta on the lateral surface
+    nr = rule[6] if (kind == 0 or sg[12] <= 0.0) else rule[7]
+    if mapped:
+        hw = 0.5 * math.asinh(pnext / e)
+        qmid = hw
+    else:
+        hw = 0.5 * (pnext - pos)
+        qmid = 0.5 * (pnext + pos)
+    tm = tf + sgn * (e * math.sinh(qmid) if mapped else qmid)
+    lo, hi = _line_interval(kind, math.cos(tm), math.sin(tm), sg, fe, fd)
+    if hi > lo:
+        for i in range(n):
+            q = qmid + hw * _GL_NODES[n, i]
+            jac = 1.0
+            if mapped:
+                jac = e * math.cosh(q)
+                q = e * math.sinh(q)
+            t = tf + sgn * q
+            c = math.cos(t)
+            s = math.sin(t)
+            lo, hi = _line_interval(kind, c, s, sg, fe, fd)
+            if not (hi > lo):
+                continue
+            g1, g2, g3, h1, h2, h3 = _inner(
+                kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, nr, rule[7]
+            )
+            wt = hw * _GL_WEIGHTS[n, i] * scale * jac
+            acc = add_weighted(acc, wt, (g1, g2, g3, h1, h2, h3))
+    return acc
+
+
 @kernel
 def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, eps, epsr, vtol):
     """Moments over one surface (kind 0 lateral, 1 end cap), integrated in the angle.
 
     Panels run between consecutive breakpoints (and, on the lateral surface with a
     tabulated profile, where a tabulated depth line reaches a body end on the advancing
-    side). A panel next to a breakpoint whose near-singularity scale e is below
-    rule[5] times its width is graded geometrically towards it (both ends: halved):
-    sub-panel widths e, r e, r^2 e, ... (r = rule[4]), each about as far from the
-    near-singularity as it is wide, with rule[3] points. Other panels get
-    ceil(width rule[0]) points within [rule[1], rule[2]] (wider ones are split).
-    At each angle node the embedded advancing part of the line is integrated by _inner.
+    side, :func:`_depth_line_break`). A panel next to a breakpoint whose near-singularity
+    scale e is below rule[5] times its width is graded geometrically towards it (both ends:
+    halved; :func:`_panel_modes`, :func:`_half_panel`): sub-panel widths e, r e, r^2 e, ...
+    (r = rule[4]), each about as far from the near-singularity as it is wide, with rule[3]
+    points. Other panels get ceil(width rule[0]) points within [rule[1], rule[2]] (wider ones
+    are split). At each angle node the embedded advancing part of the line is integrated by
+    _inner (:func:`_angle_rule`).
     """
     inf = math.inf
-    f1 = 0.0
-    f2 = 0.0
-    f3 = 0.0
-    m1 = 0.0
-    m2 = 0.0
-    m3 = 0.0
+    acc = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     cur = 0.0
     e_cur = inf
     er_cur = inf
-    trig = rule[5]
     row = law[15] if kind == 0 else -1
     xa = sg[1]
     xb = sg[2]
     zmax = fe[0] + max(fe[3] * xa, fe[3] * xb) + math.sqrt(fe[1] * fe[1] + fe[2] * fe[2])
-    scale = sg[0] if kind == 0 else 1.0  # R dtheta on the lateral surface
-    nr = rule[6] if (kind == 0 or sg[12] <= 0.0) else rule[7]
     while cur < _TWO_PI:
         nxt, e_nxt, er_nxt = _next_break(bps, eps, epsr, cur)
         if row >= 0:
-            # tabulated depth d reaching x = xe: (E0 - d) + E1 xe = 0
-            for j in range(bank.shape[2]):
-                d = bank[row, 0, j]
-                if not (d < zmax):
-                    break
-                if not (d > 0.0):
-                    continue
-                for k in range(4):
-                    xe = xa if k < 2 else xb
-                    rr = _roots_lin(fe[0] - d + fe[3] * xe, fe[1], fe[2])
-                    t = rr[k % 2]
-                    if t > cur and t < nxt:
-                        c = math.cos(t)
-                        s = math.sin(t)
-                        if fd[1] * c + fd[2] * s + xe * (fd[4] * c + fd[5] * s) >= -vtol:
-                            nxt = t
-                            e_nxt = inf
-                            er_nxt = inf
-        width = nxt - cur
-        # feature at each end: mode 1 = geometric grading (a pole-like near-singularity
-        # at distance e, or a front/dip of width e), mode 2 = sinh-mapped layer (the ramp
-        # of the delta switch, width er, counted where not negligibly thin), 0 = none
-        ra = er_cur if er_cur > RAMP_MIN * width else inf
-        rb = er_nxt if er_nxt > RAMP_MIN * width else inf
-        mode_a = 1 if e_cur < trig * width else (2 if ra < trig * width else 0)
-        mode_b = 1 if e_nxt < trig * width else (2 if rb < trig * width else 0)
-        sc_a = min(e_cur, ra) if mode_a == 1 else ra
-        sc_b = min(e_nxt, rb) if mode_b == 1 else rb
+            nxt, e_nxt, er_nxt = _depth_line_break(
+                cur, nxt, e_nxt, er_nxt, fe, fd, xa, xb, zmax, row, bank, vtol
+            )
+        mode_a, sc_a, mode_b, sc_b = _panel_modes(cur, nxt, e_cur, er_cur, e_nxt, er_nxt, rule[5])
         nh = 2 if (mode_a > 0 and mode_b > 0) else 1
-        mid = 0.5 * (cur + nxt)
         for h in range(nh):
-            if nh == 2:
-                tf = cur if h == 0 else nxt
-                tt = mid
-                mode = mode_a if h == 0 else mode_b
-                e = sc_a if h == 0 else sc_b
-            elif mode_a > 0:
-                tf = cur
-                tt = nxt
-                mode = mode_a
-                e = sc_a
-            elif mode_b > 0:
-                tf = nxt
-                tt = cur
-                mode = mode_b
-                e = sc_b
-            else:
-                tf = cur
-                tt = nxt
-                mode = 0
-                e = 0.0
+            tf, tt, mode, e = _half_panel(h, nh, cur, nxt, mode_a, sc_a, mode_b, sc_b)
             # sub-panels of [tf, tt], measured from tf
             total = abs(tt - tf)
             sgn = 1.0 if tt > tf else -1.0
@@ -596,35 +691,27 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
                     k0 = 1 if mode == 2 else 0
                     pnext = pos + (total - pos) / (kplain - (ksub - k0))
                     last = ksub - k0 == kplain - 1
-                # n-point rule in the angle on [pos, pnext] (from tf)
-                if mapped:
-                    hw = 0.5 * math.asinh(pnext / e)
-                    qmid = hw
-                else:
-                    hw = 0.5 * (pnext - pos)
-                    qmid = 0.5 * (pnext + pos)
-                tm = tf + sgn * (e * math.sinh(qmid) if mapped else qmid)
-                lo, hi = _line_interval(kind, math.cos(tm), math.sin(tm), sg, fe, fd)
-                if hi > lo:
-                    for i in range(n):
-                        q = qmid + hw * _GL_NODES[n, i]
-                        jac = 1.0
-                        if mapped:
-                            jac = e * math.cosh(q)
-                            q = e * math.sinh(q)
-                        t = tf + sgn * q
-                        c = math.cos(t)
-                        s = math.sin(t)
-                        lo, hi = _line_interval(kind, c, s, sg, fe, fd)
-                        if not (hi > lo):
-                            continue
-                        g1, g2, g3, h1, h2, h3 = _inner(
-                            kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, nr, rule[7]
-                        )
-                        wt = hw * _GL_WEIGHTS[n, i] * scale * jac
-                        f1, f2, f3, m1, m2, m3 = add_weighted(
-                            (f1, f2, f3, m1, m2, m3), wt, (g1, g2, g3, h1, h2, h3)
-                        )
+                acc = _angle_rule(
+                    kind,
+                    tf,
+                    sgn,
+                    pos,
+                    pnext,
+                    n,
+                    mapped,
+                    e,
+                    sg,
+                    fe,
+                    fd,
+                    ft,
+                    vel,
+                    law,
+                    bank,
+                    tangential,
+                    dip,
+                    rule,
+                    acc,
+                )
                 if last:
                     break
                 pos = pnext
@@ -632,18 +719,212 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
         cur = nxt
         e_cur = e_nxt
         er_cur = er_nxt
-    return f1, f2, f3, m1, m2, m3
+    return acc
 
 
 # =============================================================================
 # breakpoints of the lateral surface
 # =============================================================================
+#: no breakpoint (NaN) and no near-singularity (inf), for padding the breakpoint tuples
+_NO4 = (_NAN, _NAN, _NAN, _NAN)
+_INF4 = (math.inf, math.inf, math.inf, math.inf)
+_NO23 = (_NAN,) * 23
+_INF23 = (math.inf,) * 23
+_INF28 = (math.inf,) * 28
+
+
+@small_kernel
+def _screw_axis_dip(geo, dip, r, rx):
+    """Group 6's candidates where the screw axis of the motion meets (or passes closest to)
+    the lateral surface, the speed dip of the rate factor: the candidate angles ``r`` and
+    their x ``rx`` with slots 2, 3 filled when the least speed there is below the dip's
+    limit, and that least speed (inf when none)."""
+    R, _, _, v1, v2, v3, w1, w2, w3 = geo
+    vmin_dip = math.inf
+    wn2 = w1 * w1 + w2 * w2 + w3 * w3
+    if dip[0] > 0 and wn2 > 0.0:
+        wn = math.sqrt(wn2)
+        u1 = w1 / wn
+        u2 = w2 / wn
+        u3 = w3 / wn
+        pitch = abs(v1 * u1 + v2 * u2 + v3 * u3)
+        # a point of the axis, (omega x V)/|omega|^2, and its direction u
+        p1 = (w2 * v3 - w3 * v2) / wn2
+        p2 = (w3 * v1 - w1 * v3) / wn2
+        p3 = (w1 * v2 - w2 * v1) / wn2
+        qa = u2 * u2 + u3 * u3
+        qb = p2 * u2 + p3 * u3
+        qc = p2 * p2 + p3 * p3 - R * R
+        if qa > 1e-12:
+            disc = qb * qb - qa * qc
+            if disc >= 0.0:
+                sq = math.sqrt(disc)
+                lam0 = (-qb - sq) / qa
+                lam1 = (-qb + sq) / qa
+                vmin_dip = pitch
+            else:
+                lam0 = -qb / qa
+                lam1 = _NAN
+                dist = math.sqrt(max(qc - qb * qb / qa + R * R, 0.0))
+                vmin_dip = math.sqrt(pitch * pitch + wn2 * (dist - R) * (dist - R))
+            if vmin_dip < dip[2]:
+                ta = _wrap(math.atan2(p3 + lam0 * u3, p2 + lam0 * u2))
+                tb = _wrap(math.atan2(p3 + lam1 * u3, p2 + lam1 * u2))
+                r = (r[0], r[1], ta, tb)
+                rx = (rx[0], rx[1], p1 + lam0 * u1, p1 + lam1 * u1)
+    return r, rx, vmin_dip
+
+
+@small_kernel
+def _candidates(group, geo, f, g, tangential, dip):
+    """Candidate angles of breakpoint group ``group`` (see :func:`_lateral_breaks`), the x
+    where each is checked, and the least speed of the screw-axis dip (group 6; else inf)."""
+    R, xa, xb, v1, _, _, _, w2, w3 = geo
+    r = _NO4
+    rx = (xa, xa, xb, xb)
+    vmin_dip = math.inf
+    if group < 3:
+        for k in range(2):
+            xe = xa if k == 0 else xb
+            q = _roots_lin(f[0] + f[3] * xe, f[1] + f[4] * xe, f[2] + f[5] * xe)
+            if k == 0:
+                r = (q[0], q[1], r[2], r[3])
+            else:
+                r = (r[0], r[1], q[0], q[1])
+    elif group < 6:
+        r = _crossing_roots(f, g, xa, xb)
+    else:
+        if tangential:
+            q = _roots_lin(v1, -w3 * R, w2 * R)
+            r = (q[0], q[1], r[2], r[3])
+        r, rx, vmin_dip = _screw_axis_dip(geo, dip, r, rx)
+    return r, rx, vmin_dip
+
+
+@small_kernel
+def _switch_line(f, g, c, s):
+    """Position x and slope dx/dtheta (of the first family's line only) at angle (c, s) of the
+    line where two switch families cross, x_F = -F0/F1 (or x_G where F1 = 0)."""
+    x = _NAN
+    sl = 0.0
+    for which in range(2):
+        hh = f if which == 0 else g
+        a0 = hh[0] + hh[1] * c + hh[2] * s
+        a1 = hh[3] + hh[4] * c + hh[5] * s
+        if a1 != 0.0:
+            x = -a0 / a1
+            if which == 0:
+                sl = -((-hh[1] * s + hh[2] * c) * a1 - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
+            break
+    return x, sl
+
+
+@small_kernel
+def _axial_slip_scale(c, s, geo, fe, fd, ft, vreg):
+    """Group 6's candidate at a zero of the axial slip v_x, on a generator that meets the
+    domain: ``(kept, scale)``, the scale sqrt(v_theta_min^2 + V_REG^2)/|dv_x/dtheta|."""
+    R, xa, xb, _, _, _, _, w2, w3 = geo
+    e = math.inf
+    lo, hi = _line_interval(0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), fe, fd)
+    if not (hi > lo):
+        return False, e
+    a0 = ft[0] + ft[1] * c + ft[2] * s
+    a1 = ft[4] * c + ft[5] * s
+    va = a0 + a1 * lo
+    vb = a0 + a1 * hi
+    vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
+    rate = abs(w3 * R * s + w2 * R * c)
+    if rate > 0.0:
+        e = math.sqrt(vmin * vmin + vreg * vreg) / rate
+    return True, e
+
+
+@small_kernel
+def _break_scales(group, t, c, s, x, sl, geo, fe, fd, ft, dip, vreg, vreg_n, pd, pt, ztol, vtol, vmin_dip):
+    """Whether candidate ``t`` of group ``group`` lies on the integration domain, and its
+    near-singularity scales ``(kept, e, er)`` (inf: none): the pole distance of the delta line
+    and the ramp of its regularised switch (groups 1, 3, 5), the slip-reversal front
+    (2, 4, 5), the screw-axis speed dip (6)."""
+    R, xa, xb, v1, _, _, w1, w2, w3 = geo
+    e = math.inf
+    er = math.inf
+    zeta = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
+    vn = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
+    need_e = not (group == 0 or group == 3 or group == 4)
+    need_d = not (group == 1 or group == 3 or group == 5)
+    if (need_e and zeta < -ztol) or (need_d and vn < -vtol):
+        return False, e, er
+    if group == 6:
+        if x < xa - ztol or x > xb + ztol:
+            return False, e, er
+        rate = R * math.sqrt((w2 * c + w3 * s) ** 2 + w1 * w1)
+        if rate > 0.0:
+            e = max(vmin_dip, dip[1]) / rate
+    if group == 1 or group == 3 or group == 5:
+        e = _adist(t, pd)
+        # ramp of the regularised switch across the delta line, along the
+        # body end (group 1), the seabed line (3) or at fixed x (5)
+        dvn = (-fd[1] * s + fd[2] * c) + x * (-fd[4] * s + fd[5] * c)
+        if group == 3:
+            dvn += (fd[4] * c + fd[5] * s) * sl
+        if dvn != 0.0:
+            er = vreg_n / abs(dvn)
+    if group == 2 or group == 4 or group == 5:
+        # slip-reversal front crossing the curve x(theta) of slope sl:
+        # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
+        vx = v1 - w3 * R * c + w2 * R * s
+        a1 = ft[3] + ft[4] * c + ft[5] * s
+        rate = abs((-ft[1] * s + ft[2] * c) + (-ft[4] * s + ft[5] * c) * x + a1 * sl)
+        front = math.sqrt(vx * vx + vreg * vreg) / rate if rate > 0.0 else math.inf
+        e = min(e, min(_adist(t, pt), front))
+    return True, e, er
+
+
+@small_kernel
+def _set4(q, k, v):
+    """The 4-tuple ``q`` with slot ``k`` set to ``v``."""
+    return (v if k == 0 else q[0], v if k == 1 else q[1], v if k == 2 else q[2], v if k == 3 else q[3])
+
+
+@kernel
+def _group_breaks(group, geo, fe, fd, ft, tangential, dip, vreg, vreg_n, pd, pt, ztol, vtol):
+    """Breakpoint group ``group`` of :func:`_lateral_breaks`: its four angles (NaN: none) and
+    their scales ``e`` and ``er`` (inf: none)."""
+    if not tangential and (group == 2 or group == 4 or group == 5):
+        return _NO4, _INF4, _INF4
+    f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or group == 5) else ft)
+    g = fd if group == 3 else ft
+    r, rx, vmin_dip = _candidates(group, geo, f, g, tangential, dip)
+    tt = _NO4
+    ee = _INF4
+    rr = _INF4
+    for k in range(4):
+        t = r[k]
+        if not (t == t):
+            continue
+        c = math.cos(t)
+        s = math.sin(t)
+        if group == 6 and k < 2:
+            kept, e = _axial_slip_scale(c, s, geo, fe, fd, ft, vreg)
+            er = math.inf
+        else:
+            x, sl = _switch_line(f, g, c, s) if (group >= 3 and group < 6) else (rx[k], 0.0)
+            kept, e, er = _break_scales(
+                group, t, c, s, x, sl, geo, fe, fd, ft, dip, vreg, vreg_n, pd, pt, ztol, vtol, vmin_dip
+            )
+        if kept:
+            tt = _set4(tt, k, t)
+            ee = _set4(ee, k, e)
+            rr = _set4(rr, k, er)
+    return tt, ee, rr
+
+
 @kernel
 def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
     """Breakpoints in theta of the lateral surface and their near-singularity scales.
 
-    Returned as two 28-tuples (NaN: no breakpoint; inf: no near-singularity), seven
-    groups of four:
+    Returned as three 28-tuples (NaN: no breakpoint; inf: no near-singularity), seven
+    groups of four (:func:`_group_breaks`), and the tolerance on v.n:
     0, 1, 2: the seabed line (zeta = 0), the delta line (v.n = 0), the slip-reversal
     line (v_theta = 0) reaching the body ends (two angles per end);
     3, 4, 5: crossings seabed/delta, seabed/slip, delta/slip inside the body (roots of
@@ -656,302 +937,26 @@ def _lateral_breaks(geo, fe, fd, ft, tangential, dip, vreg, vreg_n):
     angular distance to the pole of a switch line x_F = -F0/F1 (F1 = 0); width of the
     slip-reversal front sqrt(v_x^2 + V_REG^2)/|dv_theta/dtheta| along the crossing
     curve; sqrt(v_theta_min^2 + V_REG^2)/|dv_x/dtheta| at a zero of v_x; angular width
-    max(v_min, floor)/(R |omega x e_theta|) of the speed dip.
+    max(v_min, floor)/(R |omega x e_theta|) of the speed dip; the ramp of the delta
+    switch (groups 1, 3, 5; inf elsewhere).
     """
     R, xa, xb, v1, v2, v3, w1, w2, w3 = geo
-    inf = math.inf
     vscale = math.sqrt(v1 * v1 + v2 * v2 + v3 * v3) + math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (xb - xa + R)
     ztol = 1e-9 * (xb - xa + R)
     vtol = 1e-9 * vscale
     pd = _roots_lin(fd[3], fd[4], fd[5])  # poles of x_delta
     pt = _roots_lin(ft[3], ft[4], ft[5])  # poles of x_T
-    no4 = (_NAN, _NAN, _NAN, _NAN)
-    inf4 = (inf, inf, inf, inf)
-    g0 = no4
-    g1 = no4
-    g2 = no4
-    g3 = no4
-    g4 = no4
-    g5 = no4
-    g6 = no4
-    h0 = inf4
-    h1 = inf4
-    h2 = inf4
-    h3 = inf4
-    h4 = inf4
-    h5 = inf4
-    h6 = inf4
-    r1 = inf4
-    r3 = inf4
-    r5 = inf4
-    # screw axis of the motion (speed dip), group 6
-    wn2 = w1 * w1 + w2 * w2 + w3 * w3
-    for group in range(7):
-        if not tangential and (group == 2 or group == 4 or group == 5):
-            continue
-        f = fe if (group == 0 or group == 3 or group == 4) else (fd if (group == 1 or group == 5) else ft)
-        g = fd if group == 3 else ft
-        # candidate angles r and, per candidate, the x where the condition is checked
-        r = no4
-        rx = (xa, xa, xb, xb)
-        vmin_dip = inf
-        if group < 3:
-            for k in range(2):
-                xe = xa if k == 0 else xb
-                q = _roots_lin(f[0] + f[3] * xe, f[1] + f[4] * xe, f[2] + f[5] * xe)
-                if k == 0:
-                    r = (q[0], q[1], r[2], r[3])
-                else:
-                    r = (r[0], r[1], q[0], q[1])
-        elif group < 6:
-            r = _crossing_roots(f, g, xa, xb)
-        else:
-            if tangential:
-                q = _roots_lin(v1, -w3 * R, w2 * R)
-                r = (q[0], q[1], r[2], r[3])
-            if dip[0] > 0 and wn2 > 0.0:
-                wn = math.sqrt(wn2)
-                u1 = w1 / wn
-                u2 = w2 / wn
-                u3 = w3 / wn
-                pitch = abs(v1 * u1 + v2 * u2 + v3 * u3)
-                # a point of the axis, (omega x V)/|omega|^2, and its direction u
-                p1 = (w2 * v3 - w3 * v2) / wn2
-                p2 = (w3 * v1 - w1 * v3) / wn2
-                p3 = (w1 * v2 - w2 * v1) / wn2
-                qa = u2 * u2 + u3 * u3
-                qb = p2 * u2 + p3 * u3
-                qc = p2 * p2 + p3 * p3 - R * R
-                if qa > 1e-12:
-                    disc = qb * qb - qa * qc
-                    if disc >= 0.0:
-                        sq = math.sqrt(disc)
-                        lam0 = (-qb - sq) / qa
-                        lam1 = (-qb + sq) / qa
-                        vmin_dip = pitch
-                    else:
-                        lam0 = -qb / qa
-                        lam1 = _NAN
-                        dist = math.sqrt(max(qc - qb * qb / qa + R * R, 0.0))
-                        vmin_dip = math.sqrt(pitch * pitch + wn2 * (dist - R) * (dist - R))
-                    if vmin_dip < dip[2]:
-                        ta = _wrap(math.atan2(p3 + lam0 * u3, p2 + lam0 * u2))
-                        tb = _wrap(math.atan2(p3 + lam1 * u3, p2 + lam1 * u2))
-                        r = (r[0], r[1], ta, tb)
-                        rx = (xa, xa, p1 + lam0 * u1, p1 + lam1 * u1)
-        t0 = _NAN
-        t1 = _NAN
-        t2 = _NAN
-        t3 = _NAN
-        o0 = inf
-        o1 = inf
-        o2 = inf
-        o3 = inf
-        n0 = inf
-        n1 = inf
-        n2 = inf
-        n3 = inf
-        for k in range(4):
-            t = r[k]
-            if not (t == t):
-                continue
-            c = math.cos(t)
-            s = math.sin(t)
-            sl = 0.0
-            x = rx[k]
-            if group >= 3 and group < 6:
-                # position and slope dx/dtheta of the switch line x_F = -F0/F1 (or x_G)
-                x = _NAN
-                for which in range(2):
-                    hh = f if which == 0 else g
-                    a0 = hh[0] + hh[1] * c + hh[2] * s
-                    a1 = hh[3] + hh[4] * c + hh[5] * s
-                    if a1 != 0.0:
-                        x = -a0 / a1
-                        if which == 0:
-                            sl = -((-hh[1] * s + hh[2] * c) * a1 - a0 * (-hh[4] * s + hh[5] * c)) / (a1 * a1)
-                        break
-            e = inf
-            er = inf
-            if group == 6 and k < 2:
-                # zero of the axial slip on a generator that meets the domain
-                lo, hi = _line_interval(
-                    0, c, s, (R, xa, xb, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), fe, fd
-                )
-                if not (hi > lo):
-                    continue
-                a0 = ft[0] + ft[1] * c + ft[2] * s
-                a1 = ft[4] * c + ft[5] * s
-                va = a0 + a1 * lo
-                vb = a0 + a1 * hi
-                vmin = 0.0 if va * vb <= 0.0 else min(abs(va), abs(vb))
-                rate = abs(w3 * R * s + w2 * R * c)
-                if rate > 0.0:
-                    e = math.sqrt(vmin * vmin + vreg * vreg) / rate
-            else:
-                zeta = fe[0] + fe[1] * c + fe[2] * s + fe[3] * x
-                vn = fd[1] * c + fd[2] * s + x * (fd[4] * c + fd[5] * s)
-                need_e = not (group == 0 or group == 3 or group == 4)
-                need_d = not (group == 1 or group == 3 or group == 5)
-                if (need_e and zeta < -ztol) or (need_d and vn < -vtol):
-                    continue
-                if group == 6:
-                    if x < xa - ztol or x > xb + ztol:
-                        continue
-                    rate = R * math.sqrt((w2 * c + w3 * s) ** 2 + w1 * w1)
-                    if rate > 0.0:
-                        e = max(vmin_dip, dip[1]) / rate
-                if group == 1 or group == 3 or group == 5:
-                    e = _adist(t, pd)
-                    # ramp of the regularised switch across the delta line, along the
-                    # body end (group 1), the seabed line (3) or at fixed x (5)
-                    dvn = (-fd[1] * s + fd[2] * c) + x * (-fd[4] * s + fd[5] * c)
-                    if group == 3:
-                        dvn += (fd[4] * c + fd[5] * s) * sl
-                    if dvn != 0.0:
-                        er = vreg_n / abs(dvn)
-                if group == 2 or group == 4 or group == 5:
-                    # slip-reversal front crossing the curve x(theta) of slope sl:
-                    # |v_tau| ~ sqrt(v_x^2 + V_REG^2), v_theta changes at |dv_theta/dtheta|
-                    vx = v1 - w3 * R * c + w2 * R * s
-                    a1 = ft[3] + ft[4] * c + ft[5] * s
-                    rate = abs((-ft[1] * s + ft[2] * c) + (-ft[4] * s + ft[5] * c) * x + a1 * sl)
-                    front = math.sqrt(vx * vx + vreg * vreg) / rate if rate > 0.0 else inf
-                    e = min(e, min(_adist(t, pt), front))
-            if k == 0:
-                t0 = t
-                o0 = e
-                n0 = er
-            elif k == 1:
-                t1 = t
-                o1 = e
-                n1 = er
-            elif k == 2:
-                t2 = t
-                o2 = e
-                n2 = er
-            else:
-                t3 = t
-                o3 = e
-                n3 = er
-        tt = (t0, t1, t2, t3)
-        ee = (o0, o1, o2, o3)
-        rr = (n0, n1, n2, n3)
-        if group == 0:
-            g0 = tt
-            h0 = ee
-        elif group == 1:
-            g1 = tt
-            h1 = ee
-            r1 = rr
-        elif group == 2:
-            g2 = tt
-            h2 = ee
-        elif group == 3:
-            g3 = tt
-            h3 = ee
-            r3 = rr
-        elif group == 4:
-            g4 = tt
-            h4 = ee
-        elif group == 5:
-            g5 = tt
-            h5 = ee
-            r5 = rr
-        else:
-            g6 = tt
-            h6 = ee
-    bps = (
-        g0[0],
-        g0[1],
-        g0[2],
-        g0[3],
-        g1[0],
-        g1[1],
-        g1[2],
-        g1[3],
-        g2[0],
-        g2[1],
-        g2[2],
-        g2[3],
-        g3[0],
-        g3[1],
-        g3[2],
-        g3[3],
-        g4[0],
-        g4[1],
-        g4[2],
-        g4[3],
-        g5[0],
-        g5[1],
-        g5[2],
-        g5[3],
-        g6[0],
-        g6[1],
-        g6[2],
-        g6[3],
-    )
-    eps = (
-        h0[0],
-        h0[1],
-        h0[2],
-        h0[3],
-        h1[0],
-        h1[1],
-        h1[2],
-        h1[3],
-        h2[0],
-        h2[1],
-        h2[2],
-        h2[3],
-        h3[0],
-        h3[1],
-        h3[2],
-        h3[3],
-        h4[0],
-        h4[1],
-        h4[2],
-        h4[3],
-        h5[0],
-        h5[1],
-        h5[2],
-        h5[3],
-        h6[0],
-        h6[1],
-        h6[2],
-        h6[3],
-    )
-    inf = math.inf
-    epsr = (
-        inf,
-        inf,
-        inf,
-        inf,
-        r1[0],
-        r1[1],
-        r1[2],
-        r1[3],
-        inf,
-        inf,
-        inf,
-        inf,
-        r3[0],
-        r3[1],
-        r3[2],
-        r3[3],
-        inf,
-        inf,
-        inf,
-        inf,
-        r5[0],
-        r5[1],
-        r5[2],
-        r5[3],
-        inf,
-        inf,
-        inf,
-        inf,
-    )
+    args = (geo, fe, fd, ft, tangential, dip, vreg, vreg_n, pd, pt, ztol, vtol)
+    g0, h0, r0 = _group_breaks(0, *args)
+    g1, h1, r1 = _group_breaks(1, *args)
+    g2, h2, r2 = _group_breaks(2, *args)
+    g3, h3, r3 = _group_breaks(3, *args)
+    g4, h4, r4 = _group_breaks(4, *args)
+    g5, h5, r5 = _group_breaks(5, *args)
+    g6, h6, r6 = _group_breaks(6, *args)
+    bps = g0 + g1 + g2 + g3 + g4 + g5 + g6
+    eps = h0 + h1 + h2 + h3 + h4 + h5 + h6
+    epsr = r0 + r1 + r2 + r3 + r4 + r5 + r6
     return bps, eps, epsr, vtol
 
 
@@ -978,27 +983,13 @@ def _chord_corners(k, a, b, R, oy, oz):
     return d0, d1, e0, e1
 
 
-@kernel
-def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
-    """Geometry tuple and breakpoints (padded to 28) of the end cap x = xc, outward
-    normal sgn i_M.
-
-    Both switches are straight chords of the cap: zeta = e0 + ey y + ez z > 0 and
-    v.n = sgn (v1 + w2 z - w3 y) >= 0. Polar origin O: the point of least speed when
-    the rate factor dips there (then rho is sinh-mapped), else the stagnation point of
-    the in-plane slip (where the slip direction turns round a point) when it lies on the
-    cap, else the centre. Breakpoints: directions of the chord/rim corners and of the
-    chord/chord intersection, with the angular distance to the nearer direction
-    parallel to the chord (pole of the rho-bound) as scale.
-    """
+@small_kernel
+def _cap_origin(xc, R, vel, tangential, dip):
+    """Polar origin O = ``(oy, oz)`` of the end cap x = xc and the sinh map's scale ``eps_r``
+    of rho (0: none): the point of least speed when the rate factor dips there, else the
+    stagnation point of the in-plane slip (where the slip direction turns round a point) when
+    it lies on the cap, else the centre."""
     v1, v2, v3, w1, w2, w3 = vel
-    inf = math.inf
-    e0 = d0 - c20 * xc
-    ey = -c21
-    ez = -c22
-    q0 = sgn * v1
-    qy = -sgn * w3
-    qz = sgn * w2
     oy = 0.0
     oz = 0.0
     eps_r = 0.0
@@ -1037,11 +1028,16 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
             oz = sz
     if eps_r >= R:
         eps_r = 0.0
-    sg = (xc, sgn, R, oy, oz, oy * oy + oz * oz, e0, ey, ez, q0, qy, qz, eps_r)
-    ce = _chord_corners(e0, ey, ez, R, oy, oz)
-    cd = _chord_corners(q0, qy, qz, R, oy, oz)
+    return oy, oz, eps_r
+
+
+@small_kernel
+def _chords_crossing(e0, ey, ez, q0, qy, qz, R, oy, oz):
+    """Direction (about O) of the point where the seabed chord and the delta chord cross on
+    the cap (NaN: not on it), and its angular distance from the nearer direction parallel to
+    either chord (inf: none)."""
     cx = _NAN
-    ex = inf
+    ex = math.inf
     det = ey * qz - ez * qy
     if det != 0.0:
         py = (-e0 * qz + ez * q0) / det
@@ -1053,105 +1049,35 @@ def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
             ex = min(
                 _adist(cx, (_wrap(pe), _wrap(pe + math.pi))), _adist(cx, (_wrap(pq), _wrap(pq + math.pi)))
             )
-    n = _NAN
-    bps = (
-        ce[0],
-        ce[1],
-        cd[0],
-        cd[1],
-        cx,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-        n,
-    )
-    eps = (
-        ce[2],
-        ce[3],
-        cd[2],
-        cd[3],
-        ex,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-        inf,
-    )
-    return (
-        sg,
-        bps,
-        eps,
-        (
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-            inf,
-        ),
-    )
+    return cx, ex
 
 
-# =============================================================================
+@kernel
+def _cap_breaks(xc, sgn, R, d0, c20, c21, c22, vel, tangential, dip):
+    """Geometry tuple and breakpoints (padded to 28) of the end cap x = xc, outward
+    normal sgn i_M.
+
+    Both switches are straight chords of the cap: zeta = e0 + ey y + ez z > 0 and
+    v.n = sgn (v1 + w2 z - w3 y) >= 0. Polar origin O: :func:`_cap_origin`. Breakpoints:
+    directions of the chord/rim corners and of the chord/chord intersection, with the
+    angular distance to the nearer direction parallel to the chord (pole of the rho-bound)
+    as scale.
+    """
+    v1, _, _, _, w2, w3 = vel
+    e0 = d0 - c20 * xc
+    ey = -c21
+    ez = -c22
+    q0 = sgn * v1
+    qy = -sgn * w3
+    qz = sgn * w2
+    oy, oz, eps_r = _cap_origin(xc, R, vel, tangential, dip)
+    sg = (xc, sgn, R, oy, oz, oy * oy + oz * oz, e0, ey, ez, q0, qy, qz, eps_r)
+    ce = _chord_corners(e0, ey, ez, R, oy, oz)
+    cd = _chord_corners(q0, qy, qz, R, oy, oz)
+    cx, ex = _chords_crossing(e0, ey, ez, q0, qy, qz, R, oy, oz)
+    bps = (ce[0], ce[1], cd[0], cd[1], cx) + _NO23
+    eps = (ce[2], ce[3], cd[2], cd[3], ex) + _INF23
+    return sg, bps, eps, _INF28
 
 
 # =============================================================================
