@@ -4,6 +4,7 @@ numba's cache before the xdist workers start (:func:`pytest_configure`)."""
 import copy
 import os
 import pathlib
+import signal
 import subprocess
 import sys
 import time
@@ -143,3 +144,16 @@ def pytest_configure(config):
 
 def pytest_report_header(config):
     return getattr(config, "warm_up_note", None)
+
+
+@pytest.fixture
+def sigint_handled():
+    """SIGINT at Python's KeyboardInterrupt handler for the test, whatever the runner inherited: a
+    test run started in the background of a shell without job control (``bash .ci/run &``) has
+    SIGINT ignored, which Python and :func:`mineburial.ensembles.interrupt.sigint_flag` keep (as
+    they should), so an in-process test of the flag would see no signal at all."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)

@@ -69,7 +69,7 @@ def _interrupt_after(monkeypatch, first_drop: int):
     monkeypatch.setattr(batch, "_run_drops", run_drops)
 
 
-def test_blocks_stop_at_the_flag_and_name_the_finished_prefix():
+def test_blocks_stop_at_the_flag_and_name_the_finished_prefix(sigint_handled):
     """An interrupted pool reports the drops before the first unfinished block; none of the
     items after the blocks in flight was started."""
     started = []
@@ -92,7 +92,7 @@ def test_blocks_stop_at_the_flag_and_name_the_finished_prefix():
 
 
 def test_an_interrupted_chunk_keeps_its_finished_drops_and_the_rerun_is_bit_identical(
-    reference, tmp_path, monkeypatch
+    reference, tmp_path, monkeypatch, sigint_handled
 ):
     out = tmp_path / "out.nc"
     _interrupt_after(monkeypatch, 6)

@@ -298,7 +298,7 @@ def test_a_sampled_anchor_that_floats_is_not_run_and_is_reported():
     assert float(ds.stopped_fraction) == 0.0  # of the cases run (all hit the 0.05 s limit)
 
 
-def test_ctrl_c_stops_a_restraint_chunk_between_cases_not_after_the_whole_chunk(monkeypatch):
+def test_ctrl_c_stops_a_restraint_chunk_between_cases_not_after_the_whole_chunk(monkeypatch, sigint_handled):
     """Regression (issue 21 item 10): restraint ensembles ran their cases on a thread pool of
     their own that finished the whole chunk before a Ctrl-C was seen. They now take cases in
     blocks like the mines' drops: after the signal no new block starts."""
