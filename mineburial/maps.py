@@ -65,15 +65,6 @@ MAP_OUTPUTS = V.MAP_OUTPUTS
 #: codes of the per-cell variable ``cell_status``
 CELL_COMPUTED, CELL_LAND, CELL_NO_SEDIMENT = 0, 1, 2
 CELL_STATUS_MEANINGS = V.CELL_STATUS_MEANINGS
-#: the coordinates of the statistics that a map shares with its cells' template run
-_SHARED_COORDS = (
-    "quantile",
-    "impact_burial_class",
-    "status_code",
-    "lead_time",
-    "burial_level",
-    "scour_status_code",
-)
 
 _SEDIMENT_PARAMS = {
     "sediment_density": "density",
@@ -997,7 +988,7 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     data["most_likely_burial_class"] = (_most_likely_class(arrays["burial_class_probability"]), extra)
     data.update(_cell_fields(grid, status, base.seed, extra))
     data.update(_environment_fields(grid, extra))
-    coords = {c: template[c] for c in _SHARED_COORDS if c in template.coords}
+    coords = {c: template[c] for c in V.MAP_SHARED_COORDS if c in template.coords}
     coords.update(_horizontal_coords(grid))
     names = {V.MAP_Y: grid.ydim, V.MAP_X: grid.xdim}
     if grid.grid_mapping:

@@ -1387,6 +1387,15 @@ def _environment_variables() -> list[Variable]:
 # ---------------------------------------------------------------------------
 # the burial map (mineburial.maps): ensemble statistics per cell of an environment grid
 # ---------------------------------------------------------------------------
+#: the coordinates of the statistics that a map shares with its cells' template run
+MAP_SHARED_COORDS = (
+    "quantile",
+    "impact_burial_class",
+    "status_code",
+    "lead_time",
+    "burial_level",
+    "scour_status_code",
+)
 #: summary outputs whose mean, standard deviation and quantiles a map holds per cell
 MAP_OUTPUTS = ("burial_volume", "penetration_depth")
 #: the ensemble statistics a map holds per cell; with [scour] also the stage's (MAP_SCOUR_STATISTICS)
@@ -1577,21 +1586,13 @@ def _map_environment_variables() -> list[Variable]:
 def _map_variables() -> list[Variable]:
     """The burial map of :mod:`mineburial.maps`: the ensemble statistics per cell, the class
     bounds and the coordinates of the statistics, each cell's status, seed and environment."""
-    shared = (
-        "quantile",
-        "impact_burial_class",
-        "status_code",
-        "lead_time",
-        "burial_level",
-        "scour_status_code",
-    )
     return [
         *(_per_cell(name) for name in MAP_STATISTICS + MAP_SCOUR_STATISTICS),
         VARIABLES["burial_class_lower_percent"],
         VARIABLES["burial_class_upper_percent"],
         *_map_cell_variables(),
         *_map_environment_variables(),
-        *(VARIABLES[name] for name in shared),
+        *(VARIABLES[name] for name in MAP_SHARED_COORDS),
     ]
 
 
