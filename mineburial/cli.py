@@ -97,12 +97,7 @@ def _write_example(target: Path, text: str, force: bool) -> None:
     """Write an example, never over an existing file (or link) unless ``force``; never
     through a link or over a device (:func:`mineburial.io.files.atomic_path`)."""
     # local import: start-up, each command imports only its own modules (module docstring)
-    from mineburial.ensembles.store import (
-        RunError,
-        check_output_path,
-    )
-
-    # local import: start-up, each command imports only its own modules (module docstring)
+    from mineburial.ensembles.store import RunError, check_output_path
     from mineburial.io.files import atomic_write_text
 
     check_output_path(target, (), "-o/--output")
@@ -154,9 +149,7 @@ def _cmd_compare(args):
 
 def _cmd_sensitivity(args):
     # local import: start-up, each command imports only its own modules (module docstring)
-    from mineburial.validation.sensitivity import (
-        run_sensitivity_cli,
-    )
+    from mineburial.validation.sensitivity import run_sensitivity_cli
 
     return run_sensitivity_cli(args)
 

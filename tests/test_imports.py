@@ -90,7 +90,7 @@ def test_graph_sees_function_local_imports():
     graph = import_graph()
     # mineburial/__init__.py imports these only inside its wrapper functions
     assert {"mineburial.drop", "mineburial.ensembles.runner"} <= graph["mineburial"]
-    assert "mineburial.config" in graph["mineburial.drop"]  # imported inside simulate_drop only
+    assert "mineburial.maps" in graph["mineburial.cli"]  # imported inside _cmd_map only
 
 
 def test_no_import_cycles():
