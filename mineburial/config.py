@@ -139,8 +139,8 @@ def _spec_for(path: str) -> FieldSpec:
 
 def check_range(path: str, values) -> np.ndarray:
     """Boolean mask of ``values`` (any shape) that are finite and inside the static range
-    of field ``path`` (:data:`FIELDS`; aliases accepted). Cross-field constraints
-    (|chi| < L/2, J1 <= 2 J2, z > -H, dt <= t_max and t_max_fall) are checked by :func:`check_params`."""
+    of field ``path`` (:data:`FIELDS`; aliases accepted). The rules between fields
+    (:data:`RULES`) are checked by :func:`check_params`."""
     return _spec_for(path).contains(values)
 
 
@@ -1329,9 +1329,8 @@ def check_params(
 ) -> np.ndarray:
     """Boolean mask over packed parameter rows ``P`` (shape (n, N_PARAMS) or (N_PARAMS,)):
     True where every slot is inside its :data:`FIELDS` range, codes are valid, bank
-    indices are in range (when the bank sizes are given) and the cross-field constraints
-    hold (|chi| < L/2, J1 <= 2 J2, z0 > -H, the whole mine above the seabed unless
-    ``embedded`` (``release.embedded``), unit quaternion, dt <= t_max and t_max_fall). The ensemble
+    indices are in range (when the bank sizes are given) and every rule of :data:`RULES`
+    holds (``embedded`` is ``release.embedded``, which no slot holds). The ensemble
     marks the failing drops ``invalid_input`` (kernels/status.py); :func:`explain_params`
     says why."""
     checks = _param_checks(P, n_sediment, n_current, embedded)
