@@ -45,6 +45,8 @@ from numba.core import types as nbtypes
 from numba.core.caching import FunctionCache, NullCache
 from numba.core.registry import CPUDispatcher
 
+from mineburial.errors import ScenarioError
+
 #: name of the environment variable that switches the on-disk cache of compiled kernels
 CACHE_ENV = "MINEBURIAL_NUMBA_CACHE"
 
@@ -53,8 +55,9 @@ _OFF = ("0", "false", "no", "off")
 _ON = ("1", "true", "yes", "on", "")
 
 
-class CacheSettingError(ValueError):
-    """``MINEBURIAL_NUMBA_CACHE`` has a value that is neither on nor off."""
+class CacheSettingError(ScenarioError):
+    """``MINEBURIAL_NUMBA_CACHE`` has a value that is neither on nor off (a user's error: the
+    command line prints it in one line, with exit status 2)."""
 
 
 def cache_enabled(environ=os.environ) -> bool:

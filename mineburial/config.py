@@ -139,8 +139,8 @@ def _spec_for(path: str) -> FieldSpec:
 
 def check_range(path: str, values) -> np.ndarray:
     """Boolean mask of ``values`` (any shape) that are finite and inside the static range
-    of field ``path`` (:data:`FIELDS`; aliases accepted). Cross-field constraints
-    (|chi| < L/2, J1 <= 2 J2, z > -H, dt <= t_max and t_max_fall) are checked by :func:`check_params`."""
+    of field ``path`` (:data:`FIELDS`; aliases accepted). The rules between fields
+    (:data:`RULES`) are checked by :func:`check_params`."""
     return _spec_for(path).contains(values)
 
 
@@ -303,6 +303,7 @@ def _check_section(obj, section: str, skip=()) -> None:
 
 #: the linear sediment profile's fields (sediment.density, ...): not options of the model
 _SED_LINEAR = ("density", "density_gradient", "strength", "strength_gradient")
+_SED_LINEAR_PATHS = tuple(f"sediment.{f}" for f in _SED_LINEAR)
 
 #: each field's declared default, by path (the dataclasses' defaults)
 _D = {f.path: f.default for f in TABLE}
@@ -606,7 +607,7 @@ class Mine:
         return self.mass / self.volume
 
     def to_dict(self) -> dict:
-        return {"name": self.name, **{f: getattr(self, f) for f in _names("mine")}}
+        return _file_table(self, "mine")
 
 
 _ANGLES = ("roll_deg", "pitch_deg", "heading_deg")
@@ -691,15 +692,7 @@ class Release:
         return tuple(math.degrees(a) for a in euler_angles(*normalize_quaternion(*self.quaternion)))
 
     def to_dict(self) -> dict:
-        d = {"position": list(self.position), "velocity": list(self.velocity)}
-        if self.quaternion is not None:
-            d["quaternion"] = list(self.quaternion)
-        else:
-            for a in _ANGLES:
-                d[a] = getattr(self, a)
-        d["angular_velocity"] = list(self.angular_velocity)
-        d["embedded"] = self.embedded
-        return d
+        return _file_table(self, "release")
 
 
 _CURRENT_KEYS = {
@@ -792,13 +785,11 @@ class Current:
         return np.array([self.depth, self.table_u, self.table_v], dtype=np.float64)
 
     def to_dict(self) -> dict:
-        if self.kind == "none":
-            return {"kind": "none"}
-        if self.kind == "uniform":
-            return {"kind": "uniform", "velocity": [self.u, self.v]}
-        if self.kind == "power_law":
-            return {"kind": "power_law", "surface_velocity": [self.u, self.v], "exponent": self.exponent}
-        return {"kind": "table", "depth": list(self.depth), "u": list(self.table_u), "v": list(self.table_v)}
+        """The ``[environment.current]`` table: the keys of the kind (:data:`_CURRENT_KEYS`)."""
+        lists = {"velocity": (self.u, self.v), "surface_velocity": (self.u, self.v)}
+        lists.update(u=self.table_u, v=self.table_v)
+        keys = _CURRENT_KEYS[self.kind]
+        return {k: _file_value(lists[k] if k in lists else getattr(self, k)) for k in keys}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -820,7 +811,7 @@ class Environment:
             raise ScenarioError(f"environment.current = {self.current!r} must be a Current")
 
     def to_dict(self) -> dict:
-        return {**{f: getattr(self, f) for f in _names("environment")}, "current": self.current.to_dict()}
+        return _file_table(self, "environment")
 
 
 #: Defaults that depend on ``numerics.model`` (used where the field is None / absent).
@@ -851,9 +842,6 @@ MODEL_DEFAULTS = {
         "atol": 1e-6,
     },
 }
-
-#: the options of the resistance model: the sediment's numbers that are not the linear profile
-_SED_OPTIONS = tuple(f for f in _names("sediment", ("float",)) if f not in _SED_LINEAR)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -937,18 +925,7 @@ class Sediment:
         )
 
     def to_dict(self) -> dict:
-        d: dict[str, Any] = {}
-        if self.profile is not None:
-            d["profile"] = self.profile.to_dict()
-        else:
-            d.update({f: getattr(self, f) for f in _SED_LINEAR})
-        if self.resistance is not None:
-            d["resistance"] = self.resistance
-        if self.rate_law is not None:
-            d["rate_law"] = self.rate_law
-        d.update({f: getattr(self, f) for f in _SED_OPTIONS})
-        d["pore_pressure"] = self.pore_pressure
-        return d
+        return _file_table(self, "sediment")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -1003,7 +980,7 @@ class Numerics:
         _check_section(self, "numerics")
 
     def to_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return _file_table(self, "numerics")
 
 
 # ===========================================================================
@@ -1016,6 +993,43 @@ _ENV_KEYS = _names("environment") + ("current",)
 _SED_SOURCES = ("class", "profile", "file")
 _SED_KEYS = _SED_SOURCES + _names("sediment")
 _NUM_KEYS = tuple(f.name for f in dataclasses.fields(Numerics))
+#: the keys of each section's file table, in the order ``to_dict`` writes them: the keys its
+#: reader accepts, from the declared locations (scenario_fields.TABLE)
+_FILE_KEYS = {
+    "mine": _MINE_KEYS,
+    "release": _RELEASE_KEYS,
+    "environment": _ENV_KEYS,
+    "sediment": _SED_KEYS,
+    "numerics": _NUM_KEYS,
+}
+#: the sections of the field table that a Scenario holds, and the kinds of field with a value
+_PARTS = ("mine", "release", "environment", "current", "sediment", "numerics")
+_VALUE_KINDS = ("float", "int", "bool", "choice", "code")
+
+
+def _file_value(value):
+    """``value`` as a file table holds it: a tuple as a list, a profile or current as its table."""
+    if hasattr(value, "to_dict"):
+        return value.to_dict()
+    return list(value) if isinstance(value, tuple) else value
+
+
+def _file_table(obj, section: str) -> dict:
+    """The file table of ``section`` that ``obj`` (its dataclass) holds: each key its reader
+    accepts (:data:`_FILE_KEYS`) that ``obj`` has set; ``None`` (the other form of the
+    orientation or of the profile, given instead) is left out, so that ``from_dict`` reads
+    the table back to an equal object."""
+    values = {key: getattr(obj, key, None) for key in _FILE_KEYS[section]}
+    return {key: _file_value(value) for key, value in values.items() if value is not None}
+
+
+def _held_value(obj, f: FieldSpec):
+    """The value of field ``f`` that its section's dataclass ``obj`` holds: the attribute of
+    the field's name, else the element of the list at its file location (``release.x`` is
+    ``release.position[0]``)."""
+    if hasattr(obj, f.name):
+        return getattr(obj, f.name)
+    return getattr(obj, _file_key(f))[int(f.location.partition("[")[2].rstrip("]"))]
 
 
 def _section(d: Mapping, name: str, allowed, required: bool = False) -> dict:
@@ -1097,13 +1111,31 @@ class Scenario:
         if not isinstance(self.description, str):
             raise ScenarioError(f"description = {self.description!r} must be a string")
         _set(self, "sediment", self.sediment.resolved(self.numerics.model))
-        m, r = self.mine, self.release
-        values = {f"mine.{f}": getattr(m, f) for f in ("length", "diameter", "com_offset")}
-        values.update({k: x for k, x in zip(_Q, r.q)})
-        values["release.z"] = r.position[2]
-        values["environment.water_depth"] = self.environment.water_depth
-        values["release.embedded"] = r.embedded
-        _check_rules(values)
+        _check_rules(self.field_values())
+
+    def field_values(self) -> dict[str, float]:
+        """Every field of the scenario declared in scenario_fields.TABLE, by path, packed as
+        a kernel slot holds it (a choice's index, a switch's 0/1, the bank rows' codes): what
+        the rules (:data:`RULES`) read here, as they read the packed rows of an ensemble, and
+        what :meth:`to_params` packs. The quaternion is the release's orientation whichever
+        form gave it; an angle not given (the quaternion given instead) is NaN; a tabulated
+        profile gives its seabed values and first-segment gradients as the linear fields."""
+        r, s, c = self.release, self.sediment, self.environment.current
+        linear = (
+            s.profile.surface_gradients() if s.profile is not None else [getattr(s, f) for f in _SED_LINEAR]
+        )
+        values = {
+            **dict(zip(_Q, r.q)),
+            **dict(zip(_SED_LINEAR_PATHS, linear)),
+            **{f"release.{a}": math.nan for a in _ANGLES if getattr(r, a) is None},
+            "current.table_index": 0 if c.kind == "table" else -1,
+            "sediment.profile_index": -1 if s.profile is None else 0,
+        }
+        parts = dict(zip(_PARTS, (self.mine, r, self.environment, c, s, self.numerics)))
+        for f in TABLE:
+            if f.path not in values and f.section in parts and f.kind in _VALUE_KINDS:
+                values[f.path] = f.pack(_held_value(parts[f.section], f))
+        return values
 
     # -- reading -------------------------------------------------------------
     @classmethod
@@ -1185,52 +1217,11 @@ class Scenario:
         first-segment gradients, for information); a linear profile gives an empty bank and
         index -1. Likewise a ``table`` current is row 0 of ``current_bank``.
         """
-        m, r, e, c, s, n = (
-            self.mine,
-            self.release,
-            self.environment,
-            self.environment.current,
-            self.sediment,
-            self.numerics,
-        )
-        q = r.q
-        if s.profile is not None:
-            rho0, krho, s0, ks = s.profile.surface_gradients()
-            sed_bank, sed_index = pack_banks([s.profile]), 0
-        else:
-            rho0, krho, s0, ks = s.density, s.density_gradient, s.strength, s.strength_gradient
-            sed_bank, sed_index = pack_banks([]), -1
-        if c.kind == "table":
-            cur_bank, cur_index = pack_banks([c]), 0
-        else:
-            cur_bank, cur_index = pack_banks([]), -1
-        values = {
-            **dict(zip(_list_paths("release.quaternion"), q)),
-            "current.table_index": cur_index,
-            "sediment.profile_index": sed_index,
-            "sediment.density": rho0,
-            "sediment.density_gradient": krho,
-            "sediment.strength": s0,
-            "sediment.strength_gradient": ks,
-        }
-        for key, paths in _RELEASE_VECTORS.items():
-            values.update(zip(paths, getattr(r, key)))
-        parts = {"mine": m, "environment": e, "current": c, "sediment": s, "numerics": n}
-        for name in layout.PARAM_NAMES:
-            if name not in values:
-                section, _, key = name.partition(".")
-                values[name] = SCHEMA[name].pack(getattr(parts[section], key))
-        missing = set(layout.PARAM_NAMES) - set(values)
-        extra = set(values) - set(layout.PARAM_NAMES)
-        if missing or extra:  # pragma: no cover - guards layout changes
-            raise RuntimeError(
-                f"to_params is out of step with layout.PARAM_NAMES: missing "
-                f"{sorted(missing)}, unknown {sorted(extra)}"
-            )
-        p = np.empty(layout.N_PARAMS, dtype=np.float64)
-        for name, value in values.items():
-            p[layout.INDEX[name]] = value
-        return p, sed_bank, cur_bank
+        values = self.field_values()
+        p = np.array([values[name] for name in layout.PARAM_NAMES], dtype=np.float64)
+        profiles = [] if self.sediment.profile is None else [self.sediment.profile]
+        currents = [self.environment.current] if self.environment.current.kind == "table" else []
+        return p, pack_banks(profiles), pack_banks(currents)
 
 
 def _current_from_dict(cur) -> Current:
@@ -1291,7 +1282,6 @@ def _sediment_from_dict(sed: dict, base_dir) -> Sediment:
 # ===========================================================================
 # Vectorised validation of packed parameter rows (for ensembles)
 # ===========================================================================
-_SED_LINEAR_PATHS = tuple(f"sediment.{f}" for f in _SED_LINEAR)
 #: the slots by what their check is: ranges of numbers, codes of choices and switches, bank rows
 _SLOT_GROUPS = tuple(
     tuple(name for name in layout.PARAM_NAMES if SCHEMA[name].kind in kinds)
@@ -1339,9 +1329,8 @@ def check_params(
 ) -> np.ndarray:
     """Boolean mask over packed parameter rows ``P`` (shape (n, N_PARAMS) or (N_PARAMS,)):
     True where every slot is inside its :data:`FIELDS` range, codes are valid, bank
-    indices are in range (when the bank sizes are given) and the cross-field constraints
-    hold (|chi| < L/2, J1 <= 2 J2, z0 > -H, the whole mine above the seabed unless
-    ``embedded`` (``release.embedded``), unit quaternion, dt <= t_max and t_max_fall). The ensemble
+    indices are in range (when the bank sizes are given) and every rule of :data:`RULES`
+    holds (``embedded`` is ``release.embedded``, which no slot holds). The ensemble
     marks the failing drops ``invalid_input`` (kernels/status.py); :func:`explain_params`
     says why."""
     checks = _param_checks(P, n_sediment, n_current, embedded)

@@ -9,6 +9,8 @@ import numpy as np
 import xarray as xr
 
 from mineburial import resources
+from mineburial.config import Scenario
+from mineburial.errors import ScenarioError
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
 from mineburial.kernels import layout, status
@@ -38,8 +40,6 @@ def trajectory_rows(record_interval, duration: float, name: str = "record_interv
     command-line option) when the interval is not a finite number > 0, or when the
     trajectory would take more than half of the available memory.
     """
-    from mineburial.config import ScenarioError
-
     if isinstance(record_interval, bool) or not isinstance(
         record_interval, (int, float, np.integer, np.floating)
     ):
@@ -129,8 +129,6 @@ def simulate_drop(
     burial summary as scalar variables; the status code and the resolved scenario
     in the attributes.
     """
-    from mineburial.config import Scenario
-
     if not isinstance(scenario, Scenario):
         if isinstance(scenario, dict):
             scenario = Scenario.from_dict(scenario)

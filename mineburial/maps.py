@@ -36,13 +36,16 @@ from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
-from mineburial.ensembles.store import OutputRun
+from mineburial.ensembles.statistics import burial_statistics
+from mineburial.ensembles.store import OutputRun, check_output_path, same_file
 from mineburial.figures import check_plot_path, figure_class
 from mineburial.io import forcing as fio
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
+from mineburial.io.files import atomic_path
 from mineburial.io.inputs import check_input, read_toml
+from mineburial.kernels import layout
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 
@@ -624,8 +627,6 @@ def _cell_statistics(spec, chunks) -> dict:
     (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
     and a merge per cell cost about as much as the stage of 20 drops (measured with
     benchmarks/bench_map_scour.py)."""
-    from mineburial.ensembles.statistics import burial_statistics
-
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
@@ -913,9 +914,6 @@ def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
 def _cell_statistics_template(spec) -> xr.Dataset:
     """Statistics of an empty cell: the shapes, coordinates and attributes of the map
     variables (every value NaN / 0)."""
-    from mineburial.ensembles.statistics import burial_statistics
-    from mineburial.kernels import layout
-
     st = burial_statistics(
         np.empty((0, layout.N_SUMMARY)),
         np.empty(0, dtype=np.int8),
@@ -1459,8 +1457,6 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
     atomically: the impact map, or after scour at ``lead_time`` days (one of the map's lead
     times). Rows run north to south (or down the y axis), the transform from the cell edges
     of the coordinates (midpoints; an evenly spaced axis is required). Needs rioxarray."""
-    from mineburial.io.files import atomic_path
-
     pyproj = _import_rioxarray()
     if not (0 <= int(burial_class) <= 4):
         raise MapError(f"--class {burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")
@@ -1514,8 +1510,6 @@ def run_map_cli(args) -> int:
 
     Every check that can be made before computing is made first: the scenario, the
     environment grid, the output and plot paths, the scheduler."""
-    from mineburial.ensembles.store import check_output_path
-
     base, grid, gridded, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
     runner.check_run(base, what="each cell of the map")
     _check_map_memory(base, grid.cell_status(), gridded)
@@ -1567,8 +1561,6 @@ def run_map_cli(args) -> int:
 def _check_map_options(args, base, inputs):
     """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
     lead times (days) of the panels, or None."""
-    from mineburial.ensembles.store import check_output_path, same_file
-
     available = () if base.scour is None else base.scour.lead_times_days
     if not (0 <= args.burial_class <= 4):
         raise MapError(f"--class {args.burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")

@@ -35,6 +35,7 @@ import pathlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import netCDF4
 import numpy as np
 
 from mineburial.errors import ScenarioError, unknown_name_message, unknown_names_message
@@ -379,8 +380,6 @@ def load_netcdf(path, *, name: str | None = None) -> SedimentProfile:
     """Read a core from NetCDF: 1-D variables ``depth`` (below the seabed, positive down),
     ``density`` and ``strength``, each with a ``units`` attribute (m/cm/mm, kg m-3 or
     g cm-3, Pa or kPa; converted to SI)."""
-    import netCDF4  # local import: only needed for NetCDF cores
-
     path = pathlib.Path(path)
     where = f"sediment.file '{path}'"
     try:

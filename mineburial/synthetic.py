@@ -27,6 +27,7 @@ import numpy as np
 import xarray as xr
 
 from mineburial.io.dataset import build
+from mineburial.io.netcdf import write_netcdf
 from mineburial.io.variables import SYNTHETIC_NOTE
 from mineburial.sediment_profiles import class_names
 
@@ -112,8 +113,6 @@ def synthetic_environment(
 
 def write_synthetic_environment(path, ny: int = 6, nx: int = 8, seed: int = 0) -> pathlib.Path:
     """Write :func:`synthetic_environment` to ``path`` (NetCDF, atomically); returns the path."""
-    from mineburial.io.netcdf import write_netcdf
-
     return write_netcdf(synthetic_environment(ny=ny, nx=nx, seed=seed), path)
 
 

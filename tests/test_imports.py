@@ -1,9 +1,13 @@
-"""The package's import graph has no cycle (issue 12 item 14).
+"""The package's import graph has no cycle (issue 12 item 14), and a function imports a
+module only where the import says why (issue 18: optional dependencies and measured
+start-up cost).
 
 Every ``import mineburial...`` and ``from mineburial... import ...`` anywhere in a module
 counts, function-local imports included: a module that imports another which imports
 it back (directly or through others) is a cycle. ``from package import name`` is an edge
 to the submodule ``package.name`` when there is one, else to the package itself.
+A function-local import is either of an optional dependency (:data:`OPTIONAL`) or carries
+the marker ``# local import:`` and its reason on its line(s) or the line above.
 Reference: the source files, parsed with :mod:`ast` (no module is imported here).
 """
 
@@ -86,7 +90,7 @@ def test_graph_sees_function_local_imports():
     graph = import_graph()
     # mineburial/__init__.py imports these only inside its wrapper functions
     assert {"mineburial.drop", "mineburial.ensembles.runner"} <= graph["mineburial"]
-    assert "mineburial.config" in graph["mineburial.drop"]  # imported inside simulate_drop only
+    assert "mineburial.maps" in graph["mineburial.cli"]  # imported inside _cmd_map only
 
 
 def test_no_import_cycles():
@@ -98,3 +102,90 @@ def test_the_netcdf_writer_does_not_import_the_ensemble_layer():
     graph = import_graph()
     for module in ("mineburial.io.netcdf", "mineburial.io.variables"):
         assert not {m for m in graph[module] if m.startswith("mineburial.ensembles")}, module
+
+
+#: optional dependencies, imported by the functions that need them: pyproject's extras
+#: (matplotlib; rioxarray, with rasterio's affine and pyproj) and dask's distributed scheduler
+OPTIONAL = ("matplotlib", "distributed", "dask.distributed", "pyproj", "rioxarray", "affine")
+MARKER = "# local import:"
+
+
+def _import_groups(function):
+    """The runs of consecutive import statements in the bodies of ``function`` (nested
+    blocks and functions included)."""
+    for node in ast.walk(function):
+        for name in ("body", "orelse", "finalbody"):
+            statements = getattr(node, name, None)
+            if not isinstance(statements, list):  # a lambda's body is an expression
+                continue
+            group = []
+            for statement in [*statements, None]:
+                if isinstance(statement, (ast.Import, ast.ImportFrom)):
+                    group.append(statement)
+                elif group:
+                    yield group
+                    group = []
+
+
+def _optional(statement) -> bool:
+    if isinstance(statement, ast.Import):
+        modules = [alias.name for alias in statement.names]
+    else:
+        modules = ["." * statement.level + (statement.module or "")]
+    return all(any(m == o or m.startswith(o + ".") for o in OPTIONAL) for m in modules)
+
+
+def unexplained_local_imports(text: str) -> list[int]:
+    """Lines of the imports inside a function of source ``text`` that import something other
+    than an optional dependency, without ``# local import: <reason>`` on the lines of the
+    run of imports it belongs to or in the comment lines right above that run."""
+    lines = text.splitlines()
+    found = set()
+    for function in ast.walk(ast.parse(text)):
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        for group in _import_groups(function):
+            above = group[0].lineno - 2
+            while above >= 0 and lines[above].lstrip().startswith("#"):
+                above -= 1
+            said = " ".join(lines[above + 1 : group[-1].end_lineno])
+            if len(said.partition(MARKER)[2].split()) >= 2:  # the marker and a reason of 2 words or more
+                continue
+            found.update(s.lineno for s in group if not _optional(s))
+    return sorted(found)
+
+
+def test_the_local_import_check_tells_explained_from_unexplained_imports():
+    text = """
+import os
+
+
+def f():
+    import matplotlib.pyplot as plt
+    from dask.distributed import Client
+    x = 1
+    # local import: scipy.stats costs 0.5 s of start-up
+    from scipy.stats import qmc
+    from mineburial.config import Scenario
+    x = 2
+    from mineburial.drop import simulate_drop  # local import: an import cycle, tests/test_imports.py
+    from mineburial.maps import run_map_cli
+    x = 3
+    from mineburial.drop import simulate_drop
+    import json  # local import:
+    if x:
+        from mineburial import maps
+
+    def g():
+        from mineburial import ensembles
+"""
+    assert unexplained_local_imports(text) == [16, 17, 19, 22]
+
+
+def test_every_function_local_import_is_optional_or_says_why():
+    unexplained = [
+        f"{path.relative_to(ROOT.parent)}:{line}"
+        for path in sorted(ROOT.rglob("*.py"))
+        for line in unexplained_local_imports(path.read_text())
+    ]
+    assert not unexplained, f"function-local imports without '{MARKER} <reason>': {unexplained}"

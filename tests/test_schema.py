@@ -399,3 +399,95 @@ def test_the_dataclasses_take_keys_defaults_and_resolved_order_from_the_declarat
         {**d, "sediment": {"class": "soft_clay"}, "release": {"position": [1, 2, 3]}}
     ).to_params()
     assert [p[layout.INDEX[k]] for k in ("release.x", "release.y", "release.z")] == [1.0, 2.0, 3.0]
+
+
+# ---------------------------------------------------------------------------
+# to_dict and the rules per scenario read every declared field (no hand-written key lists)
+# ---------------------------------------------------------------------------
+#: every field a scenario holds: the field table less the [scour] stage's keys (its own reader's)
+_DECLARED = [f for f in scenario_fields.TABLE if f.section != "scour"]
+
+_LINEAR = {"density": 1500.0, "strength": 2000.0}
+#: scenarios that together give each alternative form once: the orientation as angles and as a
+#: quaternion, the profile linear and tabulated, and each kind of current
+_VARIANTS = [
+    {"release": {"pitch_deg": 10.0}, "sediment": _LINEAR, "current": {"kind": "power_law"}},
+    {"release": {"quaternion": [1.0, 0.0, 0.0, 0.0]}, "sediment": {"class": "soft_clay"}},
+    {"sediment": _LINEAR, "current": {"kind": "uniform", "velocity": [0.3, 0.1]}},
+    {
+        "sediment": _LINEAR,
+        "current": {"kind": "table", "depth": [0.0, 5.0], "u": [0.1, 0.2], "v": [0.0, 0.0]},
+    },
+]
+
+
+def _variant(v) -> Scenario:
+    current = v.get("current", {"kind": "none"})
+    if current["kind"] == "power_law":
+        current = {**current, "surface_velocity": [0.5, 0.0], "exponent": 0.2}
+    return Scenario.from_dict(
+        {
+            "mine": {"length": 2.0, "diameter": 0.5, "mass": 700.0},
+            "release": {"position": [0.0, 0.0, 1.0], **v.get("release", {})},
+            "environment": {"water_depth": 30.0, "current": current},
+            "sediment": v["sediment"],
+        }
+    )
+
+
+def _at(d, location: str):
+    """The value at a file location (``release.position[2]``) of a nested dict, or KeyError."""
+    for part in location.split("."):
+        key, _, index = part.partition("[")
+        d = d[key] if not index else d[key][int(index.rstrip("]"))]
+    return d
+
+
+def test_to_dict_writes_every_declared_field_at_its_declared_location():
+    """Each field with a file location (scenario_fields.TABLE) is written there by some
+    resolved scenario, with its value; a field added to the table but left out of to_dict fails."""
+    found = set()
+    for v in _VARIANTS:
+        s = _variant(v)
+        d, values = s.to_dict(), s.field_values()
+        for f in _DECLARED:
+            # a power-law current writes its (u, v) as surface_velocity (docs/scenario.md)
+            locations = (
+                {f.location, f.location.replace("velocity[", "surface_velocity[")} if f.location else ()
+            )
+            for location in locations:
+                try:
+                    value = _at(d, location)
+                except (KeyError, IndexError):
+                    continue
+                found.add(f.path)
+                assert f.pack(value) == values[f.path], (f.path, value)
+        assert Scenario.from_dict(d) == s
+    assert found == {f.path for f in _DECLARED if f.location}
+
+
+def test_field_values_hold_exactly_the_declared_fields():
+    s = _variant(_VARIANTS[1])
+    assert set(s.field_values()) == {f.path for f in _DECLARED}
+    assert {p for rule in RULES for p in rule.paths} <= {f.path for f in _DECLARED}
+    p, _, _ = s.to_params()
+    values = s.field_values()
+    assert [p[layout.INDEX[name]] for name in layout.PARAM_NAMES] == [values[n] for n in layout.PARAM_NAMES]
+
+
+def test_a_rule_on_any_declared_fields_is_evaluated_per_scenario(monkeypatch):
+    """A new rule is declared in RULES only: the scenario's check reads every declared field,
+    so a rule over all of them (here one that never holds) is evaluated, not skipped as one
+    whose fields the check was not handed."""
+    every = config.Rule(
+        "a rule over every field",
+        tuple(f.path for f in _DECLARED),
+        lambda v: np.zeros(np.shape(v["mine.length"]), dtype=bool),
+        message=lambda v: "the rule over every field was evaluated",
+    )
+    for v in _VARIANTS:
+        _variant(v)  # valid without it
+    monkeypatch.setattr(config, "RULES", (*RULES, every))
+    for v in _VARIANTS:
+        with pytest.raises(ScenarioError, match="^the rule over every field was evaluated$"):
+            _variant(v)

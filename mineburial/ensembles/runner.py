@@ -44,6 +44,7 @@ from mineburial.ensembles.mine import (  # the mine's report, reached here by it
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, check_output_path
+from mineburial.figures import check_lead_time_plot, plot_lead_time
 from mineburial.resources import memory_refusal
 from mineburial.systems import registry
 
@@ -451,10 +452,7 @@ def run_ensemble_cli(args) -> int:
         systems=engine.SYSTEMS,
     )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
-    if getattr(args, "plot", None):  # the lead-time figure of a [scour] run; imported here: 0.15 s
-        # (maps, compare) that a run without --plot does not pay
-        from mineburial.figures import check_lead_time_plot, plot_lead_time
-
+    if getattr(args, "plot", None):  # the lead-time figure of a [scour] run
         check_lead_time_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
     check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None

@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from mineburial.kernels import layout
 from mineburial.kernels import status as status_codes
@@ -310,8 +311,6 @@ class Variable:
 
         The shape must have one axis per declared dimension.
         """
-        import xarray as xr
-
         arr = np.asarray(data)
         if arr.ndim != len(self.dims):
             raise ValueError(

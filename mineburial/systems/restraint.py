@@ -20,8 +20,10 @@ Parts (docs/restraint.md explains the model, its sources and its assumptions):
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import pathlib
+import sys
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,8 +34,17 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mineburial import multibody as mb
+from mineburial.ensembles.store import OutputRun
+from mineburial.io.dataset import build
 from mineburial.io.inputs import parse_toml, read_toml
+from mineburial.io.variables import RESTRAINT_DERIVED
+from mineburial.kernels import multibody as kmb
+from mineburial.kernels import restraint_forces as rf
 from mineburial.kernels.methods import METHOD_NAMES
+from mineburial.kernels.multibody import NUMERICAL_FAILURE, STATUS_NAMES, STOPPED, body_states
+from mineburial.kernels.restraint_forces import ANCHOR, ELEMENT, ROD, SHIP, segment_area_below
+from mineburial.multibody import record_bytes
 from mineburial.resources import memory_refusal
 from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
@@ -859,8 +870,6 @@ def resting_height(radius: float, density: float, case: RestraintCase) -> float:
     """Height of the axis of a long horizontal cylinder resting on the elastic seabed:
     ``(k_z - rho g) A(z) = (rho_s - rho) g pi r^2`` (eqs. (41)-(42); A: the disc's area
     below the seabed), solved by bisection."""
-    from mineburial.kernels.restraint_forces import segment_area_below
-
     rho = case["water.density"]
     g = case["water.gravity"]
     need = (density - rho) * g * math.pi * radius**2 / (case["seabed.foundation_stiffness"] - rho * g)
@@ -903,8 +912,6 @@ def initial_configuration(case: RestraintCase) -> Layout:
     (:func:`resting_height`); the first cable element steps down from the chain's axis
     height to the cable's (a few centimetres over 2 m).
     """
-    from mineburial.kernels.restraint_forces import ANCHOR, ELEMENT, ROD, SHIP
-
     zc = resting_height(case["chain.radius"], case["chain.density"], case)
     zr = resting_height(case["cable.radius"], case["cable.density"], case)
     b, a = catenary_parameter(case["cable.length"], case["cable.horizontal"], case["cable.vertical"])
@@ -999,9 +1006,6 @@ def build_system(case: RestraintCase) -> System:
     """The multibody description of a case (a chain of N bodies is N bodies), the
     parameters of its forces and its initial state (ship at x = 0, speed ``ship.speed``,
     rod turning with it, everything else at rest, seed 004 §2.2 assumption (2))."""
-    from mineburial import multibody as mb
-    from mineburial.kernels import restraint_forces as rf
-
     lay = initial_configuration(case)
     n = lay.kinds.size
     rho = case["water.density"]
@@ -1043,8 +1047,6 @@ def build_system(case: RestraintCase) -> System:
     root_pose = np.array([0.0, 0.5 * ha, 0.0])
     desc = mb.Description(parent, jp, jb, mass, np.array([1, 0, 0]), root_pose, names=lay.names)
     q0 = desc.coordinates(lay.angles[1:])
-    from mineburial.kernels.multibody import body_states
-
     pos, _ = body_states(q0, np.zeros_like(q0), desc.arrays())
     # shift x so that the ship's centroid starts at x = 0 (seed 004's origin o_0)
     root_pose[0] = -pos[n - 1, 0]
@@ -1180,8 +1182,6 @@ def _check_record_memory(case: RestraintCase, dt_rec: float, system: System, nam
     """ScenarioError naming ``name`` when the records of a run (states and the diagnostics
     computed from them) would take more than half of the available memory (the one memory
     check of :mod:`mineburial.resources`, as for the drop's trajectory)."""
-    from mineburial.multibody import record_bytes
-
     n = system.layout.kinds.size
     # per record: the state, and positions, velocities, pin forces and scalars of every body,
     # held twice while the dataset is built
@@ -1214,10 +1214,6 @@ def simulate(case: RestraintCase, record_interval: float | None = None) -> Restr
     After the run, every record must be finite and the energy balance must close within
     :data:`ENERGY_CLOSURE_LIMIT`; otherwise the status is ``numerical_failure`` (records cut
     at the first non-finite one), with the reason in ``failure``."""
-    from mineburial import multibody as mb
-    from mineburial.kernels import restraint_forces as rf
-    from mineburial.kernels.multibody import NUMERICAL_FAILURE, STATUS_NAMES, STOPPED
-
     system = build_system(case)
     if record_interval is None:
         dt_rec, name = case["numerics.record_interval"], "numerics.record_interval"
@@ -1303,12 +1299,6 @@ def to_dataset(result: RestraintResult):
     registry's ``restraint_run`` family (:mod:`mineburial.io.variables`), the file through
     :func:`mineburial.io.dataset.build`. Write it with
     :func:`mineburial.io.netcdf.write_netcdf` (atomic)."""
-    import json
-
-    from mineburial.io.dataset import build
-    from mineburial.io.variables import RESTRAINT_DERIVED
-    from mineburial.kernels import multibody as kmb
-
     sysm = result.system
     lay = sysm.layout
     case = sysm.case
@@ -1398,16 +1388,12 @@ def run_case_file(path, output) -> RestraintResult:
     """``mineburial restrain``: read, run, write atomically; returns the result. The output
     path is checked (not the case file, a regular file or nothing) and locked before the
     run (:class:`~mineburial.ensembles.store.OutputRun`)."""
-    from mineburial.ensembles.store import OutputRun
-
     case = RestraintCase.from_toml(path)
     with OutputRun(output, (path,), "-o/--output") as out:
         result = simulate(case)
         out.commit(to_dataset(result))
     events = result.contact_events
     if any(events.values()):
-        import sys
-
         print(
             f"mineburial: warning: the anchor's friction was set to zero in "
             f"{events['lifted']} right-hand-side evaluations where the chain lifted it and "
@@ -1415,7 +1401,5 @@ def run_case_file(path, output) -> RestraintResult:
             file=sys.stderr,
         )
     if result.failure:
-        import sys
-
         print(f"mineburial: warning: {result.failure}", file=sys.stderr)
     return result
