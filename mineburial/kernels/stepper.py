@@ -283,7 +283,7 @@ def mine_rhs(t, y, args, dy):
     derivatives(y, p, law, sed_bank, cur_bank, work, dy, diag)
 
 
-@kernel
+@small_kernel
 def event_component(t, y, args):
     """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
     p, e, gtmp = args
@@ -291,7 +291,7 @@ def event_component(t, y, args):
     return gtmp[e]
 
 
-@kernel
+@small_kernel
 def mine_own_step(method, t, y, h, args, k, ytmp, out):
     """The mine's own fixed step for the core (:data:`.methods.OWN_METHOD`): the local-linearisation
     step of seed 000 (:func:`local_linear_step`); args as :func:`mine_rhs`, k[0] = f(y) pre-filled."""
