@@ -234,11 +234,13 @@ def dopri5_step(system, t, y, h, params, k, ytmp, out, err):
     dopri_solution(y, k, h, out, err)
 
 
-@kernel
+@small_kernel
 def rk4_step(system, t, y, h, params, k, ytmp, out):
     """One classical Runge-Kutta step of ``system`` from (t, y) to t + h (k[0] = f(t, y) pre-filled;
     k[1..3] the other stages). The weights are applied as h (k1 + 2 k2 + 2 k3 + k4) / 6, the mine's
-    order of operations since its first release (the restraint's h / 6 (...) differed in the last bit)."""
+    order of operations since its first release (the restraint's h / 6 (...) differed in the last bit).
+    Inlined (``small_kernel``) into :func:`fixed_trial`'s implementation, the one compile unit of a
+    fixed step: as a unit of its own it linked the system's right-hand side once more (docs/design.md)."""
     n = y.shape[0]
     for i in range(n):
         ytmp[i] = y[i] + 0.5 * h * k[0, i]

@@ -220,9 +220,10 @@ def _exact_linear(v, d, beta, dt):
     return (v - vinf) * e + vinf, vinf * dt - (v - vinf) * (e - 1.0) / d
 
 
-@kernel
+@small_kernel
 def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out):
-    """Seed 000 local-linearisation step (eqs. (83)-(87)); k1 = f(y) pre-filled."""
+    """Seed 000 local-linearisation step (eqs. (83)-(87)); k1 = f(y) pre-filled. Inlined into the
+    core's fixed step (:func:`.core.fixed_trial`), one compile unit with ``rk4`` (docs/design.md)."""
     n = y.shape[0]
     # velocity slots: u v w (E-frame) and omega1..3 (body)
     for s in range(6):
