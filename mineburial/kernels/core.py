@@ -165,50 +165,6 @@ def _system_event_impl(system, t, y, params):
         return impl
 
 
-def system_project(system, y):
-    """Project y onto the manifold of ``system`` (compiled code only; nothing for most systems)."""
-    raise NotImplementedError("compiled code only")
-
-
-def system_own_step(system, method, t, y, h, params, k, ytmp, out):
-    """A fixed step of one of the system's own methods (compiled code only)."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(system_project, jit_options=JIT_OPTIONS)
-def _system_project_impl(system, y):
-    if isinstance(system, SystemType):
-        project = _SYSTEMS[system.system_key].project
-        if project is None:
-
-            def nothing(system, y):
-                pass
-
-            return nothing
-
-        def impl(system, y):
-            project(y)
-
-        return impl
-
-
-@overload(system_own_step, jit_options=JIT_OPTIONS)
-def _system_own_step_impl(system, method, t, y, h, params, k, ytmp, out):
-    if isinstance(system, SystemType):
-        own_step = _SYSTEMS[system.system_key].own_step
-        if own_step is None:
-
-            def none(system, method, t, y, h, params, k, ytmp, out):
-                out[:] = np.nan  # the system has no steps of its own: a failed step
-
-            return none
-
-        def impl(system, method, t, y, h, params, k, ytmp, out):
-            own_step(method, t, y, h, params, k, ytmp, out)
-
-        return impl
-
-
 # --- pieces of a driver ---------------------------------------------------------------------------------
 @small_kernel
 def all_finite(y):
@@ -278,11 +234,13 @@ def dopri5_step(system, t, y, h, params, k, ytmp, out, err):
     dopri_solution(y, k, h, out, err)
 
 
-@kernel
+@small_kernel
 def rk4_step(system, t, y, h, params, k, ytmp, out):
     """One classical Runge-Kutta step of ``system`` from (t, y) to t + h (k[0] = f(t, y) pre-filled;
     k[1..3] the other stages). The weights are applied as h (k1 + 2 k2 + 2 k3 + k4) / 6, the mine's
-    order of operations since its first release (the restraint's h / 6 (...) differed in the last bit)."""
+    order of operations since its first release (the restraint's h / 6 (...) differed in the last bit).
+    Inlined (``small_kernel``) into :func:`fixed_trial`'s implementation, the one compile unit of a
+    fixed step: as a unit of its own it linked the system's right-hand side once more (docs/design.md)."""
     n = y.shape[0]
     for i in range(n):
         ytmp[i] = y[i] + 0.5 * h * k[0, i]
@@ -358,15 +316,32 @@ def _fixed_trial_impl(fixed, system, method, t, y, h, params, k, ytmp, out):
             out[:] = np.nan  # never reached: the caller passes a fixed value whenever a fixed step is asked
 
         return not_compiled
+    # the system's projection and own steps are called here directly, not through overloads of their
+    # own: every overload is a compile unit of its own that links (and optimises again) the system's
+    # right-hand side, 2-3 s of CPU each for the mine (docs/design.md, "Integration core")
+    found = _SYSTEMS[system.system_key]
+    project = found.project if found.project is not None else _no_projection
+    own_step = found.own_step if found.own_step is not None else _no_own_step
 
     def step(fixed, system, method, t, y, h, params, k, ytmp, out):
         if method == RK4:
             rk4_step(system, t, y, h, params, k, ytmp, out)
-            system_project(system, out)
+            project(out)
         else:
-            system_own_step(system, method, t, y, h, params, k, ytmp, out)
+            own_step(method, t, y, h, params, k, ytmp, out)
 
     return step
+
+
+@small_kernel
+def _no_projection(y):
+    """The projection of a system that has none (:class:`System`): nothing."""
+
+
+@small_kernel
+def _no_own_step(method, t, y, h, params, k, ytmp, out):
+    """The own step of a system that has none (:class:`System`): a failed step."""
+    out[:] = np.nan
 
 
 @small_kernel

@@ -220,9 +220,10 @@ def _exact_linear(v, d, beta, dt):
     return (v - vinf) * e + vinf, vinf * dt - (v - vinf) * (e - 1.0) / d
 
 
-@kernel
+@small_kernel
 def local_linear_step(y, dt, p, law, sed_bank, cur_bank, work, k1, k2, k3, ytmp, diag, out):
-    """Seed 000 local-linearisation step (eqs. (83)-(87)); k1 = f(y) pre-filled."""
+    """Seed 000 local-linearisation step (eqs. (83)-(87)); k1 = f(y) pre-filled. Inlined into the
+    core's fixed step (:func:`.core.fixed_trial`), one compile unit with ``rk4`` (docs/design.md)."""
     n = y.shape[0]
     # velocity slots: u v w (E-frame) and omega1..3 (body)
     for s in range(6):
@@ -283,7 +284,7 @@ def mine_rhs(t, y, args, dy):
     derivatives(y, p, law, sed_bank, cur_bank, work, dy, diag)
 
 
-@kernel
+@small_kernel
 def event_component(t, y, args):
     """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
     p, e, gtmp = args
@@ -291,7 +292,7 @@ def event_component(t, y, args):
     return gtmp[e]
 
 
-@kernel
+@small_kernel
 def mine_own_step(method, t, y, h, args, k, ytmp, out):
     """The mine's own fixed step for the core (:data:`.methods.OWN_METHOD`): the local-linearisation
     step of seed 000 (:func:`local_linear_step`); args as :func:`mine_rhs`, k[0] = f(y) pre-filled."""
