@@ -50,7 +50,7 @@ import math
 
 import numpy as np
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.core import (
     JAC_MAX_AGE,
     all_finite,
@@ -677,6 +677,64 @@ def _output_times(t0, t_end, record_dt):
     return t_out
 
 
+@small_kernel
+def _settings_valid(y0, t0, t_end, dt, rtol, atol, record_dt, max_steps, jac_cols):
+    """Whether the settings of :func:`integrate` are valid (finite times with t_end > t0, positive finite
+    step and record interval, positive tolerances and step budget, a finite initial state, distinct
+    Jacobian columns of it)."""
+    return (
+        math.isfinite(t0)
+        and math.isfinite(t_end)
+        and t_end > t0
+        and dt > 0.0
+        and math.isfinite(dt)
+        and record_dt > 0.0
+        and math.isfinite(record_dt)
+        and rtol > 0.0
+        and atol > 0.0
+        and max_steps > 0
+        and all_finite(y0)
+        and _columns_valid(jac_cols, y0.shape[0])
+    )
+
+
+@small_kernel
+def _work_arrays(n, m):
+    """The work arrays of :func:`integrate` for a state of size n and m Jacobian columns: (k, ynew, err,
+    r, ytmp, jc, wa, piv, kr, ztmp) of the core's attempt_step and the error norm's groups (one a
+    component)."""
+    groups = np.empty((n, 2), np.int64)
+    for i in range(n):
+        groups[i, 0] = i
+        groups[i, 1] = i + 1
+    return (
+        np.empty((N_STAGES, n)),
+        np.empty(n),
+        np.empty(n),
+        np.zeros((5, n)),
+        np.empty(n),
+        np.zeros((n, m)),
+        np.empty((m, m)),
+        np.empty(m, np.int64),
+        np.empty((ROS_STAGES, n)),
+        np.empty(m),
+        groups,
+    )
+
+
+@small_kernel
+def _record_stop(r, t, h, th, t_ev, t_out, i_rec, times, states, ytmp):
+    """Records up to the located stop event at t_ev = t + th h (on the step's continuous extension r),
+    the event state the last of them; returns the number of records."""
+    i_rec = record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
+    if times[i_rec - 1] < t_ev:
+        dense_state(r, th, ytmp)
+        times[i_rec] = t_ev
+        states[i_rec, :] = ytmp
+        i_rec += 1
+    return i_rec
+
+
 @kernel
 def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps, jac_cols):
     """Integrate dy/dt = system.rhs(t, y, params, dy) from t0 to t_end, stopping where
@@ -706,42 +764,14 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     kind = method_code(method)
     if kind < 0:
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
-    ok = (
-        math.isfinite(t0)
-        and math.isfinite(t_end)
-        and t_end > t0
-        and dt > 0.0
-        and math.isfinite(dt)
-        and record_dt > 0.0
-        and math.isfinite(record_dt)
-        and rtol > 0.0
-        and atol > 0.0
-        and max_steps > 0
-        and all_finite(y0)
-        and _columns_valid(jac_cols, n)
-    )
-    if not ok:
+    if not _settings_valid(y0, t0, t_end, dt, rtol, atol, record_dt, max_steps, jac_cols):
         return np.zeros(0), np.zeros((0, n)), INVALID_INPUT, t0
     t_out = _output_times(t0, t_end, record_dt)
     n_out = t_out.shape[0]
     times = np.zeros(n_out + 1)
     states = np.zeros((n_out + 1, n))
     y = y0.copy()
-    ynew = np.empty(n)
-    ytmp = np.empty(n)
-    err = np.empty(n)
-    k = np.empty((N_STAGES, n))
-    r = np.zeros((5, n))
-    groups = np.empty((n, 2), np.int64)
-    for i in range(n):
-        groups[i, 0] = i
-        groups[i, 1] = i + 1
-    m = jac_cols.shape[0]
-    jc = np.zeros((n, m))
-    wa = np.empty((m, m))
-    piv = np.empty(m, np.int64)
-    kr = np.empty((ROS_STAGES, n))
-    ztmp = np.empty(m)
+    k, ynew, err, r, ytmp, jc, wa, piv, kr, ztmp, groups = _work_arrays(n, jac_cols.shape[0])
     jac_age = JAC_MAX_AGE
     times[0] = t0
     states[0, :] = y
@@ -798,12 +828,7 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
             tol = EVENT_TOLERANCE * max(1.0, abs(t) / max(h, 1e-300))
             th = locate_event(system, r, t, h, g, g_new, params, ytmp, tol, MAX_EVENT_ITERATIONS)
             t_ev = t + th * h
-            i_rec = record_until(r, t, h, t_ev, t_out, i_rec, times, states, ytmp)
-            if times[i_rec - 1] < t_ev:
-                dense_state(r, th, ytmp)
-                times[i_rec] = t_ev
-                states[i_rec, :] = ytmp
-                i_rec += 1
+            i_rec = _record_stop(r, t, h, th, t_ev, t_out, i_rec, times, states, ytmp)
             return times[:i_rec].copy(), states[:i_rec].copy(), STOPPED, t_ev
         i_rec = record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
         if g_new > 0.0:

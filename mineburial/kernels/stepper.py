@@ -48,7 +48,7 @@ import numpy as np
 from mineburial._numba import kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels import status as st
-from mineburial.kernels.core import JAC_MAX_AGE, System, attempt_step, locate_event
+from mineburial.kernels.core import JAC_MAX_AGE, System, all_finite, attempt_step, locate_event
 from mineburial.kernels.dynamics import derivatives, drop_body
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.layout import (
@@ -323,6 +323,162 @@ def reference_paths(params):
     return True if np.any(uses_reference) else None
 
 
+@small_kernel
+def _step_request(integrator, adaptive, stiff_in_sediment, t, h_adapt, t_limit, h_cap, p, g0):
+    """The core's method and the size of the next step of a drop (its caps: :data:`MAX_STEP`, the time
+    left, the interface cap), or h = -1.0 when an adaptive step fell below :data:`MIN_STEP` max(1, t)
+    (a numerical failure); ``dopri5_ros34pw2`` takes the Rosenbrock-W step in sediment contact (g0[2] < 0)."""
+    method = CORE_METHOD[integrator]
+    if adaptive:
+        h = min(h_adapt, MAX_STEP, t_limit - t, h_cap)
+        if h < MIN_STEP * max(1.0, t):
+            return method, -1.0
+        if stiff_in_sediment and g0[2] < 0.0:
+            method = ROS34PW2  # in contact with the sediment: the linearly implicit Rosenbrock-W step
+    else:
+        h = min(p[P_DT], t_limit - t, h_cap)
+    return method, h
+
+
+@small_kernel
+def _first_event(r, t, h, g0, g1, p, gtmp, ytmp):
+    """(theta, e): the first event inside the accepted step (t, t + h) on its continuous extension ``r``
+    (theta = 2, e = -1 when none): an interface crossed (events 0-3) or the rest measure turning
+    negative while in contact with the sediment (event 4), each located by :func:`.core.locate_event`."""
+    theta = 2.0
+    first = -1
+    in_contact = g0[2] < 0.0 and g1[2] < 0.0
+    for e in range(N_EVENTS):
+        if e == EVENT_REST:
+            # the rest measure turning negative while in contact with the sediment
+            if not (in_contact and g0[e] > 0.0 and g1[e] <= 0.0):
+                continue
+        elif not _crossed(g0[e], g1[e]):
+            continue
+        th = locate_event(
+            MINE, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
+        )
+        if th < theta:
+            theta = th
+            first = e
+    return theta, first
+
+
+@small_kernel
+def _record_step(traj, row, next_record, record_dt, r, t, h, t_end, ytmp, args, dy):
+    """The recorder: trajectory rows at the exact output times within the step (t, t_end], on its
+    continuous extension ``r``; args as :func:`mine_rhs`; returns (rows recorded, next output time)."""
+    p, law, sed_bank, cur_bank, work, diag = args
+    n_rows = traj.shape[0]
+    while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
+        dense_state(r, min(max((next_record - t) / h, 0.0), 1.0), ytmp)
+        _record(traj, row, next_record, ytmp, p, law, sed_bank, cur_bank, work, dy, diag)
+        row += 1
+        next_record = row * record_dt
+    return row, next_record
+
+
+@small_kernel
+def _cut_at_event(r, theta, first, ynew, p, g0, g1):
+    """The end state of a step cut at its first event: ynew on the continuous extension at theta and
+    its event values g1, with the event's sign change made exact (strictly: a value of -0.0 would
+    read as not crossed)."""
+    dense_state(r, theta, ynew)
+    event_values(ynew, p, g1)
+    if first < EVENT_REST:
+        # the interface is crossed at the cut: make its sign change exact
+        mag = max(abs(g1[first]), 1e-300)
+        g1[first] = -mag if g0[first] > 0.0 else mag
+    else:
+        g1[EVENT_REST] = min(g1[EVENT_REST], -1e-300)
+
+
+@small_kernel
+def _impact_summary(summary, t, y):
+    """The impact's time, speed, pitch and angle (seed 000 section 8) at the first seabed contact."""
+    speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
+    summary[S_IMPACT_TIME] = t
+    summary[S_IMPACT_SPEED] = speed
+    psi1, psi2, psi3 = euler_angles(y[6], y[7], y[8], y[9])
+    summary[S_IMPACT_PITCH] = math.degrees(psi2)
+    summary[S_IMPACT_ANGLE] = math.degrees(math.atan2(-y[5], math.sqrt(y[3] * y[3] + y[4] * y[4])))
+
+
+@small_kernel
+def _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps):
+    """The burial measures (:func:`.bodies.burial`), final attitude and position at the end of the drop."""
+    depth = p[P_DEPTH]
+    rot = rotation_matrix(y[6], y[7], y[8], y[9])
+    pv, ph, pa, proud, pen = bodies.burial(drop_body(p), rot[6], y[2], -depth)
+    summary[S_PENETRATION] = pen
+    summary[S_COM_DEPTH] = -depth - y[2]
+    summary[S_BURIAL_VOLUME] = pv
+    summary[S_BURIAL_HEIGHT] = ph
+    summary[S_BURIAL_AREA] = pa
+    summary[S_HEIGHT_PROUD] = proud
+    psi1, psi2, psi3 = euler_angles(y[6], y[7], y[8], y[9])
+    summary[S_FINAL_PITCH] = math.degrees(psi2)
+    summary[S_FINAL_ROLL] = math.degrees(psi1)
+    summary[S_FINAL_HEADING] = math.degrees(psi3)
+    summary[S_FINAL_X] = y[0]
+    summary[S_FINAL_Y] = y[1]
+    summary[S_TOTAL_TIME] = t
+    summary[S_MAX_DECEL] = max_decel if hit_seabed else np.nan
+    summary[S_N_STEPS] = n_steps
+
+
+#: :func:`_end_test`'s answer when the drop goes on
+GO_ON = -1
+
+
+@small_kernel
+def _end_test(y, f, g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit_seabed):
+    """The end tests after an accepted step at state y with rate f and event values g1: a non-finite
+    state or rate; at rest (slow by seed 000 eq. (89) and held by the sediment, kernels/rest.py);
+    floated (lighter than the water, in it and rising before any seabed contact); left the domain.
+    Returns (status, or :data:`GO_ON`; the largest deceleration in the sediment so far)."""
+    if not (all_finite(y) and all_finite(f)):
+        return st.NUMERICAL_FAILURE, max_decel
+    if g1[2] < 0.0:
+        acc = math.sqrt(f[3] * f[3] + f[4] * f[4] + f[5] * f[5])
+        if acc > max_decel:
+            max_decel = acc
+        # the end of the drop: slow (eq. (89)) and held by the sediment (kernels/rest.py)
+        if g1[EVENT_REST] <= 0.0 and held_by_sediment(y, p, law, sed_bank, p[P_REST_SPEED]):
+            return st.AT_REST, max_decel
+    elif buoyant and entered_water and not hit_seabed and g1[0] < 0.0 and y[5] > 0.0:
+        # lighter than the water, in it and rising: it will not reach the seabed
+        return st.FLOATED, max_decel
+    if y[2] > p[P_Z0] + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:
+        return st.LEFT_DOMAIN, max_decel
+    return GO_ON, max_decel
+
+
+@small_kernel
+def _work_arrays():
+    """The work arrays of a drop: (y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr,
+    ztmp) (jc, wa, piv, kr, ztmp: the Rosenbrock-W step's, over :data:`VELOCITY_SLOTS`)."""
+    return (
+        np.empty(N_EXT),
+        np.empty(N_EXT),
+        np.empty(N_EXT),
+        np.empty((N_STAGES, N_EXT)),
+        np.empty(N_EXT),
+        np.empty(N_EXT),
+        np.empty((5, N_EXT)),
+        np.empty(N_WORK),
+        np.zeros(N_DIAG),
+        np.empty(N_EVENTS),
+        np.empty(N_EVENTS),
+        np.empty(N_EVENTS),
+        np.zeros((N_EXT, N_VEL)),
+        np.empty((N_VEL, N_VEL)),
+        np.empty(N_VEL, dtype=np.int64),
+        np.empty((ROS_STAGES, N_EXT)),
+        np.empty(N_VEL),
+    )
+
+
 @kernel
 def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` is an array
@@ -330,29 +486,14 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     nothing (and compiles no recorder). Returns (status, rows recorded).
 
     ``reference_paths``: :func:`reference_paths` of the drop (``None``: only the default
-    paths are compiled).
+    paths are compiled). The loop's pieces (step request, first event, recorder, cut, impact and end
+    summaries) are inlined kernels (``small_kernel``): one compile unit, as before they were split.
     """
     for i in range(N_SUMMARY):
         summary[i] = np.nan
     p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
     law = pack_law(p, p[P_DIAMETER], reference_paths)
-    y = np.empty(N_EXT)
-    ynew = np.empty(N_EXT)
-    err = np.empty(N_EXT)
-    k = np.empty((N_STAGES, N_EXT))
-    ytmp = np.empty(N_EXT)
-    dy = np.empty(N_EXT)
-    r = np.empty((5, N_EXT))
-    work = np.empty(N_WORK)
-    diag = np.zeros(N_DIAG)
-    g0 = np.empty(N_EVENTS)
-    g1 = np.empty(N_EVENTS)
-    gtmp = np.empty(N_EVENTS)
-    jc = np.zeros((N_EXT, N_VEL))
-    wa = np.empty((N_VEL, N_VEL))
-    piv = np.empty(N_VEL, dtype=np.int64)
-    kr = np.empty((ROS_STAGES, N_EXT))
-    ztmp = np.empty(N_VEL)
+    y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
     ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
     initial_state(p, y)
@@ -360,18 +501,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     adaptive = ADAPTIVE_INTEGRATOR[integrator]
     stiff_in_sediment = integrator == INTEGRATOR_STIFF
     jac_age = JAC_MAX_AGE  # accepted steps since the Jacobian was evaluated (>= max: evaluate)
-    rtol = p[P_RTOL]
-    atol = p[P_ATOL]
-    rest_speed = p[P_REST_SPEED]
-    depth = p[P_DEPTH]
-    z_release = p[P_Z0]
-    L = p[P_LENGTH]
     R = 0.5 * p[P_DIAMETER]
-    body = drop_body(p)
-    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * L
-    n_rows = 0
-    if traj is not None:
-        n_rows = traj.shape[0]
+    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * p[P_LENGTH]
     row = 0
     t = 0.0
     next_record = 0.0
@@ -404,53 +535,19 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
         n_attempts += 1
         if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
             break
-        method = CORE_METHOD[integrator]
-        if adaptive:
-            h = min(h_adapt, MAX_STEP, t_limit - t, h_cap)
-            if h < MIN_STEP * max(1.0, t):
-                status = st.NUMERICAL_FAILURE
-                break
-            if stiff_in_sediment and g0[2] < 0.0:
-                method = ROS34PW2  # in contact with the sediment: the linearly implicit Rosenbrock-W step
-        else:
-            h = min(p[P_DT], t_limit - t, h_cap)
+        method, h = _step_request(integrator, adaptive, stiff_in_sediment, t, h_adapt, t_limit, h_cap, p, g0)
+        if h < 0.0:
+            status = st.NUMERICAL_FAILURE
+            break
         accept, h_adapt, err_prev, jac_age = attempt_step(
-            MINE,
-            method,
-            t,
-            y,
-            h,
-            args,
-            reference_paths,
-            ERROR_GROUPS,
-            rtol,
-            atol,
-            err_prev,
-            accepted_before,
-            jac_age,
-            ws,
-        )
+            MINE, method, t, y, h, args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], err_prev,
+            accepted_before, jac_age, ws,
+        )  # fmt: skip
         accepted_before = accept
         if not accept:
             continue
         event_values(ynew, p, g1)
-        # ---- events on the continuous extension: the first one ends the step ----
-        theta = 2.0
-        first = -1
-        in_contact = g0[2] < 0.0 and g1[2] < 0.0
-        for e in range(N_EVENTS):
-            if e == EVENT_REST:
-                # the rest measure turning negative while in contact with the sediment
-                if not (in_contact and g0[e] > 0.0 and g1[e] <= 0.0):
-                    continue
-            elif not _crossed(g0[e], g1[e]):
-                continue
-            th = locate_event(
-                MINE, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
-            )
-            if th < theta:
-                theta = th
-                first = e
+        theta, first = _first_event(r, t, h, g0, g1, p, gtmp, ytmp)
         if (
             first >= 0
             and first < EVENT_REST
@@ -464,25 +561,12 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             h_cap = theta * h * (1.0 + REDO_MARGIN)
             redo += 1
             continue
-        # ---- the recorder: rows at exact output times within the step ----
         t_end = t + h if first < 0 else t + theta * h
         if traj is not None:
-            while row < n_rows and next_record <= t_end + 1e-12 * max(1.0, t_end):
-                dense_state(r, min(max((next_record - t) / h, 0.0), 1.0), ytmp)
-                _record(traj, row, next_record, ytmp, p, law, sed_bank, cur_bank, work, dy, diag)
-                row += 1
-                next_record = row * record_dt
+            row, next_record = _record_step(traj, row, next_record, record_dt, r, t, h, t_end, ytmp, args, dy)
         # ---- accept the step (cut at the first event) ----
         if first >= 0:
-            dense_state(r, theta, ynew)
-            event_values(ynew, p, g1)
-            if first < EVENT_REST:
-                # the interface is crossed at the cut: make its sign change exact
-                # (strictly: a value of -0.0 would read as not crossed)
-                mag = max(abs(g1[first]), 1e-300)
-                g1[first] = -mag if g0[first] > 0.0 else mag
-            else:
-                g1[EVENT_REST] = min(g1[EVENT_REST], -1e-300)
+            _cut_at_event(r, theta, first, ynew, p, g0, g1)
         h_cap = math.inf
         redo = 0
         _normalize_attitude(ynew)
@@ -502,57 +586,19 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             summary[S_ENTRY_TIME] = t
         if not hit_seabed and g1[2] < 0.0:
             hit_seabed = True
-            speed = math.sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5])
-            summary[S_IMPACT_TIME] = t
             t_limit = t + p[P_TMAX]
-            summary[S_IMPACT_SPEED] = speed
-            psi1, psi2, psi3 = euler_angles(y[6], y[7], y[8], y[9])
-            summary[S_IMPACT_PITCH] = math.degrees(psi2)
-            summary[S_IMPACT_ANGLE] = math.degrees(math.atan2(-y[5], math.sqrt(y[3] * y[3] + y[4] * y[4])))
+            _impact_summary(summary, t, y)
         for e in range(N_EVENTS):
             g0[e] = g1[e]
-        finite = True
-        for i in range(N_EXT):
-            if not math.isfinite(y[i]) or not math.isfinite(k[0, i]):
-                finite = False
-        if not finite:
-            status = st.NUMERICAL_FAILURE
-            break
-        if g1[2] < 0.0:
-            acc = math.sqrt(k[0, 3] * k[0, 3] + k[0, 4] * k[0, 4] + k[0, 5] * k[0, 5])
-            if acc > max_decel:
-                max_decel = acc
-            # the end of the drop: slow (eq. (89)) and held by the sediment (kernels/rest.py)
-            if g1[EVENT_REST] <= 0.0 and held_by_sediment(y, p, law, sed_bank, rest_speed):
-                status = st.AT_REST
-                break
-        elif buoyant and entered_water and not hit_seabed and g1[0] < 0.0 and y[5] > 0.0:
-            # lighter than the water, in it and rising: it will not reach the seabed
-            status = st.FLOATED
-            break
-        if y[2] > z_release + 1000.0 or abs(y[0]) > DOMAIN_RADIUS or abs(y[1]) > DOMAIN_RADIUS:
-            status = st.LEFT_DOMAIN
+        end, max_decel = _end_test(
+            y, k[0], g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit_seabed
+        )
+        if end != GO_ON:
+            status = end
             break
     if traj is not None:
-        if row < n_rows and (row == 0 or traj[row - 1, 0] < t):
+        if row < traj.shape[0] and (row == 0 or traj[row - 1, 0] < t):
             _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
             row += 1
-    # ---- burial measures and final attitude ----
-    rot = rotation_matrix(y[6], y[7], y[8], y[9])
-    pv, ph, pa, proud, pen = bodies.burial(body, rot[6], y[2], -depth)
-    summary[S_PENETRATION] = pen
-    summary[S_COM_DEPTH] = -depth - y[2]
-    summary[S_BURIAL_VOLUME] = pv
-    summary[S_BURIAL_HEIGHT] = ph
-    summary[S_BURIAL_AREA] = pa
-    summary[S_HEIGHT_PROUD] = proud
-    psi1, psi2, psi3 = euler_angles(y[6], y[7], y[8], y[9])
-    summary[S_FINAL_PITCH] = math.degrees(psi2)
-    summary[S_FINAL_ROLL] = math.degrees(psi1)
-    summary[S_FINAL_HEADING] = math.degrees(psi3)
-    summary[S_FINAL_X] = y[0]
-    summary[S_FINAL_Y] = y[1]
-    summary[S_TOTAL_TIME] = t
-    summary[S_MAX_DECEL] = max_decel if hit_seabed else np.nan
-    summary[S_N_STEPS] = n_steps
+    _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps)
     return status, row
