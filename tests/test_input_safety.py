@@ -75,13 +75,6 @@ def run_cli(*args, env=None, cwd=None):
     )
 
 
-def run_python(code: str, cwd):
-    """Run ``code`` in a fresh interpreter (bounded time); returns the process."""
-    return subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd
-    )
-
-
 def cli_main(capsys, *args):
     status = cli.main([str(a) for a in args])
     err = capsys.readouterr().err.strip()
@@ -93,7 +86,7 @@ def cli_main(capsys, *args):
 # ---------------------------------------------------------------------------
 # item 12: only regular files of sane size are read
 # ---------------------------------------------------------------------------
-# each reader, called on the file 'bad' in the working folder (Python source for run_python)
+# each reader, called on the file 'bad' in the working folder (Python source for the subprocess)
 READERS = {
     "scenario": "Scenario.from_toml('bad')",
     "profile_csv": "load_csv('bad')",
@@ -101,37 +94,82 @@ READERS = {
     "netcdf_core": "load_netcdf('bad')",
     "environment_grid": "read_environment('bad')",
 }
-PRELUDE = (
-    "from mineburial.config import Scenario\n"
-    "from mineburial.sediment_profiles import load_csv, load_netcdf, ScenarioError\n"
-    "from mineburial.ensembles import distributions as dist\n"
-    "from mineburial.maps import read_environment\n"
-    "try:\n    {call}\nexcept ScenarioError as exc:\n    print('REFUSED', exc)\n"
-)
+#: each kind of bad input: how to make it at a path, and the words of its refusal
+BAD_INPUTS = {
+    "fifo": (os.mkfifo, "FIFO (named pipe), not a regular file"),  # no writer: a read would block forever
+    "dev_zero": (lambda path: os.symlink("/dev/zero", path), "character device, not a regular file"),
+    "folder": (os.mkdir, "a folder, not a regular file"),
+}
+#: one interpreter calls every reader on every bad input, in the folder named by each line of stdin, and
+#: prints one line per call: the folder, a tab, then REFUSED and the message, or what else happened
+READ_EACH = """
+import sys, os
+from mineburial.config import Scenario
+from mineburial.sediment_profiles import load_csv, load_netcdf, ScenarioError
+from mineburial.ensembles import distributions as dist
+from mineburial.maps import read_environment
+READERS = {readers!r}
+for folder in sys.stdin.read().splitlines():
+    os.chdir(folder)
+    try:
+        eval(READERS[os.path.basename(folder).split("-", 1)[1]])
+        outcome = "ACCEPTED"
+    except ScenarioError as exc:
+        outcome = "REFUSED " + " ".join(str(exc).split())
+    except Exception as exc:
+        outcome = "RAISED " + type(exc).__name__ + ": " + " ".join(str(exc).split())
+    print(folder + "\t" + outcome, flush=True)
+"""
+
+
+@pytest.fixture(scope="module")
+def refusals(tmp_path_factory):
+    """{(kind, reader): what the reader did with that bad input}, all read in ONE subprocess (one
+    interpreter start instead of 15: ~2 s each), with a timeout, so that a regression that blocks on
+    the FIFO or reads /dev/zero fails the tests (the calls it never reached are missing) instead
+    of hanging or filling the memory of the test run."""
+    root = tmp_path_factory.mktemp("bad_inputs")
+    folders = {}
+    for kind, (make, _) in BAD_INPUTS.items():
+        for reader in READERS:
+            folder = root / f"{kind}-{reader}"
+            folder.mkdir()
+            make(folder / "bad")
+            folders[str(folder)] = (kind, reader)
+    try:
+        proc = subprocess.run(
+            [sys.executable, "-c", READ_EACH.format(readers=READERS)],
+            input="\n".join(folders),
+            capture_output=True,
+            text=True,
+            timeout=TIMEOUT,
+        )
+        out, missing = proc.stdout, f"no answer (exit status {proc.returncode}): {proc.stderr[-2000:]}"
+    except subprocess.TimeoutExpired as exc:
+        out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else exc.stdout or ""
+        missing = f"no answer within {TIMEOUT} s"
+    answers = dict(line.split("\t", 1) for line in out.splitlines())
+    return {case: answers.get(folder, missing) for folder, case in folders.items()}
+
+
+def refused(refusals, kind, reader):
+    outcome = refusals[kind, reader]
+    assert outcome.startswith("REFUSED ") and BAD_INPUTS[kind][1] in outcome, outcome
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_fifo_input_is_refused_instead_of_hanging(tmp_path, reader):
-    os.mkfifo(tmp_path / "bad")  # no writer ever opens it: reading would block forever
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "FIFO (named pipe), not a regular file" in proc.stdout
+def test_fifo_input_is_refused_instead_of_hanging(refusals, reader):
+    refused(refusals, "fifo", reader)
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_link_to_dev_zero_is_refused_instead_of_filling_memory(tmp_path, reader):
-    os.symlink("/dev/zero", tmp_path / "bad")
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "character device, not a regular file" in proc.stdout
+def test_link_to_dev_zero_is_refused_instead_of_filling_memory(refusals, reader):
+    refused(refusals, "dev_zero", reader)
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_folder_as_input_file_is_refused(tmp_path, reader):
-    (tmp_path / "bad").mkdir()
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "a folder, not a regular file" in proc.stdout
+def test_folder_as_input_file_is_refused(refusals, reader):
+    refused(refusals, "folder", reader)
 
 
 def test_fifo_scenario_on_the_command_line_is_one_line(tmp_path):
