@@ -308,20 +308,26 @@ def scan_interpolate(xs, ys, x):
     return ys[k] + f * (ys[k + 1] - ys[k])
 
 
-def scan_properties(d, r, s, zeta, rho_w, g):
-    """Brute-force reference of the sediment profile: (rho, S, sigma') summing trapezoids
-    from the seabed down, in order."""
-    if zeta <= d[0]:
-        return r[0], s[0], (r[0] - rho_w) * g * zeta
-    acc = (r[0] - rho_w) * d[0]
+def scan_profile(d, r, s, rho_w, g):
+    """Brute-force reference of the sediment profile: zeta -> (rho, S, sigma') summing trapezoids
+    from the seabed down, in order (the running sums once per table, as a walk down it adds them),
+    the bracketing pair found by a scan of the whole table (numpy's, not a bisection)."""
+    acc = [(r[0] - rho_w) * d[0]]  # acc[j]: the sum down to knot j
     for j in range(1, len(d)):
-        if zeta <= d[j]:
-            f = (zeta - d[j - 1]) / (d[j] - d[j - 1])
-            rz = r[j - 1] + f * (r[j] - r[j - 1])
-            sz = s[j - 1] + f * (s[j] - s[j - 1])
-            return rz, sz, (acc + (0.5 * (r[j - 1] + rz) - rho_w) * (zeta - d[j - 1])) * g
-        acc += (0.5 * (r[j - 1] + r[j]) - rho_w) * (d[j] - d[j - 1])
-    return r[-1], s[-1], (acc + (r[-1] - rho_w) * (zeta - d[-1])) * g
+        acc.append(acc[-1] + (0.5 * (r[j - 1] + r[j]) - rho_w) * (d[j] - d[j - 1]))
+
+    def at(zeta):
+        if zeta <= d[0]:
+            return r[0], s[0], (r[0] - rho_w) * g * zeta
+        if not zeta <= d[-1]:
+            return r[-1], s[-1], (acc[-1] + (r[-1] - rho_w) * (zeta - d[-1])) * g
+        j = int(np.argmax(d >= zeta))  # the first knot at or below zeta
+        f = (zeta - d[j - 1]) / (d[j] - d[j - 1])
+        rz = r[j - 1] + f * (r[j] - r[j - 1])
+        sz = s[j - 1] + f * (s[j] - s[j - 1])
+        return rz, sz, (acc[j - 1] + (0.5 * (r[j - 1] + rz) - rho_w) * (zeta - d[j - 1])) * g
+
+    return at
 
 
 def random_bank(rng, sizes):
@@ -369,6 +375,7 @@ def test_drop_bank_lookup_is_bit_identical_to_the_scan_of_the_shared_bank():
         n = int(np.sum(~np.isnan(bank[row, 0])))
         assert q[P_SED_PROFILE] == 0 and p[P_SED_PROFILE] == row and own.shape == (1, 5, n)
         d, r, s = (bank[row, c, :n] for c in range(3))
+        scan = scan_profile(d, r, s, rho_w, g)
         # the integral column: cumulative trapezoids of (rho - rho_w), numpy's sequential cumsum
         terms = np.concatenate([[(r[0] - rho_w) * d[0]], (0.5 * (r[:-1] + r[1:]) - rho_w) * np.diff(d)])
         assert np.array_equal(own[0, COLUMN_OVERBURDEN], np.cumsum(terms))
@@ -379,7 +386,7 @@ def test_drop_bank_lookup_is_bit_identical_to_the_scan_of_the_shared_bank():
                 == _scan_properties(zeta, bank, row, rho_w, g)
                 == _bank_properties(zeta, bank, row, rho_w, g)
             )
-            assert fast == scan_properties(d, r, s, zeta, rho_w, g), (row, zeta)
+            assert fast == scan(zeta), (row, zeta)
             # and sigma' is the integral of (rho - rho_w) g (the trapezoid rule is exact here)
             zz = np.unique(np.concatenate([[0.0], d[d < zeta], [max(zeta, 0.0)]]))
             rr = np.interp(zz, d, r)
