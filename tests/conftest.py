@@ -93,7 +93,7 @@ def _self_check_off_unless_asked(request, monkeypatch):
 #: one drop of the BASE scenario on the sediment quadrature named by argv[1] (``fast``: the
 #: default paths, reference_paths None; ``reference``: reference_paths True), through the batch
 #: driver and with a trajectory: the four run_drop specialisations most test files share
-WARM_UP = """
+WARM_UP_MINE = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from conftest import make_scenario
@@ -103,6 +103,21 @@ p, sb, cb = make_scenario(numerics={"sediment_quadrature": sys.argv[1]}).to_para
 run_batch(p[None, :], [1], sb, cb, threads=1)
 run_params(p, sb, cb, record_interval=0.5)
 """
+
+#: 0.5 s of seed 004's Table 2 case 1 through the public entry point: the restraining system's
+#: driver (one specialisation for every integrator and case) and its record diagnostics, which
+#: five test files share (tests/test_restraint.py first paid it: 44 s of its fixture's set-up)
+WARM_UP_RESTRAINT = """
+from mineburial.systems import restraint
+restraint.simulate(restraint.table2_case(1).replace(**{"numerics.t_max": 0.5}))
+"""
+
+#: the warm-up processes: script and its arguments
+WARM_UPS = {
+    "fast": (WARM_UP_MINE, "fast"),
+    "reference": (WARM_UP_MINE, "reference"),
+    "restraint": (WARM_UP_RESTRAINT,),
+}
 
 
 def _warm_up_wanted(config) -> bool:
@@ -122,21 +137,25 @@ def _warm_up_wanted(config) -> bool:
 def pytest_configure(config):
     """Compile the engine's shared paths once, in the xdist controller, before the workers start:
     from an empty cache (CI) both workers otherwise compile the same kernels at the same time
-    (one run_drop specialisation is 20-60 s of CPU). Two processes (one per core) fill numba's
-    on-disk cache (``NUMBA_CACHE_DIR`` or the package's ``__pycache__``), from which the workers
-    load; on a warm cache it costs the two processes' start-up and cache loads (16 s wall on the
-    loaded 2-core host). Results are unaffected: a kernel loaded from the cache is the one
-    compiled (docs/design.md, "Developing kernels")."""
+    (one run_drop specialisation is 20-60 s of CPU). Three processes (:data:`WARM_UPS`: the
+    mine's default and reference paths and the restraining system) fill numba's on-disk cache
+    (``NUMBA_CACHE_DIR`` or the package's ``__pycache__``), from which the workers load. The
+    restraint's 70 s of compile share the two cores with the mine's reference paths (the
+    longest, ~108 s alone, CPU ~90 s) after the default paths (~70 s): on a 2-core host it
+    makes the warm-up ~10 s longer and takes ~45 s of compile off the workers (docs/design.md,
+    "Test suite time"); on a warm cache it costs the processes' start-up and cache loads.
+    Results are unaffected: a kernel loaded from the cache is the one compiled (docs/design.md,
+    "Developing kernels")."""
     config.warm_up_note = None
     if not _warm_up_wanted(config):
         return
     t0 = time.perf_counter()
     here = str(pathlib.Path(__file__).parent.resolve())
-    procs = [
-        subprocess.Popen([sys.executable, "-c", WARM_UP, quadrature, here], stdout=subprocess.DEVNULL)
-        for quadrature in ("fast", "reference")
-    ]
-    codes = [proc.wait() for proc in procs]
+    procs = {
+        name: subprocess.Popen([sys.executable, "-c", script, *args, here], stdout=subprocess.DEVNULL)
+        for name, (script, *args) in WARM_UPS.items()
+    }
+    codes = {name: proc.wait() for name, proc in procs.items()}
     config.warm_up_note = (
         f"numba cache warmed before the workers started: {time.perf_counter() - t0:.1f} s, exit codes {codes}"
     )

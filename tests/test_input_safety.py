@@ -75,13 +75,6 @@ def run_cli(*args, env=None, cwd=None):
     )
 
 
-def run_python(code: str, cwd):
-    """Run ``code`` in a fresh interpreter (bounded time); returns the process."""
-    return subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd
-    )
-
-
 def cli_main(capsys, *args):
     status = cli.main([str(a) for a in args])
     err = capsys.readouterr().err.strip()
@@ -93,7 +86,7 @@ def cli_main(capsys, *args):
 # ---------------------------------------------------------------------------
 # item 12: only regular files of sane size are read
 # ---------------------------------------------------------------------------
-# each reader, called on the file 'bad' in the working folder (Python source for run_python)
+# each reader, called on the file 'bad' in the working folder (Python source for the subprocess)
 READERS = {
     "scenario": "Scenario.from_toml('bad')",
     "profile_csv": "load_csv('bad')",
@@ -101,37 +94,82 @@ READERS = {
     "netcdf_core": "load_netcdf('bad')",
     "environment_grid": "read_environment('bad')",
 }
-PRELUDE = (
-    "from mineburial.config import Scenario\n"
-    "from mineburial.sediment_profiles import load_csv, load_netcdf, ScenarioError\n"
-    "from mineburial.ensembles import distributions as dist\n"
-    "from mineburial.maps import read_environment\n"
-    "try:\n    {call}\nexcept ScenarioError as exc:\n    print('REFUSED', exc)\n"
-)
+#: each kind of bad input: how to make it at a path, and the words of its refusal
+BAD_INPUTS = {
+    "fifo": (os.mkfifo, "FIFO (named pipe), not a regular file"),  # no writer: a read would block forever
+    "dev_zero": (lambda path: os.symlink("/dev/zero", path), "character device, not a regular file"),
+    "folder": (os.mkdir, "a folder, not a regular file"),
+}
+#: one interpreter calls every reader on every bad input, in the folder named by each line of stdin, and
+#: prints one line per call: the folder, a tab, then REFUSED and the message, or what else happened
+READ_EACH = """
+import sys, os
+from mineburial.config import Scenario
+from mineburial.sediment_profiles import load_csv, load_netcdf, ScenarioError
+from mineburial.ensembles import distributions as dist
+from mineburial.maps import read_environment
+READERS = {readers!r}
+for folder in sys.stdin.read().splitlines():
+    os.chdir(folder)
+    try:
+        eval(READERS[os.path.basename(folder).split("-", 1)[1]])
+        outcome = "ACCEPTED"
+    except ScenarioError as exc:
+        outcome = "REFUSED " + " ".join(str(exc).split())
+    except Exception as exc:
+        outcome = "RAISED " + type(exc).__name__ + ": " + " ".join(str(exc).split())
+    print(folder + "\t" + outcome, flush=True)
+"""
+
+
+@pytest.fixture(scope="module")
+def refusals(tmp_path_factory):
+    """{(kind, reader): what the reader did with that bad input}, all read in ONE subprocess (one
+    interpreter start instead of 15: ~2 s each), with a timeout, so that a regression that blocks on
+    the FIFO or reads /dev/zero fails the tests (the calls it never reached are missing) instead
+    of hanging or filling the memory of the test run."""
+    root = tmp_path_factory.mktemp("bad_inputs")
+    folders = {}
+    for kind, (make, _) in BAD_INPUTS.items():
+        for reader in READERS:
+            folder = root / f"{kind}-{reader}"
+            folder.mkdir()
+            make(folder / "bad")
+            folders[str(folder)] = (kind, reader)
+    try:
+        proc = subprocess.run(
+            [sys.executable, "-c", READ_EACH.format(readers=READERS)],
+            input="\n".join(folders),
+            capture_output=True,
+            text=True,
+            timeout=TIMEOUT,
+        )
+        out, missing = proc.stdout, f"no answer (exit status {proc.returncode}): {proc.stderr[-2000:]}"
+    except subprocess.TimeoutExpired as exc:
+        out = exc.stdout.decode() if isinstance(exc.stdout, bytes) else exc.stdout or ""
+        missing = f"no answer within {TIMEOUT} s"
+    answers = dict(line.split("\t", 1) for line in out.splitlines())
+    return {case: answers.get(folder, missing) for folder, case in folders.items()}
+
+
+def refused(refusals, kind, reader):
+    outcome = refusals[kind, reader]
+    assert outcome.startswith("REFUSED ") and BAD_INPUTS[kind][1] in outcome, outcome
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_fifo_input_is_refused_instead_of_hanging(tmp_path, reader):
-    os.mkfifo(tmp_path / "bad")  # no writer ever opens it: reading would block forever
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "FIFO (named pipe), not a regular file" in proc.stdout
+def test_fifo_input_is_refused_instead_of_hanging(refusals, reader):
+    refused(refusals, "fifo", reader)
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_link_to_dev_zero_is_refused_instead_of_filling_memory(tmp_path, reader):
-    os.symlink("/dev/zero", tmp_path / "bad")
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "character device, not a regular file" in proc.stdout
+def test_link_to_dev_zero_is_refused_instead_of_filling_memory(refusals, reader):
+    refused(refusals, "dev_zero", reader)
 
 
 @pytest.mark.parametrize("reader", list(READERS))
-def test_folder_as_input_file_is_refused(tmp_path, reader):
-    (tmp_path / "bad").mkdir()
-    proc = run_python(PRELUDE.format(call=READERS[reader]), tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("REFUSED") and "a folder, not a regular file" in proc.stdout
+def test_folder_as_input_file_is_refused(refusals, reader):
+    refused(refusals, "folder", reader)
 
 
 def test_fifo_scenario_on_the_command_line_is_one_line(tmp_path):
@@ -270,20 +308,26 @@ def scan_interpolate(xs, ys, x):
     return ys[k] + f * (ys[k + 1] - ys[k])
 
 
-def scan_properties(d, r, s, zeta, rho_w, g):
-    """Brute-force reference of the sediment profile: (rho, S, sigma') summing trapezoids
-    from the seabed down, in order."""
-    if zeta <= d[0]:
-        return r[0], s[0], (r[0] - rho_w) * g * zeta
-    acc = (r[0] - rho_w) * d[0]
+def scan_profile(d, r, s, rho_w, g):
+    """Brute-force reference of the sediment profile: zeta -> (rho, S, sigma') summing trapezoids
+    from the seabed down, in order (the running sums once per table, as a walk down it adds them),
+    the bracketing pair found by a scan of the whole table (numpy's, not a bisection)."""
+    acc = [(r[0] - rho_w) * d[0]]  # acc[j]: the sum down to knot j
     for j in range(1, len(d)):
-        if zeta <= d[j]:
-            f = (zeta - d[j - 1]) / (d[j] - d[j - 1])
-            rz = r[j - 1] + f * (r[j] - r[j - 1])
-            sz = s[j - 1] + f * (s[j] - s[j - 1])
-            return rz, sz, (acc + (0.5 * (r[j - 1] + rz) - rho_w) * (zeta - d[j - 1])) * g
-        acc += (0.5 * (r[j - 1] + r[j]) - rho_w) * (d[j] - d[j - 1])
-    return r[-1], s[-1], (acc + (r[-1] - rho_w) * (zeta - d[-1])) * g
+        acc.append(acc[-1] + (0.5 * (r[j - 1] + r[j]) - rho_w) * (d[j] - d[j - 1]))
+
+    def at(zeta):
+        if zeta <= d[0]:
+            return r[0], s[0], (r[0] - rho_w) * g * zeta
+        if not zeta <= d[-1]:
+            return r[-1], s[-1], (acc[-1] + (r[-1] - rho_w) * (zeta - d[-1])) * g
+        j = int(np.argmax(d >= zeta))  # the first knot at or below zeta
+        f = (zeta - d[j - 1]) / (d[j] - d[j - 1])
+        rz = r[j - 1] + f * (r[j] - r[j - 1])
+        sz = s[j - 1] + f * (s[j] - s[j - 1])
+        return rz, sz, (acc[j - 1] + (0.5 * (r[j - 1] + rz) - rho_w) * (zeta - d[j - 1])) * g
+
+    return at
 
 
 def random_bank(rng, sizes):
@@ -331,6 +375,7 @@ def test_drop_bank_lookup_is_bit_identical_to_the_scan_of_the_shared_bank():
         n = int(np.sum(~np.isnan(bank[row, 0])))
         assert q[P_SED_PROFILE] == 0 and p[P_SED_PROFILE] == row and own.shape == (1, 5, n)
         d, r, s = (bank[row, c, :n] for c in range(3))
+        scan = scan_profile(d, r, s, rho_w, g)
         # the integral column: cumulative trapezoids of (rho - rho_w), numpy's sequential cumsum
         terms = np.concatenate([[(r[0] - rho_w) * d[0]], (0.5 * (r[:-1] + r[1:]) - rho_w) * np.diff(d)])
         assert np.array_equal(own[0, COLUMN_OVERBURDEN], np.cumsum(terms))
@@ -341,7 +386,7 @@ def test_drop_bank_lookup_is_bit_identical_to_the_scan_of_the_shared_bank():
                 == _scan_properties(zeta, bank, row, rho_w, g)
                 == _bank_properties(zeta, bank, row, rho_w, g)
             )
-            assert fast == scan_properties(d, r, s, zeta, rho_w, g), (row, zeta)
+            assert fast == scan(zeta), (row, zeta)
             # and sigma' is the integral of (rho - rho_w) g (the trapezoid rule is exact here)
             zz = np.unique(np.concatenate([[0.0], d[d < zeta], [max(zeta, 0.0)]]))
             rr = np.interp(zz, d, r)
