@@ -1309,6 +1309,24 @@ SYNTHETIC_NOTE = (
 )
 
 
+def _current_components(dims, long_name_suffix: str, comment: str, attrs) -> list[Variable]:
+    """The current's eastward and northward components over ``dims`` (CF standard names
+    eastward/northward_sea_water_velocity): an environment grid's and a map's."""
+    return [
+        Variable(
+            f"current_{c}",
+            dims,
+            "float64",
+            "m s-1",
+            f"{way} current{long_name_suffix}",
+            comment,
+            standard_name=f"{way}_sea_water_velocity",
+            attrs=attrs,
+        )
+        for c, way in (("u", "eastward"), ("v", "northward"))
+    ]
+
+
 def _environment_variables() -> list[Variable]:
     """The synthetic environment grid of :mod:`mineburial.synthetic` (the format the maps read,
     docs/maps.md): depth, sediment class and current on a WGS 84 latitude/longitude grid."""
@@ -1351,19 +1369,7 @@ def _environment_variables() -> list[Variable]:
             runtime_flags="mineburial.sediment_profiles.class_names()",
         ),
     ]
-    out += [
-        Variable(
-            f"current_{c}",
-            g,
-            "float64",
-            "m s-1",
-            f"{way} current (synthetic)",
-            "",
-            standard_name=f"{way}_sea_water_velocity",
-            attrs=gm,
-        )
-        for c, way in (("u", "eastward"), ("v", "northward"))
-    ]
+    out += _current_components(g, " (synthetic)", "", gm)
     out.append(
         Variable(
             "crs",
@@ -1543,19 +1549,9 @@ def _map_environment_variables() -> list[Variable]:
         )
         for key, units in MAP_SEDIMENT_UNITS.items()
     ]
-    out += [
-        Variable(
-            f"current_{c}",
-            yx,
-            "float64",
-            "m s-1",
-            f"{way} current",
-            "Current used by the cell's ensemble (E-frame x = east, y = north).",
-            standard_name=f"{way}_sea_water_velocity",
-            attrs=ref,
-        )
-        for c, way in (("u", "eastward"), ("v", "northward"))
-    ]
+    out += _current_components(
+        yx, "", "Current used by the cell's ensemble (E-frame x = east, y = north).", ref
+    )
     grid = "Named as in the environment grid, with its attributes"
     out += [
         Variable("grid_mapping", (), "int32", None, "grid mapping of the environment grid", grid + ".",
