@@ -168,12 +168,24 @@ def test_the_mine_status_codes_are_those_of_its_documented_table():
     assert table == dict(enumerate(st.NAMES)) and len(table) == 7
 
 
-def test_both_drivers_step_only_through_the_cores_attempt_step():
+def test_both_drivers_run_the_cores_one_loop():
     """The mine's stepper kept copies of the core's steps, then called them and its own accept/reject;
-    now both drivers take every step through :func:`core.attempt_step` (issue 18 item 1)."""
-    for driver in (stepper, mb):
-        assert driver.attempt_step is core.attempt_step
-        for name in ("dopri5_step", "rk4_step", "ros34pw2_step", "next_step_size", "error_norm"):
+    issue 18 item 1 made both drivers take every step through :func:`core.attempt_step`, and then run
+    the core's one driver loop (:func:`core.driver_loop`) with their own hooks: neither has a loop or a
+    step of its own."""
+    for driver, loop in ((stepper, stepper._drop_loop), (mb, mb._integration_loop)):
+        assert loop.py_func.__code__ is core._driver_loop.__code__, driver.__name__
+        bound = loop.py_func.__globals__
+        assert bound["next_step"] is driver._next_step and bound["accepted"] is driver._accepted
+        assert bound["attempt_step"] is core.attempt_step
+        for name in (
+            "attempt_step",
+            "dopri5_step",
+            "rk4_step",
+            "ros34pw2_step",
+            "next_step_size",
+            "error_norm",
+        ):
             assert not hasattr(driver, name), (driver.__name__, name)
     assert not hasattr(stepper, "velocity_jacobian")
     assert stepper.MINE.rhs is stepper.mine_rhs
@@ -288,3 +300,57 @@ def test_a_fixed_step_is_projected_by_its_system_and_a_systems_own_step_is_its_o
     assert accepted and h_next == h
     assert ynew == pytest.approx(math.exp(-lam * h), rel=1e-15)
     assert ws[0][6, 0] == pytest.approx(-lam * ynew, rel=1e-15)  # f at the step's end, for the next step
+
+
+# --- the one driver loop: a new system's driver is its two hooks --------------------------------------
+@_numba.small_kernel
+def decay_next_step(t, h_try, out, ctx, loop):
+    # the end at t_end, else the controller's proposal cut to end there
+    t_end, method = ctx[0], ctx[1]
+    if t >= t_end:
+        return st.TIME_LIMIT, method, h_try, loop
+    return core.GO_ON, method, min(h_try, t_end - t), loop
+
+
+@_numba.small_kernel
+def decay_accepted(t, h, out, ctx, loop):
+    # move on, record the step's end time, and end the run (the system's own end, 0) below the floor
+    y, ynew, k, floor = ctx[2], ctx[3], ctx[4], ctx[5]
+    y[:] = ynew
+    k[0, :] = k[6]
+    loop += 1
+    out[loop] = t + h
+    return (st.END if y[0] < floor else core.GO_ON), t + h, True, loop
+
+
+decay_loop = core.driver_loop(decay_next_step, decay_accepted)
+
+
+@njit
+def drive_decay(method, lam, t_end, floor, out):
+    """y' = lam y from y(0) = 1 (the test system LINEAR) by the core's loop with the hooks above."""
+    y, ynew, k = np.ones(1), np.empty(1), np.empty((7, 1))
+    p = np.array([lam, np.inf])
+    linear_rhs(0.0, y, p, k[0])
+    ws = (k, ynew, np.empty(1), np.empty((5, 1)), np.empty(1), np.array([0]), np.zeros((1, 1)),
+          np.empty((1, 1)), np.empty(1, np.int64), np.empty((4, 1)), np.empty(1))  # fmt: skip
+    ctx = (t_end, method, y, ynew, k, floor)
+    status, t, n = decay_loop(LINEAR, 0.0, y, 0.01, p, None, np.array([[0, 1]]), 1e-9, 1e-12, ws, out, ctx, 0)
+    return status, t, n, y[0]
+
+
+@pytest.mark.parametrize("method", [methods.DOPRI5, methods.ROS34PW2])
+def test_a_new_systems_driver_is_two_hooks_on_the_cores_loop(method):
+    """The core's loop with two hooks integrates y' = -y to the closed form exp(-t), its steps chosen by
+    the core's controller, and ends with the status a hook returns (issue 18: "one driver loop")."""
+    out = np.zeros(10_000)
+    status, t, n, y = drive_decay(method, -1.0, 3.0, -1.0, out)
+    assert status == st.TIME_LIMIT and t == 3.0
+    assert y == pytest.approx(math.exp(-3.0), rel=1e-6)
+    times = out[: n + 1]
+    assert np.all(np.diff(times) > 0) and times[-1] == 3.0
+    assert 5 < n < 2000  # error-controlled steps, neither one step nor the 0.01 of the first
+    status, t, n, y = drive_decay(method, -1.0, 3.0, 0.5, out)
+    assert status == st.END  # the hook's end, at the first accepted step below the floor
+    assert y < 0.5 <= math.exp(-out[n - 1]) * (1 + 1e-6)
+    assert y == pytest.approx(math.exp(-t), rel=1e-6)

@@ -23,6 +23,7 @@ edit of a system's module compiles the driver again for it.
 import inspect
 import math
 import os
+import types as pytypes
 
 import numpy as np
 from numba.core import types
@@ -399,3 +400,65 @@ def attempt_step(
     system_rhs(system, t + h, ynew, params, k[N_STAGES - 1])
     hermite_dense(y, ynew, k[0], k[N_STAGES - 1], h, r)
     return True, h, err_prev, jac_age
+
+
+# --- the one driver loop ---------------------------------------------------------------------------------
+#: a driver hook's answer while the run goes on (any other value is the status the run ends with: the
+#: statuses of :mod:`.status` are all >= 0)
+GO_ON = -1
+
+
+def _driver_loop(system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out, ctx, loop):
+    """The one driver loop of the integration core: from (t, y), the driver's hooks choose each step's
+    method and size, :func:`attempt_step` takes it, and the hooks act on each accepted step (events,
+    records, end tests) until one of them ends the run. Returns (status, t, loop).
+
+    A template: :func:`driver_loop` binds its hooks, module-level names here, to a system's kernels
+    (docs/design.md, "One driver loop"):
+
+    ``next_step(t, h_try, out, ctx, loop) -> (status, method, h, loop)``
+        before each attempt: the end tests of the loop's head (time and step budgets), the method
+        (:mod:`.methods`) and the size h of the step to attempt, h_try being the controller's proposal
+        (the driver's first step at the start); status :data:`GO_ON` to attempt it.
+    ``accepted(t, h, out, ctx, loop) -> (status, t, accepted_before, loop)``
+        after an accepted step (its end state, rate and continuous extension in ``ws``): locate events,
+        record, move the state on (or leave it to take the step again), test the end; returns the
+        time reached, and whether the next attempt follows an accepted step (False after a restart:
+        the PI controller's memory is not used across it).
+
+    ``out`` is the driver's output (the mine's trajectory, possibly ``None``: passed as an argument
+    down to the hooks so that numba prunes a recorder it does not need), ``ctx`` a tuple of what the
+    hooks read (parameters, work arrays, settings) and ``loop`` a tuple (or named tuple) of the scalars
+    they carry from step to step. The Jacobian age, the PI controller's memory and the proposed step
+    belong to the loop itself. The rest of the arguments are :func:`attempt_step`'s.
+    """
+    err_prev = 1e-4
+    accepted_before = True
+    jac_age = JAC_MAX_AGE
+    while True:
+        status, method, h, loop = next_step(t, h_try, out, ctx, loop)  # noqa: F821 - bound by driver_loop
+        if status != GO_ON:
+            return status, t, loop
+        accept, h_try, err_prev, jac_age = attempt_step(
+            system, method, t, y, h, params, fixed, groups, rtol, atol, err_prev, accepted_before, jac_age, ws
+        )
+        accepted_before = accept
+        if accept:
+            status, t, accepted_before, loop = accepted(t, h, out, ctx, loop)  # noqa: F821 - bound
+            if status != GO_ON:
+                return status, t, loop
+
+
+def driver_loop(next_step, accepted):
+    """The driver loop (:func:`_driver_loop`) with its hooks bound to ``next_step`` and ``accepted`` (inlined
+    kernels, ``small_kernel``): a copy of the template whose global names ``next_step`` and ``accepted``
+    are these, itself an inlined kernel. Called from a system's driver (``stepper.run_drop``,
+    ``multibody.integrate``), it is compiled into that driver and cached with it, one compile unit as
+    before: hooks reached as overloads would each be a compile unit of their own that links the system's
+    right-hand side again (2-3 s of CPU each for the mine, docs/design.md)."""
+    fn = _driver_loop
+    bound = dict(fn.__globals__, next_step=next_step, accepted=accepted)
+    copy = pytypes.FunctionType(fn.__code__, bound, fn.__name__, fn.__defaults__, fn.__closure__)
+    copy.__qualname__ = f"{fn.__qualname__}.{getattr(next_step, 'py_func', next_step).__module__}"
+    copy.__doc__ = fn.__doc__
+    return small_kernel(copy)

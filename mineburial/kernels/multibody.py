@@ -52,9 +52,9 @@ import numpy as np
 
 from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.core import (
-    JAC_MAX_AGE,
+    GO_ON,
     all_finite,
-    attempt_step,
+    driver_loop,
     locate_event,
     method_code,
     record_until,
@@ -735,6 +735,76 @@ def _record_stop(r, t, h, th, t_ev, t_out, i_rec, times, states, ytmp):
     return i_rec
 
 
+@small_kernel
+def _next_step(t, h_try, out, ctx, loop):
+    """The multibody hook of the driver loop before each attempt (:func:`.core.driver_loop`): the step
+    budget, then the step's size: the proposal h_try cut to end at t_end (a numerical failure when it
+    underflows) for an adaptive method, the next point t0 + i dt of the grid for a fixed one (the last
+    step ending exactly at t_end)."""
+    system, params, y, ynew, k, r, ytmp, t0, t_end, dt, kind, adaptive, max_steps = ctx
+    n_tried, i_step, i_rec, t_new, g, armed = loop
+    status = GO_ON
+    h = h_try
+    if n_tried >= max_steps:
+        status = NUMERICAL_FAILURE
+    else:
+        n_tried += 1
+        if adaptive:
+            h = min(h_try, t_end - t)
+            if h <= 1e-14 * max(1.0, abs(t)):
+                status = NUMERICAL_FAILURE
+        else:
+            t_new = t0 + (i_step + 1) * dt
+            if t_end - t_new <= 1e-9 * dt:
+                t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
+            h = t_new - t
+    return status, kind, h, (n_tried, i_step, i_rec, t_new, g, armed)
+
+
+@small_kernel
+def _accepted(t, h, out, ctx, loop):
+    """The multibody hook of the driver loop after an accepted step (:func:`.core.driver_loop`): a
+    non-finite end state, rate or event value is a numerical failure; the stop event (armed once
+    positive) crossing zero is located on the step's continuous extension and ends the run there
+    (STOPPED, its state the last record); otherwise the records in the step, the state moved on, and
+    the time limit at t_end."""
+    system, params, y, ynew, k, r, ytmp, t0, t_end, dt, kind, adaptive, max_steps = ctx
+    t_out, times, states = out
+    n_tried, i_step, i_rec, t_new, g, armed = loop
+    status = GO_ON
+    if not (all_finite(ynew) and all_finite(k[N_STAGES - 1])):
+        status = NUMERICAL_FAILURE
+    else:
+        if adaptive:
+            t_new = t_end if t + h >= t_end else t + h
+        i_step += 1
+        g_new = system_event(system, t_new, ynew, params)
+        if not math.isfinite(g_new):
+            status = NUMERICAL_FAILURE
+        elif armed and g_new <= 0.0:
+            tol = EVENT_TOLERANCE * max(1.0, abs(t) / max(h, 1e-300))
+            th = locate_event(system, r, t, h, g, g_new, params, ytmp, tol, MAX_EVENT_ITERATIONS)
+            t_ev = t + th * h
+            i_rec = _record_stop(r, t, h, th, t_ev, t_out, i_rec, times, states, ytmp)
+            t = t_ev
+            status = STOPPED
+        else:
+            i_rec = record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
+            if g_new > 0.0:
+                armed = True
+            g = g_new
+            y[:] = ynew
+            k[0, :] = k[N_STAGES - 1]
+            t = t_new
+            if t >= t_end:
+                status = TIME_LIMIT
+    return status, t, True, (n_tried, i_step, i_rec, t_new, g, armed)
+
+
+#: the driver loop of the integration core with the multibody hooks (inlined into :func:`integrate`)
+_integration_loop = driver_loop(_next_step, _accepted)
+
+
 @kernel
 def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps, jac_cols):
     """Integrate dy/dt = system.rhs(t, y, params, dy) from t0 to t_end, stopping where
@@ -772,72 +842,20 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     states = np.zeros((n_out + 1, n))
     y = y0.copy()
     k, ynew, err, r, ytmp, jc, wa, piv, kr, ztmp, groups = _work_arrays(n, jac_cols.shape[0])
-    jac_age = JAC_MAX_AGE
     times[0] = t0
     states[0, :] = y
-    i_rec = 1
     t = t0
     system_rhs(system, t, y, params, k[0])
     if not all_finite(k[0]):
         return times[:1].copy(), states[:1].copy(), NUMERICAL_FAILURE, t
     g = system_event(system, t, y, params)
-    armed = g > 0.0
-    h = min(dt, t_end - t0)
-    err_prev = 1e-4
-    accepted_before = True
-    i_step = 0
-    n_tried = 0
-    status = TIME_LIMIT
-    adaptive = ADAPTIVE[kind]
     ws = (k, ynew, err, r, ytmp, jac_cols, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
-    while True:
-        if n_tried >= max_steps:
-            status = NUMERICAL_FAILURE
-            break
-        n_tried += 1
-        if adaptive:
-            h = min(h, t_end - t)
-            if h <= 1e-14 * max(1.0, abs(t)):
-                status = NUMERICAL_FAILURE
-                break
-        else:
-            t_new = t0 + (i_step + 1) * dt
-            if t_end - t_new <= 1e-9 * dt:
-                t_new = t_end  # the last step ends exactly at t_end (shorter if t_end is off the grid)
-            h = t_new - t
-        accept, h_next, err_prev, jac_age = attempt_step(
-            system, kind, t, y, h, params, True, groups, rtol, atol, err_prev, accepted_before, jac_age, ws
-        )
-        accepted_before = accept
-        if not accept:
-            h = h_next
-            continue
-        if not (all_finite(ynew) and all_finite(k[N_STAGES - 1])):
-            status = NUMERICAL_FAILURE
-            break
-        if adaptive:
-            t_new = t_end if t + h >= t_end else t + h
-        else:
-            h_next = dt
-        i_step += 1
-        g_new = system_event(system, t_new, ynew, params)
-        if not math.isfinite(g_new):
-            status = NUMERICAL_FAILURE
-            break
-        if armed and g_new <= 0.0:
-            tol = EVENT_TOLERANCE * max(1.0, abs(t) / max(h, 1e-300))
-            th = locate_event(system, r, t, h, g, g_new, params, ytmp, tol, MAX_EVENT_ITERATIONS)
-            t_ev = t + th * h
-            i_rec = _record_stop(r, t, h, th, t_ev, t_out, i_rec, times, states, ytmp)
-            return times[:i_rec].copy(), states[:i_rec].copy(), STOPPED, t_ev
-        i_rec = record_until(r, t, h, t_new, t_out, i_rec, times, states, ytmp)
-        if g_new > 0.0:
-            armed = True
-        g = g_new
-        y[:] = ynew
-        k[0, :] = k[N_STAGES - 1]
-        t = t_new
-        h = h_next
-        if t >= t_end:
-            break
+    ctx = (system, params, y, ynew, k, r, ytmp, t0, t_end, dt, kind, ADAPTIVE[kind], max_steps)
+    loop = (0, 0, 1, t0, g, g > 0.0)  # attempts, accepted steps, records, end of the step, event, armed
+    out = (t_out, times, states)
+    h_first = min(dt, t_end - t0)
+    status, t, loop = _integration_loop(
+        system, t, y, h_first, params, True, groups, rtol, atol, ws, out, ctx, loop
+    )
+    i_rec = loop[2]
     return times[:i_rec].copy(), states[:i_rec].copy(), status, t

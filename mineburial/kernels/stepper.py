@@ -13,7 +13,9 @@ The driver is built from parts that each live in one place:
   interface);
 * the **end of the drop** (:mod:`.rest`): at rest when slow and held by the sediment
   (forces and torques); floated; fully buried and still sinking at the time limit;
-* a **recorder** that samples the continuous extension at exact output times.
+* a **recorder** that samples the continuous extension at exact output times;
+* the integration core's **driver loop** (:func:`.core.driver_loop`), which runs these through the
+  mine's two hooks, :func:`_next_step` and :func:`_accepted`.
 
 Integrators (``numerics.integrator``); every step is taken by the integration core's
 :func:`.core.attempt_step`, so the mine offers each method of the core (:mod:`.methods`):
@@ -42,13 +44,14 @@ Integrators (``numerics.integrator``); every step is taken by the integration co
 """
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
 from mineburial.kernels import bodies
 from mineburial.kernels import status as st
-from mineburial.kernels.core import JAC_MAX_AGE, System, all_finite, attempt_step, locate_event
+from mineburial.kernels.core import GO_ON, System, all_finite, driver_loop, locate_event
 from mineburial.kernels.dynamics import derivatives, drop_body
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.layout import (
@@ -427,10 +430,6 @@ def _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps):
     summary[S_N_STEPS] = n_steps
 
 
-#: :func:`_end_test`'s answer when the drop goes on
-GO_ON = -1
-
-
 @small_kernel
 def _end_test(y, f, g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit_seabed):
     """The end tests after an accepted step at state y with rate f and event values g1: a non-finite
@@ -479,91 +478,96 @@ def _work_arrays():
     )
 
 
-@kernel
-def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
-    """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` is an array
-    (rows, N_TRAJ), the trajectory every ``record_dt`` seconds; ``traj = None`` records
-    nothing (and compiles no recorder). Returns (status, rows recorded).
+#: what the mine's hooks of the driver loop read: the right-hand side's arguments (:func:`mine_rhs`), the
+#: summary, the record interval, the work arrays, the integrator's code, whether it is adaptive and takes
+#: the Rosenbrock-W step in the sediment, and whether the mine is lighter than the water
+DropContext = namedtuple(
+    "DropContext",
+    "args summary record_dt y ynew k r ytmp dy g0 g1 gtmp integrator adaptive stiff_in_sediment buoyant",
+)
+#: the scalars the mine's hooks of the driver loop carry from step to step: the time limit of the phase
+#: the drop is in, the cap of the next step (a step taken again to end at an interface) and the retakes
+#: of this step, the largest deceleration in the sediment, the accepted steps and the attempts, the
+#: trajectory rows recorded and the next output time, whether the mine has entered the water and hit
+#: the seabed
+DropLoop = namedtuple(
+    "DropLoop",
+    "t_limit h_cap redo max_decel n_steps n_attempts row next_record entered_water hit_seabed",
+)
 
-    ``reference_paths``: :func:`reference_paths` of the drop (``None``: only the default
-    paths are compiled). The loop's pieces (step request, first event, recorder, cut, impact and end
-    summaries) are inlined kernels (``small_kernel``): one compile unit, as before they were split.
-    """
-    for i in range(N_SUMMARY):
-        summary[i] = np.nan
-    p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
-    law = pack_law(p, p[P_DIAMETER], reference_paths)
-    y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
-    ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
-    args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
-    initial_state(p, y)
-    integrator = int(p[P_INTEGRATOR])
-    adaptive = ADAPTIVE_INTEGRATOR[integrator]
-    stiff_in_sediment = integrator == INTEGRATOR_STIFF
-    jac_age = JAC_MAX_AGE  # accepted steps since the Jacobian was evaluated (>= max: evaluate)
-    R = 0.5 * p[P_DIAMETER]
-    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * p[P_LENGTH]
-    row = 0
-    t = 0.0
-    next_record = 0.0
-    status = st.TIME_LIMIT
-    h_adapt = p[P_DT]  # next trial step of dopri5 (its first: numerics.dt)
-    h_cap = math.inf  # cap of the next step (a step taken again to end at an interface)
-    redo = 0
-    err_prev = 1e-4
-    accepted_before = True
-    max_decel = 0.0
-    n_steps = 0
-    n_attempts = 0
-    derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
-    event_values(y, p, g0)
-    entered_water = g0[0] < 0.0
-    hit_seabed = g0[2] < 0.0
-    if entered_water:
-        summary[S_ENTRY_TIME] = 0.0
-    # the time limit of the phase the drop is in: numerics.t_max_fall for the fall,
-    # then numerics.t_max counted from the first seabed contact (docs/design.md)
-    t_limit = p[P_TMAX_FALL]
-    if hit_seabed:
-        summary[S_IMPACT_TIME] = 0.0
-        t_limit = p[P_TMAX]
-    while True:
-        if t >= t_limit * (1.0 - 1e-15):
-            if g0[3] < 0.0:
-                status = st.BURIED_SINKING
-            break
+
+@small_kernel
+def _next_step(t, h_adapt, traj, ctx, loop):
+    """The mine's hook of the driver loop before each attempt (:func:`.core.driver_loop`): the time limit
+    (buried and still sinking when the mine's top is below the seabed then), the step budget, then the
+    method and size of the step (:func:`_step_request`, a numerical failure below the step floor)."""
+    t_limit, h_cap, redo, max_decel, n_steps, n_attempts, row, next_record, entered_water, hit_seabed = loop
+    status = GO_ON
+    method = CORE_METHOD[ctx.integrator]
+    h = h_adapt
+    if t >= t_limit * (1.0 - 1e-15):
+        status = st.BURIED_SINKING if ctx.g0[3] < 0.0 else st.TIME_LIMIT
+    else:
         n_attempts += 1
         if n_steps >= MAX_STEPS or n_attempts >= 4 * MAX_STEPS:
-            break
-        method, h = _step_request(integrator, adaptive, stiff_in_sediment, t, h_adapt, t_limit, h_cap, p, g0)
-        if h < 0.0:
-            status = st.NUMERICAL_FAILURE
-            break
-        accept, h_adapt, err_prev, jac_age = attempt_step(
-            MINE, method, t, y, h, args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], err_prev,
-            accepted_before, jac_age, ws,
-        )  # fmt: skip
-        accepted_before = accept
-        if not accept:
-            continue
-        event_values(ynew, p, g1)
-        theta, first = _first_event(r, t, h, g0, g1, p, gtmp, ytmp)
-        if (
-            first >= 0
-            and first < EVENT_REST
-            and theta < 1.0 - REDO_MARGIN
-            and redo < MAX_REDO
-            and theta * h > MIN_REDO_STEP
-        ):
-            # an interface inside the step: the step's continuous extension has seen the
-            # forces beyond it; take the step again, ending just past the located crossing,
-            # so that the state at the interface comes from the forces before it
-            h_cap = theta * h * (1.0 + REDO_MARGIN)
-            redo += 1
-            continue
+            status = st.TIME_LIMIT
+        else:
+            p, g0 = ctx.args[0], ctx.g0
+            method, h = _step_request(
+                ctx.integrator, ctx.adaptive, ctx.stiff_in_sediment, t, h_adapt, t_limit, h_cap, p, g0
+            )
+            if h < 0.0:
+                status = st.NUMERICAL_FAILURE
+    loop = DropLoop(
+        t_limit, h_cap, redo, max_decel, n_steps, n_attempts, row, next_record, entered_water, hit_seabed
+    )
+    return status, method, h, loop
+
+
+@small_kernel
+def _accepted(t, h, traj, ctx, loop):
+    """The mine's hook of the driver loop after an accepted step (:func:`.core.driver_loop`): its first
+    event; an interface inside the step has the step taken again to end just past it (at most
+    :data:`MAX_REDO` times); otherwise the records up to the step's end (or its first event), the state
+    moved on (cut at the event, the quaternion normalised, the integration restarted at a cut), the water
+    entry and the impact noted, and the end tests (:func:`_end_test`)."""
+    args, summary, y, ynew, k, r, ytmp, dy, g0, g1, gtmp = (
+        ctx.args,
+        ctx.summary,
+        ctx.y,
+        ctx.ynew,
+        ctx.k,
+        ctx.r,
+        ctx.ytmp,
+        ctx.dy,
+        ctx.g0,
+        ctx.g1,
+        ctx.gtmp,
+    )
+    p, law, sed_bank, cur_bank, work, diag = args
+    t_limit, h_cap, redo, max_decel, n_steps, n_attempts, row, next_record, entered_water, hit_seabed = loop
+    status = GO_ON
+    accepted_before = True
+    event_values(ynew, p, g1)
+    theta, first = _first_event(r, t, h, g0, g1, p, gtmp, ytmp)
+    if (
+        first >= 0
+        and first < EVENT_REST
+        and theta < 1.0 - REDO_MARGIN
+        and redo < MAX_REDO
+        and theta * h > MIN_REDO_STEP
+    ):
+        # an interface inside the step: the step's continuous extension has seen the
+        # forces beyond it; take the step again, ending just past the located crossing,
+        # so that the state at the interface comes from the forces before it
+        h_cap = theta * h * (1.0 + REDO_MARGIN)
+        redo += 1
+    else:
         t_end = t + h if first < 0 else t + theta * h
         if traj is not None:
-            row, next_record = _record_step(traj, row, next_record, record_dt, r, t, h, t_end, ytmp, args, dy)
+            row, next_record = _record_step(
+                traj, row, next_record, ctx.record_dt, r, t, h, t_end, ytmp, args, dy
+            )
         # ---- accept the step (cut at the first event) ----
         if first >= 0:
             _cut_at_event(r, theta, first, ynew, p, g0, g1)
@@ -590,15 +594,69 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             _impact_summary(summary, t, y)
         for e in range(N_EVENTS):
             g0[e] = g1[e]
-        end, max_decel = _end_test(
-            y, k[0], g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit_seabed
+        status, max_decel = _end_test(
+            y, k[0], g1, p, law, sed_bank, max_decel, ctx.buoyant, entered_water, hit_seabed
         )
-        if end != GO_ON:
-            status = end
-            break
+    loop = DropLoop(
+        t_limit, h_cap, redo, max_decel, n_steps, n_attempts, row, next_record, entered_water, hit_seabed
+    )
+    return status, t, accepted_before, loop
+
+
+#: the driver loop of the integration core with the mine's hooks (inlined into :func:`run_drop`)
+_drop_loop = driver_loop(_next_step, _accepted)
+
+
+@kernel
+def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
+    """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` is an array
+    (rows, N_TRAJ), the trajectory every ``record_dt`` seconds; ``traj = None`` records
+    nothing (and compiles no recorder). Returns (status, rows recorded).
+
+    ``reference_paths``: :func:`reference_paths` of the drop (``None``: only the default
+    paths are compiled). The steps are the integration core's driver loop (:func:`.core.driver_loop`)
+    with the mine's hooks :func:`_next_step` and :func:`_accepted`; it and the hooks' pieces (step
+    request, first event, recorder, cut, impact and end summaries) are inlined kernels
+    (``small_kernel``): one compile unit.
+    """
+    for i in range(N_SUMMARY):
+        summary[i] = np.nan
+    p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
+    law = pack_law(p, p[P_DIAMETER], reference_paths)
+    y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
+    ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
+    args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
+    initial_state(p, y)
+    integrator = int(p[P_INTEGRATOR])
+    adaptive = ADAPTIVE_INTEGRATOR[integrator]
+    stiff_in_sediment = integrator == INTEGRATOR_STIFF
+    R = 0.5 * p[P_DIAMETER]
+    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * p[P_LENGTH]
+    derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
+    event_values(y, p, g0)
+    entered_water = g0[0] < 0.0
+    hit_seabed = g0[2] < 0.0
+    if entered_water:
+        summary[S_ENTRY_TIME] = 0.0
+    # the time limit of the phase the drop is in: numerics.t_max_fall for the fall,
+    # then numerics.t_max counted from the first seabed contact (docs/design.md)
+    t_limit = p[P_TMAX_FALL]
+    if hit_seabed:
+        summary[S_IMPACT_TIME] = 0.0
+        t_limit = p[P_TMAX]
+    ctx = DropContext(
+        args, summary, record_dt, y, ynew, k, r, ytmp, dy, g0, g1, gtmp, integrator, adaptive,
+        stiff_in_sediment, buoyant,
+    )  # fmt: skip
+    loop = DropLoop(t_limit, math.inf, 0, 0.0, 0, 0, 0, 0.0, entered_water, hit_seabed)
+    # the first trial step of an adaptive integrator: numerics.dt
+    status, t, loop = _drop_loop(
+        MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop
+    )
+    row = loop.row
     if traj is not None:
         if row < traj.shape[0] and (row == 0 or traj[row - 1, 0] < t):
             _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
             row += 1
-    _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps)
+    _end_summary(summary, p, y, t, loop.max_decel, loop.hit_seabed, loop.n_steps)
     return status, row
