@@ -819,7 +819,9 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     the Jacobian columns ``jac_cols`` of y by differences, reused by the core's Jacobian-age policy, cubic
     Hermite continuous extension. All reuse the steps of :mod:`.core` and :mod:`.integrators`. The state
     is recorded at the exact times t0 + i record_dt on the continuous extension, and the event is located
-    on it (Illinois); when the run stops early the located event state is the last record.
+    on it (Illinois); when the run stops early the located event state is the last record. The steps are
+    the integration core's driver loop (:func:`.core.driver_loop`) with the hooks :func:`_next_step` and
+    :func:`_accepted`, inlined.
 
     At most ``max_steps`` steps (accepted and rejected) are taken (:data:`MAX_STEPS` is the Python default).
 
