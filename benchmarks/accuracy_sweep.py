@@ -37,7 +37,7 @@ from _common import machine
 
 from mineburial.ensembles import accuracy, engine
 from mineburial.ensembles.batch import run_batch
-from mineburial.kernels import layout as L
+from mineburial.kernels.mine import layout as L
 
 HERE = pathlib.Path(__file__).resolve().parent
 U = "uniform"

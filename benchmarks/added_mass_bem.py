@@ -1,4 +1,4 @@
-"""Re-computation of the added-mass table of ``mineburial/kernels/added_mass.py`` with the
+"""Re-computation of the added-mass table of ``mineburial/kernels/mine/added_mass.py`` with the
 boundary-element package capytaine (https://github.com/capytaine/capytaine; NOT a project
 dependency: run it in a separate environment, ``pip install capytaine``).
 

@@ -47,7 +47,7 @@ def main():
     args = ap.parse_args()
     from mineburial.config import load_example
     from mineburial.drop import run_params
-    from mineburial.kernels import layout
+    from mineburial.kernels.mine import layout
 
     print(f"machine: {machine()}")
     print(f"compile (fresh process, empty numba cache): {compile_time(True):.1f} s")

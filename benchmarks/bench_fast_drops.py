@@ -58,7 +58,7 @@ FAMILIES = {
 
 
 def variant(P, integrator, quadrature, dt=None, rtol=None):
-    from mineburial.kernels import layout as L
+    from mineburial.kernels.mine import layout as L
 
     Q = P.copy()
     Q[:, L.P_INTEGRATOR] = L.INTEGRATOR_NAMES.index(integrator)
@@ -81,8 +81,8 @@ def run(spec, P, valid):
 
 def compare(summary, status, ref_summary, ref_status):
     from mineburial.ensembles.statistics import burial_class
-    from mineburial.kernels import layout as L
     from mineburial.kernels import status as S
+    from mineburial.kernels.mine import layout as L
 
     pen = summary[:, L.S_PENETRATION]
     pen_ref = ref_summary[:, L.S_PENETRATION]
@@ -108,7 +108,7 @@ def compare(summary, status, ref_summary, ref_status):
 def ladder(spec, P, valid, summary, truth, k):
     """Penetrations of the k drops where ``summary`` and ``truth`` differ most, under RK4 at
     four steps and dopri5 at two tight tolerances with both sediment rules."""
-    from mineburial.kernels import layout as L
+    from mineburial.kernels.mine import layout as L
 
     pen, pen_t = summary[:, L.S_PENETRATION], truth[:, L.S_PENETRATION]
     d = np.abs(pen - pen_t)

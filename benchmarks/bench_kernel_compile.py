@@ -25,8 +25,8 @@ SETUP = {
     "derivatives": """
 import numpy as np
 from mineburial.ensembles.engine import chunk_inputs, load_ensemble
-from mineburial.kernels import dynamics, layout
-from mineburial.kernels.sediment import pack_law
+from mineburial.kernels.mine import dynamics, layout
+from mineburial.kernels.mine.sediment import pack_law
 spec = load_ensemble(None)
 P, valid, _ = chunk_inputs(spec, 0, 1)
 p = P[0]
@@ -36,7 +36,7 @@ args = (y, p, pack_law(p, p[layout.P_DIAMETER], None), spec.sediment_bank, spec.
 target = dynamics.derivatives
 """,
     "lateral_breaks": """
-from mineburial.kernels.sediment import reference
+from mineburial.kernels.mine.sediment import reference
 args = ((0.3, -1.0, 1.0, 0.1, -0.5, -1.0, 0.2, 0.3, -0.1), (0.1, -0.06, -0.27, -0.1, 0.0, 0.0),
         (0.0, -0.5, -1.0, 0.0, -0.1, -0.3), (0.06, -1.0, 0.5, 0.0, -0.3, 0.1), True, (1, 0.01, 0.5),
         0.01, 0.02)

@@ -15,7 +15,7 @@ the penetrations (which agree to rounding, the tables being the same profile).
 no geostatic force, so no slicing of the body at the table's depths). With ``bearing`` the
 geostatic force takes ``numerics.overburden_quadrature = "fast"`` (the default): the body is
 sliced at the table's depths while at most 12 lie inside it, in 12 equal slices beyond
-(kernels/overburden.py); ``--overburden reference`` slices at every depth (the cost that grows).
+(kernels/mine/overburden.py); ``--overburden reference`` slices at every depth (the cost that grows).
 
 Target (issue 21): the 30,000-row profile within 20 % of the speed of the 3-row one.
 """
@@ -29,7 +29,7 @@ from _common import best_of, machine
 
 from mineburial.config import Scenario
 from mineburial.drop import run_params
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 
 DEFAULT = pathlib.Path(__file__).resolve().parents[1] / "mineburial" / "data" / "default_mine.toml"
 

@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_scour_stage.py [-n 200] [--repeat 3]
 
-The stage (mineburial.kernels.scour.scour_stage) runs over a 90-day hourly forcing (2,161
+The stage (mineburial.kernels.mine.scour.scour_stage) runs over a 90-day hourly forcing (2,161
 samples, 2,160 intervals: a synthetic series of storms and a tidal current) once per drop, each
 drop with its own initial burial; the JONSWAP orbital table is built once (its time is reported
 apart: it is shared by every drop of a run). The impact phase is measured as bench_ensemble.py
@@ -43,7 +43,7 @@ def main():
     from mineburial import run_ensemble
     from mineburial.ensembles.batch import run_batch
     from mineburial.ensembles.engine import chunk_inputs, load_ensemble
-    from mineburial.kernels import scour as S
+    from mineburial.kernels.mine import scour as S
 
     print(f"machine: {machine()}")
     numba.set_num_threads(1)

@@ -50,7 +50,7 @@ t_import = time.perf_counter() - t0
 spec = load_ensemble(None)
 P, valid, _ = chunk_inputs(spec, 0, 1)
 if {reference!r} == "reference":
-    from mineburial.kernels import layout
+    from mineburial.kernels.mine import layout
     P[:, layout.P_INTEGRATOR] = layout.INTEGRATOR_NAMES.index("rk4")
     P[:, layout.P_SED_QUADRATURE] = layout.SEDIMENT_QUADRATURE_NAMES.index("reference")
 elif {reference!r} == "self-check":

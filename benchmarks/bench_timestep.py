@@ -18,7 +18,7 @@ from _common import machine
 
 def run(sc, dt):
     from mineburial.drop import run_params
-    from mineburial.kernels import layout
+    from mineburial.kernels.mine import layout
 
     p, sb, cb = sc.to_params()
     p = p.copy()

@@ -20,7 +20,7 @@ A scenario file (TOML, SI units, angles named ``*_deg``) has the sections
   field's range when an ensemble is loaded (:func:`check_distribution`), sampled values
   per drop (:func:`check_samples`, counted per field by :func:`invalid_samples`).
 * :meth:`Scenario.to_params` packs a scenario into the flat parameter vector and the
-  profile banks of :mod:`mineburial.kernels.layout`.
+  profile banks of :mod:`mineburial.kernels.mine.layout`.
 
 Invalid input raises :class:`ScenarioError` (a ``ValueError``) whose message names the
 field path, the value and the allowed range with its units, e.g.
@@ -45,8 +45,8 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mineburial.io.inputs import parse_toml, read_toml
-from mineburial.kernels import layout
-from mineburial.kernels.geometry import vertical_extent
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.scenario_fields import CURRENT_KINDS, TABLE
 from mineburial.schema import Field as FieldSpec
@@ -394,7 +394,7 @@ def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
 def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
     """Height of the lowest point of the cylinder whose COM is at height ``z`` with
     attitude ``q`` (..., 4), by the kernel the stepper's seabed-contact event uses
-    (kernels/geometry.py ``vertical_extent``); arrays broadcast."""
+    (kernels/mine/geometry.py ``vertical_extent``); arrays broadcast."""
     q = np.asarray(q, dtype=np.float64)
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
@@ -947,7 +947,7 @@ class Numerics:
     model choices"; ``munk_factor`` is then unused).
     ``overburden_quadrature``: ``fast`` (default: cost bounded whatever a tabulated
     profile's rows) or ``reference`` (the body sliced at every table depth inside it;
-    kernels/overburden.py).
+    kernels/mine/overburden.py).
     The time limits are two, one for each phase of a drop: ``t_max_fall`` bounds the fall
     through air and water (release to the first seabed contact), ``t_max`` the time after
     that contact. A fall ends by itself at the seabed (or when a mine lighter than the water
@@ -1209,7 +1209,7 @@ class Scenario:
 
     # -- packing for the kernels ---------------------------------------------
     def to_params(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(p, sediment_bank, current_bank)`` for the kernels (kernels/layout.py).
+        """``(p, sediment_bank, current_bank)`` for the kernels (kernels/mine/layout.py).
 
         ``p`` has every slot of ``PARAM_NAMES`` filled; codes are indices into the name
         tuples of layout.py. A tabulated sediment profile is row 0 of a one-row bank

@@ -13,11 +13,12 @@ from mineburial.config import Scenario
 from mineburial.errors import ScenarioError
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import layout, status
-from mineburial.kernels.layout import N_TRAJ, TRAJ_COLUMNS
-from mineburial.kernels.overburden import with_long_tables
+from mineburial.kernels import status
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine.layout import N_TRAJ, TRAJ_COLUMNS
+from mineburial.kernels.mine.overburden import with_long_tables
+from mineburial.kernels.mine.stepper import reference_paths, run_drop
 from mineburial.kernels.rotation import euler_angles
-from mineburial.kernels.stepper import reference_paths, run_drop
 
 
 def memory_shortfall(need: float) -> float | None:

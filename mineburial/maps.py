@@ -45,7 +45,7 @@ from mineburial.io import variables as V
 from mineburial.io.dataset import build
 from mineburial.io.files import atomic_path
 from mineburial.io.inputs import check_input, read_toml
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 from mineburial.resources import memory_refusal
 from mineburial.sediment_profiles import class_names, unknown_name_message
 

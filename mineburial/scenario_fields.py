@@ -2,7 +2,7 @@
 
 :data:`TABLE` lists every field of a scenario file (``docs/scenario.md``), in the order of
 the kernels' parameter slots for those with one (``slot=True``): the slot order of
-:data:`mineburial.kernels.layout.PARAM_NAMES` is this table's, so a new slot goes at the
+:data:`mineburial.kernels.mine.layout.PARAM_NAMES` is this table's, so a new slot goes at the
 end of the slotted fields (the compiled kernels index slots by the constants of layout.py,
 which are looked up by name). :data:`RULES` are the relations between fields, checked per
 scenario by :mod:`mineburial.config` and over the packed rows of an ensemble by
@@ -26,19 +26,19 @@ MODEL_NAMES = ("mineburial", "impact35")
 INTEGRATOR_NAMES = ("rk4", "local_linear", "dopri5", "dopri5_ros34pw2")
 INTEGRATOR_NAMES += tuple(name for name in METHOD_NAMES if name not in INTEGRATOR_NAMES)
 SEDIMENT_QUADRATURE_NAMES = ("fast", "reference")
-OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/overburden.py
+OVERBURDEN_QUADRATURE_NAMES = ("fast", "reference")  # kernels/mine/overburden.py
 CURRENT_KINDS = ("none", "uniform", "power_law", "table")
 # water-column models (docs/physics.md, "Water-column model choices"): the strip added mass
 # with the tuned numerics.munk_factor, or the viscous-crossflow method with the added-mass
 # tensor of the finite cylinder
 WATER_COLUMN_NAMES = ("munk_factor", "viscous_crossflow")
-# sediment model codes (kernels.sediment)
+# sediment model codes (kernels.mine.sediment)
 RESISTANCE_NAMES = ("delta", "friction", "bearing")
 RATE_LAW_NAMES = ("impact35", "semilog", "none")
-# scour conventions (kernels.scour: ORBITAL_*, FRICTION_* are these indices; docs/scour.md)
+# scour conventions (kernels.mine.scour: ORBITAL_*, FRICTION_* are these indices; docs/scour.md)
 SCOUR_ORBITAL_NAMES = ("spectral", "hrms", "hs")
 SCOUR_FRICTION_NAMES = ("swart", "soulsby")
-# scour time-scale laws T* = c KC^m theta^p (kernels.scour.TSTAR_LAWS holds their constants)
+# scour time-scale laws T* = c KC^m theta^p (kernels.mine.scour.TSTAR_LAWS holds their constants)
 SCOUR_TSTAR_LAWS = ("whitehouse", "pipeline", "pile_waves")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
@@ -488,7 +488,7 @@ TABLE: tuple[Field, ...] = (
         (
             "the mine is at rest when its COM speed is below this (seed 000 eq. (89); printed as ε1 ="
             ' 1e-6 "m", a speed) and the sediment can hold it against forces and torques (rigid-'
-            "plastic hold test probed at this speed; `mineburial/kernels/rest.py`, docs/design.md); "
+            "plastic hold test probed at this speed; `mineburial/kernels/mine/rest.py`, docs/design.md); "
             "see also numerics.rest_spin"
         ),
         1e-2,

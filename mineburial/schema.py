@@ -60,7 +60,7 @@ class Field:
     """One field of an input file, declared once.
 
     ``path`` is the dotted name (``mine.length``; the slot name of
-    :data:`mineburial.kernels.layout.PARAM_NAMES` where ``slot`` is true); ``location`` is
+    :data:`mineburial.kernels.mine.layout.PARAM_NAMES` where ``slot`` is true); ``location`` is
     where the value sits in a file when that differs (``release.position[2]`` for
     ``release.z``; ``None`` for a kernel code no file holds). ``default`` is ``None`` for a
     required field or one whose default is computed (``default_text`` then says how).

@@ -20,7 +20,7 @@ Profiles come from
 * inline tables in a scenario file, or :meth:`SedimentProfile.linear`.
 
 Several profiles are stacked into the NaN-padded bank that the kernels read with
-:func:`pack_banks` (layout in :mod:`mineburial.kernels.layout`).
+:func:`pack_banks` (layout in :mod:`mineburial.kernels.mine.layout`).
 
 The error type :class:`ScenarioError` and the did-you-mean helpers live in the leaf
 module :mod:`mineburial.errors`; they are importable from here too.
@@ -678,7 +678,7 @@ def _rows(item) -> np.ndarray:
 
 def pack_banks(profiles: Sequence) -> np.ndarray:
     """Stack profiles into one bank of shape (n, 3, max_points), padded with NaN after
-    each row's last point (layout of :mod:`mineburial.kernels.layout`).
+    each row's last point (layout of :mod:`mineburial.kernels.mine.layout`).
 
     Items may be :class:`SedimentProfile`, objects with ``as_array()`` returning a
     (3, k) array (a tabulated current), or (3, k) arrays. An empty sequence gives an

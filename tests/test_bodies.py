@@ -1,4 +1,4 @@
-"""Tests of the body protocol (mineburial.kernels.bodies) with the cylinder as its body.
+"""Tests of the body protocol (mineburial.kernels.mine.bodies) with the cylinder as its body.
 
 Every value reached through the protocol is checked against a closed form of the solid right
 circular cylinder (volume pi R^2 h of a vertical one cut at height h, half the body and the
@@ -18,9 +18,9 @@ import pytest
 from numba import njit
 from numba.core import types as nbtypes
 
-from mineburial.kernels import bodies, layout
-from mineburial.kernels.bodies import cylinder
-from mineburial.kernels.bodies.cylinder import Cylinder
+from mineburial.kernels.mine import bodies, layout
+from mineburial.kernels.mine.bodies import cylinder
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
 
 L, R, CHI = 2.0, 0.3, 0.1
 BODY = Cylinder(L, R, CHI)

@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from mineburial.kernels.coefficients import (
+from mineburial.kernels.mine.coefficients import (
     axial_drag_coefficient,
     cross_drag_coefficient,
     lift_coefficient,

@@ -25,7 +25,7 @@ from mineburial.config import (
     quaternion_from_angles,
     tomllib,  # tomllib or the tomli fallback
 )
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion, rotation_matrix
 from mineburial.sediment_profiles import catalogue_profile, pack_banks
 

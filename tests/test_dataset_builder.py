@@ -21,7 +21,7 @@ from mineburial.ensembles.dataset import build_dataset
 from mineburial.io import variables as V
 from mineburial.io.dataset import build, registry_mismatches, standard_attrs
 from mineburial.io.netcdf import write_netcdf
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 from mineburial.sediment_profiles import class_names
 from mineburial.synthetic import synthetic_environment
 

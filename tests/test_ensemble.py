@@ -14,7 +14,7 @@ from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3
 from mineburial.drop import run_params
 from mineburial.ensembles.engine import DEFAULT_SCENARIO, chunk_inputs, load_ensemble
 from mineburial.ensembles.runner import run_ensemble
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 
 
 def fast_default(**ensemble):

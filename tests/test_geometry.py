@@ -1,4 +1,4 @@
-"""Tests of mineburial.kernels.geometry (cylinder cut by a horizontal plane).
+"""Tests of mineburial.kernels.mine.geometry (cylinder cut by a horizontal plane).
 
 Every closed form is checked against an independent reference: nested
 ``scipy.integrate.quad`` over the axial coordinate x and the transverse
@@ -18,7 +18,7 @@ import pytest
 from numba import njit
 from scipy.integrate import IntegrationWarning, quad
 
-from mineburial.kernels import geometry as geo
+from mineburial.kernels.mine import geometry as geo
 
 RTOL = 1e-6
 FLOOR = 1e-10

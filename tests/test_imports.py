@@ -104,6 +104,47 @@ def test_the_netcdf_writer_does_not_import_the_ensemble_layer():
         assert not {m for m in graph[module] if m.startswith("mineburial.ensembles")}, module
 
 
+#: each system's kernels, a subpackage of mineburial.kernels (docs/design.md, "Where things are");
+#: the rest of mineburial.kernels is the generic integration core and math, which knows no system
+SYSTEM_KERNELS = ("mineburial.kernels.mine", "mineburial.kernels.restraint")
+
+
+def _within(module: str, package: str) -> bool:
+    return module == package or module.startswith(package + ".")
+
+
+def kernel_layer_violations(graph: dict) -> list:
+    """``module -> target`` edges where a generic kernel module imports a system's kernels, or
+    one system's kernels import another's."""
+    found = []
+    for module in sorted(m for m in graph if _within(m, "mineburial.kernels")):
+        own = next((p for p in SYSTEM_KERNELS if _within(module, p)), None)
+        for target in sorted(graph[module]):
+            if any(_within(target, p) for p in SYSTEM_KERNELS if p != own):
+                found.append(f"{module} -> {target}")
+    return found
+
+
+def test_kernel_layer_violations_sees_a_core_that_imports_a_system():
+    graph = {
+        "mineburial.kernels.core": {"mineburial.kernels.mine.layout"},
+        "mineburial.kernels.restraint.forces": {"mineburial.kernels.mine.bodies", "mineburial.kernels.core"},
+        "mineburial.kernels.mine.stepper": {"mineburial.kernels.core", "mineburial.kernels.mine.layout"},
+    }
+    assert kernel_layer_violations(graph) == [
+        "mineburial.kernels.core -> mineburial.kernels.mine.layout",
+        "mineburial.kernels.restraint.forces -> mineburial.kernels.mine.bodies",
+    ]
+
+
+def test_the_generic_kernels_import_no_system_and_the_systems_not_each_other():
+    graph = import_graph()
+    # the scan sees the generic core and both systems' kernels
+    assert {"mineburial.kernels.core", "mineburial.kernels.multibody"} <= set(graph)
+    assert {"mineburial.kernels.mine.stepper", "mineburial.kernels.restraint.forces"} <= set(graph)
+    assert kernel_layer_violations(graph) == []
+
+
 #: optional dependencies, imported by the functions that need them: pyproject's extras
 #: (matplotlib; rioxarray, with rasterio's affine and pyproj) and dask's distributed scheduler
 OPTIONAL = ("matplotlib", "distributed", "dask.distributed", "pyproj", "rioxarray", "affine")

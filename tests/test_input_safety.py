@@ -28,9 +28,14 @@ from mineburial import _numba, cli
 from mineburial.config import Scenario, ScenarioError
 from mineburial.ensembles import distributions as dist
 from mineburial.io import inputs
-from mineburial.kernels.environment import interpolate_row
-from mineburial.kernels.layout import N_PARAMS, P_RHO_WATER, P_SED_PROFILE
-from mineburial.kernels.sediment.laws import COLUMN_OVERBURDEN, _bank_properties, _scan_properties, drop_bank
+from mineburial.kernels.mine.environment import interpolate_row
+from mineburial.kernels.mine.layout import N_PARAMS, P_RHO_WATER, P_SED_PROFILE
+from mineburial.kernels.mine.sediment.laws import (
+    COLUMN_OVERBURDEN,
+    _bank_properties,
+    _scan_properties,
+    drop_bank,
+)
 from mineburial.maps import read_environment
 from mineburial.sediment_profiles import load_csv
 from mineburial.synthetic import synthetic_environment
@@ -439,7 +444,7 @@ def test_private_cache_folder_is_accepted(tmp_path):
 
 
 CACHE_KIND = (
-    "from mineburial.kernels.environment import interpolate_row\n"
+    "from mineburial.kernels.mine.environment import interpolate_row\n"
     "print(type(interpolate_row._cache).__name__)\n"
 )
 

@@ -25,16 +25,17 @@ from scipy.integrate import solve_ivp
 
 from mineburial import _numba
 from mineburial import multibody as mbp
-from mineburial.kernels import core, layout, methods, stepper
+from mineburial.kernels import core, methods
 from mineburial.kernels import multibody as mb
 from mineburial.kernels import status as st
 from mineburial.kernels.core import System
+from mineburial.kernels.mine import layout, stepper
 from mineburial.systems import restraint as R
 
 G = 9.81
 MASS, LENGTH = 2.0, 1.0
 #: friction couple at the pin, -T0 om / sqrt(om^2 + W_REG^2) (seed 004's regularised Coulomb law,
-#: kernels/seabed_contact.regularised_friction): its slope T0 / W_REG / I ~ 1.5e4 1/s near om = 0 is
+#: kernels/restraint/seabed_contact.regularised_friction): its slope T0 / W_REG / I ~ 1.5e4 1/s near om = 0 is
 #: what makes the system stiff
 T0, W_REG = 1.0, 1e-4
 INERTIA_PIN = MASS * LENGTH**2 / 3.0

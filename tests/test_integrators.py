@@ -15,7 +15,8 @@ from scipy.integrate import quad
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import integrators as it
-from mineburial.kernels import layout, status
+from mineburial.kernels import status
+from mineburial.kernels.mine import layout
 
 G = 9.81
 
@@ -385,7 +386,7 @@ def _toppling_time(m, g_eff, r_c, inertia_com, psi0, psi1, pivot_fixed):
 def test_mine_that_cannot_be_held_topples_in_the_rigid_pivot_time():
     """A dense cylinder stood on its end on a stiff clay, tilted 5 deg past the point where
     its centre of mass is over the edge of its lower rim: the rigid-plastic bottom cannot
-    hold it (the toppling mechanism of kernels/rest.py), so it must topple about the rim.
+    hold it (the toppling mechanism of kernels/mine/rest.py), so it must topple about the rim.
     References: the closed-form energy integrals of a body toppling under its submerged
     weight about a rigid pivot and about a contact sliding without friction (the rim on
     the clay lies between the two). The water's added inertia and drag only slow the

@@ -17,7 +17,7 @@ from mineburial.ensembles import engine, model_form
 from mineburial.ensembles.distributions import from_dict
 from mineburial.ensembles.runner import run_ensemble, summarize
 from mineburial.ensembles.sampling import uniforms
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 from mineburial.validation.sensitivity import model_form_lines, model_form_share, sobol_analysis
 
 WC = {"distribution": "choice", "values": ["munk_factor", "viscous_crossflow"], "weights": [1.0, 3.0]}
@@ -51,7 +51,7 @@ def test_adding_a_sampled_model_choice_leaves_every_other_draw_unchanged():
 
 def test_sampled_choice_codes_follow_the_weights_through_the_cumulative_weights():
     """The code of drop i is label j for cum[j-1] <= u_i < cum[j], u_i the field's own
-    Philox uniform (sampling.uniforms), and the labels' codes are kernels.layout's."""
+    Philox uniform (sampling.uniforms), and the labels' codes are kernels.mine.layout's."""
     n = 4000
     spec = engine.load_ensemble(with_choices(n, sediment__resistance=RES))
     P, valid, inputs = engine.chunk_inputs(spec, 0, n)

@@ -4,7 +4,7 @@ The reference rule (``numerics.overburden_quadrature = "reference"``) slices the
 body at every table depth inside it, so its cost grew with the table's rows (~5,000 slices
 for a centimetre core over the penetration). The default ``fast`` rule keeps it while at
 most ``EXACT_DEPTHS`` depths lie inside the embedded span and uses ``SLICES`` equal slices
-beyond (kernels/overburden.py). Independent references: scipy's dblquad of the volume
+beyond (kernels/mine/overburden.py). Independent references: scipy's dblquad of the volume
 integral over the embedded cylinder, ``numpy`` counts, and the reference rule itself for
 the bounded rule's error.
 """
@@ -22,11 +22,11 @@ from scipy import integrate
 from mineburial._numba import JIT_OPTIONS
 from mineburial.config import Scenario, ScenarioError
 from mineburial.drop import run_params
-from mineburial.kernels import layout
-from mineburial.kernels import overburden as ob
-from mineburial.kernels.bodies.cylinder import Cylinder
-from mineburial.kernels.geometry import vertical_extent
-from mineburial.kernels.sediment.laws import drop_bank, pack_law
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import overburden as ob
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.geometry import vertical_extent
+from mineburial.kernels.mine.sediment.laws import drop_bank, pack_law
 
 DEFAULT = pathlib.Path(__file__).resolve().parents[1] / "mineburial" / "data" / "default_mine.toml"
 RHO_W = 1025.0

@@ -1,4 +1,4 @@
-"""The rigid-plastic hold test of kernels/rest.py against a hand-computed case.
+"""The rigid-plastic hold test of kernels/mine/rest.py against a hand-computed case.
 
 A nose-down vertical cylinder at rest with its flat nose zeta below the seabed, in a
 sediment with the ``bearing`` law, no side adhesion and no rate effect. The only static
@@ -22,10 +22,10 @@ import pytest
 from conftest import scenario_dict
 
 from mineburial.config import Scenario
-from mineburial.kernels import layout
-from mineburial.kernels.rest import REST_TIME, held_by_sediment
-from mineburial.kernels.sediment import pack_law
-from mineburial.kernels.stepper import initial_state
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine.rest import REST_TIME, held_by_sediment
+from mineburial.kernels.mine.sediment import pack_law
+from mineburial.kernels.mine.stepper import initial_state
 
 G = 9.81
 RHO_W = 1025.0

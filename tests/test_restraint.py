@@ -1,4 +1,4 @@
-"""Seed 004's restraining system (mineburial.systems.restraint, kernels/restraint_forces.py).
+"""Seed 004's restraining system (mineburial.systems.restraint, kernels/restraint/forces.py).
 
 References, each independent of the code under test:
 * the initial catenary: eqs. (30)-(34) solved here with scipy (fsolve on a and x_s), the
@@ -24,8 +24,8 @@ from scipy import integrate, optimize
 
 from mineburial.cli import main
 from mineburial.io.dataset import registry_mismatches
-from mineburial.kernels import restraint_forces as rf
 from mineburial.kernels.multibody import joint_forces
+from mineburial.kernels.restraint import forces as rf
 from mineburial.systems import restraint as R
 
 # ---------------------------------------------------------------------------
@@ -321,7 +321,7 @@ def test_anchor_friction_solves_eq37_at_the_same_instant():
     # the core's reaction of the anchor's locked height, from the final accelerations and forces
     hf_again = joint_forces(q, u, du, forces, system.description.arrays())
     assert hf_again[0, 1] == pytest.approx(normal, rel=1e-10)
-    # the regularised Coulomb law of kernels/seabed_contact.py: -mu N v / sqrt(v^2 + v_reg^2)
+    # the regularised Coulomb law of kernels/restraint/seabed_contact.py: -mu N v / sqrt(v^2 + v_reg^2)
     assert friction == pytest.approx(-0.3 * 0.4 / math.sqrt(0.4**2 + 1e-3**2) * normal, rel=1e-10)
     # and the normal force is eq. (37)'s m g - rho V g less the chain's upward pull on the anchor
     m, v = 40000.0, 2.0 * 4.0 * 2.1

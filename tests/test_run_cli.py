@@ -145,7 +145,7 @@ def test_huge_n_is_refused_with_the_memory_it_would_need(scenario_file, tmp_path
         "would need about",
     )
     # the estimate: N_SUMMARY float64 + status + 3 sampled inputs a drop, times 4
-    from mineburial.kernels import layout
+    from mineburial.kernels.mine import layout
 
     per_drop = int(re.search(r"\((\d+) bytes a drop", err).group(1))
     assert per_drop == layout.N_SUMMARY * 8 + 1 + 3 * 8

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from mineburial import config, scenario_fields
 from mineburial.config import RULES, SCHEMA, Scenario, ScenarioError, check_params, explain_params
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -94,7 +94,7 @@ PINNED = (
 
 def _layout_constants():
     """(constant, slot path) of every ``P_X = INDEX["path"]`` in layout.py, in file order."""
-    tree = ast.parse((ROOT / "mineburial" / "kernels" / "layout.py").read_text())
+    tree = ast.parse((ROOT / "mineburial" / "kernels" / "mine" / "layout.py").read_text())
     pairs = []
     for node in tree.body:
         if not isinstance(node, ast.Assign):
@@ -130,7 +130,7 @@ def test_kernels_import_only_slot_constants_that_exist():
     used = set()
     for path in (ROOT / "mineburial").rglob("*.py"):
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.module == "mineburial.kernels.layout":
+            if isinstance(node, ast.ImportFrom) and node.module == "mineburial.kernels.mine.layout":
                 used |= {(path.name, a.name) for a in node.names if a.name.startswith("P_")}
             if isinstance(node, ast.Attribute) and getattr(node.value, "id", "") == "layout":
                 if node.attr.startswith("P_"):

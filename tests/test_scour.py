@@ -1,4 +1,4 @@
-"""Post-impact scour kernels (mineburial/kernels/scour.py) against independent references.
+"""Post-impact scour kernels (mineburial/kernels/mine/scour.py) against independent references.
 
 References: the exact root of the dispersion relation by scipy's brentq; the printed formulas of
 Swart (1974), Soulsby (1997), Soulsby & Whitehouse (1997), Wiberg & Harris (1994) and Rennie et al.
@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from mineburial.kernels import scour as S
+from mineburial.kernels.mine import scour as S
 
 G = 9.81
 RHO = 1027.0  # sea water, Soulsby 1997 Table 2 (10 C, 35 ppt)

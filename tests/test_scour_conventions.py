@@ -15,8 +15,8 @@ from test_scour_run import D50, LEADS, RHO_S, D, N, forcing_csv, lying_b0, scena
 
 from mineburial.cli import main
 from mineburial.ensembles import engine, runner, scour
-from mineburial.kernels import layout
-from mineburial.kernels import scour as sc
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import scour as sc
 from mineburial.validation import compare
 
 G = 9.81

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from mineburial.kernels import scour as S
-from mineburial.kernels.bodies.cylinder import Cylinder
-from mineburial.kernels.scour_batch import G_AZ, G_ZC, MEASURE_NAMES, N_GEOM, lying_burial, scour_drops
+from mineburial.kernels.mine import scour as S
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.scour_batch import G_AZ, G_ZC, MEASURE_NAMES, N_GEOM, lying_burial, scour_drops
 
 L = 2.0
 R = 0.265

@@ -22,8 +22,8 @@ from test_scour_run import scenario
 from mineburial import sediment_profiles as sp
 from mineburial.ensembles import runner, scour
 from mineburial.io.inputs import read_toml
-from mineburial.kernels import layout
-from mineburial.kernels import scour as sc
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import scour as sc
 from mineburial.maps import run_map
 from mineburial.synthetic import synthetic_environment
 

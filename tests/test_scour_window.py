@@ -13,8 +13,8 @@ from test_scour_run import N, scenario, scour_section
 from mineburial.cli import main
 from mineburial.ensembles import runner
 from mineburial.io import forcing as fio
-from mineburial.kernels import scour as S
-from mineburial.kernels.scour_batch import MEASURE_NAMES, N_GEOM, forcing_window, scour_drops
+from mineburial.kernels.mine import scour as S
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_GEOM, forcing_window, scour_drops
 
 
 def irregular_forcing(n=60, seed=4):

@@ -1,4 +1,4 @@
-"""Tests of the fixed-cost sediment rule (mineburial/kernels/sediment/fast.py).
+"""Tests of the fixed-cost sediment rule (mineburial/kernels/mine/sediment/fast.py).
 
 * against the reference quadrature (``reference_tractions``) on random poses,
   immersions and motions, errors relative to the force scale int |t| dA (torque:
@@ -18,12 +18,12 @@ from scipy import integrate
 from test_sediment_kernel import V_REG, V_REG_N  # the regularisation pinned by params()
 from test_sediment_kernel import params as _kernel_params
 
-from mineburial.kernels import layout as lay
-from mineburial.kernels.bodies.cylinder import Cylinder
-from mineburial.kernels.sediment import pack_law, sediment_force_torque
-from mineburial.kernels.sediment.fast import fast_tractions
-from mineburial.kernels.sediment.laws import LAW_REFERENCE_PATHS
-from mineburial.kernels.sediment.reference import reference_tractions
+from mineburial.kernels.mine import layout as lay
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.sediment import pack_law, sediment_force_torque
+from mineburial.kernels.mine.sediment.fast import fast_tractions
+from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS
+from mineburial.kernels.mine.sediment.reference import reference_tractions
 
 G = 9.81
 RHO_W = 1025.0

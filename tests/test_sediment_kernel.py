@@ -1,4 +1,4 @@
-"""Tests of the sediment traction kernel (mineburial/kernels/sediment.py).
+"""Tests of the sediment traction kernel (mineburial/kernels/mine/sediment.py).
 
 The references are independent of the kernel's quadrature:
 
@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from mineburial.kernels import layout as lay
-from mineburial.kernels.bodies.cylinder import Cylinder
-from mineburial.kernels.sediment import rate_factor, sediment_force_torque, sediment_properties
+from mineburial.kernels.mine import layout as lay
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.sediment import rate_factor, sediment_force_torque, sediment_properties
 
 # the regularisation speeds these tests pin (the defaults of version 0.1.0: slip 1 mm/s,
 # advancing switch 0.1 mm/s), independent of numerics.slip_speed / switch_speed defaults

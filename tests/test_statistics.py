@@ -22,8 +22,8 @@ from mineburial.ensembles.statistics import (
     wilson_interval,
 )
 from mineburial.io import variables as V
-from mineburial.kernels import layout
 from mineburial.kernels import status as S
+from mineburial.kernels.mine import layout
 
 IDX = layout.SUMMARY_INDEX
 Q = (0.05, 0.25, 0.5, 0.75, 0.95)

@@ -14,8 +14,8 @@ from scipy.spatial.transform import Rotation
 from mineburial.config import ScenarioError
 from mineburial.drop import simulate_drop
 from mineburial.ensembles import engine, model_form
-from mineburial.kernels import added_mass, layout
-from mineburial.kernels.coefficients import cross_drag_coefficient
+from mineburial.kernels.mine import added_mass, layout
+from mineburial.kernels.mine.coefficients import cross_drag_coefficient
 from mineburial.validation import compare
 
 RHO = 1025.0

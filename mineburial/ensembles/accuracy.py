@@ -34,8 +34,8 @@ import numpy as np
 
 from mineburial.ensembles import batch
 from mineburial.ensembles.statistics import burial_class
-from mineburial.kernels import layout
 from mineburial.kernels import status as st
+from mineburial.kernels.mine import layout
 
 __all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
 

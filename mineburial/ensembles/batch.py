@@ -27,9 +27,9 @@ import numpy as np
 
 from mineburial.ensembles.interrupt import Interrupted, sigint_flag
 from mineburial.kernels import status as st
-from mineburial.kernels.layout import N_SUMMARY
-from mineburial.kernels.overburden import with_long_tables
-from mineburial.kernels.stepper import reference_paths, run_drop
+from mineburial.kernels.mine.layout import N_SUMMARY
+from mineburial.kernels.mine.overburden import with_long_tables
+from mineburial.kernels.mine.stepper import reference_paths, run_drop
 
 BLOCK_SIZE = 2  # drops a thread takes at a time (drops are long: balance, not overhead)
 

@@ -13,7 +13,7 @@ The draws follow the seed contract of every input (:mod:`mineburial.ensembles.sa
 the uniform of field *k* of drop *i* is a pure function of (seed, i, k), the stream keyed
 by the field's name), the uniform mapped through the choice's cumulative weights
 (:meth:`~mineburial.ensembles.distributions.Choice.index`); the chosen label's code in
-``kernels.layout`` goes into the drop's parameter row. ``numerics.model`` and
+``kernels.mine.layout`` goes into the drop's parameter row. ``numerics.model`` and
 ``numerics.integrator`` stay fixed per run (they change the defaults of other inputs and
 the numerical method, not the physics of one drop's input).
 
@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from mineburial.ensembles import distributions as dist
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 
 #: model choices that may be sampled as a ``choice`` among labels: path -> the labels, in
 #: the order of their codes in the parameter row

@@ -31,10 +31,10 @@ from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.statistics import scour_statistics
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
-from mineburial.kernels import layout
-from mineburial.kernels import scour as sc
 from mineburial.kernels import status as status_codes
-from mineburial.kernels.scour_batch import MEASURE_NAMES, N_GEOM, scour_drops
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import scour as sc
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_GEOM, scour_drops
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
 #: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills

@@ -1,7 +1,7 @@
 """Burial statistics of an ensemble of drops, computed exactly from the per-drop results.
 
 Input: the per-drop ``summary`` array (n, N_SUMMARY) whose columns are
-:data:`mineburial.kernels.layout.SUMMARY_NAMES` and the per-drop ``status``
+:data:`mineburial.kernels.mine.layout.SUMMARY_NAMES` and the per-drop ``status``
 codes (:mod:`mineburial.kernels.status`). Only drops whose status is in
 ``status.IN_STATISTICS`` (``at_rest``, and ``buried_sinking``: fully buried and still
 sinking at the time limit, whose penetration is a lower bound) and a finite value
@@ -38,8 +38,8 @@ import xarray as xr
 from scipy.special import ndtri
 
 from mineburial.io import variables as V
-from mineburial.kernels import layout
 from mineburial.kernels import status as status_codes
+from mineburial.kernels.mine import layout
 
 __all__ = [
     "burial_statistics",

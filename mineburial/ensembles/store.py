@@ -54,7 +54,7 @@ from mineburial._version import __version__
 from mineburial.errors import RunError, RunLockedError
 from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
 from mineburial.io.netcdf import write_netcdf
-from mineburial.kernels import layout
+from mineburial.kernels.mine import layout
 
 __all__ = [
     "RunError",

@@ -5,7 +5,7 @@ datetime when the source gives absolute times), significant wave height Hs [m], 
 the direction the waves come from [deg, nautical: clockwise from north], the current speed [m/s],
 the direction the current flows towards [deg, clockwise from north] and the water level [m] (0 when
 the source has none). :meth:`Forcing.kernel_arrays` turns it into the flat float64 arrays that
-:func:`mineburial.kernels.scour.scour_stage` takes. A :class:`GriddedForcing` holds the same
+:func:`mineburial.kernels.mine.scour.scour_stage` takes. A :class:`GriddedForcing` holds the same
 quantities on (time, y, x) for maps and gives each cell's series.
 
 Sources: a CF NetCDF file with a ``time`` coordinate (:func:`load_netcdf`,
@@ -32,7 +32,7 @@ import xarray as xr
 from xarray.coding.times import decode_cf_datetime
 
 from mineburial.io.files import atomic_write_text
-from mineburial.kernels.scour import depth_floor
+from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
@@ -238,7 +238,7 @@ class Forcing:
 
     def kernel_arrays(self, depth: float, d50: float | None = None):
         """(t, hs, tp, wave_dir, current_speed, current_dir, h): the flat float64 arrays of
-        :func:`mineburial.kernels.scour.scour_stage`. Both directions are returned in radians as
+        :func:`mineburial.kernels.mine.scour.scour_stage`. Both directions are returned in radians as
         directions *towards* which waves and current travel (the waves' "from" + 180 deg); the
         kernel uses only their difference. h = depth + water level [m] must stay positive and,
         with the grain size ``d50`` [m] given, at least the stage's ``depth_floor(d50)`` (else

@@ -16,7 +16,7 @@ declaration
 Three families of variables exist:
 
 * **per-drop** variables along the CF ``realization`` dimension: every column
-  of :data:`mineburial.kernels.layout.SUMMARY_NAMES`, ``status`` and
+  of :data:`mineburial.kernels.mine.layout.SUMMARY_NAMES`, ``status`` and
   ``burial_class``; the sampled inputs are declared on the fly from their
   scenario path by :func:`input_variable` (``mine.mass`` -> ``input_mine_mass``).
 * **statistics** of each summary output ``X``, expanded from templates:
@@ -49,8 +49,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from mineburial.kernels import layout
 from mineburial.kernels import status as status_codes
+from mineburial.kernels.mine import layout
 
 __all__ = [
     "Variable",
@@ -547,7 +547,7 @@ def _declare() -> dict[str, Variable]:
 
 #: burial measures the scour stage reports at each lead time (columns of the impact summary)
 SCOUR_MEASURES = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
-#: status codes of the scour stage (mineburial.kernels.scour_batch.STATUS_NAMES)
+#: status codes of the scour stage (mineburial.kernels.mine.scour_batch.STATUS_NAMES)
 SCOUR_STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing", "not_run")
 _SCOUR_BASIS = "over the drops whose scour stage ran (scour_status ok) and a finite value"
 
@@ -585,7 +585,7 @@ def _scour_coordinates() -> list[Variable]:
             "int8",
             None,
             "scour-stage status code",
-            "Status codes of the scour stage (mineburial.kernels.scour_batch.STATUS_NAMES).",
+            "Status codes of the scour stage (mineburial.kernels.mine.scour_batch.STATUS_NAMES).",
             attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
             fill_value=_NO_FILL,
             group="statistics",

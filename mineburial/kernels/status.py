@@ -42,7 +42,7 @@ NAMES = (
 
 DESCRIPTIONS = (
     "the mine came to rest in or on the sediment (seed 000 eq. (89) speed criterion and "
-    "the rigid-plastic hold test, kernels/rest.py)",
+    "the rigid-plastic hold test, kernels/mine/rest.py)",
     "the mine was still moving, not fully buried, when its time limit was reached "
     "(numerics.t_max after its first seabed contact; numerics.t_max_fall if it was still falling), "
     "or after the stepper's budget of 5e7 steps",

@@ -40,10 +40,10 @@ from mineburial.io.dataset import build
 from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.io.variables import RESTRAINT_DERIVED
 from mineburial.kernels import multibody as kmb
-from mineburial.kernels import restraint_forces as rf
 from mineburial.kernels.methods import METHOD_NAMES
 from mineburial.kernels.multibody import NUMERICAL_FAILURE, STATUS_NAMES, STOPPED, body_states
-from mineburial.kernels.restraint_forces import ANCHOR, ELEMENT, ROD, SHIP, segment_area_below
+from mineburial.kernels.restraint import forces as rf
+from mineburial.kernels.restraint.forces import ANCHOR, ELEMENT, ROD, SHIP, segment_area_below
 from mineburial.multibody import record_bytes
 from mineburial.resources import memory_refusal
 from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
@@ -982,7 +982,7 @@ class System:
     derived: dict
 
 
-#: force parameters (kernels/restraint_forces.py ``P_*``) that are a field of the case as it is
+#: force parameters (kernels/restraint/forces.py ``P_*``) that are a field of the case as it is
 _CASE_PARAMETERS = (
     ("P_G", "water.gravity"),
     ("P_RHO", "water.density"),
@@ -1111,7 +1111,7 @@ def _derived(case: RestraintCase, lay: Layout, z_water: float, wetted: float, gm
 #: catches a blown-up or under-resolved one (rk4 at 0.5 s: 1e+247; rtol 0.9: 1.5e+2).
 ENERGY_CLOSURE_LIMIT = 1e-3
 
-#: names of the anchor's contact codes (kernels/restraint_forces.py CONTACT_*)
+#: names of the anchor's contact codes (kernels/restraint/forces.py CONTACT_*)
 CONTACT_NAMES = ("on_seabed", "lifted", "friction_unsolvable")
 
 

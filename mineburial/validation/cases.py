@@ -32,8 +32,9 @@ import numpy as np
 from mineburial.config import Scenario, load_example
 from mineburial.drop import run_params, simulate_drop
 from mineburial.io.forcing import storm_shape
-from mineburial.kernels import layout, status
-from mineburial.kernels import scour as scour_kernels
+from mineburial.kernels import status
+from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import scour as scour_kernels
 from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
 from mineburial.systems import restraint
 from mineburial.validation import references as ref
@@ -360,7 +361,7 @@ def energy_balance(quick_only=False, figures=None):
             ds, m, sc.mine.inertia_axial, sc.mine.inertia_transverse, G
         )
         # the fluid work is accumulated as the remainder of the equations of motion
-        # (kernels/dynamics.py), so this row checks the integration, not the force laws;
+        # (kernels/mine/dynamics.py), so this row checks the integration, not the force laws;
         # the force laws' energy checks are tests/test_energy.py
         rows.append(
             _abs(
@@ -1009,7 +1010,7 @@ def scour_event_forcing(peaks_h, peak_hs, peak_tp, duration_h, total_h, backgrou
 
 def scour_final_burial(event, **params):
     """(B/D at the end of the event's series, largest Shields parameter) of the stage with the
-    default laws and ``params`` (kernels/scour.py names) over :data:`SCOUR_EVENTS` ``event``."""
+    default laws and ``params`` (kernels/mine/scour.py names) over :data:`SCOUR_EVENTS` ``event``."""
     arrays = scour_event_forcing(**event)
     p = scour_kernels.default_parameters(diameter=SCOUR_D, **params)
     out, time_to = np.empty(1), np.empty(0)

@@ -30,11 +30,11 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
   or the reference quadrature when ``reference_paths`` is not None), ``d0`` the seabed's height
   above the COM; ``pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank)``: the pore-water
   pressure of seed 000 eq. (73);
-* the fluid forces' strip theory (kernels/dynamics.py, seeds 000 and 001) integrates a body of
+* the fluid forces' strip theory (kernels/mine/dynamics.py, seeds 000 and 001) integrates a body of
   constant section along its axis: ``strip_section(body)`` -> ``(radius, length)`` of that
   section and the reference length, ``finite_added_mass(body)`` -> ``(k_t, k_a, k_r)``, the
   finite body's added-mass factors on the strip values, and ``crossflow_efficiency(body)``, the
-  viscous-crossflow model's eta (both from kernels/added_mass.py's tables of the closed cylinder).
+  viscous-crossflow model's eta (both from kernels/mine/added_mass.py's tables of the closed cylinder).
 
 Adding a shape: a module here with its NamedTuple class and these functions, which registers
 itself (:func:`register`; docs/design.md, "Adding a body shape"). This package imports no shape,

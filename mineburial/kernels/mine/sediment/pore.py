@@ -10,7 +10,7 @@ vertical added mass that the caller puts on the left-hand side.
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels.sediment.laws import LAW_B, LAW_EV, LAW_G, LAW_KP, _law_properties
+from mineburial.kernels.mine.sediment.laws import LAW_B, LAW_EV, LAW_G, LAW_KP, _law_properties
 
 
 @kernel

@@ -3,7 +3,7 @@
 import math
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels.layout import (
+from mineburial.kernels.mine.layout import (
     P_CURRENT_EXPONENT,
     P_CURRENT_KIND,
     P_CURRENT_TABLE,

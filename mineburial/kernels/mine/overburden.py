@@ -38,16 +38,16 @@ from numba import types
 from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
-from mineburial.kernels import bodies
-from mineburial.kernels.environment import bracket, interpolate_row, last_point
-from mineburial.kernels.layout import (
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.environment import bracket, interpolate_row, last_point
+from mineburial.kernels.mine.layout import (
     N_PARAMS,
     P_OB_QUADRATURE,
     P_SED_PROFILE,
     P_SED_RHO,
     P_SED_RHO_GRAD,
 )
-from mineburial.kernels.sediment.laws import COLUMN_OVERBURDEN, LAW_REFERENCE_PATHS, sediment_properties
+from mineburial.kernels.mine.sediment.laws import COLUMN_OVERBURDEN, LAW_REFERENCE_PATHS, sediment_properties
 
 #: codes of ``numerics.overburden_quadrature`` (``layout.OVERBURDEN_QUADRATURE_NAMES``)
 OB_FAST = 0

@@ -16,8 +16,8 @@ A small package with methods chosen by name:
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels import bodies
-from mineburial.kernels.sediment.laws import (
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.sediment.laws import (
     DEPTH_FACTOR,
     LAW_PORE,
     LAW_REFERENCE_PATHS,
@@ -61,7 +61,7 @@ __all__ = [
 def sediment_tractions(body, rot, com, vel, omega, seabed_z, law, bank):
     """Resistance of the sediment on the embedded part of the mine.
 
-    body: the mine's body (:mod:`mineburial.kernels.bodies`: its embedded surface, the rule
+    body: the mine's body (:mod:`mineburial.kernels.mine.bodies`: its embedded surface, the rule
     that integrates the tractions over it, its pore pressure); rot: 9 floats, row-major
     rotation matrix body->earth; com, vel: COM position and velocity (E-frame, z up);
     omega: angular velocity (body frame); seabed_z: height of the seabed; law:

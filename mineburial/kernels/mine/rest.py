@@ -38,20 +38,20 @@ rest speed in REST_TIME seconds is no load).
 import math
 
 from mineburial._numba import kernel
-from mineburial.kernels import bodies
-from mineburial.kernels.dynamics import drop_body, vertical_load
-from mineburial.kernels.geometry import e_down_body
-from mineburial.kernels.layout import (
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.dynamics import drop_body, vertical_load
+from mineburial.kernels.mine.geometry import e_down_body
+from mineburial.kernels.mine.layout import (
     P_DEPTH,
     P_GRAVITY,
     P_MASS,
     P_RHO_WATER,
     P_SED_RESISTANCE,
 )
-from mineburial.kernels.overburden import overburden_force
+from mineburial.kernels.mine.overburden import overburden_force
+from mineburial.kernels.mine.sediment import RES_DELTA, sediment_tractions
+from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS, LAW_VREG
 from mineburial.kernels.rotation import rotation_matrix
-from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
-from mineburial.kernels.sediment.laws import LAW_REFERENCE_PATHS, LAW_VREG
 
 #: s: the force tolerance of the hold test is mass * rest_speed / REST_TIME
 REST_TIME = 1.0

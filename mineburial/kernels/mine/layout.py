@@ -52,7 +52,7 @@ N_DIAG = 16  # diagnostics written by dynamics.derivatives()
 PHASE_NAMES = ("air", "crossing_water_surface", "water", "crossing_seabed", "embedded")
 PHASE_AIR, PHASE_SURFACE, PHASE_WATER, PHASE_SEABED, PHASE_EMBEDDED = range(len(PHASE_NAMES))
 
-# --- columns of a recorded trajectory row (kernels.stepper._record) -----------
+# --- columns of a recorded trajectory row (kernels.mine.stepper._record) -----------
 TRAJ_COLUMNS = (
     ("time",)
     + STATE_NAMES

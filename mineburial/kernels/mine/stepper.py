@@ -49,12 +49,13 @@ from collections import namedtuple
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels import bodies
 from mineburial.kernels import status as st
 from mineburial.kernels.core import GO_ON, System, all_finite, driver_loop, locate_event
-from mineburial.kernels.dynamics import derivatives, drop_body
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
-from mineburial.kernels.layout import (
+from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.dynamics import derivatives, drop_body
+from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
     INTEGRATOR_NAMES,
@@ -110,8 +111,9 @@ from mineburial.kernels.layout import (
     S_PENETRATION,
     S_TOTAL_TIME,
 )
-from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
-from mineburial.kernels.rest import held_by_sediment
+from mineburial.kernels.mine.rest import held_by_sediment
+from mineburial.kernels.mine.sediment import QUADRATURE_FAST, pack_law
+from mineburial.kernels.mine.sediment.laws import drop_bank
 from mineburial.kernels.rotation import (
     euler_angles,
     normalize_quaternion,
@@ -119,8 +121,6 @@ from mineburial.kernels.rotation import (
     rotation_matrix,
     rotation_vector_quaternion,
 )
-from mineburial.kernels.sediment import QUADRATURE_FAST, pack_law
-from mineburial.kernels.sediment.laws import drop_bank
 
 INTEGRATOR_STIFF = INTEGRATOR_NAMES.index("dopri5_ros34pw2")
 #: the mine's own integrators beside the core's (:mod:`.methods`): the phase switch dopri5_ros34pw2
@@ -433,7 +433,7 @@ def _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps):
 @small_kernel
 def _end_test(y, f, g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit_seabed):
     """The end tests after an accepted step at state y with rate f and event values g1: a non-finite
-    state or rate; at rest (slow by seed 000 eq. (89) and held by the sediment, kernels/rest.py);
+    state or rate; at rest (slow by seed 000 eq. (89) and held by the sediment, kernels/mine/rest.py);
     floated (lighter than the water, in it and rising before any seabed contact); left the domain.
     Returns (status, or :data:`GO_ON`; the largest deceleration in the sediment so far)."""
     if not (all_finite(y) and all_finite(f)):
@@ -442,7 +442,7 @@ def _end_test(y, f, g1, p, law, sed_bank, max_decel, buoyant, entered_water, hit
         acc = math.sqrt(f[3] * f[3] + f[4] * f[4] + f[5] * f[5])
         if acc > max_decel:
             max_decel = acc
-        # the end of the drop: slow (eq. (89)) and held by the sediment (kernels/rest.py)
+        # the end of the drop: slow (eq. (89)) and held by the sediment (kernels/mine/rest.py)
         if g1[EVENT_REST] <= 0.0 and held_by_sediment(y, p, law, sed_bank, p[P_REST_SPEED]):
             return st.AT_REST, max_decel
     elif buoyant and entered_water and not hit_seabed and g1[0] < 0.0 and y[5] > 0.0:

@@ -40,9 +40,9 @@ Fixed node counts, no state-dependent refinement, no allocation.
 import math
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
-from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
-from mineburial.kernels.sediment.laws import _traction, add_point_traction, add_weighted
+from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
+from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
+from mineburial.kernels.mine.sediment.laws import _traction, add_point_traction, add_weighted
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
 #: cap (N_U), per cap chord (N_S) (the depth is constant along a chord).

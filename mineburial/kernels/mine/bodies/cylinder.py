@@ -2,11 +2,11 @@
 
 A solid cylinder of length ``length`` and radius ``radius`` whose centre of mass sits ``com_offset``
 (``chi``, seed 000 eq. (42)) behind its middle: in the M-frame it spans
-``x in [-L/2 - chi, L/2 - chi]``. The protocol functions (:mod:`mineburial.kernels.bodies`) call the
-cylinder's closed forms in :mod:`mineburial.kernels.geometry`, its embedded-surface integrals in
-:mod:`mineburial.kernels.sediment` (the fast rule, :mod:`~.sediment.fast`; the reference
+``x in [-L/2 - chi, L/2 - chi]``. The protocol functions (:mod:`mineburial.kernels.mine.bodies`) call the
+cylinder's closed forms in :mod:`mineburial.kernels.mine.geometry`, its embedded-surface integrals in
+:mod:`mineburial.kernels.mine.sediment` (the fast rule, :mod:`~.sediment.fast`; the reference
 quadrature, :mod:`~.sediment.reference`; the pore pressure, :mod:`~.sediment.pore`) and the closed
-cylinder's added-mass and crossflow tables (:mod:`mineburial.kernels.added_mass`).
+cylinder's added-mass and crossflow tables (:mod:`mineburial.kernels.mine.added_mass`).
 """
 
 import math
@@ -16,10 +16,10 @@ from typing import NamedTuple
 from numba.core import types
 
 from mineburial._numba import kernel
-from mineburial.kernels import bodies
-from mineburial.kernels.added_mass import crossflow_efficiency as cylinder_crossflow_efficiency
-from mineburial.kernels.added_mass import cylinder_added_mass
-from mineburial.kernels.geometry import (
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.added_mass import crossflow_efficiency as cylinder_crossflow_efficiency
+from mineburial.kernels.mine.added_mass import cylinder_added_mass
+from mineburial.kernels.mine.geometry import (
     PI,
     burial_measures,
     cut_cylinder,
@@ -27,12 +27,12 @@ from mineburial.kernels.geometry import (
     equivalent_of_part,
     vertical_extent,
 )
-from mineburial.kernels.layout import P_CHI, P_DIAMETER, P_LENGTH
-from mineburial.kernels.sediment import QUADRATURE_REFERENCE
-from mineburial.kernels.sediment.fast import fast_tractions
-from mineburial.kernels.sediment.laws import LAW_QUADRATURE
-from mineburial.kernels.sediment.pore import pore_pressure
-from mineburial.kernels.sediment.reference import reference_tractions
+from mineburial.kernels.mine.layout import P_CHI, P_DIAMETER, P_LENGTH
+from mineburial.kernels.mine.sediment import QUADRATURE_REFERENCE
+from mineburial.kernels.mine.sediment.fast import fast_tractions
+from mineburial.kernels.mine.sediment.laws import LAW_QUADRATURE
+from mineburial.kernels.mine.sediment.pore import pore_pressure
+from mineburial.kernels.mine.sediment.reference import reference_tractions
 
 
 class Cylinder(NamedTuple):
@@ -45,7 +45,7 @@ class Cylinder(NamedTuple):
 
 @kernel
 def from_params(p):
-    """The drop's cylinder from its parameter vector (``kernels/layout.py``)."""
+    """The drop's cylinder from its parameter vector (``kernels/mine/layout.py``)."""
     return Cylinder(p[P_LENGTH], 0.5 * p[P_DIAMETER], p[P_CHI])
 
 

@@ -1,16 +1,16 @@
 """The post-impact scour stage over the drops of an ensemble chunk (issue 20, items 1 and 6).
 
-One compiled loop over drops: each drop that came to rest runs :func:`mineburial.kernels.scour.
+One compiled loop over drops: each drop that came to rest runs :func:`mineburial.kernels.mine.scour.
 scour_stage` over the run's forcing (Hs scaled by the drop's factor, the water depth the drop's
 own plus the forcing's water level). The scour laws are those of a cylinder **lying** on or in the
 bed (Rennie, Brandt & Friedrichs 2017: B/D = 1 puts the top of the horizontal cylinder level with
 the bed), so the stage's mine lies down: it starts from the burial ``B0`` of the horizontal
 cylinder that has the same fraction of its volume below the bed as the mine at its impact rest
 attitude (:func:`lying_burial`), and the burial measures of the impact phase
-(the body protocol's ``burial``, :mod:`mineburial.kernels.bodies`) are evaluated at each lead time for that
-lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest attitude). A plain loop
-rather than ``prange``: the stage costs about 1 ms a drop, a few percent of the impact phase
-(docs/design.md, batch driver).
+(the body protocol's ``burial``, :mod:`mineburial.kernels.mine.bodies`) are evaluated at each lead
+time for that lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest
+attitude). A plain loop rather than ``prange``: the stage costs about 1 ms a drop, a few percent
+of the impact phase (docs/design.md, batch driver).
 """
 
 import math
@@ -18,10 +18,10 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel
-from mineburial.kernels import bodies
-from mineburial.kernels import scour as sc
-from mineburial.kernels.bodies.cylinder import Cylinder
-from mineburial.kernels.geometry import segment_area_unit
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine import scour as sc
+from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.geometry import segment_area_unit
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
 SCOUR_NOT_RUN = 4
@@ -122,7 +122,7 @@ def scour_drops(
     out_status,
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
-    of kernels/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
+    of kernels/mine/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
     forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns); the
     stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`). The drop
     sees the forcing window from ``start[i]`` [s after t[0]] of ``length`` [s]

@@ -23,9 +23,9 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels.sediment.laws import GL_NODES as _GL_NODES
-from mineburial.kernels.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
-from mineburial.kernels.sediment.laws import (
+from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
+from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
+from mineburial.kernels.mine.sediment.laws import (
     LAW_VREG,
     LAW_VREG_N,
     RATE_IMPACT35,

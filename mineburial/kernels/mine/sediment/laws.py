@@ -30,7 +30,7 @@ is continuous in the velocity.
                2006: alpha ~ 1/S_t).
 For ``friction`` and ``bearing`` the geostatic part sigma' acts on every embedded
 element whatever its motion and is added by the stepper in closed form
-(:mod:`mineburial.kernels.overburden`: Archimedes with the sediment density).
+(:mod:`mineburial.kernels.mine.overburden`: Archimedes with the sediment density).
 
 Rate laws G (code ``law[1]``, ``layout.RATE_LAW_NAMES``), evaluated with the LOCAL
 speed |v| of the surface element (the seed's COM speed V for a pure translation):
@@ -47,8 +47,8 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels.environment import COLUMN_BUCKET, bracket, last_point
-from mineburial.kernels.layout import (
+from mineburial.kernels.mine.environment import COLUMN_BUCKET, bracket, last_point
+from mineburial.kernels.mine.layout import (
     P_GRAVITY,
     P_RHO_WATER,
     P_SED_A,
@@ -189,8 +189,8 @@ def drop_bank(p, bank):
     """``(p, bank)`` for one drop: its sediment profile row alone (row 0 of a new bank,
     ``p`` copied with ``sediment.profile_index = 0``) with :data:`COLUMN_OVERBURDEN`
     filled for the drop's water density and the bucket index of
-    :data:`~mineburial.kernels.environment.COLUMN_BUCKET`, so that a depth is found in
-    O(1) (:func:`~mineburial.kernels.environment.bracket`) instead of by summing the rows
+    :data:`~mineburial.kernels.mine.environment.COLUMN_BUCKET`, so that a depth is found in
+    O(1) (:func:`~mineburial.kernels.mine.environment.bracket`) instead of by summing the rows
     above it: O(n) once per drop instead of at every evaluation. A linear profile
     (index < 0) returns the arguments unchanged."""
     row = int(p[P_SED_PROFILE])
@@ -332,7 +332,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
         ft = mu * gfac * s
     elif model == RES_FRICTION:
         # the geostatic overburden sig acts on every embedded element and is added in
-        # closed form by the stepper (kernels/overburden.py)
+        # closed form by the stepper (kernels/mine/overburden.py)
         pn = law[7] * s * gfac * hn
         ft = mu * pn
     else:

@@ -17,7 +17,7 @@ One function, :func:`derivatives`, evaluates the right-hand side of the
 
 Both share the buoyancy of the equivalent cylinder at the interfaces (seed 000
 eqs. (25)-(36), exact cut-cylinder volumes) and the sediment tractions of
-:mod:`mineburial.kernels.sediment` (seed 000 section 6).
+:mod:`mineburial.kernels.mine.sediment` (seed 000 section 6).
 
 Extended state (length :data:`N_EXT`): the 13 physical states of
 :mod:`layout`, then the work done on the mine by fluid forces (buoyancy,
@@ -28,20 +28,24 @@ same scheme so that energy bookkeeping closes to the integration error.
 import math
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels import bodies
-from mineburial.kernels.added_mass import (
+from mineburial.kernels.crossflow import quadratic_drag_integrals
+from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine.added_mass import (
     finite_body_cross_drag,
     munk_incidence_factor,
 )
-from mineburial.kernels.bodies import cylinder
-from mineburial.kernels.coefficients import axial_drag_coefficient, cross_drag_coefficient, lift_coefficient
-from mineburial.kernels.crossflow import quadratic_drag_integrals
-from mineburial.kernels.environment import current_velocity
-from mineburial.kernels.geometry import e_down_body
+from mineburial.kernels.mine.bodies import cylinder
+from mineburial.kernels.mine.coefficients import (
+    axial_drag_coefficient,
+    cross_drag_coefficient,
+    lift_coefficient,
+)
+from mineburial.kernels.mine.environment import current_velocity
+from mineburial.kernels.mine.geometry import e_down_body
 
 # the extended state, the scratch and diagnostics sizes (N_EXT, I_WORK_*, N_WORK, N_DIAG,
-# re-exported for the driver) and the phase codes live in kernels.layout
-from mineburial.kernels.layout import (
+# re-exported for the driver) and the phase codes live in kernels.mine.layout
+from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
     N_DIAG,  # noqa: F401
@@ -66,9 +70,9 @@ from mineburial.kernels.layout import (
     PHASE_WATER,
     WC_VISCOUS_CROSSFLOW,
 )
-from mineburial.kernels.overburden import overburden_force
+from mineburial.kernels.mine.overburden import overburden_force
+from mineburial.kernels.mine.sediment import RES_DELTA, sediment_tractions
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
-from mineburial.kernels.sediment import RES_DELTA, sediment_tractions
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
 
@@ -416,7 +420,7 @@ def _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
             a1 += aair * 0.5 * (ab * ab - aa * aa)
             a2 += aair * (ab * ab * ab - aa * aa * aa) / 3.0
     if crossflow_model:
-        # finite closed cylinder (BEM tables, kernels/added_mass.py) on the strip values
+        # finite closed cylinder (BEM tables, kernels/mine/added_mass.py) on the strip values
         # (a0 = rho V of the wetted interval): transverse k_t and axial k_a of rho V; the
         # rotational inertia k_r of strip theory's about the wetted centroid, moved to the
         # COM with the transverse mass (parallel axes; docs/physics.md)
