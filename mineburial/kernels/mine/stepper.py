@@ -524,18 +524,13 @@ def _next_step(t, h_adapt, traj, ctx, loop):
     return status, method, h, loop
 
 
-@kernel
+@small_kernel
 def _accepted(t, h, traj, ctx, loop):
     """The mine's hook of the driver loop after an accepted step (:func:`.core.driver_loop`): its first
     event; an interface inside the step has the step taken again to end just past it (at most
     :data:`MAX_REDO` times); otherwise the records up to the step's end (or its first event), the state
     moved on (cut at the event, the quaternion normalised, the integration restarted at a cut), the water
-    entry and the impact noted, and the end tests (:func:`_end_test`).
-
-    A compile unit of its own (``kernel``), unlike the other hook: inlined into the loop template (itself
-    inlined into :func:`run_drop`), its pieces' IR went through numba's untyped passes once more at the
-    template's level, and the default path's cold compile rose from 49.4 s CPU (median of 3) to 58.0 and
-    61.3 s on the 2-core host (docs/design.md, "One driver loop")."""
+    entry and the impact noted, and the end tests (:func:`_end_test`)."""
     args, summary, y, ynew, k, r, ytmp, dy, g0, g1, gtmp = (
         ctx.args,
         ctx.summary,
