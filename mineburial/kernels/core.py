@@ -455,7 +455,9 @@ def driver_loop(next_step, accepted):
     are these, itself an inlined kernel. Called from a system's driver (``stepper.run_drop``,
     ``multibody.integrate``), it is compiled into that driver and cached with it, one compile unit as
     before: hooks reached as overloads would each be a compile unit of their own that links the system's
-    right-hand side again (2-3 s of CPU each for the mine, docs/design.md)."""
+    right-hand side again (2-3 s of CPU each for the mine, docs/design.md). The inline level itself is not
+    free: numba runs its untyped passes once more over all that the hooks inline (the mine's default path
+    +2.8 s CPU on a quiet machine, ~+8 s on the shared 2-core host; docs/design.md, "One driver loop")."""
     fn = _driver_loop
     bound = dict(fn.__globals__, next_step=next_step, accepted=accepted)
     copy = pytypes.FunctionType(fn.__code__, bound, fn.__name__, fn.__defaults__, fn.__closure__)
