@@ -408,13 +408,17 @@ def attempt_step(
 GO_ON = -1
 
 
-def _driver_loop(system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out, ctx, loop):
+@small_kernel
+def driver_loop(next_step, accepted, system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out, ctx, loop):
     """The one driver loop of the integration core: from (t, y), the driver's hooks choose each step's
     method and size, :func:`attempt_step` takes it, and the hooks act on each accepted step (events,
     records, end tests) until one of them ends the run. Returns (status, t, loop).
 
-    A template: :func:`driver_loop` binds its hooks, module-level names here, to a system's kernels
-    (docs/design.md, "One driver loop"):
+    The hooks are a system's inlined kernels (``small_kernel``), passed as the first two arguments
+    straight from the driver's own global names (``driver_loop(_next_step, _accepted, ...)``): numba
+    inlines this loop into the driver, and then the hooks there, where each call's function is the
+    driver's global. So the loop is compiled into each driver and cached with it, and the hooks are
+    never first-class functions nor compile units of their own (docs/design.md, "One driver loop"):
 
     ``next_step(t, h_try, out, ctx, loop) -> (status, method, h, loop)``
         before each attempt: the end tests of the loop's head (time and step budgets), the method
@@ -436,7 +440,7 @@ def _driver_loop(system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out
     accepted_before = True
     jac_age = JAC_MAX_AGE
     while True:
-        status, method, h, loop = next_step(t, h_try, out, ctx, loop)  # noqa: F821 - bound by driver_loop
+        status, method, h, loop = next_step(t, h_try, out, ctx, loop)
         if status != GO_ON:
             return status, t, loop
         accept, h_try, err_prev, jac_age = attempt_step(
@@ -444,23 +448,8 @@ def _driver_loop(system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out
         )
         accepted_before = accept
         if accept:
-            status, t, accepted_before, loop = accepted(t, h, out, ctx, loop)  # noqa: F821 - bound
+            status, t, accepted_before, loop = accepted(t, h, out, ctx, loop)
             if status != GO_ON:
                 return status, t, loop
 
 
-def driver_loop(next_step, accepted):
-    """The driver loop (:func:`_driver_loop`) with its hooks bound to ``next_step`` and ``accepted`` (inlined
-    kernels, ``small_kernel``): a copy of the template whose global names ``next_step`` and ``accepted``
-    are these, itself an inlined kernel. Called from a system's driver (``stepper.run_drop``,
-    ``multibody.integrate``), it is compiled into that driver and cached with it, one compile unit as
-    before: hooks reached as overloads would each be a compile unit of their own that links the system's
-    right-hand side again (2-3 s of CPU each for the mine, docs/design.md). The inline level itself is not
-    free: numba runs its untyped passes once more over all that the hooks inline (the mine's default path
-    +2.8 s CPU on a quiet machine, ~+8 s on the shared 2-core host; docs/design.md, "One driver loop")."""
-    fn = _driver_loop
-    bound = dict(fn.__globals__, next_step=next_step, accepted=accepted)
-    copy = pytypes.FunctionType(fn.__code__, bound, fn.__name__, fn.__defaults__, fn.__closure__)
-    copy.__qualname__ = f"{fn.__qualname__}.{getattr(next_step, 'py_func', next_step).__module__}"
-    copy.__doc__ = fn.__doc__
-    return small_kernel(copy)

@@ -801,10 +801,6 @@ def _accepted(t, h, out, ctx, loop):
     return status, t, True, (n_tried, i_step, i_rec, t_new, g, armed)
 
 
-#: the driver loop of the integration core with the multibody hooks (inlined into :func:`integrate`)
-_integration_loop = driver_loop(_next_step, _accepted)
-
-
 @kernel
 def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, max_steps, jac_cols):
     """Integrate dy/dt = system.rhs(t, y, params, dy) from t0 to t_end, stopping where
@@ -856,8 +852,8 @@ def integrate(system, y0, t0, t_end, params, method, dt, rtol, atol, record_dt, 
     loop = (0, 0, 1, t0, g, g > 0.0)  # attempts, accepted steps, records, end of the step, event, armed
     out = (t_out, times, states)
     h_first = min(dt, t_end - t0)
-    status, t, loop = _integration_loop(
-        system, t, y, h_first, params, True, groups, rtol, atol, ws, out, ctx, loop
+    status, t, loop = driver_loop(
+        _next_step, _accepted, system, t, y, h_first, params, True, groups, rtol, atol, ws, out, ctx, loop
     )
     i_rec = loop[2]
     return times[:i_rec].copy(), states[:i_rec].copy(), status, t

@@ -603,10 +603,6 @@ def _accepted(t, h, traj, ctx, loop):
     return status, t, accepted_before, loop
 
 
-#: the driver loop of the integration core with the mine's hooks (inlined into :func:`run_drop`)
-_drop_loop = driver_loop(_next_step, _accepted)
-
-
 @kernel
 def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     """Integrate one drop. Fills ``summary`` (N_SUMMARY) and, when ``traj`` is an array
@@ -650,8 +646,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     )  # fmt: skip
     loop = DropLoop(t_limit, math.inf, 0, 0.0, 0, 0, 0, 0.0, entered_water, hit_seabed)
     # the first trial step of an adaptive integrator: numerics.dt
-    status, t, loop = _drop_loop(
-        MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop
+    status, t, loop = driver_loop(
+        _next_step, _accepted, MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop
     )
     row = loop.row
     if traj is not None:
