@@ -23,7 +23,6 @@ edit of a system's module compiles the driver again for it.
 import inspect
 import math
 import os
-import types as pytypes
 
 import numpy as np
 from numba.core import types
@@ -409,7 +408,9 @@ GO_ON = -1
 
 
 @small_kernel
-def driver_loop(next_step, accepted, system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out, ctx, loop):
+def driver_loop(
+    next_step, accepted, system, t, y, h_try, params, fixed, groups, rtol, atol, ws, out, ctx, loop
+):
     """The one driver loop of the integration core: from (t, y), the driver's hooks choose each step's
     method and size, :func:`attempt_step` takes it, and the hooks act on each accepted step (events,
     records, end tests) until one of them ends the run. Returns (status, t, loop).

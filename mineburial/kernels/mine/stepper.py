@@ -647,8 +647,9 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     loop = DropLoop(t_limit, math.inf, 0, 0.0, 0, 0, 0, 0.0, entered_water, hit_seabed)
     # the first trial step of an adaptive integrator: numerics.dt
     status, t, loop = driver_loop(
-        _next_step, _accepted, MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop
-    )
+        _next_step, _accepted,
+        MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop,
+    )  # fmt: skip
     row = loop.row
     if traj is not None:
         if row < traj.shape[0] and (row == 0 or traj[row - 1, 0] < t):
