@@ -452,5 +452,3 @@ def driver_loop(
             status, t, accepted_before, loop = accepted(t, h, out, ctx, loop)
             if status != GO_ON:
                 return status, t, loop
-
-
