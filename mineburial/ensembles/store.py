@@ -54,7 +54,6 @@ from mineburial._version import __version__
 from mineburial.errors import RunError, RunLockedError
 from mineburial.io.files import atomic_path, atomic_write_bytes, check_destination
 from mineburial.io.netcdf import write_netcdf
-from mineburial.kernels.mine import layout
 
 __all__ = [
     "RunError",
@@ -202,13 +201,13 @@ class ChunkStore:
 
     folder: str
     identity: str
-    settings: dict = dataclasses.field(default_factory=dict, compare=False)
     #: columns of a chunk's ``summary`` (the system's ``summary_width``)
-    width: int = layout.N_SUMMARY
+    width: int
+    settings: dict = dataclasses.field(default_factory=dict, compare=False)
 
     @classmethod
     def for_spec(cls, spec, folder, extra_files=()) -> ChunkStore:
-        return cls(str(folder), run_identity(spec, extra_files), _settings(spec), spec.summary_width)
+        return cls(str(folder), run_identity(spec, extra_files), spec.summary_width, _settings(spec))
 
     @property
     def path(self) -> pathlib.Path:
