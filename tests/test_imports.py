@@ -145,6 +145,32 @@ def test_the_generic_kernels_import_no_system_and_the_systems_not_each_other():
     assert kernel_layer_violations(graph) == []
 
 
+#: the run layer's generic modules: each serves every system of the registry, so none imports a
+#: system's kernels or entry (docs/design.md, "Where things are")
+GENERIC_RUN_MODULES = (
+    "mineburial.ensembles.threads",
+    "mineburial.ensembles.store",
+    "mineburial.ensembles.interrupt",
+    "mineburial.ensembles.sampling",
+    "mineburial.ensembles.settings",
+    "mineburial.ensembles.distributed",
+    "mineburial.ensembles.distributions",
+)
+SYSTEM_MODULES = SYSTEM_KERNELS + (
+    "mineburial.ensembles.mine",
+    "mineburial.ensembles.restraint",
+    "mineburial.systems.restraint",
+)
+
+
+def test_the_generic_run_modules_import_no_system():
+    graph = import_graph()
+    for module in GENERIC_RUN_MODULES:
+        assert module in graph, module
+        found = sorted(t for t in graph[module] if any(_within(t, p) for p in SYSTEM_MODULES))
+        assert found == [], module
+
+
 #: optional dependencies, imported by the functions that need them: pyproject's extras
 #: (matplotlib; rioxarray, with rasterio's affine and pyproj) and dask's distributed scheduler
 OPTIONAL = ("matplotlib", "distributed", "dask.distributed", "pyproj", "rioxarray", "affine")

@@ -20,7 +20,7 @@ import xarray as xr
 from conftest import cheap_ensemble
 
 from mineburial.config import dumps_toml
-from mineburial.ensembles import batch, runner
+from mineburial.ensembles import batch, runner, threads
 from mineburial.ensembles.interrupt import Interrupted
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -82,7 +82,7 @@ def test_blocks_stop_at_the_flag_and_name_the_finished_prefix(sigint_handled):
 
     t0 = time.monotonic()
     with pytest.raises(Interrupted) as info:
-        batch.run_blocks(40, run, threads=2)
+        threads.run_blocks(40, run, threads=2)
     # blocks of 2; the signal came at the start of block [6, 8), which finishes in the
     # grace time, as does the other thread's block in flight
     assert info.value.done in (8, 10)

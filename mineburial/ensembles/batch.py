@@ -1,37 +1,31 @@
-"""Compiled batch driver: many drops, no Python per drop, spread over threads.
+"""The mine's batch driver: many drops, no Python per drop, spread over threads.
 
 Each drop is one call of the compiled :func:`run_drop`, which releases the GIL
-(``nogil``); a pool of Python threads, one per numba thread (``numba.set_num_threads``),
-takes consecutive blocks of drops. A thread takes the next block when it
-is done with its last one, so drops of very different lengths (a mine that floats
-ends at once, one that creeps in a soft bottom runs long) balance themselves. Each
-drop writes only its own row, so results do not depend on the thread count or the
-schedule.
+(``nogil``); the one thread pool of the runs (:func:`~mineburial.ensembles.threads.run_blocks`),
+one thread per numba thread (``numba.set_num_threads``), takes consecutive blocks of drops, so
+drops of very different lengths (a mine that floats ends at once, one that creeps in a soft
+bottom runs long) balance themselves. Each drop writes only its own row, so results do not
+depend on the thread count or the schedule.
 
 Threads rather than ``prange``: the parallel loop's compile (parfor lowering) was a
 quarter of the engine's compile time from an empty cache, for a loop with nothing to
 vectorise; the pool costs a few microseconds a block against ~10 ms a drop.
 
-The calling thread only waits (even for one drop thread), so that Ctrl-C is seen within
-:data:`POLL` s and stops the pool between blocks, whatever the chunk size; the drops
-finished by then are named (:class:`~mineburial.ensembles.interrupt.Interrupted`) and kept
-by the run driver. Stopping between drops changes no result: each drop's row is the same
-whichever thread runs it and whenever.
+Ctrl-C stops the pool between blocks, whatever the chunk size; the drops finished by then are
+named (:class:`~mineburial.ensembles.interrupt.Interrupted`) and kept by the run driver.
+Stopping between drops changes no result: each drop's row is the same whichever thread runs it
+and whenever.
 """
-
-import itertools
-import threading
 
 import numba
 import numpy as np
 
-from mineburial.ensembles.interrupt import Interrupted, sigint_flag
+from mineburial.ensembles.interrupt import Interrupted
+from mineburial.ensembles.threads import run_blocks
 from mineburial.kernels import status as st
 from mineburial.kernels.mine.layout import N_SUMMARY
 from mineburial.kernels.mine.overburden import with_long_tables
 from mineburial.kernels.mine.stepper import reference_paths, run_drop
-
-BLOCK_SIZE = 2  # drops a thread takes at a time (drops are long: balance, not overhead)
 
 
 def _run_drops(params, valid, sediment_bank, current_bank, summary, codes, references, start, stop):
@@ -83,57 +77,3 @@ def run_batch(params, valid, sediment_bank, current_bank, threads=None):
         exc.summary, exc.status = summary[: exc.done], codes[: exc.done]
         raise
     return summary, codes
-
-
-#: seconds between the main thread's looks at the threads and at the Ctrl-C flag
-POLL = 0.05
-#: seconds a Ctrl-C waits for the drops in flight before giving up on them (their
-#: threads are daemons: a drop cannot be stopped inside compiled code)
-GRACE = 1.0
-
-
-def run_blocks(n: int, run, threads: int) -> None:
-    """``run(start, stop)`` over blocks of :data:`BLOCK_SIZE` of ``range(n)`` on ``threads``
-    daemon threads, each taking the next block when done with its last.
-
-    The main thread only waits, in steps of :data:`POLL` s. On SIGINT (:func:`sigint_flag`)
-    no thread takes a new block; the blocks in flight are given :data:`GRACE` s, then
-    :class:`Interrupted` says how many items at the start are finished.
-    An exception in ``run`` is raised here once every thread has stopped.
-    """
-    threads = max(1, min(threads, -(-n // BLOCK_SIZE)))
-    blocks = itertools.count(0, BLOCK_SIZE)  # next() is atomic under the GIL
-    finished = np.zeros(-(-n // BLOCK_SIZE), dtype=bool)
-    errors: list = []
-    stop, all_done = threading.Event(), threading.Event()
-    running = [threads]
-
-    def worker():
-        try:
-            for start in blocks:
-                if start >= n or stop.is_set():
-                    return
-                run(start, min(start + BLOCK_SIZE, n))
-                finished[start // BLOCK_SIZE] = True
-        except BaseException as exc:  # raised by the main thread
-            errors.append(exc)
-            stop.set()
-        finally:
-            with lock:
-                running[0] -= 1
-                if running[0] == 0:
-                    all_done.set()
-
-    lock = threading.Lock()
-    with sigint_flag() as interrupted:
-        for k in range(threads):
-            threading.Thread(target=worker, name=f"mineburial-drops-{k}", daemon=True).start()
-        while not all_done.wait(POLL) and not interrupted.is_set():
-            pass
-        if interrupted.is_set():
-            stop.set()
-            all_done.wait(GRACE)
-            missing = np.flatnonzero(~finished)
-            raise Interrupted(n if missing.size == 0 else int(missing[0]) * BLOCK_SIZE)
-    if errors:
-        raise errors[0]

@@ -1,7 +1,7 @@
 """Ctrl-C (SIGINT) during a run: honoured within about a second, with the work finished kept.
 
 The run driver computes drops on worker threads while the main thread waits
-(:mod:`mineburial.ensembles.batch`). :func:`sigint_flag` turns SIGINT into a flag that the
+(:mod:`mineburial.ensembles.threads`). :func:`sigint_flag` turns SIGINT into a flag that the
 waiting main thread reads every few hundredths of a second; the threads then take no new
 drops, and :class:`Interrupted` (a ``KeyboardInterrupt``) says which drops are finished, so
 that the run driver saves them (:mod:`mineburial.ensembles.runner`) before the command ends
@@ -38,7 +38,7 @@ def sigint_flag():
     after the whole chunk (measured: 70-92 s after a SIGINT that came during the kernels'
     first compile; 35.6 s on a chunk of 20,000 drops), and the KeyboardInterrupt it raised
     threw that chunk away. A flag set by the handler and read by a main thread that waits
-    in short steps (:data:`mineburial.ensembles.batch.POLL`) is seen at once, and the drops
+    in short steps (:data:`mineburial.ensembles.threads.POLL`) is seen at once, and the drops
     finished are known.
 
     Outside the main thread (a dask worker's task thread) signals cannot be handled: the

@@ -39,10 +39,10 @@ import numpy as np
 from mineburial._version import __version__
 from mineburial.config import SUPPORT_TOLERANCE
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.ensembles.statistics import wilson_interval
+from mineburial.ensembles.threads import run_blocks
 from mineburial.errors import ScenarioError, unknown_names_message
 from mineburial.io import netcdf as ncio
 from mineburial.io.dataset import build
@@ -291,7 +291,7 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     ``status``, ``input:<path>`` of every sampled field, ``invalid_inputs``).
 
     The cases run on ``threads`` Python threads (default ``numba.get_num_threads()``) taking blocks of
-    cases as the mines' drops do (:func:`~mineburial.ensembles.batch.run_blocks`; on Ctrl-C no new
+    cases as the mines' drops do (:func:`~mineburial.ensembles.threads.run_blocks`; on Ctrl-C no new
     block is taken and :class:`~mineburial.ensembles.interrupt.Interrupted` ends the chunk):
     the multibody integrator is compiled ``nogil``, so they run in parallel; each case writes
     only its own row, so the result does not depend on the thread count.

@@ -27,8 +27,8 @@ import numpy as np
 import xarray as xr
 
 from mineburial import config as cfg
-from mineburial.ensembles.batch import run_blocks
 from mineburial.ensembles.statistics import scour_statistics
+from mineburial.ensembles.threads import run_blocks
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
 from mineburial.kernels import status as status_codes
