@@ -99,3 +99,80 @@ def test_importing_the_engine_makes_no_cache_folder_until_a_kernel_is_used(tmp_p
     before, after = out.stdout.splitlines()
     assert before == "0"
     assert after == "['rotation.rotation_matrix', 'rotation.rotation_matrix']"  # its index and its code
+
+
+# --- the garbage collector is paused while numba compiles (docs/design.md, "Compile time") ---------------
+def test_the_collector_pause_nests_and_restores_the_state_it_found():
+    import gc
+    import threading
+
+    from mineburial._numba import collector_paused
+
+    was = gc.isenabled()
+    try:
+        gc.enable()
+        with collector_paused():
+            assert not gc.isenabled()
+            with collector_paused():  # a kernel compiling its callees
+                assert not gc.isenabled()
+            assert not gc.isenabled()
+        assert gc.isenabled()
+        # a compile that fails leaves the collector as it was
+        with pytest.raises(RuntimeError), collector_paused():
+            raise RuntimeError("the compile failed")
+        assert gc.isenabled()
+        # a caller that had switched the collector off keeps it off
+        gc.disable()
+        with collector_paused():
+            pass
+        assert not gc.isenabled()
+        # two threads' compiles overlapping: on again only after the last ends
+        gc.enable()
+        inside, release = threading.Event(), threading.Event()
+
+        def other():
+            with collector_paused():
+                inside.set()
+                release.wait(10)
+
+        thread = threading.Thread(target=other)
+        thread.start()
+        inside.wait(10)
+        with collector_paused():
+            pass
+        assert not gc.isenabled()  # the other thread's compile is still running
+        release.set()
+        thread.join(10)
+        assert gc.isenabled()
+    finally:
+        (gc.enable if was else gc.disable)()
+
+
+def test_a_kernel_compiles_with_the_collector_paused(monkeypatch):
+    import gc
+
+    from numba.core.registry import CPUDispatcher
+
+    from mineburial import _numba
+
+    seen = []
+    compile_ = CPUDispatcher.compile
+
+    def recording(self, sig):
+        seen.append(gc.isenabled())
+        return compile_(self, sig)
+
+    monkeypatch.setattr(CPUDispatcher, "compile", recording)
+
+    def twice(x):
+        return 2.0 * x
+
+    k = _numba._dispatcher(_numba.Kernel, twice, False, **_numba.JIT_OPTIONS)
+    was = gc.isenabled()
+    gc.enable()
+    try:
+        assert k(1.5) == 3.0
+        assert seen and not any(seen)  # numba's compile ran with the collector off
+        assert gc.isenabled()  # and it is on again after
+    finally:
+        (gc.enable if was else gc.disable)()
