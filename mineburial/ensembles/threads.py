@@ -18,8 +18,8 @@ BLOCK_SIZE = 2  # items a thread takes at a time (drops are long: balance, not o
 
 #: seconds between the main thread's looks at the threads and at the Ctrl-C flag
 POLL = 0.05
-#: seconds a Ctrl-C waits for the drops in flight before giving up on them (their
-#: threads are daemons: a drop cannot be stopped inside compiled code)
+#: seconds a Ctrl-C waits for the items in flight before giving up on them (their
+#: threads are daemons: an item cannot be stopped inside compiled code)
 GRACE = 1.0
 
 
@@ -58,7 +58,7 @@ def run_blocks(n: int, run, threads: int) -> None:
     lock = threading.Lock()
     with sigint_flag() as interrupted:
         for k in range(threads):
-            threading.Thread(target=worker, name=f"mineburial-drops-{k}", daemon=True).start()
+            threading.Thread(target=worker, name=f"mineburial-worker-{k}", daemon=True).start()
         while not all_done.wait(POLL) and not interrupted.is_set():
             pass
         if interrupted.is_set():
