@@ -6,9 +6,9 @@ import json
 import math
 
 import numpy as np
-import xarray as xr
 
 from mineburial import resources
+from mineburial._deferred import xarray as xr
 from mineburial.config import Scenario
 from mineburial.errors import ScenarioError
 from mineburial.io import variables as V

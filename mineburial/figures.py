@@ -17,8 +17,7 @@ from __future__ import annotations
 
 import pathlib
 
-import xarray as xr
-
+from mineburial._deferred import xarray as xr
 from mineburial.ensembles.store import RunError, check_output_path, same_file
 from mineburial.io import variables as V
 from mineburial.io.files import atomic_path

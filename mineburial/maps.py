@@ -30,9 +30,9 @@ import time
 from collections.abc import Mapping
 
 import numpy as np
-import xarray as xr
 
 from mineburial import config as cfg
+from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons

@@ -35,9 +35,9 @@ import pathlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import netCDF4
 import numpy as np
 
+from mineburial._deferred import netCDF4
 from mineburial.errors import ScenarioError, unknown_name_message, unknown_names_message
 from mineburial.io import inputs
 from mineburial.io.inputs import InputFileError

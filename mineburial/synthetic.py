@@ -24,8 +24,8 @@ from __future__ import annotations
 import pathlib
 
 import numpy as np
-import xarray as xr
 
+from mineburial._deferred import xarray as xr
 from mineburial.io.dataset import build
 from mineburial.io.netcdf import write_netcdf
 from mineburial.io.variables import SYNTHETIC_NOTE

@@ -24,9 +24,9 @@ from collections.abc import Mapping
 
 import numba
 import numpy as np
-import xarray as xr
 
 from mineburial import config as cfg
+from mineburial._deferred import xarray as xr
 from mineburial.ensembles.statistics import scour_statistics
 from mineburial.ensembles.threads import run_blocks
 from mineburial.io import forcing as fio

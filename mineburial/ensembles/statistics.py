@@ -34,9 +34,9 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
-import xarray as xr
 from scipy.special import ndtri
 
+from mineburial._deferred import xarray as xr
 from mineburial.io import variables as V
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout

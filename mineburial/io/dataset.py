@@ -19,8 +19,8 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
+from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V

@@ -28,9 +28,8 @@ import stat
 from dataclasses import dataclass, replace
 
 import numpy as np
-import xarray as xr
-from xarray.coding.times import decode_cf_datetime
 
+from mineburial._deferred import xarray as xr
 from mineburial.io.files import atomic_write_text
 from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
@@ -586,7 +585,8 @@ def _netcdf_times(ds, where):
         )
     raw = np.asarray(var.values, dtype=np.float64)
     try:
-        stamps = decode_cf_datetime(np.where(np.isfinite(raw), raw, 0.0), str(units), calendar)
+        finite = np.where(np.isfinite(raw), raw, 0.0)
+        stamps = xr.coding.times.decode_cf_datetime(finite, str(units), calendar)
     except (ValueError, OverflowError, TypeError):
         raise ScenarioError(
             f"{where}: variable '{name}' has units '{units}' that are not CF time units"

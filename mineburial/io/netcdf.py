@@ -20,8 +20,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
+from mineburial._deferred import xarray as xr
 from mineburial.io import variables as V
 from mineburial.io.files import atomic_path
 

@@ -47,8 +47,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
+from mineburial._deferred import xarray as xr
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
 

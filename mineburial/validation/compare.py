@@ -40,10 +40,10 @@ import pathlib
 import time
 
 import numpy as np
-import xarray as xr
 from scipy.special import ndtri
 
 from mineburial import config as cfg
+from mineburial._deferred import xarray as xr
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics

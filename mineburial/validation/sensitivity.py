@@ -54,9 +54,9 @@ import time
 
 import numpy as np
 import scipy
-import xarray as xr
 from scipy import stats
 
+from mineburial._deferred import xarray as xr
 from mineburial.config import ScenarioError
 from mineburial.ensembles import engine, model_form, runner
 from mineburial.ensembles.scour import after_scour, at_lead_time
