@@ -155,6 +155,7 @@ GENERIC_RUN_MODULES = (
     "mineburial.ensembles.settings",
     "mineburial.ensembles.distributed",
     "mineburial.ensembles.distributions",
+    "mineburial.ensembles.intervals",
 )
 SYSTEM_MODULES = SYSTEM_KERNELS + (
     "mineburial.ensembles.mine",

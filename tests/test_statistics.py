@@ -15,12 +15,8 @@ import numpy as np
 import pytest
 from scipy.stats import binomtest
 
-from mineburial.ensembles.statistics import (
-    burial_class,
-    burial_statistics,
-    status_counts,
-    wilson_interval,
-)
+from mineburial.ensembles.intervals import two_sided_normal_quantile, wilson_interval
+from mineburial.ensembles.statistics import burial_class, burial_statistics, status_counts
 from mineburial.io import variables as V
 from mineburial.kernels import status as S
 from mineburial.kernels.mine import layout
@@ -180,6 +176,12 @@ def test_wilson_interval_closed_form_and_scipy(k, n):
     ci = binomtest(k, n).proportion_ci(confidence_level=0.95, method="wilson")
     assert lo == pytest.approx(ci.low, abs=1e-12)
     assert hi == pytest.approx(ci.high, abs=1e-12)
+
+
+def test_two_sided_normal_quantile_against_tabulated_values():
+    # Abramowitz & Stegun (1964), table 26.5: z = 1.959963984540054 (95 %), 1.6448536269514722 (90 %)
+    assert two_sided_normal_quantile(0.95) == pytest.approx(Z975, rel=1e-15)
+    assert two_sided_normal_quantile(0.90) == pytest.approx(1.6448536269514722, rel=1e-15)
 
 
 def test_wilson_interval_other_level_and_empty_sample():

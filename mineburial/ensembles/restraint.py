@@ -39,9 +39,9 @@ import numpy as np
 from mineburial._version import __version__
 from mineburial.config import SUPPORT_TOLERANCE
 from mineburial.ensembles import distributions as dist
+from mineburial.ensembles.intervals import wilson_interval
 from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
-from mineburial.ensembles.statistics import wilson_interval
 from mineburial.ensembles.threads import run_blocks
 from mineburial.errors import ScenarioError, unknown_names_message
 from mineburial.io import netcdf as ncio

@@ -26,7 +26,8 @@ Definitions (all declared once in :mod:`mineburial.io.variables`):
   class 3 (20, 75], class 4 p > 75; see :func:`burial_class`.
 * class probabilities k/n with the Wilson score interval, Wilson, E. B. (1927),
   Probable inference, the law of succession, and statistical inference,
-  J. Am. Stat. Assoc. 22(158), 209-212; see :func:`wilson_interval`.
+  J. Am. Stat. Assoc. 22(158), 209-212; see
+  :func:`mineburial.ensembles.intervals.wilson_interval`.
 """
 
 from __future__ import annotations
@@ -34,9 +35,9 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
-from scipy.special import ndtri
 
 from mineburial._deferred import xarray as xr
+from mineburial.ensembles.intervals import wilson_interval
 from mineburial.io import variables as V
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
@@ -44,7 +45,6 @@ from mineburial.kernels.mine import layout
 __all__ = [
     "burial_statistics",
     "burial_class",
-    "wilson_interval",
     "default_exceedance_levels",
     "default_histogram_bins",
     "status_counts",
@@ -77,37 +77,6 @@ def burial_class(percent):
     cls = np.searchsorted(np.asarray(V.BURIAL_CLASS_EDGES), p, side="left").astype(np.int8)
     cls = np.where(np.isnan(p), np.int8(V.UNCLASSIFIED), cls).astype(np.int8)
     return cls[()] if cls.ndim == 0 else cls
-
-
-def wilson_interval(k, n, confidence_level: float = 0.95):
-    """Wilson score interval for a binomial proportion k/n.
-
-    Wilson (1927), eq. for the score interval::
-
-        centre = (p + z^2 / (2 n)) / (1 + z^2 / n)
-        half   = z / (1 + z^2 / n) * sqrt(p (1 - p) / n + z^2 / (4 n^2))
-
-    with p = k / n and z the (1 + confidence_level) / 2 quantile of the
-    standard normal distribution. Returns ``(lower, upper)`` arrays, clipped to
-    [0, 1] (they lie there analytically; clipping only removes round-off), and
-    NaN where n = 0.
-    """
-    if not 0.0 < confidence_level < 1.0:
-        raise ValueError(f"confidence_level must lie in (0, 1), got {confidence_level!r}")
-    k = np.asarray(k, dtype=np.float64)
-    n = np.asarray(n, dtype=np.float64)
-    if np.any(k < 0) or np.any(k > n):
-        raise ValueError("wilson_interval needs 0 <= k <= n")
-    z = float(ndtri(0.5 + 0.5 * confidence_level))
-    z2 = z * z
-    with np.errstate(invalid="ignore", divide="ignore"):
-        p = k / n
-        denom = 1.0 + z2 / n
-        centre = (p + z2 / (2.0 * n)) / denom
-        half = z / denom * np.sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n))
-    lower = np.where(n > 0, np.clip(centre - half, 0.0, 1.0), np.nan)
-    upper = np.where(n > 0, np.clip(centre + half, 0.0, 1.0), np.nan)
-    return lower, upper
 
 
 def status_counts(status) -> np.ndarray:
@@ -422,7 +391,7 @@ def scour_statistics(
     time; ``time_to_days`` (n, n_levels); ``mobile_days`` (n,); ``scour_status`` (n,) codes of
     :data:`mineburial.io.variables.SCOUR_STATUS_NAMES`. Only drops with status ok enter: the
     same mean, type-7 quantiles, burial classes (:func:`burial_class`) and Wilson intervals
-    (:func:`wilson_interval`) as the impact statistics, per lead time.
+    (:func:`~mineburial.ensembles.intervals.wilson_interval`) as the impact statistics, per lead time.
     """
     measures = np.asarray(measures, dtype=np.float64)
     scour_status = np.asarray(scour_status)

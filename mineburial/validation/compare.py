@@ -40,11 +40,11 @@ import pathlib
 import time
 
 import numpy as np
-from scipy.special import ndtri
 
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial.ensembles import engine, runner, scour
+from mineburial.ensembles.intervals import two_sided_normal_quantile
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun
@@ -368,7 +368,7 @@ def _assemble(base, field, values, per_drop, confidence_level, attrs) -> xr.Data
     values; ``per_drop`` is (summaries, statuses, sampled inputs, changed slots) of the variants,
     ``attrs`` the run's global attributes."""
     summaries, statuses, inputs, changed = per_drop
-    z = float(ndtri(0.5 + 0.5 * confidence_level))
+    z = two_sided_normal_quantile(confidence_level)
     labels = [str(v) for v in values]
     stats = _variant_statistics(base, summaries, statuses, confidence_level, z)
     family = V.family("comparison")
