@@ -35,7 +35,7 @@ from mineburial.systems import restraint as R
 G = 9.81
 MASS, LENGTH = 2.0, 1.0
 #: friction couple at the pin, -T0 om / sqrt(om^2 + W_REG^2) (seed 004's regularised Coulomb law,
-#: kernels/restraint/seabed_contact.regularised_friction): its slope T0 / W_REG / I ~ 1.5e4 1/s near om = 0 is
+#: kernels/seabed_contact.regularised_friction): its slope T0 / W_REG / I ~ 1.5e4 1/s near om = 0 is
 #: what makes the system stiff
 T0, W_REG = 1.0, 1e-4
 INERTIA_PIN = MASS * LENGTH**2 / 3.0

@@ -23,8 +23,8 @@ from scipy.optimize import brentq
 
 from mineburial import multibody as mbp
 from mineburial.kernels import multibody as mb
+from mineburial.kernels import seabed_contact as sc
 from mineburial.kernels.core import System
-from mineburial.kernels.restraint import seabed_contact as sc
 
 G = 9.81
 

@@ -321,7 +321,7 @@ def test_anchor_friction_solves_eq37_at_the_same_instant():
     # the core's reaction of the anchor's locked height, from the final accelerations and forces
     hf_again = joint_forces(q, u, du, forces, system.description.arrays())
     assert hf_again[0, 1] == pytest.approx(normal, rel=1e-10)
-    # the regularised Coulomb law of kernels/restraint/seabed_contact.py: -mu N v / sqrt(v^2 + v_reg^2)
+    # the regularised Coulomb law of kernels/seabed_contact.py: -mu N v / sqrt(v^2 + v_reg^2)
     assert friction == pytest.approx(-0.3 * 0.4 / math.sqrt(0.4**2 + 1e-3**2) * normal, rel=1e-10)
     # and the normal force is eq. (37)'s m g - rho V g less the chain's upward pull on the anchor
     m, v = 40000.0, 2.0 * 4.0 * 2.1

@@ -24,7 +24,7 @@ deviation from the printed equations and every assumed value.
   taken with its velocity relative to the current.
 * :func:`solve_with_friction` -- the accelerations with the anchor's Coulomb friction of
   eqs. (36)-(37), regularised by the generic seabed-contact law
-  (:func:`mineburial.kernels.restraint.seabed_contact.regularised_friction`).
+  (:func:`mineburial.kernels.seabed_contact.regularised_friction`).
 """
 
 import math
@@ -44,7 +44,7 @@ from mineburial.kernels.multibody import (
     kinetic_energy,
     rotating_mass_velocity_terms,
 )
-from mineburial.kernels.restraint.seabed_contact import regularised_friction
+from mineburial.kernels.seabed_contact import regularised_friction
 
 #: 4-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 25.4.30)
 _GL_X = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -422,7 +422,7 @@ def solve_with_friction(q, u, params):
     The normal force ``N`` of eq. (37) is the seabed's reaction on the anchor, i.e. the
     reaction of its locked vertical coordinate (row 0 of the core's joint forces), which
     contains the chain's pull ``F_2^H sin(beta_2)`` at the same instant. The friction is the
-    generic regularised Coulomb law of :mod:`mineburial.kernels.restraint.seabed_contact`,
+    generic regularised Coulomb law of :mod:`mineburial.kernels.seabed_contact`,
     ``f = -mu N s``, ``s = v / sqrt(v^2 + v_reg^2)`` (``v``: the anchor's velocity,
     ``v_reg``: anchor.friction_velocity_scale). Accelerations and reactions are affine in
     ``f``, so ``f = -mu s N(f)`` is solved exactly from two evaluations (seed 004 takes the
