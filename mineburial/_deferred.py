@@ -2,17 +2,19 @@
 
 Computing drops needs numpy, numba and the sampling's scipy.special; it does not need
 xarray (with pandas) or netCDF4, which only build, write and read files. Importing them
-with the engine took 0.7 of the 1.2-1.9 s of a warm start on the 2-core development
-machine (``python -X importtime``; ``benchmarks/bench_startup.py``), so a dask worker, a
-resumed chunk or the first drop of ``mineburial run`` waited for libraries it does not
-use. A module of mineburial names them here instead::
+with the engine made a dask worker, a resumed chunk or the first drop of ``mineburial run``
+wait for libraries it does not use: deferring them took the warm start to the first drop
+from 2.03 to 1.48 s (medians, 2-core development machine, ``benchmarks/results/
+throughput_and_startup.txt``, session 12). A module of mineburial names them here instead::
 
     from mineburial._deferred import xarray as xr
 
 and ``xr.Dataset`` imports xarray the first time it is read (Python's import system does
-it, under its lock, so threads are safe) and is an ordinary attribute lookup after that.
-``tests/test_imports.py`` checks that importing the engine and running a drop imports
-neither library. Type annotations stay strings (``from __future__ import annotations``).
+it, under its lock, so threads are safe); after that, each read looks the module up in
+``sys.modules`` (``importlib.import_module``: 2.3 us a read on the development machine) and
+reads its attribute. ``tests/test_deferred_imports.py`` checks that loading the default
+ensemble and sampling a chunk imports neither library. Type annotations stay strings
+(``from __future__ import annotations``).
 """
 
 from __future__ import annotations
