@@ -1,7 +1,8 @@
-"""Cold compile of two trees side by side: the A/B that a shared 2-core machine can resolve.
+"""Two trees side by side (cold compile, warm start, throughput): the A/B a shared 2-core machine can resolve.
 
 Run:  python benchmarks/compare_compile.py TREE_A TREE_B [--rounds 4] [--path default|self-check]
       python benchmarks/compare_compile.py TREE_A TREE_B --warm 7
+      python benchmarks/compare_compile.py TREE_A TREE_B --throughput SCENARIO.toml [--rounds 6] [-n 1000]
 
 Each round compiles both trees at the same time, one on each core (``taskset``; the cores are swapped
 every round), each in a fresh ``NUMBA_CACHE_DIR``, by the tree's own ``bench_startup.measure()`` (imports,
@@ -22,8 +23,14 @@ import subprocess
 import sys
 import tempfile
 
+#: the start-up of one tree: the tree's own bench_startup.measure() (which runs a fresh interpreter in this
+#: working directory, the tree: a `python -c` puts its working directory first on sys.path, so started from
+#: another checkout it would import that checkout's mineburial whatever PYTHONPATH says)
 CODE = """
-import sys, tempfile
+import os, sys, tempfile
+import mineburial
+if not mineburial.__file__.startswith(os.path.join(sys.argv[1], "")):
+    sys.exit(f"imported {mineburial.__file__}, not the tree's")
 sys.path.insert(0, sys.argv[1] + "/benchmarks")
 import bench_startup
 reference = None if sys.argv[2] == "default" else sys.argv[2]
@@ -35,19 +42,80 @@ else:
 """
 
 
-def _start(tree, core, path, cache=None):
+#: the batch driver's best of three over the scenario's first n drops, one numba thread: wall s, CPU s
+THROUGHPUT = """
+import os, sys, time, numba
+import mineburial
+if not mineburial.__file__.startswith(os.path.join(os.getcwd(), "")):
+    sys.exit(f"imported {mineburial.__file__}, not the tree's")
+numba.set_num_threads(1)
+from mineburial.ensembles.batch import run_batch
+from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+spec = load_ensemble(sys.argv[1])
+P, valid, _ = chunk_inputs(spec, 0, int(sys.argv[2]))
+run_batch(P[:1], valid[:1], spec.sediment_bank, spec.current_bank)
+best = (float("inf"), float("inf"))
+for _ in range(3):
+    wall, cpu = time.perf_counter(), time.process_time()
+    run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+    best = min(best, (time.perf_counter() - wall, time.process_time() - cpu))
+print(*best)
+"""
+
+
+def _launch(tree, core, code, args, cache=None):
     env = {**os.environ, "PYTHONPATH": tree}
+    if cache:
+        env.update(NUMBA_CACHE_DIR=cache, MINEBURIAL_NUMBA_CACHE="1")
     pinned = ["taskset", "-c", str(core)] if core is not None else []
-    command = [*pinned, sys.executable, "-c", CODE, tree, path, *([cache] if cache else [])]
-    return subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    command = [*pinned, sys.executable, "-c", code, *args]
+    # cwd: the tree, whose mineburial a `python -c` then imports (its working directory is first on sys.path)
+    return subprocess.Popen(
+        command, env=env, cwd=tree, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
 
 
-def _result(tree, run) -> list[float]:
-    """(import wall s, total wall s, CPU s) of a finished measurement."""
+def _start(tree, core, path, cache=None):
+    return _launch(tree, core, CODE, [tree, path, *([cache] if cache else [])])
+
+
+def _result(tree, run, count=3) -> list[float]:
+    """The last ``count`` numbers a finished measurement printed: (import wall s, total wall s, CPU s)
+    of a start-up, (wall s, CPU s) of a throughput run."""
     out, err = run.communicate()
     if run.returncode != 0:
         sys.exit(f"{tree}: the measurement failed:\n{err[-2000:]}")
-    return [float(x) for x in out.split()[-3:]]
+    return [float(x) for x in out.split()[-count:]]
+
+
+def throughput(trees, rounds, scenario, n):
+    """The batch driver's speed on one thread, both trees side by side, each from a cache it filled first."""
+    args = [os.path.abspath(scenario), str(n)]
+    with tempfile.TemporaryDirectory() as a, tempfile.TemporaryDirectory() as b:
+        caches = dict(zip(trees, (a, b)))
+        fills = {t: _launch(t, c, THROUGHPUT, [args[0], "1"], caches[t]) for t, c in zip(trees, (0, 1))}
+        for tree, run in fills.items():
+            _result(tree, run, 2)
+        times = {t: [] for t in trees}
+        for k in range(rounds):
+            cores = (0, 1) if k % 2 == 0 else (1, 0)
+            runs = {t: _launch(t, c, THROUGHPUT, args, caches[t]) for t, c in zip(trees, cores)}
+            for tree, run in runs.items():
+                times[tree].append(_result(tree, run, 2))
+            print(
+                f"round {k}: "
+                + "   ".join(f"{t} {times[t][-1][0]:.3f} s wall {times[t][-1][1]:.3f} s CPU" for t in trees),
+                flush=True,
+            )
+    a, b = trees
+    for i, what in enumerate(("wall", "CPU")):
+        ratios = [y[i] / x[i] - 1.0 for x, y in zip(times[a], times[b])]
+        print(
+            f"{what} s of {n} drops: median A {statistics.median(x[i] for x in times[a]):.3f}, "
+            f"B {statistics.median(x[i] for x in times[b]):.3f}; B/A - 1 per round "
+            + ", ".join(f"{100 * r:+.1f} %" for r in ratios)
+            + f" (median {100 * statistics.median(ratios):+.1f} %)"
+        )
 
 
 def warm(trees, rounds, path):
@@ -73,8 +141,13 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=4)
     parser.add_argument("--path", choices=("default", "self-check"), default="default")
     parser.add_argument("--warm", type=int, metavar="N", help="compare the warm start, N runs per tree")
+    parser.add_argument("--throughput", metavar="SCENARIO", help="compare the batch driver's drops/s on it")
+    parser.add_argument("-n", type=int, default=1000, help="drops per throughput run (default 1000)")
     args = parser.parse_args(argv)
     trees = [os.path.abspath(t) for t in args.trees]
+    if args.throughput:
+        throughput(trees, args.rounds, args.throughput, args.n)
+        return
     if args.warm:
         warm(trees, args.warm, args.path)
         return
