@@ -23,31 +23,38 @@ import subprocess
 import sys
 import tempfile
 
-#: the start-up of one tree: the tree's own bench_startup.measure() (which runs a fresh interpreter in this
-#: working directory, the tree: a `python -c` puts its working directory first on sys.path, so started from
-#: another checkout it would import that checkout's mineburial whatever PYTHONPATH says)
-CODE = """
-import os, sys, tempfile
+#: the first lines of each measurement. It runs in the tree (cwd), and a `python -c` puts its working
+#: directory first on sys.path, so it imports the tree's mineburial; started in another checkout it would
+#: import that checkout's whatever PYTHONPATH says, so any other origin ends the measurement
+OWN_TREE = """
+import os, sys
 import mineburial
-if not mineburial.__file__.startswith(os.path.join(sys.argv[1], "")):
+if not mineburial.__file__.startswith(os.path.join(os.getcwd(), "")):
     sys.exit(f"imported {mineburial.__file__}, not the tree's")
-sys.path.insert(0, sys.argv[1] + "/benchmarks")
+"""
+
+#: the start-up of one tree: its own bench_startup.measure(), whose fresh interpreter runs in the tree too
+CODE = (
+    OWN_TREE
+    + """
+import tempfile
+sys.path.insert(0, "benchmarks")
 import bench_startup
-reference = None if sys.argv[2] == "default" else sys.argv[2]
-if len(sys.argv) > 3:  # a cache folder that stays (--warm)
-    print(*bench_startup.measure(sys.argv[3], reference=reference))
+reference = None if sys.argv[1] == "default" else sys.argv[1]
+if len(sys.argv) > 2:  # a cache folder that stays (--warm)
+    print(*bench_startup.measure(sys.argv[2], reference=reference))
 else:
     with tempfile.TemporaryDirectory() as cache:
         print(*bench_startup.measure(cache, reference=reference))
 """
+)
 
 
 #: the batch driver's best of three over the scenario's first n drops, one numba thread: wall s, CPU s
-THROUGHPUT = """
-import os, sys, time, numba
-import mineburial
-if not mineburial.__file__.startswith(os.path.join(os.getcwd(), "")):
-    sys.exit(f"imported {mineburial.__file__}, not the tree's")
+THROUGHPUT = (
+    OWN_TREE
+    + """
+import time, numba
 numba.set_num_threads(1)
 from mineburial.ensembles.batch import run_batch
 from mineburial.ensembles.engine import chunk_inputs, load_ensemble
@@ -61,6 +68,7 @@ for _ in range(3):
     best = min(best, (time.perf_counter() - wall, time.process_time() - cpu))
 print(*best)
 """
+)
 
 
 def _launch(tree, core, code, args, cache=None):
@@ -76,7 +84,7 @@ def _launch(tree, core, code, args, cache=None):
 
 
 def _start(tree, core, path, cache=None):
-    return _launch(tree, core, CODE, [tree, path, *([cache] if cache else [])])
+    return _launch(tree, core, CODE, [path, *([cache] if cache else [])])
 
 
 def _result(tree, run, count=3) -> list[float]:
