@@ -34,13 +34,25 @@ def test_each_band_row_passes_exactly_when_the_published_band_holds(rows):
     bands = {
         "B/D after one event": (0.75, 1.0),  # Oahu, thick sand: "about their diameter"
         "B/D after two events": (0.40, 0.60),  # Halekulani 2008: three of four mines 40-60 %
-        "B/D after 60 days of weekly fronts": (0.0, 0.745),  # Indian Rocks Beach: up to 74.5 %
     }
     for start, (lo, hi) in bands.items():
         r = row(rows, start)
         assert r.passed == (lo <= r.model <= hi), start
     info = [r for r in rows.values() if "information" in r.quantity]
-    assert len(info) == 3 and all(r.passed is None for r in info)
+    assert len(info) == 5 and all(r.passed is None and r.result == "info" for r in info)
+
+
+def test_the_indian_rocks_beach_rows_that_cannot_fail_are_information(rows):
+    """Issue 32 item 5: "up to 74.5 %" bounds burial from above only, so B/D = 0 (no scour at
+    all) is inside it as well; the coarse-sand ripple cap is built into the stage from the same
+    observation. Neither row can fail, so neither is a pass: both are information, with the
+    reason in the row."""
+    fine = row(rows, "B/D after 60 days of weekly fronts")
+    coarse = row(rows, "B/D after the same 60 days")
+    for r, why in ((fine, "no scour"), (coarse, "built from this very observation")):
+        assert r.passed is None and r.result == "info" and r.error is None
+        assert r.tolerance.startswith("information") and why in r.tolerance
+    assert fine.reference == "at most 0.745"
 
 
 def peak_theta(hs, tp, h, d50, rho_s):
