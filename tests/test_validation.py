@@ -18,6 +18,10 @@ from mineburial.validation.cases import (
     CASES,
     KINDS,
     MEASUREMENT,
+    MINE,
+    PREDICTIVE,
+    RESTRAINT,
+    SYSTEMS,
     VERIFICATION,
     Case,
     Row,
@@ -26,7 +30,7 @@ from mineburial.validation.cases import (
     run_case,
     submergence_time,
 )
-from mineburial.validation.report import HEADER, counts_text, format_row, kind_counts
+from mineburial.validation.report import HEADER, counts_text, format_row, kind_counts, system_counts
 
 SUMMARY = pathlib.Path(__file__).resolve().parent.parent / "docs" / "validation" / "summary.md"
 
@@ -49,8 +53,14 @@ def test_quick_report_files(quick):
         if r["result"] not in ("info", "calibration"):
             assert r["tolerance"]
     counts = json.loads((quick / "results.json").read_text())["counts"]
-    assert sum(sum(n.values()) for n in counts.values()) == len(rows)
-    assert counts[CALIBRATION]["pass"] == counts[CALIBRATION]["FAIL"] == 0
+    assert set(counts) == set(SYSTEMS) and all(set(c) == set(KINDS) for c in counts.values())
+    assert sum(sum(n.values()) for c in counts.values() for n in c.values()) == len(rows)
+    for system, c in counts.items():
+        assert c[CALIBRATION]["pass"] == c[CALIBRATION]["FAIL"] == 0
+        for kind, n in c.items():  # each count is the number of rows of that system, kind and result
+            for result, k in n.items():
+                got = [r for r in rows if (r["system"], r["kind"], r["result"]) == (system, kind, result)]
+                assert len(got) == k, (system, kind, result)
     summary = (quick / "summary.md").read_text()
     # the headline choice, its one calibration case and the timing origin are stated
     assert "munk_factor = 0" in summary and "one calibration case" in summary and "0.23" in summary
@@ -98,13 +108,14 @@ def test_failing_rows_are_shown_failing():
     assert "+100 %" in format_row(row)
 
 
-def _row(kind, passed):
+def _row(kind, passed, system=MINE):
     r = Row("c", "q", "s", 1.0, 1.0, "s", "1 %", 0.0, "relative", passed, False)
     r.kind = kind
+    r.system = system
     return r
 
 
-def test_rows_are_counted_separately_by_kind():
+def test_rows_are_counted_separately_by_system_and_kind():
     rows = [
         _row(MEASUREMENT, True),
         _row(MEASUREMENT, False),
@@ -115,22 +126,64 @@ def test_rows_are_counted_separately_by_kind():
         _row(CALIBRATION, True),  # fits, but a calibration row is never a pass
         _row(CALIBRATION, False),
         _row(CALIBRATION, None),
+        _row(VERIFICATION, True, RESTRAINT),  # the restraining system's: counted apart from the mine
+        _row(VERIFICATION, False, RESTRAINT),
+        _row(PREDICTIVE, True),  # the hook of issue 32: counted like the others
+        _row(PREDICTIVE, False),
     ]
     n = kind_counts(rows)
     assert n[MEASUREMENT] == {"pass": 1, "FAIL": 1, "info": 1, "calibration": 0}
-    assert n[VERIFICATION] == {"pass": 3, "FAIL": 0, "info": 0, "calibration": 0}
+    assert n[VERIFICATION] == {"pass": 4, "FAIL": 1, "info": 0, "calibration": 0}
     assert n[CALIBRATION] == {"pass": 0, "FAIL": 0, "info": 0, "calibration": 3}
+    assert n[PREDICTIVE] == {"pass": 1, "FAIL": 1, "info": 0, "calibration": 0}
+    by_system = system_counts(rows)
+    assert list(by_system) == [MINE, RESTRAINT]
+    assert by_system[MINE][VERIFICATION] == {"pass": 3, "FAIL": 0, "info": 0, "calibration": 0}
+    assert by_system[RESTRAINT][VERIFICATION] == {"pass": 1, "FAIL": 1, "info": 0, "calibration": 0}
+    assert sum(by_system[RESTRAINT][k]["pass"] for k in KINDS) == 1
     assert counts_text(rows) == (
-        "measurement: 1 pass, 1 fail, 1 for information (no tolerance); "
+        "mine -- measurement: 1 pass, 1 fail, 1 for information (no tolerance); "
         "verification: 3 pass, 0 fail, 0 for information (no tolerance); "
-        "calibration: 3 rows (not counted as passes or failures)"
+        "calibration: 3 rows (not counted as passes or failures); "
+        "predictive: 1 pass, 1 fail, 0 for information (no tolerance). "
+        "restraint -- verification: 1 pass, 1 fail, 0 for information (no tolerance)"
     )
     # the table says whether a calibration row fits, without calling it a pass
     assert "| calibration, within its tolerance |" in format_row(rows[6])
     assert "| calibration, outside its tolerance |" in format_row(rows[7])
-    # a row that no case declared a kind for cannot be counted
+    # a row that no case declared a kind or a system for cannot be counted
     with pytest.raises(ValueError, match="no kind"):
         kind_counts([Row("c", "q", "s", 1.0, 1.0)])
+    with pytest.raises(ValueError, match="no system"):
+        system_counts([Row("c", "q", "s", 1.0, 1.0, kind=MEASUREMENT)])
+
+
+def test_predictive_kind_is_declared_with_its_meaning_and_no_case_uses_it():
+    """Issue 32 item 5: the fourth kind is a hook for the posterior predictive checks that the
+    calibration module will add; it is declared and counted, and no case of it exists yet."""
+    assert list(KINDS) == [MEASUREMENT, VERIFICATION, CALIBRATION, PREDICTIVE]
+    assert PREDICTIVE == "predictive"
+    meaning = KINDS[PREDICTIVE]
+    assert "left out of the calibration" in meaning and "predictive 90 % band" in meaning
+    assert not [c for c in CASES if c.kind == PREDICTIVE]
+    # a predictive case needs no calibrated parameter, and its rows pass or fail
+    case = Case("p", "t", lambda quick_only, figures: [Row("c", "q", "s", 1.0, 1.0, passed=True)], PREDICTIVE)
+    assert [(r.kind, r.result) for r in run_case(case)] == [(PREDICTIVE, "pass")]
+
+
+def test_the_restraining_system_is_declared_apart_from_the_mine():
+    from mineburial.systems import registry
+
+    assert set(SYSTEMS) == set(registry.names())  # the systems of the registry, no other
+    systems = {c.key: c.system for c in CASES}
+    assert systems.pop("restraint_table3") == RESTRAINT
+    assert set(systems.values()) == {MINE}
+    case = Case(
+        "k", "t", lambda quick_only, figures: [Row("c", "q", "s", 1.0, 1.0)], VERIFICATION, system=RESTRAINT
+    )
+    assert [(r.kind, r.system) for r in run_case(case)] == [(VERIFICATION, RESTRAINT)]
+    with pytest.raises(ValueError, match="system"):
+        Case("k", "t", case.run, VERIFICATION, system="barge")
 
 
 def test_every_case_declares_its_kind_and_run_case_stamps_it():

@@ -9,10 +9,15 @@ failing row is reported failing, never removed. ``quick`` rows are the subset CI
 Every case group is declared once, in :data:`CASES`, with its **kind** (:data:`KINDS`):
 ``measurement`` (the model against measured data), ``verification`` (closed forms,
 independent numerics, convergence, conservation, self-consistency, the model against
-another model's published results) or ``calibration`` (a measured case that was used to
+another model's published results), ``calibration`` (a measured case that was used to
 choose a parameter; it shows the fit, and cannot also count as that parameter's
-validation). :func:`run_case` stamps the kind on every row the group returns; the report
-counts each kind separately.
+validation) or ``predictive`` (posterior predictive checks; declared for the calibration
+module of issue 32, no case of that kind exists yet), and with its **system**
+(:data:`SYSTEMS`: the mine, or seed 004's restraining system). :func:`run_case` stamps
+both on every row the group returns; the report counts each system and each kind
+separately. A row that cannot fail (a bound every plausible model meets, a check of a
+value built from the same observation) is information (``passed = None``), with the
+reason in its tolerance, never a pass.
 
 Seed 000 = Chu & Fan (2006), "Prediction of falling cylinder through air-water-sediment
 columns", J. Appl. Mech. 73, DOI 10.1115/1.2125975 (IMPACT35).
@@ -39,20 +44,34 @@ from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
 from mineburial.systems import restraint
 from mineburial.validation import references as ref
 
-__all__ = ["Row", "Case", "CASES", "KINDS", "run_case", "run_cases"]
+__all__ = ["Row", "Case", "CASES", "KINDS", "SYSTEMS", "run_case", "run_cases"]
 
 SEED000 = "seed 000 (Chu & Fan 2006, J. Appl. Mech. 73)"
 
 MEASUREMENT = "measurement"
 VERIFICATION = "verification"
 CALIBRATION = "calibration"
-#: the kinds of validation rows, in report order, with what each means
+PREDICTIVE = "predictive"
+#: the kinds of validation rows, in report order, with what each means. ``predictive`` is the
+#: hook of issue 32 item 5 for the posterior predictive checks of the calibration module (added
+#: elsewhere, later): it is counted like the others, and no case of that kind is declared here.
 KINDS = {
     MEASUREMENT: "comparisons with measurements",
     VERIFICATION: "verification: closed forms, independent numerics, convergence, conservation, "
     "self-consistency, model against model",
     CALIBRATION: "calibration: measured cases used to choose a parameter (the fit is shown; it is not a "
     "validation of that parameter and is not counted as a pass or a failure)",
+    PREDICTIVE: "posterior predictive checks: each evidence row left out of the calibration, predicted "
+    "with its band; passes when the measurement lies inside the predictive 90 % band",
+}
+MINE = "mine"
+RESTRAINT = "restraint"
+#: the systems validated (the names of mineburial.systems.registry), in report order, each
+#: counted apart: the restraining system shares the engine's integrators, not the mine's physics,
+#: so its rows say nothing about the mine's burial
+SYSTEMS = {
+    MINE: "the mine (impact burial, water column, post-impact scour)",
+    RESTRAINT: "seed 004's restraining system",
 }
 
 
@@ -72,6 +91,7 @@ class Row:
     passed: bool | None = None  # None: information, no pass/fail
     quick: bool = False
     kind: str = ""  # one of KINDS, stamped from the case's declaration in CASES by run_case
+    system: str = ""  # one of SYSTEMS, stamped the same way
 
     @property
     def result(self) -> str:
@@ -1154,17 +1174,23 @@ class Case:
     """One group of validation rows, declared once with its kind (a key of :data:`KINDS`).
 
     ``run(quick_only=..., figures=...)`` returns the rows; ``calibrates`` names, for a
-    calibration case, the parameter the case was used to choose and where that is recorded."""
+    calibration case, the parameter the case was used to choose and where that is recorded;
+    ``system`` is the system the case validates (a key of :data:`SYSTEMS`)."""
 
     key: str
     title: str
     run: Callable
     kind: str
     calibrates: str = ""
+    system: str = MINE
 
     def __post_init__(self):
         if self.kind not in KINDS:
             raise ValueError(f"validation case {self.key}: kind {self.kind!r} is not one of {list(KINDS)}")
+        if self.system not in SYSTEMS:
+            raise ValueError(
+                f"validation case {self.key}: system {self.system!r} is not one of {list(SYSTEMS)}"
+            )
         if (self.kind == CALIBRATION) != bool(self.calibrates):
             raise ValueError(
                 f"validation case {self.key}: a calibration case (and only one) names what it calibrates"
@@ -1221,6 +1247,7 @@ CASES = (
         "Seed 004 Table 3: stopping times of the restraining system (against seed 004's own simulation)",
         restraint_table3,
         VERIFICATION,
+        system=RESTRAINT,
     ),
     Case(
         "scour_field_bands",
@@ -1240,10 +1267,11 @@ class FigureList(list):
 
 
 def run_case(case: Case, quick: bool = False, figures=None) -> list[Row]:
-    """The rows of one case group, each stamped with the group's declared kind."""
+    """The rows of one case group, each stamped with the group's declared kind and system."""
     rows = case.run(quick_only=quick, figures=figures)
     for row in rows:
         row.kind = case.kind
+        row.system = case.system
     return rows
 
 
