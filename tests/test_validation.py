@@ -4,18 +4,23 @@ and the committed summary table (docs/validation/summary.md) against a fresh run
 import json
 import math
 import pathlib
+import re
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from mineburial.cli import main
+from mineburial.config import example_path
 from mineburial.kernels import status
 from mineburial.validation.cases import (
     ANCHOR,
     ANCHOR_K,
     CALIBRATION,
     CASES,
+    EXP1,
+    EXP1_POOL_DEPTH,
+    EXP1_VARIANTS,
     KINDS,
     MEASUREMENT,
     MINE,
@@ -25,8 +30,11 @@ from mineburial.validation.cases import (
     VERIFICATION,
     Case,
     Row,
+    _exp1_drop,
     _summary,
     anchor_scenario,
+    exp1_scenario,
+    exp1_variant_label,
     run_case,
     submergence_time,
 )
@@ -191,12 +199,15 @@ def test_every_case_declares_its_kind_and_run_case_stamps_it():
     kinds = {c.key: c.kind for c in CASES}
     # the Exp-1 (92) drop chose numerics.munk_factor under the mineburial model (docs/physics.md
     # section 2): calibration; IMPACT35 (no added mass) on it and both models on (93): measurement
-    assert kinds["exp1_case92_mineburial"] == CALIBRATION
-    assert "munk_factor" in next(c.calibrates for c in CASES if c.key == "exp1_case92_mineburial")
-    assert kinds["exp1_case92_impact35"] == kinds["exp1_case93_mineburial"] == MEASUREMENT
+    assert kinds["exp1_case92_mineburial_munk_factor"] == CALIBRATION
+    assert "munk_factor" in next(c.calibrates for c in CASES if c.key == "exp1_case92_mineburial_munk_factor")
+    assert kinds["exp1_case92_impact35"] == kinds["exp1_case93_mineburial_munk_factor"] == MEASUREMENT
+    # the literature's viscous_crossflow was not tuned on Exp-1: measurement on both drops
+    assert kinds["exp1_case92_mineburial_viscous_crossflow"] == MEASUREMENT
+    assert kinds["exp1_case93_mineburial_viscous_crossflow"] == MEASUREMENT
     # the Exp-2 ratio compares two models with each other; Table 3 is seed 004's simulation
     assert kinds["exp2_models"] == kinds["restraint_table3"] == VERIFICATION
-    assert [c.key for c in CASES if c.kind == CALIBRATION] == ["exp1_case92_mineburial"]
+    assert [c.key for c in CASES if c.kind == CALIBRATION] == ["exp1_case92_mineburial_munk_factor"]
     case = Case("k", "t", lambda quick_only, figures: [Row("c", "q", "s", 1.0, 1.0)], VERIFICATION)
     assert [r.kind for r in run_case(case)] == [VERIFICATION]
     with pytest.raises(ValueError, match="kind"):
@@ -243,3 +254,56 @@ def test_anchor_embedment_rises_with_speed_and_density_and_falls_with_strength()
     assert embedment(strength_gradient=ANCHOR_K[1]) < base
     # deeper than the anchor is long, shallower than the 100 m water column's sediment
     assert ANCHOR["length"] < base < 100.0
+
+
+def test_exp1_runs_every_water_column_model_at_one_common_pool_depth():
+    """Issue 32 item 5: both Exp-1 drops under every numerics.water_column of the mineburial
+    model (and IMPACT35, to which the choice does not apply), all in the same assumed pool."""
+    from mineburial.scenario_fields import WATER_COLUMN_NAMES
+
+    assert {wc for m, wc in EXP1_VARIANTS if m == "mineburial"} == set(WATER_COLUMN_NAMES)
+    keys = {c.key for c in CASES}
+    for name in EXP1:
+        for model, wc in EXP1_VARIANTS:
+            assert f"{name}_{model}" + (f"_{wc}" if wc else "") in keys
+            sc = exp1_scenario(name, model, wc)
+            assert sc.environment.water_depth == EXP1_POOL_DEPTH
+            assert sc.numerics.model == model
+            if wc is not None:
+                assert sc.numerics.water_column == wc
+    # the common depth is the one both scenario files state (read here without the package's reader)
+    for name in EXP1:
+        (depth,) = re.findall(r"^water_depth\s*=\s*([0-9.]+)", example_path(name).read_text(), re.M)
+        assert float(depth) == EXP1_POOL_DEPTH
+
+
+def test_quick_summary_sets_every_water_column_model_side_by_side(quick):
+    rows = json.loads((quick / "results.json").read_text())["rows"]
+    summary = (quick / "summary.md").read_text()
+    assert f"Exp-1 under every water-column model, pool depth {EXP1_POOL_DEPTH:g} m" in summary
+    for name, info in EXP1.items():
+        for model, wc in EXP1_VARIANTS:
+            label = exp1_variant_label(model, wc)
+            travel = [
+                r
+                for r in rows
+                if r["case"] == info["label"]
+                and r["quantity"].startswith("travel time through the water column")
+                and r["quantity"].endswith(f", model {label}")
+            ]
+            assert len(travel) == 1, (name, label)
+            assert f"{EXP1_POOL_DEPTH:g} m assumed for every model" in travel[0]["tolerance"]
+            assert (travel[0]["kind"] == CALIBRATION) == (name == "exp1_case92" and wc == "munk_factor")
+            # its value is in the side-by-side table, in the column of its variant
+            line = next(x for x in summary.splitlines() if x.startswith("| travel time through the water"))
+            assert f"| model {label} " in summary and line.count("|") == len(EXP1_VARIANTS) + 3
+
+
+def test_impact35_is_the_same_drop_under_either_water_column():
+    """IMPACT35 has no added mass, so numerics.water_column cannot change its drop: the reason
+    its Exp-1 rows are run once, not once per water-column model."""
+    a = _exp1_drop("exp1_case92", "impact35", "munk_factor")
+    b = _exp1_drop("exp1_case92", "impact35", "viscous_crossflow")
+    for var in ("z", "psi2", "u", "v", "w"):
+        np.testing.assert_array_equal(a[var].values, b[var].values)
+    assert float(a.impact_time) == float(b.impact_time)

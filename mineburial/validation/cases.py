@@ -475,9 +475,14 @@ EXP1 = {
         "where": "sec. 9.1, Fig. 14",
     },
 }
+#: the pool depth of every Exp-1 row, one common value for both drops and every model: seed 000
+#: does not print it; 2.4 m (a pool's deep end) is the assumption of the scenario files
+#: (mineburial/data/exp1_case92.toml, exp1_case93.toml), kept so that every model's rows compare
+#: row by row; the full suite also sweeps it (POOL_DEPTHS, information)
+EXP1_POOL_DEPTH = 2.4
 #: stated in advance: the video was read frame by frame at 30 Hz (sec. 8.1) and the pool
-#: depth is not printed (2.4 m assumed), so the travel time is compared within 10 % and
-#: the flip time within two video frames.
+#: depth is not printed (EXP1_POOL_DEPTH assumed), so the travel time is compared within 10 %
+#: and the flip time within two video frames.
 TRAVEL_TOL = 0.10
 FLIP_TOL = 2.0 / 30.0
 #: "straight": the centre of mass stays within 10 % of the chord length of the straight
@@ -485,8 +490,16 @@ FLIP_TOL = 2.0 / 30.0
 #: 180 deg in the water column after the flip.
 STRAIGHT_TOL = 0.10
 SPIRAL_DEG = 180.0
-#: the physics models run on every Exp-1 case, each with its own defaults
-EXP1_MODELS = ("mineburial", "impact35")
+#: the (physics model, water-column model) pairs run on every Exp-1 case, each model with its own
+#: defaults: the mineburial model under every ``numerics.water_column``, and impact35, which has
+#: no added mass, so that the water-column choice does not apply to it (None; its drop is the
+#: same under either choice: tests/test_validation.py)
+EXP1_VARIANTS = (("mineburial", "munk_factor"), ("mineburial", "viscous_crossflow"), ("impact35", None))
+
+
+def exp1_variant_label(model, water_column):
+    """How the rows of an Exp-1 variant name it: ``mineburial, viscous_crossflow``, ``impact35``."""
+    return model if water_column is None else f"{model}, {water_column}"
 
 
 def _water_column(ds):
@@ -559,35 +572,46 @@ def submergence_time(ds, length, com_offset):
     return float(tc - te)
 
 
-@functools.cache
-def _exp1_drop(name, model, depth=None):
-    """The drop of Exp-1 case ``name`` under ``model`` (cached: the figures of a case draw
-    both models' drops, each run once per process)."""
+def exp1_scenario(name, model, water_column=None, depth=EXP1_POOL_DEPTH):
+    """The scenario of Exp-1 case ``name`` under physics ``model`` and ``water_column`` (None:
+    the scenario's own) in a pool ``depth`` deep."""
     sc = _with_model(load_example(name), model)
-    if depth is not None:
-        sc = dataclasses.replace(sc, environment=dataclasses.replace(sc.environment, water_depth=depth))
-    return simulate_drop(sc, record_interval=0.002)
+    numerics = (
+        sc.numerics if water_column is None else dataclasses.replace(sc.numerics, water_column=water_column)
+    )
+    environment = dataclasses.replace(sc.environment, water_depth=depth)
+    return dataclasses.replace(sc, numerics=numerics, environment=environment)
 
 
-def exp1(name, model, quick_only=False, figures=None):
-    """Rows of Exp-1 case ``name`` (a key of :data:`EXP1`) under physics model ``model``:
-    travel time, its timing origin, pattern, flip time; the pool-depth sweep (full suite);
-    the case's figure with the last model of :data:`EXP1_MODELS`."""
+@functools.cache
+def _exp1_drop(name, model, water_column=None, depth=EXP1_POOL_DEPTH):
+    """The drop of Exp-1 case ``name`` under ``model`` and ``water_column`` (cached: the figures
+    of a case draw every variant's drop, each run once per process)."""
+    return simulate_drop(exp1_scenario(name, model, water_column, depth), record_interval=0.002)
+
+
+def exp1(name, model, water_column=None, quick_only=False, figures=None):
+    """Rows of Exp-1 case ``name`` (a key of :data:`EXP1`) under physics model ``model`` and
+    water-column model ``water_column`` (None where it does not apply), at the common pool
+    depth :data:`EXP1_POOL_DEPTH`: travel time, its timing origin, pattern, flip time; the
+    pool-depth sweep (full suite); the case's figure with the last of :data:`EXP1_VARIANTS`."""
     info = EXP1[name]
     src = f"{SEED000} {info['where']}"
     case = info["label"]
-    ds = _exp1_drop(name, model)
+    label = exp1_variant_label(model, water_column)
+    ds = _exp1_drop(name, model, water_column)
     travel = float(ds.impact_time) - float(ds.water_entry_time)
     rows = [
         _rel(
             case,
-            f"travel time through the water column (from first water contact), model {model}",
+            f"travel time through the water column (from first water contact), model {label}",
             src + ", observed",
             info["travel_time"],
             travel,
             "s",
             TRAVEL_TOL,
-            "pool depth not printed, 2.4 m assumed; observed clock origin at or after full submergence",
+            f"pool depth not printed, {EXP1_POOL_DEPTH:g} m assumed for every model; observed clock origin "
+            "at or after full submergence",
             True,
         )
     ]
@@ -596,7 +620,7 @@ def exp1(name, model, quick_only=False, figures=None):
     rows.append(
         Row(
             case,
-            f"travel time from full submergence (the earliest origin of the observed clock), model {model}",
+            f"travel time from full submergence (the earliest origin of the observed clock), model {label}",
             f"{src}, observed; sec. 8.1: cameras not synchronised, first position with the whole "
             "cylinder in view",
             f"{info['travel_time']} s",
@@ -606,20 +630,21 @@ def exp1(name, model, quick_only=False, figures=None):
             quick=True,
         )
     )
-    rows.extend(_pattern_rows(ds, info, case, src, model))
+    rows.extend(_pattern_rows(ds, info, case, src, label))
     if not quick_only:
-        rows.extend(_pool_depth_rows(name, info, src, model))
-    if figures is not None and model == EXP1_MODELS[-1]:
+        rows.extend(_pool_depth_rows(name, info, src, model, water_column))
+    if figures is not None and (model, water_column) == EXP1_VARIANTS[-1]:
         try:
             import matplotlib  # noqa: F401
         except ImportError:  # the report is written without its figures
             return rows
-        drops = {(name, m): _exp1_drop(name, m) for m in EXP1_MODELS}
+        drops = {(name, m, wc): _exp1_drop(name, m, wc) for m, wc in EXP1_VARIANTS}
         figures.extend(_exp1_figures(drops, figures_dir=figures.directory, names=(name,)))
     return rows
 
 
 def _pattern_rows(ds, info, case, src, model):
+    """The pattern and flip-time rows of one drop; ``model`` is the variant's label."""
     flip = _flip_time(ds)
     if info["pattern"] == "slant-straight":
         dev = _straightness(ds)
@@ -684,15 +709,16 @@ def _pattern_rows(ds, info, case, src, model):
 POOL_DEPTHS = (2.0, 2.4, 3.0, 3.5)
 
 
-def _pool_depth_rows(name, info, src, model):
+def _pool_depth_rows(name, info, src, model, water_column):
     times = []
+    label = exp1_variant_label(model, water_column)
     for depth in POOL_DEPTHS:
-        ds = _exp1_drop(name, model, depth)
+        ds = _exp1_drop(name, model, water_column, depth)
         times.append(float(ds.impact_time) - float(ds.water_entry_time))
     rows = [
         Row(
             info["label"],
-            f"travel time at pool depths {', '.join(f'{d:g}' for d in POOL_DEPTHS)} m, model {model}",
+            f"travel time at pool depths {', '.join(f'{d:g}' for d in POOL_DEPTHS)} m, model {label}",
             src + " (the pool depth is not printed)",
             info["travel_time"],
             ", ".join(f"{t:.3f}" for t in times),
@@ -709,7 +735,7 @@ def _pool_depth_rows(name, info, src, model):
     rows.append(
         Row(
             info["label"],
-            f"pool depth that gives the observed travel time (interpolated), model {model}",
+            f"pool depth that gives the observed travel time (interpolated), model {label}",
             src,
             "not printed",
             text,
@@ -723,7 +749,7 @@ def _pool_depth_rows(name, info, src, model):
 def _exp1_figures(drops, figures_dir, names=tuple(EXP1)):
     """Trajectory figures in the style of seed 000 Figs. 13-14 of the Exp-1 cases ``names``:
     the cylinder's axis drawn every 0.05 s in the vertical (y, z) plane of the injection,
-    one panel per model."""
+    one panel per variant of :data:`EXP1_VARIANTS`, all at the common pool depth."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -732,9 +758,9 @@ def _exp1_figures(drops, figures_dir, names=tuple(EXP1)):
     out = []
     for name in names:
         info = EXP1[name]
-        fig, axes = plt.subplots(1, 2, figsize=(9, 5.5), sharey=True)
-        for ax, model in zip(axes, EXP1_MODELS):
-            ds = drops[(name, model)]
+        fig, axes = plt.subplots(1, len(EXP1_VARIANTS), figsize=(13, 5.5), sharey=True)
+        for ax, (model, water_column) in zip(axes, EXP1_VARIANTS):
+            ds = drops[(name, model, water_column)]
             sc = load_example(name)
             half, chi = sc.mine.length / 2, sc.mine.com_offset
             m, te, ti = _water_column(ds)
@@ -751,13 +777,15 @@ def _exp1_figures(drops, figures_dir, names=tuple(EXP1)):
                 ax.plot(nose[1], nose[2], "o", color="C3", ms=3)
             ax.plot(ds.y.values[m], ds.z.values[m], ":", color="C0", lw=1)
             travel = ti - te
-            ax.set_title(f"model {model}: {travel:.2f} s to the floor", fontsize=9)
+            ax.set_title(
+                f"{exp1_variant_label(model, water_column)}: {travel:.2f} s to the floor", fontsize=9
+            )
             ax.set_xlabel("y (m)")
             ax.set_aspect("equal")
         axes[0].set_ylabel("z (m)")
         fig.suptitle(
             f"{info['label']}: axis every 0.05 s (nose dot); observed "
-            f"{info['pattern']}, {info['travel_time']} s",
+            f"{info['pattern']}, {info['travel_time']} s; pool {EXP1_POOL_DEPTH:g} m assumed",
             fontsize=10,
         )
         fig.tight_layout()
@@ -1197,12 +1225,16 @@ class Case:
             )
 
 
-def _exp1_case(name, model, kind, calibrates=""):
+def _exp1_case(name, model, water_column, kind, calibrates=""):
     label = EXP1[name]["label"].split(",")[0]
+    if water_column is None:
+        what = f"model {model} (no added mass: the water-column choice does not apply)"
+    else:
+        what = f"model {model}, water column {water_column}"
     return Case(
-        f"{name}_{model}",
-        f"Seed 000 {label}, model {model}",
-        functools.partial(exp1, name, model),
+        f"{name}_{model}" + (f"_{water_column}" if water_column else ""),
+        f"Seed 000 {label}, {what}, pool {EXP1_POOL_DEPTH:g} m assumed",
+        functools.partial(exp1, name, model, water_column),
         kind,
         calibrates,
     )
@@ -1220,18 +1252,24 @@ CASES = (
     ),
     Case("energy", "Energy balance of a full drop", energy_balance, VERIFICATION),
     Case("convergence", "Convergence in tolerance and time step", convergence, VERIFICATION),
-    # numerics.munk_factor = 0 (no Munk moment) was chosen on this drop's pattern and travel
-    # time under the mineburial model (docs/physics.md section 2); IMPACT35 has no added mass
+    # every water-column model on both Exp-1 drops at the common pool depth EXP1_POOL_DEPTH:
+    # numerics.munk_factor = 0 (no Munk moment) was chosen on the (92) drop's pattern and travel
+    # time under the mineburial model's munk_factor water column (docs/physics.md section 2), so
+    # those rows are calibration; viscous_crossflow was not tuned on Exp-1 (measurement); IMPACT35
+    # has no added mass, so the water-column choice does not apply to it
     _exp1_case(
         "exp1_case92",
         "mineburial",
+        "munk_factor",
         CALIBRATION,
         "numerics.munk_factor = 0, chosen on this drop's slant-straight pattern and travel time "
         "(docs/physics.md section 2)",
     ),
-    _exp1_case("exp1_case92", "impact35", MEASUREMENT),
-    _exp1_case("exp1_case93", "mineburial", MEASUREMENT),
-    _exp1_case("exp1_case93", "impact35", MEASUREMENT),
+    _exp1_case("exp1_case92", "mineburial", "viscous_crossflow", MEASUREMENT),
+    _exp1_case("exp1_case92", "impact35", None, MEASUREMENT),
+    _exp1_case("exp1_case93", "mineburial", "munk_factor", MEASUREMENT),
+    _exp1_case("exp1_case93", "mineburial", "viscous_crossflow", MEASUREMENT),
+    _exp1_case("exp1_case93", "impact35", None, MEASUREMENT),
     Case("exp2", "Seed 000 Exp-2: Monterey barrel under each sediment model", exp2, MEASUREMENT),
     Case(
         "exp2_models", "Seed 000 Exp-2: the two burial models against each other", exp2_models, VERIFICATION
