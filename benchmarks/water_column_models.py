@@ -27,7 +27,7 @@ MODELS = {
     "munk_factor 1 (strip)": {"water_column": "munk_factor", "munk_factor": 1.0},
     "viscous_crossflow": {"water_column": "viscous_crossflow"},
 }
-DEPTHS = (1.0, 1.25, 1.5, *cases.POOL_DEPTHS)  # the validation's sweep, extended down to 1 m
+DEPTHS = tuple(sorted({1.25, *cases.POOL_DEPTHS}))  # the validation's sweep, and 1.25 m
 
 
 def ensemble(paths):

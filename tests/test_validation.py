@@ -13,7 +13,8 @@ import xarray as xr
 from mineburial.cli import main
 from mineburial.config import example_path
 from mineburial.kernels import status
-from mineburial.systems import restraint
+from mineburial.scenario_fields import WATER_COLUMN_NAMES
+from mineburial.systems import registry, restraint
 from mineburial.validation.cases import (
     ANCHOR,
     ANCHOR_K,
@@ -181,8 +182,6 @@ def test_predictive_kind_is_declared_with_its_meaning_and_no_case_uses_it():
 
 
 def test_the_restraining_system_is_declared_apart_from_the_mine():
-    from mineburial.systems import registry
-
     assert set(SYSTEMS) == set(registry.names())  # the systems of the registry, no other
     systems = {c.key: c.system for c in CASES}
     assert systems.pop("restraint_table3") == RESTRAINT
@@ -260,8 +259,6 @@ def test_anchor_embedment_rises_with_speed_and_density_and_falls_with_strength()
 def test_exp1_runs_every_water_column_model_at_one_common_pool_depth():
     """Issue 32 item 5: both Exp-1 drops under every numerics.water_column of the mineburial
     model (and IMPACT35, to which the choice does not apply), all in the same assumed pool."""
-    from mineburial.scenario_fields import WATER_COLUMN_NAMES
-
     assert {wc for m, wc in EXP1_VARIANTS if m == "mineburial"} == set(WATER_COLUMN_NAMES)
     keys = {c.key for c in CASES}
     for name in EXP1:

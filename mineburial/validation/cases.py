@@ -706,7 +706,9 @@ def _pattern_rows(ds, info, case, src, model):
     return rows
 
 
-POOL_DEPTHS = (2.0, 2.4, 3.0, 3.5)
+#: the pool depths of the sweep (information): down to 1 m, so that every water-column model's
+#: depth matching the observed time lies inside it (viscous_crossflow needs about 1.3-1.5 m)
+POOL_DEPTHS = (1.0, 1.5, 2.0, 2.4, 3.0, 3.5)
 
 
 def _pool_depth_rows(name, info, src, model, water_column):
