@@ -1,4 +1,5 @@
-"""Command-line interface: ``mineburial {run,drop,example,map,compare,sensitivity,validate,restrain}``.
+"""Command-line interface: ``mineburial {run,drop,example,map,compare,sensitivity,validate,restrain,
+calibrate}``.
 
 Every error a user can cause ends the command with one line on stderr,
 ``mineburial: error: ...`` naming the field or option, and exit status 2 (bad
@@ -48,7 +49,7 @@ def _seconds(text: str) -> float:
 
 #: the commands that keep their finished work on an interrupt and resume it when rerun
 #: (compare and sensitivity with -o: their finished chunks are kept beside it)
-_RESUMABLE = ("run", "map", "compare", "sensitivity")
+_RESUMABLE = ("run", "map", "compare", "sensitivity", "calibrate")
 
 
 def _cmd_drop(args):
@@ -176,6 +177,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sensitivity_parser(sub)
     _add_restrain_parser(sub)
     _add_validate_parser(sub)
+    _add_calibrate_parser(sub)
     return parser
 
 
@@ -351,6 +353,38 @@ def _add_validate_parser(sub) -> None:
     val.add_argument("-o", "--output", default="validation", help="report folder")
     val.add_argument("--quick", action="store_true", help="only the quick cases (as in CI)")
     val.set_defaults(func=_cmd_validate)
+
+
+def _add_calibrate_parser(sub) -> None:
+    """``mineburial calibrate``: condition the coefficient priors on the evidence."""
+    cal = sub.add_parser(
+        "calibrate",
+        help="draw coefficient sets from the priors, run every evidence case under each, weight them "
+        "by the measurements and write the posterior (JSON) that ensembles draw from",
+    )
+    cal.add_argument(
+        "-n", "--sets", type=int, default=2048, help="coefficient sets drawn from the prior (default 2048)"
+    )
+    cal.add_argument("--seed", type=int, default=20261128, help="seed of the scrambled Sobol' draws")
+    cal.add_argument(
+        "-o",
+        "--output",
+        default="posterior.json",
+        help="posterior file (default posterior.json; the shipped "
+        "one is mineburial/data/calibration/posterior.json)",
+    )
+    cal.add_argument("--threads", type=int, default=None, help="threads (1 to the cores)")
+    cal.add_argument("--report", default=None, help="also write the calibration report (Markdown) here")
+    cal.add_argument("--plot", default=None, help="draw prior against posterior marginals to this image")
+    cal.add_argument("--quiet", action="store_true", help="no progress lines")
+    cal.set_defaults(func=_cmd_calibrate)
+
+
+def _cmd_calibrate(args):
+    # local import: start-up, each command imports only its own modules (module docstring)
+    from mineburial.calibration import calibrate
+
+    return calibrate.run_cli(args)
 
 
 def _one_line(text: str) -> str:
