@@ -32,7 +32,8 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial._version import __version__
-from mineburial.ensembles import accuracy, batch, model_form, scour
+from mineburial.calibration import posterior
+from mineburial.ensembles import accuracy, batch, epistemic, model_form, scour
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.interrupt import Interrupted
@@ -64,6 +65,9 @@ ENSEMBLE_DEFAULTS = {
     "per_drop": False,
     "class_basis": "burial_volume",
     "accuracy_check": 8,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
+    # the open coefficients: "fixed" (the scenario's values and the fields' defaults), "posterior"
+    # (drawn per drop from the shipped posterior of `mineburial calibrate`) or a posterior file
+    "coefficients": posterior.FIXED,
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
@@ -134,6 +138,8 @@ class EnsembleSpec:
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
     scour: scour.ScourSpec | None = None  # the optional post-impact scour stage ([scour])
     accuracy_check: int = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
+    posterior: posterior.Posterior | None = None  # the coefficient sets drawn per drop, if any
+    posterior_paths: tuple = ()  # the posterior's coefficients this scenario does not give itself
 
     system: ClassVar[str] = SYSTEM
     #: columns of a chunk's ``summary``
@@ -157,6 +163,8 @@ class EnsembleSpec:
         )
         if self.scour is not None:
             items.append(("scour", self.scour.identity()))
+        if self.posterior is not None:
+            items.append(("posterior", repr((self.posterior.digest, self.posterior_paths)).encode()))
         return items
 
     def sampled_inputs(self, start: int, stop: int):
@@ -180,8 +188,11 @@ class EnsembleSpec:
                 "chunk_size": self.chunk_size,
                 "per_drop": self.per_drop,
                 "class_basis": self.class_basis,
+                "coefficients": posterior.FIXED if self.posterior is None else self.posterior.source,
             },
         }
+        if self.posterior is not None:
+            out["posterior"] = {**self.posterior.provenance(), "drawn": list(self.posterior_paths)}
         if self.input_files:
             out["input_files"] = {path: digest for path, digest in self.input_files}
         if self.scour is not None:
@@ -266,10 +277,15 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     )
     if any(k in random for k in _ANGLE_FIELDS) and "quaternion" in rel:
         raise EnsembleError("release: random angles cannot be combined with a fixed quaternion")
+    post, drawn = _posterior(ens["coefficients"], raw, base_dir)
+    if drawn:
+        random[posterior.SET_INPUT] = post.set_choice()
     files = input_files_of(raw, random, base_dir)
     if scour_spec is not None and "forcing_file" in scour_spec.forcing_record:
         rec = scour_spec.forcing_record
         files += ((rec["forcing_file"], rec["forcing_sha256"]),)
+    if drawn:  # kept with the scenario, so that a variant or a map cell re-loaded from it draws too
+        raw["ensemble"] = {"coefficients": ens["coefficients"]}
     return EnsembleSpec(
         raw=raw,
         base=base,
@@ -290,7 +306,26 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
         input_files=files,
         scour=scour_spec,
         accuracy_check=int(ens["accuracy_check"]),
+        posterior=post if drawn else None,
+        posterior_paths=drawn,
     )
+
+
+def _posterior(which, raw, base_dir):
+    """The posterior of ``ensemble.coefficients`` and the coefficients drawn from it (those
+    the scenario does not give itself); (None, ()) for ``"fixed"``."""
+    if not isinstance(which, str) or not which:
+        raise ScenarioError(
+            f"ensemble.coefficients = {which!r} must be 'fixed', 'posterior' (the shipped posterior) "
+            "or the path of a posterior file written by mineburial calibrate"
+        )
+    if which == posterior.FIXED:
+        return None, ()
+    post = posterior.load(which, base_dir)
+    why = post.stale() if post.source == "shipped" else None
+    if why:
+        notice(f"warning: the shipped posterior is stale: {why}; rebuild it (docs/calibration.md)")
+    return post, posterior.drawn_paths(post, raw)
 
 
 # ---------------------------------------------------------------------------
@@ -311,6 +346,9 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
                 continue
             if path in _ANGLE_FIELDS or path.startswith("scour."):
                 inputs[path] = values.astype(np.float64)
+                continue
+            if path == posterior.SET_INPUT:  # each drop's coefficient set from the posterior
+                _posterior_inputs(spec, values, P, inputs)
                 continue
             if path in model_form.CHOICE_FIELDS:  # label indices -> the labels' codes
                 values = model_form.codes(path, spec.random[path], values)
@@ -333,6 +371,18 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
     )
     valid &= cfg.check_samples(inputs, n)  # also the release angles, not in P
     return P, valid, inputs
+
+
+def _posterior_inputs(spec, index, P, inputs) -> None:
+    """Write the coefficient sets ``index`` (one per drop) into the rows of ``P`` and record
+    the set index and each drawn coefficient as sampled inputs."""
+    sets = np.asarray(index, dtype=np.int64)
+    inputs[posterior.SET_INPUT] = sets.astype(np.float64)
+    columns = spec.posterior.paths
+    for path in spec.posterior_paths:
+        values = spec.posterior.table[sets, columns.index(path)]
+        P[:, layout.INDEX[path]] = values
+        inputs[path] = values
 
 
 def compute_chunk(spec, start: int, stop: int) -> dict:
@@ -380,6 +430,8 @@ def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
     """(UDUNITS units, description) of the sampled input ``path`` in the output."""
     if path == spec.sediment_choice:
         return "1", f"index into the sediment choices: {', '.join(spec.sediment_labels)}"
+    if path == posterior.SET_INPUT:
+        return "1", f"index of the drop's coefficient set in the posterior ({spec.posterior.source})"
     if path in _ANGLE_FIELDS:
         return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
     if path in model_form.CHOICE_FIELDS:
@@ -437,7 +489,8 @@ def _extremes(spec, path, fixed):
 def bytes_a_drop(spec: EnsembleSpec) -> int:
     """Bytes of the per-drop values of a run kept until the statistics are computed: the
     summary row, the status, the sampled inputs and the scour stage's values."""
-    return spec.summary_width * 8 + 1 + 8 * len(spec.random) + scour.bytes_a_drop(spec)
+    inputs = len(spec.random) + len(spec.posterior_paths)
+    return spec.summary_width * 8 + 1 + 8 * inputs + scour.bytes_a_drop(spec)
 
 
 def warn_run(spec) -> None:
@@ -493,6 +546,8 @@ def dataset(spec: EnsembleSpec, chunks):
         title=f"mineburial impact-burial ensemble: {spec.base.mine.name}",
         attrs=attrs,
     )
+    if posterior.SET_INPUT in inputs:
+        epistemic.add_band(ds, summary, status, inputs[posterior.SET_INPUT], spec.class_basis)
     if spec.scour is not None:
         ds = scour.dataset(spec.scour, chunks, ds, per_drop=spec.per_drop, class_basis=spec.class_basis)
     return ds
@@ -560,6 +615,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
         for name, pk, k in zip(class_labels(ds), p, range(len(p))):
             ci = f" [{lo[k]:.3f}, {hi[k]:.3f}]" if lo is not None else ""
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
+        lines.extend(epistemic.summary_lines(ds, class_labels(ds)))
     lines.extend(model_form.summary_lines(ds))
     lines.extend(scour.summary_lines(ds))
     lines.extend(accuracy.summary_lines(ds))

@@ -84,15 +84,36 @@ def _fixed_value(scenario, path: str):
 
 
 def choices(spec) -> dict[str, str]:
-    """Every model choice of ensemble ``spec`` (:data:`REPORTED`): ``"fixed: <value>"`` or
-    ``"sampled: <distribution>"``."""
+    """Every model choice of ensemble ``spec`` (:data:`REPORTED`): ``"fixed: <value>"``,
+    ``"sampled: <distribution>"`` or ``"from the posterior (<source>): <its marginal>"``."""
     out = {}
     for path in REPORTED:
         if path in spec.random:
             out[path] = "sampled: " + describe(spec.random[path])
+        elif path in getattr(spec, "posterior_paths", ()):
+            out[path] = f"from the posterior ({spec.posterior.source}): " + _posterior_text(
+                spec.posterior, path
+            )
         else:
             out[path] = f"fixed: {_fixed_value(spec.base, path)}"
     return out
+
+
+def _posterior_text(post, path: str) -> str:
+    """A coefficient under the posterior's weights: each label's probability for a model
+    choice, the median and 5-95 % for a number."""
+    col = post.table[:, post.paths.index(path)]
+    if path in CHOICE_FIELDS:
+        names = CHOICE_FIELDS[path]
+        return ", ".join(
+            f"{names[k]} ({float(post.weights[col == k].sum()):.3g})" for k in np.unique(col).astype(int)
+        )
+    order = np.argsort(col, kind="stable")
+    cum = np.cumsum(post.weights[order])
+    lo, med, hi = (
+        col[order][min(np.searchsorted(cum, q * cum[-1]), col.size - 1)] for q in (0.05, 0.5, 0.95)
+    )
+    return f"median {med:.3g}, 5-95 % {lo:.3g}-{hi:.3g}"
 
 
 def attribute_name(path: str) -> str:

@@ -475,6 +475,23 @@ def _burial_class_variables() -> list[Variable]:
         )
         for side in ("lower", "upper")
     ]
+    out += [
+        Variable(
+            f"burial_class_probability_epistemic_{side}",
+            cls,
+            "float64",
+            "1",
+            f"{side} limit of the impact-burial class probability over the calibrated coefficients",
+            f"{side.capitalize()} limit of the central band (level in the attribute band_level) of the class "
+            "probability across the coefficient sets of the posterior that the drops drew from: the "
+            "epistemic uncertainty the measurements leave open (docs/calibration.md). Estimated from "
+            "the same drops, grouped by coefficient set (one-way random-effects analysis of variance; "
+            "a beta distribution with the between-set variance). Written only when the ensemble draws "
+            "its coefficients from a posterior.",
+            group="statistics",
+        )
+        for side in ("lower", "upper")
+    ]
     return out
 
 

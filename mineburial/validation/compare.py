@@ -43,6 +43,7 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
+from mineburial.calibration import posterior
 from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.intervals import two_sided_normal_quantile
 from mineburial.ensembles.sampling import check_drop_count
@@ -184,6 +185,8 @@ def _random_slots(spec: engine.EnsembleSpec) -> set[int]:
             slots.update(range(layout.P_Q00, layout.P_Q30 + 1))
         elif path.startswith("scour."):  # the stage's own inputs: no impact slot
             continue
+        elif path == posterior.SET_INPUT:  # the coefficients drawn from the posterior
+            slots.update(layout.INDEX[p] for p in spec.posterior_paths)
         else:
             slots.add(layout.INDEX[cfg.ALIASES.get(path, path)])
     if spec.recompute_inertia:
