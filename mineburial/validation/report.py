@@ -26,6 +26,7 @@ import pathlib
 import time
 
 from mineburial._version import __version__
+from mineburial.validation import predictive
 from mineburial.validation.cases import (
     CALIBRATION,
     CASES,
@@ -40,6 +41,10 @@ from mineburial.validation.cases import (
     exp1_variant_label,
     run_case,
 )
+
+#: every case group the report runs: the cases of :mod:`.cases`, then the predictive checks
+#: (:mod:`.predictive`, declared apart: the calibration they run imports the cases' experiments)
+ALL_CASES = (*CASES, *predictive.CASES)
 
 __all__ = [
     "run_validation",
@@ -128,7 +133,16 @@ def system_counts(rows) -> dict:
             raise ValueError(
                 f"validation row {r.case!r} / {r.quantity!r} has no system (one of {list(SYSTEMS)})"
             )
-    return {system: kind_counts([r for r in rows if r.system == system]) for system in SYSTEMS}
+    return {system: kind_counts(got) for system, got in rows_by_system(rows).items()}
+
+
+def rows_by_system(rows) -> dict:
+    """``{system: [rows]}`` for every system of :data:`SYSTEMS`, in its order (a grouping for the
+    counts and tables, not a choice of behaviour by system)."""
+    out = {system: [] for system in SYSTEMS}
+    for r in rows:
+        out[r.system].append(r)
+    return out
 
 
 def _kind_clauses(counts) -> list:
@@ -242,9 +256,10 @@ def exp1_table(rows) -> str:
 def _kind_tables(rows) -> str:
     """One table per system and kind present, systems in :data:`SYSTEMS` order."""
     parts = []
+    grouped = rows_by_system(rows)
     for system, what in SYSTEMS.items():
         for kind, meaning in KINDS.items():
-            got = [r for r in rows if r.system == system and r.kind == kind]
+            got = [r for r in grouped[system] if r.kind == kind]
             if got:
                 parts.append(
                     f"## {what[0].upper()}{what[1:]}: {meaning}\n\n{counts_text(got)}.\n\n"
@@ -261,7 +276,7 @@ def run_validation(output, quick: bool = False):
     t0 = time.monotonic()
     rows, groups = [], []
     figures = FigureList(out)
-    for case in CASES:
+    for case in ALL_CASES:
         start = len(figures)
         got = run_case(case, quick, figures)
         rows.extend(got)
