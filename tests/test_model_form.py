@@ -26,6 +26,7 @@ RES = {"distribution": "choice", "values": ["bearing", "friction", "delta"], "we
 
 def with_choices(n=10, **sections):
     raw = short_default(n)
+    raw["ensemble"]["coefficients"] = "fixed"  # the model choices given here, none from the posterior
     for path, table in sections.items():
         section, name = path.split("__")
         raw.setdefault(section, {})[name] = copy.deepcopy(table)
@@ -39,7 +40,7 @@ def test_adding_a_sampled_model_choice_leaves_every_other_draw_unchanged():
     """Seed contract: the stream of a field is keyed by its name, so adding the sampled
     water-column model and resistance law changes no other input of any drop."""
     raw = short_default(64)
-    del raw["numerics"]["water_column"]  # the default samples it: start from no model choice
+    raw["ensemble"]["coefficients"] = "fixed"  # start from no model choice (none from the posterior)
     plain = engine.load_ensemble(raw)
     mixed = engine.load_ensemble(with_choices(64, numerics__water_column=WC, sediment__resistance=RES))
     _, _, before = engine.chunk_inputs(plain, 0, 64)
@@ -187,6 +188,7 @@ def test_model_form_share_is_one_when_only_the_model_is_uncertain_and_zero_when_
 def only_water_column_uncertain(table):
     """The short default with every input fixed at its centre except the water-column model."""
     raw = short_default(10)
+    raw["ensemble"]["coefficients"] = "fixed"
     centre = {
         "normal": lambda v: v["mean"],
         "truncated_normal": lambda v: v["mean"],

@@ -88,7 +88,8 @@ def test_scenario_sensitivity_runs_every_random_input():
         "sediment.density",
         "sediment.strength",
         "sediment.strength_gradient",
-        "numerics.water_column",  # the default samples the water-column model (model form)
+        # the default draws its open coefficients from the shipped posterior: one input, the set
+        "calibration.posterior_set",
     }
     assert int(ds.attrs["n_evaluations"]) == 4 * (10 + 2)  # n (d + 2), d = 10 inputs
     assert list(ds.output.values)[:2] == ["penetration_depth", "burial_volume"]

@@ -4,6 +4,7 @@ tensor and the Munk moment of ``viscous_crossflow`` against closed forms compute
 conservation, and the default (``munk_factor``) left as it was."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -296,13 +297,17 @@ def test_compare_vary_knows_water_column_by_its_short_name():
     assert field == "numerics.water_column" and values == ["munk_factor", "viscous_crossflow"]
 
 
-def test_default_ensemble_samples_the_water_column_half_and_half_with_bearing_fixed():
-    """The default's model form (docs/physics.md, "Model-form uncertainty"): the water column
-    50/50, the resistance the mineburial model's bearing (Chu & Fan 2007), not written in the
-    file so that a model variant still takes its own laws."""
+def test_default_ensemble_draws_the_water_column_from_the_posterior_with_bearing_fixed():
+    """The default's model form (docs/physics.md, "Model-form uncertainty"; docs/calibration.md):
+    the water column drawn from the shipped posterior (50/50 before issue 32), the resistance the
+    mineburial model's bearing (Chu & Fan 2007), not written in the file so that a model variant
+    still takes its own laws."""
     spec = engine.load_ensemble(engine.DEFAULT_SCENARIO)
     got = model_form.choices(spec)
-    assert got["numerics.water_column"] == "sampled: choice of munk_factor (0.5), viscous_crossflow (0.5)"
+    text = got["numerics.water_column"]
+    assert text.startswith("from the posterior (shipped): ")
+    shares = [float(x) for x in re.findall(r"\(([0-9.e-]+)\)", text.split(": ", 1)[1])]
+    assert sum(shares) == pytest.approx(1.0, abs=2e-3)
     assert got["sediment.resistance"] == "fixed: bearing"
     assert got["numerics.model"] == "fixed: mineburial"
     with open(engine.DEFAULT_SCENARIO, "rb") as fh:

@@ -1,0 +1,251 @@
+"""The calibration of issue 32: priors, evidence, importance sampling, the shipped posterior,
+ensembles that draw from it and the epistemic band (docs/calibration.md).
+
+References: the engine's own floor event (a separate event locator) for the cut Exp-1
+trajectories; the validation's implementations of the Exp-1 patterns; scipy.integrate for a
+one-dimensional posterior; scipy.stats.beta for the band; the Beta-binomial variance for the
+random-effects estimator; the Philox streams of the seed contract."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+import scipy.integrate
+import scipy.stats
+from test_compare import short_default
+
+from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
+from mineburial.drop import run_params
+from mineburial.ensembles import distributions as dist
+from mineburial.ensembles import engine, epistemic
+from mineburial.ensembles.sampling import uniforms
+from mineburial.errors import ScenarioError
+from mineburial.kernels.mine import layout
+from mineburial.validation import cases as vc
+
+
+# ---------------------------------------------------------------------------
+# the evidence cases
+# ---------------------------------------------------------------------------
+@pytest.mark.parametrize("water_column", ["munk_factor", "viscous_crossflow"])
+@pytest.mark.parametrize("variant", ["exp1_case92", "exp1_case93"])
+def test_cut_trajectory_reaches_each_floor_when_the_engine_does(variant, water_column):
+    """One drop to a deep floor, cut where the lowest point crosses a shallower floor, gives
+    the travel time the engine's own floor event gives with the floor there."""
+    depths = np.array([1.2, 2.0, 2.4])
+    coeffs = {"numerics.water_column": water_column}
+    _, got = cases.run_case("exp1", variant, {}, {"pool_depth": depths}, coeffs)
+    for depth, travel in zip(depths, got["travel_time"]):
+        p, sed, cur = cases._exp1(variant, depth).to_params()
+        _, summary, _ = run_params(cases.apply_coefficients(p, coeffs), sed, cur)
+        engine_travel = summary[layout.S_IMPACT_TIME] - summary[layout.S_ENTRY_TIME]
+        assert travel == pytest.approx(engine_travel, abs=1e-4)
+
+
+@pytest.mark.parametrize("variant", ["exp1_case92", "exp1_case93"])
+def test_exp1_patterns_agree_with_the_validation_rows(variant):
+    """Straightness, flip and turning on the whole water column agree with the validation's
+    implementations (validation.cases) on its drop at its pool depth."""
+    ds = vc._exp1_drop(variant, "mineburial", "munk_factor")
+    traj = np.stack([ds[c].values for c in ("x", "y", "z")], axis=1)
+    m, te, ti = vc._water_column(ds)
+    assert cases._straightness(traj[m]) == pytest.approx(vc._straightness(ds), rel=1e-12)
+    psi2 = np.radians(ds.psi2.values[m])
+    ours = cases._flip_time(ds.time.values[m], psi2)
+    theirs = vc._flip_time(ds)
+    assert (ours is None) == (theirs is None)
+    if ours is not None:
+        assert ours - te == pytest.approx(theirs, abs=1e-9)
+
+
+def test_apply_coefficients_writes_labels_as_codes():
+    p = np.zeros(layout.N_PARAMS)
+    q = cases.apply_coefficients(p, {"numerics.water_column": "viscous_crossflow", "sediment.friction": 0.4})
+    assert q[layout.P_WATER_COLUMN] == layout.WC_VISCOUS_CROSSFLOW
+    assert q[layout.INDEX["sediment.friction"]] == 0.4
+    assert p.sum() == 0.0  # a copy
+
+
+# ---------------------------------------------------------------------------
+# conditioning
+# ---------------------------------------------------------------------------
+def _row(**kw):
+    base = dict(
+        id="r",
+        case="c",
+        variant="v",
+        quantity="travel_time",
+        observed=0.7,
+        units="s",
+        source="s",
+        assumptions="a",
+        sigma=0.3,
+        discrepancy=0.4,
+    )
+    return priors.EvidenceRow(**{**base, **kw})
+
+
+def test_importance_weights_reproduce_a_one_dimensional_posterior():
+    """theta ~ U(-2, 2), one Gaussian row on theta itself: the weighted mean and standard
+    deviation of 4096 Sobol' draws match the posterior integrated by scipy."""
+    prior = priors.Prior("x", dist.Uniform(-2.0, 2.0), "test")
+    draws = conditioning.draw_sets((prior,), 4096, seed=3)
+    row = _row()
+    scores = conditioning.log_scores((row,), draws["x"][:, None, None])
+    w = conditioning.normalised(conditioning.case_log_likelihoods(scores, ["c"])["c"])
+    s = row.total_sigma
+    dens = lambda t: math.exp(-0.5 * ((t - row.observed) / s) ** 2)  # noqa: E731
+    z = scipy.integrate.quad(dens, -2, 2)[0]
+    mean = scipy.integrate.quad(lambda t: t * dens(t), -2, 2)[0] / z
+    var = scipy.integrate.quad(lambda t: (t - mean) ** 2 * dens(t), -2, 2)[0] / z
+    assert np.sum(w * draws["x"]) == pytest.approx(mean, abs=2e-3)
+    assert math.sqrt(np.sum(w * (draws["x"] - np.sum(w * draws["x"])) ** 2)) == pytest.approx(
+        math.sqrt(var), rel=5e-3
+    )
+    assert conditioning.effective_sample_size(w) < 4096
+
+
+def test_a_grid_nuisance_is_averaged_not_maximised():
+    """Two grid points, the model right at one of them: the set's likelihood is the mean of
+    the two points' likelihoods (log-mean-exp), not the better one."""
+    row = _row(sigma=0.5, discrepancy=0.0)
+    sim = np.array([[[0.7, 5.0]]])  # (sets, rows, grid)
+    ll = conditioning.case_log_likelihoods(conditioning.log_scores((row,), sim), ["c"])["c"][0]
+    pdf = scipy.stats.norm(0.7, 0.5).pdf
+    assert ll == pytest.approx(math.log(0.5 * (pdf(0.7) + pdf(5.0))), rel=1e-12)
+
+
+def test_binary_rows_score_with_their_error_rate_and_failed_drops_score_zero():
+    row = _row(quantity="slant_straight", observed=1.0, error_rate=0.1, sigma=0.0, discrepancy=0.0)
+    s = conditioning.log_scores((row,), np.array([[[1.0]], [[0.0]], [[np.nan]]]))
+    np.testing.assert_allclose(np.exp(s[:, 0, 0]), [0.9, 0.1, 0.0])
+
+
+def test_predictive_band_of_a_point_model_is_the_gaussian_interval():
+    row = _row(observed=1.0, sigma=0.3, discrepancy=0.4)
+    chk = conditioning.predictive_check(row, np.full(50, 1.2), np.full(50, 1 / 50), seed=1)
+    half = scipy.stats.norm.ppf(0.95) * 0.5
+    assert chk.lower == pytest.approx(1.2 - half, abs=0.02)
+    assert chk.upper == pytest.approx(1.2 + half, abs=0.02)
+    assert chk.passed
+    far = conditioning.predictive_check(_row(observed=3.0), np.full(50, 1.2), np.full(50, 1 / 50), seed=1)
+    assert not far.passed
+
+
+def test_weighted_quantile_matches_the_repeated_sample():
+    v = np.array([3.0, 1.0, 2.0])
+    w = np.array([1.0, 2.0, 1.0])
+    expanded = np.array([3.0, 1.0, 1.0, 2.0])
+    for q in (0.1, 0.5, 0.9):
+        assert conditioning.weighted_quantile(v, w, q)[0] == np.quantile(expanded, q, method="inverted_cdf")
+
+
+# ---------------------------------------------------------------------------
+# the epistemic band
+# ---------------------------------------------------------------------------
+def test_between_set_variance_recovers_the_beta_binomial_spread():
+    """Per-set probabilities from Beta(2, 5), 10 drops a set: the moment estimator recovers
+    the Beta's variance ab / ((a + b)^2 (a + b + 1)) (within its sampling error)."""
+    rng = np.random.default_rng(7)
+    sets = np.repeat(np.arange(2000), 10)
+    p = rng.beta(2.0, 5.0, 2000)[sets]
+    y = (rng.random(sets.size) < p).astype(float)
+    truth = 2 * 5 / (7**2 * 8)
+    assert epistemic.between_group_variance(y, sets) == pytest.approx(truth, rel=0.12)
+    same = (rng.random(sets.size) < 0.3).astype(float)  # no between-set spread
+    assert epistemic.between_group_variance(same, sets) < 0.1 * truth
+
+
+def test_beta_band_is_the_beta_distribution_interval():
+    lo, hi = epistemic.beta_band(0.3, 0.01, 0.9)
+    total = 0.3 * 0.7 / 0.01 - 1
+    ref = scipy.stats.beta(0.3 * total, 0.7 * total)
+    assert lo == pytest.approx(ref.ppf(0.05), rel=1e-9)
+    assert hi == pytest.approx(ref.ppf(0.95), rel=1e-9)
+    assert epistemic.beta_band(0.3, 0.0) == (0.3, 0.3)
+
+
+# ---------------------------------------------------------------------------
+# the shipped posterior and ensembles that draw from it
+# ---------------------------------------------------------------------------
+def test_shipped_posterior_matches_the_shipped_priors_and_evidence():
+    post = posterior.load("posterior")
+    assert post.stale() is None, "rebuild: mineburial calibrate -o mineburial/data/calibration/posterior.json"
+    assert set(post.paths) == {p.path for p in priors.load_priors()}
+    assert post.weights.sum() == pytest.approx(1.0)
+
+
+def test_a_small_rebuild_reproduces_the_shipped_sets_it_shares(tmp_path):
+    """The shipped calibration's first sets are the Sobol' points a small calibration with the
+    same seed draws: their values and likelihoods are the same, bit for bit."""
+    shipped = json.loads(priors.POSTERIOR_FILE.read_text())
+    n = 32
+    cal = calibrate.calibrate(tmp_path / "p.json", n=n, seed=shipped["seed"])
+    coeffs = shipped["coefficients"]
+    common = [(k, s) for k, s in enumerate(shipped["set_index"]) if s < n]
+    for k, s in common:
+        assert shipped["sets"][k] == [calibrate._scalar(cal.draws[p][s]) for p in coeffs]
+        assert shipped["log_likelihood"][k] == cal.log_likelihood[s]
+    assert common, "no shipped set among the first 32: rebuild with more sets or test more"
+    assert cal.record["priors_sha256"] == shipped["priors_sha256"]
+
+
+def _fixed_and_drawn(n=400):
+    fixed = short_default(n)
+    fixed["ensemble"]["coefficients"] = "fixed"
+    drawn = short_default(n)
+    drawn["ensemble"]["coefficients"] = "posterior"
+    return engine.load_ensemble(fixed), engine.load_ensemble(drawn)
+
+
+def test_drops_draw_posterior_sets_by_weight_and_leave_other_inputs_unchanged():
+    fixed, drawn = _fixed_and_drawn()
+    n = fixed.n
+    P0, _, in0 = engine.chunk_inputs(fixed, 0, n)
+    P1, _, in1 = engine.chunk_inputs(drawn, 0, n)
+    for path, values in in0.items():  # the seed contract: every other input unchanged
+        np.testing.assert_array_equal(in1[path], values, err_msg=path)
+    post = drawn.posterior
+    sets = in1[posterior.SET_INPUT].astype(int)
+    # the set of drop i is the posterior choice at the field's own Philox uniform
+    u = uniforms(drawn.seed, [posterior.SET_INPUT], 0, n, "mc")[:, 0]
+    cum = np.cumsum(post.weights) / post.weights.sum()
+    cum[-1] = 1.0
+    np.testing.assert_array_equal(sets, np.minimum(np.searchsorted(cum, u, side="right"), cum.size - 1))
+    for k, path in enumerate(post.paths):
+        np.testing.assert_array_equal(P1[:, layout.INDEX[path]], post.table[sets, k], err_msg=path)
+
+
+def test_a_coefficient_the_scenario_gives_is_not_drawn():
+    raw = short_default(50)
+    raw["ensemble"]["coefficients"] = "posterior"
+    raw["sediment"]["rate_coefficient"] = 0.07
+    spec = engine.load_ensemble(raw)
+    assert "sediment.rate_coefficient" not in spec.posterior_paths
+    P, _, _ = engine.chunk_inputs(spec, 0, 50)
+    assert np.all(P[:, layout.INDEX["sediment.rate_coefficient"]] == 0.07)
+
+
+@pytest.mark.parametrize("value", ["", 3, "no/such/posterior.json"])
+def test_bad_coefficients_setting_is_refused_with_its_name(value):
+    raw = short_default(5)
+    raw["ensemble"]["coefficients"] = value
+    with pytest.raises(ScenarioError, match="ensemble.coefficients"):
+        engine.load_ensemble(raw)
+
+
+def test_calibration_refuses_a_partial_folder_of_another_calibration(tmp_path):
+    out = tmp_path / "p.json"
+    calibrate._Blocks(out, {"seed": 1})
+    with pytest.raises(ScenarioError, match="another calibration"):
+        calibrate._Blocks(out, {"seed": 2})
+
+
+def test_evidence_rows_need_their_uncertainty(tmp_path):
+    text = priors.EVIDENCE_FILE.read_text()
+    assert "sigma = 0.25\ndiscrepancy = 0.35" in text
+    bad = tmp_path / "evidence.toml"
+    bad.write_text(text.replace("sigma = 0.25\ndiscrepancy = 0.35", ""))
+    with pytest.raises(ScenarioError, match="sigma or discrepancy"):
+        priors.load_evidence(bad)
