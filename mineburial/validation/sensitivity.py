@@ -57,6 +57,7 @@ import scipy
 from scipy import stats
 
 from mineburial._deferred import xarray as xr
+from mineburial.calibration import posterior
 from mineburial.config import ScenarioError
 from mineburial.ensembles import engine, model_form, runner
 from mineburial.ensembles.scour import after_scour, at_lead_time
@@ -488,6 +489,22 @@ def model_form_lines(ds: xr.Dataset) -> list[str]:
     return lines
 
 
+def calibrated_share_lines(ds: xr.Dataset) -> list[str]:
+    """The printed share of the variance of the coefficients drawn from a posterior: the
+    Sobol' indices of their one input, the drop's coefficient set (docs/calibration.md)."""
+    if posterior.SET_INPUT not in ds.input.values:
+        return []
+    lines = [f"calibrated coefficients' share of the variance (input {posterior.SET_INPUT}):"]
+    for out in ds.output.values:
+        first = float(ds["first_order"].sel(output=out, input=posterior.SET_INPUT))
+        total = float(ds["total_order"].sel(output=out, input=posterior.SET_INPUT))
+        if np.isnan(first) and np.isnan(total):
+            lines.append(f"  {out}: undefined (output constant)")
+        else:
+            lines.append(f"  {out}: S_i {first:.3f}, S_Ti {total:.3f}")
+    return lines
+
+
 def ranking(ds: xr.Dataset, output: str, index: str = "total_order") -> list[str]:
     """Inputs ordered by decreasing index of ``output``."""
     v = ds[index].sel(output=output).values
@@ -577,7 +594,7 @@ def run_sensitivity_cli(args) -> int:
         if ds.attrs.get("scour_status_counts"):
             print(f"scour stage: {ds.attrs['scour_status_counts']} (scour_status; docs/scour.md)")
         print(sensitivity_table(ds.sel(output=list(OUTPUTS))))
-        print("\n".join(model_form_lines(ds)))
+        print("\n".join(model_form_lines(ds) + calibrated_share_lines(ds)))
         if out is not None:
             written = ds.copy()
             written["output"] = written["output"].astype(str)
