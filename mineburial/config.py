@@ -876,6 +876,8 @@ class Sediment:
     rupture_length: float
     permeability: float
     void_ratio: float
+    bearing_depth_factor: float
+    inertial_drag: float
 
     def __post_init__(self):
         linear_given = [f for f in _SED_LINEAR if getattr(self, f) is not None]
@@ -971,6 +973,7 @@ class Numerics:
     switch_speed: float
     water_column: str
     overburden_quadrature: str
+    crossflow_drag_factor: float
 
     def __post_init__(self):
         _set(self, "model", _check("numerics.model", self.model))

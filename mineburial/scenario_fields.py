@@ -613,6 +613,48 @@ TABLE: tuple[Field, ...] = (
         ),
         "fast",
     ),
+    # --- calibration coefficients (issue 32): constants of the kernels made inputs, appended
+    # after the last slot (module docstring); with their defaults the kernels compute what they
+    # did with the constants (docs/physics.md, "Calibration coefficients as inputs")
+    _f(
+        "sediment.bearing_depth_factor",
+        "1",
+        0,
+        5,
+        (
+            "f of Brinch Hansen's (1970) depth factor in the `bearing` law, N_c(ζ) = N_c0 (1 + f "
+            "arctan(ζ/d)) with N_c0 = `bearing_factor`: the deep value is N_c0 (1 + f π/2), 8.4 with "
+            "the defaults (Skempton 1951: 7.5 strip, 9 circle); analyses of dynamically installed "
+            "anchors use a deep N_c ≈ 12 (O'Loughlin et al. 2013), f ≈ 0.85"
+        ),
+        0.4,
+    ),
+    _f(
+        "numerics.crossflow_drag_factor",
+        "1",
+        0,
+        5,
+        (
+            "factor on seed 000 eq. (44)'s cross-flow drag coefficient where Re > 150 000, the "
+            "super-critical range whose value the surface roughness sets (smooth post-critical "
+            "cylinders ≈ 0.3–0.55, rough ones ≈ 0.8–1.2: Achenbach 1971, Achenbach & Heinecke 1981; "
+            "DATCOM's C_dc 1.2); every water-column model and `impact35`; unchanged below"
+        ),
+        1.0,
+        incl=_OPEN_LOW,
+    ),
+    _f(
+        "sediment.inertial_drag",
+        "1",
+        0,
+        2,
+        (
+            "C_D of the soil's inertial drag, a normal pressure ½ C_D ρ_s v_n² on every advancing "
+            "embedded element (the drag term ½ C_D ρ_s A v² of True 1976, Aubeny & Shi 2006, "
+            "O'Loughlin et al. 2013: C_D ≈ 0.24–0.7 there); 0: none, as in seed 000"
+        ),
+        0.0,
+    ),
     # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
     # impact phase; read by mineburial/ensembles/scour.py (its key list is this table's), the
     # numbers packed into the stage's own parameters there. First the keys that set up the stage

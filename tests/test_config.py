@@ -89,6 +89,8 @@ def full() -> dict:
             "rupture_length": 0.2,
             "permeability": 2e-4,
             "void_ratio": 1.5,
+            "bearing_depth_factor": 0.85,
+            "inertial_drag": 0.7,
         },
         "numerics": {
             "model": "impact35",
@@ -100,6 +102,7 @@ def full() -> dict:
             "rest_spin": 3e-2,
             "drag": False,
             "munk_factor": 0.3,
+            "crossflow_drag_factor": 1.4,
         },
     }
 

@@ -272,4 +272,5 @@ def test_unknown_overburden_quadrature_is_refused_naming_the_field():
     with pytest.raises(ScenarioError, match=r"numerics\.overburden_quadrature.*'exact'"):
         scenario([0.0, 10.0], [1500.0, 1600.0], quadrature="exact")
     p, _, _ = scenario([0.0, 10.0], [1500.0, 1600.0], quadrature="reference").to_params()
-    assert p[layout.P_OB_QUADRATURE] == 1 and layout.PARAM_NAMES[-1] == "numerics.overburden_quadrature"
+    assert p[layout.P_OB_QUADRATURE] == 1
+    assert layout.PARAM_NAMES[layout.P_OB_QUADRATURE] == "numerics.overburden_quadrature"

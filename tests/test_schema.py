@@ -89,6 +89,10 @@ PINNED = (
     ("P_TMAX_FALL", "numerics.t_max_fall"),
     ("P_WATER_COLUMN", "numerics.water_column"),
     ("P_OB_QUADRATURE", "numerics.overburden_quadrature"),
+    # appended by issue 32 (the calibration coefficients)
+    ("P_SED_DEPTH_FACTOR", "sediment.bearing_depth_factor"),
+    ("P_CROSSFLOW_FACTOR", "numerics.crossflow_drag_factor"),
+    ("P_SED_CD", "sediment.inertial_drag"),
 )
 
 

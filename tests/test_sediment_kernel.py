@@ -59,6 +59,7 @@ def params(**kw):
     p[lay.P_SED_RATE_REF] = 0.01 / 3600.0
     p[lay.P_SED_MU] = 0.3
     p[lay.P_SED_NC] = math.pi + 2.0
+    p[lay.P_SED_DEPTH_FACTOR] = 0.4  # Brinch Hansen's (1970), the law these tests write out
     p[lay.P_SED_PORE] = 0.0
     p[lay.P_SED_B] = 0.1
     p[lay.P_SED_KP] = 1e-4

@@ -95,17 +95,22 @@ def axial_penetration(
     reference_rate,
     switch_speed,
     rest_speed,
+    depth_factor=0.4,
+    inertial_drag=0.0,
 ):
     """Final penetration (m) of a vertical cylinder entering the seabed nose first at
     ``impact_speed`` (m/s, > 0 downwards), from ``solve_ivp`` on the ``bearing`` law written
     for this case (docs/notes/sediment.md), with no fluid drag and no side friction:
 
     m_eff dv/dt = W' - (rho_s - rho_w) g A min(zeta, L)
-                  - N_c (1 + 0.4 atan(zeta/d)) (S0 + k zeta) G(v) A v/sqrt(v^2 + V_n^2),
+                  - N_c (1 + f atan(zeta/d)) (S0 + k zeta) G(v) A v/sqrt(v^2 + V_n^2)
+                  - 0.5 C_D rho_s A v^2,
 
     W' the weight in water, A = pi R^2, G the semi-logarithmic rate law at strain rate v/d,
     m_eff = m + rho_w A (L - zeta) the isotropic added mass of the part still in water
-    (munk_factor 0), integrated until v falls below ``rest_speed``."""
+    (munk_factor 0), f = ``depth_factor`` (Brinch Hansen's 0.4 by default), C_D =
+    ``inertial_drag`` (the soil's inertial drag on the flat nose, 0 by default), integrated until
+    v falls below ``rest_speed``."""
     d, L = diameter, length
     area = math.pi * (d / 2) ** 2
     weight = (mass - water_density * area * L) * gravity
@@ -117,9 +122,11 @@ def axial_penetration(
     def rhs(t, y):
         zeta, v = y
         emb = min(max(zeta, 0.0), L)
-        nc = bearing_factor * (1.0 + 0.4 * math.atan(zeta / d))  # Brinch Hansen depth factor
+        nc = bearing_factor * (1.0 + depth_factor * math.atan(zeta / d))  # Brinch Hansen depth factor
         h = v / math.sqrt(v * v + switch_speed**2) if v > 0 else 0.0
         bearing = nc * (strength + strength_gradient * zeta) * g_rate(v) * area * h
+        if v > 0 and inertial_drag > 0:
+            bearing += 0.5 * inertial_drag * sediment_density * area * v * v
         overburden = (sediment_density - water_density) * gravity * area * emb
         m_eff = mass + water_density * area * (L - emb)
         return [v, (weight - overburden - bearing) / m_eff]

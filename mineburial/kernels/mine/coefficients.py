@@ -3,6 +3,8 @@
 * :func:`axial_drag_coefficient` -- seed 000 eq. (40), along the axis, vs aspect ratio.
 * :func:`cross_drag_coefficient` -- seed 000 eq. (44), across the axis, vs Re and aspect ratio.
 * :func:`lift_coefficient` -- seed 000 eq. (50), Magnus lift vs spin ratio.
+* :func:`roughness_scaled` -- ``numerics.crossflow_drag_factor`` on eq. (44) above
+  Re = 150 000 (docs/physics.md, "Calibration coefficients as inputs").
 
 The aspect ratio is ``delta = L / d`` (length over diameter) and the Reynolds
 number ``Re = |V2| d / nu`` (cross-flow speed, diameter, kinematic viscosity).
@@ -13,10 +15,13 @@ documented guards and corrections flagged ``DEVIATION`` below.
 
 import math
 
-from mineburial._numba import kernel
+from mineburial._numba import kernel, small_kernel
 
 #: Reynolds numbers below this are raised to it (guards the 1/Re terms).
 RE_MIN = 1e-6
+#: above this Reynolds number eq. (44) is in its super-critical branches, where the surface
+#: roughness decides the value (Achenbach 1971; Achenbach & Heinecke 1981)
+RE_SUPERCRITICAL = 150000.0
 
 
 @kernel
@@ -85,6 +90,19 @@ def cross_drag_coefficient(reynolds, aspect):
     if re <= 350000.0:
         return 1.875 - 0.0000045 * re
     return 1.0 / (641550.0 / re + 1.5)
+
+
+@small_kernel
+def roughness_scaled(cd2, reynolds, factor):
+    """Eq. (44)'s ``cd2`` times ``factor`` (``numerics.crossflow_drag_factor``) where
+    ``reynolds`` > :data:`RE_SUPERCRITICAL`, ``cd2`` itself below: eq. (44) prints one
+    super-critical law, while the measured post-critical C_d of a circular cylinder runs from
+    about 0.3 (smooth) to about 1.2 (rough) (Achenbach 1971, J. Fluid Mech. 46:321; Achenbach &
+    Heinecke 1981, J. Fluid Mech. 109:239). ``factor`` = 1 returns ``cd2`` bit for bit
+    (1.0 * x is exact); NaN stays NaN."""
+    if reynolds > RE_SUPERCRITICAL:
+        return factor * cd2
+    return cd2
 
 
 @kernel

@@ -39,6 +39,7 @@ from mineburial.kernels.mine.coefficients import (
     axial_drag_coefficient,
     cross_drag_coefficient,
     lift_coefficient,
+    roughness_scaled,
 )
 from mineburial.kernels.mine.environment import current_velocity
 from mineburial.kernels.mine.geometry import e_down_body
@@ -49,6 +50,7 @@ from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
     N_DIAG,  # noqa: F401
+    P_CROSSFLOW_FACTOR,
     P_DEPTH,
     P_DRAG,
     P_GRAVITY,
@@ -106,7 +108,7 @@ def phase_of(z_lo, z_hi, depth):
 
 
 @kernel
-def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta):
+def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
     """Fluid force and torque (body frame, about the COM) on the axial strip [a, b].
 
     ``(ur1, ur2, ur3)`` is the fluid velocity relative to the COM in the body frame.
@@ -118,7 +120,9 @@ def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta):
     Kutta-Joukowski direction omega x v_body. Roll damping: seed 000 eq. (53).
     ``eta`` is the crossflow efficiency of the viscous-crossflow model applied where eq. (44)
     gives the 2-D cylinder's value (:func:`added_mass.finite_body_cross_drag`); 1 for the
-    munk_factor model, which keeps eq. (44) as printed.
+    munk_factor model, which keeps eq. (44) as printed. ``roughness`` is
+    ``numerics.crossflow_drag_factor``, the factor on eq. (44) above Re = 150 000
+    (:func:`coefficients.roughness_scaled`; 1 keeps it as printed).
     """
     if drag_on == 0 or rho <= 0.0 or b <= a:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -136,7 +140,7 @@ def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta):
     v2sq = (ur2 * ur2 + ur3 * ur3) + 2.0 * m1 * (-ur2 * w3 + ur3 * w2) + m2 * (w3 * w3 + w2 * w2)
     vrms = math.sqrt(max(v2sq, 0.0))
     re = vrms * d / nu
-    cd2 = finite_body_cross_drag(cross_drag_coefficient(re, aspect), re, eta)
+    cd2 = finite_body_cross_drag(roughness_scaled(cross_drag_coefficient(re, aspect), re, roughness), re, eta)
     k = 0.5 * rho * cd2 * d
     f2 = k * iy
     f3 = k * iz
@@ -156,7 +160,7 @@ def strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta):
 
 
 @kernel
-def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on):
+def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, roughness):
     """Seed 000 printed drag/lift model on the strip [a, b] (body frame, about COM).
 
     F-frame: i_F = i_M, j_F along the cross-flow V2 at the COM (eq. (12)),
@@ -164,7 +168,8 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
     whose centre lies at -chi_e = (a + b)/2. Integrals of eqs. (42), (47), (49),
     (54), (55), (57) evaluated exactly for the printed integrands (V2')^2 (not
     |V2'| V2'), which fixes the typos of (56a) (factor 2 on V2 L chi^2) and (58)
-    (missing C_l in M_l). Added-mass ratios f_i = 0 (never given in seed 000).
+    (missing C_l in M_l). Added-mass ratios f_i = 0 (never given in seed 000). ``roughness``:
+    as in :func:`strip_forces`.
     """
     if drag_on == 0 or rho <= 0.0 or b <= a:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -191,7 +196,7 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
     s2 = l * l * l / 12.0 + c * c * l
     s3 = c * l * l * l / 4.0 + c * c * c * l
     re = v2 * d / nu
-    cd2 = cross_drag_coefficient(re, aspect)
+    cd2 = roughness_scaled(cross_drag_coefficient(re, aspect), re, roughness)
     k = cd2 * R * rho
     # eq. (42)-(43): F_d2 = C_d2 R rho int (V2 - om3f eta)^2 d eta
     fd2 = k * (v2 * v2 * s0 - 2.0 * v2 * om3f * s1 + om3f * om3f * s2)
@@ -230,15 +235,17 @@ def impact35_strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_o
 def add_strip_forces(model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
     """Add the fluid force and torque on the strip [a, b] of the selected model
     (:func:`impact35_strip_forces` or :func:`strip_forces`) to ``loads`` (body frame, about
-    the COM); ``model`` = (impact35, R, L, drag_on, eta) as in :func:`derivatives`."""
-    impact35, R, L, drag_on, eta = model
+    the COM); ``model`` = (impact35, R, L, drag_on, eta, roughness) as in :func:`derivatives`."""
+    impact35, R, L, drag_on, eta, roughness = model
     f1, f2, f3, m1, m2, m3 = loads
     if impact35:
         h1, h2, h3, h4, h5, h6 = impact35_strip_forces(
-            rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on
+            rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, roughness
         )
     else:
-        h1, h2, h3, h4, h5, h6 = strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta)
+        h1, h2, h3, h4, h5, h6 = strip_forces(
+            rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness
+        )
     return f1 + h1, f2 + h2, f3 + h3, m1 + h4, m2 + h5, m3 + h6
 
 
@@ -401,7 +408,7 @@ def _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
     """Added mass of the wetted parts, ``(a0, a1, a2, a11)``: the zeroth, first and second
     moments about the COM of the transverse added mass per unit length along the axis, and
     the axial added mass (none in the impact35 model)."""
-    impact35, R, _, _, _ = model
+    impact35, R, _, _, _, _ = model
     rho_w = p[P_RHO_WATER]
     rho_a = p[P_RHO_AIR]
     # strip-theory added mass per unit length a = C_M rho pi R^2 (seed 001 eqs. (20)-(21))
@@ -612,7 +619,8 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     crossflow_model = int(p[P_WATER_COLUMN]) == WC_VISCOUS_CROSSFLOW
     # separated crossflow efficiency of the viscous-crossflow model (DATCOM bodyrt.f)
     eta = bodies.crossflow_efficiency(body) if crossflow_model else 1.0
-    model = (int(p[P_MODEL]) == 1, R, L, int(p[P_DRAG]), eta)  # what add_strip_forces needs
+    # what add_strip_forces needs; the last, numerics.crossflow_drag_factor (eq. (44) above Re 150 000)
+    model = (int(p[P_MODEL]) == 1, R, L, int(p[P_DRAG]), eta, p[P_CROSSFLOW_FACTOR])
 
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     q = (y[6] / qn, y[7] / qn, y[8] / qn, y[9] / qn)

@@ -150,6 +150,9 @@ P_SWITCH_SPEED = INDEX["numerics.switch_speed"]
 P_TMAX_FALL = INDEX["numerics.t_max_fall"]
 P_WATER_COLUMN = INDEX["numerics.water_column"]
 P_OB_QUADRATURE = INDEX["numerics.overburden_quadrature"]
+P_SED_DEPTH_FACTOR = INDEX["sediment.bearing_depth_factor"]
+P_CROSSFLOW_FACTOR = INDEX["numerics.crossflow_drag_factor"]
+P_SED_CD = INDEX["sediment.inertial_drag"]
 
 WC_MUNK_FACTOR = WATER_COLUMN_NAMES.index("munk_factor")
 WC_VISCOUS_CROSSFLOW = WATER_COLUMN_NAMES.index("viscous_crossflow")

@@ -50,7 +50,7 @@ from mineburial.kernels.mine.layout import (
 )
 from mineburial.kernels.mine.overburden import overburden_force
 from mineburial.kernels.mine.sediment import RES_DELTA, sediment_tractions
-from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS, LAW_VREG
+from mineburial.kernels.mine.sediment.laws import LAW_DEPTH_FACTOR, LAW_REFERENCE_PATHS, LAW_VREG
 from mineburial.kernels.rotation import rotation_matrix
 
 #: s: the force tolerance of the hold test is mass * rest_speed / REST_TIME
@@ -115,8 +115,13 @@ def held_by_sediment(y, p, law, bank, probe_speed):
     if not (z_lo < -depth):
         return False
     fx, fy, fz, m1, m2, m3 = static_load(y, p, law, bank)
-    # the rigid-plastic capacity: the law without its switch and slip regularisation
-    law = law[:LAW_VREG] + (1e-9 * probe_speed, 1e-9 * probe_speed) + law[LAW_REFERENCE_PATHS:]
+    # the rigid-plastic capacity: the law without its switch and slip regularisation, and
+    # without the soil's inertial drag (a dynamic pressure, no capacity)
+    law = (
+        law[:LAW_VREG]
+        + (1e-9 * probe_speed, 1e-9 * probe_speed, law[LAW_DEPTH_FACTOR], 0.0)
+        + law[LAW_REFERENCE_PATHS:]
+    )
     # load force in the body frame
     f1 = r[0] * fx + r[3] * fy + r[6] * fz
     f2 = r[1] * fx + r[4] * fy + r[7] * fz

@@ -18,7 +18,6 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine.sediment.laws import (
-    DEPTH_FACTOR,
     LAW_PORE,
     LAW_REFERENCE_PATHS,
     RATE_IMPACT35,
@@ -51,7 +50,6 @@ __all__ = [
     "RATE_NONE",
     "V_REG",
     "V_REG_N",
-    "DEPTH_FACTOR",
     "QUADRATURE_FAST",
     "QUADRATURE_REFERENCE",
 ]

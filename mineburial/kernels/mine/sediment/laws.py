@@ -24,10 +24,14 @@ is continuous in the velocity.
                Prandtl 1920), tangential mu times the normal pressure.
 2 ``bearing``  in the spirit of Chu & Fan 2007 (IEEE J. Oceanic Eng. 32(1):34):
                normal pressure N_c(zeta) S G h_n with the depth factor of Brinch
-               Hansen (1970), N_c = p[P_SED_NC] (1 + 0.4 arctan(zeta/d)), i.e. 5.14 at
-               the seabed and 8.4 deep (Skempton 1951: 7.5 strip, 9.0 circle); side
-               adhesion alpha S G with alpha = p[P_SED_MU] (True 1976; Aubeny & Shi
-               2006: alpha ~ 1/S_t).
+               Hansen (1970), N_c = p[P_SED_NC] (1 + f arctan(zeta/d)) with
+               f = p[P_SED_DEPTH_FACTOR] (0.4 by default), i.e. 5.14 at the seabed and
+               8.4 deep (Skempton 1951: 7.5 strip, 9.0 circle); side adhesion alpha S G
+               with alpha = p[P_SED_MU] (True 1976; Aubeny & Shi 2006: alpha ~ 1/S_t).
+Every law adds, when ``sediment.inertial_drag`` C_D = p[P_SED_CD] > 0, the soil's inertial
+drag 0.5 C_D rho_s v_n^2 to the normal pressure of an advancing element (the drag term
+0.5 C_D rho_s A v^2 of True 1976, Aubeny & Shi 2006 and O'Loughlin et al. 2013, written per
+element; not a strength, so no friction follows from it); C_D = 0 (default): none.
 For ``friction`` and ``bearing`` the geostatic part sigma' acts on every embedded
 element whatever its motion and is added by the stepper in closed form
 (:mod:`mineburial.kernels.mine.overburden`: Archimedes with the sediment density).
@@ -54,6 +58,8 @@ from mineburial.kernels.mine.layout import (
     P_SED_A,
     P_SED_B,
     P_SED_BETA,
+    P_SED_CD,
+    P_SED_DEPTH_FACTOR,
     P_SED_EV,
     P_SED_KP,
     P_SED_MU,
@@ -103,10 +109,6 @@ for _n in range(1, GL_MAX + 1):
     GL_NODES[_n, :_n] = _xg
     GL_WEIGHTS[_n, :_n] = _wg
 del _n, _xg, _wg
-
-#: Brinch Hansen (1970) depth factor d_c = 1 + DEPTH_FACTOR * arctan(zeta/d).
-DEPTH_FACTOR = 0.4
-
 
 # =============================================================================
 # sediment properties
@@ -303,8 +305,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 
     (x, y, z): body-frame point; (nx, ny, nz): outward normal; (v1, v2, v3): COM
     velocity in the body frame; (w1, w2, w3): angular velocity (body).
-    ``law`` = (model, rate_law, A, V_rest, beta, rate_ref, mu, N0, diameter,
-    rho_w, g, rho0, k_rho, S0, k_S, row).
+    ``law``: :func:`pack_law` (slots ``LAW_*``).
     """
     model = law[0]
     vx = v1 + w2 * z - w3 * y
@@ -316,7 +317,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    _, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank, law[9], law[10])
+    rho, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank, law[9], law[10])
     gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
     mu = law[6]
     # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
@@ -336,9 +337,13 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
         pn = law[7] * s * gfac * hn
         ft = mu * pn
     else:
-        nc = law[7] * (1.0 + DEPTH_FACTOR * math.atan(zeta / law[8]))
+        # Brinch Hansen (1970) depth factor 1 + f arctan(zeta/d), f = sediment.bearing_depth_factor
+        nc = law[7] * (1.0 + law[LAW_DEPTH_FACTOR] * math.atan(zeta / law[8]))
         pn = nc * s * gfac * hn
         ft = mu * s * gfac
+    cd = law[LAW_INERTIAL_DRAG]
+    if cd > 0.0 and vn > 0.0:  # soil inertial drag (module docstring); skipped at C_D = 0
+        pn += 0.5 * cd * rho * vn * vn
     k = ft / math.sqrt(vt2 + law[LAW_VREG] * law[LAW_VREG])
     return -pn * nx - k * tx, -pn * ny - k * ty, -pn * nz - k * tz
 
@@ -371,8 +376,10 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     LAW_EV,
     LAW_VREG,
     LAW_VREG_N,
+    LAW_DEPTH_FACTOR,
+    LAW_INERTIAL_DRAG,
     LAW_REFERENCE_PATHS,
-) = range(24)
+) = range(26)
 
 
 @kernel
@@ -383,7 +390,8 @@ def pack_law(p, diameter, reference_paths=True):
     (Prandtl 1920). The quadrature code (``layout.SEDIMENT_QUADRATURE_NAMES``) and the
     pore-pressure constants of seed 000 eq. (73) ride along, and the regularisation speeds
     of the slip direction (``numerics.slip_speed``) and of the advancing switch
-    (``numerics.switch_speed``).
+    (``numerics.switch_speed``), and the calibration coefficients: the depth-factor coefficient
+    of the ``bearing`` law and the soil's inertial-drag coefficient.
 
     ``reference_paths`` decides, by its *type*, what is compiled (see
     :func:`.stepper.reference_paths`): ``None`` compiles the fast rule only, ``True`` the
@@ -420,6 +428,8 @@ def pack_law(p, diameter, reference_paths=True):
         p[P_SED_EV],
         p[P_SLIP_SPEED],
         p[P_SWITCH_SPEED],
+        p[P_SED_DEPTH_FACTOR],
+        p[P_SED_CD],
         reference_paths,
     )
 
