@@ -249,3 +249,20 @@ def test_evidence_rows_need_their_uncertainty(tmp_path):
     bad.write_text(text.replace("sigma = 0.25\ndiscrepancy = 0.35", ""))
     with pytest.raises(ScenarioError, match="sigma or discrepancy"):
         priors.load_evidence(bad)
+
+
+def test_a_posterior_is_refused_for_another_physics_model():
+    raw = short_default(5)
+    raw["ensemble"]["coefficients"] = "posterior"
+    raw["numerics"]["model"] = "impact35"
+    with pytest.raises(ScenarioError, match="calibrated with numerics.model"):
+        engine.load_ensemble(raw)
+
+
+def test_binary_predictive_check_fails_when_the_model_never_gives_the_pattern():
+    row = _row(quantity="slant_straight", observed=1.0, error_rate=0.1, sigma=0.0, discrepancy=0.0)
+    w = np.full(10, 0.1)
+    never = conditioning.predictive_check(row, np.zeros(10), w, seed=0)
+    assert never.probability == 0.0 and not never.passed
+    some = conditioning.predictive_check(row, np.r_[np.ones(2), np.zeros(8)], w, seed=0)
+    assert some.probability == pytest.approx(0.2) and some.passed

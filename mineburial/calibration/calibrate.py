@@ -17,7 +17,6 @@ import io
 import json
 import math
 import pathlib
-import sys
 import time
 
 import numba
@@ -26,6 +25,7 @@ import numpy as np
 from mineburial import figures
 from mineburial._version import __version__
 from mineburial.calibration import cases, conditioning, priors
+from mineburial.ensembles.runner import Progress, check_threads
 from mineburial.errors import ScenarioError
 from mineburial.io.files import atomic_write_bytes, atomic_write_text
 
@@ -283,10 +283,10 @@ def calibrate(
     return Calibration(record, draws, w, log_likelihood)
 
 
-def _progress(done, total):
-    print(f"\rcalibrate: sets {done}/{total}", end="", file=sys.stderr)
-    if done == total:
-        print(file=sys.stderr)
+def _progress_lines(total: int):
+    """The run driver's rate-limited progress lines, counting sets."""
+    bar = Progress(total, unit="sets")
+    return lambda done, n: bar.update(done, final=done == n)
 
 
 # ---------------------------------------------------------------------------
@@ -335,13 +335,15 @@ def report_text(record: dict) -> str:
         "|---|" + "---|" * len(paths),
     ]
     for rid, inf in rep["influence"].items():
-        lines.append(f"| {rid} | " + " | ".join(f"{inf.get(p, float('nan')):.2f}" for p in paths) + " |")
+        cells = (f"{inf[p]:.2f}" if p in inf else "-" for p in paths)
+        lines.append(f"| {rid} | " + " | ".join(cells) + " |")
     lines += [
         "",
         "## Leave-one-out predictive checks",
         "",
         "Each row left out, the others' weights predict it: a measurement passes inside the 5-95 % "
-        "predictive band; a pattern passes when its predictive probability exceeds 10 %.",
+        "predictive band; a pattern passes when the model gives it with a predictive probability of "
+        "at least 10 %.",
         "",
         "| row | observed | predicted | ESS without | result |",
         "|---|---|---|---|---|",
@@ -409,16 +411,13 @@ def plot_marginals(record: dict, coefficients, draws, weights, path) -> None:
 
 def run_cli(args) -> int:
     """``mineburial calibrate``."""
-    # local import: the run driver's thread check (numba's core count), as run does
-    from mineburial.ensembles.runner import check_threads
-
     threads = check_threads(args.threads, "--threads")
     output = pathlib.Path(args.output)
     if args.plot:
         figures.check_plot_path(args.plot, output, what="the posterior")
     t0 = time.perf_counter()
     coefficients = priors.load_priors()
-    progress = None if args.quiet else _progress
+    progress = None if args.quiet else _progress_lines(args.sets)
     cal = calibrate(output, n=args.sets, seed=args.seed, threads=threads, progress=progress)
     record = cal.record
     if args.report:

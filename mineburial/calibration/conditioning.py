@@ -31,7 +31,8 @@ from mineburial.calibration.priors import EvidenceRow, Prior
 PREDICTIVE_BAND = (0.05, 0.95)
 #: draws of the predictive mixture from which its band's quantiles are read
 PREDICTIVE_DRAWS = 20000
-#: a binary row passes when its observed outcome's predictive probability exceeds this (1 - 0.9)
+#: a binary row passes when the model gives its observed outcome with at least this predictive
+#: probability (the observed outcome lies in the smallest set of outcomes holding 90 %)
 BINARY_LEVEL = 0.1
 
 
@@ -147,17 +148,18 @@ def predictive_check(row: EvidenceRow, y: np.ndarray, w: np.ndarray, seed: int) 
     """Predict row ``row`` (simulated ``y`` per set and grid point, flattened) from weights
     ``w`` of the other rows (on the same points): a continuous row's measurement passes
     inside the 5-95 % band of the mixture of N(y_s, sigma^2 + discrepancy^2) over the
-    weighted sets; a binary row's observed outcome
-    passes when it lies in the smallest set of outcomes holding 90 % of the predictive
-    probability, i.e. when its predictive probability exceeds 10 %."""
+    weighted sets; a binary row's observed outcome passes when the model gives it with a
+    predictive probability of at least 10 % (it lies in the smallest set of outcomes holding
+    90 %). The row's error rate is left out of this probability: with it, the probability of
+    any outcome is at least the error rate (0.1), and the check could not fail."""
     ok = np.isfinite(y) & (w > 0)
     ess = effective_sample_size(w)
     if not ok.any():
         return PredictiveCheck(row, ess, math.nan, math.nan, math.nan, False)
     y, w = y[ok], w[ok] / w[ok].sum()
     if row.binary:
-        p = float(np.sum(w * np.where(y == row.observed, 1.0 - row.error_rate, row.error_rate)))
-        return PredictiveCheck(row, ess, math.nan, math.nan, p, p > BINARY_LEVEL * (1.0 + 1e-9))
+        p = float(np.sum(w[y == row.observed]))
+        return PredictiveCheck(row, ess, math.nan, math.nan, p, p >= BINARY_LEVEL)
     rng = np.random.default_rng(seed)
     pick = rng.choice(y.size, size=PREDICTIVE_DRAWS, p=w)
     draws = y[pick] + rng.normal(0.0, row.total_sigma, PREDICTIVE_DRAWS)

@@ -28,6 +28,8 @@ from mineburial.errors import ScenarioError
 SET_INPUT = "calibration.posterior_set"
 #: the values of ``ensemble.coefficients`` besides a path
 SHIPPED, FIXED = "posterior", "fixed"
+#: the physics model of the evidence cases, the only one a posterior applies to
+CALIBRATED_MODEL = "mineburial"
 
 
 @dataclass(frozen=True)

@@ -277,7 +277,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     )
     if any(k in random for k in _ANGLE_FIELDS) and "quaternion" in rel:
         raise EnsembleError("release: random angles cannot be combined with a fixed quaternion")
-    post, drawn = _posterior(ens["coefficients"], raw, base_dir)
+    post, drawn = _posterior(ens["coefficients"], raw, base_dir, base.numerics.model)
     if drawn:
         random[posterior.SET_INPUT] = post.set_choice()
     files = input_files_of(raw, random, base_dir)
@@ -311,9 +311,10 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     )
 
 
-def _posterior(which, raw, base_dir):
+def _posterior(which, raw, base_dir, model):
     """The posterior of ``ensemble.coefficients`` and the coefficients drawn from it (those
-    the scenario does not give itself); (None, ()) for ``"fixed"``."""
+    the scenario does not give itself); (None, ()) for ``"fixed"``. A posterior is of the
+    ``mineburial`` model, whose cases it was calibrated on: another model is refused."""
     if not isinstance(which, str) or not which:
         raise ScenarioError(
             f"ensemble.coefficients = {which!r} must be 'fixed', 'posterior' (the shipped posterior) "
@@ -321,6 +322,12 @@ def _posterior(which, raw, base_dir):
         )
     if which == posterior.FIXED:
         return None, ()
+    if model != posterior.CALIBRATED_MODEL:
+        raise ScenarioError(
+            f"ensemble.coefficients = {which!r}: the posterior was calibrated with numerics.model = "
+            f"'{posterior.CALIBRATED_MODEL}', not {model!r}; give ensemble.coefficients = 'fixed' "
+            "for another model"
+        )
     post = posterior.load(which, base_dir)
     why = post.stale() if post.source == "shipped" else None
     if why:

@@ -42,7 +42,7 @@ def predictive_checks(quick_only=False, figures=None, sets=None):
         row = by_id[chk["id"]]
         if math.isfinite(chk["probability"]):
             model = f"P(observed) = {chk['probability']:.2f}"
-            tol = "observed pattern's predictive probability > 10 % (inside the 90 % predictive set)"
+            tol = "the model gives the observed pattern with predictive probability >= 10 %"
         else:
             model = f"{chk['lower']:.3g}-{chk['upper']:.3g}"
             tol = "inside the 5-95 % predictive band"
