@@ -38,12 +38,12 @@ from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun, check_output_path, same_file
-from mineburial.figures import check_plot_path, figure_class
+from mineburial.figures import check_plot_path, figure_class, save_figure
 from mineburial.io import forcing as fio
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.io.files import atomic_path
+from mineburial.io.files import atomic_write_bytes
 from mineburial.io.inputs import check_input, read_toml
 from mineburial.kernels.mine import layout
 from mineburial.resources import memory_refusal
@@ -1264,7 +1264,7 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     _draw_burial_over_75(fig, axes[1], cax, ds, g, likely, basis)
     fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
     path = pathlib.Path(path)
-    fig.savefig(path, dpi=dpi)
+    save_figure(fig, path, dpi=dpi)
     return path
 
 
@@ -1399,7 +1399,7 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
         fontsize=12,
     )
     path = pathlib.Path(path)
-    fig.savefig(path, dpi=dpi)
+    save_figure(fig, path, dpi=dpi)
     return path
 
 
@@ -1497,9 +1497,28 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
            ds["cell_status"].attrs else ""),
     }  # fmt: skip
     path = pathlib.Path(path)
-    with atomic_path(path) as tmp:
-        da.rio.to_raster(tmp, driver="GTiff")
+    atomic_write_bytes(path, _geotiff_bytes(da, path))
     return path
+
+
+def _geotiff_bytes(da: xr.DataArray, path) -> bytes:
+    """The GeoTIFF of ``da`` rendered in memory and read back: GDAL reports a failed write
+    only on stderr, so the file is made in memory (GDAL's ``/vsimem``), its band compared
+    with ``da`` (NaN where NaN) and then written by :func:`atomic_write_bytes`, whose own
+    write raises on a full disk and checks the size (docs/design.md, "Outputs")."""
+    from rasterio.io import MemoryFile
+
+    with MemoryFile(ext=".tif") as mem:
+        da.rio.to_raster(mem.name, driver="GTiff")
+        data = mem.read()
+    try:
+        with MemoryFile(data) as back, back.open() as r:
+            band = r.read(1)
+    except Exception as exc:  # rasterio's errors have no common base with a message we rely on
+        raise MapError(f"--geotiff '{path}': the GeoTIFF made does not read back ({exc})") from None
+    if band.shape != da.shape or not np.array_equal(band, da.values, equal_nan=True):
+        raise MapError(f"--geotiff '{path}': the GeoTIFF made does not read back as the map's field")
+    return data
 
 
 # ---------------------------------------------------------------------------
