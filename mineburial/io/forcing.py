@@ -31,6 +31,7 @@ import numpy as np
 
 from mineburial._deferred import xarray as xr
 from mineburial.io.files import atomic_write_text
+from mineburial.io.inputs import numbered_csv
 from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
 
@@ -504,8 +505,10 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
     ``time,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg``."""
     path = pathlib.Path(path)
     where = f"forcing file '{path}'"
-    lines = [ln for ln in _read_text(path, where, max_bytes).splitlines() if not ln.lstrip().startswith("#")]
-    rows = [r for r in csv.reader(ln for ln in lines if ln.strip())]
+    try:  # one value per header column on every row (inputs.numbered_csv), before any drop runs
+        rows = [r for _, r in numbered_csv(_read_text(path, where, max_bytes), as_wide_as_header=True)]
+    except csv.Error as exc:
+        raise ScenarioError(f"{where}: not a CSV table of the forcing ({exc})") from None
     if not rows:
         raise ScenarioError(f"{where}: no header row; expected e.g. time,hs_m,tp_s,wave_dir_deg,...")
     header = [h.strip().lower() for h in rows[0]]
@@ -564,6 +567,18 @@ def _open_netcdf(path: pathlib.Path, where: str, max_bytes: int) -> xr.Dataset:
         raise ScenarioError(f"{where}: cannot open as NetCDF ({type(exc).__name__}: {first[:120]})") from None
 
 
+def _numbers(var, name, where) -> np.ndarray:
+    """The values of a NetCDF variable as float64, or one line when it holds text, times or
+    other things than numbers (was: a ValueError traceback, issue 35)."""
+    kind = var.dtype.kind
+    if kind not in "iuf":
+        what = {"U": "text", "S": "text (bytes)", "O": "text or objects", "b": "true/false values"}
+        raise ScenarioError(
+            f"{where}: variable '{name}' holds {what.get(kind, f'values of type {var.dtype}')}, not numbers"
+        )
+    return np.asarray(var.values, dtype=np.float64)
+
+
 def _netcdf_times(ds, where):
     """(name, seconds from the first record, start) of the CF time coordinate."""
     name = "time" if "time" in ds.variables else None
@@ -583,7 +598,7 @@ def _netcdf_times(ds, where):
         raise ScenarioError(
             f"{where}: variable '{name}' has calendar '{calendar}'; accepted: {', '.join(_CF_CALENDARS)}"
         )
-    raw = np.asarray(var.values, dtype=np.float64)
+    raw = _numbers(var, name, where)
     try:
         finite = np.where(np.isfinite(raw), raw, 0.0)
         stamps = xr.coding.times.decode_cf_datetime(finite, str(units), calendar)
@@ -623,7 +638,7 @@ def _netcdf_columns(ds, where, tdim, ndim, space_dims=None):
                 f"{where}: variable '{names[0]}' has dimensions {var.dims}; "
                 f"expected ({tdim}, {', '.join(space_dims)})"
             )
-        values = np.asarray(var.transpose(tdim, *space_dims).values, dtype=np.float64)
+        values = _numbers(var.transpose(tdim, *space_dims), names[0], where)
         columns[key] = (names[0], values, var.attrs.get("units"))
     return columns, space_dims
 

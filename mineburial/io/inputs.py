@@ -136,11 +136,16 @@ def column_names(header) -> str | None:
     return ", ".join(cells)
 
 
-def numbered_csv(text: str):
+def numbered_csv(text: str, *, as_wide_as_header: bool = False):
     """``(line number, cells)`` of each row of the CSV ``text``, blank lines and comment
     lines (starting with ``#``) left out; the numbers are the file's line numbers (from 1),
     so that an error can name where a bad cell is without quoting it. Raises ``csv.Error``
-    naming the line (a field over the csv module's limit of 131,072 characters)."""
+    naming the line (a field over the csv module's limit of 131,072 characters).
+
+    With ``as_wide_as_header`` every row must have as many cells as the first (the header):
+    a table whose columns are found by their position in the header would otherwise read a
+    row with an extra or a missing cell shifted (issue 35: a forcing row with one field more
+    read its speeds as directions), so such a row raises ``csv.Error`` naming its line."""
     kept = [
         (number, line)
         for number, line in enumerate(text.splitlines(), start=1)
@@ -154,4 +159,13 @@ def numbered_csv(text: str):
             return
         except csv.Error as exc:
             raise csv.Error(f"line {kept[reader.line_num - 1][0]}: {exc}") from None
-        yield kept[reader.line_num - 1][0], row
+        number = kept[reader.line_num - 1][0]
+        if as_wide_as_header:
+            if reader.line_num == 1:
+                width, header_line = len(row), number
+            elif len(row) != width:
+                raise csv.Error(
+                    f"line {number} has {len(row)} fields but the header (line {header_line}) has "
+                    f"{width}: every row needs one value per column (quote a value holding a comma)"
+                )
+        yield number, row
