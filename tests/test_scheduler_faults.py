@@ -39,6 +39,8 @@ def _answer(kind, conn):
     elif kind == "http":  # a dashboard port given by mistake
         conn.recv(65536)
         conn.sendall(HTTP_REPLY)
+    elif kind == "greets":  # a plausible greeting (a 100-byte message follows...), then nothing
+        conn.sendall((100).to_bytes(8, "little"))
     # "silent": accepts and never answers
 
 
@@ -182,3 +184,55 @@ def test_losing_the_scheduler_mid_run_is_one_line_and_a_rerun_resumes(tmp_path, 
         if "realization" in var.dims:
             assert np.array_equal(resumed[name].values, var.values, equal_nan=True), name
     assert xr.load_dataset(out).sizes == resumed.sizes
+
+
+# --- issue 35 item 5: a hard deadline on the client's handshake ---------------------------------
+@pytest.mark.parametrize("command", ["run", "compare"])
+def test_a_service_that_greets_then_stalls_is_one_line_within_the_deadline(
+    fake_service, tmp_path, capsys, monkeypatch, command
+):
+    """Was: silent for 450 s and more: the probe reads the 8-byte greeting on its own
+    connection, then ``Client(..., timeout=10)`` did not bound the stalled handshake."""
+    import distributed  # noqa: F401  (its import time is not the scheduler's)
+
+    monkeypatch.setattr(runner, "SCHEDULER_TIMEOUT", WAIT)
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(dumps_toml(cheap_ensemble()))
+    address = fake_service("greets")
+    out = tmp_path / "o.nc"
+    argv = {
+        "run": ["run", str(scenario), "-n", "4", "-o", str(out)],
+        "compare": [
+            "compare",
+            str(scenario),
+            "--vary",
+            "sediment.resistance=bearing,delta",
+            "-n",
+            "2",
+            "-o",
+            str(out),
+        ],
+    }[command]
+    t0 = time.monotonic()
+    code = cli.main(argv + ["--scheduler", address, "--quiet"])
+    elapsed = time.monotonic() - t0
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and elapsed < WAIT + D.CONNECT_GRACE_S + 3.0, (code, elapsed, err)
+    assert len(err) == 1 and err[0].startswith(f"mineburial: error: --scheduler {address}: cannot reach"), err
+    assert "handshake did not complete" in err[0]
+    assert not out.exists()
+
+
+def test_a_blank_scheduler_address_is_refused_not_run_locally(tmp_path, capsys, monkeypatch):
+    """Was: ``--scheduler ""`` ran on this machine without a word."""
+    monkeypatch.setattr(runner, "run_ensemble", lambda *a, **kw: pytest.fail("ran locally"))
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(dumps_toml(cheap_ensemble()))
+    for blank in ("", "  "):
+        code = cli.main(["run", str(scenario), "-n", "4", "-o", str(tmp_path / "o.nc"), "--scheduler", blank])
+        err = capsys.readouterr().err.splitlines()
+        assert code == 2 and len(err) == 1, err
+        assert (
+            err[0].startswith("mineburial: error: --scheduler '") and "give the scheduler's address" in err[0]
+        )
+    assert not (tmp_path / "o.nc").exists()

@@ -62,6 +62,7 @@ __all__ = [
     "chunk_task",
     "numba_threads_per_task",
     "probe_scheduler",
+    "open_client",
     "run_tasks_distributed",
     "RETRIES",
     "WAITING_INTERVAL",
@@ -167,6 +168,49 @@ def probe_scheduler(address: str, timeout: float) -> str | None:
     if not 0 < int.from_bytes(head, "little") <= GREETING_MAX_BYTES:
         return "what answered does not speak dask's protocol"
     return None
+
+
+#: s: how long past its own timeout the client's connection may take before it is abandoned
+CONNECT_GRACE_S = 2.0
+
+
+def open_client(address: str, timeout: float):
+    """``dask.distributed.Client(address, timeout=timeout)`` within a hard deadline of
+    ``timeout`` + :data:`CONNECT_GRACE_S` s, or :class:`TimeoutError`.
+
+    dask's ``timeout`` bounds the TCP connection and its retries, not a handshake that
+    stalls: a service that sends a plausible 8-byte greeting (so that
+    :func:`probe_scheduler` passes) and then nothing, or a scheduler whose connection to
+    this client stays silent, kept ``run`` waiting for 450 s and more (issue 35). The client
+    is made in a daemon thread; past the deadline it is abandoned (closed if it ever
+    connects) and the caller gets the timeout."""
+    from dask.distributed import Client
+
+    box: dict = {}
+    lock = threading.Lock()
+
+    def connect():
+        try:
+            client = Client(address, timeout=timeout)
+        except BaseException as exc:  # handed to the caller
+            box["error"] = exc
+            return
+        with lock:
+            if box.get("abandoned"):
+                client.close()
+            else:
+                box["client"] = client
+
+    thread = threading.Thread(target=connect, name="mineburial-dask-connect", daemon=True)
+    thread.start()
+    thread.join(timeout + CONNECT_GRACE_S)
+    with lock:
+        if "client" in box:
+            return box["client"]
+        if "error" in box:
+            raise box["error"]
+        box["abandoned"] = True
+    raise TimeoutError(f"the connection's handshake did not complete within {timeout + CONNECT_GRACE_S:g} s")
 
 
 def numba_threads_per_task(client) -> int:
