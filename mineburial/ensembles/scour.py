@@ -297,17 +297,24 @@ def at_lead_time(spec, lead_time: float | None):
     return dataclasses.replace(spec, scour=stage)
 
 
-def after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
+def after_scour(summary: np.ndarray, measures: np.ndarray, *, missing: str = "nan") -> np.ndarray:
     """``summary`` with its burial measures replaced by the scour stage's at its one lead time
-    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
-    gave a value; a drop without one keeps its impact measures (the outputs of ``sensitivity``
-    and ``compare`` at ``--lead-time``; burial never decreases in the stage, so such a drop's
-    measures are what it had)."""
+    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1): the outputs of
+    ``compare`` and ``sensitivity`` at ``--lead-time``.
+
+    A drop without a stage value (scour status not ok) gets NaN (``missing="nan"``): the
+    burial statistics then leave it out, as ``run``'s statistics after scour do (was: counted
+    with its impact burial, P(> 75 %) 0.25 against ``run``'s 1.00 on the same drops, issue 35).
+    ``missing="impact"`` keeps its impact measures instead, for a Sobol' analysis, which needs
+    a value at every point of its design (``sensitivity`` then warns, naming how many)."""
+    if missing not in ("nan", "impact"):
+        raise ValueError(f"missing must be 'nan' or 'impact', got {missing!r}")
     out = summary.copy()
     for k, name in enumerate(V.SCOUR_MEASURES):
         column = layout.SUMMARY_INDEX[name]
         value = measures[:, k, 0]
-        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
+        otherwise = out[:, column] if missing == "impact" else np.nan
+        out[:, column] = np.where(np.isfinite(value), value, otherwise)
     return out
 
 
