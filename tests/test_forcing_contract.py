@@ -218,3 +218,32 @@ def test_numbered_csv_contract_counts_fields_after_quoting():
     assert list(numbered_csv(text, as_wide_as_header=True)) == [(1, ["a", "b"]), (2, ["1", "2,5"])]
     with pytest.raises(csv.Error, match=r"line 2 has 3 fields"):
         list(numbered_csv("a,b\n1,2,5\n", as_wide_as_header=True))
+
+
+def test_an_unquoted_toml_datetime_as_storm_start_runs_as_the_quoted_text():
+    """Was: every drop computed, then ``TypeError: Object of type datetime is not JSON
+    serializable`` writing the record (and at every rerun). Reference: the same scenario with
+    the start quoted as ISO 8601 text."""
+    import datetime as dt
+    import json
+
+    from mineburial.ensembles.runner import run_ensemble
+
+    def with_start(start):
+        d = scenario_dict(
+            environment={"water_depth": 3.0},
+            release={"position": [0.0, 0.0, 1.0]},
+            sediment={"class": "sand"},
+            numerics={"t_max": 3.0, "sediment_quadrature": "fast"},
+        )
+        storm = {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0, "start": start}
+        d["scour"] = {"storm": storm, "lead_times_days": [0.0, 0.5]}
+        return d
+
+    when = dt.datetime(2003, 1, 15, tzinfo=dt.timezone.utc)  # what tomllib gives for 2003-01-15T00:00:00Z
+    unquoted = run_ensemble(with_start(when), n=2, seed=1, per_drop=True)
+    quoted = run_ensemble(with_start("2003-01-15T00:00:00+00:00"), n=2, seed=1, per_drop=True)
+    assert json.loads(unquoted.attrs["forcing_storm"])["start"] == "2003-01-15T00:00:00+00:00"
+    assert unquoted.attrs["forcing_storm"] == quoted.attrs["forcing_storm"]
+    for name, var in quoted.data_vars.items():
+        assert np.array_equal(unquoted[name].values, var.values, equal_nan=True), name

@@ -14,6 +14,7 @@ A scenario without the section runs exactly as before: nothing here is called.
 from __future__ import annotations
 
 import dataclasses
+import datetime as _dt
 import functools
 import hashlib
 import inspect
@@ -184,7 +185,10 @@ def _forcing(sec, base_dir):
     for k, v in storm.items():
         if k not in ("ramp", "start"):
             cfg._number(v, f"scour.storm.{k}")
-    return fio.storm_series(**storm), {"forcing_storm": dict(storm)}
+    # the record is written as JSON in the output's attributes: an unquoted TOML datetime as
+    # start is kept as its ISO 8601 text (was: a traceback after every drop was computed, issue 35)
+    record = {k: v.isoformat() if isinstance(v, (_dt.date, _dt.time)) else v for k, v in storm.items()}
+    return fio.storm_series(**storm), {"forcing_storm": record}
 
 
 def sediment_classes(sediment, choice) -> tuple:
