@@ -247,3 +247,47 @@ def test_an_unquoted_toml_datetime_as_storm_start_runs_as_the_quoted_text():
     assert unquoted.attrs["forcing_storm"] == quoted.attrs["forcing_storm"]
     for name, var in quoted.data_vars.items():
         assert np.array_equal(unquoted[name].values, var.values, equal_nan=True), name
+
+
+def netcdf_forcing(path, n, hs=None):
+    t = np.arange(n, dtype=float)
+    data = {
+        "hs": ("time", np.full(n, 1.0) if hs is None else hs, {"units": "m"}),
+        "tp": ("time", np.full(n, 8.0), {"units": "s"}),
+        "wave_dir": ("time", np.full(n, 270.0), {"units": "degree"}),
+        "current_speed": ("time", np.full(n, 0.5), {"units": "m s-1"}),
+        "current_dir": ("time", np.full(n, 45.0), {"units": "degree"}),
+    }
+    xr.Dataset(data, coords={"time": ("time", t, {"units": "hours since 2003-01-15"})}).to_netcdf(path)
+    return path
+
+
+def test_a_netcdf_forcing_with_more_records_than_memory_allows_is_one_line(tmp_path, monkeypatch):
+    """Was: 10^7 records read (2.9 GB), then a MemoryError traceback. The count of values is
+    checked against the available memory (here made 10 MB) before any is read."""
+    from mineburial import resources
+
+    path = netcdf_forcing(tmp_path / "long.nc", 100_000)  # 6 variables: 600,000 values
+    monkeypatch.setattr(resources, "available_memory", lambda *a, **kw: 10_000_000)
+    with pytest.raises(ScenarioError) as caught:
+        F.load_netcdf(path)
+    message = str(caught.value)
+    assert str(path) in message and "600,000 values" in message and "would need about" in message
+    monkeypatch.undo()
+    assert len(F.load_netcdf(path)) == 100_000  # with the machine's memory it is read
+
+
+def test_a_netcdf_forcing_variable_of_text_is_one_line(tmp_path):
+    """Was: ValueError: could not convert string to float (a traceback)."""
+    path = netcdf_forcing(tmp_path / "text.nc", 4, hs=np.array(["1.0", "2.0", "x", "3"]))
+    with pytest.raises(ScenarioError, match=r"variable 'hs' holds text, not numbers"):
+        F.load_netcdf(path)
+
+
+def test_a_csv_forcing_field_over_the_csv_limit_is_one_line_naming_its_line(tmp_path):
+    path = tmp_path / "f.csv"
+    lines = [HEADER, *rows()]
+    lines[3] = lines[3] + "9" * 140_000
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ScenarioError, match=r"line 4: field larger than field limit"):
+        F.load_csv(path)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mineburial import resources
 from mineburial._deferred import xarray as xr
 from mineburial.io.files import atomic_write_text
 from mineburial.io.inputs import numbered_csv
@@ -558,13 +559,31 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
 _CF_CALENDARS = ("standard", "gregorian", "proleptic_gregorian")
 
 
+#: float64 copies of each value a NetCDF forcing's reading holds at its peak (the file's values,
+#: the float64 conversion, the checked and converted series, the kernel's arrays), with margin
+READ_COPIES = 8
+
+
 def _open_netcdf(path: pathlib.Path, where: str, max_bytes: int) -> xr.Dataset:
     _regular_file(path, where, max_bytes)
     try:  # times decoded below, after their units are checked
-        return xr.open_dataset(path, decode_times=False, decode_timedelta=False)
+        ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False)
     except (OSError, ValueError, RuntimeError, TypeError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise ScenarioError(f"{where}: cannot open as NetCDF ({type(exc).__name__}: {first[:120]})") from None
+    # the values are read lazily: their count, against the memory, before any is read (issue 35:
+    # 10^7 to 5 10^7 records took 2.9 GB, then a MemoryError traceback); the file's size limit
+    # does not bound it, compressed values decompress to more
+    values = sum(int(v.size) for v in ds.variables.values())
+    refusal = resources.memory_refusal(
+        8.0 * READ_COPIES * values,
+        f"{where}: reading its {values:,} values ({dict(ds.sizes)})",
+        "give a shorter or coarser series",
+    )
+    if refusal:
+        ds.close()
+        raise ScenarioError(refusal)
+    return ds
 
 
 def _numbers(var, name, where) -> np.ndarray:
