@@ -245,3 +245,17 @@ def test_the_writer_refuses_an_empty_or_short_file_and_keeps_the_earlier_one(tmp
         with atomic_path(path, verify=verify) as tmp:
             tmp.write_bytes(PNG[:4])
     assert path.read_bytes() == b"earlier" and sorted(p.name for p in tmp_path.iterdir()) == ["out.png"]
+
+
+def test_synthetic_help_prints_the_usage_and_writes_no_file(tmp_path):
+    """Was: ``python -m mineburial.synthetic --help`` wrote a grid to a file named ``--help``."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "mineburial.synthetic", "--help"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
+    )
+    assert proc.returncode == 0 and proc.stdout.startswith("usage: python -m mineburial.synthetic")
+    assert list(tmp_path.iterdir()) == []
