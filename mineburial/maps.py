@@ -1521,6 +1521,27 @@ def _geotiff_bytes(da: xr.DataArray, path) -> bytes:
     return data
 
 
+def _check_geotiff_grid(grid: EnvironmentGrid) -> None:
+    """Before computing, what :func:`write_geotiff` needs of the map's grid, which is the
+    environment grid's: evenly spaced axes and a CRS pyproj can read (was: refused only after
+    the whole map was computed, issue 35). The same checks on a map without results."""
+    pyproj = _import_rioxarray()
+    coords = _horizontal_coords(grid)
+    y, x = coords[V.MAP_Y], coords[V.MAP_X]
+    status_attrs = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
+    shell = xr.Dataset(
+        {"cell_status": ((grid.ydim, grid.xdim), np.zeros(grid.shape, np.int8), status_attrs)},
+        coords={grid.ydim: y, grid.xdim: x},
+    )
+    if grid.grid_mapping:
+        shell[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(grid.ds[grid.grid_mapping].attrs))
+    yv = np.asarray(y.values, dtype=np.float64)
+    xv = np.asarray(x.values, dtype=np.float64)
+    _regular_edges(np.sort(xv), np.sort(yv), grid.xdim)
+    _regular_edges(np.sort(yv), np.sort(xv), grid.ydim)
+    map_crs(shell, pyproj)
+
+
 # ---------------------------------------------------------------------------
 # CLI
 # ---------------------------------------------------------------------------
@@ -1538,7 +1559,7 @@ def run_map_cli(args) -> int:
     check_output_path(args.output, inputs, "-o")
     if args.plot:
         check_plot_path(args.plot, args.output, inputs, "the map's output")
-    leads = _check_map_options(args, base, inputs)
+    leads = _check_map_options(args, base, inputs, grid)
     client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
@@ -1577,7 +1598,7 @@ def run_map_cli(args) -> int:
     return 0
 
 
-def _check_map_options(args, base, inputs):
+def _check_map_options(args, base, inputs, grid):
     """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
     lead times (days) of the panels, or None."""
     available = () if base.scour is None else base.scour.lead_times_days
@@ -1609,6 +1630,7 @@ def _check_map_options(args, base, inputs):
             if other and same_file(path, pathlib.Path(other)):
                 raise MapError(f"--geotiff '{path}' is also the map's {opt}; choose another path")
         check_output_path(path, inputs, "--geotiff")
+        _check_geotiff_grid(grid)
         if args.lead_time is not None:
             if base.scour is None:
                 raise MapError(

@@ -259,3 +259,44 @@ def test_synthetic_help_prints_the_usage_and_writes_no_file(tmp_path):
     )
     assert proc.returncode == 0 and proc.stdout.startswith("usage: python -m mineburial.synthetic")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def nothing_computed(monkeypatch):
+    def fail(*a, **kw):
+        raise AssertionError("the map was computed before the check")
+
+    monkeypatch.setattr(maps, "run_map", fail)
+
+
+def test_geotiff_of_an_unevenly_spaced_grid_is_refused_before_computing(tmp_path, capsys, nothing_computed):
+    """Was: refused only after the whole map was computed."""
+    from mineburial.synthetic import synthetic_environment
+
+    env = synthetic_environment(ny=3, nx=2, seed=1)
+    env = env.assign_coords(latitude=("latitude", [54.50, 54.51, 54.53], env["latitude"].attrs))
+    env.to_netcdf(tmp_path / "env.nc")
+    scen = tmp_path / "s.toml"
+    scen.write_text(dumps_toml(_scenario()))
+    out = tmp_path / "map.nc"
+    argv = ["map", str(scen), "--environment", str(tmp_path / "env.nc"), "-o", str(out), "-n", "2"]
+    assert main(argv + ["--geotiff", str(tmp_path / "p.tif")]) == 2
+    one_line(capsys, "axis 'latitude' is not evenly spaced")
+    assert not out.exists() and not (tmp_path / "p.tif").exists()
+
+
+def test_geotiff_of_a_grid_mapping_pyproj_cannot_read_is_refused_before_computing(
+    tmp_path, capsys, nothing_computed
+):
+    from test_maps import projected_environment
+
+    env = projected_environment()
+    env["utm"].attrs["grid_mapping_name"] = "no_such_projection"
+    env.to_netcdf(tmp_path / "env.nc")
+    scen = tmp_path / "s.toml"
+    scen.write_text(dumps_toml(_scenario()))
+    out = tmp_path / "map.nc"
+    argv = ["map", str(scen), "--environment", str(tmp_path / "env.nc"), "-o", str(out), "-n", "2"]
+    assert main(argv + ["--geotiff", str(tmp_path / "p.tif")]) == 2
+    one_line(capsys, "grid mapping 'utm' is not a CRS pyproj can read")
+    assert not out.exists()
