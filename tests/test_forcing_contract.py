@@ -291,3 +291,22 @@ def test_a_csv_forcing_field_over_the_csv_limit_is_one_line_naming_its_line(tmp_
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(ScenarioError, match=r"line 4: field larger than field limit"):
         F.load_csv(path)
+
+
+@pytest.mark.parametrize("when", ["1500-01-15T00:00:00Z", "2300-01-15T00:00:00Z"])
+def test_a_time_beyond_what_datetime64_ns_holds_is_refused_not_wrapped(tmp_path, when):
+    """Was: read as another time silently (1500 became 2084): the series' times and the times
+    in every message were wrong."""
+    path = tmp_path / "f.csv"
+    body = [f"{when[:4]}-01-15T0{k}:00:00Z,1.0,8.0,270.0,0.5,45.0" for k in range(4)]
+    path.write_text(
+        "\n".join(["time,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg", *body]) + "\n"
+    )
+    with pytest.raises(
+        ScenarioError, match=r"data row 1, column 'time': .* is outside the times that can be held"
+    ):
+        F.load_csv(path)
+    with pytest.raises(
+        ScenarioError, match=r"start = .*: .* is outside the times that can be held, 1677-09-21"
+    ):
+        F.storm_series(peak_hs=2.0, peak_tp=9.0, duration_h=24.0, start=when)

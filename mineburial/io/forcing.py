@@ -470,6 +470,15 @@ def _csv_columns(where, header):
     return found
 
 
+class TimeOutOfRange(ValueError):
+    """An ISO 8601 time outside what datetime64[ns] holds (its message says so)."""
+
+
+#: the first and last whole seconds datetime64[ns] holds (1677-09-21T00:12:44 to 2262-04-11T23:47:16)
+_FIRST_NS = _dt.datetime(1677, 9, 21, 0, 12, 44)
+_LAST_NS = _dt.datetime(2262, 4, 11, 23, 47, 16)
+
+
 def _parse_iso(text) -> np.datetime64:
     """ISO 8601 text (or a datetime, as TOML gives an unquoted one) -> UTC datetime64[ns]
     (no zone: UTC). A trailing 'Z' is read as +00:00 (Python 3.10's fromisoformat refuses it)."""
@@ -482,6 +491,11 @@ def _parse_iso(text) -> np.datetime64:
         raise ValueError(f"{text!r} is not an ISO 8601 time")
     if when.tzinfo is not None:
         when = when.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    if not (_FIRST_NS <= when <= _LAST_NS):  # datetime64[ns] would wrap silently (issue 35)
+        raise TimeOutOfRange(
+            f"{when.isoformat()}Z is outside the times that can be held, {_FIRST_NS.isoformat()}Z to "
+            f"{_LAST_NS.isoformat()}Z (nanoseconds from 1970 in 64 bits)"
+        )
     return np.datetime64(when, "ns")
 
 
@@ -524,6 +538,8 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
                 stamps.append(_parse_iso(row[it]))
             else:
                 raw_s.append(float(row[it]))
+        except TimeOutOfRange as exc:
+            raise ScenarioError(f"{where}: data row {k}, column 'time': {exc}") from None
         except (IndexError, ValueError):
             raise ScenarioError(
                 f"{where}: data row {k}, column '{tcol}': not "
@@ -912,9 +928,12 @@ def storm_series(
         )
     try:
         start_time = _parse_iso(start)
+    except TimeOutOfRange as exc:
+        raise ScenarioError(f"{where}: start = {start}: {exc}") from None
     except ValueError:
+        shown = start.isoformat() if isinstance(start, (_dt.date, _dt.time)) else repr(start)
         raise ScenarioError(
-            f"{where}: start = {start!r} is not an ISO 8601 time (e.g. 2003-01-15T00:00:00Z)"
+            f"{where}: start = {shown} is not an ISO 8601 date and time (e.g. 2003-01-15T00:00:00Z)"
         ) from None
     hours = np.arange(n) * step_h
     s = storm_shape((hours - peak_h) / (0.5 * duration_h), ramp)
