@@ -933,7 +933,7 @@ def storm_series(
     except ValueError:
         shown = start.isoformat() if isinstance(start, (_dt.date, _dt.time)) else repr(start)
         raise ScenarioError(
-            f"{where}: start = {shown} is not an ISO 8601 date and time (e.g. 2003-01-15T00:00:00Z)"
+            f"{where}: start = {shown} is not an ISO 8601 time (e.g. 2003-01-15T00:00:00Z)"
         ) from None
     hours = np.arange(n) * step_h
     s = storm_shape((hours - peak_h) / (0.5 * duration_h), ramp)
