@@ -310,3 +310,16 @@ def test_a_time_beyond_what_datetime64_ns_holds_is_refused_not_wrapped(tmp_path,
         ScenarioError, match=r"start = .*: .* is outside the times that can be held, 1677-09-21"
     ):
         F.storm_series(peak_hs=2.0, peak_tp=9.0, duration_h=24.0, start=when)
+
+
+def test_lead_times_days_is_documented_as_what_it_is_optional():
+    """Was: documented "— (required)" while a scenario without it runs (no lead time reported;
+    compare and sensitivity take the end of the forcing window)."""
+    import pathlib
+
+    d = scenario_dict(environment={"water_depth": 3.0}, sediment={"class": "sand"})
+    d["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}}
+    assert engine.load_ensemble(d, n=2).scour.lead_times_days == ()
+    doc = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "scenario.md").read_text(encoding="utf-8")
+    (row,) = [line for line in doc.splitlines() if line.startswith("| `lead_times_days` |")]
+    assert "required" not in row and "optional" in row
