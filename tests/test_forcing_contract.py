@@ -317,7 +317,9 @@ def test_lead_times_days_is_documented_as_what_it_is_optional():
     compare and sensitivity take the end of the forcing window)."""
     import pathlib
 
-    d = scenario_dict(environment={"water_depth": 3.0}, sediment={"class": "sand"})
+    d = scenario_dict(
+        environment={"water_depth": 3.0}, release={"position": [0.0, 0.0, 1.0]}, sediment={"class": "sand"}
+    )
     d["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}}
     assert engine.load_ensemble(d, n=2).scour.lead_times_days == ()
     doc = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "scenario.md").read_text(encoding="utf-8")
