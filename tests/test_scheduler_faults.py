@@ -236,3 +236,97 @@ def test_a_blank_scheduler_address_is_refused_not_run_locally(tmp_path, capsys, 
             err[0].startswith("mineburial: error: --scheduler '") and "give the scheduler's address" in err[0]
         )
     assert not (tmp_path / "o.nc").exists()
+
+
+class SilencingProxy:
+    """A TCP relay on 127.0.0.1 to ``port``; after ``silence.set()`` it forwards nothing more
+    in either direction and keeps every connection open (a link gone silent, not closed)."""
+
+    def __init__(self, port):
+        self.port_to = port
+        self.silence = threading.Event()
+        self.socks = []
+        self.srv = socket.socket()
+        self.srv.bind(("127.0.0.1", 0))
+        self.srv.listen(16)
+        self.address = f"tcp://127.0.0.1:{self.srv.getsockname()[1]}"
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    def _accept(self):
+        while True:
+            try:
+                a, _ = self.srv.accept()
+            except OSError:
+                return
+            b = socket.create_connection(("127.0.0.1", self.port_to))
+            self.socks += [a, b]
+            for src, dst in ((a, b), (b, a)):
+                threading.Thread(target=self._pump, args=(src, dst), daemon=True).start()
+
+    def _pump(self, src, dst):
+        try:
+            while True:
+                data = src.recv(65536)
+                if not data:
+                    return
+                while self.silence.is_set():
+                    time.sleep(0.05)  # held, never forwarded
+                dst.sendall(data)
+        except OSError:
+            return
+
+    def close(self):
+        for s in [self.srv, *self.socks]:
+            s.close()
+
+
+_PROXY: dict = {}
+
+
+def _chunk_task_then_silence_the_link(spec, start, stop, store, numba_threads=None):
+    res = _REAL_CHUNK_TASK(spec, start, stop, store, numba_threads)
+    if start == 3:
+        _PROXY["proxy"].silence.set()
+    return res
+
+
+def test_a_link_to_the_scheduler_gone_silent_mid_run_ends_in_one_line_keeping_chunks(tmp_path, monkeypatch):
+    """Was: 300 s at "drops 0/3000" with 74 chunks on disk and no message. The client reaches
+    the scheduler through a relay that goes silent after the chunk at drop 3; the worker's own
+    link stays up. The watchdog (here after 1 s without a chunk, 1 s to answer) ends the run."""
+    from distributed import Client, LocalCluster
+
+    monkeypatch.setattr(D, "LINK_CHECK_S", 1.0)
+    monkeypatch.setattr(D, "LINK_TIMEOUT_S", 1.0)
+    monkeypatch.setattr(D, "chunk_task", _chunk_task_then_silence_the_link)
+    cluster = LocalCluster(
+        n_workers=1,
+        threads_per_worker=1,
+        processes=False,
+        dashboard_address=None,
+        silence_logs=50,
+        protocol="tcp://",
+    )
+    proxy = _PROXY["proxy"] = SilencingProxy(int(cluster.scheduler_address.rsplit(":", 1)[1]))
+    client = Client(proxy.address, timeout=10)
+    out = tmp_path / "out.nc"
+    t0 = time.monotonic()
+    try:
+        with pytest.raises(RunError) as info:
+            runner.run_ensemble(cheap_ensemble(), n=N, seed=SEED, chunk_size=CHUNK, output=out, client=client)
+        elapsed = time.monotonic() - t0
+    finally:
+        _PROXY.clear()
+        with contextlib.suppress(Exception):
+            client.close(timeout=2)
+        proxy.close()
+        with contextlib.suppress(Exception):
+            cluster.close(timeout=5)
+    text = str(info.value)
+    assert (
+        "\n" not in text
+        and "did not answer within 1 s" in text
+        and "rerun the same command to resume" in text
+    )
+    assert elapsed < 30.0, elapsed
+    assert len(list((tmp_path / "out.nc.parts").glob("chunk-*.npz"))) >= 4  # drops 0..3 at least

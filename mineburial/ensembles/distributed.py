@@ -63,6 +63,7 @@ __all__ = [
     "numba_threads_per_task",
     "probe_scheduler",
     "open_client",
+    "LinkLost",
     "run_tasks_distributed",
     "RETRIES",
     "WAITING_INTERVAL",
@@ -252,6 +253,53 @@ def _watch_workers(client, stop: threading.Event, interval: float):
             since = None
 
 
+#: s without a finished chunk after which the link to the scheduler is checked, and how long
+#: the scheduler then has to answer (issue 35: a link gone silent mid-run kept ``run`` at
+#: "drops 0/3000" for 300 s and more with no message)
+LINK_CHECK_S = 60.0
+LINK_TIMEOUT_S = 30.0
+
+
+class LinkLost(RunError):
+    """The scheduler did not answer over the client's link (one line; the chunks finished are kept)."""
+
+
+def _check_link(client, address: str, done: int) -> None:
+    """Ask the scheduler for its identity over the client's link, within :data:`LINK_TIMEOUT_S`;
+    a :class:`LinkLost` when it does not answer."""
+    try:
+        client.sync(client.scheduler.identity, callback_timeout=LINK_TIMEOUT_S)
+    except Exception as exc:  # a timeout, a closed comm: no answer either way
+        reason = type(exc).__name__ if isinstance(exc, TimeoutError) else " ".join(str(exc).split())[:120]
+        raise LinkLost(
+            f"the dask scheduler at {address} did not answer within {LINK_TIMEOUT_S:g} s after "
+            f"{LINK_CHECK_S:g} s without a finished chunk (the link to it is silent or broken: "
+            f"{reason or type(exc).__name__}); the {done} chunk(s) finished are kept: rerun the same "
+            f"command to resume"
+        ) from None
+
+
+def _as_completed_watched(client, as_completed, futures, done_count):
+    """``(future, result)`` of ``futures`` as they finish (dask's ``as_completed``), with a
+    watchdog: after :data:`LINK_CHECK_S` s without one, the scheduler must answer over the
+    client's link (:func:`_check_link`), else the run ends in one line."""
+    ac = as_completed(futures, with_results=True, raise_errors=False)
+    address = client.scheduler.address
+    quiet_since = time.monotonic()
+    while True:
+        batch = ac.next_batch(block=False)
+        if batch:
+            quiet_since = time.monotonic()
+            yield from batch
+            continue
+        if ac.is_empty():
+            return
+        if time.monotonic() - quiet_since > LINK_CHECK_S:
+            _check_link(client, address, done_count())
+            quiet_since = time.monotonic()
+        time.sleep(0.05)
+
+
 def run_tasks_distributed(
     client, items: Iterable, *, warm: bool = True, numba_threads: int | None = None
 ) -> Iterator:
@@ -314,8 +362,10 @@ def run_tasks_distributed(
     )
     watcher.start()
     address, done = client.scheduler.address, 0
+    link_lost = False
     try:
-        for fut, res in as_completed(list(pending.values()), with_results=True, raise_errors=False):
+        finished = lambda: done  # noqa: B023, E731 -- read when the watchdog speaks: the count then
+        for fut, res in _as_completed_watched(client, as_completed, list(pending.values()), finished):
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
             what = "the ensemble" if tag is None else str(tag)
@@ -337,7 +387,10 @@ def run_tasks_distributed(
             if store is not None and not store.has(*bounds):
                 store.save(res)  # no filesystem shared with the workers
             yield tag, bounds, res
+    except LinkLost:
+        link_lost = True
+        raise
     finally:
         stop_watch.set()
-        if pending:
+        if pending and not link_lost:  # a cancel over a silent link would wait for it
             client.cancel(list(pending.values()))
