@@ -496,3 +496,27 @@ def test_choice_weights_summing_beyond_float_keep_their_proportions():
     assert big.weights == pytest.approx(small.weights, rel=1e-15) and math.fsum(big.weights) == pytest.approx(
         1.0
     )
+
+
+def test_reading_a_small_input_allocates_about_its_size_not_the_limit(tmp_path):
+    """Was: ``read(limit + 1)`` allocated the 64 MiB limit for every scenario file read (a
+    MemoryError under a 500 MB address-space limit). Reference: tracemalloc's peak."""
+    import tracemalloc
+
+    from mineburial.io import forcing
+
+    path = tmp_path / "s.toml"
+    path.write_text("# a small file\n" * 100)
+    tracemalloc.start()
+    try:
+        inputs.read_text(path)
+        forcing._read_text(path, "f", forcing.MAX_CSV_BYTES)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 1 << 20, peak
+    # the limit still holds for a file that is over it
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"#" * (inputs.LIMITS["text"] + 10))
+    with pytest.raises(inputs.InputFileError, match="limit"):
+        inputs.read_text(big)

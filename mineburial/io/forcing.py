@@ -32,7 +32,7 @@ import numpy as np
 from mineburial import resources
 from mineburial._deferred import xarray as xr
 from mineburial.io.files import atomic_write_text
-from mineburial.io.inputs import numbered_csv
+from mineburial.io.inputs import numbered_csv, read_sized
 from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
 
@@ -386,7 +386,7 @@ def _read_text(path: pathlib.Path, where: str, max_bytes: int) -> str:
     with os.fdopen(fd, "rb") as fh:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             raise ScenarioError(f"{where}: not a regular file (a directory, FIFO or device); give a file")
-        data = fh.read(max_bytes + 1)
+        data = read_sized(fh, max_bytes)
     if len(data) > max_bytes:
         raise ScenarioError(
             f"{where}: the file has more than {max_bytes} bytes; allowed: at most {max_bytes}"
