@@ -681,7 +681,8 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
     where = f"scour.forcing_grid '{path}'"
     if not path.is_file():
         raise MapError(f"{where}: no such file")
-    g = fio.load_gridded_netcdf(path)
+    computed = grid.cell_status() == CELL_COMPUTED  # land cells' series are neither read nor checked
+    g = fio.load_gridded_netcdf(path, only=(computed, (grid.ydim, grid.xdim)))
     if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
         g = dataclasses.replace(
             g,
@@ -708,7 +709,7 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
                 f"'{env}'[{k}] = {ref[k]:g}; the forcing must be on the environment's cells (same "
                 "coordinates)"
             )
-    dry = np.argwhere((grid.cell_status() == CELL_COMPUTED) & ~g.wet)
+    dry = np.argwhere(computed & ~g.wet)
     if dry.size:
         j, i = (int(v) for v in dry[0])
         raise MapError(

@@ -300,3 +300,25 @@ def test_geotiff_of_a_grid_mapping_pyproj_cannot_read_is_refused_before_computin
     assert main(argv + ["--geotiff", str(tmp_path / "p.tif")]) == 2
     one_line(capsys, "grid mapping 'utm' is not a CRS pyproj can read")
     assert not out.exists()
+
+
+def test_a_land_cells_partly_missing_forcing_does_not_refuse_the_gridded_map(tmp_path):
+    """Was: the land cell's series was checked like a water cell's, and its NaN refused the
+    whole map. Reference: the same map with the land cell's series missing altogether."""
+    import xarray as xr
+    from test_maps_scour import LEADS, grid_series
+
+    env = uniform_environment()
+    files, grid = grid_series(tmp_path, env)  # the land cell (1, 0) dry: NaN at every time
+    with xr.open_dataset(grid) as g:
+        patched = g.load()
+    hs = patched["hs"].values.copy()
+    hs[2:, 1, 0] = 1.0  # the land cell: waves from the third record on, missing before
+    patched["hs"].values[:] = hs
+    patched.to_netcdf(tmp_path / "land.nc")
+    sec = {"forcing_grid": str(tmp_path / "land.nc"), "lead_times_days": LEADS}
+    ds = maps.run_map(with_scour(_scenario(), sec), env, n=2, seed=SEED)
+    ref = maps.run_map(with_scour(_scenario(), dict(sec, forcing_grid=str(grid))), env, n=2, seed=SEED)
+    assert int(ds.attrs["n_cells_computed"]) == 3
+    for name in ("scour_burial_volume_mean", "burial_volume_mean"):
+        assert np.array_equal(ds[name].values, ref[name].values, equal_nan=True), name

@@ -727,11 +727,18 @@ class GriddedForcing:
         )
 
 
-def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_NETCDF_BYTES):
+def load_gridded_netcdf(
+    path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_NETCDF_BYTES, only=None
+):
     """Read a gridded forcing (time, y, x) from CF NetCDF: the variables of :func:`load_netcdf`
     with two horizontal dimensions (any names, the same for all; coordinates optional). A cell
     whose wave height is missing at every time is dry (``wet`` False) and not checked; every
-    other cell is checked as a series, the message naming the cell."""
+    other cell is checked as a series, the message naming the cell.
+
+    ``only`` = (mask (ny, nx), its dimension names): only the cells where the mask is true (the
+    cells a map computes) are checked and kept, the others taken as dry (was: a land cell whose
+    forcing was partly NaN refused the whole map, issue 35). A mask of another shape is ignored
+    (the caller refuses the grid)."""
     path = pathlib.Path(path)
     where = f"forcing file '{path}'"
     with _open_netcdf(path, where, max_bytes) as ds:
@@ -750,6 +757,12 @@ def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_byte
         raise ScenarioError(
             f"{where}: variable '{columns['hs'][0]}' is missing (NaN) in every cell at every time"
         )
+    if only is not None:
+        mask, mask_dims = np.asarray(only[0], dtype=bool), tuple(only[1])
+        if dims is not None and tuple(dims) == mask_dims[::-1] and mask_dims[0] != mask_dims[1]:
+            mask = mask.T
+        if mask.shape == wet.shape:
+            wet = wet & mask
     jj, ii = np.nonzero(wet)
     wet_columns = {k: (name, v[:, wet], units) for k, (name, v, units) in columns.items()}
 
