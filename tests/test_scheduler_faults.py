@@ -330,3 +330,58 @@ def test_a_link_to_the_scheduler_gone_silent_mid_run_ends_in_one_line_keeping_ch
     )
     assert elapsed < 30.0, elapsed
     assert len(list((tmp_path / "out.nc.parts").glob("chunk-*.npz"))) >= 4  # drops 0..3 at least
+
+
+def test_a_connection_closed_mid_run_is_one_line_naming_the_scheduler(monkeypatch):
+    """Was: ``mineburial: error: in <TCP (closed) ConnectionPool.broadcast local=... remote=...>:
+    Stream is closed`` (dask's internal connection pool named, no word of the chunks kept).
+    Injected as dask raises it: a CommClosedError from the client after two chunks."""
+    from distributed.comm.core import CommClosedError
+
+    def two_then_closed(client, items, **kw):
+        yield None, (0, 1), {}
+        yield None, (1, 2), {}
+        raise CommClosedError(
+            "in <TCP (closed) ConnectionPool.broadcast local=tcp://x remote=tcp://y>: Stream is closed"
+        )
+
+    class FakeClient:
+        class scheduler:
+            address = "tcp://127.0.0.1:8786"
+
+    monkeypatch.setattr(D, "_run_tasks", two_then_closed)
+    got = []
+    with pytest.raises(RunError) as info:
+        for out in D.run_tasks_distributed(FakeClient(), []):
+            got.append(out)
+    text = str(info.value)
+    assert len(got) == 2 and "\n" not in text
+    assert text.startswith(
+        "the dask scheduler at tcp://127.0.0.1:8786 closed the connection mid-run (Stream is closed"
+    )
+    assert "the 2 chunk(s) finished are kept: rerun the same command to resume" in text
+
+
+def test_dasks_client_logger_prints_no_traceback_once_mineburial_connects(caplog):
+    """Was: a 30-line traceback from dask's client logger on stderr before mineburial's one line
+    when the scheduler died mid-run. The filter open_client installs drops records that carry a
+    traceback and lets the others through."""
+    import logging
+
+    from distributed import LocalCluster
+
+    with LocalCluster(
+        n_workers=0, processes=False, dashboard_address=None, silence_logs=50, protocol="tcp://"
+    ) as c:
+        client = D.open_client(c.scheduler_address, 10.0)
+        client.close()
+    log = logging.getLogger("distributed.client")
+    with caplog.at_level(logging.ERROR, logger="distributed.client"):
+        try:
+            raise ConnectionRefusedError(111, "Connection refused")
+        except ConnectionRefusedError:
+            log.exception("")  # as dask logs a failed reconnect
+        log.error("Failed to reconnect to scheduler after 10.00 seconds, closing client")
+    assert [r.getMessage() for r in caplog.records if r.name == "distributed.client"] == [
+        "Failed to reconnect to scheduler after 10.00 seconds, closing client"
+    ]

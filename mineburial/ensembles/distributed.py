@@ -44,6 +44,8 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import logging
 import os
 import socket
 import threading
@@ -171,6 +173,13 @@ def probe_scheduler(address: str, timeout: float) -> str | None:
     return None
 
 
+def _no_traceback(record: logging.LogRecord) -> bool:
+    """A filter of dask's client logger: no record that carries a traceback (when the scheduler
+    dies mid-run, dask logged a 30-line traceback on stderr before mineburial's one line, issue
+    35); mineburial reports the loss itself. Other records pass."""
+    return record.exc_info is None and not record.exc_text
+
+
 #: s: how long past its own timeout the client's connection may take before it is abandoned
 CONNECT_GRACE_S = 2.0
 
@@ -187,6 +196,7 @@ def open_client(address: str, timeout: float):
     connects) and the caller gets the timeout."""
     from dask.distributed import Client
 
+    logging.getLogger("distributed.client").addFilter(_no_traceback)
     box: dict = {}
     lock = threading.Lock()
 
@@ -316,6 +326,24 @@ def run_tasks_distributed(
     ``as_completed(raise_errors=False)`` hands the ``FutureCancelledError`` back as the
     result) ends the run with a RunError, one line; the chunks finished are kept.
     """
+    from distributed.comm.core import CommClosedError
+
+    address, done = client.scheduler.address, 0
+    with contextlib.closing(_run_tasks(client, items, warm=warm, numba_threads=numba_threads)) as chunks:
+        try:
+            for out in chunks:
+                done += 1
+                yield out
+        except CommClosedError as exc:  # was an OSError naming dask's internal connection pool
+            raise RunError(
+                f"the dask scheduler at {address} closed the connection mid-run ("
+                f"{str(exc).rsplit('>: ', 1)[-1]}: it stopped, or the network failed); the {done} "
+                "chunk(s) finished are kept: rerun the same command to resume"
+            ) from None
+
+
+def _run_tasks(client, items: Iterable, *, warm: bool, numba_threads: int | None) -> Iterator:
+    """The body of :func:`run_tasks_distributed` (which turns a closed connection into one line)."""
     from distributed import as_completed
 
     items = list(items)
