@@ -1507,7 +1507,7 @@ def _geotiff_bytes(da: xr.DataArray, path) -> bytes:
     only on stderr, so the file is made in memory (GDAL's ``/vsimem``), its band compared
     with ``da`` (NaN where NaN) and then written by :func:`atomic_write_bytes`, whose own
     write raises on a full disk and checks the size (docs/design.md, "Outputs")."""
-    from rasterio.io import MemoryFile
+    from rasterio.io import MemoryFile  # local import: rasterio comes with the optional rioxarray
 
     with MemoryFile(ext=".tif") as mem:
         da.rio.to_raster(mem.name, driver="GTiff")
