@@ -33,7 +33,9 @@ WAIT = 1.0
 HTTP_REPLY = b"HTTP/1.1 404 Not Found\r\nContent-Type: text/plain\r\nContent-Length: 9\r\n\r\nnot found"
 
 
-def _answer(kind, conn):
+def _answer(kind, conn, k=0):
+    if kind == "greets-once":  # the probe's connection (the first) greets, the client's stays silent
+        kind = "greets" if k == 0 else "silent"
     if kind == "garbage":
         conn.sendall(bytes(range(256)) * 4)
     elif kind == "http":  # a dashboard port given by mistake
@@ -64,7 +66,7 @@ def fake_service():
                     return
                 conns.append(conn)
                 try:
-                    _answer(kind, conn)
+                    _answer(kind, conn, len(conns) - 1)
                 except OSError:
                     pass
 
@@ -187,9 +189,9 @@ def test_losing_the_scheduler_mid_run_is_one_line_and_a_rerun_resumes(tmp_path, 
 
 
 # --- issue 35 item 5: a hard deadline on the client's handshake ---------------------------------
-@pytest.mark.parametrize("command", ["run", "compare"])
+@pytest.mark.parametrize("command,kind", [("run", "greets"), ("compare", "greets"), ("run", "greets-once")])
 def test_a_service_that_greets_then_stalls_is_one_line_within_the_deadline(
-    fake_service, tmp_path, capsys, monkeypatch, command
+    fake_service, tmp_path, capsys, monkeypatch, command, kind
 ):
     """Was: silent for 450 s and more: the probe reads the 8-byte greeting on its own
     connection, then ``Client(..., timeout=10)`` did not bound the stalled handshake."""
@@ -198,7 +200,7 @@ def test_a_service_that_greets_then_stalls_is_one_line_within_the_deadline(
     monkeypatch.setattr(runner, "SCHEDULER_TIMEOUT", WAIT)
     scenario = tmp_path / "s.toml"
     scenario.write_text(dumps_toml(cheap_ensemble()))
-    address = fake_service("greets")
+    address = fake_service(kind)
     out = tmp_path / "o.nc"
     argv = {
         "run": ["run", str(scenario), "-n", "4", "-o", str(out)],
