@@ -69,3 +69,15 @@ def test_sensitivity_at_a_lead_time_says_how_many_drops_had_no_stage_value(tmp_p
     ds = run_sensitivity(scenario(tmp_path), n=8, seed=1, lead_time=LEAD)
     total = 8 * (1 + 2)  # one random input: n (d + 2) drops
     assert f"{total // 2} of {total} drops have no value of the scour stage" in ds.attrs["warning"]
+
+
+def test_a_lead_time_just_beyond_the_forcing_is_not_printed_as_equal_to_its_end(tmp_path):
+    """Was: "--lead-time 1 is outside the allowed range [0, 1] days" for 1.0000001."""
+    from mineburial.config import ScenarioError
+    from mineburial.ensembles import engine
+
+    spec = engine.load_ensemble(scenario(tmp_path))  # a 24 h forcing: lead times in [0, 1] d
+    with pytest.raises(ScenarioError, match=r"--lead-time 1\.0000001 is outside the allowed range \[0, 1\]"):
+        scour.at_lead_time(spec, 1.0000001)
+    with pytest.raises(ScenarioError, match=r"--lead-time 1\.7 is outside"):  # plainly beyond: as before
+        scour.at_lead_time(spec, 1.7)

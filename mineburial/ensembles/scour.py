@@ -122,6 +122,13 @@ class CellForcing:
         return self
 
 
+def _shown(value: float, *bounds: float) -> str:
+    """``value`` as ``:g`` text, or in full (``repr``) when that text equals a bound's: was
+    "lead time 4 is outside the allowed range [0, 4]" for 4.0000001 (issue 35)."""
+    text = f"{value:g}"
+    return repr(float(value)) if any(text == f"{b:g}" for b in bounds) else text
+
+
 def _numbers(value, location, *, low, high, default):
     if value is None:
         return tuple(default)
@@ -131,7 +138,7 @@ def _numbers(value, location, *, low, high, default):
     for i, v in enumerate(out):
         if not (low <= v <= high):
             raise cfg.ScenarioError(
-                f"{location}[{i}] = {v:g} is outside the allowed range [{low:g}, {high:g}]"
+                f"{location}[{i}] = {_shown(v, low, high)} is outside the allowed range [{low:g}, {high:g}]"
             )
     if any(b <= a for a, b in zip(out, out[1:])):
         raise cfg.ScenarioError(f"{location} = {list(out)} must be strictly increasing")
@@ -295,7 +302,8 @@ def at_lead_time(spec, lead_time: float | None):
     elif not (0.0 <= lead_time <= longest):
         what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
         raise cfg.ScenarioError(
-            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
+            f"--lead-time {_shown(lead_time, 0.0, longest)} is outside the allowed range [0, {longest:g}] "
+            f"days ({what})"
         )
     stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
     return dataclasses.replace(spec, scour=stage)
@@ -336,7 +344,8 @@ def _window_days(sec, span_days):
     window = cfg._number(window, "scour.window_days", "d")
     if not (0.0 < window <= span_days):
         raise cfg.ScenarioError(
-            f"scour.window_days = {window:g} is outside the allowed range (0, {span_days:g}] "
+            f"scour.window_days = {_shown(window, 0.0, span_days)} is outside the allowed range "
+            f"(0, {span_days:g}] "
             "(the forcing's span, days)"
         )
     return window
