@@ -31,7 +31,7 @@ import numpy as np
 
 from mineburial import resources
 from mineburial._deferred import xarray as xr
-from mineburial.io.files import atomic_write_text
+from mineburial.io.files import atomic_path, atomic_write_text
 from mineburial.io.inputs import numbered_csv, read_sized
 from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
@@ -829,7 +829,8 @@ def write_gridded_netcdf(cells, y, x, path) -> pathlib.Path:
     )
     ds = xr.Dataset(data, coords={"time": time, y.dims[0]: y, x.dims[0]: x})
     path = pathlib.Path(path)
-    ds.to_netcdf(path, encoding={"time": {"dtype": "float64"}})
+    with atomic_path(path) as tmp:  # the one writer (docs/design.md, "Outputs")
+        ds.to_netcdf(tmp, encoding={"time": {"dtype": "float64"}})
     return path
 
 
