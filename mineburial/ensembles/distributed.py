@@ -214,7 +214,15 @@ def open_client(address: str, timeout: float):
 
     thread = threading.Thread(target=connect, name="mineburial-dask-connect", daemon=True)
     thread.start()
-    thread.join(timeout + CONNECT_GRACE_S)
+    try:
+        thread.join(timeout + CONNECT_GRACE_S)
+    except BaseException:  # Ctrl-C while connecting: the client, if it ever connects, is closed
+        with lock:
+            box["abandoned"] = True
+            client = box.pop("client", None)
+        if client is not None:
+            client.close()
+        raise
     with lock:
         if "client" in box:
             return box["client"]
