@@ -17,7 +17,12 @@ one-line change here.
   kind of switch as sgkit's ``SGKIT_DISABLE_NUMBA_CACHE``). numba loads its cache index
   with ``pickle``, so each kernel's cache folder (and ``NUMBA_CACHE_DIR``) is first checked
   (:func:`cache_folder_problem`): one that another user owns or can write is not used (one
-  warning line; the kernels compile in memory), docs/cluster.md.
+  warning line; the kernels compile in memory), docs/cluster.md. So is each cache file
+  before numba reads it (:func:`cache_file_problem`: a link, another user's file, or one
+  others can write is not loaded, one warning line, and the kernel compiles in memory), and
+  the files are written readable and writable by the user alone (mode 0600, whatever the
+  umask). A ``NUMBA_CACHE_DIR`` that is not a folder (a regular file: numba would silently
+  cache beside the installed sources instead) is refused in one line (issue 35).
 * ``fastmath=False``: results must be bit-identical whatever the thread count or
   chunking; re-association of floating-point sums would break that.
 * ``error_model="numpy"``: a division by zero gives inf/nan instead of raising,
@@ -29,8 +34,10 @@ one-line change here.
 """
 
 import contextlib
+import errno
 import gc
 import os
+import secrets
 import stat
 import sys
 import threading
@@ -44,7 +51,7 @@ except ImportError:  # pragma: no cover - not POSIX
 
 from numba.core import config as numba_config
 from numba.core import types as nbtypes
-from numba.core.caching import FunctionCache, NullCache
+from numba.core.caching import FunctionCache, IndexDataCacheFile, NullCache
 from numba.core.registry import CPUDispatcher
 
 from mineburial.errors import ScenarioError
@@ -76,11 +83,26 @@ def cache_enabled(environ=os.environ) -> bool:
     )
 
 
+def cache_dir_problem(cache_dir) -> str | None:
+    """Why ``NUMBA_CACHE_DIR`` = ``cache_dir`` cannot be numba's cache, or None: a path that
+    exists and is not a folder (a regular file, a device, a dangling link). numba would fall
+    back silently to caching beside the installed sources (issue 35)."""
+    if cache_dir and os.path.lexists(cache_dir) and not os.path.isdir(cache_dir):
+        kind = "a regular file" if os.path.isfile(cache_dir) else "not a folder"
+        return (
+            f"environment variable NUMBA_CACHE_DIR = '{cache_dir}' is {kind}; numba's cache of "
+            f"compiled kernels must be a folder: give a private folder (docs/cluster.md) or set "
+            f"{CACHE_ENV}=0 to compile in memory"
+        )
+    return None
+
+
 def _cache_setting():
     try:
-        return cache_enabled()
+        enabled = cache_enabled()
     except CacheSettingError as exc:
         return str(exc)
+    return (enabled and cache_dir_problem(numba_config.CACHE_DIR)) or enabled
 
 
 #: True, False, or the message of a bad ``MINEBURIAL_NUMBA_CACHE``, raised as a
@@ -114,11 +136,16 @@ def cache_folder_problem(path, uid: int | None = None) -> str | None:
     (``uid``, default the effective user) and writable by no one else: not by all users,
     and not by its group unless that is the user's private group.
     """
-    uid = os.geteuid() if uid is None else uid
     try:
         st = os.stat(path)
     except OSError as exc:
         return f"cannot be examined ({exc.strerror})"
+    return _owner_mode_problem(st, uid)
+
+
+def _owner_mode_problem(st: os.stat_result, uid: int | None = None) -> str | None:
+    """Why a cache folder or file of status ``st`` is not the user's alone, or None."""
+    uid = os.geteuid() if uid is None else uid
     if st.st_uid != uid:
         return f"is owned by another user (uid {st.st_uid})"
     if st.st_mode & stat.S_IWOTH:
@@ -126,6 +153,84 @@ def cache_folder_problem(path, uid: int | None = None) -> str | None:
     if st.st_mode & stat.S_IWGRP and not _private_group(st.st_gid, uid):
         return f"is writable by its group (gid {st.st_gid})"
     return None
+
+
+def cache_file_problem(path, uid: int | None = None) -> str | None:
+    """Why numba must not load the cache file (index ``.nbi`` or data ``.nbc``) ``path``, or
+    None if it may (also when there is none): numba unpickles it, so it must be a regular
+    file, not a link, owned by the user (``uid``) and writable by no one else, as its folder
+    (:func:`cache_folder_problem`). A job run under ``umask 000`` by an older version wrote
+    such files mode 0666; another user could replace their contents with a pickle."""
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        return f"cannot be examined ({exc.strerror})"
+    if stat.S_ISLNK(st.st_mode):
+        return "is a symbolic link"
+    if not stat.S_ISREG(st.st_mode):
+        return "is not a regular file"
+    return _owner_mode_problem(st, uid)
+
+
+#: cache file -> reported already (one warning line per file)
+_FILES: set = set()
+
+
+def _warn_file(path, problem: str) -> None:
+    if path not in _FILES:
+        _FILES.add(path)
+        print(
+            f"mineburial: warning: numba's cache file '{path}' {problem}; compiling in memory "
+            "instead of loading code from it (remove the file, or set NUMBA_CACHE_DIR to a "
+            "private folder, docs/cluster.md)",
+            file=sys.stderr,
+        )
+
+
+class _CheckedCacheFile(IndexDataCacheFile):
+    """numba's index and data files of one kernel, each checked before numba unpickles it
+    (:func:`cache_file_problem`) and written mode 0600 (not through the umask). After a file
+    is refused, the kernel neither loads nor saves its cache: it compiles in memory."""
+
+    _refused = False
+
+    def _trusted(self, path) -> bool:
+        problem = None if self._refused else cache_file_problem(path)
+        if problem:
+            self._refused = True
+            _warn_file(path, problem)
+        return not self._refused
+
+    def _load_index(self):
+        return super()._load_index() if self._trusted(self._index_path) else {}
+
+    def _load_data(self, name):
+        path = self._data_path(name)
+        if not self._trusted(path):  # numba's load() treats an OSError as no entry
+            raise OSError(errno.EPERM, "refused numba cache file", path)
+        return super()._load_data(name)
+
+    def save(self, key, data):
+        if self._trusted(self._index_path):
+            super().save(key, data)
+
+    @contextlib.contextmanager
+    def _open_for_write(self, filepath):
+        """numba's write to a fresh name and rename, the file created mode 0600 (O_EXCL, no
+        link followed) whatever the process' umask."""
+        tmpname = f"{filepath}.tmp.{secrets.token_hex(8)}"
+        flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0)
+        try:
+            with os.fdopen(os.open(tmpname, flags, 0o600), "wb") as f:
+                os.fchmod(f.fileno(), 0o600)  # the umask can only clear bits: 0600 exactly
+                yield f
+            os.replace(tmpname, filepath)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmpname)
+            raise
 
 
 #: cache folder -> its problem (None: safe), each folder examined and reported once
@@ -139,6 +244,8 @@ def _safe_cache(disp) -> None:
     cache = getattr(disp, "_cache", None)
     if not isinstance(cache, FunctionCache):
         return
+    if type(cache._cache_file) is IndexDataCacheFile:  # the same state, checked loads and saves
+        cache._cache_file.__class__ = _CheckedCacheFile
     folders = [cache.cache_path]
     if numba_config.CACHE_DIR:
         folders.append(numba_config.CACHE_DIR)
@@ -171,6 +278,21 @@ def _dispatcher(cls, fn, cache, **options):
     return disp
 
 
+@contextlib.contextmanager
+def _no_group_or_other_write():
+    """The umask with group and other write cleared while the block runs: the folders numba
+    creates for its cache (``os.makedirs``) are then never writable by others, even for a job
+    run under ``umask 000`` (the folder check would refuse them: compiled in memory at every
+    run). The umask is the process's: another thread creating a file meanwhile gets, at most,
+    fewer permissions."""
+    old = os.umask(0o022)
+    os.umask(old | 0o022)
+    try:
+        yield
+    finally:
+        os.umask(old)
+
+
 class _LazyCache:
     """The ``_cache`` attribute of a :class:`_LazyCacheDispatcher`: numba's on-disk cache of the
     dispatcher, made at its first use (a compile, or a load from the cache) and checked then
@@ -184,7 +306,8 @@ class _LazyCache:
         if disp.__dict__.get("_cache_wanted"):
             with self._lock:
                 if disp.__dict__.pop("_cache_wanted", False):
-                    CPUDispatcher.enable_caching(disp)
+                    with _no_group_or_other_write():  # numba creates the folder: never 0777
+                        CPUDispatcher.enable_caching(disp)
                     _safe_cache(disp)
         return disp.__dict__["_cache"]
 

@@ -397,6 +397,17 @@ def _os_error_text(exc: OSError) -> str:
     return str(exc)
 
 
+def _check_scheduler_option(args) -> None:
+    """``--scheduler`` given with a blank address is refused: every command tested
+    ``if args.scheduler`` and so ran on this machine without a word (issue 35)."""
+    address = getattr(args, "scheduler", None)
+    if address is not None and not address.strip():
+        raise ScenarioError(
+            f"--scheduler {address!r}: give the scheduler's address, e.g. tcp://host:8786, or leave "
+            "the option out to run on this machine"
+        )
+
+
 def main(argv=None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status.
 
@@ -408,6 +419,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        _check_scheduler_option(args)
         return args.func(args)
     except ScenarioError as exc:
         message = _one_line(exc)

@@ -38,12 +38,12 @@ from mineburial.ensembles import engine, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun, check_output_path, same_file
-from mineburial.figures import check_plot_path, figure_class
+from mineburial.figures import check_plot_path, figure_class, save_figure
 from mineburial.io import forcing as fio
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.io.files import atomic_path
+from mineburial.io.files import atomic_write_bytes
 from mineburial.io.inputs import check_input, read_toml
 from mineburial.kernels.mine import layout
 from mineburial.resources import memory_refusal
@@ -681,7 +681,8 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
     where = f"scour.forcing_grid '{path}'"
     if not path.is_file():
         raise MapError(f"{where}: no such file")
-    g = fio.load_gridded_netcdf(path)
+    computed = grid.cell_status() == CELL_COMPUTED  # land cells' series are neither read nor checked
+    g = fio.load_gridded_netcdf(path, only=(computed, (grid.ydim, grid.xdim)))
     if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
         g = dataclasses.replace(
             g,
@@ -708,7 +709,7 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
                 f"'{env}'[{k}] = {ref[k]:g}; the forcing must be on the environment's cells (same "
                 "coordinates)"
             )
-    dry = np.argwhere((grid.cell_status() == CELL_COMPUTED) & ~g.wet)
+    dry = np.argwhere(computed & ~g.wet)
     if dry.size:
         j, i = (int(v) for v in dry[0])
         raise MapError(
@@ -1264,7 +1265,7 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     _draw_burial_over_75(fig, axes[1], cax, ds, g, likely, basis)
     fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
     path = pathlib.Path(path)
-    fig.savefig(path, dpi=dpi)
+    save_figure(fig, path, dpi=dpi)
     return path
 
 
@@ -1399,7 +1400,7 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
         fontsize=12,
     )
     path = pathlib.Path(path)
-    fig.savefig(path, dpi=dpi)
+    save_figure(fig, path, dpi=dpi)
     return path
 
 
@@ -1497,9 +1498,49 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
            ds["cell_status"].attrs else ""),
     }  # fmt: skip
     path = pathlib.Path(path)
-    with atomic_path(path) as tmp:
-        da.rio.to_raster(tmp, driver="GTiff")
+    atomic_write_bytes(path, _geotiff_bytes(da, path))
     return path
+
+
+def _geotiff_bytes(da: xr.DataArray, path) -> bytes:
+    """The GeoTIFF of ``da`` rendered in memory and read back: GDAL reports a failed write
+    only on stderr, so the file is made in memory (GDAL's ``/vsimem``), its band compared
+    with ``da`` (NaN where NaN) and then written by :func:`atomic_write_bytes`, whose own
+    write raises on a full disk and checks the size (docs/design.md, "Outputs")."""
+    from rasterio.io import MemoryFile  # local import: rasterio comes with the optional rioxarray
+
+    with MemoryFile(ext=".tif") as mem:
+        da.rio.to_raster(mem.name, driver="GTiff")
+        data = mem.read()
+    try:
+        with MemoryFile(data) as back, back.open() as r:
+            band = r.read(1)
+    except Exception as exc:  # rasterio's errors have no common base with a message we rely on
+        raise MapError(f"--geotiff '{path}': the GeoTIFF made does not read back ({exc})") from None
+    if band.shape != da.shape or not np.array_equal(band, da.values, equal_nan=True):
+        raise MapError(f"--geotiff '{path}': the GeoTIFF made does not read back as the map's field")
+    return data
+
+
+def _check_geotiff_grid(grid: EnvironmentGrid) -> None:
+    """Before computing, what :func:`write_geotiff` needs of the map's grid, which is the
+    environment grid's: evenly spaced axes and a CRS pyproj can read (was: refused only after
+    the whole map was computed, issue 35). The same checks on a map without results."""
+    pyproj = _import_rioxarray()
+    coords = _horizontal_coords(grid)
+    y, x = coords[V.MAP_Y], coords[V.MAP_X]
+    status_attrs = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
+    shell = xr.Dataset(
+        {"cell_status": ((grid.ydim, grid.xdim), np.zeros(grid.shape, np.int8), status_attrs)},
+        coords={grid.ydim: y, grid.xdim: x},
+    )
+    if grid.grid_mapping:
+        shell[grid.grid_mapping] = xr.DataArray(np.int32(0), attrs=dict(grid.ds[grid.grid_mapping].attrs))
+    yv = np.asarray(y.values, dtype=np.float64)
+    xv = np.asarray(x.values, dtype=np.float64)
+    _regular_edges(np.sort(xv), np.sort(yv), grid.xdim)
+    _regular_edges(np.sort(yv), np.sort(xv), grid.ydim)
+    map_crs(shell, pyproj)
 
 
 # ---------------------------------------------------------------------------
@@ -1519,7 +1560,7 @@ def run_map_cli(args) -> int:
     check_output_path(args.output, inputs, "-o")
     if args.plot:
         check_plot_path(args.plot, args.output, inputs, "the map's output")
-    leads = _check_map_options(args, base, inputs)
+    leads = _check_map_options(args, base, inputs, grid)
     client = runner.connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
     try:
@@ -1558,7 +1599,7 @@ def run_map_cli(args) -> int:
     return 0
 
 
-def _check_map_options(args, base, inputs):
+def _check_map_options(args, base, inputs, grid):
     """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
     lead times (days) of the panels, or None."""
     available = () if base.scour is None else base.scour.lead_times_days
@@ -1590,6 +1631,7 @@ def _check_map_options(args, base, inputs):
             if other and same_file(path, pathlib.Path(other)):
                 raise MapError(f"--geotiff '{path}' is also the map's {opt}; choose another path")
         check_output_path(path, inputs, "--geotiff")
+        _check_geotiff_grid(grid)
         if args.lead_time is not None:
             if base.scour is None:
                 raise MapError(

@@ -690,7 +690,9 @@ TABLE: tuple[Field, ...] = (
         "non-empty, strictly increasing, in [0, the forcing's span]",
         units="d",
         low=0.0,
-        default_text="— (required)",
+        default_text="none (optional): `run` and `map` then report no lead time, only the times to the "
+        "burial levels and the mobility; `compare` and `sensitivity` take the end of each drop's "
+        "forcing window",
     ),
     _setup(
         "scour.burial_levels",

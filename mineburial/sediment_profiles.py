@@ -311,7 +311,7 @@ def load_csv(path, *, name: str | None = None) -> SedimentProfile:
     path = pathlib.Path(path)
     where = f"sediment.file '{path}'"
     try:
-        rows = list(inputs.numbered_csv(inputs.read_text(path, "text")))
+        rows = list(inputs.numbered_csv(inputs.read_text(path, "text"), as_wide_as_header=True))
     except OSError as exc:
         raise ScenarioError(f"{where}: cannot read the file ({exc.strerror})") from None
     except csv.Error as exc:

@@ -21,6 +21,7 @@ only gives the axes plausible numbers.
 
 from __future__ import annotations
 
+import argparse
 import pathlib
 
 import numpy as np
@@ -116,8 +117,26 @@ def write_synthetic_environment(path, ny: int = 6, nx: int = 8, seed: int = 0) -
     return write_netcdf(synthetic_environment(ny=ny, nx=nx, seed=seed), path)
 
 
-if __name__ == "__main__":  # python -m mineburial.synthetic [PATH]
-    import sys
-
-    out = write_synthetic_environment(sys.argv[1] if len(sys.argv) > 1 else "environment.nc")
+def main(argv=None) -> int:
+    """``python -m mineburial.synthetic [PATH] [--ny N] [--nx N] [--seed S]`` (was: ``--help``
+    taken as the file name and written, issue 35)."""
+    parser = argparse.ArgumentParser(
+        prog="python -m mineburial.synthetic",
+        description="Write the SYNTHETIC environment grid of the map example (invented values) as NetCDF.",
+    )
+    parser.add_argument(
+        "path", nargs="?", default="environment.nc", help="output file (default environment.nc)"
+    )
+    parser.add_argument("--ny", type=int, default=6, help="rows (default 6)")
+    parser.add_argument("--nx", type=int, default=8, help="columns (default 8)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    args = parser.parse_args(argv)
+    if args.path.startswith("-"):
+        parser.error(f"output file {args.path!r} starts with '-': give ./{args.path} to mean a file")
+    out = write_synthetic_environment(args.path, ny=args.ny, nx=args.nx, seed=args.seed)
     print(f"wrote synthetic environment grid {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

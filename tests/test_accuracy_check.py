@@ -180,3 +180,15 @@ def test_max_drop_named_the_first_drop_when_no_penetration_changed():
     }
     line = accuracy.summary_lines(xr.Dataset(attrs=attrs))[0]
     assert "(no drop changed)" in line and "drop -1" not in line
+
+
+def test_the_check_is_inconclusive_not_a_pass_when_every_drop_timed_out():
+    """Was: "done", p95 and max NaN and no warning (read as a pass) when none of the drops
+    re-run ended: here every drop is still falling at numerics.t_max_fall = 0.05 s."""
+    ds = run_ensemble(steep({"t_max": 0.01, "t_max_fall": 0.05}), n=3, seed=SEED, self_check=True)
+    assert int(ds.status_count.sum()) == int(ds.status_count[1]) == 3  # status 1: time_limit
+    state = ds.attrs["numerical_check"]
+    assert state.startswith("INCONCLUSIVE: none of the 3 drops re-run ended") and "time_limit" in state
+    assert "numerical_check_exceeds_targets" not in ds.attrs
+    assert "numerical_check_penetration_p95_percent" not in ds.attrs
+    assert f"numerical self-check: {state}" in summarize(ds)

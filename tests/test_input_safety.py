@@ -481,3 +481,42 @@ def test_ordinary_grid_passes_the_input_check(tmp_path):
     grid = read_environment(tmp_path / "env.nc")
     depth = env["water_depth"].values
     assert np.array_equal(np.where(depth > 0, depth, np.nan), grid.water_depth, equal_nan=True)
+
+
+# ---------------------------------------------------------------------------
+# issue 35 item 6: choice weights whose sum is beyond float
+# ---------------------------------------------------------------------------
+def test_choice_weights_summing_beyond_float_keep_their_proportions():
+    """Was: ``OverflowError: intermediate overflow in fsum`` (a traceback). Finite weights are
+    proportions: 1e308, 1e308, 2e308... give what 1, 1, 2 give."""
+    big = dist.from_dict(
+        {"distribution": "choice", "values": [1.0, 2.0, 3.0], "weights": [1e308, 1e308, 1.5e308]}, "x"
+    )
+    small = dist.from_dict({"distribution": "choice", "values": [1.0, 2.0, 3.0], "weights": [2, 2, 3]}, "x")
+    assert big.weights == pytest.approx(small.weights, rel=1e-15) and math.fsum(big.weights) == pytest.approx(
+        1.0
+    )
+
+
+def test_reading_a_small_input_allocates_about_its_size_not_the_limit(tmp_path):
+    """Was: ``read(limit + 1)`` allocated the 64 MiB limit for every scenario file read (a
+    MemoryError under a 500 MB address-space limit). Reference: tracemalloc's peak."""
+    import tracemalloc
+
+    from mineburial.io import forcing
+
+    path = tmp_path / "s.toml"
+    path.write_text("# a small file\n" * 100)
+    tracemalloc.start()
+    try:
+        inputs.read_text(path)
+        forcing._read_text(path, "f", forcing.MAX_CSV_BYTES)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 1 << 20, peak
+    # the limit still holds for a file that is over it
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"#" * (inputs.LIMITS["text"] + 10))
+    with pytest.raises(inputs.InputFileError, match="limit"):
+        inputs.read_text(big)

@@ -1,6 +1,8 @@
 """The numba options of every kernel: the on-disk cache switch MINEBURIAL_NUMBA_CACHE."""
 
 import os
+import shutil
+import stat
 import subprocess
 import sys
 
@@ -176,3 +178,158 @@ def test_a_kernel_compiles_with_the_collector_paused(monkeypatch):
         assert gc.isenabled()  # and it is on again after
     finally:
         (gc.enable if was else gc.disable)()
+
+
+# --- numba's cache files checked as their folders are (issue 35, item 2) ---------------------------------
+USE_KERNEL = (
+    "import sys\n"
+    "from mineburial.kernels.rotation import rotation_matrix\n"
+    "assert rotation_matrix(1.0, 0.0, 0.0, 0.0) == (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)\n"
+    "s = rotation_matrix.stats\n"
+    "print(type(rotation_matrix._cache).__name__, sum(s.cache_hits.values()), sum(s.cache_misses.values()))\n"
+)
+
+
+def use_kernel(cache_dir, umask=None):
+    """One kernel called in a fresh process with ``NUMBA_CACHE_DIR=cache_dir``: prints the kind
+    of its cache, its cache hits and misses (numba's own counters)."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache_dir), CACHE_ENV: "1"}
+    return subprocess.run(
+        [sys.executable, "-c", USE_KERNEL],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        preexec_fn=None if umask is None else (lambda: os.umask(umask)),
+    )
+
+
+def cache_files(folder):
+    return sorted(p for p in folder.rglob("*") if p.is_file())
+
+
+@pytest.fixture(scope="module")
+def cache_template(tmp_path_factory):
+    """A private cache folder filled by one run under ``umask 000`` (which wrote 0666 index
+    files before issue 35): the files are 0600, the folder numba made 0755, and a second run
+    loads the kernel from them."""
+    folder = tmp_path_factory.mktemp("numba") / "cache"
+    folder.mkdir(mode=0o700)
+    first = use_kernel(folder, umask=0)
+    assert first.returncode == 0 and first.stdout.split() == ["FunctionCache", "0", "1"], first.stderr
+    files = cache_files(folder)
+    assert [p.suffix for p in files] == [".nbc", ".nbi"]
+    assert all(stat.S_IMODE(p.stat().st_mode) == 0o600 for p in files)
+    assert stat.S_IMODE(files[0].parent.stat().st_mode) == 0o755
+    second = use_kernel(folder, umask=0)
+    assert second.stdout.split() == ["FunctionCache", "1", "0"] and second.stderr == "", second.stderr
+    return folder
+
+
+@pytest.fixture
+def filled_cache(cache_template, tmp_path):
+    """A copy of the filled cache (modes kept) and its data and index files."""
+    folder = tmp_path / "cache"
+    shutil.copytree(cache_template, folder)
+    return folder, cache_files(folder)
+
+
+def test_cache_files_are_private_whatever_the_umask(cache_template):
+    assert all(stat.S_IMODE(p.stat().st_mode) == 0o600 for p in cache_files(cache_template))
+
+
+def plant_pickle(path, marker):
+    """Overwrite the cache file ``path`` with what a hostile user would write: numba's version
+    header (for an index) and a pickle that creates ``marker`` when it is loaded."""
+    import pickle
+
+    import numba
+
+    class Payload:
+        def __reduce__(self):
+            return (open, (str(marker), "w"))
+
+    head = pickle.dumps(numba.__version__, protocol=-1) if path.suffix == ".nbi" else b""
+    path.write_bytes(head + pickle.dumps(Payload(), protocol=-1))
+
+
+@pytest.mark.parametrize("which", ["index", "data"])
+def test_a_cache_file_writable_by_every_user_is_not_loaded(filled_cache, tmp_path, which):
+    """Was: the pickle a neighbour wrote into a 0666 file was executed by the next run."""
+    folder, (data, index) = filled_cache
+    path = {"index": index, "data": data}[which]
+    marker = tmp_path / "executed"
+    plant_pickle(path, marker)
+    path.chmod(0o666)
+    planted = path.read_bytes()
+    proc = use_kernel(folder)
+    assert proc.returncode == 0, proc.stderr
+    assert not marker.exists()
+    assert proc.stdout.split()[1] == "0"  # no cache hit: compiled in memory
+    warnings = proc.stderr.splitlines()
+    assert len(warnings) == 1 and f"numba's cache file '{path}' is writable by every user" in warnings[0]
+    assert path.read_bytes() == planted  # neither loaded nor replaced
+
+
+def test_a_cache_file_that_is_a_symbolic_link_is_not_followed(filled_cache, tmp_path):
+    folder, (data, index) = filled_cache
+    marker = tmp_path / "executed"
+    elsewhere = tmp_path / "elsewhere.nbc"
+    plant_pickle(elsewhere, marker)
+    data.unlink()
+    data.symlink_to(elsewhere)
+    proc = use_kernel(folder)
+    assert proc.returncode == 0 and not marker.exists(), proc.stderr
+    assert "is a symbolic link" in proc.stderr and proc.stdout.split()[1] == "0"
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="chown to another uid needs root")
+def test_a_cache_index_owned_by_another_user_is_not_loaded(filled_cache, tmp_path):
+    folder, (_, index) = filled_cache
+    marker = tmp_path / "executed"
+    plant_pickle(index, marker)
+    os.chown(index, 12345, 12345)
+    index.chmod(0o600)
+    proc = use_kernel(folder)
+    assert proc.returncode == 0 and not marker.exists(), proc.stderr
+    assert "is owned by another user (uid 12345)" in proc.stderr and proc.stdout.split()[1] == "0"
+
+
+def test_cache_file_problem_without_root(tmp_path):
+    """The same checks on the file's status, for a user who cannot chown (any uid)."""
+    from mineburial._numba import cache_file_problem
+
+    f = tmp_path / "k.nbi"
+    assert cache_file_problem(f) is None  # none yet
+    f.write_bytes(b"x")
+    f.chmod(0o600)
+    assert cache_file_problem(f) is None
+    assert cache_file_problem(f, uid=os.geteuid() + 1).startswith("is owned by another user")
+    f.chmod(0o646)
+    assert cache_file_problem(f) == "is writable by every user"
+    os.mkfifo(tmp_path / "fifo.nbi")
+    assert cache_file_problem(tmp_path / "fifo.nbi") == "is not a regular file"
+
+
+def test_numba_cache_dir_that_is_a_regular_file_is_one_line(tmp_path):
+    """Was: numba silently cached beside the installed sources instead."""
+    path = tmp_path / "notes.txt"
+    path.write_text("a user's file")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(path), CACHE_ENV: "1"}
+    proc = subprocess.run(
+        [sys.executable, "-m", "mineburial.cli", "drop", str(tmp_path / "s.toml")],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    err = proc.stderr.strip()
+    assert proc.returncode == 2 and len(err.splitlines()) == 1, err
+    assert f"NUMBA_CACHE_DIR = '{path}' is a regular file" in err and "must be a folder" in err
+    assert path.read_text() == "a user's file"
+    # switched off, the variable does not matter
+    env[CACHE_ENV] = "0"
+    proc = subprocess.run(
+        [sys.executable, "-c", USE_KERNEL], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert proc.returncode == 0 and proc.stdout.split()[0] == "NullCache", proc.stderr

@@ -120,6 +120,9 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
         reference_params(P), np.ones(idx.size, bool), spec.sediment_bank, spec.current_bank
     )
     wall = time.monotonic() - t0
+    ended = np.isin(status[idx], st.IN_STATISTICS) & np.isin(ref_status, st.IN_STATISTICS)
+    if not ended.any():  # e.g. every drop timed out: nothing measured, so no pass (issue 35)
+        return _inconclusive(idx, status[idx], ref_status, wall)
     diff = differences(summary[idx], status[idx], ref_summary, ref_status, spec.class_basis)
     worst = int(idx[diff["argmax"]]) if diff["argmax"] >= 0 else -1
     exceeded = diff["p95"] > TARGETS[0] or diff["max"] > TARGETS[1]  # NaN (no penetration): False
@@ -135,6 +138,25 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
         "numerical_check_status_changes": np.int64(diff["status_changes"]),
         "numerical_check_targets_percent": np.array(TARGETS),
         "numerical_check_exceeds_targets": np.int8(exceeded),
+        "numerical_check_wall_time_s": round(wall, 3),
+    }
+
+
+def _inconclusive(idx, status, ref_status, wall: float) -> dict:
+    """The attributes of a self-check that measured nothing: none of the drops re-run ended
+    at rest or buried (the statuses whose burial is counted) in both runs, e.g. every drop
+    timed out. Was reported as done, with no warning: a pass."""
+    names = sorted({st.NAMES[int(s)] for s in np.concatenate([status, ref_status])})
+    return {
+        "numerical_check": (
+            f"INCONCLUSIVE: none of the {idx.size} drops re-run ended at rest or buried in both "
+            f"runs (statuses: {', '.join(names)}), so the accuracy was not measured; see the "
+            "status counts (a longer numerics.t_max?)"
+        ),
+        "numerical_check_reference": REFERENCE_TEXT,
+        "numerical_check_drops": np.int64(idx.size),
+        "numerical_check_drop_indices": idx.astype(np.int64),
+        "numerical_check_status_changes": np.int64(np.sum(np.asarray(status) != np.asarray(ref_status))),
         "numerical_check_wall_time_s": round(wall, 3),
     }
 

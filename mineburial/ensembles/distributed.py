@@ -44,6 +44,8 @@ worker, thread count or retry; the cluster only decides *where* chunks run.
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import logging
 import os
 import socket
 import threading
@@ -62,6 +64,8 @@ __all__ = [
     "chunk_task",
     "numba_threads_per_task",
     "probe_scheduler",
+    "open_client",
+    "LinkLost",
     "run_tasks_distributed",
     "RETRIES",
     "WAITING_INTERVAL",
@@ -169,6 +173,65 @@ def probe_scheduler(address: str, timeout: float) -> str | None:
     return None
 
 
+def _no_traceback(record: logging.LogRecord) -> bool:
+    """A filter of dask's client logger: no record that carries a traceback (when the scheduler
+    dies mid-run, dask logged a 30-line traceback on stderr before mineburial's one line, issue
+    35); mineburial reports the loss itself. Other records pass."""
+    return record.exc_info is None and not record.exc_text
+
+
+#: s: how long past its own timeout the client's connection may take before it is abandoned
+CONNECT_GRACE_S = 2.0
+
+
+def open_client(address: str, timeout: float):
+    """``dask.distributed.Client(address, timeout=timeout)`` within a hard deadline of
+    ``timeout`` + :data:`CONNECT_GRACE_S` s, or :class:`TimeoutError`.
+
+    dask's ``timeout`` bounds the TCP connection and its retries, not a handshake that
+    stalls: a service that sends a plausible 8-byte greeting (so that
+    :func:`probe_scheduler` passes) and then nothing, or a scheduler whose connection to
+    this client stays silent, kept ``run`` waiting for 450 s and more (issue 35). The client
+    is made in a daemon thread; past the deadline it is abandoned (closed if it ever
+    connects) and the caller gets the timeout."""
+    from dask.distributed import Client
+
+    logging.getLogger("distributed.client").addFilter(_no_traceback)
+    box: dict = {}
+    lock = threading.Lock()
+
+    def connect():
+        try:
+            client = Client(address, timeout=timeout)
+        except BaseException as exc:  # handed to the caller
+            box["error"] = exc
+            return
+        with lock:
+            if box.get("abandoned"):
+                client.close()
+            else:
+                box["client"] = client
+
+    thread = threading.Thread(target=connect, name="mineburial-dask-connect", daemon=True)
+    thread.start()
+    try:
+        thread.join(timeout + CONNECT_GRACE_S)
+    except BaseException:  # Ctrl-C while connecting: the client, if it ever connects, is closed
+        with lock:
+            box["abandoned"] = True
+            client = box.pop("client", None)
+        if client is not None:
+            client.close()
+        raise
+    with lock:
+        if "client" in box:
+            return box["client"]
+        if "error" in box:
+            raise box["error"]
+        box["abandoned"] = True
+    raise TimeoutError(f"the connection's handshake did not complete within {timeout + CONNECT_GRACE_S:g} s")
+
+
 def numba_threads_per_task(client) -> int:
     """numba threads for one chunk so that a host's dask threads times numba threads does
     not exceed its cores: min over hosts of ``cores // dask threads on the host``, >= 1."""
@@ -208,6 +271,53 @@ def _watch_workers(client, stop: threading.Event, interval: float):
             since = None
 
 
+#: s without a finished chunk after which the link to the scheduler is checked, and how long
+#: the scheduler then has to answer (issue 35: a link gone silent mid-run kept ``run`` at
+#: "drops 0/3000" for 300 s and more with no message)
+LINK_CHECK_S = 60.0
+LINK_TIMEOUT_S = 30.0
+
+
+class LinkLost(RunError):
+    """The scheduler did not answer over the client's link (one line; the chunks finished are kept)."""
+
+
+def _check_link(client, address: str, done: int) -> None:
+    """Ask the scheduler for its identity over the client's link, within :data:`LINK_TIMEOUT_S`;
+    a :class:`LinkLost` when it does not answer."""
+    try:
+        client.sync(client.scheduler.identity, callback_timeout=LINK_TIMEOUT_S)
+    except Exception as exc:  # a timeout, a closed comm: no answer either way
+        reason = type(exc).__name__ if isinstance(exc, TimeoutError) else " ".join(str(exc).split())[:120]
+        raise LinkLost(
+            f"the dask scheduler at {address} did not answer within {LINK_TIMEOUT_S:g} s after "
+            f"{LINK_CHECK_S:g} s without a finished chunk (the link to it is silent or broken: "
+            f"{reason or type(exc).__name__}); the {done} chunk(s) finished are kept: rerun the same "
+            f"command to resume"
+        ) from None
+
+
+def _as_completed_watched(client, as_completed, futures, done_count):
+    """``(future, result)`` of ``futures`` as they finish (dask's ``as_completed``), with a
+    watchdog: after :data:`LINK_CHECK_S` s without one, the scheduler must answer over the
+    client's link (:func:`_check_link`), else the run ends in one line."""
+    ac = as_completed(futures, with_results=True, raise_errors=False)
+    address = client.scheduler.address
+    quiet_since = time.monotonic()
+    while True:
+        batch = ac.next_batch(block=False)
+        if batch:
+            quiet_since = time.monotonic()
+            yield from batch
+            continue
+        if ac.is_empty():
+            return
+        if time.monotonic() - quiet_since > LINK_CHECK_S:
+            _check_link(client, address, done_count())
+            quiet_since = time.monotonic()
+        time.sleep(0.05)
+
+
 def run_tasks_distributed(
     client, items: Iterable, *, warm: bool = True, numba_threads: int | None = None
 ) -> Iterator:
@@ -224,6 +334,24 @@ def run_tasks_distributed(
     ``as_completed(raise_errors=False)`` hands the ``FutureCancelledError`` back as the
     result) ends the run with a RunError, one line; the chunks finished are kept.
     """
+    from distributed.comm.core import CommClosedError
+
+    address, done = client.scheduler.address, 0
+    with contextlib.closing(_run_tasks(client, items, warm=warm, numba_threads=numba_threads)) as chunks:
+        try:
+            for out in chunks:
+                done += 1
+                yield out
+        except CommClosedError as exc:  # was an OSError naming dask's internal connection pool
+            raise RunError(
+                f"the dask scheduler at {address} closed the connection mid-run ("
+                f"{str(exc).rsplit('>: ', 1)[-1]}: it stopped, or the network failed); the {done} "
+                "chunk(s) finished are kept: rerun the same command to resume"
+            ) from None
+
+
+def _run_tasks(client, items: Iterable, *, warm: bool, numba_threads: int | None) -> Iterator:
+    """The body of :func:`run_tasks_distributed` (which turns a closed connection into one line)."""
     from distributed import as_completed
 
     items = list(items)
@@ -270,8 +398,10 @@ def run_tasks_distributed(
     )
     watcher.start()
     address, done = client.scheduler.address, 0
+    link_lost = False
     try:
-        for fut, res in as_completed(list(pending.values()), with_results=True, raise_errors=False):
+        finished = lambda: done  # noqa: B023, E731 -- read when the watchdog speaks: the count then
+        for fut, res in _as_completed_watched(client, as_completed, list(pending.values()), finished):
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
             what = "the ensemble" if tag is None else str(tag)
@@ -293,7 +423,10 @@ def run_tasks_distributed(
             if store is not None and not store.has(*bounds):
                 store.save(res)  # no filesystem shared with the workers
             yield tag, bounds, res
+    except LinkLost:
+        link_lost = True
+        raise
     finally:
         stop_watch.set()
-        if pending:
+        if pending and not link_lost:  # a cancel over a silent link would wait for it
             client.cancel(list(pending.values()))

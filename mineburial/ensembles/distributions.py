@@ -562,7 +562,13 @@ class Choice(Distribution):
                 if not (math.isfinite(float(x)) and float(x) >= 0):
                     raise DistributionError(f"{field}: weights[{j}] = {x} must be finite and >= 0")
                 w.append(float(x))
-            total = math.fsum(w)
+            try:
+                total = math.fsum(w)
+            except OverflowError:  # finite weights whose sum is beyond float (issue 35)
+                total = math.inf
+            if math.isinf(total):  # proportional weights: the same probabilities, scaled
+                w = [x / max(w) for x in w]
+                total = math.fsum(w)
             if not total > 0:
                 raise DistributionError(f"{field}: weights must not all be zero")
             weights = tuple(x / total for x in w)

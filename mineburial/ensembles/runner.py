@@ -33,7 +33,7 @@ import numba
 import numpy as np
 
 from mineburial.ensembles import engine
-from mineburial.ensembles.distributed import probe_scheduler, run_tasks_distributed
+from mineburial.ensembles.distributed import open_client, probe_scheduler, run_tasks_distributed
 from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.mine import (  # the mine's report, reached here by its callers
     STEPS_WARNING,
@@ -200,8 +200,6 @@ def connect_scheduler(address: str, timeout: float | None = None):
     probe_scheduler`: the scheduler's greeting within ``timeout`` s), and anything the
     client then raises is one line.
     """
-    from dask.distributed import Client
-
     timeout = SCHEDULER_TIMEOUT if timeout is None else timeout
     problem = probe_scheduler(address, timeout)
     if problem is not None:
@@ -211,7 +209,7 @@ def connect_scheduler(address: str, timeout: float | None = None):
         )
     where = f"--scheduler {address}: cannot reach a dask scheduler there within {timeout:g} s"
     try:
-        return Client(address, timeout=timeout)
+        return open_client(address, timeout)  # a hard deadline on the handshake too (issue 35)
     except (OSError, TimeoutError, ValueError, TypeError) as exc:
         reason = " ".join(str(exc).split()) or type(exc).__name__
         raise RunError(f"{where} ({reason})") from None

@@ -14,6 +14,7 @@ A scenario without the section runs exactly as before: nothing here is called.
 from __future__ import annotations
 
 import dataclasses
+import datetime as _dt
 import functools
 import hashlib
 import inspect
@@ -121,6 +122,13 @@ class CellForcing:
         return self
 
 
+def _shown(value: float, *bounds: float) -> str:
+    """``value`` as ``:g`` text, or in full (``repr``) when that text equals a bound's: was
+    "lead time 4 is outside the allowed range [0, 4]" for 4.0000001 (issue 35)."""
+    text = f"{value:g}"
+    return repr(float(value)) if any(text == f"{b:g}" for b in bounds) else text
+
+
 def _numbers(value, location, *, low, high, default):
     if value is None:
         return tuple(default)
@@ -130,7 +138,7 @@ def _numbers(value, location, *, low, high, default):
     for i, v in enumerate(out):
         if not (low <= v <= high):
             raise cfg.ScenarioError(
-                f"{location}[{i}] = {v:g} is outside the allowed range [{low:g}, {high:g}]"
+                f"{location}[{i}] = {_shown(v, low, high)} is outside the allowed range [{low:g}, {high:g}]"
             )
     if any(b <= a for a, b in zip(out, out[1:])):
         raise cfg.ScenarioError(f"{location} = {list(out)} must be strictly increasing")
@@ -184,7 +192,10 @@ def _forcing(sec, base_dir):
     for k, v in storm.items():
         if k not in ("ramp", "start"):
             cfg._number(v, f"scour.storm.{k}")
-    return fio.storm_series(**storm), {"forcing_storm": dict(storm)}
+    # the record is written as JSON in the output's attributes: an unquoted TOML datetime as
+    # start is kept as its ISO 8601 text (was: a traceback after every drop was computed, issue 35)
+    record = {k: v.isoformat() if isinstance(v, (_dt.date, _dt.time)) else v for k, v in storm.items()}
+    return fio.storm_series(**storm), {"forcing_storm": record}
 
 
 def sediment_classes(sediment, choice) -> tuple:
@@ -291,23 +302,31 @@ def at_lead_time(spec, lead_time: float | None):
     elif not (0.0 <= lead_time <= longest):
         what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
         raise cfg.ScenarioError(
-            f"--lead-time {lead_time:g} is outside the allowed range [0, {longest:g}] days ({what})"
+            f"--lead-time {_shown(lead_time, 0.0, longest)} is outside the allowed range [0, {longest:g}] "
+            f"days ({what})"
         )
     stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
     return dataclasses.replace(spec, scour=stage)
 
 
-def after_scour(summary: np.ndarray, measures: np.ndarray) -> np.ndarray:
+def after_scour(summary: np.ndarray, measures: np.ndarray, *, missing: str = "nan") -> np.ndarray:
     """``summary`` with its burial measures replaced by the scour stage's at its one lead time
-    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1) where the stage
-    gave a value; a drop without one keeps its impact measures (the outputs of ``sensitivity``
-    and ``compare`` at ``--lead-time``; burial never decreases in the stage, so such a drop's
-    measures are what it had)."""
+    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1): the outputs of
+    ``compare`` and ``sensitivity`` at ``--lead-time``.
+
+    A drop without a stage value (scour status not ok) gets NaN (``missing="nan"``): the
+    burial statistics then leave it out, as ``run``'s statistics after scour do (was: counted
+    with its impact burial, P(> 75 %) 0.25 against ``run``'s 1.00 on the same drops, issue 35).
+    ``missing="impact"`` keeps its impact measures instead, for a Sobol' analysis, which needs
+    a value at every point of its design (``sensitivity`` then warns, naming how many)."""
+    if missing not in ("nan", "impact"):
+        raise ValueError(f"missing must be 'nan' or 'impact', got {missing!r}")
     out = summary.copy()
     for k, name in enumerate(V.SCOUR_MEASURES):
         column = layout.SUMMARY_INDEX[name]
         value = measures[:, k, 0]
-        out[:, column] = np.where(np.isfinite(value), value, out[:, column])
+        otherwise = out[:, column] if missing == "impact" else np.nan
+        out[:, column] = np.where(np.isfinite(value), value, otherwise)
     return out
 
 
@@ -325,7 +344,8 @@ def _window_days(sec, span_days):
     window = cfg._number(window, "scour.window_days", "d")
     if not (0.0 < window <= span_days):
         raise cfg.ScenarioError(
-            f"scour.window_days = {window:g} is outside the allowed range (0, {span_days:g}] "
+            f"scour.window_days = {_shown(window, 0.0, span_days)} is outside the allowed range "
+            f"(0, {span_days:g}] "
             "(the forcing's span, days)"
         )
     return window

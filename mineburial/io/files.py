@@ -1,8 +1,9 @@
-"""The one atomic file write of mineburial: every output (NetCDF, chunk, manifest) goes
-through :func:`atomic_path`.
+"""The one atomic file write of mineburial: every output (NetCDF, chunk, manifest, PNG,
+GeoTIFF, report) goes through :func:`atomic_path`.
 
 A file is written under a temporary name in the destination's folder, flushed to disk
-with ``fsync`` and moved over the destination with ``os.replace``, and the folder is
+with ``fsync``, checked (a regular file, not empty, and what the caller's ``verify`` reads
+back) and moved over the destination with ``os.replace``, and the folder is
 fsynced so that the rename itself is durable: a reader sees the previous file or the
 complete new one, never a partial file, and a run killed at any moment loses nothing
 already finished. On an error the temporary file is removed and the destination is left
@@ -18,6 +19,7 @@ names no file (a full disk, ``[Errno 28]``) is raised again naming the destinati
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import secrets
 import stat
@@ -101,10 +103,27 @@ def _fresh_tmp(path: Path) -> Path:
             continue
 
 
+def _check_written(tmp: Path, path: Path, nonempty: bool) -> None:
+    """The temporary file is still a regular file (not swapped for a link), not empty."""
+    st = os.lstat(tmp)
+    if not stat.S_ISREG(st.st_mode) or (nonempty and st.st_size == 0):
+        raise OSError(
+            errno.EIO,
+            "the file written is empty or not a regular file (is the disk full?); the previous "
+            "file, if any, is unchanged",
+            str(path),
+        )
+
+
 @contextlib.contextmanager
-def atomic_path(path, *, replace: bool = True) -> Iterator[Path]:
+def atomic_path(path, *, replace: bool = True, verify=None, nonempty: bool = True) -> Iterator[Path]:
     """Context manager: yields a temporary path beside ``path`` to write the file to; on a
-    normal exit the file is fsynced and moved over ``path``, on an error it is removed.
+    normal exit the file is fsynced, checked and moved over ``path``, on an error it is removed.
+
+    The check: the temporary file must be a regular file, not empty unless ``nonempty`` is
+    false (a library that reports a failed write only on stderr, as GDAL does, leaves it short
+    or empty), and ``verify(tmp)``, when given, must return without raising (it reads the file
+    back; :func:`atomic_write_bytes` compares the size written).
 
     ``path`` must be a regular file or nothing (:func:`check_destination`, checked before
     and again just before the rename). With ``replace=False`` an existing ``path`` is never
@@ -121,6 +140,9 @@ def atomic_path(path, *, replace: bool = True) -> Iterator[Path]:
             yield tmp
             with open(tmp, "rb+") as fh:
                 os.fsync(fh.fileno())
+            _check_written(tmp, path, nonempty)
+            if verify is not None:
+                verify(tmp)
         except OSError as exc:
             raise _named(exc, path) from exc
         if replace:
@@ -137,9 +159,21 @@ def atomic_path(path, *, replace: bool = True) -> Iterator[Path]:
 
 
 def atomic_write_bytes(path, data: bytes, *, replace: bool = True) -> Path:
-    """Write ``data`` to ``path`` atomically (:func:`atomic_path`); returns the path."""
-    with atomic_path(path, replace=replace) as tmp:
-        tmp.write_bytes(data)
+    """Write ``data`` to ``path`` atomically (:func:`atomic_path`), the size written checked
+    against ``len(data)``; returns the path."""
+
+    def verify(tmp: Path) -> None:
+        if os.path.getsize(tmp) != len(data):
+            raise OSError(
+                errno.EIO,
+                f"only {os.path.getsize(tmp)} of {len(data)} bytes were written (is the disk full?); "
+                "the previous file, if any, is unchanged",
+                str(path),
+            )
+
+    with atomic_path(path, replace=replace, verify=verify, nonempty=bool(data)) as tmp:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
     return Path(path)
 
 

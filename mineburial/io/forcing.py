@@ -29,8 +29,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mineburial import resources
 from mineburial._deferred import xarray as xr
-from mineburial.io.files import atomic_write_text
+from mineburial.io.files import atomic_path, atomic_write_text
+from mineburial.io.inputs import numbered_csv, read_sized
 from mineburial.kernels.mine.scour import depth_floor
 from mineburial.sediment_profiles import ScenarioError
 
@@ -384,7 +386,7 @@ def _read_text(path: pathlib.Path, where: str, max_bytes: int) -> str:
     with os.fdopen(fd, "rb") as fh:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             raise ScenarioError(f"{where}: not a regular file (a directory, FIFO or device); give a file")
-        data = fh.read(max_bytes + 1)
+        data = read_sized(fh, max_bytes)
     if len(data) > max_bytes:
         raise ScenarioError(
             f"{where}: the file has more than {max_bytes} bytes; allowed: at most {max_bytes}"
@@ -468,6 +470,15 @@ def _csv_columns(where, header):
     return found
 
 
+class TimeOutOfRange(ValueError):
+    """An ISO 8601 time outside what datetime64[ns] holds (its message says so)."""
+
+
+#: the first and last whole seconds datetime64[ns] holds (1677-09-21T00:12:44 to 2262-04-11T23:47:16)
+_FIRST_NS = _dt.datetime(1677, 9, 21, 0, 12, 44)
+_LAST_NS = _dt.datetime(2262, 4, 11, 23, 47, 16)
+
+
 def _parse_iso(text) -> np.datetime64:
     """ISO 8601 text (or a datetime, as TOML gives an unquoted one) -> UTC datetime64[ns]
     (no zone: UTC). A trailing 'Z' is read as +00:00 (Python 3.10's fromisoformat refuses it)."""
@@ -480,6 +491,11 @@ def _parse_iso(text) -> np.datetime64:
         raise ValueError(f"{text!r} is not an ISO 8601 time")
     if when.tzinfo is not None:
         when = when.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    if not (_FIRST_NS <= when <= _LAST_NS):  # datetime64[ns] would wrap silently (issue 35)
+        raise TimeOutOfRange(
+            f"{when.isoformat()}Z is outside the times that can be held, {_FIRST_NS.isoformat()}Z to "
+            f"{_LAST_NS.isoformat()}Z (nanoseconds from 1970 in 64 bits)"
+        )
     return np.datetime64(when, "ns")
 
 
@@ -504,8 +520,10 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
     ``time,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg``."""
     path = pathlib.Path(path)
     where = f"forcing file '{path}'"
-    lines = [ln for ln in _read_text(path, where, max_bytes).splitlines() if not ln.lstrip().startswith("#")]
-    rows = [r for r in csv.reader(ln for ln in lines if ln.strip())]
+    try:  # one value per header column on every row (inputs.numbered_csv), before any drop runs
+        rows = [r for _, r in numbered_csv(_read_text(path, where, max_bytes), as_wide_as_header=True)]
+    except csv.Error as exc:
+        raise ScenarioError(f"{where}: not a CSV table of the forcing ({exc})") from None
     if not rows:
         raise ScenarioError(f"{where}: no header row; expected e.g. time,hs_m,tp_s,wave_dir_deg,...")
     header = [h.strip().lower() for h in rows[0]]
@@ -520,6 +538,8 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
                 stamps.append(_parse_iso(row[it]))
             else:
                 raw_s.append(float(row[it]))
+        except TimeOutOfRange as exc:
+            raise ScenarioError(f"{where}: data row {k}, column 'time': {exc}") from None
         except (IndexError, ValueError):
             raise ScenarioError(
                 f"{where}: data row {k}, column '{tcol}': not "
@@ -555,13 +575,43 @@ def load_csv(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_CSV_B
 _CF_CALENDARS = ("standard", "gregorian", "proleptic_gregorian")
 
 
+#: float64 copies of each value a NetCDF forcing's reading holds at its peak (the file's values,
+#: the float64 conversion, the checked and converted series, the kernel's arrays), with margin
+READ_COPIES = 8
+
+
 def _open_netcdf(path: pathlib.Path, where: str, max_bytes: int) -> xr.Dataset:
     _regular_file(path, where, max_bytes)
     try:  # times decoded below, after their units are checked
-        return xr.open_dataset(path, decode_times=False, decode_timedelta=False)
+        ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False)
     except (OSError, ValueError, RuntimeError, TypeError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise ScenarioError(f"{where}: cannot open as NetCDF ({type(exc).__name__}: {first[:120]})") from None
+    # the values are read lazily: their count, against the memory, before any is read (issue 35:
+    # 10^7 to 5 10^7 records took 2.9 GB, then a MemoryError traceback); the file's size limit
+    # does not bound it, compressed values decompress to more
+    values = sum(int(v.size) for v in ds.variables.values())
+    refusal = resources.memory_refusal(
+        8.0 * READ_COPIES * values,
+        f"{where}: reading its {values:,} values ({dict(ds.sizes)})",
+        "give a shorter or coarser series",
+    )
+    if refusal:
+        ds.close()
+        raise ScenarioError(refusal)
+    return ds
+
+
+def _numbers(var, name, where) -> np.ndarray:
+    """The values of a NetCDF variable as float64, or one line when it holds text, times or
+    other things than numbers (was: a ValueError traceback, issue 35)."""
+    kind = var.dtype.kind
+    if kind not in "iuf":
+        what = {"U": "text", "S": "text (bytes)", "O": "text or objects", "b": "true/false values"}
+        raise ScenarioError(
+            f"{where}: variable '{name}' holds {what.get(kind, f'values of type {var.dtype}')}, not numbers"
+        )
+    return np.asarray(var.values, dtype=np.float64)
 
 
 def _netcdf_times(ds, where):
@@ -583,7 +633,7 @@ def _netcdf_times(ds, where):
         raise ScenarioError(
             f"{where}: variable '{name}' has calendar '{calendar}'; accepted: {', '.join(_CF_CALENDARS)}"
         )
-    raw = np.asarray(var.values, dtype=np.float64)
+    raw = _numbers(var, name, where)
     try:
         finite = np.where(np.isfinite(raw), raw, 0.0)
         stamps = xr.coding.times.decode_cf_datetime(finite, str(units), calendar)
@@ -623,7 +673,7 @@ def _netcdf_columns(ds, where, tdim, ndim, space_dims=None):
                 f"{where}: variable '{names[0]}' has dimensions {var.dims}; "
                 f"expected ({tdim}, {', '.join(space_dims)})"
             )
-        values = np.asarray(var.transpose(tdim, *space_dims).values, dtype=np.float64)
+        values = _numbers(var.transpose(tdim, *space_dims), names[0], where)
         columns[key] = (names[0], values, var.attrs.get("units"))
     return columns, space_dims
 
@@ -677,11 +727,18 @@ class GriddedForcing:
         )
 
 
-def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_NETCDF_BYTES):
+def load_gridded_netcdf(
+    path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_bytes=MAX_NETCDF_BYTES, only=None
+):
     """Read a gridded forcing (time, y, x) from CF NetCDF: the variables of :func:`load_netcdf`
     with two horizontal dimensions (any names, the same for all; coordinates optional). A cell
     whose wave height is missing at every time is dry (``wet`` False) and not checked; every
-    other cell is checked as a series, the message naming the cell."""
+    other cell is checked as a series, the message naming the cell.
+
+    ``only`` = (mask (ny, nx), its dimension names): only the cells where the mask is true (the
+    cells a map computes) are checked and kept, the others taken as dry (was: a land cell whose
+    forcing was partly NaN refused the whole map, issue 35). A mask of another shape is ignored
+    (the caller refuses the grid)."""
     path = pathlib.Path(path)
     where = f"forcing file '{path}'"
     with _open_netcdf(path, where, max_bytes) as ds:
@@ -700,6 +757,12 @@ def load_gridded_netcdf(path, *, gap_factor=GAP_FACTOR, max_gap_s=None, max_byte
         raise ScenarioError(
             f"{where}: variable '{columns['hs'][0]}' is missing (NaN) in every cell at every time"
         )
+    if only is not None:
+        mask, mask_dims = np.asarray(only[0], dtype=bool), tuple(only[1])
+        if dims is not None and tuple(dims) == mask_dims[::-1] and mask_dims[0] != mask_dims[1]:
+            mask = mask.T
+        if mask.shape == wet.shape:
+            wet = wet & mask
     jj, ii = np.nonzero(wet)
     wet_columns = {k: (name, v[:, wet], units) for k, (name, v, units) in columns.items()}
 
@@ -766,7 +829,8 @@ def write_gridded_netcdf(cells, y, x, path) -> pathlib.Path:
     )
     ds = xr.Dataset(data, coords={"time": time, y.dims[0]: y, x.dims[0]: x})
     path = pathlib.Path(path)
-    ds.to_netcdf(path, encoding={"time": {"dtype": "float64"}})
+    with atomic_path(path) as tmp:  # the one writer (docs/design.md, "Outputs")
+        ds.to_netcdf(tmp, encoding={"time": {"dtype": "float64"}})
     return path
 
 
@@ -878,9 +942,12 @@ def storm_series(
         )
     try:
         start_time = _parse_iso(start)
+    except TimeOutOfRange as exc:
+        raise ScenarioError(f"{where}: start = {start}: {exc}") from None
     except ValueError:
+        shown = start.isoformat() if isinstance(start, (_dt.date, _dt.time)) else repr(start)
         raise ScenarioError(
-            f"{where}: start = {start!r} is not an ISO 8601 time (e.g. 2003-01-15T00:00:00Z)"
+            f"{where}: start = {shown} is not an ISO 8601 time (e.g. 2003-01-15T00:00:00Z)"
         ) from None
     hours = np.arange(n) * step_h
     s = storm_shape((hours - peak_h) / (0.5 * duration_h), ramp)

@@ -88,10 +88,24 @@ def check_input(path, kind: str) -> int:
         return _size(path, fh.fileno(), kind)
 
 
+def read_sized(fh, limit: int) -> bytes:
+    """The bytes of the open file ``fh``, at most ``limit`` + 1 (one more tells that it is over
+    the limit), read in a buffer of the file's own size: ``read(limit + 1)`` allocates the whole
+    limit at once (64 MiB for each scenario read: a MemoryError under a 500 MB address-space
+    limit, issue 35). Only a file that grows while it is read is read on, in 64 KiB pieces."""
+    data = fh.read(min(os.fstat(fh.fileno()).st_size, limit) + 1)
+    while len(data) <= limit:
+        more = fh.read(min(1 << 16, limit + 1 - len(data)))
+        if not more:
+            break
+        data += more
+    return data
+
+
 def read_text(path, kind: str = "text") -> str:
     """The content of ``path`` as UTF-8 text, checked by :func:`open_input`."""
     with open_input(path, kind) as fh:
-        data = fh.read(LIMITS[kind] + 1)
+        data = read_sized(fh, LIMITS[kind])
     if len(data) > LIMITS[kind]:  # the file grew after the check
         raise InputFileError(path, f"larger than the {LIMITS[kind] // MiB} MiB limit of a {kind} input")
     try:
@@ -136,11 +150,16 @@ def column_names(header) -> str | None:
     return ", ".join(cells)
 
 
-def numbered_csv(text: str):
+def numbered_csv(text: str, *, as_wide_as_header: bool = False):
     """``(line number, cells)`` of each row of the CSV ``text``, blank lines and comment
     lines (starting with ``#``) left out; the numbers are the file's line numbers (from 1),
     so that an error can name where a bad cell is without quoting it. Raises ``csv.Error``
-    naming the line (a field over the csv module's limit of 131,072 characters)."""
+    naming the line (a field over the csv module's limit of 131,072 characters).
+
+    With ``as_wide_as_header`` every row must have as many cells as the first (the header):
+    a table whose columns are found by their position in the header would otherwise read a
+    row with an extra or a missing cell shifted (issue 35: a forcing row with one field more
+    read its speeds as directions), so such a row raises ``csv.Error`` naming its line."""
     kept = [
         (number, line)
         for number, line in enumerate(text.splitlines(), start=1)
@@ -154,4 +173,13 @@ def numbered_csv(text: str):
             return
         except csv.Error as exc:
             raise csv.Error(f"line {kept[reader.line_num - 1][0]}: {exc}") from None
-        yield kept[reader.line_num - 1][0], row
+        number = kept[reader.line_num - 1][0]
+        if as_wide_as_header:
+            if reader.line_num == 1:
+                width, header_line = len(row), number
+            elif len(row) != width:
+                raise csv.Error(
+                    f"line {number} has {len(row)} fields but the header (line {header_line}) has "
+                    f"{width}: every row needs one value per column (quote a value holding a comma)"
+                )
+        yield number, row

@@ -36,6 +36,7 @@ import numpy as np
 
 from mineburial.config import Scenario, load_example
 from mineburial.drop import run_params, simulate_drop
+from mineburial.figures import save_figure
 from mineburial.io.forcing import storm_shape
 from mineburial.kernels import status
 from mineburial.kernels.mine import layout
@@ -792,7 +793,7 @@ def _exp1_figures(drops, figures_dir, names=tuple(EXP1)):
         )
         fig.tight_layout()
         path = figures_dir / f"{name}_trajectory.png"
-        fig.savefig(path, dpi=100)
+        save_figure(fig, path, dpi=100)  # the one writer (issue 35)
         plt.close(fig)
         out.append(
             (

@@ -23,7 +23,8 @@ standard errors of the per-drop differences.
 Burial after scour (issue 20): with a ``[scour]`` section every variant runs the post-impact
 stage and the compared burial measures are those at **one lead time** (``--lead-time DAYS``,
 default the section's last; :func:`mineburial.ensembles.scour.at_lead_time`), as in
-``mineburial sensitivity``: a drop whose stage did not give a value keeps its impact measures.
+``mineburial sensitivity``; a drop whose stage did not give a value is left out of the burial
+statistics, as in ``run``'s statistics after scour (:func:`~mineburial.ensembles.scour.after_scour`).
 A ``scour.*`` field may be varied (``--vary scour.orbital=spectral,hs``): it changes no packed
 impact parameter, and the sampled inputs of the stage are checked equal across variants like
 every other.

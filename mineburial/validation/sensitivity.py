@@ -357,6 +357,7 @@ def run_sensitivity(
         raise engine.EnsembleError(refusal)
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
     scour_counts = np.zeros(len(V.SCOUR_STATUS_NAMES), dtype=np.int64)
+    no_value = [0]  # drops in the burial statistics without a value of the scour stage
 
     def model(values):
         points = DesignSpec.of(spec, n)
@@ -372,13 +373,21 @@ def run_sensitivity(
         if spec.scour is not None:
             codes = np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64)
             scour_counts[:] = np.bincount(codes, minlength=len(scour_counts))
-            summary = after_scour(summary, np.concatenate([r["scour:measures"] for r in chunks]))
+            measures = np.concatenate([r["scour:measures"] for r in chunks])
+            lacking = ~np.isfinite(measures[:, :, 0]).all(axis=1)
+            no_value[0] = int(np.sum(np.isin(status, st.IN_STATISTICS) & lacking))
+            summary = after_scour(summary, measures, missing="impact")  # Sobol' needs every point
         return _outputs(summary, spec.class_basis)
 
     t0 = time.monotonic()
     ds = model_form_share(sobol_analysis(model, spec.random, n, spec.seed, OUTPUTS + CLASS_OUTPUTS))
     left = int(sum(c for k, c in enumerate(counts) if k not in st.IN_STATISTICS))
     warning = failure_warning(left, total, counts)
+    if no_value[0]:  # their burial at the lead time is the impact's (issue 35)
+        warning = (warning + "; " if warning else "warning: ") + (
+            f"{no_value[0]} of {total} drops have no value of the scour stage at the lead time "
+            f"(scour status not ok): their burial in the indices is the impact's"
+        )
     if warning:
         ds.attrs["warning"] = warning
     title = f"mineburial Sobol' sensitivity: {spec.base.mine.name}"
