@@ -34,7 +34,8 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
-from mineburial.ensembles import engine, runner, scour
+from mineburial.calibration import posterior
+from mineburial.ensembles import engine, epistemic, runner, scour
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun, check_output_path, same_file
@@ -569,7 +570,9 @@ def cell_scenario(raw: Mapping, grid: EnvironmentGrid, j: int, i: int) -> dict:
     fixed linear ``density_gradient`` of the scenario, else 0.
     """
     d = copy.deepcopy(dict(raw))
-    d.pop("ensemble", None)
+    ens = d.pop("ensemble", None)
+    if isinstance(ens, Mapping) and "coefficients" in ens:  # each cell draws from the base's posterior
+        d["ensemble"] = {"coefficients": ens["coefficients"]}
     env = d.setdefault("environment", {})
     env["water_depth"] = float(grid.water_depth[j, i])
     sed = d.setdefault("sediment", {})
@@ -632,7 +635,16 @@ def _cell_statistics(spec, chunks) -> dict:
     parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
     if spec.scour is not None:
         parts.append(scour.statistics(spec.scour, chunks, spec.class_basis))
-    return {name: v.values for part in parts for name, v in part.variables.items()}
+    out = {name: v.values for part in parts for name, v in part.variables.items()}
+    if spec.posterior is not None:  # the band across the posterior's coefficient sets (docs/calibration.md)
+        sets = np.concatenate([r["input:" + posterior.SET_INPUT] for r in chunks])
+        out.update(
+            {
+                k: v.values
+                for k, v in epistemic.band_variables(summary, status, sets, spec.class_basis).items()
+            }
+        )
+    return out
 
 
 def _merged(parts) -> xr.Dataset:
@@ -648,7 +660,8 @@ def _cell_variables(template) -> tuple:
     """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
     variable of the scour stage (with a lead_time, burial_level or scour_status_code axis, or a
     scalar)."""
-    return V.MAP_STATISTICS + tuple(v for v in template.data_vars if str(v).startswith("scour_"))
+    scour_vars = tuple(v for v in template.data_vars if str(v).startswith("scour_"))
+    return V.MAP_STATISTICS + scour_vars + tuple(v for v in V.MAP_EPISTEMIC if v in template)
 
 
 # ---------------------------------------------------------------------------
@@ -921,6 +934,11 @@ def _cell_statistics_template(spec) -> xr.Dataset:
         class_basis=spec.class_basis,
         outputs=MAP_OUTPUTS,
     )
+    if spec.posterior is not None:
+        band = epistemic.band_variables(
+            np.empty((0, layout.N_SUMMARY)), np.empty(0, np.int8), [], spec.class_basis
+        )
+        st = st.assign(band)
     if spec.scour is None:
         return st
     return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])

@@ -208,13 +208,21 @@ def test_drops_draw_posterior_sets_by_weight_and_leave_other_inputs_unchanged():
         np.testing.assert_array_equal(in1[path], values, err_msg=path)
     post = drawn.posterior
     sets = in1[posterior.SET_INPUT].astype(int)
-    # the set of drop i is the posterior choice at the field's own Philox uniform
+    # the set of drop i: the representative set at the field's own Philox uniform, equal weights
     u = uniforms(drawn.seed, [posterior.SET_INPUT], 0, n, "mc")[:, 0]
-    cum = np.cumsum(post.weights) / post.weights.sum()
-    cum[-1] = 1.0
-    np.testing.assert_array_equal(sets, np.minimum(np.searchsorted(cum, u, side="right"), cum.size - 1))
+    rep = post.representative_sets()
+    np.testing.assert_array_equal(sets, rep[np.minimum((u * rep.size).astype(int), rep.size - 1)])
     for k, path in enumerate(post.paths):
         np.testing.assert_array_equal(P1[:, layout.INDEX[path]], post.table[sets, k], err_msg=path)
+
+
+def test_representative_sets_follow_the_weights_to_within_one_set():
+    """Systematic resampling: each set appears within one of k times its weight."""
+    post = posterior.load("posterior")
+    for k in (32, 1000):
+        counts = np.bincount(post.representative_sets(k), minlength=post.weights.size)
+        assert counts.sum() == k
+        assert np.all(np.abs(counts - k * post.weights) < 1.0 + 1e-9)
 
 
 def test_a_coefficient_the_scenario_gives_is_not_drawn():

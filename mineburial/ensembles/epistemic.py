@@ -75,17 +75,29 @@ def class_bands(classes: np.ndarray, group: np.ndarray, level: float = BAND_LEVE
     return lower, upper
 
 
-def add_band(ds, summary, status, sets, class_basis: str) -> None:
-    """Add the epistemic band of ``burial_class_probability`` to ensemble dataset ``ds`` from
-    the per-drop ``summary``, ``status`` and coefficient ``sets``."""
+#: the band's variables, beside burial_class_probability
+NAMES = ("burial_class_probability_epistemic_lower", "burial_class_probability_epistemic_upper")
+
+
+def band_variables(summary, status, sets, class_basis: str) -> dict:
+    """The epistemic band of ``burial_class_probability`` (name -> DataArray) from the per-drop
+    ``summary``, ``status`` and coefficient ``sets`` (NaN without drops in the statistics)."""
     used = np.isin(np.asarray(status), status_codes.IN_STATISTICS)
     basis = np.asarray(summary)[used, layout.SUMMARY_INDEX[class_basis]]
     ok = np.isfinite(basis)
-    lower, upper = class_bands(burial_class(basis[ok]), np.asarray(sets)[used][ok])
-    for side, values in (("lower", lower), ("upper", upper)):
-        name = f"burial_class_probability_epistemic_{side}"
-        sets_used = np.int64(np.unique(np.asarray(sets)[used][ok]).size)
-        ds[name] = V.variable(name).data_array(values, band_level=BAND_LEVEL, coefficient_sets=sets_used)
+    groups = np.asarray(sets)[used][ok]
+    bands = class_bands(burial_class(basis[ok]), groups)
+    n_sets = np.int64(np.unique(groups).size)
+    return {
+        name: V.variable(name).data_array(values, band_level=BAND_LEVEL, coefficient_sets=n_sets)
+        for name, values in zip(NAMES, bands)
+    }
+
+
+def add_band(ds, summary, status, sets, class_basis: str) -> None:
+    """Add the epistemic band (:func:`band_variables`) to ensemble dataset ``ds``."""
+    for name, da in band_variables(summary, status, sets, class_basis).items():
+        ds[name] = da
 
 
 def summary_lines(ds, labels) -> list[str]:

@@ -1438,6 +1438,8 @@ MAP_SCOUR_STATISTICS = tuple(
     and var.dims != (name,)
     and name != "scour_mobile_fraction_by_lead_time"
 )
+#: the epistemic band of the class probabilities, in a map whose ensembles draw from a posterior
+MAP_EPISTEMIC = ("burial_class_probability_epistemic_lower", "burial_class_probability_epistemic_upper")
 #: the horizontal dims of a map as declared; a file names them (and its grid mapping variable) as
 #: its environment grid does (:func:`mineburial.io.dataset.build`'s ``names``)
 MAP_Y, MAP_X = "y", "x"
@@ -1599,7 +1601,7 @@ def _map_variables() -> list[Variable]:
     """The burial map of :mod:`mineburial.maps`: the ensemble statistics per cell, the class
     bounds and the coordinates of the statistics, each cell's status, seed and environment."""
     return [
-        *(_per_cell(name) for name in MAP_STATISTICS + MAP_SCOUR_STATISTICS),
+        *(_per_cell(name) for name in MAP_STATISTICS + MAP_SCOUR_STATISTICS + MAP_EPISTEMIC),
         VARIABLES["burial_class_lower_percent"],
         VARIABLES["burial_class_upper_percent"],
         *_map_cell_variables(),
