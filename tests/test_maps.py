@@ -372,3 +372,24 @@ def test_bad_grids_are_rejected_with_clear_messages():
     scen["release"]["position"] = [0.0, 0.0, -1.0]
     with pytest.raises(MapError, match=r"cell \(0, 0\) at latitude"):
         run_map(scen, deep, n=2, seed=1)
+
+
+def test_a_map_drawing_from_the_posterior_holds_each_cells_epistemic_band(tmp_path):
+    """Issue 32: with ensemble.coefficients = "posterior" every cell draws its coefficients from the
+    shipped posterior like a run does, and the map holds the run's epistemic band per cell."""
+    n = 40
+    scen = _scenario()
+    scen["ensemble"] = {"coefficients": "posterior"}
+    ds = run_map(scen, uniform_environment(), n=n, seed=SEED, output=tmp_path / "m.nc")
+    ref_scen = cell_reference(
+        3.0,
+        {"class": "stiff_clay"},
+        {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2},
+    )
+    ref_scen["ensemble"] = {"coefficients": "posterior"}
+    nx = ds["cell_status"].shape[1]
+    j, i = np.argwhere(ds["cell_status"].values == 0)[0]
+    ref = run_ensemble(ref_scen, n=n, seed=expected_seed(SEED, j * nx + i))
+    band = tuple(f"burial_class_probability_epistemic_{side}" for side in ("lower", "upper"))
+    for name in ("burial_class_probability", *band):
+        assert np.array_equal(ds[name].values[..., j, i], ref[name].values, equal_nan=True), name
