@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 import scipy.stats
+import xarray as xr
 from test_compare import short_default
 
 from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
@@ -274,3 +275,19 @@ def test_binary_predictive_check_fails_when_the_model_never_gives_the_pattern():
     assert never.probability == 0.0 and not never.passed
     some = conditioning.predictive_check(row, np.r_[np.ones(2), np.zeros(8)], w, seed=0)
     assert some.probability == pytest.approx(0.2) and some.passed
+
+
+def test_the_summary_says_when_the_band_cannot_be_resolved():
+    """Every drop its own set: the between-set variance cannot be separated (NaN), and the
+    printed sentence says so instead of printing nan."""
+    sets = np.arange(10)
+    assert math.isnan(epistemic.between_group_variance(np.r_[np.ones(5), np.zeros(5)], sets))
+    ds = xr.Dataset(
+        {
+            "burial_class_probability": ("c", [0.5]),
+            "burial_class_probability_epistemic_lower": ("c", [np.nan], {"band_level": 0.9}),
+            "burial_class_probability_epistemic_upper": ("c", [np.nan]),
+        }
+    )
+    lines = epistemic.summary_lines(ds, ["x"])
+    assert "not resolved" in lines[-1] and "nan" not in lines[-1]

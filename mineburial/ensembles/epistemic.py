@@ -113,5 +113,7 @@ def summary_lines(ds, labels) -> list[str]:
         "the posterior's coefficient sets):"
     ]
     for name, pk, a, b in zip(labels, p, lo, hi):
-        lines.append(f"  P({name}) = {pk:.2f}; with what the measurements leave open, {a:.2f}-{b:.2f}")
+        resolved = np.isfinite(a) and np.isfinite(b)
+        band = f"{a:.2f}-{b:.2f}" if resolved else "not resolved (too few drops a set)"
+        lines.append(f"  P({name}) = {pk:.2f}; with what the measurements leave open, {band}")
     return lines
