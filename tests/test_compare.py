@@ -44,6 +44,9 @@ def test_every_variant_equals_its_own_ensemble_run(resistances):
         for name in [v for v in ref.data_vars if v.startswith("input_")]:
             np.testing.assert_array_equal(resistances[name], ref[name])
         np.testing.assert_array_equal(resistances.burial_class_probability[k], ref.burial_class_probability)
+        for side in ("lower", "upper"):  # the default draws from the posterior: the run's epistemic band
+            name = f"burial_class_probability_epistemic_{side}"
+            np.testing.assert_array_equal(resistances[name][k], ref[name])
 
 
 def test_only_the_varied_field_changes(resistances):

@@ -1660,7 +1660,7 @@ def _comparison_variables() -> list[Variable]:
     stats = [f"{o}_{s}" for o in COMPARE_OUTPUTS for s in ("mean", "std", "stderr", "quantile", "exceedance")]
     out = [_per_variant(name) for name in stats]
     out += [VARIABLES["burial_class_lower_percent"], VARIABLES["burial_class_upper_percent"]]
-    out += [_per_variant(name) for name in _COMPARE_CLASS]
+    out += [_per_variant(name) for name in _COMPARE_CLASS + MAP_EPISTEMIC]
     out += [
         Variable(
             f"{o}_mean_{side}",

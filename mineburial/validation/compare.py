@@ -45,7 +45,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, runner, scour
+from mineburial.ensembles import engine, epistemic, runner, scour
 from mineburial.ensembles.intervals import two_sided_normal_quantile
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
@@ -380,6 +380,15 @@ def _assemble(base, field, values, per_drop, confidence_level, attrs) -> xr.Data
         name: (da.values, {k: v for k, v in da.attrs.items() if k not in family[name].cf_attrs()})
         for name, da in stats.data_vars.items()
     }
+    if posterior.SET_INPUT in inputs:  # the epistemic band of each variant (docs/calibration.md)
+        bands = [
+            epistemic.band_variables(s, t, inputs[posterior.SET_INPUT], base.class_basis)
+            for s, t in zip(summaries, statuses)
+        ]
+        for name in epistemic.NAMES:
+            extra = {k: v for k, v in bands[0][name].attrs.items() if k not in family[name].cf_attrs()}
+            extra.pop("coefficient_sets", None)
+            data[name] = (np.stack([b[name].values for b in bands]), extra)
     data.update(_paired_differences(summaries, statuses, labels[0], confidence_level, z))
     data.update(_drops(summaries, statuses, inputs, changed))
     coords = {name: stats[name].values for name in stats.coords}
@@ -528,6 +537,16 @@ def comparison_table(ds: xr.Dataset) -> str:
                 [f"{p[k, c]:.3f} [{lo[k, c]:.3f}, {hi[k, c]:.3f}]" for k in range(nv)],
             )
         )
+    if "burial_class_probability_epistemic_lower" in ds:
+        elo = ds.burial_class_probability_epistemic_lower.values
+        ehi = ds.burial_class_probability_epistemic_upper.values
+        for c, cname in enumerate(_CLASS_NAMES):
+            rows.append(
+                (
+                    f"P(burial class {cname}): what the measurements leave open (90 %)",
+                    [f"{elo[k, c]:.2f}-{ehi[k, c]:.2f}" for k in range(nv)],
+                )
+            )
     head = f"| {ds.attrs.get('varied_field', 'variant')} | " + " | ".join(labels) + " |"
     sep = "|---|" + "---|" * nv
     body = [f"| {r} | " + " | ".join(v) + " |" for r, v in rows]
