@@ -23,7 +23,6 @@ from mineburial.kernels.mine.coefficients import roughness_scaled
 from mineburial.kernels.mine.dynamics import impact35_strip_forces, strip_forces
 from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS, _traction, pack_law
 from mineburial.validation import cases
-from mineburial.validation import references as ref
 
 G = 9.81
 RHO_W = 1025.0
@@ -240,52 +239,9 @@ def test_inertial_drag_adds_the_dynamic_pressure_on_advancing_elements(resistanc
 def _axial(depth_factor, inertial_drag, quadrature):
     """The axial-penetration case of ``mineburial validate`` (validation/cases.py) with the two
     sediment coefficients, and its 1-D solve_ivp reference."""
-    mass, depth, w0 = 150.0, 10.0, 3.0
-    s0, ks, rho_s, beta, rate_ref = 3000.0, 2000.0, 1500.0, 0.1, 2.78e-6
-    sc = cases._scenario(
-        mine={"mass": mass},
-        environment={"water_depth": depth},
-        release={
-            "position": [0.0, 0.0, -depth + cases.CYL_L / 2 + 1e-9],
-            "pitch_deg": 90.0,
-            "velocity": [0.0, 0.0, -w0],
-        },
-        sediment={
-            "density": rho_s,
-            "density_gradient": 0.0,
-            "strength": s0,
-            "strength_gradient": ks,
-            "resistance": "bearing",
-            "rate_law": "semilog",
-            "rate_coefficient": beta,
-            "reference_rate": rate_ref,
-            "friction": 0.0,
-            "bearing_factor": NC0,
-            "bearing_depth_factor": depth_factor,
-            "inertial_drag": inertial_drag,
-        },
-        numerics={"t_max": 10.0, "dt": 1e-4, "drag": False, "sediment_quadrature": quadrature},
-    )
+    sc, zeta = cases.axial_case(depth_factor, inertial_drag, quadrature)
     code, summary, _ = run_params(*sc.to_params())
     assert code == status.AT_REST
-    zeta = ref.axial_penetration(
-        mass=mass,
-        length=cases.CYL_L,
-        diameter=cases.CYL_D,
-        impact_speed=w0,
-        strength=s0,
-        strength_gradient=ks,
-        sediment_density=rho_s,
-        water_density=RHO_W,
-        gravity=G,
-        bearing_factor=NC0,
-        rate_coefficient=beta,
-        reference_rate=rate_ref,
-        switch_speed=sc.numerics.switch_speed,
-        rest_speed=sc.numerics.rest_speed,
-        depth_factor=depth_factor,
-        inertial_drag=inertial_drag,
-    )
     return summary[layout.S_PENETRATION], zeta
 
 

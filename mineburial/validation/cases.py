@@ -301,7 +301,10 @@ def float_depth(quick_only=False, figures=None):
     return rows
 
 
-def axial_penetration(quick_only=False, figures=None):
+def axial_case(depth_factor=0.4, inertial_drag=0.0, sediment_quadrature="fast"):
+    """The axial-penetration drop (a vertical cylinder at 3 m/s onto S = 3 + 2 z kPa, bearing law,
+    semi-log rate) with the given Brinch Hansen depth factor and soil inertial drag, and its 1-D
+    reference: (scenario, reference final penetration from solve_ivp)."""
     mass, depth, w0 = 150.0, 10.0, 3.0
     s0, ks, rho_s, nc0, beta, rate_ref = 3000.0, 2000.0, 1500.0, math.pi + 2.0, 0.1, 2.78e-6
     sc = _scenario(
@@ -323,10 +326,11 @@ def axial_penetration(quick_only=False, figures=None):
             "reference_rate": rate_ref,
             "friction": 0.0,
             "bearing_factor": nc0,
+            "bearing_depth_factor": depth_factor,
+            "inertial_drag": inertial_drag,
         },
-        numerics={"t_max": 10.0, "dt": 1e-4, "drag": False},
+        numerics={"t_max": 10.0, "dt": 1e-4, "drag": False, "sediment_quadrature": sediment_quadrature},
     )
-    code, s = _summary(sc)
     zeta = ref.axial_penetration(
         mass=mass,
         length=CYL_L,
@@ -342,7 +346,15 @@ def axial_penetration(quick_only=False, figures=None):
         reference_rate=rate_ref,
         switch_speed=sc.numerics.switch_speed,
         rest_speed=sc.numerics.rest_speed,
+        depth_factor=depth_factor,
+        inertial_drag=inertial_drag,
     )
+    return sc, zeta
+
+
+def axial_penetration(quick_only=False, figures=None):
+    sc, zeta = axial_case()
+    code, s = _summary(sc)
     row = _rel(
         "axial penetration",
         "final penetration of a vertical cylinder, 3 m/s onto S = 3 + 2 z kPa (bearing law, semi-log rate)",
