@@ -21,6 +21,7 @@ from conftest import scenario_dict
 from mineburial.ensembles import distributed as D
 from mineburial.ensembles import engine, runner, store
 from mineburial.ensembles.distributed import chunk_task as _real_chunk_task
+from mineburial.ensembles.store import RunError
 from mineburial.maps import run_map
 
 # tasks defined here travel to the worker processes by value
@@ -242,6 +243,59 @@ def test_a_failing_chunk_is_reported_with_its_bounds(client, monkeypatch):
         list(
             D.run_tasks_distributed(client, [(None, spec, 0, 2, None), (None, spec, 2, 4, None)], warm=False)
         )
+
+
+class _LostAfterGather:
+    """A gathered future whose worker then died: dask marks it "lost" (to recompute)."""
+
+    def __init__(self, fut):
+        self._fut, self.key, self.status = fut, fut.key, "lost"
+
+    def release(self):
+        self._fut.release()
+
+
+def test_a_chunk_gathered_before_its_worker_died_is_kept(client, monkeypatch):
+    """CI saw it: a worker killed mid-run had already returned chunk [0, 3); its future
+    turned "lost" between as_completed handing the result over and the status being read,
+    and the run ended with "lost chunk [0, 3)" although the bits were in hand. Injected
+    here: every future reads "lost" once gathered; the run must finish with the local bits."""
+    real = D._as_completed_watched
+
+    def lost_after_gather(*args):
+        for fut, res in real(*args):
+            yield _LostAfterGather(fut), res
+
+    monkeypatch.setattr(D, "_as_completed_watched", lost_after_gather)
+    spec = engine.load_ensemble(_scenario(), n=4, seed=1, chunk_size=2)
+    got = dict(
+        (b, res)
+        for _, b, res in D.run_tasks_distributed(
+            client, [(None, spec, 0, 2, None), (None, spec, 2, 4, None)], warm=False
+        )
+    )
+    assert sorted(got) == [(0, 2), (2, 4)]
+    for b, res in got.items():
+        assert np.array_equal(res["summary"], engine.compute_chunk(spec, *b)["summary"], equal_nan=True)
+
+
+def test_a_cancelled_chunk_ends_the_run_in_one_line(client, monkeypatch):
+    """A chunk cancelled by the scheduler (stopped or restarted) comes back from
+    as_completed(raise_errors=False) as a CancelledError: one RunError line, chunks kept."""
+    from distributed.client import FutureCancelledError
+
+    real = D._as_completed_watched
+
+    def cancelled(*args):
+        for fut, _ in real(*args):
+            yield fut, FutureCancelledError(fut.key, reason="scheduler-restart")
+
+    monkeypatch.setattr(D, "_as_completed_watched", cancelled)
+    spec = engine.load_ensemble(_scenario(), n=2, seed=1, chunk_size=2)
+    with pytest.raises(
+        RunError, match=r"lost chunk \[0, 2\) of the ensemble .* the 0 chunk\(s\) finished are kept"
+    ):
+        list(D.run_tasks_distributed(client, [(None, spec, 0, 2, None)], warm=False))
 
 
 def _always_fails(spec, start, stop, store, numba_threads=None):

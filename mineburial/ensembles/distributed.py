@@ -52,6 +52,7 @@ import threading
 import time
 import uuid
 from collections.abc import Iterable, Iterator
+from concurrent.futures import CancelledError
 
 import numba
 
@@ -405,13 +406,18 @@ def _run_tasks(client, items: Iterable, *, warm: bool, numba_threads: int | None
             tag, bounds = labels[fut.key]
             pending.pop(fut.key, None)
             what = "the ensemble" if tag is None else str(tag)
-            if fut.status == "error":
-                exc = fut.exception()
+            # Decided on the result in hand, not on fut.status: a worker that dies after
+            # its chunk was gathered turns the future "lost" (dask would recompute it),
+            # but the bits are already here. as_completed(raise_errors=False) hands back
+            # a failed task's (type, exception, traceback) and a cancelled one's
+            # CancelledError (the scheduler stopped or restarted) instead of the chunk.
+            if isinstance(res, tuple):
+                exc = res[1]
                 raise RuntimeError(
                     f"chunk [{bounds[0]}, {bounds[1]}) of {what} failed on the dask cluster "
                     f"after {RETRIES} retries: {exc!r}"
                 ) from exc
-            if fut.status != "finished":  # cancelled: the scheduler was lost or restarted
+            if isinstance(res, CancelledError):
                 raise RunError(
                     f"the dask scheduler at {address} lost chunk [{bounds[0]}, {bounds[1]}) of "
                     f"{what} (task {fut.status}: the scheduler stopped or restarted); the "
