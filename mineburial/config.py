@@ -974,6 +974,8 @@ class Numerics:
     water_column: str
     overburden_quadrature: str
     crossflow_drag_factor: float
+    crossflow_munk_fraction: float
+    added_mass_factor: float
 
     def __post_init__(self):
         _set(self, "model", _check("numerics.model", self.model))

@@ -596,7 +596,7 @@ TABLE: tuple[Field, ...] = (
             "water-column added-mass and moment model: strip-theory added mass with the axial added "
             "mass set by `munk_factor` (default), or the viscous-crossflow method (Allen & Perkins "
             "1951; Jorgensen, NASA TR R-474) with the added-mass tensor of the finite closed cylinder"
-            " (BEM tables) and the Munk moment × cos(α/2), `munk_factor` unused (docs/physics.md, "
+            " (BEM tables) and the Munk moment × cos(α/2) × `crossflow_munk_fraction`, `munk_factor` unused (docs/physics.md, "
             '"Water-column model choices")'
         ),
         "munk_factor",
@@ -654,6 +654,35 @@ TABLE: tuple[Field, ...] = (
             "O'Loughlin et al. 2013: C_D ≈ 0.24–0.7 there); 0: none, as in seed 000"
         ),
         0.0,
+    ),
+    _f(
+        "numerics.crossflow_munk_fraction",
+        "1",
+        0,
+        1,
+        (
+            "fraction of the potential-flow (Munk) moment kept by the `viscous_crossflow` model, "
+            "(k_t − k_a) ρV U² sinα cosα · cos(α/2) (Jorgensen, NASA TR R-474) times this fraction:"
+            " 1 the full moment (Allen & Perkins 1951), 0 none — the same continuous Munk fraction as"
+            ' `munk_factor` of the `munk_factor` model (docs/physics.md, "Water-column model '
+            'choices"); unused by the other models'
+        ),
+        1.0,
+    ),
+    _f(
+        "numerics.added_mass_factor",
+        "1",
+        0,
+        3,
+        (
+            "factor on every added-mass coefficient of the water column (transverse, axial and "
+            "rotational: strip theory's C_M = 1 of seed 001 eqs. (20)–(21), or the finite cylinder's "
+            "BEM tensor of `viscous_crossflow`); 1 the potential-flow values, which measured "
+            "effective added masses of finite cylinders in real flows scatter about (docs/physics.md,"
+            ' "Calibration coefficients as inputs")'
+        ),
+        1.0,
+        incl=_OPEN_LOW,
     ),
     # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
     # impact phase; read by mineburial/ensembles/scour.py (its key list is this table's), the

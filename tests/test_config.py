@@ -103,6 +103,8 @@ def full() -> dict:
             "drag": False,
             "munk_factor": 0.3,
             "crossflow_drag_factor": 1.4,
+            "crossflow_munk_fraction": 0.3,
+            "added_mass_factor": 1.1,
         },
     }
 

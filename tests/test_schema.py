@@ -93,6 +93,8 @@ PINNED = (
     ("P_SED_DEPTH_FACTOR", "sediment.bearing_depth_factor"),
     ("P_CROSSFLOW_FACTOR", "numerics.crossflow_drag_factor"),
     ("P_SED_CD", "sediment.inertial_drag"),
+    ("P_CROSSFLOW_MUNK", "numerics.crossflow_munk_fraction"),
+    ("P_ADDED_MASS_FACTOR", "numerics.added_mass_factor"),
 )
 
 

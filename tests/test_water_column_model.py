@@ -135,34 +135,44 @@ def test_incidence_factor_is_cos_half_alpha_folded_for_a_symmetric_body(alpha_de
 # ---------------------------------------------------------------------------
 # added-mass tensor: initial acceleration of a body released at rest (no drag)
 # ---------------------------------------------------------------------------
-@pytest.mark.parametrize("pitch_deg, coefficient", [(90.0, BEM[4.0][1]), (0.0, BEM[4.0][0])])
-def test_added_mass_for_axial_and_transverse_acceleration(pitch_deg, coefficient):
-    """Released at rest, deep, drag off: (m + k rho V) a = (m - rho V) g along the axis
-    (pitch 90 deg: k = k_a) or across it (pitch 0: k = k_t)."""
+@pytest.mark.parametrize("factor", [1.0, 0.8, 1.25])
+@pytest.mark.parametrize(
+    "water_column, pitch_deg, coefficient",
+    [
+        ("viscous_crossflow", 90.0, BEM[4.0][1]),
+        ("viscous_crossflow", 0.0, BEM[4.0][0]),
+        ("munk_factor", 0.0, 1.0),  # strip theory: C_M = 1 (seed 001 eqs. (20)-(21))
+    ],
+)
+def test_added_mass_for_axial_and_transverse_acceleration(water_column, pitch_deg, coefficient, factor):
+    """Released at rest, deep, drag off: (m + c k rho V) a = (m - rho V) g along the axis
+    (pitch 90 deg: k = k_a) or across it (pitch 0: k = k_t), c = numerics.added_mass_factor."""
     m = 120.0
     sc = make_scenario(
         mine={"mass": m},
         environment={"gravity": G},
         release={"position": [0, 0, -50.0], "pitch_deg": pitch_deg},
-        numerics=crossflow_scenario(t_max_fall=0.02, dt=1e-4),
+        numerics=crossflow_scenario(
+            t_max_fall=0.02, dt=1e-4, water_column=water_column, added_mass_factor=factor
+        ),
     )
     ds = simulate_drop(sc, record_interval=0.01)
     a = float(ds.w[-1]) / float(ds.time[-1])
-    expected = -(m - RHO * VOL) * G / (m + coefficient * RHO * VOL)
+    expected = -(m - RHO * VOL) * G / (m + factor * coefficient * RHO * VOL)
     assert a == pytest.approx(expected, rel=1e-9)
 
 
 # ---------------------------------------------------------------------------
 # the Munk moment with its incidence factor
 # ---------------------------------------------------------------------------
-def _spin_up(alpha_deg, h=1e-4, speed=2.0):
+def _spin_up(alpha_deg, h=1e-4, speed=2.0, **numerics):
     """omega3 / h after h seconds from a horizontal body moving at ``speed`` with incidence
     alpha in the horizontal plane (body axis along x): the initial angular acceleration."""
     a = math.radians(alpha_deg)
     sc = make_scenario(
         environment={"gravity": G},
         release={"position": [0, 0, -50.0], "velocity": [speed * math.cos(a), speed * math.sin(a), 0.0]},
-        numerics=crossflow_scenario(t_max_fall=h, dt=h / 20),
+        numerics=crossflow_scenario(t_max_fall=h, dt=h / 20, **numerics),
     )
     ds = simulate_drop(sc, record_interval=h)
     p, _, _ = sc.to_params()
@@ -170,17 +180,37 @@ def _spin_up(alpha_deg, h=1e-4, speed=2.0):
     return float(ds.omega3[-1]) / h, p[layout.P_J2]
 
 
+@pytest.mark.parametrize("fraction, factor", [(1.0, 1.0), (0.4, 1.0), (0.0, 1.0), (0.7, 1.2)])
 @pytest.mark.parametrize("alpha_deg", [15.0, 30.0, 60.0, -30.0])
-def test_munk_moment_is_the_viscous_crossflow_closed_form(alpha_deg):
-    """M = (k_t - k_a) rho V U^2 sin(alpha) cos(alpha) cos(alpha/2) (Jorgensen TR R-474, DATCOM bodyjm.f:
-    potential term), destabilising: it turns the axis away from the flow, angular acceleration
-    M / (J2 + k_r rho pi R^2 L^3 / 12)."""
+def test_munk_moment_is_the_viscous_crossflow_closed_form(alpha_deg, fraction, factor):
+    """M = f c (k_t - k_a) rho V U^2 sin(alpha) cos(alpha) cos(alpha/2) (Jorgensen TR R-474, DATCOM
+    bodyjm.f: potential term; f = numerics.crossflow_munk_fraction, c = numerics.added_mass_factor),
+    destabilising: it turns the axis away from the flow, angular acceleration
+    M / (J2 + c k_r rho pi R^2 L^3 / 12)."""
     speed = 2.0
-    dw3, j2 = _spin_up(alpha_deg, speed=speed)
+    kw = (
+        {}
+        if fraction == factor == 1.0
+        else {"crossflow_munk_fraction": fraction, "added_mass_factor": factor}
+    )
+    dw3, j2 = _spin_up(alpha_deg, speed=speed, **kw)
     a = math.radians(alpha_deg)
     kt, ka = BEM[4.0]
-    moment = (kt - ka) * RHO * VOL * speed**2 * math.sin(a) * math.cos(a) * math.cos(abs(a) / 2)
-    inertia = j2 + BEM_ROT[4.0] * RHO * math.pi * R * R * L**3 / 12.0
+    moment = (
+        fraction
+        * factor
+        * (kt - ka)
+        * RHO
+        * VOL
+        * speed**2
+        * math.sin(a)
+        * math.cos(a)
+        * math.cos(abs(a) / 2)
+    )
+    inertia = j2 + factor * BEM_ROT[4.0] * RHO * math.pi * R * R * L**3 / 12.0
+    if fraction == 0.0:
+        assert abs(dw3) < 1e-9  # no potential moment left: the tuned removal
+        return
     # body y is the earth y here: a positive sideways velocity at positive alpha is turned
     # further broadside by a negative omega3 (the Munk moment is destabilising)
     assert dw3 == pytest.approx(-moment / inertia, rel=2e-3)
@@ -201,7 +231,10 @@ def test_munk_moment_is_odd_in_incidence():
 # ---------------------------------------------------------------------------
 # energy: the tensor and the reduced Munk pair do no work (drag off)
 # ---------------------------------------------------------------------------
-def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass():
+@pytest.mark.parametrize("fraction, factor", [(1.0, 1.0), (0.35, 1.2)])
+def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass(fraction, factor):
+    """Drag off, the tensor (times the added-mass factor c) and the reduced Munk pair do no work,
+    whatever fraction f of the potential moment is kept."""
     m, chi = 60.0, 0.05
     sc = make_scenario(
         mine={"mass": m, "com_offset": chi},
@@ -214,6 +247,8 @@ def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass():
         },
         numerics={
             "water_column": "viscous_crossflow",
+            "crossflow_munk_fraction": fraction,
+            "added_mass_factor": factor,
             "drag": False,
             "t_max_fall": 2.0,
             "rtol": 1e-10,
@@ -224,7 +259,7 @@ def test_mechanical_energy_conserved_with_the_viscous_crossflow_added_mass():
     p, _, _ = sc.to_params()
     j1, j2 = p[layout.P_J1], p[layout.P_J2]
     kt, ka = BEM[4.0]
-    a = RHO * math.pi * R * R
+    a = factor * RHO * math.pi * R * R
     i0, i1 = L, -chi * L  # wetted interval [-L/2 - chi, L/2 - chi]
     # rotational: k_r of strip theory about the centroid, plus the transverse mass at -chi
     i2 = BEM_ROT[4.0] * L**3 / 12.0 + kt * chi**2 * L

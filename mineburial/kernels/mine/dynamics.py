@@ -50,7 +50,9 @@ from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
     N_DIAG,  # noqa: F401
+    P_ADDED_MASS_FACTOR,
     P_CROSSFLOW_FACTOR,
+    P_CROSSFLOW_MUNK,
     P_DEPTH,
     P_DRAG,
     P_GRAVITY,
@@ -444,7 +446,10 @@ def _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
         # slender-body value a11 = 0, munk_factor = 0 makes the translational added
         # mass isotropic and removes it (docs/physics.md, "added mass").
         a11 = (1.0 - p[P_MUNK]) * a0
-    return a0, a1, a2, a11
+    # numerics.added_mass_factor on every coefficient (a calibration input, issue 32; 1.0
+    # leaves the potential-flow values bit for bit)
+    c = p[P_ADDED_MASS_FACTOR]
+    return c * a0, c * a1, c * a2, c * a11
 
 
 @small_kernel
@@ -471,7 +476,7 @@ def _mass_matrix(mass, m, J1, J2, added, added_pore, kb):
 
 
 @small_kernel
-def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, added, u, w, cur):
+def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, munk_fraction, added, u, w, cur):
     """Right side of the Kirchhoff equations M dnu/dt = rhs (body frame): the loads less the
     rigid-body Coriolis/gyroscopic terms and the added mass's Kirchhoff terms, for the velocity
     relative to a current steady in the E-frame. Returns the rigid-body terms C_RB(nu) nu (the
@@ -501,11 +506,13 @@ def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, added, u, w, cu
     ca6 = (w1 * ha2 - w2 * ha1) + (vr1 * pa2 - vr2 * pa1)
     if crossflow_model:
         # viscous-crossflow method (Allen & Perkins 1951; Jorgensen NASA TR R-474; DATCOM bodyjm.f):
-        # the potential (Munk) part, (a0 - a11) U1 U_perp, carries the factor cos(alpha/2).
-        # It is removed with its force partner w x ((a0 - a11) U_perp), so the pair stays
-        # power-free (energy conserved without drag); the separated crossflow
+        # the potential (Munk) part, (a0 - a11) U1 U_perp, carries the factor cos(alpha/2),
+        # and numerics.crossflow_munk_fraction f of it is kept (1: Jorgensen's full moment;
+        # 0: none, the tuned removal of the munk_factor model; issue 32's continuous Munk
+        # fraction). The rest is removed with its force partner w x ((a0 - a11) U_perp), so
+        # the pair stays power-free (energy conserved without drag); the separated crossflow
         # eta C_dc sin^2(alpha) q A_p is the strip drag with eta (strip_forces).
-        cut = (1.0 - munk_incidence_factor(vr1, vr2, vr3)) * (a0 - a11)
+        cut = (1.0 - munk_fraction * munk_incidence_factor(vr1, vr2, vr3)) * (a0 - a11)
         ca1 -= cut * (w2 * vr3 - w3 * vr2)
         ca2 -= cut * (-w1 * vr3)
         ca3 -= cut * (w1 * vr2)
@@ -665,7 +672,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     rhs = work[36:42]
     dnu = work[42:48]  # dU/dt, dW/dt (body frame)
     _mass_matrix(mass, m, J1, J2, added, added_pore, kb)
-    crb = _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, added, u, w, cur)
+    crb = _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, p[P_CROSSFLOW_MUNK], added, u, w, cur)
     solve6(mass, rhs, dnu)
     _state_rates(dy, y, r, q, u, w, dnu)
     ft1, ft2, ft3 = _work_rates(dy, r, m, g, J1, J2, kb, u, w, dnu, crb, sed)

@@ -153,6 +153,8 @@ P_OB_QUADRATURE = INDEX["numerics.overburden_quadrature"]
 P_SED_DEPTH_FACTOR = INDEX["sediment.bearing_depth_factor"]
 P_CROSSFLOW_FACTOR = INDEX["numerics.crossflow_drag_factor"]
 P_SED_CD = INDEX["sediment.inertial_drag"]
+P_CROSSFLOW_MUNK = INDEX["numerics.crossflow_munk_fraction"]
+P_ADDED_MASS_FACTOR = INDEX["numerics.added_mass_factor"]
 
 WC_MUNK_FACTOR = WATER_COLUMN_NAMES.index("munk_factor")
 WC_VISCOUS_CROSSFLOW = WATER_COLUMN_NAMES.index("viscous_crossflow")
