@@ -184,6 +184,22 @@ def test_empirical_from_csv_file(tmp_path):
     assert Empirical.from_dict({"file": str(one)}, "y").values == (1.0, 2.0)
 
 
+@pytest.mark.parametrize("row", ["B,3.5,extra", "4.5"])
+def test_empirical_csv_row_of_another_width_is_refused_naming_its_line(tmp_path, row):
+    """Issue 35: a row with a cell more (or fewer) than the header was read by position, so
+    "B,3.5,extra" gave 3.5 and "4.5" read the core name column; now the line is named."""
+    f = tmp_path / "cores.csv"
+    f.write_text(f"core,strength_kpa\nA,2.5\n{row}\n")
+    with pytest.raises(
+        DistributionError, match=r"sediment\.strength: .*line 3 has \d fields but the header \(line 1\) has 2"
+    ):
+        from_dict(
+            {"distribution": "empirical", "file": "cores.csv", "column": "strength_kpa"},
+            "sediment.strength",
+            base_dir=tmp_path,
+        )
+
+
 # --- parse_value and round trip -----------------------------------------------
 
 

@@ -704,7 +704,9 @@ def _read_column(field: str, file: str, column: str | None, base_dir: str | Path
     try:
         rows = [
             (lineno, row)
-            for lineno, row in inputs.numbered_csv(inputs.read_text(path, "text"))
+            # every row one value per column: a row with a cell more or less would be read
+            # shifted by the column's position (the forcing readers' rule, issue 35)
+            for lineno, row in inputs.numbered_csv(inputs.read_text(path, "text"), as_wide_as_header=True)
             if any(c.strip() for c in row)
         ]
     except FileNotFoundError:
