@@ -556,7 +556,9 @@ def write_field_tables(path="docs/scenario.md") -> None:
     text = path.read_text(encoding="utf-8")
     for name in DOC_BLOCKS:
         text = replace_generated(text, name, _doc_block(name), _DOC_WRITER)
-    path.write_text(text, encoding="utf-8")
+    from mineburial.io.files import atomic_write_text  # (io.files imports this module)
+
+    atomic_write_text(path, text)  # the one writer (docs/design.md, "Outputs")
 
 
 # ===========================================================================

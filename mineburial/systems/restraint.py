@@ -489,9 +489,9 @@ def write_field_table(path="docs/restraint.md") -> None:
     :data:`FIELDS`; tests/test_schema.py fails until then)."""
     path = pathlib.Path(path)
     text = path.read_text(encoding="utf-8")
-    path.write_text(
-        replace_generated(text, "case-fields", markdown_table(FIELDS), _DOC_WRITER), encoding="utf-8"
-    )
+    from mineburial.io.files import atomic_write_text
+
+    atomic_write_text(path, replace_generated(text, "case-fields", markdown_table(FIELDS), _DOC_WRITER))
 
 
 @dataclass(frozen=True)
