@@ -174,11 +174,19 @@ def probe_scheduler(address: str, timeout: float) -> str | None:
     return None
 
 
+#: the start of dask's client message when it gives up on a lost scheduler (distributed.client
+#: ``Client._reconnect``): mineburial's own line says the same and what was kept
+_RECONNECT_FAILED = "Failed to reconnect to scheduler"
+
+
 def _no_traceback(record: logging.LogRecord) -> bool:
     """A filter of dask's client logger: no record that carries a traceback (when the scheduler
     dies mid-run, dask logged a 30-line traceback on stderr before mineburial's one line, issue
-    35); mineburial reports the loss itself. Other records pass."""
-    return record.exc_info is None and not record.exc_text
+    35) and not its "Failed to reconnect to scheduler ..." line; mineburial reports the loss
+    itself. Other records pass."""
+    if record.exc_info is not None or record.exc_text:
+        return False
+    return not str(record.msg).startswith(_RECONNECT_FAILED)
 
 
 #: s: how long past its own timeout the client's connection may take before it is abandoned
