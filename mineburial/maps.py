@@ -1460,14 +1460,39 @@ def map_crs(ds: xr.Dataset, pyproj):
     gm = ds["cell_status"].attrs.get("grid_mapping")
     if gm is not None and gm in ds.variables:
         try:
-            return pyproj.CRS.from_cf(dict(ds[gm].attrs))
+            crs = pyproj.CRS.from_cf(dict(ds[gm].attrs))
         except pyproj.exceptions.CRSError as exc:
             raise MapError(
                 f"--geotiff: the grid mapping '{gm}' is not a CRS pyproj can read: {exc}"
             ) from None
+        return _as_wgs84(crs, pyproj)
     if _is_axis(ds[ds["cell_status"].dims[0]], "lat"):
         return pyproj.CRS.from_epsg(4326)
     raise MapError("--geotiff: the map has projected axes but no grid_mapping variable (CF 5.6)")
+
+
+#: the WGS 84 ellipsoid (EPSG:7030): semi-major axis [m], inverse flattening
+WGS84_ELLIPSOID = (6378137.0, 298.257223563)
+
+
+def _as_wgs84(crs, pyproj):
+    """EPSG:4326 for a CF ``latitude_longitude`` mapping on the WGS 84 ellipsoid with the
+    Greenwich meridian, which :meth:`pyproj.crs.CRS.from_cf` reads as a geographic CRS with an
+    "undefined" datum (a GeoTIFF then carries a user-defined datum, issue 33); any other CRS as
+    it is. The datum ensemble WGS 84 is what a CF latitude/longitude grid on that ellipsoid means
+    in practice (ERA5, WAVEWATCH III and Copernicus grids say WGS 84)."""
+    if not crs.is_geographic or crs.to_epsg() == 4326:
+        return crs
+    e = crs.ellipsoid
+    if (
+        e is not None
+        and e.semi_major_metre == WGS84_ELLIPSOID[0]
+        and abs(e.inverse_flattening - WGS84_ELLIPSOID[1]) <= 1e-9 * WGS84_ELLIPSOID[1]
+        and crs.prime_meridian is not None
+        and crs.prime_meridian.longitude == 0.0
+    ):
+        return pyproj.CRS.from_epsg(4326)
+    return crs
 
 
 def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4) -> pathlib.Path:
@@ -1506,13 +1531,15 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
     basis = ds.attrs.get("burial_class_basis", "burial_volume")
     label = _CLASS_LABELS[int(burial_class)]
     da = xr.DataArray(values, dims=("y", "x"), coords={"y": y, "x": x})
-    da = da.rio.write_crs(crs.to_wkt()).rio.write_transform(Affine(dx, 0.0, x0, 0.0, dy, y0))
+    epsg = crs.to_epsg()
+    da = da.rio.write_crs(f"EPSG:{epsg}" if epsg is not None else crs.to_wkt())
+    da = da.rio.write_transform(Affine(dx, 0.0, x0, 0.0, dy, y0))
     da = da.rio.write_nodata(np.nan)
     da.attrs = {
         "long_name": f"probability of the burial class '{label}' ({basis}), {what}",
         "units": "1",
         "comment": f"mineburial map {ds.attrs.get('id', '')}; {_plot_title(ds)}; NaN: not computed"
-        + ("; CRS: WGS 84 assumed for the latitude/longitude axes" if "grid_mapping" not in
+        + ("; CRS: WGS 84 (EPSG:4326) assumed for the latitude/longitude axes" if "grid_mapping" not in
            ds["cell_status"].attrs else ""),
     }  # fmt: skip
     path = pathlib.Path(path)
