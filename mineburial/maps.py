@@ -1362,6 +1362,28 @@ def _plot_title(ds) -> str:
     return f"{name}: {n} drops per cell, map seed {ds.attrs.get('random_seed', '')}"
 
 
+#: a map cell counts as not modelled after impact when at least this share of its drops lie on a
+#: bed where no post-impact process runs (scour_not_modelled_fraction; docs/maps.md)
+NOT_MODELLED_SHARE = 0.5
+
+
+def not_modelled_cells(ds) -> np.ndarray:
+    """(y, x) bool: the computed cells where no post-impact process is modelled for most drops
+    (``scour_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`: a cohesive bed, where the
+    scour stage keeps the impact burial); all False for a map without the variable."""
+    status = ds["cell_status"].values
+    if "scour_not_modelled_fraction" not in ds:
+        return np.zeros(status.shape, dtype=bool)
+    share = ds["scour_not_modelled_fraction"].values
+    return (status == CELL_COMPUTED) & np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+
+
+def _hatch_cmap():
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap(["0.88"])
+
+
 def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     """Indices into a map's lead times (days) of the ``wanted`` ones (each within 1e-9 d of one),
     else one line naming the value and the map's lead times."""
@@ -1395,12 +1417,16 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
     label = _CLASS_LABELS[burial_class]
+    hatched = not_modelled_cells(ds)
     for ax, k in zip(axes, ks):
-        p = np.where(g.status == CELL_COMPUTED, prob[k], np.nan)
-        g.background(ax, ~np.isfinite(p))
+        p = np.where((g.status == CELL_COMPUTED) & ~hatched, prob[k], np.nan)
+        g.background(ax, ~np.isfinite(p) & ~hatched)
         last = g.mesh(
             ax, np.ma.masked_invalid(p), cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5
         )
+        if hatched.any():  # no post-impact process modelled there: hatched, not a probability
+            g.mesh(ax, np.ma.masked_where(~hatched, hatched.astype(float)), cmap=_hatch_cmap(),
+                   hatch="///", edgecolor="0.45", linewidth=0.0)  # fmt: skip
         ax.set_title(f"lead time {ds['lead_time'].values[k]:g} d", fontsize=11)
         if g.status.size <= 100:
             for (j, i), v in np.ndenumerate(p):
@@ -1414,9 +1440,11 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     cb.set_label(f"P(burial by {basis} in class '{label}') after scour, probability (0 to 1)")
     fig.suptitle(
         f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
-        "land tan; grey: no drop's scour stage ran",
+        "land tan; grey: no drop's scour stage ran"
+        + ("; hatched: not modelled (cohesive bed, no post-impact process: not 'stays unburied')"
+           if hatched.any() else ""),
         fontsize=12,
-    )
+    )  # fmt: skip
     path = pathlib.Path(path)
     save_figure(fig, path, dpi=dpi)
     return path
