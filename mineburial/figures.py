@@ -213,7 +213,7 @@ def _draw_forcing(ax, f, lead) -> None:
     ax.annotate(f"peak Hs {hs[k]:.2f} m, Tp {f['tp'][keep][k]:.1f} s", (d[k], hs[k]), xytext=(6, -12),
                 textcoords="offset points", fontsize=8, color="C3")  # fmt: skip
     ax2 = ax.twinx()
-    ax2.step(d, uc, where="post", color="C0", lw=1.2, label="current speed")
+    ax2.step(d, uc, where="post", color="C0", lw=1.2, ls="--", label="current speed")
     ax2.set_ylabel("current (m/s)", color="C0")
     ax2.set_ylim(0.0, max(float(np.max(uc)) * 1.15, 0.05))
     ax.set_xlim(-0.02 * end, end * 1.02 if end > 0 else 1.0)

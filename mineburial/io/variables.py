@@ -780,7 +780,6 @@ def _scour_measure_variables() -> list[Variable]:
     out = []
     for name in SCOUR_MEASURES:
         o = SUMMARY_OUTPUTS[name]
-        lay_flat = {"comment": _LAY_FLAT}
         out.append(
             Variable(
                 f"scour_{name}",
@@ -789,8 +788,7 @@ def _scour_measure_variables() -> list[Variable]:
                 o.units,
                 f"{o.long_name} at the lead time",
                 f"{o.description} After the scour stage, at each lead time; NaN where the stage did "
-                "not run (scour_status).",
-                attrs=lay_flat,
+                f"not run (scour_status). {_LAY_FLAT}",
             )
         )
         out.append(
@@ -800,8 +798,8 @@ def _scour_measure_variables() -> list[Variable]:
                 "float64",
                 o.units,
                 f"mean of {o.long_name} at the lead time",
-                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}.",
-                attrs={"cell_methods": "realization: mean", **lay_flat},
+                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
+                attrs={"cell_methods": "realization: mean"},
                 group="statistics",
             )
         )
@@ -812,8 +810,7 @@ def _scour_measure_variables() -> list[Variable]:
                 "float64",
                 o.units,
                 f"quantile of {o.long_name} at the lead time",
-                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}.",
-                attrs=lay_flat,
+                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
                 group="statistics",
             )
         )
