@@ -1378,10 +1378,15 @@ def not_modelled_cells(ds) -> np.ndarray:
     return (status == CELL_COMPUTED) & np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
 
 
-def _hatch_cmap():
-    from matplotlib.colors import ListedColormap
+def _hatch_cells(ax, g, cells) -> None:
+    """Each cell of ``cells`` (y, x bool) drawn light grey with dark diagonal hatching."""
+    from matplotlib.patches import Rectangle
 
-    return ListedColormap(["0.88"])
+    for j, i in zip(*np.nonzero(cells)):
+        x0, x1 = sorted((g.xe[i], g.xe[i + 1]))
+        y0, y1 = sorted((g.ye[j], g.ye[j + 1]))
+        ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="0.9", edgecolor="0.35", hatch="///",
+                               linewidth=0.0, zorder=3))  # fmt: skip
 
 
 def lead_indices(available, wanted, option="--lead-times") -> list[int]:
@@ -1424,9 +1429,7 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
         last = g.mesh(
             ax, np.ma.masked_invalid(p), cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5
         )
-        if hatched.any():  # no post-impact process modelled there: hatched, not a probability
-            g.mesh(ax, np.ma.masked_where(~hatched, hatched.astype(float)), cmap=_hatch_cmap(),
-                   hatch="///", edgecolor="0.45", linewidth=0.0)  # fmt: skip
+        _hatch_cells(ax, g, hatched)  # no post-impact process modelled there: not a probability
         ax.set_title(f"lead time {ds['lead_time'].values[k]:g} d", fontsize=11)
         if g.status.size <= 100:
             for (j, i), v in np.ndenumerate(p):
@@ -1441,7 +1444,7 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     fig.suptitle(
         f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
         "land tan; grey: no drop's scour stage ran"
-        + ("; hatched: not modelled (cohesive bed, no post-impact process: not 'stays unburied')"
+        + ("\nhatched: not modelled (cohesive bed: no post-impact process runs; not 'stays unburied')"
            if hatched.any() else ""),
         fontsize=12,
     )  # fmt: skip
