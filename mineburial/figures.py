@@ -190,7 +190,10 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
     total = int(ds.attrs.get("n_drops", ds.sizes.get("realization", n)))
     title = f"{scenario}: burial after impact and scour, n = {n} drops in the statistics (of {total})"
     if "forecast_reference_time" in ds.coords:
-        when = np.datetime64(ds["forecast_reference_time"].values, "m")
+        value = ds["forecast_reference_time"].values
+        if not np.issubdtype(value.dtype, np.datetime64):  # as written: seconds since 1970 (UTC)
+            value = np.datetime64("1970-01-01T00:00:00") + np.timedelta64(int(round(float(value))), "s")
+        when = np.datetime64(value, "m")
         title += f"\nlead time 0 = {str(when).replace('T', ' ')} UTC"
     fig.suptitle(title)
     try:

@@ -506,8 +506,9 @@ def reference_time(spec: ScourSpec, chunks=None):
     without them: the first record when the drops see the whole series); None when the forcing
     has no dates (relative seconds, a storm without ``start``) or the drops' windows start at
     different times (a sampled ``window_position``: each drop its own lead time 0)."""
-    if spec.forcing.start is None:
-        return None
+    storm = spec.forcing_record.get("forcing_storm")
+    if spec.forcing.start is None or (isinstance(storm, Mapping) and "start" not in storm):
+        return None  # a storm's default start (2000-01-01) is no date of the forcing
     offset = 0.0
     if spec.window_days is not None:
         starts = [r["scour:window_start"] for r in (chunks or ()) if "scour:window_start" in r]
