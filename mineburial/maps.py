@@ -1362,6 +1362,33 @@ def _plot_title(ds) -> str:
     return f"{name}: {n} drops per cell, map seed {ds.attrs.get('random_seed', '')}"
 
 
+#: a map cell counts as not modelled after impact when at least this share of its drops lie on a
+#: bed where no post-impact process runs (scour_not_modelled_fraction; docs/maps.md)
+NOT_MODELLED_SHARE = 0.5
+
+
+def not_modelled_cells(ds) -> np.ndarray:
+    """(y, x) bool: the computed cells where no post-impact process is modelled for most drops
+    (``scour_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`: a cohesive bed, where the
+    scour stage keeps the impact burial); all False for a map without the variable."""
+    status = ds["cell_status"].values
+    if "scour_not_modelled_fraction" not in ds:
+        return np.zeros(status.shape, dtype=bool)
+    share = ds["scour_not_modelled_fraction"].values
+    return (status == CELL_COMPUTED) & np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+
+
+def _hatch_cells(ax, g, cells) -> None:
+    """Each cell of ``cells`` (y, x bool) drawn light grey with dark diagonal hatching."""
+    from matplotlib.patches import Rectangle
+
+    for j, i in zip(*np.nonzero(cells)):
+        x0, x1 = sorted((g.xe[i], g.xe[i + 1]))
+        y0, y1 = sorted((g.ye[j], g.ye[j + 1]))
+        ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="0.9", edgecolor="0.35", hatch="///",
+                               linewidth=0.0, zorder=3))  # fmt: skip
+
+
 def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     """Indices into a map's lead times (days) of the ``wanted`` ones (each within 1e-9 d of one),
     else one line naming the value and the map's lead times."""
@@ -1395,12 +1422,14 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
     label = _CLASS_LABELS[burial_class]
+    hatched = not_modelled_cells(ds)
     for ax, k in zip(axes, ks):
-        p = np.where(g.status == CELL_COMPUTED, prob[k], np.nan)
-        g.background(ax, ~np.isfinite(p))
+        p = np.where((g.status == CELL_COMPUTED) & ~hatched, prob[k], np.nan)
+        g.background(ax, ~np.isfinite(p) & ~hatched)
         last = g.mesh(
             ax, np.ma.masked_invalid(p), cmap="magma_r", vmin=0.0, vmax=1.0, edgecolors="white", linewidth=0.5
         )
+        _hatch_cells(ax, g, hatched)  # no post-impact process modelled there: not a probability
         ax.set_title(f"lead time {ds['lead_time'].values[k]:g} d", fontsize=11)
         if g.status.size <= 100:
             for (j, i), v in np.ndenumerate(p):
@@ -1414,9 +1443,11 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     cb.set_label(f"P(burial by {basis} in class '{label}') after scour, probability (0 to 1)")
     fig.suptitle(
         f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
-        "land tan; grey: no drop's scour stage ran",
+        "land tan; grey: no drop's scour stage ran"
+        + ("\nhatched: not modelled (cohesive bed: no post-impact process runs; not 'stays unburied')"
+           if hatched.any() else ""),
         fontsize=12,
-    )
+    )  # fmt: skip
     path = pathlib.Path(path)
     save_figure(fig, path, dpi=dpi)
     return path
@@ -1460,14 +1491,39 @@ def map_crs(ds: xr.Dataset, pyproj):
     gm = ds["cell_status"].attrs.get("grid_mapping")
     if gm is not None and gm in ds.variables:
         try:
-            return pyproj.CRS.from_cf(dict(ds[gm].attrs))
+            crs = pyproj.CRS.from_cf(dict(ds[gm].attrs))
         except pyproj.exceptions.CRSError as exc:
             raise MapError(
                 f"--geotiff: the grid mapping '{gm}' is not a CRS pyproj can read: {exc}"
             ) from None
+        return _as_wgs84(crs, pyproj)
     if _is_axis(ds[ds["cell_status"].dims[0]], "lat"):
         return pyproj.CRS.from_epsg(4326)
     raise MapError("--geotiff: the map has projected axes but no grid_mapping variable (CF 5.6)")
+
+
+#: the WGS 84 ellipsoid (EPSG:7030): semi-major axis [m], inverse flattening
+WGS84_ELLIPSOID = (6378137.0, 298.257223563)
+
+
+def _as_wgs84(crs, pyproj):
+    """EPSG:4326 for a CF ``latitude_longitude`` mapping on the WGS 84 ellipsoid with the
+    Greenwich meridian, which :meth:`pyproj.crs.CRS.from_cf` reads as a geographic CRS with an
+    "undefined" datum (a GeoTIFF then carries a user-defined datum, issue 33); any other CRS as
+    it is. The datum ensemble WGS 84 is what a CF latitude/longitude grid on that ellipsoid means
+    in practice (ERA5, WAVEWATCH III and Copernicus grids say WGS 84)."""
+    if not crs.is_geographic or crs.to_epsg() == 4326:
+        return crs
+    e = crs.ellipsoid
+    if (
+        e is not None
+        and e.semi_major_metre == WGS84_ELLIPSOID[0]
+        and abs(e.inverse_flattening - WGS84_ELLIPSOID[1]) <= 1e-9 * WGS84_ELLIPSOID[1]
+        and crs.prime_meridian is not None
+        and crs.prime_meridian.longitude == 0.0
+    ):
+        return pyproj.CRS.from_epsg(4326)
+    return crs
 
 
 def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4) -> pathlib.Path:
@@ -1506,13 +1562,15 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
     basis = ds.attrs.get("burial_class_basis", "burial_volume")
     label = _CLASS_LABELS[int(burial_class)]
     da = xr.DataArray(values, dims=("y", "x"), coords={"y": y, "x": x})
-    da = da.rio.write_crs(crs.to_wkt()).rio.write_transform(Affine(dx, 0.0, x0, 0.0, dy, y0))
+    epsg = crs.to_epsg()
+    da = da.rio.write_crs(f"EPSG:{epsg}" if epsg is not None else crs.to_wkt())
+    da = da.rio.write_transform(Affine(dx, 0.0, x0, 0.0, dy, y0))
     da = da.rio.write_nodata(np.nan)
     da.attrs = {
         "long_name": f"probability of the burial class '{label}' ({basis}), {what}",
         "units": "1",
         "comment": f"mineburial map {ds.attrs.get('id', '')}; {_plot_title(ds)}; NaN: not computed"
-        + ("; CRS: WGS 84 assumed for the latitude/longitude axes" if "grid_mapping" not in
+        + ("; CRS: WGS 84 (EPSG:4326) assumed for the latitude/longitude axes" if "grid_mapping" not in
            ds["cell_status"].attrs else ""),
     }  # fmt: skip
     path = pathlib.Path(path)

@@ -70,6 +70,10 @@ def test_lat_lon_map_round_trips_values_transform_and_crs(tmp_path):
     c = pyproj.CRS.from_wkt(crs.to_wkt())
     assert c.is_geographic and c.ellipsoid.semi_major_metre == 6378137.0
     assert c.ellipsoid.inverse_flattening == pytest.approx(298.257223563)
+    # issue 33: the CF latitude_longitude mapping on the WGS 84 ellipsoid is written as EPSG:4326,
+    # not as a geographic CRS with an undefined datum (what pyproj.CRS.from_cf reads it as)
+    assert pyproj.CRS.from_cf(WGS84).datum.name == "undefined"
+    assert crs.to_epsg() == 4326 and c.datum.name.startswith("World Geodetic System 1984")
     # after scour at a lead time: that lead time's field
     path = write_geotiff(ds, tmp_path / "s.tif", lead_time=7.0, burial_class=4)
     with rasterio.open(path) as r:
@@ -79,6 +83,24 @@ def test_lat_lon_map_round_trips_values_transform_and_crs(tmp_path):
         MapError, match=r"--lead-time: 3 d is not a lead time of the map; choose among 0, 7 d"
     ):
         write_geotiff(ds, tmp_path / "x.tif", lead_time=3.0)
+
+
+def test_lat_lon_map_read_back_with_rioxarray_is_epsg_4326(tmp_path):
+    rioxarray = pytest.importorskip("rioxarray")
+    ds = synthetic_map([54.5, 54.51], [10.3, 10.31, 10.32], "latitude", "longitude", WGS84)
+    da = rioxarray.open_rasterio(write_geotiff(ds, tmp_path / "p.tif"))
+    assert da.rio.crs.to_epsg() == 4326
+    # another ellipsoid (GRS 80 differs in the inverse flattening's 9th digit) keeps its own CRS
+    grs80 = {**WGS84, "inverse_flattening": 298.257222101}
+    with rasterio.open(
+        write_geotiff(
+            synthetic_map([1.0, 2.0], [3.0, 4.0], "latitude", "longitude", grs80), tmp_path / "g.tif"
+        )
+    ) as r:
+        assert r.crs.to_epsg() != 4326
+        assert pyproj.CRS.from_wkt(r.crs.to_wkt()).ellipsoid.inverse_flattening == pytest.approx(
+            298.257222101
+        )
 
 
 def test_projected_north_to_south_map_keeps_its_utm_crs(tmp_path):

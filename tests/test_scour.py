@@ -444,24 +444,97 @@ def test_caps_mobile_layer_full_burial_and_cohesive_bed(table):
     assert out_b[0] == 0.05
 
 
-def test_ripple_cap_in_coarse_sand(table):
-    # coarse sand (1 mm) under monochromatic waves: burial ends at the Wiberg-Harris ripple height
-    d50, hs, tp, h = 1e-3, 2.0, 10.0, 8.0
-    p = S.default_parameters(d50=d50, orbital=S.ORBITAL_HS)
-    ub = math.pi * hs / (tp * math.sinh(kh_brentq(2 * math.pi / tp, h)))
-    eta, _ = wh_ripple(ub * tp / math.pi, d50)
+def mono_ub(hs, tp, h):
+    """Near-bed orbital amplitude of a monochromatic wave of height hs (linear theory, brentq root)."""
+    return math.pi * hs / (tp * math.sinh(kh_brentq(2 * math.pi / tp, h)))
+
+
+def smoothstep_weight(d50, d_mid=5e-4, half_phi=0.5):
+    """The documented blend (docs/scour.md, Coarse sand) written out: 3x^2 - 2x^3 of the position x
+    in log2(d50) across [d_mid 2^-half_phi, d_mid 2^half_phi], 0 below, 1 above."""
+    x = (math.log2(d50) - math.log2(d_mid) + half_phi) / (2 * half_phi)
+    x = min(max(x, 0.0), 1.0)
+    return x * x * (3 - 2 * x)
+
+
+#: coarse-sand waves of the exposure tests: orbital ripples of ~0.1 m (MVCO coarse sand: 0.1-0.2 m,
+#: Traykovski et al. 2007), a Rennie B_eq well above the exposure limit
+COARSE_WAVES = dict(hs=1.5, tp=8.0, h=10.0)
+
+
+@pytest.mark.parametrize("exposure", [1.0, 1.5, 2.0])
+def test_exposure_limit_in_coarse_sand(table, exposure):
+    # coarse sand (1 mm, weight 1) under monochromatic waves: burial stops where the mine's top stands
+    # `exposure` ripple heights above the crests, the crests eta/2 above the mean bed:
+    # B = D - (exposure + 1/2) eta, eta the Wiberg-Harris height (brentq)
+    d50, d = 1e-3, 0.53
+    hs, tp, h = COARSE_WAVES.values()
+    p = S.default_parameters(d50=d50, orbital=S.ORBITAL_HS, ripple_exposure=exposure)
+    eta, regime = wh_ripple(mono_ub(hs, tp, h) * tp / math.pi, d50)
+    assert regime == "orbital" and 0.05 < eta < 0.2
     status, out_b, _, _, _ = run(p, series(24 * 30, hs=hs, tp=tp, h=h), table, [29 * DAY])
     assert status == S.SCOUR_OK
-    assert 0.0 < eta < 0.5 * 0.53
-    assert out_b[0] == pytest.approx(eta, rel=1e-8)
-    # the same waves over fine sand are not capped by ripples
+    limit = d - (exposure + 0.5) * eta
+    assert out_b[0] == pytest.approx(limit, rel=1e-8) and out_b[0] <= limit * (1 + 1e-12)
+    # Traykovski et al. (2007): height above the crests = exposure x ripple height
+    assert (d - out_b[0]) - 0.5 * eta == pytest.approx(exposure * eta, rel=1e-7)
+    # the same waves over fine sand (weight 0) are not limited by ripples: the Rennie B_eq, capped at D
     _, out_fine, _, _, _ = run(
         S.default_parameters(d50=2e-4, orbital=S.ORBITAL_HS),
         series(24 * 30, hs=hs, tp=tp, h=h),
         table,
         [29 * DAY],
     )
-    assert out_fine[0] > 2 * eta
+    assert out_fine[0] > limit
+
+
+def test_exposure_limit_closed_form():
+    d, eta = 0.53, 0.12
+    assert S.exposure_limit(d, eta, 1.0, 1.0) == pytest.approx(d - 1.5 * eta, rel=1e-15)
+    assert S.exposure_limit(d, eta, 1.0, 0.5) == pytest.approx(d - 0.75 * eta, rel=1e-15)
+    assert S.exposure_limit(d, eta, 1.0, 0.0) == d
+    assert S.exposure_limit(0.1, eta, 1.0, 1.0) == 0.0  # a small mine in big ripples: never below the bed
+
+
+def test_coarse_weight_is_a_smooth_blend_over_one_phi_unit():
+    for d50 in np.geomspace(2e-4, 1.5e-3, 97):
+        assert S.coarse_weight(d50, 5e-4) == pytest.approx(smoothstep_weight(d50), abs=1e-14)
+    assert S.coarse_weight(5e-4 / math.sqrt(2), 5e-4) == pytest.approx(0.0, abs=1e-14)
+    assert S.coarse_weight(5e-4, 5e-4) == pytest.approx(0.5, rel=1e-14)
+    assert S.coarse_weight(5e-4 * 2**0.25, 5e-4) == pytest.approx(0.84375, rel=1e-13)
+    assert S.coarse_weight(5e-4 * math.sqrt(2), 5e-4) == pytest.approx(1.0, abs=1e-14)
+    w = [S.coarse_weight(d50, 5e-4) for d50 in np.geomspace(1e-4, 2e-3, 500)]
+    assert np.all(np.diff(w) >= 0.0)
+    # the largest slope of 3x^2 - 2x^3 is 1.5 (at x = 1/2), x spans one phi unit: between 0.49 and
+    # 0.50 mm (log2(50/49) = 0.029 phi) the weight moves by at most 0.044
+    assert S.coarse_weight(5e-4, 5e-4) - S.coarse_weight(4.9e-4, 5e-4) <= 1.5 * math.log2(5 / 4.9) + 1e-12
+
+
+def test_burial_is_continuous_and_monotone_across_grain_size(table):
+    # the exposure limit blends in with d50: no jump between 0.49 and 0.50 mm (was x4.6 with the
+    # switch at 0.5 mm), and the 30-day burial does not grow with d50 (coarser grains: smaller
+    # theta, a larger limit weight)
+    hs, tp, h = COARSE_WAVES.values()
+    forcing = series(24 * 30, hs=hs, tp=tp, h=h)
+    grid = np.round(np.arange(3.0e-4, 8.01e-4, 1e-5), 10)
+    out = []
+    for d50 in grid:
+        status, b, _, _, _ = run(
+            S.default_parameters(d50=d50, orbital=S.ORBITAL_HS), forcing, table, [29 * DAY]
+        )
+        assert status == S.SCOUR_OK
+        out.append(b[0])
+    out = np.array(out)
+    assert np.all(np.diff(out) <= 1e-12)
+    rel = -np.diff(out) / out[1:]
+    assert rel.max() < 0.03
+    b49, b50 = out[np.isclose(grid, 4.9e-4)][0], out[np.isclose(grid, 5.0e-4)][0]
+    assert abs(b49 - b50) / b50 < 0.03
+    # inside the blend, at d50 = 0.6 mm (weight 0.79), the limit binds: B = D - w (1 + 1/2) eta
+    d50 = 6e-4
+    eta, _ = wh_ripple(mono_ub(hs, tp, h) * tp / math.pi, d50)
+    b60 = out[np.isclose(grid, d50)][0]
+    assert b60 == pytest.approx(0.53 - smoothstep_weight(d50) * 1.5 * eta, rel=1e-8)
 
 
 def mobility_u_crit(d, d50, sg):
@@ -564,10 +637,14 @@ def test_current_height_within_the_roughness_or_above_the_water_is_rejected(tabl
         ("mob_p", 0.0),
         ("mob_burial_max", -0.1),
         ("mob_burial_max", 1.5),
+        ("ripple_exposure", -0.5),
+        ("ripple_exposure", math.inf),
+        ("ripple_d50", 0.0),
     ],
 )
 def test_parameters_outside_their_documented_ranges_are_invalid(table, key, value):
-    # b > 0, p < 0, m >= 0, 0 <= kc_min < inf, mobility exponent < 0, proud limit in [0, 1]
+    # b > 0, p < 0, m >= 0, 0 <= kc_min < inf, mobility exponent < 0, proud limit in [0, 1],
+    # a finite ripple exposure >= 0, a positive blend grain size
     status, out_b, _, _, _ = run(S.default_parameters(**{key: value}), series(10, uc=0.5), table, [HOUR])
     assert status == S.SCOUR_INVALID_PARAMETER and math.isnan(out_b[0])
 

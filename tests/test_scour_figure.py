@@ -91,3 +91,35 @@ def test_bad_plot_is_one_line_before_computing(tmp_path, capsys, no_computing, w
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and needle in err, err
     assert not (tmp_path / "out.nc").exists() and not (tmp_path / plot).exists()
+
+
+def test_forecast_reference_time_is_the_forcing_start_plus_the_common_window_start():
+    """Issue 33 item 7a: CF forecast_reference_time, the date of lead time 0, written as seconds
+    since 1970-01-01 UTC (reference: datetime arithmetic); none without dates or with windows
+    that start at different times."""
+    import dataclasses
+    import datetime as dt
+
+    from mineburial.io import forcing as fio
+
+    dated = fio.storm_series(
+        peak_hs=1.0, peak_tp=8.0, duration_h=12.0, total_h=48.0, start="2003-01-15T00:00Z"
+    )
+    spec = scour.ScourSpec((0.0,), (0.5,), "whitehouse", False, {}, dated, {})
+    assert scour.reference_time(spec) == np.datetime64("2003-01-15T00:00:00")
+    windowed = dataclasses.replace(spec, window_days=1.0)
+    six_h = [{"scour:window_start": np.full(3, 6 * 3600.0)}]
+    assert scour.reference_time(windowed, six_h) == np.datetime64("2003-01-15T06:00:00")
+    assert scour.reference_time(windowed, [{"scour:window_start": np.array([0.0, 3600.0])}]) is None
+    assert scour.reference_time(windowed) is None  # a map: the windows are not known
+    storm = {"peak_hs": 1.0, "peak_tp": 8.0, "duration_h": 12.0}  # no start: its default is no date
+    undated = dataclasses.replace(
+        spec, forcing=fio.storm_series(**storm), forcing_record={"forcing_storm": storm}
+    )
+    assert scour.reference_time(undated) is None
+    da = scour.reference_time_variable(np.datetime64("2003-01-15T06:00:00"))
+    utc = dt.timezone.utc
+    want = (dt.datetime(2003, 1, 15, 6, tzinfo=utc) - dt.datetime(1970, 1, 1, tzinfo=utc)).total_seconds()
+    assert float(da) == want and da.attrs["standard_name"] == "forecast_reference_time"
+    decoded = xr.decode_cf(xr.Dataset(coords={"forecast_reference_time": da}))
+    assert decoded["forecast_reference_time"].values == np.datetime64("2003-01-15T06:00:00")

@@ -146,3 +146,21 @@ def test_the_class_table_of_docs_scenario_shows_the_catalogue_scour_sediment():
         assert cohesive == ("yes" if c.cohesive else "no"), name
         assert (d50 == "—") if c.d50 is None else float(d50) * 1e-3 == pytest.approx(c.d50), name
         assert float(grain) == c.grain_density, name
+
+
+def test_cohesive_cells_are_marked_not_modelled_and_hatched_on_the_map(clay_and_sand_map, tmp_path):
+    """Issue 33 item 7b: where no post-impact process runs (the soft-clay cell: cohesive, the stage
+    keeps the impact burial) the map says so, per cell, instead of a confident 'stays unburied':
+    scour_not_modelled_fraction is the share of the cell's drops on a cohesive bed (catalogue:
+    soft_clay cohesive, sand not), and the lead-time panels hatch such cells."""
+    pytest.importorskip("matplotlib")
+    from mineburial.maps import not_modelled_cells, plot_lead_times
+
+    _, ds = clay_and_sand_map
+    share = ds["scour_not_modelled_fraction"].values
+    assert share.shape == (1, 2)
+    assert share[0, 0] == 1.0 and share[0, 1] == 0.0
+    assert sp.CATALOGUE["soft_clay"].cohesive and not sp.CATALOGUE["sand"].cohesive
+    np.testing.assert_array_equal(not_modelled_cells(ds), [[True, False]])
+    png = plot_lead_times(ds, tmp_path / "lead.png", list(ds["lead_time"].values[:2]))
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

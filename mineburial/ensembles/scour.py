@@ -445,6 +445,10 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         "scour:time_to": time_to / DAY,
         "scour:mobile": mobile / DAY,
         "scour:status": codes,
+        # where no post-impact process is modelled: a cohesive bed (B_eq = 0, docs/scour.md)
+        "scour:cohesive": (S[:, sc.S_COHESIVE] != 0.0).astype(np.uint8),
+        # each drop's lead time 0 [s after the forcing's first record] (forecast_reference_time)
+        "scour:window_start": np.asarray(start, dtype=np.float64),
     }
 
 
@@ -453,7 +457,7 @@ def bytes_a_drop(spec) -> int:
     sc_spec = getattr(spec, "scour", None)
     if sc_spec is None:
         return 0
-    return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 1) + 1
+    return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 2) + 2
 
 
 def _per_drop(spec: ScourSpec, chunks):
@@ -472,10 +476,54 @@ def _per_drop(spec: ScourSpec, chunks):
 
 
 def statistics(spec: ScourSpec, chunks, class_basis: str) -> xr.Dataset:
-    """The stage's statistics of an ensemble's chunks (a map cell's; none: the empty template)."""
-    return scour_statistics(
-        *_per_drop(spec, chunks), spec.lead_times_days, spec.burial_levels, class_basis=class_basis
-    )
+    """The stage's statistics of an ensemble's chunks (a map cell's; none: the empty template),
+    with the share of its drops on a bed where no post-impact process is modelled."""
+    per_drop = _per_drop(spec, chunks)
+    stats = scour_statistics(*per_drop, spec.lead_times_days, spec.burial_levels, class_basis=class_basis)
+    stats = stats.assign(scour_not_modelled_fraction=_not_modelled(chunks, per_drop[3]))
+    when = reference_time(spec)  # every drop (every map cell) sees the series from its first record
+    if when is not None:
+        stats = stats.assign_coords(forecast_reference_time=reference_time_variable(when))
+    return stats
+
+
+def _not_modelled(chunks, codes) -> xr.DataArray:
+    """``scour_not_modelled_fraction``: the share of the drops whose stage ran (status ok) that lie
+    on a cohesive bed, where the stage models no post-impact process and keeps the impact burial
+    (docs/scour.md, Sediment); NaN without such drops (a cell where nothing came to rest)."""
+    ok = np.asarray(codes) == 0
+    if chunks and all("scour:cohesive" in r for r in chunks) and ok.any():
+        cohesive = np.concatenate([r["scour:cohesive"] for r in chunks]).astype(bool)
+        value = float(cohesive[ok].mean())
+    else:
+        value = math.nan
+    return V.variable("scour_not_modelled_fraction").data_array(np.float64(value))
+
+
+def reference_time(spec: ScourSpec, chunks=None):
+    """The calendar date of lead time 0 (CF ``forecast_reference_time``) as numpy datetime64[s]
+    (UTC): the forcing's first record plus the drops' common window start (from ``chunks``;
+    without them: the first record when the drops see the whole series); None when the forcing
+    has no dates (relative seconds, a storm without ``start``) or the drops' windows start at
+    different times (a sampled ``window_position``: each drop its own lead time 0)."""
+    storm = spec.forcing_record.get("forcing_storm")
+    if spec.forcing.start is None or (isinstance(storm, Mapping) and "start" not in storm):
+        return None  # a storm's default start (2000-01-01) is no date of the forcing
+    offset = 0.0
+    if spec.window_days is not None:
+        starts = [r["scour:window_start"] for r in (chunks or ()) if "scour:window_start" in r]
+        s = np.concatenate(starts) if starts else np.empty(0)
+        if not s.size or not np.all(s == s[0]):
+            return None
+        offset = float(s[0])
+    when = spec.forcing.start + np.timedelta64(int(round(offset * 1e9)), "ns")
+    return when.astype("datetime64[s]")
+
+
+def reference_time_variable(when) -> xr.DataArray:
+    """The scalar coordinate ``forecast_reference_time`` (seconds since 1970-01-01 UTC) of ``when``."""
+    seconds = (np.datetime64(when, "s") - np.datetime64("1970-01-01T00:00:00", "s")) / np.timedelta64(1, "s")
+    return V.variable("forecast_reference_time").data_array(np.float64(seconds))
 
 
 def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_basis: str) -> xr.Dataset:
@@ -485,6 +533,10 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
     stats = scour_statistics(
         measures, time_to, mobile, codes, spec.lead_times_days, spec.burial_levels, class_basis=class_basis
     )
+    stats["scour_not_modelled_fraction"] = _not_modelled(chunks, codes)
+    when = reference_time(spec, chunks)
+    if when is not None:
+        stats = stats.assign_coords(forecast_reference_time=reference_time_variable(when))
     ok = codes == 0
     stats["scour_mobile_fraction_by_lead_time"] = V.variable("scour_mobile_fraction_by_lead_time").data_array(
         mobile_by_lead_time(mobile[ok], spec.lead_times_days)

@@ -587,6 +587,20 @@ def _scour_coordinates() -> list[Variable]:
             group="statistics",
         ),
         Variable(
+            "forecast_reference_time",
+            (),
+            "float64",
+            "seconds since 1970-01-01 00:00:00",
+            "date of lead time 0",
+            "Calendar date (UTC) of lead time 0: the forcing's first record, or the start of every "
+            "drop's window of it (scour.window_days at a fixed scour.window_position). Absent when the "
+            "forcing has no dates or the drops' windows start at different times.",
+            standard_name="forecast_reference_time",
+            attrs={"calendar": "proleptic_gregorian"},
+            fill_value=_NO_FILL,
+            group="statistics",
+        ),
+        Variable(
             "burial_level",
             ("burial_level",),
             "float64",
@@ -642,6 +656,18 @@ def _scour_time_variables() -> list[Variable]:
             "Fraction of the drops whose scour stage ran in which the object mobility parameter passed "
             "the threshold of Rennie et al. (2017) at some time of the forcing: the mine may roll or "
             "migrate (an upper bound; the burial is not changed, docs/scour.md).",
+            group="statistics",
+        ),
+        Variable(
+            "scour_not_modelled_fraction",
+            (),
+            "float64",
+            "1",
+            "share of drops where no post-impact process is modelled",
+            "Fraction of the drops whose scour stage ran that lie on a cohesive bed (mud, clay; "
+            "scour.cohesive or the sediment class): no scour law holds there, the stage keeps the "
+            "impact burial at every lead time. Not a prediction that the mine stays unburied: 1 means "
+            "not modelled (maps hatch such cells, docs/maps.md).",
             group="statistics",
         ),
         Variable(
@@ -737,6 +763,17 @@ def _scour_class_variables() -> list[Variable]:
     return out
 
 
+#: why the measures at lead time 0 differ from the impact's (issue 33): the stage lays the mine flat
+_LAY_FLAT = (
+    "The scour stage lays the mine flat: from lead time 0 it is the same cylinder lying horizontal with "
+    "the same fraction of its volume below the bed as at its impact rest attitude (the scour laws are "
+    "those of a lying cylinder; docs/scour.md, Rest attitude). Burial by volume at lead 0 equals the "
+    "impact's; height proud, burial by height and area, and penetration depth (the lowest point) of a "
+    "mine that came to rest tilted or nose-down differ from the impact's (a mine standing on its "
+    "nose is much less proud once lying)."
+)
+
+
 def _scour_measure_variables() -> list[Variable]:
     """Each burial measure after the scour stage: per drop at each lead time, its mean and quantiles."""
     lt = ("lead_time",)
@@ -751,7 +788,7 @@ def _scour_measure_variables() -> list[Variable]:
                 o.units,
                 f"{o.long_name} at the lead time",
                 f"{o.description} After the scour stage, at each lead time; NaN where the stage did "
-                "not run (scour_status).",
+                f"not run (scour_status). {_LAY_FLAT}",
             )
         )
         out.append(
@@ -761,7 +798,7 @@ def _scour_measure_variables() -> list[Variable]:
                 "float64",
                 o.units,
                 f"mean of {o.long_name} at the lead time",
-                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}.",
+                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
                 attrs={"cell_methods": "realization: mean"},
                 group="statistics",
             )
@@ -773,7 +810,7 @@ def _scour_measure_variables() -> list[Variable]:
                 "float64",
                 o.units,
                 f"quantile of {o.long_name} at the lead time",
-                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}.",
+                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
                 group="statistics",
             )
         )
@@ -1417,6 +1454,7 @@ MAP_SHARED_COORDS = (
     "lead_time",
     "burial_level",
     "scour_status_code",
+    "forecast_reference_time",
 )
 #: summary outputs whose mean, standard deviation and quantiles a map holds per cell
 MAP_OUTPUTS = ("burial_volume", "penetration_depth")

@@ -1181,19 +1181,26 @@ def scour_field_bands(quick_only=False, figures=None):
     )
     coarse, theta = scour_final_burial(irb, d50=SCOUR_COARSE, rho_grain=SCOUR_QUARTZ)
     eta = scour_max_ripple(scour_event_forcing(**irb), SCOUR_COARSE)
+    w = scour_kernels.coarse_weight(
+        SCOUR_COARSE, scour_kernels.default_parameters()[scour_kernels.S_RIPPLE_D50]
+    )
+    exposure = scour_kernels.default_parameters()[scour_kernels.S_RIPPLE_EXPOSURE]
+    limit = scour_kernels.exposure_limit(SCOUR_D, eta, exposure, w) / SCOUR_D
     rows.append(
         Row(
             "scour field bands",
-            "B/D after the same 60 days, coarse sand, against the ripple height (Wiberg & Harris 1994) "
+            "B/D after the same 60 days, coarse sand, against the exposure limit above the ripple crests "
             "(information)",
-            f"{SCOUR_IRB_SOURCE}: in coarse sand burial only to the ripple roughness; quartz sand 0.6 mm, "
-            f"peak theta {theta:.3f}",
-            f"at most {eta / SCOUR_D:.3g} (the largest ripple height of the series' sea states)",
+            f"{SCOUR_IRB_SOURCE}: in coarse sand burial only to the ripple roughness; Traykovski et al. "
+            "2007 (MVCO): coarse-sand mines stay about one ripple height proud of the crests; quartz "
+            f"sand 0.6 mm, peak theta {theta:.3f}",
+            f"at most {limit:.3g} (D - {w:.2f} x 1.5 x the largest Wiberg & Harris ripple height, "
+            f"{eta / SCOUR_D:.3g} D)",
             coarse,
             "B/D",
-            "information: the stage caps burial at the ripple height, a cap built from this very "
-            "observation, so the row cannot fail against it (tests/test_scour_validation.py checks the "
-            "cap against an independent ripple height)",
+            "information: the exposure limit is built into the stage from the MVCO observation, so "
+            "the row cannot fail against it (tests/test_scour_validation.py checks the limit against an "
+            "independent ripple height)",
             quick=True,
         )
     )

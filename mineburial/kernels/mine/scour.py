@@ -60,7 +60,7 @@ S_NU = 6  # kinematic viscosity of the water [m^2/s]
 S_G = 7  # gravity [m/s^2]
 S_COHESIVE = 8  # 1: cohesive bed, no scour (docs/scour.md); 0: sand
 S_MOBILE_LAYER = 9  # thickness of the mobile sand layer [m] (inf: unlimited)
-S_RIPPLE_D50 = 10  # d50 [m] from which the sand is coarse and burial is capped by the ripple height
+S_RIPPLE_D50 = 10  # d50 [m] at the middle of the blend into the coarse-sand exposure limit (RIPPLE_BLEND_PHI)
 S_BEQ_A = 11  # a of B_eq / D = a theta^b (Rennie et al. 2017)
 S_BEQ_B = 12  # b
 S_TSTAR_C = 13  # c of T* = c KC^m theta^p
@@ -73,7 +73,17 @@ S_MOB_C = 19  # c of the mobility threshold c (D/k)^p (Rennie et al. 2017)
 S_MOB_P = 20  # p
 S_TSTAR_KC_MIN = 21  # smallest KC at which a KC law (m > 0) applies; below it no growth (T = inf)
 S_MOB_BURIAL_MAX = 22  # B/D up to which the mine counts as proud for the mobility criterion
-N_PARAMS = 23
+S_RIPPLE_EXPOSURE = 23  # coarse sand: height left proud above the ripple crests, in ripple heights
+N_PARAMS = 24
+
+#: half-width, in phi units (phi = -log2(d50 / 1 mm), Krumbein), of the d50 interval over which the
+#: coarse-sand exposure limit blends in around S_RIPPLE_D50: from 0.354 to 0.707 mm about the
+#: default 0.5 mm (Wentworth's medium/coarse boundary). Our choice (docs/scour.md, Coarse sand):
+#: the sources name fine and coarse sand, not the grain size at which the behaviour changes
+RIPPLE_BLEND_PHI = 0.5
+#: height of a ripple crest above the undisturbed (mean) bed, in ripple heights: a ripple
+#: symmetric about the mean bed level (crest eta/2 above it, trough eta/2 below)
+RIPPLE_CREST = 0.5
 
 #: the depth must be at least this many Nikuradse roughnesses ks = 2.5 d50 (docs/scour.md)
 DEPTH_MIN_OVER_KS = 10.0
@@ -116,7 +126,7 @@ def default_parameters(**overrides):
     p[S_G] = 9.81
     p[S_COHESIVE] = 0.0
     p[S_MOBILE_LAYER] = math.inf
-    p[S_RIPPLE_D50] = 5.0e-4  # Wentworth: coarse sand from 0.5 mm
+    p[S_RIPPLE_D50] = 5.0e-4  # Wentworth: coarse sand from 0.5 mm (the blend's middle)
     p[S_BEQ_A] = 1.3  # Rennie et al. 2017, D > 8 cm
     p[S_BEQ_B] = 0.36
     p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN] = TSTAR_LAWS["whitehouse"]
@@ -126,6 +136,10 @@ def default_parameters(**overrides):
     p[S_MOB_C] = 1.6  # Rennie et al. 2017
     p[S_MOB_P] = -0.72
     p[S_MOB_BURIAL_MAX] = 0.1  # our choice (docs/scour.md): the criterion is for a proud object
+    # Traykovski et al. 2007 (IEEE JOE 32(1):150, abstract): in coarse sand "mines were observed to
+    # bury until the exposed height above the ripple crests was approximately the same as the large
+    # wave orbital ripple height"
+    p[S_RIPPLE_EXPOSURE] = 1.0
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -481,22 +495,49 @@ def bed_forcing(p, hs, tp, wdir, uc, cdir, h, table):
 
 
 @kernel
+def coarse_weight(d50, d_mid):
+    """Weight in [0, 1] of the coarse-sand exposure limit at grain size ``d50``: 0 below
+    ``d_mid`` 2^-RIPPLE_BLEND_PHI, 1 above ``d_mid`` 2^RIPPLE_BLEND_PHI, and between them the
+    smoothstep 3x^2 - 2x^3 of x, the position in phi (log2 d50) across that interval: continuous
+    with a continuous slope at both ends, no switch in grain size (docs/scour.md, Coarse sand)."""
+    x = 0.5 + math.log2(d50 / d_mid) / (2.0 * RIPPLE_BLEND_PHI)
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    return x * x * (3.0 - 2.0 * x)
+
+
+@kernel
+def exposure_limit(diameter, eta, exposure, weight):
+    """Largest burial [m] of a mine in rippled coarse sand: the height proud above the ripple
+    crests stops at ``exposure`` ripple heights (Traykovski et al. 2007, MVCO coarse sand: about
+    one ripple height). The crests stand RIPPLE_CREST eta above the undisturbed bed, the mine's
+    top D - B above it, so D - B - eta/2 = exposure eta: B_lim = D - (exposure + 1/2) eta, eased in
+    by ``weight`` (:func:`coarse_weight`): D - weight (exposure + 1/2) eta, never below 0."""
+    return max(diameter - weight * (exposure + RIPPLE_CREST) * eta, 0.0)
+
+
+@kernel
 def burial_target(p, theta, theta_cr, ub, tb):
     """(B_eq, T) of one forcing sample: B_eq = 0 at or below the threshold of motion and on a
     cohesive bed (no growth), else the Rennie et al. law capped by full burial (D), the mobile-layer
-    thickness and, in coarse sand (d50 >= S_RIPPLE_D50), the wave-ripple height. Without waves
-    (d0 = 0) there is no wave ripple and no ripple cap: current ripples are not modelled
-    (docs/scour.md)."""
+    thickness and, in coarse sand, the exposure limit of :func:`exposure_limit` with the current
+    wave-ripple height (Wiberg & Harris 1994), weighted by :func:`coarse_weight` (0 in fine and
+    medium sand up to 0.354 mm, 1 from 0.707 mm with the defaults). Without waves (d0 = 0) or
+    where the ripples are washed out there is no wave ripple and no limit: current ripples are
+    not modelled (docs/scour.md)."""
     diameter = p[S_DIAMETER]
     d50 = p[S_D50]
     if p[S_COHESIVE] != 0.0 or not theta > theta_cr:
         return 0.0, math.inf
     b_eq = min(equilibrium_burial(theta, diameter, p[S_BEQ_A], p[S_BEQ_B]), diameter)
     b_eq = min(b_eq, p[S_MOBILE_LAYER])
-    if d50 >= p[S_RIPPLE_D50]:
+    w = coarse_weight(d50, p[S_RIPPLE_D50])
+    if w > 0.0:
         eta = ripple_height(ub * tb / math.pi, d50)
-        if eta >= 0.0:  # NaN (no ripples) leaves no ripple cap
-            b_eq = min(b_eq, eta)
+        if eta >= 0.0:  # NaN (no ripples) leaves no limit
+            b_eq = min(b_eq, exposure_limit(diameter, eta, p[S_RIPPLE_EXPOSURE], w))
     kc = ub * tb / diameter
     s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
     t_scale = scour_time_scale(
@@ -519,21 +560,30 @@ def parameters_valid(p):
     """Whether the stage's parameter vector lies in its documented ranges (docs/scour.md, Status
     codes): finite where it must be, positive sizes, densities and coefficients, s_obj > 1, grains
     heavier than water, b > 0 (B_eq grows with theta), p < 0 (T shrinks with theta), m >= 0 with
-    kc_min > 0 for a KC law (m > 0), mobility exponent < 0, proud limit in [0, 1], a known
-    convention code, and a current height either <= 0 (depth mean) or >= ks = 2.5 d50 (above the
+    kc_min > 0 for a KC law (m > 0), mobility exponent < 0, proud limit in [0, 1], a ripple
+    exposure >= 0 and a positive blend d50, a known convention code, and a current height either
+    <= 0 (depth mean) or >= ks = 2.5 d50 (above the
     roughness elements, where the log profile holds)."""
     for i in range(N_PARAMS):
         if math.isnan(p[i]):
             return False
-    positive = (S_DIAMETER, S_D50, S_RHO_GRAIN, S_RHO_WATER, S_NU, S_G, S_MOBILE_LAYER, S_BEQ_A, S_TSTAR_C)
+    positive = (
+        S_DIAMETER, S_D50, S_RHO_GRAIN, S_RHO_WATER, S_NU, S_G, S_MOBILE_LAYER, S_BEQ_A, S_TSTAR_C,
+        S_RIPPLE_D50,
+    )  # fmt: skip
     for i in positive:
         if not p[i] > 0.0:
             return False
-    finite = (S_B0, S_DIAMETER, S_MINE_SG, S_D50, S_COHESIVE, S_BEQ_B, S_TSTAR_M, S_TSTAR_P, S_MOB_C, S_MOB_P)
+    finite = (
+        S_B0, S_DIAMETER, S_MINE_SG, S_D50, S_COHESIVE, S_BEQ_B, S_TSTAR_M, S_TSTAR_P, S_MOB_C, S_MOB_P,
+        S_RIPPLE_D50, S_RIPPLE_EXPOSURE,
+    )  # fmt: skip
     for i in finite:
         if not math.isfinite(p[i]):
             return False
     if p[S_B0] < 0.0 or not p[S_MINE_SG] > 1.0 or not p[S_RHO_GRAIN] > p[S_RHO_WATER]:
+        return False
+    if p[S_RIPPLE_EXPOSURE] < 0.0:
         return False
     if not (p[S_BEQ_B] > 0.0 and p[S_TSTAR_P] < 0.0 and p[S_TSTAR_M] >= 0.0):
         return False

@@ -9,8 +9,9 @@ cylinder that has the same fraction of its volume below the bed as the mine at i
 attitude (:func:`lying_burial`), and the burial measures of the impact phase
 (the body protocol's ``burial``, :mod:`mineburial.kernels.mine.bodies`) are evaluated at each lead
 time for that lying mine with its lowest point ``B`` below the bed (docs/scour.md, Rest
-attitude). A plain loop rather than ``prange``: the stage costs about 1 ms a drop, a few percent
-of the impact phase (docs/design.md, batch driver).
+attitude). A plain loop rather than ``prange`` (the stage costs about 1 ms a drop, a few percent
+of the impact phase; docs/design.md, batch driver); the caller runs blocks of drops on the run's
+threads (:func:`mineburial.ensembles.threads.run_blocks`; the kernel releases the GIL).
 """
 
 import math
