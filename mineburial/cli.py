@@ -363,7 +363,7 @@ def _add_calibrate_parser(sub) -> None:
         "by the measurements and write the posterior (JSON) that ensembles draw from",
     )
     cal.add_argument(
-        "-n", "--sets", type=int, default=2048, help="coefficient sets drawn from the prior (default 2048)"
+        "-n", "--sets", type=int, default=4096, help="coefficient sets drawn from the prior (default 4096)"
     )
     cal.add_argument("--seed", type=int, default=20261128, help="seed of the scrambled Sobol' draws")
     cal.add_argument(

@@ -1261,7 +1261,9 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
 
     Left: the most likely impact-burial class per cell in class colours (legend), with
     its probability written in each cell of small grids; right: P(burial > 75 %) as a
-    colour map with a colour bar. Land is drawn tan, water cells without a result grey.
+    colour map with a colour bar; a map whose cells draw their coefficients from a posterior
+    adds a second row, the lower and upper ends of each cell's epistemic band of that
+    probability (:func:`_draw_epistemic_band`). Land is drawn tan, water cells without a result grey.
     With ``lead_times`` (days, among the map's ``lead_time``; a map with ``[scour]``): one
     panel per lead time of the probability of ``burial_class`` after scour instead
     (:func:`plot_lead_times`). Needs matplotlib (the optional extra ``plot``).
@@ -1271,16 +1273,19 @@ def plot_map(ds: xr.Dataset, path, *, dpi: int = 150, lead_times=None, burial_cl
     Figure = figure_class("drawing the map")
     g = _Grid.of(ds)
     likely = ds["most_likely_burial_class"].values.astype(float)
-    fig = Figure(figsize=(13.0, 6.8), layout="constrained")
-    gs = fig.add_gridspec(2, 2, height_ratios=(1.0, 0.16))
+    band = all(f"{EPISTEMIC}_{side}" in ds for side in ("lower", "upper"))
+    fig = Figure(figsize=(13.0, 12.6 if band else 6.8), layout="constrained")
+    gs = fig.add_gridspec(3 if band else 2, 2, height_ratios=(1.0, 1.0, 0.16) if band else (1.0, 0.16))
     axes = (fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[0, 1]))
-    legend_ax = fig.add_subplot(gs[1, 0])
+    legend_ax = fig.add_subplot(gs[-1, 0])
     legend_ax.axis("off")
-    cbar_gs = gs[1, 1].subgridspec(2, 3, width_ratios=(0.1, 0.8, 0.1), height_ratios=(0.3, 0.7))
+    cbar_gs = gs[-1, 1].subgridspec(2, 3, width_ratios=(0.1, 0.8, 0.1), height_ratios=(0.3, 0.7))
     cax = fig.add_subplot(cbar_gs[0, 1])
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
     _draw_likely_class(axes[0], legend_ax, ds, g, likely, basis)
     _draw_burial_over_75(fig, axes[1], cax, ds, g, likely, basis)
+    if band:
+        _draw_epistemic_band((fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[1, 1])), ds, g, likely, basis)
     fig.suptitle(f"Impact burial of {_plot_title(ds)}", fontsize=13)
     path = pathlib.Path(path)
     save_figure(fig, path, dpi=dpi)
@@ -1352,6 +1357,42 @@ def _draw_burial_over_75(fig, ax, cax, ds, g, likely, basis) -> None:
     ax.set_title(
         f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
     )
+
+
+#: the epistemic band's variables (issue 32; ensembles/epistemic.py): ``<EPISTEMIC>_lower`` and
+#: ``_upper``, per class and cell, of a map that draws its coefficients from a posterior
+EPISTEMIC = "burial_class_probability_epistemic"
+
+
+def _draw_epistemic_band(axes, ds, g, likely, basis) -> None:
+    """Second row of :func:`plot_map` (a map drawing its coefficients from a posterior): the
+    lower and upper ends of each cell's epistemic band of P(burial > 75 %) — how far the
+    probability moves across what the measurements leave open (docs/calibration.md) — on the
+    colour scale of the panel above; small grids write the band in each cell."""
+    level = int(round(100 * float(ds[f"{EPISTEMIC}_lower"].attrs.get("band_level", 0.9))))
+    ends = {side: ds[f"{EPISTEMIC}_{side}"].values[4] for side in ("lower", "upper")}
+    for ax, (side, values) in zip(axes, ends.items()):
+        g.background(ax, likely < 0)
+        g.mesh(
+            ax,
+            np.ma.masked_invalid(np.where(g.status == CELL_COMPUTED, values, np.nan)),
+            cmap="magma_r",
+            vmin=0.0,
+            vmax=1.0,
+            edgecolors="white",
+            linewidth=0.5,
+        )
+        ax.set_title(
+            f"P(burial by {basis} > 75 %): {side} end of the {level} % band of\n"
+            "what the measurements leave open (the calibrated coefficients)",
+            fontsize=11,
+        )
+        if g.status.size <= 400:
+            lo, hi = ends["lower"], ends["upper"]
+            for (j, i), c in np.ndenumerate(likely):
+                if c >= 0 and np.isfinite(values[j, i]):
+                    ax.text(g.x[i], g.y[j], f"{lo[j, i]:.2f}-{hi[j, i]:.2f}", ha="center", va="center",
+                            fontsize=7, color="white" if values[j, i] > 0.6 else "black")  # fmt: skip
 
 
 def _plot_title(ds) -> str:

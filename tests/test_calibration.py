@@ -179,17 +179,59 @@ def test_shipped_posterior_matches_the_shipped_priors_and_evidence():
 
 def test_a_small_rebuild_reproduces_the_shipped_sets_it_shares(tmp_path):
     """The shipped calibration's first sets are the Sobol' points a small calibration with the
-    same seed draws: their values and likelihoods are the same, bit for bit."""
+    same seed draws: block by block, their values and likelihoods are the same, bit for bit."""
     shipped = json.loads(priors.POSTERIOR_FILE.read_text())
     n = 32
     cal = calibrate.calibrate(tmp_path / "p.json", n=n, seed=shipped["seed"])
     coeffs = shipped["coefficients"]
-    common = [(k, s) for k, s in enumerate(shipped["set_index"]) if s < n]
-    for k, s in common:
-        assert shipped["sets"][k] == [calibrate._scalar(cal.draws[p][s]) for p in coeffs]
-        assert shipped["log_likelihood"][k] == cal.log_likelihood[s]
-    assert common, "no shipped set among the first 32: rebuild with more sets or test more"
+    checked = set()
+    for block, members in shipped["blocks"].items():
+        for k, s in enumerate(shipped["set_index"][block]):
+            if s >= n:
+                continue
+            for path in members:
+                assert shipped["sets"][k][coeffs.index(path)] == calibrate._scalar(cal.draws[path][s]), path
+            assert shipped["log_likelihood"][block][k] == cal.log_likelihood[block][s], block
+            checked.add(block)
+    assert checked == set(shipped["blocks"]), "a block without a shipped set among the first 32"
     assert cal.record["priors_sha256"] == shipped["priors_sha256"]
+
+
+def test_the_scour_rows_leave_the_impact_blocks_weights_unchanged(tmp_path):
+    """Invariance: the blocks read disjoint coefficients, so a calibration without the scour
+    rows gives the impact block the same weights, bit for bit, and the impact coefficients'
+    marginals are read under them alone."""
+    text = priors.EVIDENCE_FILE.read_text()
+    cut = text.index('[[row]]\nid = "scour_oahu_one_event"')  # the rows only: the nuisance
+    without = tmp_path / "evidence.toml"  # parameter stays, so the Sobol' draws are the same
+    without.write_text(text[:cut])
+    a = calibrate.calibrate(tmp_path / "a.json", n=32, seed=7)
+    b = calibrate.calibrate(tmp_path / "b.json", n=32, seed=7, evidence_file=without)
+    assert set(a.weights) == {"impact", "scour"} and set(b.weights) == {"impact"}
+    np.testing.assert_array_equal(a.weights["impact"], b.weights["impact"])
+    assert (
+        a.record["report"]["posterior"]["sediment.rate_coefficient"]
+        == (b.record["report"]["posterior"]["sediment.rate_coefficient"])
+    )
+    # without its evidence the scour block is resampled from its prior draws with equal weights
+    assert sorted(b.record["set_index"]["scour"]) == list(range(32))
+
+
+def test_shipped_sets_resample_each_block_by_its_weights_and_pair_them_independently():
+    """Equal weights; a prior set repeated among the shipped sets carries one likelihood; the
+    blocks are paired by a permutation, not in the same order (rank correlation ~ 0)."""
+    shipped = json.loads(priors.POSTERIOR_FILE.read_text())
+    m = len(shipped["sets"])
+    assert shipped["weights"] == [1.0 / m] * m
+    cal_ll = shipped["log_likelihood"]
+    idx = {b: np.array(shipped["set_index"][b]) for b in shipped["blocks"]}
+    for b in shipped["blocks"]:
+        counts = np.bincount(idx[b])
+        # the likelihood recorded with a prior set is one value: the same set, the same score
+        for s in np.flatnonzero(counts > 1)[:20]:
+            assert len({ll for ll, k in zip(cal_ll[b], idx[b]) if k == s}) == 1
+    rank = scipy.stats.spearmanr(idx["impact"], idx["scour"]).statistic
+    assert abs(rank) < 0.1, rank
 
 
 def _fixed_and_drawn(n=400):
@@ -213,8 +255,63 @@ def test_drops_draw_posterior_sets_by_weight_and_leave_other_inputs_unchanged():
     u = uniforms(drawn.seed, [posterior.SET_INPUT], 0, n, "mc")[:, 0]
     rep = post.representative_sets()
     np.testing.assert_array_equal(sets, rep[np.minimum((u * rep.size).astype(int), rep.size - 1)])
-    for k, path in enumerate(post.paths):
+    # a scenario without a [scour] section draws no coefficient of the scour stage
+    assert drawn.posterior_paths == tuple(p for p in post.paths if not p.startswith("scour."))
+    for path in drawn.posterior_paths:
+        k = post.paths.index(path)
         np.testing.assert_array_equal(P1[:, layout.INDEX[path]], post.table[sets, k], err_msg=path)
+
+
+def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
+    """With a [scour] section the scour stage's calibrated coefficients come from each drop's
+    set (the stage reads them from the sampled inputs); one the section gives is kept."""
+    from mineburial.ensembles import scour as scour_ensemble
+
+    raw = short_default(12)
+    raw["ensemble"]["coefficients"] = "posterior"
+    raw["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}, "beq_b": 0.33}
+    raw["sediment"] = {"class": "sand"}
+    spec = engine.load_ensemble(raw)
+    assert "scour.beq_a" in spec.posterior_paths and "scour.beq_b" not in spec.posterior_paths
+    P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
+    sets = inputs[posterior.SET_INPUT].astype(int)
+    a = spec.posterior.table[sets, spec.posterior.paths.index("scour.beq_a")]
+    S, _ = scour_ensemble.stage_parameters(spec.scour, P, inputs)
+    np.testing.assert_array_equal(S[:, scour_ensemble.NUMERIC["beq_a"]], a)
+    assert np.all(S[:, scour_ensemble.NUMERIC["beq_b"]] == 0.33)
+
+
+def test_the_scour_case_names_the_slots_the_ensemble_fills():
+    """calibration.cases.SCOUR_COEFFICIENTS (field -> the stage's parameter name) and the
+    ensemble's NUMERIC (name -> slot) must point at the same slots."""
+    from mineburial.ensembles import scour as scour_ensemble
+    from mineburial.kernels.mine import scour as scour_kernels
+
+    for path, kernel_name in cases.SCOUR_COEFFICIENTS.items():
+        slot = getattr(scour_kernels, "S_" + kernel_name.upper())
+        assert scour_ensemble.NUMERIC[path.split(".", 1)[1]] == slot, path
+    calibrated = {p.path for p in priors.load_priors() if p.path.startswith("scour.")}
+    assert calibrated <= set(cases.SCOUR_COEFFICIENTS)
+
+
+def test_the_scour_band_case_is_the_validation_row_at_its_assumptions():
+    """At the stage's defaults and the validation's 12 s period the case gives the validation
+    row's B/D, and it grows with a (B_eq/D = a theta^b, Rennie et al. 2017)."""
+    (row,) = [r for r in vc.scour_field_bands() if r.quantity.startswith("B/D after one event")]
+    _, got = cases.run_case("scour_bands", "oahu", {"peak_tp": 12.0}, {}, {})
+    assert got["burial_fraction"][0] == pytest.approx(row.model, rel=1e-12)
+    _, more = cases.run_case("scour_bands", "oahu", {"peak_tp": 12.0}, {}, {"scour.beq_a": 1.8})
+    assert more["burial_fraction"][0] > got["burial_fraction"][0]
+
+
+def test_systematic_resampling_keeps_each_weight_to_within_one_set():
+    rng = np.random.default_rng(5)
+    for m in (32, 1000, 2048):
+        w = rng.dirichlet(np.full(300, 0.3))
+        idx = conditioning.systematic_resample(w, m)
+        counts = np.bincount(idx, minlength=w.size)
+        assert counts.sum() == m and np.all(np.diff(idx) >= 0)
+        assert np.all(np.abs(counts - m * w) < 1.0 + 1e-9)
 
 
 def test_representative_sets_follow_the_weights_to_within_one_set():
@@ -291,3 +388,19 @@ def test_the_summary_says_when_the_band_cannot_be_resolved():
     )
     lines = epistemic.summary_lines(ds, ["x"])
     assert "not resolved" in lines[-1] and "nan" not in lines[-1]
+
+
+def test_physics_doc_lists_every_prior_as_the_priors_file_declares_it():
+    """docs/physics.md's priors table is the one generated from priors.toml (issue 32: the
+    physics notes list every prior)."""
+    import pathlib
+
+    from mineburial.schema import generated_block
+
+    doc = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "physics.md").read_text()
+    assert generated_block("priors", priors.prior_table(), priors.DOC_WRITER) in doc, (
+        "regenerate: python -c 'from mineburial.calibration.priors import write_prior_table; "
+        "write_prior_table()'"
+    )
+    for p in priors.load_priors():
+        assert f"`{p.path}`" in doc

@@ -393,3 +393,8 @@ def test_a_map_drawing_from_the_posterior_holds_each_cells_epistemic_band(tmp_pa
     band = tuple(f"burial_class_probability_epistemic_{side}" for side in ("lower", "upper"))
     for name in ("burial_class_probability", *band):
         assert np.array_equal(ds[name].values[..., j, i], ref[name].values, equal_nan=True), name
+    # the figure draws the band: a second row of panels (the height of a 2-row figure at dpi 50)
+    png = plot_map(ds, tmp_path / "band.png", dpi=50).read_bytes()
+    plain = plot_map(ds.drop_vars(list(band)), tmp_path / "plain.png", dpi=50).read_bytes()
+    height = lambda data: int.from_bytes(data[20:24], "big")  # noqa: E731 -- PNG IHDR
+    assert height(png) > 1.7 * height(plain), (height(png), height(plain))

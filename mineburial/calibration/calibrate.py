@@ -31,12 +31,18 @@ from mineburial.io.files import atomic_write_bytes, atomic_write_text
 
 #: sets a block: the resume granularity
 BLOCK = 32
-#: sets whose weight is below this fraction of the largest are not shipped
-WEIGHT_FLOOR = 1e-6
+#: equally weighted sets the posterior file holds (at most as many as were drawn): each block's
+#: weights resampled to this many keep every set within 1/1024 of its weight; an ensemble draws
+#: among 32 of them (posterior.ENSEMBLE_SETS)
+SHIPPED_SETS = 1024
 METHOD = (
     "importance sampling from the prior: scrambled Sobol' draws of the coefficients and nuisance "
     "parameters, weighted by the product of the evidence rows' scores (Gaussian with measurement "
-    "sigma and model discrepancy for continuous rows, 1 - error_rate / error_rate for patterns)"
+    "sigma and model discrepancy for continuous rows, 1 - error_rate / error_rate for patterns), "
+    "block by block (the impact phase's cases and the scour stage's read disjoint coefficients, so "
+    "their posteriors are independent); the shipped sets are each block's weighted sets resampled "
+    "systematically to 1,024 equally weighted sets, the blocks paired by a seeded "
+    "permutation"
 )
 
 
@@ -151,35 +157,59 @@ def _grid_marginal(prior, joint_w) -> dict:
     return {"median": float(med), "q05": float(lo), "q95": float(hi)}
 
 
-def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tuple[np.ndarray, dict]:
-    """Weights of the sets, and the report: effective sample size, prior and posterior
-    marginals, the influence of each row and the leave-one-out predictive checks."""
+def _weights_of(block_w: dict, path: str, n: int) -> np.ndarray:
+    """The weights a coefficient's or nuisance parameter's marginal is read under: its block's
+    (the prior's where no evidence reads the block)."""
+    head = path.split(".")[0]
+    block = cases.CASE_BLOCK[head] if head in cases.CASE_BLOCK else cases.coefficient_block(path)
+    return block_w.get(block, np.full(n, 1.0 / n))
+
+
+def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tuple[dict, dict, dict]:
+    """Per block of the evidence (:data:`cases.CASE_BLOCK`), the (sets,) log likelihood and
+    weights of the sets, and the report: effective sample sizes, prior and posterior
+    marginals, the influence of each row and the leave-one-out predictive checks.
+
+    The blocks read disjoint coefficients, so the posterior is the product of the blocks'
+    and each is weighted on its own: weighting the sets by every row at once would multiply
+    the blocks' importance-sampling losses (an effective sample size of about the product of
+    their fractions) for nothing."""
     scores = conditioning.log_scores(rows, simulated)  # (sets, rows, grid)
     row_cases = [r.case for r in rows]
     by_case = conditioning.case_log_likelihoods(scores, row_cases)
-    log_likelihood = sum(by_case.values())
-    w = conditioning.normalised(log_likelihood)
     n, g = simulated.shape[0], simulated.shape[2]
+    blocks = list(dict.fromkeys(cases.CASE_BLOCK[c] for c in by_case))
+    block_ll = {
+        b: sum((v for c, v in by_case.items() if cases.CASE_BLOCK[c] == b), np.zeros(n)) for b in blocks
+    }
+    block_w = {b: conditioning.normalised(ll) for b, ll in block_ll.items()}
     w_prior = np.full(n, 1.0 / n)
     drawn = (*coefficients, *(p for p in nuisance if not p.integrate))
+    ess_blocks = {b: conditioning.effective_sample_size(w) for b, w in block_w.items()}
     report = {
-        "ess": conditioning.effective_sample_size(w),
+        "ess": min(ess_blocks.values()),
+        "ess_blocks": ess_blocks,
         "n_sets": n,
         "failed_sets": {
             r.id: int(np.sum(~np.isfinite(simulated[:, j]).all(axis=1))) for j, r in enumerate(rows)
         },
         "prior": {p.path: conditioning.marginal(p, draws[p.path], w_prior) for p in drawn},
-        "posterior": {p.path: conditioning.marginal(p, draws[p.path], w) for p in drawn},
+        "posterior": {
+            p.path: conditioning.marginal(p, draws[p.path], _weights_of(block_w, p.path, n)) for p in drawn
+        },
         "influence": {},
         "predictive": [],
     }
+
+    def others(case):
+        """(sets,) log likelihood of the other cases of ``case``'s block."""
+        block = cases.CASE_BLOCK[case]
+        return sum((v for c, v in by_case.items() if c != case and cases.CASE_BLOCK[c] == block), np.zeros(n))
+
     for p in nuisance:
         if p.integrate:
             case = p.path.split(".")[0]
-            rest = sum(v for c, v in by_case.items() if c != case)
-            joint = np.exp(
-                np.asarray(rest)[:, None] + scores[:, [c == case for c in row_cases], :].sum(axis=1)
-            )
+            joint = np.exp(others(case)[:, None] + scores[:, [c == case for c in row_cases], :].sum(axis=1))
             report["prior"][p.path] = _grid_marginal(p, np.ones((1, g)))
             report["posterior"][p.path] = _grid_marginal(p, joint)
     for j, r in enumerate(rows):
@@ -187,14 +217,15 @@ def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tupl
         report["influence"][r.id] = {
             p.path: conditioning.influence(p, draws[p.path], alone, w_prior) for p in drawn
         }
-        # every other row: the other cases' likelihoods and this case's other rows, point by point
-        rest = sum(v for c, v in by_case.items() if c != r.case)
+        # every other row of its block: the other cases' likelihoods and this case's other rows,
+        # point by point (a row of another block reads other coefficients: no information)
+        rest = others(r.case)
         mates = [k for k, c in enumerate(row_cases) if c == r.case and k != j]
-        joint = np.asarray(rest)[:, None] + scores[:, mates, :].sum(axis=1)
+        joint = rest[:, None] + scores[:, mates, :].sum(axis=1)
         w_joint = conditioning.normalised(joint.ravel())
         chk = conditioning.predictive_check(r, simulated[:, j, :].ravel(), w_joint, seed + j)
         # the posterior predictive with every row (the fit, not a check): this case's rows point by point
-        every = np.asarray(rest)[:, None] + scores[:, [c == r.case for c in row_cases], :].sum(axis=1)
+        every = rest[:, None] + scores[:, [c == r.case for c in row_cases], :].sum(axis=1)
         fit = conditioning.predictive_check(
             r, simulated[:, j, :].ravel(), conditioning.normalised(every.ravel()), seed + j
         )
@@ -212,30 +243,46 @@ def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tupl
                 "posterior_probability": fit.probability,
             }
         )
-    return log_likelihood, w, report
+    return block_ll, block_w, report
 
 
-def posterior_record(coefficients, draws, log_likelihood, w, report, identity) -> dict:
-    """The shipped posterior: the sets with weight above :data:`WEIGHT_FLOOR` of the largest,
-    their weights (renormalised) and the provenance."""
-    if not np.any(w > 0):
-        raise ScenarioError("calibration: no coefficient set reproduces the evidence (every weight is 0)")
-    keep = np.flatnonzero(w >= WEIGHT_FLOOR * w.max())
-    kept = w[keep] / w[keep].sum()
+def posterior_record(coefficients, draws, block_ll, block_w, report, identity) -> dict:
+    """The shipped posterior: :data:`SHIPPED_SETS` equally weighted sets, each block's
+    coefficients from that block's weighted sets resampled systematically (the first block in
+    order, the others permuted with the seed, so that the blocks are paired independently), and
+    the provenance. A block with no evidence is resampled from its prior draws with equal weights."""
+    n = len(next(iter(draws.values())))
+    for b, w in block_w.items():
+        if not np.any(w > 0):
+            raise ScenarioError(
+                f"calibration: no coefficient set reproduces the {b} evidence (every weight is 0)"
+            )
+    blocks = list(dict.fromkeys([*block_w, *(cases.coefficient_block(p.path) for p in coefficients)]))
+    rng = np.random.default_rng(identity["seed"])
+    m = min(n, SHIPPED_SETS)
+    index = {}
+    for k, b in enumerate(blocks):
+        idx = conditioning.systematic_resample(block_w.get(b, np.full(n, 1.0 / n)), m)
+        index[b] = idx if k == 0 else idx[rng.permutation(m)]
+    members = {b: [p.path for p in coefficients if cases.coefficient_block(p.path) == b] for b in blocks}
+    where = [index[cases.coefficient_block(p.path)] for p in coefficients]
     return {
         "format": "mineburial-posterior",
-        "format_version": 1,
+        "format_version": 2,
         **identity,
         "created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "method": METHOD,
         "coefficients": [p.path for p in coefficients],
         "labels": {p.path: list(p.distribution.values) for p in coefficients if p.categorical},
-        "sets": [[_scalar(draws[p.path][s]) for p in coefficients] for s in keep],
-        "weights": kept.tolist(),
-        "set_index": keep.tolist(),  # each kept set's place among the prior draws
-        "log_likelihood": log_likelihood[keep].tolist(),
+        "sets": [[_scalar(draws[p.path][w[k]]) for p, w in zip(coefficients, where)] for k in range(m)],
+        "weights": [1.0 / m] * m,
+        "blocks": members,
+        # block by block, each shipped set's place among the prior draws and its log likelihood
+        "set_index": {b: index[b].tolist() for b in blocks},
+        "log_likelihood": {b: block_ll[b][index[b]].tolist() for b in blocks if b in block_ll},
+        "distinct_sets": {b: int(np.unique(index[b]).size) for b in blocks},
         "ess": report["ess"],
-        "ess_kept": conditioning.effective_sample_size(kept),
+        "ess_blocks": report["ess_blocks"],
         "report": report,
     }
 
@@ -247,8 +294,12 @@ class Calibration:
 
     record: dict
     draws: dict
-    weights: np.ndarray
-    log_likelihood: np.ndarray
+    weights: dict  # block -> (sets,)
+    log_likelihood: dict  # block -> (sets,)
+
+    def weights_of(self, path: str) -> np.ndarray:
+        """The weights of the prior sets under which ``path``'s marginal is read (its block's)."""
+        return _weights_of(self.weights, path, len(next(iter(self.draws.values()))))
 
 
 def identity(n: int, seed: int, priors_file, evidence_file) -> dict:
@@ -284,11 +335,11 @@ def calibrate(
     if threads is None:
         threads = numba.get_num_threads()
     simulated = simulate(rows, coefficients, nuisance, draws, n, threads, blocks, progress)
-    log_likelihood, w, report = condition(coefficients, nuisance, rows, draws, simulated, seed)
-    record = posterior_record(coefficients, draws, log_likelihood, w, report, ident)
+    block_ll, block_w, report = condition(coefficients, nuisance, rows, draws, simulated, seed)
+    record = posterior_record(coefficients, draws, block_ll, block_w, report, ident)
     atomic_write_text(output, json.dumps(record, indent=1, allow_nan=True) + "\n")
     blocks.remove()
-    return Calibration(record, draws, w, log_likelihood)
+    return Calibration(record, draws, block_w, block_ll)
 
 
 def _progress_lines(total: int):
@@ -319,9 +370,14 @@ def report_text(record: dict) -> str:
         "",
         f"Method: {record['method']}.",
         "",
-        f"Effective sample size: {rep['ess']:.1f} of {rep['n_sets']} sets; "
-        f"{len(record['weights'])} sets kept "
-        f"(weight >= {WEIGHT_FLOOR:g} of the largest; effective {record['ess_kept']:.1f}).",
+        "Effective sample size of each block of the evidence (conditioned on its own: the blocks "
+        "read disjoint coefficients): "
+        + "; ".join(
+            f"{b} {e:.1f} of {rep['n_sets']} sets ({record['distinct_sets'][b]} distinct among the "
+            f"{len(record['weights'])} shipped)"
+            for b, e in rep["ess_blocks"].items()
+        )
+        + ".",
         "",
         "## Prior and posterior (median [5 %, 95 %]; a model choice: its probabilities)",
         "",
@@ -381,8 +437,9 @@ def report_text(record: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_marginals(record: dict, coefficients, draws, weights, path) -> None:
-    """Prior (grey) against posterior (blue) marginals of every coefficient, one panel each."""
+def plot_marginals(record: dict, coefficients, draws, weights_of, path) -> None:
+    """Prior (grey) against posterior (blue) marginals of every coefficient, one panel each
+    (``weights_of(path)``: the prior sets' weights for that coefficient, its block's)."""
     Figure = figures.figure_class()
     k = len(coefficients)
     cols = 3
@@ -391,6 +448,7 @@ def plot_marginals(record: dict, coefficients, draws, weights, path) -> None:
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
     for ax, prior in zip(axes, coefficients):
         values = draws[prior.path]
+        weights = weights_of(prior.path)
         if prior.categorical:
             labels = list(prior.distribution.values)
             x = np.arange(len(labels))
@@ -420,7 +478,8 @@ def plot_marginals(record: dict, coefficients, draws, weights, path) -> None:
         ax.set_visible(False)
     axes[0].legend(fontsize=8)
     rep = record["report"]
-    fig.suptitle(f"mineburial calibrate: {rep['n_sets']} prior sets, effective sample size {rep['ess']:.0f}")
+    ess = ", ".join(f"{b} {e:.0f}" for b, e in rep["ess_blocks"].items())
+    fig.suptitle(f"mineburial calibrate: {rep['n_sets']} prior sets, effective sample size {ess}")
     figures.save_figure(fig, path, dpi=110)
 
 
@@ -438,11 +497,13 @@ def run_cli(args) -> int:
     if args.report:
         atomic_write_text(args.report, report_text(record))
     if args.plot:
-        plot_marginals(record, coefficients, cal.draws, cal.weights, args.plot)
+        plot_marginals(record, coefficients, cal.draws, cal.weights_of, args.plot)
     rep = record["report"]
     passed = sum(c["passed"] for c in rep["predictive"])
     print(
-        f"calibrate: {rep['n_sets']} sets, effective sample size {rep['ess']:.1f}; predictive checks "
+        f"calibrate: {rep['n_sets']} sets, effective sample size "
+        + ", ".join(f"{b} {e:.1f}" for b, e in rep["ess_blocks"].items())
+        + "; predictive checks "
         f"{passed} of {len(rep['predictive'])} pass; {time.perf_counter() - t0:.1f} s"
     )
     for path, post in rep["posterior"].items():

@@ -14,6 +14,10 @@ case is run under every coefficient set with the same code as an ensemble drop.
 * ``anchor``: the torpedo anchor of the validation (:func:`cases.anchor_scenario`) with the
   impact speed and s_u / sigma'_v as nuisance parameters; quantity: tip embedment in anchor
   lengths.
+* ``scour_bands``: the field bands of the post-impact scour stage (the validation's Oahu and
+  Halekulani events, :data:`validation.cases.SCOUR_EVENTS`), the peak wave period a nuisance
+  parameter; quantity: B/D at the end of the event series, from the stage kernel an ensemble
+  runs, with the set's ``scour.*`` coefficients (issue 33 conditions its laws here).
 """
 
 from __future__ import annotations
@@ -55,12 +59,41 @@ def _anchor(variant: str, impact_speed: float, strength_ratio: float):
 #: case -> (scenario builder (variant, **nuisance), whether its quantities need a trajectory)
 CASES = {"exp1": (_exp1, True), "anchor": (_anchor, False)}
 
+#: the independent blocks of the evidence: the cases of a block read only the coefficients of
+#: that block (:func:`coefficient_block`), so its rows are conditioned on their own and the
+#: posterior is the product of the blocks' (calibrate.condition)
+CASE_BLOCK = {"exp1": "impact", "anchor": "impact", "scour_bands": "scour"}
+
+
+def coefficient_block(path: str) -> str:
+    """The block of a coefficient: the scour stage's (``scour.*``) or the impact phase's."""
+    return "scour" if path.startswith("scour.") else "impact"
+
+
+#: the scour stage's coefficients a set may carry: scenario field -> the stage kernel's name
+#: (kernels/mine/scour.py ``default_parameters``; the same slots as ensembles/scour.py's NUMERIC)
+SCOUR_COEFFICIENTS = {"scour.beq_a": "beq_a", "scour.beq_b": "beq_b", "scour.theta_exponent": "tstar_p"}
+
+
+def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:
+    """B/D at the end of the validation's scour event ``variant`` (``oahu``, ``halekulani``:
+    fine carbonate sand, the mine proud, every assumption of validation.cases' scour rows) with
+    the peak period ``peak_tp`` and the set's ``scour.*`` coefficients (the stage's defaults for
+    the others)."""
+    event = {**vc.SCOUR_EVENTS[variant], "peak_tp": float(peak_tp)}
+    params = {SCOUR_COEFFICIENTS[k]: float(v) for k, v in coefficients.items() if k in SCOUR_COEFFICIENTS}
+    burial, _ = vc.scour_final_burial(event, d50=vc.SCOUR_FINE, rho_grain=vc.SCOUR_CARBONATE, **params)
+    return burial
+
 
 def apply_coefficients(p: np.ndarray, values: dict) -> np.ndarray:
     """A copy of the packed row ``p`` with each coefficient ``path -> value`` written into its
-    slot (a model choice's label as its code)."""
+    slot (a model choice's label as its code); the post-impact stage's (``scour.*``) have no
+    slot and are left out."""
     p = p.copy()
     for path, value in values.items():
+        if path.startswith("scour."):
+            continue
         if path in model_form.CHOICE_FIELDS:
             value = model_form.CHOICE_FIELDS[path].index(value)
         p[layout.INDEX[path]] = float(value)
@@ -152,6 +185,10 @@ def run_case(case: str, variant: str, nuisance: dict, grid: dict, coefficients: 
     """Run one evidence drop; returns (status code, {quantity: values}), one value for each
     point of the case's integrated nuisance parameter (``grid``: name -> values; one value
     when it has none). A drop that did not end normally gives no quantities."""
+    if case == "scour_bands":  # no drop: the stage kernel on the event series
+        return status.AT_REST, {
+            "burial_fraction": np.array([scour_burial(variant, coefficients, **nuisance)])
+        }
     build, needs_trajectory = CASES[case]
     if needs_trajectory:  # Exp-1: one drop to a floor below every grid depth
         depths = np.asarray(grid["pool_depth"], dtype=np.float64)

@@ -165,3 +165,12 @@ def predictive_check(row: EvidenceRow, y: np.ndarray, w: np.ndarray, seed: int) 
     draws = y[pick] + rng.normal(0.0, row.total_sigma, PREDICTIVE_DRAWS)
     lo, hi = np.quantile(draws, PREDICTIVE_BAND)
     return PredictiveCheck(row, ess, float(lo), float(hi), math.nan, bool(lo <= row.observed <= hi))
+
+
+def systematic_resample(w: np.ndarray, m: int) -> np.ndarray:
+    """``m`` indices drawn from weights ``w`` by systematic resampling at the points
+    (j + 1/2)/m of their cumulative sum (deterministic, sorted; each index appears within one
+    of m times its weight)."""
+    cum = np.cumsum(w)
+    cum /= cum[-1]
+    return np.minimum(np.searchsorted(cum, (np.arange(m) + 0.5) / m, side="right"), cum.size - 1)

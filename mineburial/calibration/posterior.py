@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mineburial.calibration import conditioning
 from mineburial.calibration.priors import EVIDENCE_FILE, POSTERIOR_FILE, PRIORS_FILE, file_digest
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles import model_form
@@ -50,10 +51,7 @@ class Posterior:
         """``k`` set indices (default :data:`ENSEMBLE_SETS`) that stand for the posterior with
         equal weight: systematic resampling of the weights at the points (j + 1/2)/k of their
         cumulative sum, deterministic (a heavy set may appear more than once)."""
-        k = ENSEMBLE_SETS if k is None else k
-        cum = np.cumsum(self.weights)
-        cum /= cum[-1]
-        return np.minimum(np.searchsorted(cum, (np.arange(k) + 0.5) / k, side="right"), cum.size - 1)
+        return conditioning.systematic_resample(self.weights, ENSEMBLE_SETS if k is None else k)
 
     def set_choice(self) -> dist.Choice:
         """The distribution of :data:`SET_INPUT`: :meth:`representative_sets` with equal weights,
@@ -71,7 +69,16 @@ class Posterior:
 
     def provenance(self) -> dict:
         """What the output records of the posterior an ensemble drew from."""
-        keys = ("created", "method", "n_prior_sets", "seed", "priors_sha256", "evidence_sha256", "ess")
+        keys = (
+            "created",
+            "method",
+            "n_prior_sets",
+            "seed",
+            "priors_sha256",
+            "evidence_sha256",
+            "ess",
+            "ess_blocks",
+        )
         return {
             "source": self.source,
             "sha256": self.digest,
@@ -118,10 +125,13 @@ def load(which, base_dir=None) -> Posterior:
 
 
 def drawn_paths(posterior: Posterior, raw: dict) -> tuple[str, ...]:
-    """The posterior's coefficients that scenario ``raw`` does not give itself."""
+    """The posterior's coefficients that scenario ``raw`` does not give itself; those of the
+    post-impact scour stage only where the scenario has a ``[scour]`` section."""
     out = []
     for path in posterior.paths:
         section, name = path.split(".")
+        if section == "scour" and not isinstance(raw.get("scour"), dict):
+            continue
         if name not in raw.get(section, {}):
             out.append(path)
     return tuple(out)

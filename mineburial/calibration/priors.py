@@ -42,6 +42,7 @@ QUANTITIES = {
     "embedment_lengths": "continuous",
     "slant_straight": "binary",
     "flip_then_spiral": "binary",
+    "burial_fraction": "continuous",
 }
 
 
@@ -182,3 +183,36 @@ def load_evidence(path=EVIDENCE_FILE) -> tuple[tuple[EvidenceRow, ...], tuple[Pr
         entry["path"] = f"{entry.get('case')}.{entry.get('name')}"
         nuisance.append(_prior(entry, f"{path}: nuisance[{j}]", "path"))
     return tuple(rows), tuple(nuisance)
+
+
+#: who writes the priors table of docs/physics.md (schema.replace_generated's markers)
+DOC_WRITER = "mineburial.calibration.priors.write_prior_table"
+
+
+def _prior_text(d: dist.Distribution) -> str:
+    """A prior in a few words: ``uniform 0.2-0.6``, ``a 1 : b 1``."""
+    if isinstance(d, dist.Choice):
+        return " : ".join(f"{v} {w:g}" for v, w in zip(d.values, d.weights))
+    if isinstance(d, dist.Uniform):
+        return f"uniform {d.low:g} to {d.high:g}"
+    return ", ".join(f"{k} {v}" for k, v in d.to_dict().items())
+
+
+def prior_table(path=PRIORS_FILE) -> str:
+    """The Markdown table of every coefficient prior of ``path`` (docs/physics.md)."""
+    lines = ["| coefficient | prior | source |", "|---|---|---|"]
+    for p in load_priors(path):
+        lines.append(f"| `{p.path}` | {_prior_text(p.distribution)} | {p.source} |")
+    return "\n".join(lines) + "\n"
+
+
+def write_prior_table(doc="docs/physics.md") -> None:
+    """Regenerate the priors table of ``doc`` from priors.toml (run from the repository root;
+    tests/test_calibration.py fails until then)."""
+    from mineburial.io.files import atomic_write_text
+    from mineburial.schema import replace_generated
+
+    doc = pathlib.Path(doc)
+    atomic_write_text(
+        doc, replace_generated(doc.read_text(encoding="utf-8"), "priors", prior_table(), DOC_WRITER)
+    )

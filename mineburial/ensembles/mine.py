@@ -388,7 +388,8 @@ def _posterior_inputs(spec, index, P, inputs) -> None:
     columns = spec.posterior.paths
     for path in spec.posterior_paths:
         values = spec.posterior.table[sets, columns.index(path)]
-        P[:, layout.INDEX[path]] = values
+        if not path.startswith("scour."):  # the scour stage reads its own from the inputs
+            P[:, layout.INDEX[path]] = values
         inputs[path] = values
 
 

@@ -187,7 +187,7 @@ def _random_slots(spec: engine.EnsembleSpec) -> set[int]:
         elif path.startswith("scour."):  # the stage's own inputs: no impact slot
             continue
         elif path == posterior.SET_INPUT:  # the coefficients drawn from the posterior
-            slots.update(layout.INDEX[p] for p in spec.posterior_paths)
+            slots.update(layout.INDEX[p] for p in spec.posterior_paths if not p.startswith("scour."))
         else:
             slots.add(layout.INDEX[cfg.ALIASES.get(path, path)])
     if spec.recompute_inertia:
