@@ -28,8 +28,10 @@ summary, with a warning beyond the targets of docs/design.md (p95 1 %, max 5 %).
 
 from __future__ import annotations
 
+import math
 import time
 
+import numba
 import numpy as np
 
 from mineburial.ensembles import batch
@@ -48,6 +50,9 @@ TARGETS = (1.0, 5.0)
 FLOOR_M = 0.005
 #: the penetration below which changes are taken relative to this depth instead, m
 SCALE_M = 0.5
+#: the probability with which the check is to see at least one failing drop (the sizing rule:
+#: a failure rate q among the drops is seen with probability 1 - (1 - q)^n on n drops)
+DETECTION_PROBABILITY = 0.9
 #: mixed into the seed for the subsample's own generator (the drops' input streams stay untouched)
 _STREAM = 0x5E1F_C4EC
 _FIXED_STEP = tuple(layout.INTEGRATOR_NAMES.index(name) for name in ("rk4", "local_linear"))
@@ -56,6 +61,19 @@ REFERENCE_TEXT = (
     "sediment_quadrature "
     "'reference', overburden_quadrature 'reference' (a fixed-step integrator replaced by 'dopri5')"
 )
+
+
+def detectable_rate(n: int, probability: float = DETECTION_PROBABILITY) -> float:
+    """The least failure rate q (a fraction of the drops) that ``n`` drops chosen at random
+    catch (at least one failing drop among them) with ``probability``: 1 - (1 - q)^n =
+    probability, q = 1 - (1 - probability)^(1/n) (8 drops: 25 %; 230: 1 %)."""
+    return 1.0 - (1.0 - probability) ** (1.0 / n) if n > 0 else 1.0
+
+
+def drops_needed(rate: float, probability: float = DETECTION_PROBABILITY) -> int:
+    """The least number of drops n with 1 - (1 - rate)^n >= probability: 230 for a failure
+    rate of 1 % at 90 %."""
+    return math.ceil(math.log1p(-probability) / math.log1p(-rate) - 1e-12)
 
 
 def reference_params(P) -> np.ndarray:
@@ -101,11 +119,13 @@ def differences(summary, status, ref_summary, ref_status, class_basis="burial_vo
     }
 
 
-def self_check(spec, chunks, chunk_inputs) -> dict:
+def self_check(spec, chunks, chunk_inputs, progress: bool = False) -> dict:
     """The ``numerical_check_*`` global attributes of mine ensemble ``spec`` from its chunk
     results in drop order: the subsample re-run on the reference path and its differences,
     or why it was skipped. ``chunk_inputs(spec, start, stop)`` packs drops' parameters
-    (:func:`mineburial.ensembles.mine.chunk_inputs`)."""
+    (:func:`mineburial.ensembles.mine.chunk_inputs`). ``progress``: the run's rate-limited
+    progress lines (:class:`~mineburial.ensembles.runner.Progress`) while the drops are re-run,
+    a block of one drop a thread at a time."""
     size = int(spec.accuracy_check)
     if size == 0:
         return {"numerical_check": "skipped (ensemble.accuracy_check = 0)"}
@@ -115,10 +135,8 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
     if idx.size == 0:
         return {"numerical_check": "skipped (no drop was run: every drop's inputs were invalid)"}
     t0 = time.monotonic()
-    P = np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()])
-    ref_summary, ref_status = batch.run_batch(
-        reference_params(P), np.ones(idx.size, bool), spec.sediment_bank, spec.current_bank
-    )
+    P = reference_params(np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()]))
+    ref_summary, ref_status = _rerun(P, spec, progress)
     wall = time.monotonic() - t0
     ended = np.isin(status[idx], st.IN_STATISTICS) & np.isin(ref_status, st.IN_STATISTICS)
     if not ended.any():  # e.g. every drop timed out: nothing measured, so no pass (issue 35)
@@ -131,6 +149,7 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
         "numerical_check_reference": REFERENCE_TEXT,
         "numerical_check_drops": np.int64(idx.size),
         "numerical_check_drop_indices": idx.astype(np.int64),
+        "numerical_check_detectable_failure_percent": round(100.0 * detectable_rate(idx.size), 3),
         "numerical_check_penetration_p95_percent": diff["p95"],
         "numerical_check_penetration_max_percent": diff["max"],
         "numerical_check_penetration_max_drop": np.int64(worst),
@@ -140,6 +159,26 @@ def self_check(spec, chunks, chunk_inputs) -> dict:
         "numerical_check_exceeds_targets": np.int8(exceeded),
         "numerical_check_wall_time_s": round(wall, 3),
     }
+
+
+def _rerun(P, spec, progress: bool):
+    """``(summary, status)`` of the drops whose reference parameters are the rows of ``P``:
+    one batch, or with ``progress`` blocks of one drop a thread, each followed by a progress
+    line when one is due (the results are the same: each drop writes only its own row)."""
+    valid = np.ones(P.shape[0], bool)
+    if not progress:
+        return batch.run_batch(P, valid, spec.sediment_bank, spec.current_bank)
+    from mineburial.ensembles.runner import Progress  # runner imports the systems, which import this
+
+    bar = Progress(P.shape[0], unit="self-check drops")
+    bar.update(0)
+    step = max(1, numba.get_num_threads())
+    parts = []
+    for a in range(0, P.shape[0], step):
+        block = slice(a, a + step)
+        parts.append(batch.run_batch(P[block], valid[block], spec.sediment_bank, spec.current_bank))
+        bar.update(min(a + step, P.shape[0]), final=a + step >= P.shape[0])
+    return np.concatenate([s for s, _ in parts]), np.concatenate([c for _, c in parts])
 
 
 def _inconclusive(idx, status, ref_status, wall: float) -> dict:
@@ -184,6 +223,12 @@ def summary_lines(ds) -> list[str]:
         f"{int(a['numerical_check_class_changes'])}, status on {int(a['numerical_check_status_changes'])}; "
         f"{float(a['numerical_check_wall_time_s']):.1f} s"
     ]
+    if "numerical_check_detectable_failure_percent" in a:
+        lines[0] += (
+            f"; {n} drops catch a defect of "
+            f"{float(a['numerical_check_detectable_failure_percent']):.3g} % of drops with "
+            f"{DETECTION_PROBABILITY:.0%} probability ({drops_needed(0.01)} drops for 1 %)"
+        )
     if int(a["numerical_check_exceeds_targets"]):
         lines.append(
             f"WARNING: the numerical error exceeds its targets (p95 <= {TARGETS[0]:g} %, max <= "
