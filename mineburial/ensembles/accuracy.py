@@ -24,6 +24,14 @@ max(reference penetration, 0.5 m), a change of at most 5 mm counting as 0, its 9
 percentile and maximum, and the drops whose burial class (on the run's class basis) or end
 status changes. They go into the global attributes ``numerical_check_*`` and the printed
 summary, with a warning beyond the targets of docs/design.md (p95 1 %, max 5 %).
+
+Its size (issue 34): n drops catch a defect of a fraction q of the drops (at least one failing
+drop among them) with probability 1 - (1 - q)^n; the attribute
+``numerical_check_detectable_failure_percent`` and the summary state the q caught with
+probability 0.9 (:func:`detectable_rate`: 25 % for the default 8 drops; :func:`drops_needed`:
+230 drops for 1 %). 230 reference drops cost ~6.5x the default run, so the default stays 8
+(docs/design.md, "Sizing"). With ``progress`` the drops are re-run a block of one drop a
+thread at a time, with the run's progress lines.
 """
 
 from __future__ import annotations

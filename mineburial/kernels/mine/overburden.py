@@ -17,7 +17,10 @@ volume and centroid exactly), each slice acting at its centroid. Two rules
   body, so that the density is linear within each slice and int rho dV = V rho(zeta_c)
   with zeta_c the slice's centroid depth: exact for the force (and for the torque when
   the density is uniform within each slice); a linear profile is one slice. Its cost is
-  the number of table depths within the penetration (~5,000 for a centimetre core).
+  the number of table depths within the penetration (~5,000 for a centimetre core), so
+  beyond :data:`REFERENCE_DEPTHS` of them it takes :func:`_bounded` with
+  :data:`REFERENCE_SLICES` slices (issue 34: 8e-7 of the force from the slicing at every
+  depth on a rough 20,000-row core, docs/notes/sediment.md).
 ``fast`` (the default): the reference rule while at most :data:`EXACT_DEPTHS` table
   depths lie inside the embedded span (every analytic profile and every short table:
   bit-identical to it), else :func:`_bounded`: :data:`SLICES` equal slices of the
@@ -113,7 +116,8 @@ def with_long_tables(paths, params, sediment_bank):
     """``paths`` (:func:`.stepper.reference_paths` of the drops whose parameter vectors are the
     rows of ``params``), or ``True`` when one of them may take the bounded rule: its overburden
     quadrature ``fast`` and its sediment table with more than :data:`EXACT_DEPTHS` depths below
-    the seabed (:func:`depths_inside` counts no more). The bounded rule is then compiled with
+    the seabed (:func:`depths_inside` counts no more), or ``reference`` and more than
+    :data:`REFERENCE_DEPTHS`. The bounded rule is then compiled with
     the reference paths: a run's self-check (ensembles/accuracy.py) compiles those anyway, and a
     third type of ``paths`` would compile the whole drop once more (docs/design.md)."""
     if paths is not None:

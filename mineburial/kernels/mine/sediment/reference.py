@@ -13,6 +13,10 @@ panels between the corners of the cut disk. Gauss-Legendre on every part, sinh
 transformations at near-singular ends; no allocation (``docs/notes/sediment.md``
 section 3 gives the derivation and the measured error and cost).
 
+A tabulated profile's depths split the lines and panels while at most ``REFERENCE_LEVELS`` lie
+in a span; beyond, a long table's rows are sampled by ``LONG_PIECES`` equal pieces, so that the
+cost does not grow with the rows (issue 34; ``docs/notes/sediment.md``).
+
 Its cost (60-350 us an evaluation) and its adaptivity (the number of panels and
 points changes with the state, so the force is rough on the scale of its error) make
 it the guard of the fast rule (:mod:`.fast`) in the tests, not the default.
@@ -428,8 +432,10 @@ def _part(sa, sb, anchor, eps, side, npts, n, line, nlev, row, vel, law, bank, a
     """``acc`` plus the moments over one part [sa, sb] mapped as :func:`_part_map` says: the
     near-singular layer within LAYER_WIDTHS eps of the anchor sinh-mapped (u <= asinh(
     LAYER_WIDTHS)), the rest plain Gauss-Legendre; each split where it crosses one of the
-    ``nlev`` tabulated depths of profile ``row`` (a kink of the profile), each piece getting a
-    share of the points proportional to its length, at least LEVEL_POINTS."""
+    tabulated depths of profile ``row`` (``nlev`` > 0: a kink of the profile), each piece getting
+    a share of the points proportional to its length, at least LEVEL_POINTS, while at most
+    REFERENCE_LEVELS depths lie in its span (found by bisection, not by a scan of the row); else
+    LONG_PIECES equal pieces of ``npts`` points (a long table: the rows sampled)."""
     z0 = line[9]
     z1 = line[10]
     sa0 = sa
@@ -566,7 +572,8 @@ def _depth_line_break(cur, nxt, e_nxt, er_nxt, fe, fd, xa, xb, zmax, row, bank, 
     """The next panel end ``(nxt, e, er)`` on the lateral surface with a tabulated profile:
     the first angle after ``cur`` and before ``nxt`` where a tabulated depth line d reaches a
     body end xe, (E0 - d) + E1 xe = 0, on the advancing side (no near-singularity there);
-    else ``nxt`` and its scales unchanged."""
+    else ``nxt`` and its scales unchanged. A long table (more than REFERENCE_LEVELS depths above
+    ``zmax``) adds no panel ends (its rows are sampled, :func:`_part`)."""
     inf = math.inf
     j0, j1 = _levels_between(bank, row, 0.0, zmax)
     if j1 - j0 + 1 > REFERENCE_LEVELS:  # a long table: no panel ends at its depth lines
