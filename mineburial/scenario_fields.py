@@ -608,7 +608,8 @@ TABLE: tuple[Field, ...] = (
             "rule for the geostatic overburden force (`friction`, `bearing`): `fast` slices the body "
             "at the table's depths while at most 12 lie inside it (exact) and in 12 equal slices "
             "beyond (cost independent of the table's rows; error ~1e-5 on smooth profiles), "
-            "`reference` always at every table depth (cost grows with the rows) "
+            "`reference` at every table depth while at most 256 lie inside it and in 256 equal slices "
+            "beyond (error ~1e-6 of the former slicing at every depth on a rough 20,000-row core) "
             "(docs/notes/sediment.md)"
         ),
         "fast",

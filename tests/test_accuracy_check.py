@@ -2,7 +2,7 @@
 
 Independent reference: the same drops run by the test as a second ensemble whose scenario
 asks for the reference numerics in its own ``[numerics]`` table (rtol 1e-5, atol 1e-6, the
-reference sediment and overburden quadratures: the same sampled inputs, since a fixed field
+reference sediment and overburden quadratures, dopri5 throughout: the same sampled inputs, since a fixed field
 changes no draw), the differences recomputed here with numpy from the two runs' per-drop
 outputs; and the main results compared bit for bit with a run without the check.
 """
@@ -24,6 +24,7 @@ REFERENCE = {
     "atol": 1e-6,
     "sediment_quadrature": "reference",
     "overburden_quadrature": "reference",
+    "integrator": "dopri5",  # another family than the default's Rosenbrock-W step in the sediment
 }
 
 
@@ -192,3 +193,39 @@ def test_the_check_is_inconclusive_not_a_pass_when_every_drop_timed_out():
     assert "numerical_check_exceeds_targets" not in ds.attrs
     assert "numerical_check_penetration_p95_percent" not in ds.attrs
     assert f"numerical self-check: {state}" in summarize(ds)
+
+
+def test_the_sizing_rule_is_the_binomial_chance_of_seeing_one_failing_drop():
+    # 1 - (1 - q)^n >= 0.9: at q = 1 % the least n is 230 (1 - 0.99^229 = 0.8999, 0.99^230 = 0.0991)
+    assert accuracy.drops_needed(0.01) == 230
+    assert 1.0 - 0.99**229 < 0.9 <= 1.0 - 0.99**230
+    for n in (1, 3, 8, 230, 1000):
+        q = accuracy.detectable_rate(n)
+        assert 1.0 - (1.0 - q) ** n == pytest.approx(0.9, rel=1e-12)  # the chance, recomputed
+        assert accuracy.drops_needed(q * (1.0 + 1e-9)) <= n < accuracy.drops_needed(q * (1.0 - 1e-6)) + 1
+    assert accuracy.detectable_rate(8) == pytest.approx(1.0 - 0.1**0.125)  # 25.0 %
+
+
+def test_the_check_states_its_detectable_failure_rate_and_prints_progress(runs, capsys):
+    checked, _, _ = runs
+    rate = float(checked.attrs["numerical_check_detectable_failure_percent"])
+    assert rate == pytest.approx(100.0 * (1.0 - 0.1 ** (1.0 / SIZE)), abs=1e-3)  # 3 drops: 53.6 %
+    assert f"catch a defect of {rate:.3g} % of drops with 90% probability (230 drops for 1 %)" in summarize(
+        checked
+    )
+    attrs = run_ensemble(steep(), n=N, seed=SEED, self_check=True, progress=True).attrs
+    printed = capsys.readouterr().err
+    assert f"self-check drops {SIZE}/{SIZE} (100.0 %)" in printed, printed
+    for key, value in checked.attrs.items():  # the blocks of the progress lines change nothing
+        if key.startswith("numerical_check") and key != "numerical_check_wall_time_s":
+            assert np.array_equal(np.asarray(attrs[key]), np.asarray(value)), key
+
+
+def test_the_reference_integrates_with_another_family_than_the_drop():
+    names = layout.INTEGRATOR_NAMES
+    P = np.zeros((len(names), layout.N_PARAMS))
+    P[:, layout.P_INTEGRATOR] = np.arange(len(names))
+    got = [names[int(i)] for i in accuracy.reference_params(P)[:, layout.P_INTEGRATOR]]
+    expected = {"dopri5": "dopri5_ros34pw2"}  # every other one: explicit Dormand-Prince throughout
+    assert got == [expected.get(name, "dopri5") for name in names]
+    assert all(g != n for g, n in zip(got, names, strict=True))

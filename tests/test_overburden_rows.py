@@ -74,6 +74,15 @@ def force(p, bank, a_z, penetration, quadrature, paths=True):
     )
 
 
+def exact(p, bank, a_z, penetration):
+    """(F, F x, F eta) by the slice-at-every-table-depth rule (``_exact``: the reference rule of
+    before issue 34, whatever the table's length), independent of the quadrature code."""
+    L, R, chi = p[layout.P_LENGTH], 0.5 * p[layout.P_DIAMETER], p[layout.P_CHI]
+    z_lo, _ = vertical_extent(L, R, chi, a_z, 0.0)
+    z_c = -penetration - z_lo
+    return np.array(ob._exact(Cylinder(L, R, chi), a_z, z_c, 0.0, penetration, RHO_W, G, p, bank))
+
+
 def geometry(p):
     return p[layout.P_LENGTH], 0.5 * p[layout.P_DIAMETER], p[layout.P_CHI]
 
@@ -129,9 +138,8 @@ def test_bounded_rule_against_the_exact_slicing_on_a_30000_row_smooth_profile():
     for a_z in ATTITUDES:
         for pen in PENETRATIONS:
             fast = force(p, bank, a_z, pen, "fast")
-            exact = force(p, bank, a_z, pen, "reference")
             assert ob.depths_inside(bank, 0, pen) > ob.EXACT_DEPTHS  # the bounded rule ran
-            worst = np.maximum(worst, relative(fast, exact, p))
+            worst = np.maximum(worst, relative(fast, exact(p, bank, a_z, pen), p))
     # measured: 3.5e-6 (force), 8.8e-6 (x moment), 3.9e-5 (e_down moment)
     assert worst[0] < 1e-5 and worst[1] < 1e-4 and worst[2] < 1e-4, worst
 
@@ -145,9 +153,11 @@ def test_bounded_and_exact_rules_against_scipy_dblquad():
 
     for a_z, pen in ((0.0, 0.8), (0.3, 1.5), (-0.6, 2.5)):
         ref = scipy_force(p, a_z, pen, rho)
-        # the reference rule: exact for the table's piecewise-linear density (the table
-        # differs from the smooth curve by ~2e-5 kg m-3); its torque treats each 1/3 mm
-        # slice as uniform
+        # the slicing at every depth: exact for the table's piecewise-linear density (the
+        # table differs from the smooth curve by ~2e-5 kg m-3); its torque treats each 1/3 mm
+        # slice as uniform. The reference rule: REFERENCE_SLICES slices beyond
+        # REFERENCE_DEPTHS depths (measured 3e-11, 3e-8, 5e-8 from the former)
+        assert np.all(relative(exact(p, bank, a_z, pen), ref, p) < 1e-6)
         assert np.all(relative(force(p, bank, a_z, pen, "reference"), ref, p) < 1e-6)
         assert np.all(relative(force(p, bank, a_z, pen, "fast"), ref, p) < 1e-4)
 
@@ -159,7 +169,7 @@ def test_linear_profile_force_is_exact_with_the_bounded_rule():
     p, bank = drop_inputs(z, 1420.0 + 30.0 * z)
     for a_z in ATTITUDES:
         for pen in PENETRATIONS:
-            rel = relative(force(p, bank, a_z, pen, "fast"), force(p, bank, a_z, pen, "reference"), p)
+            rel = relative(force(p, bank, a_z, pen, "fast"), exact(p, bank, a_z, pen), p)
             assert rel[0] < 1e-12 and rel[1] < 1e-5 and rel[2] < 1e-4, (a_z, pen, rel)
 
 
@@ -172,7 +182,7 @@ def test_rough_core_is_averaged_not_sampled():
     p, bank = drop_inputs(z, 1500.0 + 20.0 * z + noise)
     for a_z in ATTITUDES:
         for pen in PENETRATIONS:
-            rel = relative(force(p, bank, a_z, pen, "fast"), force(p, bank, a_z, pen, "reference"), p)
+            rel = relative(force(p, bank, a_z, pen, "fast"), exact(p, bank, a_z, pen), p)
             assert np.all(rel < 3e-3), (a_z, pen, rel)
 
 
@@ -219,7 +229,9 @@ def test_bounded_rule_compiled_only_for_a_batch_with_a_long_table():
     assert max(ob.depths_inside(own, 0, d) for d in np.linspace(-1.0, 20.0, 400)) == ob.EXACT_DEPTHS
     longer = np.linspace(0.0, 6.0, ob.EXACT_DEPTHS + 2)
     assert paths(longer)[0] is True
-    assert paths(longer, "reference")[0] is None  # the reference rule never takes it
+    assert paths(longer, "reference")[0] is None  # the reference rule slices at its depths
+    many = np.linspace(0.0, 6.0, ob.REFERENCE_DEPTHS + 2)
+    assert paths(many, "reference")[0] is True  # ... up to REFERENCE_DEPTHS of them
     assert paths(short, given=True)[0] is True  # a batch with reference paths keeps them
     p, bank, _ = Scenario.from_toml(DEFAULT).to_params()  # a linear profile
     assert ob.with_long_tables(None, p, bank) is None
@@ -231,9 +243,10 @@ def test_without_long_tables_the_bounded_rule_is_not_compiled():
     z = np.linspace(0.0, 10.0, 3000)
     p, bank = drop_inputs(z, smooth(z))
     for a_z, pen in ((0.0, 0.8), (0.6, 2.5)):
-        exact = force(p, bank, a_z, pen, "reference")
-        assert np.array_equal(force(p, bank, a_z, pen, "fast", None), exact)
-        assert not np.array_equal(force(p, bank, a_z, pen, "fast"), exact)
+        every = exact(p, bank, a_z, pen)
+        assert np.array_equal(force(p, bank, a_z, pen, "fast", None), every)
+        assert np.array_equal(force(p, bank, a_z, pen, "reference", None), every)
+        assert not np.array_equal(force(p, bank, a_z, pen, "fast"), every)
     # the IR of a fresh, uncached compile of the same signatures: numba returns no IR for a
     # kernel loaded from the on-disk cache (the suite's controller warms it: tests/conftest.py)
     fresh = numba.njit(**JIT_OPTIONS)(ob.overburden_force.py_func)
@@ -274,3 +287,59 @@ def test_unknown_overburden_quadrature_is_refused_naming_the_field():
     p, _, _ = scenario([0.0, 10.0], [1500.0, 1600.0], quadrature="reference").to_params()
     assert p[layout.P_OB_QUADRATURE] == 1
     assert layout.PARAM_NAMES[layout.P_OB_QUADRATURE] == "numerics.overburden_quadrature"
+
+
+def cpt(rows):
+    """A rough cone-penetration-like core on [0, 6] m (benchmarks/bench_self_check.py)."""
+    z = np.linspace(0.0, 6.0, rows)
+    wave = 0.5 * np.sin(2 * np.pi * z / 0.7) + 0.3 * np.sin(2 * np.pi * z / 0.13 + 1.0)
+    noise = np.random.default_rng(34).standard_normal(rows)
+    return z, (1420.0 + 30.0 * z) * (1.0 + 0.01 * (0.6 * wave + 0.4 * noise) / 1.5)
+
+
+def test_reference_rule_equals_the_slicing_at_every_depth_on_a_20000_row_core():
+    # issue 34: beyond REFERENCE_DEPTHS depths inside, the reference rule takes REFERENCE_SLICES
+    # equal slices (the bounded rule's averaging of the running integral); against the former
+    # reference, the slicing at every one of the ~700-5,300 depths inside (measured worst
+    # 8.0e-7 force, 1.7e-6 and 2.3e-6 moments; the fast rule's 12 slices: 1.6e-4, 1.8e-4, 8.9e-5)
+    z, rho = cpt(20000)
+    p, bank = drop_inputs(z, rho)
+    worst = np.zeros(3)
+    for a_z in ATTITUDES:
+        for pen in (0.3, 0.8, 1.5, 2.5, 4.0):
+            assert ob.depths_inside(bank, 0, pen) > ob.REFERENCE_DEPTHS
+            worst = np.maximum(
+                worst, relative(force(p, bank, a_z, pen, "reference"), exact(p, bank, a_z, pen), p)
+            )
+    assert worst[0] < 4e-6 and worst[1] < 1e-5 and worst[2] < 1e-5, worst
+
+
+def test_reference_rule_slices_at_every_depth_up_to_its_limit_bit_for_bit():
+    z, rho = cpt(2000)  # 3 rows a centimetre
+    p, bank = drop_inputs(z, rho)
+    seen = 0
+    for a_z in (0.0, 0.6):
+        for pen in np.linspace(0.05, 1.5, 12):
+            if ob.depths_inside(bank, 0, pen) <= ob.REFERENCE_DEPTHS:
+                seen += 1
+                assert np.array_equal(force(p, bank, a_z, pen, "reference"), exact(p, bank, a_z, pen))
+    assert seen >= 6
+
+
+def test_reference_overburden_cost_does_not_grow_with_the_rows():
+    # the slicing at every depth at 300,000 rows cuts the body ~45,000 times per call; the
+    # reference rule at most REFERENCE_DEPTHS + 1 or REFERENCE_SLICES + 1 times
+    timings = {}
+    for n in (3, 300_000):
+        z = np.linspace(0.0, 10.0, n)
+        p, bank = drop_inputs(z, 1420.0 + 30.0 * z)
+        force(p, bank, 0.3, 1.5, "reference")
+        t0 = time.perf_counter()
+        for pen in np.linspace(1.0, 2.0, 100):
+            force(p, bank, 0.3, pen, "reference")
+        timings[n] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    for pen in np.linspace(1.0, 2.0, 100):
+        exact(p, bank, 0.3, pen)
+    every = time.perf_counter() - t0
+    assert timings[300_000] < every / 20, (timings, every)

@@ -419,20 +419,21 @@ def run_ensemble(
     warn_run(spec)
     if output is None:
         ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress, threads=threads)
-        return _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
+        return _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check, progress)
     with OutputRun(output, input_paths(scenario, spec)) as out:
         job = Job(None, spec, out.store(spec))
         ((_, chunks),) = run_jobs([job], client=client, progress=progress, threads=threads)
-        ds = _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check)
+        ds = _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check, progress)
         out.commit(ds)
     return ds
 
 
-def _checked(ds, spec, chunks, self_check: bool):
-    """``ds`` with the system's numerical self-check attributes when asked (results untouched)."""
+def _checked(ds, spec, chunks, self_check: bool, progress: bool = False):
+    """``ds`` with the system's numerical self-check attributes when asked (results untouched;
+    ``progress``: the check's own progress lines, like the run's)."""
     check = registry.of(spec).check_accuracy
     if self_check and check is not None:
-        ds.attrs.update(check(spec, chunks))
+        ds.attrs.update(check(spec, chunks, progress=progress))
     return ds
 
 

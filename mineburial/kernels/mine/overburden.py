@@ -17,7 +17,10 @@ volume and centroid exactly), each slice acting at its centroid. Two rules
   body, so that the density is linear within each slice and int rho dV = V rho(zeta_c)
   with zeta_c the slice's centroid depth: exact for the force (and for the torque when
   the density is uniform within each slice); a linear profile is one slice. Its cost is
-  the number of table depths within the penetration (~5,000 for a centimetre core).
+  the number of table depths within the penetration (~5,000 for a centimetre core), so
+  beyond :data:`REFERENCE_DEPTHS` of them it takes :func:`_bounded` with
+  :data:`REFERENCE_SLICES` slices (issue 34: 8e-7 of the force from the slicing at every
+  depth on a rough 20,000-row core, docs/notes/sediment.md).
 ``fast`` (the default): the reference rule while at most :data:`EXACT_DEPTHS` table
   depths lie inside the embedded span (every analytic profile and every short table:
   bit-identical to it), else :func:`_bounded`: :data:`SLICES` equal slices of the
@@ -58,6 +61,11 @@ OB_REFERENCE = 1
 EXACT_DEPTHS = 12
 #: slices of the bounded rule (:func:`_bounded`)
 SLICES = 12
+#: the reference rule slices at the table's depths while at most this many lie inside the
+#: embedded span, else it takes the bounded rule with :data:`REFERENCE_SLICES` slices: its cost
+#: is bounded by about 257 cuts of the body whatever the table's rows (issue 34)
+REFERENCE_DEPTHS = 256
+REFERENCE_SLICES = 256
 
 
 @kernel
@@ -108,17 +116,20 @@ def with_long_tables(paths, params, sediment_bank):
     """``paths`` (:func:`.stepper.reference_paths` of the drops whose parameter vectors are the
     rows of ``params``), or ``True`` when one of them may take the bounded rule: its overburden
     quadrature ``fast`` and its sediment table with more than :data:`EXACT_DEPTHS` depths below
-    the seabed (:func:`depths_inside` counts no more). The bounded rule is then compiled with
+    the seabed (:func:`depths_inside` counts no more), or ``reference`` and more than
+    :data:`REFERENCE_DEPTHS`. The bounded rule is then compiled with
     the reference paths: a run's self-check (ensembles/accuracy.py) compiles those anyway, and a
     third type of ``paths`` would compile the whole drop once more (docs/design.md)."""
     if paths is not None:
         return paths
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
     bank = np.asarray(sediment_bank, dtype=np.float64)
-    rows = params[params[:, P_OB_QUADRATURE] != OB_REFERENCE, P_SED_PROFILE]
-    rows = np.unique(rows[(rows >= 0) & (rows < bank.shape[0])]).astype(np.int64)
-    if rows.size and np.any(np.sum(bank[rows, 0, :] > 0.0, axis=1) > EXACT_DEPTHS):
-        return True
+    reference = params[:, P_OB_QUADRATURE] == OB_REFERENCE
+    for chosen, most in ((~reference, EXACT_DEPTHS), (reference, REFERENCE_DEPTHS)):
+        rows = params[chosen, P_SED_PROFILE]
+        rows = np.unique(rows[(rows >= 0) & (rows < bank.shape[0])]).astype(np.int64)
+        if rows.size and np.any(np.sum(bank[rows, 0, :] > 0.0, axis=1) > most):
+            return True
     return None
 
 
@@ -141,9 +152,12 @@ def _rule_impl(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
 
     def by_table(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
         row = int(p[P_SED_PROFILE])
-        if row >= 0 and int(p[P_OB_QUADRATURE]) != OB_REFERENCE:
-            if depths_inside(bank, row, depth_max) > EXACT_DEPTHS:
-                return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+        if row >= 0:
+            ref = int(p[P_OB_QUADRATURE]) == OB_REFERENCE
+            if depths_inside(bank, row, depth_max) > (REFERENCE_DEPTHS if ref else EXACT_DEPTHS):
+                # one call site: the bounded rule is compiled (inlined) once
+                slices = REFERENCE_SLICES if ref else SLICES
+                return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices)
         return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
 
     return by_table
@@ -235,7 +249,7 @@ def _rate(x0, t0, x1, t1):
 
 
 @kernel
-def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices):
     """The bounded rule: :data:`SLICES` equal slices from the top of the embedded part
     (the seabed, or the body's top when it is buried) to ``depth_max``. A slice [a, b]
     of volume V and centroid (x_s, eta_s) at depth zeta_c carries
@@ -257,7 +271,7 @@ def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     last = last_point(bank, row)
     _, z_hi = bodies.extent(body, a_z, z_c)
     top = max(0.0, seabed_z - z_hi)
-    h = (depth_max - top) / SLICES
+    h = (depth_max - top) / slices
     v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
     r1, s1 = _profile_at(top, p, bank, row, last, rho_w, g)
     # slice i is finished once slice i + 1 is known (its centroid's rate with depth); _slice
@@ -267,10 +281,10 @@ def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     f_tot = 0.0
     mx = 0.0
     me = 0.0
-    for i in range(1, SLICES + 2):
-        if i <= SLICES:
+    for i in range(1, slices + 2):
+        if i <= slices:
             a = top + (i - 1) * h
-            b = depth_max if i == SLICES else top + i * h
+            b = depth_max if i == slices else top + i * h
             vn, xn, en, tn, wn, sn, qn, v1, x1, e1, r1, s1 = _slice(
                 body, a_z, c, z_c, seabed_z, a, b, v1, x1, e1, r1, s1, rho_w, g, p, bank, row, last
             )

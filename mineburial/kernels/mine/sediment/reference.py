@@ -13,6 +13,10 @@ panels between the corners of the cut disk. Gauss-Legendre on every part, sinh
 transformations at near-singular ends; no allocation (``docs/notes/sediment.md``
 section 3 gives the derivation and the measured error and cost).
 
+A tabulated profile's depths split the lines and panels while at most ``REFERENCE_LEVELS`` lie
+in a span; beyond, a long table's rows are sampled by ``LONG_PIECES`` equal pieces, so that the
+cost does not grow with the rows (issue 34; ``docs/notes/sediment.md``).
+
 Its cost (60-350 us an evaluation) and its adaptivity (the number of panels and
 points changes with the state, so the force is rough on the scale of its error) make
 it the guard of the fast rule (:mod:`.fast`) in the tests, not the default.
@@ -23,6 +27,7 @@ import math
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
+from mineburial.kernels.mine.environment import bracket, last_point
 from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import (
@@ -55,6 +60,14 @@ RAMP_MIN = 1e-3
 LAYER_WIDTHS = 16.0
 #: Least number of points on each part of a generator piece split at tabulated depths.
 LEVEL_POINTS = 3
+#: A part (of a line) or a lateral surface is split at the tabulated depths it crosses while at
+#: most this many lie inside its depth span; beyond (a long table: a cone-penetration log has a
+#: row every few millimetres), the part is cut into LONG_PIECES equal pieces of its full rule
+#: and the lateral surface's angle panels are not split at the depth lines, so that the cost is
+#: bounded whatever the table's rows (issue 34: a 20,000-row log cost 8-19 s an evaluation).
+#: The rows are then sampled (at 4x the fast rule's points), not resolved one by one.
+REFERENCE_LEVELS = 16
+LONG_PIECES = 4
 #: At most this many sub-panels when grading towards one breakpoint.
 MAX_GRADE = 14
 #: Samples of a degree-2 trigonometric polynomial when bracketing its roots.
@@ -72,6 +85,29 @@ _SAMPLE_S2 = np.sin(2.0 * _SAMPLE_T)
 
 _TWO_PI = 2.0 * math.pi
 _NAN = math.nan
+
+
+@small_kernel
+def _count_below(bank, row, x, last, strict):
+    """Number of tabulated depths of bank row ``row`` (last point ``last``) below ``x``
+    (``< x`` when ``strict``, else ``<= x``), by ``environment.bracket`` (O(1) on a drop's own
+    bank, O(log n) on any): the row is never scanned."""
+    if not (x == x) or bank[row, 0, 0] > x or (strict and bank[row, 0, 0] == x):
+        return 0
+    if bank[row, 0, last] < x or (not strict and bank[row, 0, last] == x):
+        return last + 1
+    lo, _ = bracket(bank, row, x, last, strict)
+    return lo + 1
+
+
+@small_kernel
+def _levels_between(bank, row, lo, hi):
+    """``(j0, j1)``: the first and last index of the tabulated depths d of bank row ``row``
+    with lo < d < hi (j1 < j0: none), found without scanning the row."""
+    last = last_point(bank, row)
+    if math.isnan(bank[row, 0, last]):
+        return 0, -1
+    return _count_below(bank, row, lo, last, False), _count_below(bank, row, hi, last, True) - 1
 
 
 # =============================================================================
@@ -396,8 +432,10 @@ def _part(sa, sb, anchor, eps, side, npts, n, line, nlev, row, vel, law, bank, a
     """``acc`` plus the moments over one part [sa, sb] mapped as :func:`_part_map` says: the
     near-singular layer within LAYER_WIDTHS eps of the anchor sinh-mapped (u <= asinh(
     LAYER_WIDTHS)), the rest plain Gauss-Legendre; each split where it crosses one of the
-    ``nlev`` tabulated depths of profile ``row`` (a kink of the profile), each piece getting a
-    share of the points proportional to its length, at least LEVEL_POINTS."""
+    tabulated depths of profile ``row`` (``nlev`` > 0: a kink of the profile), each piece getting
+    a share of the points proportional to its length, at least LEVEL_POINTS, while at most
+    REFERENCE_LEVELS depths lie in its span (found by bisection, not by a scan of the row); else
+    LONG_PIECES equal pieces of ``npts`` points (a long table: the rows sampled)."""
     z0 = line[9]
     z1 = line[10]
     sa0 = sa
@@ -439,11 +477,24 @@ def _part(sa, sb, anchor, eps, side, npts, n, line, nlev, row, vel, law, bank, a
         up = (z1 > 0.0) == (side >= 0.0)  # depth increases with u
         total = ub - ua
         u0 = ua
-        for jj in range(nlev + 1):
+        j0 = 0
+        j1 = -1
+        if nlev > 0:
+            j0, j1 = _levels_between(bank, row, zlo, zhi)
+        if j1 - j0 + 1 > REFERENCE_LEVELS:  # a long table: equal pieces, the rows sampled
+            for q in range(LONG_PIECES):
+                u1 = ub if q == LONG_PIECES - 1 else ua + (q + 1) * total / LONG_PIECES
+                acc = _gauss_piece(u0, u1, npts, anchor, eps, side, line, vel, law, bank, acc)
+                u0 = u1
+            continue
+        # the depths inside (zlo, zhi) in the order u meets them (the others were skipped
+        # one by one before: the same pieces, found in O(1))
+        nin = max(j1 - j0 + 1, 0)
+        for jj in range(nin + 1):
             u1 = ub
             kk = npts
-            if jj < nlev:
-                j = jj if up else nlev - 1 - jj
+            if jj < nin:
+                j = j0 + jj if up else j1 - jj
                 dep = bank[row, 0, j]
                 if not (dep > zlo and dep < zhi):
                     continue
@@ -521,9 +572,13 @@ def _depth_line_break(cur, nxt, e_nxt, er_nxt, fe, fd, xa, xb, zmax, row, bank, 
     """The next panel end ``(nxt, e, er)`` on the lateral surface with a tabulated profile:
     the first angle after ``cur`` and before ``nxt`` where a tabulated depth line d reaches a
     body end xe, (E0 - d) + E1 xe = 0, on the advancing side (no near-singularity there);
-    else ``nxt`` and its scales unchanged."""
+    else ``nxt`` and its scales unchanged. A long table (more than REFERENCE_LEVELS depths above
+    ``zmax``) adds no panel ends (its rows are sampled, :func:`_part`)."""
     inf = math.inf
-    for j in range(bank.shape[2]):
+    j0, j1 = _levels_between(bank, row, 0.0, zmax)
+    if j1 - j0 + 1 > REFERENCE_LEVELS:  # a long table: no panel ends at its depth lines
+        return nxt, e_nxt, er_nxt
+    for j in range(j0, j1 + 1):
         d = bank[row, 0, j]
         if not (d < zmax):
             break
