@@ -67,14 +67,14 @@ STEP_S = 3600.0
 #: ERA5 (ECMWF parameter short names: swh 140229, pp1d 140231, mwp 140232 = Tm-1,0, mp1 140220,
 #: mp2 140221, mwd 140230), Copernicus Marine global/regional wave products (VHM0, VTPK, VTM10,
 #: VTM02, VMDR, VPED) and WAVEWATCH III ww3_ounf (hs, tp, fp, t01, t02, t0m1, dir, dp)
-PRODUCT_NAMES = {
+PRODUCT_NAMES = {  # then this project's own names (docs/scour.md, Formats)
     "hs": ("swh", "VHM0", "hs"),
     "tp": ("pp1d", "VTPK", "tp"),
     "fp": ("fp",),
-    "tm01": ("mp1", "t01"),
-    "tm02": ("mp2", "VTM02", "t02"),
-    "tm_10": ("mwp", "VTM10", "t0m1"),
-    "wave_dir": ("mwd", "VMDR", "dir", "VPED", "dp"),
+    "tm01": ("mp1", "t01", "tm01"),
+    "tm02": ("mp2", "VTM02", "t02", "tm02"),
+    "tm_10": ("mwp", "VTM10", "t0m1", "tm_10"),
+    "wave_dir": ("mwd", "VMDR", "dir", "VPED", "dp", "wave_dir"),
 }
 #: standard names searched first, in this order (the first found wins). WAVEWATCH III labels its
 #: total-sea mean periods sea_surface_wind_wave_..., which CF reserves for the wind-sea partition:
