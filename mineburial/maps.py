@@ -43,6 +43,7 @@ from mineburial.figures import check_plot_path, figure_class, save_figure
 from mineburial.io import forcing as fio
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
+from mineburial.io import wave_products
 from mineburial.io.dataset import build
 from mineburial.io.files import atomic_write_bytes
 from mineburial.io.inputs import check_input, read_toml
@@ -695,6 +696,13 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
     if not path.is_file():
         raise MapError(f"{where}: no such file")
     computed = grid.cell_status() == CELL_COMPUTED  # land cells' series are neither read nor checked
+    product = _wave_product_grid(path, grid, computed)  # a lat/lon grid other than the environment's
+    if product is not None:
+        return product, {
+            "forcing_grid_file": str(path),
+            "forcing_grid_sha256": file_digest(path),
+            "forcing_grid_interpolation": wave_products.METHOD,
+        }
     g = fio.load_gridded_netcdf(path, only=(computed, (grid.ydim, grid.xdim)))
     if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
         g = dataclasses.replace(
@@ -731,6 +739,30 @@ def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
             "forcing, or make it land in the grid"
         )
     return g, {"forcing_grid_file": str(path), "forcing_grid_sha256": file_digest(path)}
+
+
+def _wave_product_grid(path, grid: EnvironmentGrid, computed):
+    """A gridded forcing on its own latitude/longitude grid (a wave product: ERA5, Copernicus
+    Marine, WAVEWATCH III), interpolated onto the environment's computed cells
+    (:func:`mineburial.io.wave_products.load_wave_grid`: bilinear, land by the nearest sea node,
+    linear in time); None for a file on the environment's own cells or not on a lat/lon grid
+    (read as before, bit for bit)."""
+    axes = wave_products.is_lat_lon_grid(path) if grid.geographic else None
+    if axes is None:
+        return None
+    lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
+    lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
+
+    def same(own, ref):
+        return own.shape == ref.shape and bool(
+            np.all(np.abs(own - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max())))
+        )
+
+    if same(axes[0], lat) and same(axes[1], lon):
+        return None
+    return wave_products.load_wave_grid(
+        path, lat, lon, computed, (grid.ydim, grid.xdim), labels=lambda j, i: _cell_label(grid, j, i)
+    )
 
 
 def _cell_forcing(raw: dict, gridded, j: int, i: int) -> dict:

@@ -714,6 +714,17 @@ TABLE: tuple[Field, ...] = (
         "grid's cells",
     ),
     _setup(
+        "scour.forcing_location",
+        "list",
+        "the point of a gridded wave product (ERA5, Copernicus Marine, WAVEWATCH III) given as "
+        "`forcing`, its series interpolated bilinearly there and linearly in time to 1 h steps "
+        "(docs/scour.md, Wave-model products)",
+        "[latitude, longitude]: latitude in [-90, 90], longitude in [-360, 360] (modulo 360), inside "
+        "the product's grid",
+        units="deg",
+        default_text="none (optional): `forcing` is then one series (time)",
+    ),
+    _setup(
         "scour.lead_times_days",
         "list",
         "times after the forcing's first record at which the burial is reported (coordinate `lead_time`)",

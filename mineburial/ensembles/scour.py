@@ -32,6 +32,7 @@ from mineburial.ensembles.statistics import scour_statistics
 from mineburial.ensembles.threads import run_blocks
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
+from mineburial.io import wave_products
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
@@ -145,12 +146,35 @@ def _numbers(value, location, *, low, high, default):
     return out
 
 
+def _location(value, path):
+    """(lat, lon) of ``scour.forcing_location`` for a wave product's file, or None when absent."""
+    if value is None:
+        return None
+    where = f"scour.forcing_location = {value!r}"
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or len(value) != 2:
+        raise cfg.ScenarioError(f"{where} must be [latitude, longitude] in degrees")
+    lat = cfg._number(value[0], "scour.forcing_location[0]")
+    lon = cfg._number(value[1], "scour.forcing_location[1]")
+    if not (-90.0 <= lat <= 90.0 and -360.0 <= lon <= 360.0):
+        raise cfg.ScenarioError(f"{where}: allowed latitude [-90, 90], longitude [-360, 360] degrees")
+    if pathlib.Path(path).suffix.lower() not in wave_products.SUFFIXES:
+        raise cfg.ScenarioError(
+            f"{where} picks a point of a gridded wave product (.nc or .grib); '{path}' is not one"
+        )
+    return float(lat), float(lon)
+
+
 def _forcing(sec, base_dir):
     """The forcing of the section and what identifies it (file path and sha256, or the storm)."""
     if sum(k in sec for k in ("forcing", "storm", "forcing_grid")) != 1:
         raise cfg.ScenarioError(
             "[scour]: give exactly one of forcing = '<file .csv or .nc>', storm = {peak_hs = ..., ...} "
             "or (maps only) forcing_grid = '<file .nc>'"
+        )
+    if "forcing_location" in sec and "forcing" not in sec:
+        raise cfg.ScenarioError(
+            "scour.forcing_location picks a point of the wave product given as scour.forcing = '<file .nc>'; "
+            "give that file"
         )
     if "forcing_grid" in sec:
         cell = sec["forcing_grid"]
@@ -174,9 +198,13 @@ def _forcing(sec, base_dir):
             p = SHIPPED / f"{path}.csv"
         elif not p.is_absolute() and base_dir is not None:
             p = pathlib.Path(base_dir) / p
-        f = fio.load_forcing(p)
+        location = _location(sec.get("forcing_location"), p)
+        f = fio.load_forcing(p) if location is None else wave_products.load_wave_point(p, *location)
         digest = hashlib.sha256(p.read_bytes()).hexdigest()
-        return f, {"forcing_file": str(p), "forcing_sha256": digest}
+        record = {"forcing_file": str(p), "forcing_sha256": digest}
+        if location is not None:
+            record.update(forcing_location=list(location), forcing_interpolation=wave_products.METHOD)
+        return f, record
     storm = sec["storm"]
     allowed = tuple(inspect.signature(fio.storm_series).parameters)
     if not isinstance(storm, Mapping):

@@ -85,6 +85,8 @@ _ANGLE = {
     "degrees": 1.0,
     "deg": 1.0,
     "degrees_true": 1.0,
+    "degree true": 1.0,  # ERA5's spelling of mwd's units ("Degree true")
+    "degrees true": 1.0,
     "rad": 180.0 / math.pi,
     "radian": 180.0 / math.pi,
     "radians": 180.0 / math.pi,
@@ -663,8 +665,11 @@ def _netcdf_columns(ds, where, tdim, ndim, space_dims=None):
         var = var.squeeze([d for d in var.dims if d != tdim and var.sizes[d] == 1])
         if tdim not in var.dims or var.ndim != ndim:
             expected = "(time)" if ndim == 1 else "(time, y, x)"
+            hint = ""
+            if ndim == 1 and var.ndim == 3:  # a gridded wave product given as one series
+                hint = " (a gridded wave product: give its point as scour.forcing_location = [lat, lon])"
             raise ScenarioError(
-                f"{where}: variable '{names[0]}' has dimensions {var.dims}; expected {expected}"
+                f"{where}: variable '{names[0]}' has dimensions {var.dims}; expected {expected}{hint}"
             )
         if space_dims is None:
             space_dims = tuple(d for d in var.dims if d != tdim)
