@@ -596,8 +596,8 @@ TABLE: tuple[Field, ...] = (
             "water-column added-mass and moment model: strip-theory added mass with the axial added "
             "mass set by `munk_factor` (default), or the viscous-crossflow method (Allen & Perkins "
             "1951; Jorgensen, NASA TR R-474) with the added-mass tensor of the finite closed cylinder"
-            " (BEM tables) and the Munk moment × cos(α/2) × `crossflow_munk_fraction`, `munk_factor` unused (docs/physics.md, "
-            '"Water-column model choices")'
+            " (BEM tables) and the Munk moment × cos(α/2) × `crossflow_munk_fraction`, `munk_factor` "
+            'unused (docs/physics.md, "Water-column model choices")'
         ),
         "munk_factor",
     ),
