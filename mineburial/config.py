@@ -44,6 +44,7 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mineburial.io.files import atomic_write_text
 from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine.geometry import vertical_extent
@@ -556,8 +557,6 @@ def write_field_tables(path="docs/scenario.md") -> None:
     text = path.read_text(encoding="utf-8")
     for name in DOC_BLOCKS:
         text = replace_generated(text, name, _doc_block(name), _DOC_WRITER)
-    from mineburial.io.files import atomic_write_text  # (io.files imports this module)
-
     atomic_write_text(path, text)  # the one writer (docs/design.md, "Outputs")
 
 

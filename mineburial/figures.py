@@ -15,6 +15,8 @@ so each of them can import it (tests/test_imports.py).
 
 from __future__ import annotations
 
+import hashlib
+import json
 import pathlib
 
 import numpy as np
@@ -118,10 +120,7 @@ def forcing_series(ds: xr.Dataset):
     storm (``forcing_storm``): a dict of ``days`` after the first record, ``hs`` [m], ``tp`` [s]
     and ``current`` [m/s] as given (before the sampled Hs factor), and ``window_days`` (each
     drop's window, or None); None when it cannot be had (nothing recorded, the file gone or changed)."""
-    import hashlib
-    import json
-
-    from mineburial.io import forcing as fio
+    from mineburial.io import forcing as fio  # local import: xarray's reader, only for a figure with forcing
 
     try:
         if "forcing_file" in ds.attrs:

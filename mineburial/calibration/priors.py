@@ -25,6 +25,8 @@ import numpy as np
 
 from mineburial.ensembles import distributions as dist
 from mineburial.errors import ScenarioError
+from mineburial.io.files import atomic_write_text
+from mineburial.schema import replace_generated
 
 try:  # Python >= 3.11
     import tomllib
@@ -209,9 +211,6 @@ def prior_table(path=PRIORS_FILE) -> str:
 def write_prior_table(doc="docs/physics.md") -> None:
     """Regenerate the priors table of ``doc`` from priors.toml (run from the repository root;
     tests/test_calibration.py fails until then)."""
-    from mineburial.io.files import atomic_write_text
-    from mineburial.schema import replace_generated
-
     doc = pathlib.Path(doc)
     atomic_write_text(
         doc, replace_generated(doc.read_text(encoding="utf-8"), "priors", prior_table(), DOC_WRITER)

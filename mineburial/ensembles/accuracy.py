@@ -132,12 +132,13 @@ def differences(summary, status, ref_summary, ref_status, class_basis="burial_vo
     }
 
 
-def self_check(spec, chunks, chunk_inputs, progress: bool = False) -> dict:
+def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
     """The ``numerical_check_*`` global attributes of mine ensemble ``spec`` from its chunk
     results in drop order: the subsample re-run on the reference path and its differences,
     or why it was skipped. ``chunk_inputs(spec, start, stop)`` packs drops' parameters
-    (:func:`mineburial.ensembles.mine.chunk_inputs`). ``progress``: the run's rate-limited
-    progress lines (:class:`~mineburial.ensembles.runner.Progress`) while the drops are re-run,
+    (:func:`mineburial.ensembles.mine.chunk_inputs`). ``progress``: None, or the class of the
+    run's rate-limited progress lines (:class:`~mineburial.ensembles.runner.Progress`, handed
+    down so that this module does not import the runner) for lines while the drops are re-run,
     a block of one drop a thread at a time."""
     size = int(spec.accuracy_check)
     if size == 0:
@@ -174,16 +175,16 @@ def self_check(spec, chunks, chunk_inputs, progress: bool = False) -> dict:
     }
 
 
-def _rerun(P, spec, progress: bool):
+def _rerun(P, spec, progress):
     """``(summary, status)`` of the drops whose reference parameters are the rows of ``P``:
-    one batch, or with ``progress`` blocks of one drop a thread, each followed by a progress
-    line when one is due (the results are the same: each drop writes only its own row)."""
+    one batch, or with ``progress`` (the run's progress-line class, ``progress(total,
+    unit=...)``, handed down by the runner, which imports this module's callers) blocks of one
+    drop a thread, each followed by a progress line when one is due (the results are the same:
+    each drop writes only its own row)."""
     valid = np.ones(P.shape[0], bool)
     if not progress:
         return batch.run_batch(P, valid, spec.sediment_bank, spec.current_bank)
-    from mineburial.ensembles.runner import Progress  # runner imports the systems, which import this
-
-    bar = Progress(P.shape[0], unit="self-check drops")
+    bar = progress(P.shape[0], unit="self-check drops")
     bar.update(0)
     step = max(1, numba.get_num_threads())
     parts = []

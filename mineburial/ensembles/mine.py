@@ -413,9 +413,10 @@ def compute_chunk(spec, start: int, stop: int) -> dict:
     return _chunk_result(spec, start, stop, P, valid, summary, status, inputs)
 
 
-def check_accuracy(spec, chunks, progress: bool = False) -> dict:
+def check_accuracy(spec, chunks, progress=None) -> dict:
     """The numerical self-check's global attributes of a finished run
-    (:func:`mineburial.ensembles.accuracy.self_check`; ``progress``: its progress lines)."""
+    (:func:`mineburial.ensembles.accuracy.self_check`; ``progress``: None or the class of its
+    progress lines)."""
     return accuracy.self_check(spec, chunks, chunk_inputs, progress)
 
 

@@ -433,7 +433,7 @@ def _checked(ds, spec, chunks, self_check: bool, progress: bool = False):
     ``progress``: the check's own progress lines, like the run's)."""
     check = registry.of(spec).check_accuracy
     if self_check and check is not None:
-        ds.attrs.update(check(spec, chunks, progress=progress))
+        ds.attrs.update(check(spec, chunks, progress=Progress if progress else None))
     return ds
 
 

@@ -26,7 +26,7 @@ import stat
 from collections.abc import Iterator
 from pathlib import Path
 
-from mineburial.config import ScenarioError
+from mineburial.errors import ScenarioError
 
 #: glob pattern of the temporary files of :func:`atomic_path` (for cleaning up after a kill)
 TMP_PATTERN = ".*.tmp"

@@ -339,7 +339,7 @@ def _open(path, where, max_bytes):
     suffix = path.suffix.lower()
     if suffix in GRIB_SUFFIXES:
         try:
-            import cfgrib  # noqa: F401
+            import cfgrib  # noqa: F401  # local import: the optional GRIB reader
         except ImportError:
             raise ScenarioError(
                 f"{where}: a GRIB file needs the optional reader cfgrib with ecCodes "

@@ -54,8 +54,9 @@ class System:
     #: ``warm_up_spec() -> spec``: a one-realization ensemble whose chunk compiles the
     #: system's kernels on a dask worker before its tasks arrive (None: none)
     warm_up_spec: Callable | None = None
-    #: ``check_accuracy(spec, chunks, progress=False) -> dict``: global attributes of a numerical self-check
-    #: of the finished run, made after its chunks are in (None: the system has none)
+    #: ``check_accuracy(spec, chunks, progress=None) -> dict``: global attributes of a numerical
+    #: self-check of the finished run, made after its chunks are in (``progress``: None or the
+    #: runner's Progress class, for its progress lines; None: the system has no check)
     check_accuracy: Callable | None = None
 
 

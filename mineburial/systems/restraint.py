@@ -37,6 +37,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from mineburial import multibody as mb
 from mineburial.ensembles.store import OutputRun
 from mineburial.io.dataset import build
+from mineburial.io.files import atomic_write_text
 from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.io.variables import RESTRAINT_DERIVED
 from mineburial.kernels import multibody as kmb
@@ -489,8 +490,6 @@ def write_field_table(path="docs/restraint.md") -> None:
     :data:`FIELDS`; tests/test_schema.py fails until then)."""
     path = pathlib.Path(path)
     text = path.read_text(encoding="utf-8")
-    from mineburial.io.files import atomic_write_text
-
     atomic_write_text(path, replace_generated(text, "case-fields", markdown_table(FIELDS), _DOC_WRITER))
 
 
