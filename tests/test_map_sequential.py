@@ -224,3 +224,19 @@ def test_the_cli_refuses_a_bad_target_before_computing_and_reports_the_drops_sav
     assert first == 8 and np.all(ds["cell_drop_count"].values[ds["cell_status"].values == 0] == first)
     assert sum(computed) == total == 3 * first
     assert f"{total} drops in all" in text and "3 cells stopped early" in text
+
+
+def test_a_sequential_map_on_a_dask_cluster_equals_the_local_map():
+    distributed = pytest.importorskip("distributed")
+    kw = dict(n=12, seed=SEED, chunk_size=3, target_half_width=0.3, min_drops=4, step=4)
+    local = run_map(scenario(), environment(), **kw)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=50
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        dist = run_map(scenario(), environment(), client=client, **kw)
+    assert int(local["cell_drop_count"].values.sum()) < 3 * 12  # some cell stopped early
+    for name in local.data_vars:
+        assert np.array_equal(local[name].values, dist[name].values, equal_nan=True), name
