@@ -244,6 +244,22 @@ def _add_map_parser(sub) -> None:
     mp.add_argument("-o", "--output", default="burial_map.nc")
     mp.add_argument("-n", "--drops", type=int, default=None, help="drops per cell")
     mp.add_argument("--seed", type=int, default=None)
+    mp.add_argument(
+        "--target-half-width",
+        type=float,
+        default=None,
+        help="stop a cell once every class probability's 95%% interval is narrower than +/- this "
+        "(0 to 0.5; -n is then the maximum drops a cell)",
+    )
+    mp.add_argument(
+        "--min-drops", type=int, default=None, help="with --target-half-width: drops a cell at least (100)"
+    )
+    mp.add_argument(
+        "--step",
+        type=int,
+        default=None,
+        help="with --target-half-width: drops between a cell's looks after --min-drops (its value)",
+    )
     mp.add_argument("--plot", default=None, help="also draw the map to this image (.png, .pdf, .svg, ...)")
     mp.add_argument(
         "--lead-times",

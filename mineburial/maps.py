@@ -36,6 +36,7 @@ from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.calibration import posterior
 from mineburial.ensembles import engine, epistemic, runner, scour
+from mineburial.ensembles.distributed import run_tasks_distributed
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun, check_output_path, same_file
@@ -648,6 +649,210 @@ def _cell_statistics(spec, chunks) -> dict:
     return out
 
 
+# ---------------------------------------------------------------------------
+# per-cell sequential stopping
+# ---------------------------------------------------------------------------
+#: default of ``min_drops`` (capped at the cell maximum ``n``): a floor so that no cell is decided on
+#: a handful of drops that all fell in one class: a class of 3 % of the drops is missed by the first
+#: 100 drops with probability 0.97**100 = 4.8 %, by the first 35 (where a one-class cell meets a
+#: target of 0.05) with 0.97**35 = 34 %
+MIN_DROPS_DEFAULT = 100
+#: cells whose drops are in flight at once on a dask cluster with sequential stopping: each round
+#: submits the next segment of each (one flat list); bounds the per-drop values held in memory
+SEQUENTIAL_CELLS_IN_FLIGHT = 256
+
+
+@dataclasses.dataclass(frozen=True)
+class Stopping:
+    """Per-cell sequential stopping (docs/maps.md, "Sequential stopping").
+
+    A cell is looked at only at its *decision points*, fixed drop counts of its own drop
+    sequence: ``min_drops``, ``min_drops + step``, ... and its maximum ``n`` (with Sobol'
+    sampling the powers of two from ``min_drops`` to ``n``, where the net is balanced). It stops
+    at the first where every class probability's Wilson 95 % interval (impact, and with
+    ``[scour]`` every lead time's) has a half-width ``(upper - lower) / 2`` under
+    ``target_half_width``; a NaN interval (no drop at rest) is never under it. The drops are a
+    pure function of (cell seed, drop index), so a cell that stops at ``m`` drops holds exactly
+    the statistics of ``mineburial run`` of its scenario with its seed and ``-n m``, whatever
+    the threads, chunks, cluster or resume (tests/test_map_sequential.py)."""
+
+    target_half_width: float
+    min_drops: int
+    step: int | None  # None with Sobol' sampling (powers of two)
+
+    def points(self, n: int) -> list[int]:
+        """The decision points of a cell of at most ``n`` drops, increasing, the last ``n``."""
+        if self.step is None:
+            pts = [1 << e for e in range(64) if self.min_drops <= (1 << e) < n]
+        else:
+            pts = list(range(self.min_drops, n, self.step))
+        return pts + [n]
+
+    def record(self, n: int, sampling: str) -> dict:
+        """The settings as the map's ``scenario`` and ``sequential_stopping`` attributes record them."""
+        return {
+            "target_half_width": self.target_half_width,
+            "min_drops": self.min_drops,
+            "max_drops": int(n),
+            "step": self.step,
+            "decision_points": "powers of two from min_drops, and max_drops"
+            if self.step is None
+            else "min_drops + j * step (j = 0, 1, ...) below max_drops, and max_drops",
+            "criterion": "every class probability's Wilson 95 % interval (impact and, with [scour], every "
+            "lead time's) has (upper - lower) / 2 < target_half_width; the epistemic band is not part "
+            "of it",
+        }
+
+
+def check_stopping(target_half_width, min_drops, step, n: int, sampling: str) -> Stopping | None:
+    """The sequential stopping of a map with at most ``n`` drops a cell, or None (off: no
+    ``target_half_width``); bad values stop with one line naming the option, the value and the
+    allowed range."""
+
+    def refuse(name, value, allowed):
+        opt = "--" + name.replace("_", "-")
+        raise MapError(f"{name} ({opt}) = {value!r} is outside the allowed range {allowed}")
+
+    if target_half_width is None:
+        for name, value in (("min_drops", min_drops), ("step", step)):
+            if value is not None:
+                raise MapError(
+                    f"{name} (--{name.replace('_', '-')}) = {value!r} sets the sequential stopping of "
+                    "the cells; give target_half_width (--target-half-width) too, or leave it out"
+                )
+        return None
+
+    def integer(value):
+        return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+    if isinstance(target_half_width, bool) or not isinstance(target_half_width, (int, float, np.number)):
+        refuse("target_half_width", target_half_width, "(0, 0.5] (a probability's half-width)")
+    target = float(target_half_width)
+    if not (0.0 < target <= 0.5):  # also NaN; a 95 % Wilson interval is at most [0, 1] wide
+        refuse("target_half_width", target_half_width, "(0, 0.5] (a probability's half-width)")
+    if min_drops is None:
+        min_drops = min(MIN_DROPS_DEFAULT, n)
+    if not integer(min_drops) or not 1 <= min_drops <= n:
+        refuse("min_drops", min_drops, f"[1, {n}] (an integer, at most -n, the drops a cell at most)")
+    if sampling == "sobol":
+        if step is not None:
+            raise MapError(
+                f"step (--step) = {step!r}: with sampling = 'sobol' a cell is looked at only at powers "
+                "of two (where the net is balanced); leave --step out"
+            )
+        return Stopping(target, int(min_drops), None)
+    if step is None:
+        step = min_drops
+    if not integer(step) or not 1 <= step <= n:
+        refuse("step", step, f"[1, {n}] (an integer number of drops, at most -n)")
+    return Stopping(target, int(min_drops), int(step))
+
+
+def _under_target(stats: Mapping, target: float) -> bool:
+    """Whether every class probability's Wilson interval in a cell's statistics (impact and scour,
+    not the epistemic band) has a half-width under ``target`` (NaN: not under)."""
+    widths = [
+        (np.asarray(stats[name[: -len("_lower")] + "_upper"]) - np.asarray(stats[name])) / 2.0
+        for name in stats
+        if name.endswith("class_probability_lower")
+    ]
+    return bool(widths) and all(bool(np.all(w < target)) for w in widths)  # NaN < target is False
+
+
+def _segments(points: list[int], chunk_size: int) -> list[list[tuple[int, int]]]:
+    """The chunks ``(start, stop)`` between consecutive decision points, ``chunk_size`` drops at
+    most each: a decision point is always a chunk boundary, so no chunk is ever cut."""
+    out, a = [], 0
+    for b in points:
+        out.append([(s, min(s + chunk_size, b)) for s in range(a, b, chunk_size)])
+        a = b
+    return out
+
+
+def _run_sequential(specs: Mapping, stores: Mapping, stopping: Stopping, *, client=None, progress=False):
+    """Run the cells ``specs`` (cell -> ensemble) with sequential stopping; a list of
+    ``(cell, chunks of its first m drops in drop order, statistics)``.
+
+    Each cell goes through its decision points in order: the chunks of the next segment are
+    loaded from its store (``stores``: cell -> ChunkStore, resume) or computed, then the cell's
+    statistics of its drops so far decide whether it stops. Cells are taken in rounds: each round
+    computes the missing chunks of the current segment of every cell in flight (here one cell at a
+    time, its chunks spread over the numba threads; on a dask cluster
+    :data:`SEQUENTIAL_CELLS_IN_FLIGHT` cells, one flat list of tasks a round). The rounds only
+    decide what is computed when: a cell's result depends on its own drops alone."""
+    order = sorted(specs)
+    segments = {k: _segments(stopping.points(specs[k].n), specs[k].chunk_size) for k in order}
+    points = {k: stopping.points(specs[k].n) for k in order}
+    level = dict.fromkeys(order, 0)
+    pending: dict = {}  # cell -> {(start, stop): chunk} of its current segment
+    got: dict = {}  # cell -> chunks of its completed segments, in drop order
+    finished = []
+    unit = specs[order[0]].unit if order else "drops"
+    bar = runner.Progress(sum(specs[k].n for k in order), enabled=progress, unit=unit)
+    done = 0
+
+    def enter(k):
+        nonlocal done
+        pending[k] = {}
+        store = stores.get(k)
+        for b in segments[k][level[k]]:
+            res = None if store is None else store.load(*b)
+            if res is not None:
+                pending[k][b] = res
+                done += b[1] - b[0]
+
+    def advance(k) -> list:
+        """The chunks cell ``k`` still needs for its current segment; [] once it stopped."""
+        nonlocal done
+        while True:
+            seg = segments[k][level[k]]
+            missing = [b for b in seg if b not in pending[k]]
+            if missing:
+                return missing
+            have = pending.pop(k)
+            got[k].extend(have[b] for b in seg)
+            st = _cell_statistics(specs[k], got[k])
+            if level[k] == len(points[k]) - 1 or _under_target(st, stopping.target_half_width):
+                done += specs[k].n - points[k][level[k]]  # the drops the cell does not need
+                finished.append((k, got.pop(k), st))
+                return []
+            level[k] += 1
+            enter(k)
+
+    window = 1 if client is None else SEQUENTIAL_CELLS_IN_FLIGHT
+    queue = list(reversed(order))
+    active: list = []
+    first = True
+    bar.update(done)
+    while queue or active:
+        while queue and len(active) < window:
+            k = queue.pop()
+            got[k] = []
+            enter(k)
+            active.append(k)
+        todo = []
+        for k in list(active):
+            missing = advance(k)
+            if missing:
+                todo += [(k, specs[k], s, e, stores.get(k)) for s, e in missing]
+            else:
+                active.remove(k)
+        bar.update(done)
+        if not todo:
+            continue
+        if client is None:
+            stream = runner._run_local(todo)  # the driver's own loop: resumes a cut chunk's head
+        else:
+            stream = run_tasks_distributed(client, todo, warm=first)
+            first = False
+        for k, b, res in stream:
+            pending[k][b] = res
+            done += b[1] - b[0]
+            bar.update(done)
+    bar.update(done, final=True)
+    return finished
+
+
 def _merged(parts) -> xr.Dataset:
     """The datasets ``parts`` merged (shared coordinates must agree), encodings kept."""
     out = xr.merge(parts, combine_attrs="drop_conflicts", compat="no_conflicts", join="exact")
@@ -805,6 +1010,9 @@ def run_map(
     output=None,
     progress: bool = False,
     chunk_size: int | None = None,
+    target_half_width: float | None = None,
+    min_drops: int | None = None,
+    step: int | None = None,
 ) -> xr.Dataset:
     """Burial-probability map: one ensemble of ``n`` drops per water cell of ``environment``.
 
@@ -823,10 +1031,16 @@ def run_map(
         of the environment grid; a second live run on the same output is refused).
     progress : print rate-limited progress lines (drops over all cells) to stderr.
     chunk_size : drops per chunk (default: the scenario's ``[ensemble] chunk_size``).
+    target_half_width, min_drops, step : per-cell sequential stopping (:class:`Stopping`,
+        docs/maps.md): with ``target_half_width`` a cell stops at the first of its decision
+        points (``min_drops``, then every ``step`` drops; ``n`` is the maximum) where every
+        class probability's Wilson 95 % interval has a half-width under the target. Default
+        (None): every cell runs ``n`` drops.
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
     base, grid, gridded, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
+    stopping = check_stopping(target_half_width, min_drops, step, base.n, base.sampling)
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
     status = grid.cell_status()
@@ -836,19 +1050,33 @@ def run_map(
     template = _cell_statistics_template(base)
     names = _cell_variables(template)
     arrays = {name: _empty_cell_array(template[name], ny, nx) for name in names}
+    drops = np.zeros((ny, nx), dtype=np.int64)
     invalid: dict = {}
 
     def reduce(stream):
-        for k, chunks in stream:
-            st = _cell_statistics(specs[k], chunks)
+        for k, chunks, st in stream:
+            st = _cell_statistics(specs[k], chunks) if st is None else st
             j, i = divmod(k, nx)
             for name in names:
                 arrays[name][..., j, i] = st[name]
+            drops[j, i] = sum(len(c["status"]) for c in chunks)
             for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
 
+    def cells(stores=None):
+        """(cell, its chunks in drop order, its statistics or None) as cells complete, in cell order
+        with sequential stopping (so the first example of an invalid input does not depend on the
+        order the cells finished in)."""
+        if stopping is None:
+            jobs = [runner.Job(k, spec, None if stores is None else stores[k]) for k, spec in specs.items()]
+            for k, chunks in runner.run_jobs(jobs, client=client, progress=progress):
+                yield k, chunks, None
+            return
+        done = _run_sequential(specs, stores or {}, stopping, client=client, progress=progress)
+        yield from sorted(done, key=lambda item: item[0])
+
     def finish():
-        ds = _assemble(grid, status, arrays, template, base, __version__)
+        ds = _assemble(grid, status, arrays, drops, template, base, __version__, stopping)
         ds.attrs["scenario_name"] = (
             pathlib.Path(scenario).stem if isinstance(scenario, (str, pathlib.Path)) else base.base.mine.name
         )
@@ -857,16 +1085,11 @@ def run_map(
         return ds
 
     if output is None:
-        reduce(
-            runner.run_jobs(
-                [runner.Job(k, spec) for k, spec in specs.items()], client=client, progress=progress
-            )
-        )
+        reduce(cells())
         return finish()
     inputs, env_files = _map_inputs(scenario, base, environment, gridded, specs)
     with OutputRun(output, inputs) as out:
-        jobs = [runner.Job(k, spec, out.store(spec, f"cell-{k:09d}", env_files)) for k, spec in specs.items()]
-        reduce(runner.run_jobs(jobs, client=client, progress=progress))
+        reduce(cells({k: out.store(spec, f"cell-{k:09d}", env_files) for k, spec in specs.items()}))
         ds = finish()
         out.commit(ds)
     return ds
@@ -1028,7 +1251,7 @@ def _latlon_from_projection(grid: EnvironmentGrid):
     return np.asarray(lat), np.asarray(lon)
 
 
-def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
+def _assemble(grid, status, arrays, drops, template, base, version, stopping=None) -> xr.Dataset:
     """The map Dataset, built from the registry's map family (:func:`mineburial.io.dataset.build`):
     per-cell results, the cells' status and seeds, the environment used. The family's ``y``, ``x``
     and ``grid_mapping`` take the grid's names."""
@@ -1036,13 +1259,14 @@ def _assemble(grid, status, arrays, template, base, version) -> xr.Dataset:
     data = _result_fields(arrays, template, extra)
     data["most_likely_burial_class"] = (_most_likely_class(arrays["burial_class_probability"]), extra)
     data.update(_cell_fields(grid, status, base.seed, extra))
+    data["cell_drop_count"] = (drops, extra)
     data.update(_environment_fields(grid, extra))
     coords = {c: template[c] for c in V.MAP_SHARED_COORDS if c in template.coords}
     coords.update(_horizontal_coords(grid))
     names = {V.MAP_Y: grid.ydim, V.MAP_X: grid.xdim}
     if grid.grid_mapping:
         names["grid_mapping"] = grid.grid_mapping
-    attrs = _global_attrs(grid, status, base, version)
+    attrs = _global_attrs(grid, status, base, version, stopping, drops)
     return build(data, coords, attrs, kind="map", version=version, names=names)
 
 
@@ -1111,11 +1335,11 @@ def _environment_fields(grid, extra) -> dict:
     return data
 
 
-def _global_attrs(grid, status, base, version) -> dict:
+def _global_attrs(grid, status, base, version, stopping=None, drops=None) -> dict:
     """The map's own global attributes (ACDD/CF; :func:`mineburial.io.dataset.build` adds the
     ones every file carries), scenario included."""
     created = ncio.utc_now()
-    resolved = _map_scenario(grid, base)
+    resolved = _map_scenario(grid, base, stopping)
     scen = ncio.scenario_json(resolved)
     n_cells = int(status.size)
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
@@ -1172,13 +1396,23 @@ def _global_attrs(grid, status, base, version) -> dict:
         )
         for key, value in base.scour.forcing_record.items():
             attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+    if stopping is not None:
+        attrs["sequential_stopping"] = json.dumps(resolved["map"]["sequential_stopping"], sort_keys=True)
+        attrs["n_drops_total"] = np.int64(0 if drops is None else drops.sum())
+        attrs["history"] += f" (at most; sequential stopping: {int(attrs['n_drops_total'])} drops in all)"
+        attrs["summary"] = attrs["summary"].replace(
+            f"an ensemble of {base.n} drops",
+            f"an ensemble of at most {base.n} drops (fewer where every class probability's Wilson "
+            f"95 % interval was narrower than +/- {stopping.target_half_width:g}; cell_drop_count)",
+        )
     if grid.geographic:
         attrs.update(_geospatial_bounds(grid))
     return attrs
 
 
-def _map_scenario(grid, base) -> dict:
-    """The resolved scenario with a ``map`` section: the grid, what it overrides per cell, the seeds."""
+def _map_scenario(grid, base, stopping=None) -> dict:
+    """The resolved scenario with a ``map`` section: the grid, what it overrides per cell, the seeds
+    (and with sequential stopping its settings)."""
     resolved = base.resolved()
     overridden = [
         "environment.water_depth",
@@ -1196,6 +1430,8 @@ def _map_scenario(grid, base) -> dict:
         "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
         "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
     }
+    if stopping is not None:
+        resolved["map"]["sequential_stopping"] = stopping.record(base.n, base.sampling)
     return resolved
 
 
@@ -1701,6 +1937,7 @@ def run_map_cli(args) -> int:
     Every check that can be made before computing is made first: the scenario, the
     environment grid, the output and plot paths, the scheduler."""
     base, grid, gridded, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
+    stopping = check_stopping(args.target_half_width, args.min_drops, args.step, base.n, base.sampling)
     runner.check_run(base, what="each cell of the map")
     _check_map_memory(base, grid.cell_status(), gridded)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
@@ -1721,6 +1958,9 @@ def run_map_cli(args) -> int:
             client=client,
             output=args.output,
             progress=not args.quiet,
+            target_half_width=args.target_half_width,
+            min_drops=args.min_drops,
+            step=args.step,
         )
     finally:
         if client is not None:
@@ -1728,17 +1968,27 @@ def run_map_cli(args) -> int:
     elapsed = time.monotonic() - t0
     n_comp = int(ds.attrs["n_cells_computed"])
     n = int(ds.attrs["n_drops_per_cell"])
+    total = int(ds["cell_drop_count"].values.sum())
+    per_cell = f"{n} drops per cell"
+    if stopping is not None:
+        used = ds["cell_drop_count"].values[ds["cell_status"].values == CELL_COMPUTED]
+        per_cell = (
+            f"{stopping.min_drops}-{n} drops per cell (sequential stopping at half-width "
+            f"{stopping.target_half_width:g}: {total} drops in all, "
+            f"{100.0 * total / max(n * n_comp, 1):.1f} % of {n * n_comp}; "
+            f"{int(np.count_nonzero(used < n))} cells stopped early)"
+        )
     print(
         f"{ds.attrs['title']}\n"
         f"cells: {int(ds.attrs['n_cells'])} ({n_comp} computed, "
         f"{int(ds.attrs['n_cells_land'])} land, {int(ds.attrs['n_cells_no_sediment'])} without "
-        f"sediment data), {n} drops per cell"
+        f"sediment data), {per_cell}"
     )
     if ds.attrs.get("invalid_inputs"):
         print(
             f"warning: drops not run because their sampled inputs are invalid: {ds.attrs['invalid_inputs']}"
         )
-    print(f"time: {elapsed:.1f} s ({n * n_comp / max(elapsed, 1e-9):.1f} drops/s)\nwrote {args.output}")
+    print(f"time: {elapsed:.1f} s ({total / max(elapsed, 1e-9):.1f} drops/s)\nwrote {args.output}")
     if args.plot:
         plot_map(ds, args.plot, lead_times=leads, burial_class=args.burial_class)
         print(f"wrote {args.plot}")

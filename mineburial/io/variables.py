@@ -1554,6 +1554,19 @@ def _map_cell_variables() -> list[Variable]:
             attrs={"coverage_content_type": "auxiliaryInformation"},
         ),
         Variable(
+            "cell_drop_count",
+            yx,
+            "int64",
+            "1",
+            "number of drops of the cell's ensemble",
+            "Drops the cell's ensemble ran: its first cell_drop_count drops of seed cell_seed, on which "
+            "every statistic of the cell rests (the global attribute n_drops_per_cell; fewer where the "
+            "map stopped the cell early, the global attribute sequential_stopping); rerun a cell with "
+            "mineburial run --seed <cell_seed> -n <cell_drop_count>. 0 for skipped cells.",
+            fill_value=_NO_FILL,
+            attrs={"coverage_content_type": "auxiliaryInformation"},
+        ),
+        Variable(
             "water_depth",
             yx,
             "float64",
