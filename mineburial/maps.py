@@ -1520,7 +1520,8 @@ class _Grid:
             ax.set_aspect(1.0 / max(math.cos(math.radians(float(np.mean(self.y)))), 1e-3))
         else:
             ax.set_aspect("equal")
-            ax.tick_params(axis="x", labelrotation=30)  # long projected coordinates
+        # long coordinates (projected, or degrees to 3 decimals on a small grid) would overlap
+        ax.tick_params(axis="x", labelrotation=30)
         ax.ticklabel_format(useOffset=False, style="plain")
 
 
