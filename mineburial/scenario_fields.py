@@ -847,6 +847,18 @@ TABLE: tuple[Field, ...] = (
         default_text="the law's (−1.29 Whitehouse; −5/3 pipeline; −3 pile in waves)",
     ),
     _f(
+        "scour.ripple_exposure",
+        "1",
+        0,
+        5,
+        (
+            "coarse sand: burial stops where the mine stands this many ripple heights above the "
+            "ripple crests (Traykovski et al. 2007, MVCO: about one; docs/scour.md, Coarse sand)"
+        ),
+        1.0,
+        slot=False,
+    ),
+    _f(
         "scour.hs_scale",
         "1",
         0,

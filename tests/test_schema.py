@@ -374,7 +374,7 @@ def test_every_key_of_the_scour_section_is_a_declared_field_listed_in_its_doc_ta
     assert listed == list(scour.KEYS) == [
         "forcing", "storm", "forcing_grid", "forcing_location", "lead_times_days", "burial_levels",
         "cohesive", "tstar_law", "window_days", "d50", "grain_density", "mobile_layer", "beq_a", "beq_b",
-        "theta_exponent", "hs_scale", "window_position", "orbital", "friction",
+        "theta_exponent", "ripple_exposure", "hs_scale", "window_position", "orbital", "friction",
     ]  # fmt: skip
 
 

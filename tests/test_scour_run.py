@@ -308,3 +308,37 @@ def test_stage_results_do_not_depend_on_threads_or_chunking(runs, tmp_path):
     assert names
     for v in names:
         np.testing.assert_array_equal(one[v].values, with_scour[v].values, err_msg=v)
+
+
+def test_ripple_exposure_is_a_section_field_that_fills_the_stages_slot():
+    """scour.ripple_exposure (the coarse-sand exposure in ripple heights, kernel default 1 from
+    Traykovski et al. 2007) reaches the stage: fixed, sampled, and refused out of range."""
+    from test_compare import short_default
+
+    from mineburial.config import ScenarioError
+    from mineburial.ensembles import engine
+    from mineburial.ensembles import scour as scour_ensemble
+    from mineburial.kernels.mine import scour as scour_kernels
+
+    def stage(exposure):
+        raw = short_default(8)
+        raw["ensemble"]["coefficients"] = "fixed"
+        raw["sediment"] = {"class": "sand"}
+        raw["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}}
+        if exposure is not None:
+            raw["scour"]["ripple_exposure"] = exposure
+        spec = engine.load_ensemble(raw)
+        P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
+        S, _ = scour_ensemble.stage_parameters(spec.scour, P, inputs)
+        return S[:, scour_kernels.S_RIPPLE_EXPOSURE], inputs
+
+    default, _ = stage(None)
+    assert scour_kernels.default_parameters()[scour_kernels.S_RIPPLE_EXPOSURE] == 1.0
+    assert np.all(default == 1.0)
+    fixed, _ = stage(2.0)
+    assert np.all(fixed == 2.0)
+    drawn, inputs = stage({"distribution": "uniform", "low": 0.5, "high": 1.5})
+    np.testing.assert_array_equal(drawn, inputs["scour.ripple_exposure"])
+    assert np.all((drawn >= 0.5) & (drawn <= 1.5)) and np.unique(drawn).size == drawn.size
+    with pytest.raises(ScenarioError, match=r"scour\.ripple_exposure = 6\.0 .*\[0, 5\]"):
+        stage(6.0)

@@ -47,6 +47,7 @@ NUMERIC = {
     "beq_a": sc.S_BEQ_A,
     "beq_b": sc.S_BEQ_B,
     "theta_exponent": sc.S_TSTAR_P,
+    "ripple_exposure": sc.S_RIPPLE_EXPOSURE,
     "hs_scale": None,  # scales the forcing, not a stage parameter
     "window_position": None,  # where the drop's window starts in the forcing, not a stage parameter
 }
