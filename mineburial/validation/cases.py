@@ -1057,6 +1057,9 @@ SCOUR_EVENTS = {
 }  # fmt: skip
 #: the Oahu peak periods over which the thick-sand row is repeated as information
 SCOUR_OAHU_TP_RANGE = (10.0, 14.0)
+#: the storm durations (h) over which the two band rows are repeated as information: each band's
+#: sensitivity to the assumed forcing (issue 33 item 8), half and one and a half times the 48 h assumed
+SCOUR_DURATION_RANGE = (24.0, 72.0)
 
 
 def scour_event_forcing(peaks_h, peak_hs, peak_tp, duration_h, total_h, background_hs, depth):
@@ -1150,6 +1153,27 @@ def scour_field_bands(quick_only=False, figures=None):
             quick=True,
         )
     )
+    for name, event, band in (
+        ("Oahu", oahu, SCOUR_OAHU_THICK_BAND),
+        ("Halekulani", hal, SCOUR_HALEKULANI_BAND),
+    ):
+        tps = SCOUR_OAHU_TP_RANGE if name == "Halekulani" else ()  # Oahu's period rows are above
+        variants = [("peak Tp", f"{tp:g} s", {"peak_tp": tp}) for tp in tps]
+        variants += [("storm duration", f"{h:g} h", {"duration_h": h}) for h in SCOUR_DURATION_RANGE]
+        for what, value, change in variants:
+            b, _ = scour_final_burial({**event, **change}, **fine_carb)
+            rows.append(
+                Row(
+                    "scour field bands",
+                    f"B/D {name} with the {what} = {value} (information: the band's sensitivity "
+                    "to the assumed forcing)",
+                    SCOUR_OAHU_SOURCE,
+                    f"{band[0]:.3g}-{band[1]:.3g}",
+                    b,
+                    "B/D",
+                    quick=True,
+                )
+            )
     b, theta = scour_final_burial(hal, **fine_carb)
     rows.append(
         _band_row(
