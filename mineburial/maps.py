@@ -1610,21 +1610,26 @@ def _draw_likely_class(ax, legend_ax, ds, g, likely, basis) -> None:
 
 def _draw_burial_over_75(fig, ax, cax, ds, g, likely, basis) -> None:
     """Right panel of :func:`plot_map`: P(burial > 75 %) per computed cell, colour bar in ``cax``."""
-    p75 = ds["burial_class_probability"].values[4]
+    p75_mesh = _probability_panel(ax, g, likely, ds["burial_class_probability"].values[4])
+    cb = fig.colorbar(p75_mesh, cax=cax, orientation="horizontal")
+    cb.set_label(f"P(burial by {basis} > 75 %), probability (0 to 1)")
+    ax.set_title(
+        f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
+    )
+
+
+def _probability_panel(ax, g, likely, values):
+    """A probability per computed cell on the 0-1 ``magma_r`` scale over the land/no-data
+    background (the P(> 75 %) panel and the band's two panels share it); returns the mesh."""
     g.background(ax, likely < 0)
-    p75_mesh = g.mesh(
+    return g.mesh(
         ax,
-        np.ma.masked_invalid(np.where(g.status == CELL_COMPUTED, p75, np.nan)),
+        np.ma.masked_invalid(np.where(g.status == CELL_COMPUTED, values, np.nan)),
         cmap="magma_r",
         vmin=0.0,
         vmax=1.0,
         edgecolors="white",
         linewidth=0.5,
-    )
-    cb = fig.colorbar(p75_mesh, cax=cax, orientation="horizontal")
-    cb.set_label(f"P(burial by {basis} > 75 %), probability (0 to 1)")
-    ax.set_title(
-        f"probability of burial by {basis} > 75 %\n(the class '> 75 %' of the left map)", fontsize=11
     )
 
 
@@ -1641,16 +1646,7 @@ def _draw_epistemic_band(axes, ds, g, likely, basis) -> None:
     level = int(round(100 * float(ds[f"{EPISTEMIC}_lower"].attrs.get("band_level", 0.9))))
     ends = {side: ds[f"{EPISTEMIC}_{side}"].values[4] for side in ("lower", "upper")}
     for ax, (side, values) in zip(axes, ends.items()):
-        g.background(ax, likely < 0)
-        g.mesh(
-            ax,
-            np.ma.masked_invalid(np.where(g.status == CELL_COMPUTED, values, np.nan)),
-            cmap="magma_r",
-            vmin=0.0,
-            vmax=1.0,
-            edgecolors="white",
-            linewidth=0.5,
-        )
+        _probability_panel(ax, g, likely, values)
         ax.set_title(
             f"P(burial by {basis} > 75 %): {side} end of the {level} % band of\n"
             "what the measurements leave open (the calibrated coefficients)",
