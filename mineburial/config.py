@@ -50,8 +50,8 @@ from mineburial.kernels.mine import layout
 from mineburial.kernels.mine.geometry import vertical_extent
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.scenario_fields import CURRENT_KINDS, TABLE
-from mineburial.schema import Field as FieldSpec
 from mineburial.schema import (
+    SUPPORT_TOLERANCE,
     Rule,
     check_rules,
     dumps_toml,
@@ -59,6 +59,8 @@ from mineburial.schema import (
     markdown_table,
     replace_generated,
 )
+from mineburial.schema import Field as FieldSpec
+from mineburial.schema import check_distribution as schema_check_distribution
 from mineburial.schema import number as _number
 from mineburial.sediment_profiles import (
     CATALOGUE,
@@ -148,12 +150,7 @@ def check_range(path: str, values) -> np.ndarray:
 # ===========================================================================
 # Distributions and sampled values against the field table (ensembles)
 # ===========================================================================
-#: The largest probability that a continuous distribution of a numeric field may put
-#: outside the field's allowed range (the tails of a normal on a positive field); more is
-#: refused when the scenario is loaded (:func:`check_distribution`). A draw in the
-#: tolerated tail is still caught: :func:`check_samples` marks its drop invalid and
-#: :func:`invalid_samples` counts it.
-SUPPORT_TOLERANCE = 1e-6
+# (SUPPORT_TOLERANCE, the tolerance of the distributions, is the schema's: mineburial.schema)
 
 
 def _field_for(path: str) -> FieldSpec | None:
@@ -164,51 +161,15 @@ def _label(location: str, spec: FieldSpec) -> str:
     return location if location == spec.path else f"{location} ({spec.path})"
 
 
-def _inline(d: Mapping) -> str:
-    """A distribution table as the inline TOML a user writes (long lists shortened)."""
-
-    def value(v):
-        if isinstance(v, (list, tuple)):
-            items = [value(x) for x in v[:6]] + (["..."] if len(v) > 6 else [])
-            return "[" + ", ".join(items) + "]"
-        return json.dumps(v) if isinstance(v, str) else f"{v:g}"
-
-    return "{" + ", ".join(f"{k} = {value(v)}" for k, v in d.items()) + "}"
-
-
 def check_distribution(path: str, distribution) -> None:
-    """Check the distribution of field ``path`` against the field's allowed range.
-
-    ``distribution`` is a :class:`mineburial.ensembles.distributions.Distribution`.
-    A continuous one may put at most :data:`SUPPORT_TOLERANCE` of its probability
-    outside the range (a normal(750, 15) on the mass is fine, a uniform(-10, 10) or a
-    normal(1, 1) is not); a discrete one (``choice``, ``empirical``) none at all: every
-    value it can draw must be allowed. Nothing is truncated on the user's behalf: a
-    ``truncated_normal`` or a ``uniform`` with its bounds inside the range is the way to
-    say so. Raises :class:`ScenarioError` naming the field, the distribution, the
-    probability outside and the allowed range. Fields without a range (labels, or
-    names that are not fields) are left to the caller.
-    """
+    """Check the distribution of the scenario field ``path`` against the field's allowed range
+    (:func:`mineburial.schema.check_distribution`, the one rule of every system). A
+    categorical distribution, or a path without a range (labels, or names that are not
+    fields), is left to the caller."""
     spec = _field_for(path)
     if spec is None or getattr(distribution, "categorical", False):
         return
-    p = distribution.probability_outside(spec.low, spec.high, spec.low_inclusive, spec.high_inclusive)
-    tolerance = 0.0 if distribution.discrete else SUPPORT_TOLERANCE
-    if p <= tolerance:
-        return
-    label = f"{_label(path, spec)} = {_inline(distribution.to_dict())}"
-    if distribution.discrete:
-        values = np.asarray(distribution.values, dtype=np.float64)
-        bad = values[~spec.contains(values)]
-        raise ScenarioError(
-            f"{label}: {bad.size} of its {values.size} values lie outside the allowed range "
-            f"{spec.range_text()} (probability {p:.3g}), e.g. {float(bad[0]):g}"
-        )
-    raise ScenarioError(
-        f"{label} puts probability {p:.3g} outside the allowed range {spec.range_text()} "
-        f"(at most {SUPPORT_TOLERANCE:g} may lie outside): narrow it, or bound it inside the "
-        f"range (a uniform's or a truncated_normal's low and high)"
-    )
+    schema_check_distribution(spec, distribution, _label(path, spec))
 
 
 def check_samples(inputs: Mapping[str, Any], n: int | None = None) -> np.ndarray:

@@ -36,6 +36,8 @@ __all__ = [
     "Rule",
     "ScenarioError",
     "check_rules",
+    "check_distribution",
+    "SUPPORT_TOLERANCE",
     "number",
     "dumps_toml",
     "toml_value",
@@ -245,6 +247,62 @@ def check_rules(rules, values: Mapping, fields: Mapping[str, Field]) -> None:
     for rule in rules:
         if all(p in values for p in rule.paths):
             rule.check(values, fields)
+
+
+# ---------------------------------------------------------------------------
+# distributions of an ensemble against a field's range (every system's one check)
+# ---------------------------------------------------------------------------
+#: The largest probability that a continuous distribution of a numeric field may put
+#: outside the field's allowed range (the tails of a normal on a positive field); more is
+#: refused when the scenario is loaded (:func:`check_distribution`). A draw in the
+#: tolerated tail is still caught: the mine's ``config.check_samples`` marks its drop
+#: invalid, the restraint's rows are checked before they run.
+SUPPORT_TOLERANCE = 1e-6
+
+
+def inline_table(d: Mapping) -> str:
+    """A distribution table as the inline TOML a user writes (long lists shortened)."""
+
+    def value(v):
+        if isinstance(v, (list, tuple)):
+            items = [value(x) for x in v[:6]] + (["..."] if len(v) > 6 else [])
+            return "[" + ", ".join(items) + "]"
+        return json.dumps(v) if isinstance(v, str) else f"{v:g}"
+
+    return "{" + ", ".join(f"{k} = {value(v)}" for k, v in d.items()) + "}"
+
+
+def check_distribution(spec: Field, distribution, label: str | None = None) -> None:
+    """Check the distribution of the numeric field ``spec`` against its allowed range: the one
+    rule of every system's ensembles (the mine's scenario, the restraint's case).
+
+    ``distribution`` is a :class:`mineburial.ensembles.distributions.Distribution` with
+    numeric values (a categorical one is the caller's to refuse or pass). A continuous one
+    may put at most :data:`SUPPORT_TOLERANCE` of its probability outside the range (a
+    normal(750, 15) on a mass is fine, a uniform(-10, 10) or a normal(1, 1) is not); a
+    discrete one (``choice``, ``empirical``) none at all: every value it can draw must be
+    allowed. Nothing is truncated on the user's behalf: a ``truncated_normal`` or a
+    ``uniform`` with its bounds inside the range is the way to say so. Raises
+    :class:`ScenarioError` naming the field (``label``, default its path), the
+    distribution, the probability outside and the allowed range.
+    """
+    p = distribution.probability_outside(spec.low, spec.high, spec.low_inclusive, spec.high_inclusive)
+    tolerance = 0.0 if distribution.discrete else SUPPORT_TOLERANCE
+    if p <= tolerance:
+        return
+    label = f"{label or spec.path} = {inline_table(distribution.to_dict())}"
+    if distribution.discrete:
+        values = np.asarray(distribution.values, dtype=np.float64)
+        bad = values[~spec.contains(values)]
+        raise ScenarioError(
+            f"{label}: {bad.size} of its {values.size} values lie outside the allowed range "
+            f"{spec.range_text()} (probability {p:.3g}), e.g. {float(bad[0]):g}"
+        )
+    raise ScenarioError(
+        f"{label} puts probability {p:.3g} outside the allowed range {spec.range_text()} "
+        f"(at most {SUPPORT_TOLERANCE:g} may lie outside): narrow it, or bound it inside the "
+        f"range (a uniform's or a truncated_normal's low and high)"
+    )
 
 
 # ---------------------------------------------------------------------------

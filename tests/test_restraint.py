@@ -680,3 +680,26 @@ def test_restrain_cli_reports_zero_friction_instants(tmp_path, capsys, monkeypat
     with xr.open_dataset(out) as ds:
         assert ds.attrs["anchor_lifted_evaluations"] == 3
         assert ds.attrs["anchor_friction_unsolvable_evaluations"] == 1
+
+
+def test_kernel_parameter_vector_is_named_by_the_case_schema():
+    """Every slot of the restraint kernels' parameter vector (rf.PARAM_NAMES) is a real-valued
+    case field, carried as it is, or a declared derived quantity or code; the vector of Table 2
+    case 1 holds each field's value at its slot and the closed forms of the derived ones
+    (S_W = L B + 2 (L + B) T, A_W = L B, V = m / rho; seed 004 eqs. (57), (61))."""
+    case = R.table2_case(1)
+    p = R.build_system(case).params[1]
+    assert p.shape == (rf.N_PARAMS,) and len(set(rf.PARAM_NAMES)) == rf.N_PARAMS
+    fields = {f.path: f for f in R.FIELDS}
+    for i, name in enumerate(rf.PARAM_NAMES):
+        if name in fields:
+            assert fields[name].kind == "float", name
+            assert p[i] == case[name], name
+        else:
+            assert name.split(".")[0] in ("derived", "code"), name
+    L, B, m, rho = case["ship.length"], case["ship.beam"], case["ship.mass"], case["water.density"]
+    T = m / (rho * L * B)
+    assert p[rf.PARAM_INDEX["derived.ship_wetted_area"]] == pytest.approx(L * B + 2 * (L + B) * T, rel=1e-15)
+    assert p[rf.PARAM_INDEX["derived.waterplane_area"]] == L * B
+    assert p[rf.PARAM_INDEX["derived.displaced_volume"]] == pytest.approx(m / rho, rel=1e-15)
+    assert p[rf.P_HALF] == 0.5 and p[rf.P_FRICTION] == 1.0  # the ITTC line's 1/2; friction on

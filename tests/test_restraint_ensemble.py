@@ -323,3 +323,32 @@ def test_ctrl_c_stops_a_restraint_chunk_between_cases_not_after_the_whole_chunk(
         ens.compute_chunk(spec, 0, 40, threads=2)
     assert len(started) < 10  # of 40: the blocks in flight when the signal came, no more
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_case_rules_over_sampled_rows_match_each_case_built_alone():
+    """The restraint's relations are schema rules (rs.RULES): evaluated at once over sampled
+    rows they refuse exactly the rows a case built alone refuses, and the ship-sinks rule at the
+    closed-form mass rho L B depth (the cuboid's full displacement)."""
+    base = rs.table2_case(1)
+    rng = np.random.default_rng(3)
+    n = 40
+    full = base["water.density"] * base["ship.length"] * base["ship.beam"] * base["ship.depth"]
+    columns = {
+        "ship.mass": rng.uniform(0.5 * full, 1.5 * full, n),
+        "ship.joint_dz": rng.uniform(0.0, 8.0, n),  # the keel reaches the seabed near 6 m
+        "cable.vertical": rng.uniform(3.0, 12.0, n),  # no catenary below cable.length - horizontal
+    }
+    values = {**base.values, **columns}
+    allowed = np.ones(n, dtype=bool)
+    for rule in rs.RULES:
+        allowed &= np.broadcast_to(rule.holds(values), (n,))
+    alone = np.ones(n, dtype=bool)
+    for j in range(n):
+        try:
+            base.replace(**{k: float(c[j]) for k, c in columns.items()})
+        except ScenarioError:
+            alone[j] = False
+    assert 5 < allowed.sum() < n - 5
+    np.testing.assert_array_equal(allowed, alone)
+    sinks = next(r for r in rs.RULES if r.paths[0] == "ship.mass")
+    np.testing.assert_array_equal(sinks.holds(values), columns["ship.mass"] < full)

@@ -37,7 +37,6 @@ import numba
 import numpy as np
 
 from mineburial._version import __version__
-from mineburial.config import SUPPORT_TOLERANCE
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.intervals import wilson_interval
 from mineburial.ensembles.sampling import sample_fields
@@ -48,6 +47,7 @@ from mineburial.io import netcdf as ncio
 from mineburial.io.dataset import build
 from mineburial.io.variables import RESTRAINT_OUTPUTS, input_variable
 from mineburial.kernels import multibody as kmb
+from mineburial.schema import check_distribution
 from mineburial.systems import restraint as rs
 
 __all__ = [
@@ -177,21 +177,6 @@ def _real_field(path: str) -> rs.FieldSpec:
     return spec
 
 
-def _check_distribution(spec: rs.FieldSpec, d: dist.Distribution) -> None:
-    """The distribution of a field against the field's allowed range (the rule of
-    :func:`mineburial.config.check_distribution`)."""
-    if getattr(d, "categorical", False):
-        raise ScenarioError(f"{spec.path}: a choice for a number needs numeric values")
-    p = d.probability_outside(spec.low, spec.high, spec.low_inclusive, spec.high_inclusive)
-    tolerance = 0.0 if d.discrete else SUPPORT_TOLERANCE
-    if p <= tolerance:
-        return
-    raise ScenarioError(
-        f"{spec.path} = {json.dumps(d.to_dict())} puts probability {p:.3g} outside the allowed range "
-        f"{spec.range_text()}" + ("" if d.discrete else f" (at most {SUPPORT_TOLERANCE:g} may lie outside)")
-    )
-
-
 def _median(d: dist.Distribution) -> float:
     return float(d.ppf(np.array([0.5]))[0])
 
@@ -231,7 +216,9 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> RestraintEnsembleSp
             if isinstance(value, Mapping) and dist.is_distribution_table(value):
                 spec = _real_field(path)
                 d = dist.from_dict(value, path, base_dir=base_dir)
-                _check_distribution(spec, d)
+                if getattr(d, "categorical", False):
+                    raise ScenarioError(f"{path}: a choice for a number needs numeric values")
+                check_distribution(spec, d)
                 random[path] = d
                 fixed[path] = _median(d)
     follows = "anchor.mass" in random and "length" not in raw.get("anchor", {})
@@ -261,13 +248,13 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> RestraintEnsembleSp
 # ---------------------------------------------------------------------------
 # one chunk
 # ---------------------------------------------------------------------------
-def case_values(spec: RestraintEnsembleSpec, table: Mapping, j: int) -> dict:
-    """The ``section.field`` values that case row ``j`` of the sampled ``table`` changes
-    in the base case (the sampled fields and the derived anchor length)."""
-    values = {path: float(table[path][j]) for path in spec.random}
+def case_columns(spec: RestraintEnsembleSpec, table: Mapping) -> dict:
+    """The ``section.field`` columns that the rows of the sampled ``table`` change in the base
+    case (the sampled fields and the derived anchor length)."""
+    columns = {path: np.asarray(table[path], dtype=np.float64) for path in spec.random}
     if spec.anchor_length_follows_mass:
-        values["anchor.length"] = ANCHOR_LENGTH_PER_MASS * values["anchor.mass"]
-    return values
+        columns["anchor.length"] = ANCHOR_LENGTH_PER_MASS * columns["anchor.mass"]
+    return columns
 
 
 def run_case(case: rs.RestraintCase) -> tuple[int, np.ndarray]:
@@ -301,14 +288,28 @@ def compute_chunk(spec: RestraintEnsembleSpec, start: int, stop: int, threads: i
     summary = np.full((n, len(OUTPUTS)), np.nan)
     status = np.full(n, kmb.INVALID_INPUT, dtype=np.int8)
     reasons: dict = {}
+
+    def refuse(text):
+        text = " ".join(text.split())
+        entry = reasons.setdefault(text.split(" = ")[0], [0, text])
+        entry[0] += 1
+
+    # the case rules over every sampled row at once (the schema's rules, vectorised), then the
+    # checks a case makes when it is built (the initial layout's own) for the rows that passed
+    columns = case_columns(spec, table)
+    values = {**spec.base.values, **columns}
+    allowed = np.ones(n, dtype=bool)
+    for rule in rs.RULES:
+        held = np.broadcast_to(rule.holds(values), (n,))
+        for j in np.flatnonzero(allowed & ~held):
+            refuse(rule.message({k: (v[j] if np.ndim(v) else v) for k, v in values.items()}))
+        allowed &= held
     cases: list = [None] * n
-    for j in range(n):
+    for j in np.flatnonzero(allowed):
         try:
-            cases[j] = spec.base.replace(**case_values(spec, table, j))
+            cases[j] = spec.base.replace(**{path: float(column[j]) for path, column in columns.items()})
         except ScenarioError as exc:
-            text = " ".join(str(exc).split())
-            entry = reasons.setdefault(text.split(" = ")[0], [0, text])
-            entry[0] += 1
+            refuse(str(exc))
 
     def run(j):
         status[j], summary[j] = run_case(cases[j])

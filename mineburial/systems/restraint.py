@@ -24,6 +24,7 @@ import json
 import math
 import pathlib
 import sys
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -47,7 +48,15 @@ from mineburial.kernels.restraint import forces as rf
 from mineburial.kernels.restraint.forces import ANCHOR, ELEMENT, ROD, SHIP, segment_area_below
 from mineburial.multibody import record_bytes
 from mineburial.resources import memory_refusal
-from mineburial.schema import Field, generated_block, markdown_table, replace_generated, toml_value
+from mineburial.schema import (
+    Field,
+    Rule,
+    check_rules,
+    generated_block,
+    markdown_table,
+    replace_generated,
+    toml_value,
+)
 from mineburial.sediment_profiles import ScenarioError, unknown_name_message, unknown_names_message
 
 # ---------------------------------------------------------------------------
@@ -482,7 +491,7 @@ _DOC_WRITER = "mineburial.systems.restraint.write_field_table"
 
 def field_table_block() -> str:
     """The field table of docs/restraint.md (section 10), between its markers."""
-    return generated_block("case-fields", markdown_table(FIELDS), _DOC_WRITER)
+    return generated_block("case-fields", markdown_table(FIELDS, RULES), _DOC_WRITER)
 
 
 def write_field_table(path="docs/restraint.md") -> None:
@@ -490,7 +499,190 @@ def write_field_table(path="docs/restraint.md") -> None:
     :data:`FIELDS`; tests/test_schema.py fails until then)."""
     path = pathlib.Path(path)
     text = path.read_text(encoding="utf-8")
-    atomic_write_text(path, replace_generated(text, "case-fields", markdown_table(FIELDS), _DOC_WRITER))
+    atomic_write_text(
+        path, replace_generated(text, "case-fields", markdown_table(FIELDS, RULES), _DOC_WRITER)
+    )
+
+
+# ---------------------------------------------------------------------------
+# the relations between fields: schema rules, per case and over sampled rows
+# ---------------------------------------------------------------------------
+_STAGES = (
+    "cable.length",
+    "cable.stage1_elements",
+    "cable.stage1_element_length",
+    "cable.stage3_elements",
+    "cable.stage3_element_length",
+    "cable.stage2_element_length",
+)
+
+
+def _stage2_rest(v: Mapping):
+    """Cable length left to the second stage (seed 004 §4.2), scalar or per row."""
+    return (
+        v["cable.length"]
+        - v["cable.stage1_elements"] * v["cable.stage1_element_length"]
+        - v["cable.stage3_elements"] * v["cable.stage3_element_length"]
+    )
+
+
+def _whole_stage2(v: Mapping):
+    rest = _stage2_rest(v)
+    n2 = rest / v["cable.stage2_element_length"]
+    return (rest > 0.0) & (np.abs(n2 - np.round(n2)) <= 1e-9 * np.maximum(1.0, n2)) & (np.round(n2) >= 1)
+
+
+def _draught(v: Mapping):
+    """Draught of the cuboid ship floating at its mass, m / (rho L B)."""
+    return v["ship.mass"] / (v["water.density"] * v["ship.length"] * v["ship.beam"])
+
+
+class _Values(dict):
+    """One case's values with the derived quantities :func:`initial_configuration` reads."""
+
+    @property
+    def stage2_elements(self) -> int:
+        return int(round(_stage2_rest(self) / self["cable.stage2_element_length"]))
+
+    @property
+    def ship_draught(self) -> float:
+        return float(_draught(self))
+
+
+def _water_depth(v: Mapping) -> float:
+    """The ``d`` of seed 004 eq. (38) of one case's values (:attr:`RestraintCase.water_depth`)."""
+    lay = initial_configuration(_Values(v))
+    inner = slice(1, lay.kinds.size - 2)
+    rise = float(np.sum(lay.lengths[inner] * np.sin(lay.angles[inner])))
+    return lay.chain_height + rise + v["cable.rod_length"] - v["ship.joint_dz"]
+
+
+def _keel_height(v: Mapping):
+    """Height of the ship's keel above the seabed at t = 0 (:attr:`RestraintCase.water_depth`
+    less the draught), scalar or per row; NaN where the initial layout itself is refused (its
+    own error, :func:`initial_configuration`, then speaks when the case is built)."""
+    arrays = {k: np.asarray(x) for k, x in v.items()}
+    shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    out = np.full(shape, np.nan)
+    for idx in np.ndindex(shape):
+        row = {k: (a[idx] if a.ndim else a).item() for k, a in arrays.items()}
+        try:
+            out[idx] = _water_depth(row) - float(_draught(row))
+        except ScenarioError:
+            pass
+    return out if shape else float(out)
+
+
+def _stages_message(v: Mapping) -> str:
+    return (
+        f"cable.length = {v['cable.length']:g} m must be the first stage "
+        f"({v['cable.stage1_elements']} x {v['cable.stage1_element_length']:g} m) plus the third "
+        f"({v['cable.stage3_elements']} x {v['cable.stage3_element_length']:g} m) plus a whole "
+        f"number (>= 1) of second-stage elements of {v['cable.stage2_element_length']:g} m"
+    )
+
+
+def _sinks(part: str) -> Rule:
+    return Rule(
+        f"{part}.density > water.density (the {part} must sink)",
+        (f"{part}.density", "water.density"),
+        lambda v: v[f"{part}.density"] > v["water.density"],
+        message=lambda v: (
+            f"{part}.density = {v[f'{part}.density']:g} kg/m3 must exceed water.density = "
+            f"{v['water.density']:g} kg/m3 (the {part} must sink)"
+        ),
+    )
+
+
+def _keel_message(v: Mapping) -> str:
+    depth = _water_depth(v)
+    draught = float(_draught(v))
+    keel = depth - draught
+    return (
+        f"ship.joint_dz = {v['ship.joint_dz']:g} m with cable.vertical = "
+        f"{v['cable.vertical']:g} m and cable.rod_length = {v['cable.rod_length']:g} m puts "
+        f"the water plane {depth:.3g} m above the seabed and the keel (draught "
+        f"{draught:.3g} m) at {keel:.3g} m: the water depth must be > 0 and the ship's "
+        f"keel above the seabed (ship.joint_dz < {keel + v['ship.joint_dz']:.4g} m)"
+    )
+
+
+#: the relations between a case's fields, declared once as schema rules (mineburial/schema.py):
+#: checked in this order when a case is built (:meth:`RestraintCase._check_relations`) and,
+#: vectorised, over an ensemble's sampled rows before any of them runs
+#: (``mineburial.ensembles.restraint.compute_chunk``). The keel rule needs the initial layout,
+#: so it loops over rows (tens of microseconds each).
+RULES: tuple[Rule, ...] = (
+    Rule(
+        "cable.length = stage 1 + stage 3 + a whole number (>= 1) of stage-2 elements (seed 004 §4.2)",
+        _STAGES,
+        _whole_stage2,
+        message=_stages_message,
+    ),
+    Rule(
+        "cable.horizontal < cable.length",
+        ("cable.horizontal", "cable.length"),
+        lambda v: v["cable.length"] - v["cable.horizontal"] > 0.0,
+        message=lambda v: (
+            f"cable.horizontal = {v['cable.horizontal']:g} m must be less than cable.length = "
+            f"{v['cable.length']:g} m"
+        ),
+    ),
+    Rule(
+        "cable.vertical > cable.length - cable.horizontal (seed 004 eq. (30) has a solution)",
+        ("cable.vertical", "cable.length", "cable.horizontal"),
+        lambda v: v["cable.vertical"] > v["cable.length"] - v["cable.horizontal"],
+        message=lambda v: (
+            f"cable.vertical = {v['cable.vertical']:g} m must exceed cable.length - cable.horizontal = "
+            f"{v['cable.length'] - v['cable.horizontal']:g} m: only then has the complete catenary of "
+            f"seed 004 eq. (30) a solution"
+        ),
+    ),
+    Rule(
+        "the ship floats: its draught m / (rho L B) < ship.depth",
+        ("ship.mass", "water.density", "ship.length", "ship.beam", "ship.depth"),
+        lambda v: _draught(v) < v["ship.depth"],
+        message=lambda v: (
+            f"ship.mass = {v['ship.mass']:g} kg sinks the cuboid ship: its draught "
+            f"{float(_draught(v)):.3g} m must be less than ship.depth = {v['ship.depth']:g} m, "
+            f"i.e. the mass less than "
+            f"{v['water.density'] * v['ship.length'] * v['ship.beam'] * v['ship.depth']:g} kg"
+        ),
+    ),
+    Rule(
+        "the anchor sinks: mass / (length width height) > water.density",
+        ("anchor.mass", "anchor.length", "anchor.width", "anchor.height", "water.density"),
+        lambda v: (
+            v["anchor.mass"] / (v["anchor.length"] * v["anchor.width"] * v["anchor.height"])
+            > v["water.density"]
+        ),
+        message=lambda v: (
+            f"anchor.mass = {v['anchor.mass']:g} kg floats: the anchor's density "
+            f"{v['anchor.mass'] / (v['anchor.length'] * v['anchor.width'] * v['anchor.height']):.4g} "
+            f"kg/m3 (mass / (length width height)) must exceed water.density = "
+            f"{v['water.density']:g} kg/m3"
+        ),
+    ),
+    _sinks("chain"),
+    _sinks("cable"),
+    Rule(
+        "seabed.foundation_stiffness > water.density water.gravity (seed 004 eqs. (41)-(42))",
+        ("seabed.foundation_stiffness", "water.density", "water.gravity"),
+        lambda v: v["seabed.foundation_stiffness"] > v["water.density"] * v["water.gravity"],
+        message=lambda v: (
+            f"seabed.foundation_stiffness = {v['seabed.foundation_stiffness']:g} N/m3 must exceed "
+            f"rho g = {v['water.density'] * v['water.gravity']:g} N/m3 (the seabed must carry more "
+            f"than the buoyancy it takes away, eqs. (41)-(42))"
+        ),
+    ),
+    Rule(
+        "the ship's keel starts above the seabed (the initial layout's water depth > the draught)",
+        tuple(f.path for f in FIELDS),
+        lambda v: np.logical_not(_keel_height(v) <= 0.0),  # NaN (layout refused): left to the layout
+        message=_keel_message,
+        field="ship.joint_dz",
+    ),
+)
 
 
 @dataclass(frozen=True)
@@ -522,17 +714,12 @@ class RestraintCase:
     @property
     def stage2_elements(self) -> int:
         """Elements of the cable's second stage: what is left of the length (§4.2)."""
-        rest = (
-            self["cable.length"]
-            - self["cable.stage1_elements"] * self["cable.stage1_element_length"]
-            - self["cable.stage3_elements"] * self["cable.stage3_element_length"]
-        )
-        return int(round(rest / self["cable.stage2_element_length"]))
+        return _Values(self.values).stage2_elements
 
     @property
     def ship_draught(self) -> float:
         """Draught of the cuboid ship floating at its mass (m / (rho L B))."""
-        return self["ship.mass"] / (self["water.density"] * self["ship.length"] * self["ship.beam"])
+        return float(_draught(self.values))
 
     @property
     def water_depth(self) -> float:
@@ -540,80 +727,11 @@ class RestraintCase:
         the chain's axis height plus the rise of every chain link and cable element of the
         initial layout (:func:`initial_configuration`) to the rod's lower end, plus the
         (vertical) rod, less ``ship.joint_dz``."""
-        lay = initial_configuration(self)
-        inner = slice(1, lay.kinds.size - 2)
-        rise = float(np.sum(lay.lengths[inner] * np.sin(lay.angles[inner])))
-        return lay.chain_height + rise + self["cable.rod_length"] - self["ship.joint_dz"]
+        return _water_depth(self.values)
 
     def _check_relations(self):
-        rest = (
-            self["cable.length"]
-            - self["cable.stage1_elements"] * self["cable.stage1_element_length"]
-            - self["cable.stage3_elements"] * self["cable.stage3_element_length"]
-        )
-        n2 = rest / self["cable.stage2_element_length"]
-        if rest <= 0.0 or abs(n2 - round(n2)) > 1e-9 * max(1.0, n2) or round(n2) < 1:
-            raise ScenarioError(
-                f"cable.length = {self['cable.length']:g} m must be the first stage "
-                f"({self['cable.stage1_elements']} x {self['cable.stage1_element_length']:g} m) "
-                f"plus the third "
-                f"({self['cable.stage3_elements']} x {self['cable.stage3_element_length']:g} m) plus a whole "
-                f"number (>= 1) of second-stage elements of {self['cable.stage2_element_length']:g} m"
-            )
-        slack = self["cable.length"] - self["cable.horizontal"]
-        if slack <= 0.0:
-            raise ScenarioError(
-                f"cable.horizontal = {self['cable.horizontal']:g} m must be less than cable.length = "
-                f"{self['cable.length']:g} m"
-            )
-        if self["cable.vertical"] <= slack:
-            raise ScenarioError(
-                f"cable.vertical = {self['cable.vertical']:g} m must exceed "
-                f"cable.length - cable.horizontal = "
-                f"{slack:g} m: only then has the complete catenary of seed 004 eq. (30) a solution"
-            )
-        max_mass = self["water.density"] * self["ship.length"] * self["ship.beam"] * self["ship.depth"]
-        if self.ship_draught >= self["ship.depth"]:
-            raise ScenarioError(
-                f"ship.mass = {self['ship.mass']:g} kg sinks the cuboid ship: its draught "
-                f"{self.ship_draught:.3g} m must be less than ship.depth = {self['ship.depth']:g} m, "
-                f"i.e. the mass less than {max_mass:g} kg"
-            )
-        rho_anchor = self["anchor.mass"] / (
-            self["anchor.length"] * self["anchor.width"] * self["anchor.height"]
-        )
-        if rho_anchor <= self["water.density"]:
-            raise ScenarioError(
-                f"anchor.mass = {self['anchor.mass']:g} kg floats: the anchor's density "
-                f"{rho_anchor:.4g} kg/m3 "
-                f"(mass / (length width height)) must exceed water.density = {self['water.density']:g} kg/m3"
-            )
-        for part in ("chain", "cable"):
-            if self[f"{part}.density"] <= self["water.density"]:
-                raise ScenarioError(
-                    f"{part}.density = {self[f'{part}.density']:g} kg/m3 must exceed water.density = "
-                    f"{self['water.density']:g} kg/m3 (the {part} must sink)"
-                )
-        if self["seabed.foundation_stiffness"] <= self["water.density"] * self["water.gravity"]:
-            raise ScenarioError(
-                f"seabed.foundation_stiffness = {self['seabed.foundation_stiffness']:g} N/m3 must exceed "
-                f"rho g = {self['water.density'] * self['water.gravity']:g} N/m3 "
-                f"(the seabed must carry more than "
-                f"the buoyancy it takes away, eqs. (41)-(42))"
-            )
-        # geometry of the water column: the rod hangs from the cable's top (~ cable.vertical above
-        # the seabed); the ship's reference point (its water plane) is rod_length above the rod's
-        # lower end less the joint's body-frame height ship.joint_dz
-        depth = self.water_depth
-        keel = depth - self.ship_draught
-        if not keel > 0.0:
-            raise ScenarioError(
-                f"ship.joint_dz = {self['ship.joint_dz']:g} m with cable.vertical = "
-                f"{self['cable.vertical']:g} m and cable.rod_length = {self['cable.rod_length']:g} m puts "
-                f"the water plane {depth:.3g} m above the seabed and the keel (draught "
-                f"{self.ship_draught:.3g} m) at {keel:.3g} m: the water depth must be > 0 and the ship's "
-                f"keel above the seabed (ship.joint_dz < {keel + self['ship.joint_dz']:.4g} m)"
-            )
+        """The relations between the fields (:data:`RULES`), in order."""
+        check_rules(RULES, self.values, _BY_PATH)
 
     # -- reading and writing --------------------------------------------------
     @classmethod
@@ -982,25 +1100,6 @@ class System:
 
 
 #: force parameters (kernels/restraint/forces.py ``P_*``) that are a field of the case as it is
-_CASE_PARAMETERS = (
-    ("P_G", "water.gravity"),
-    ("P_RHO", "water.density"),
-    ("P_NU", "water.kinematic_viscosity"),
-    ("P_MU", "anchor.friction"),
-    ("P_VSCALE", "anchor.friction_velocity_scale"),
-    ("P_CD_ANCHOR", "anchor.drag_coefficient"),
-    ("P_ANCHOR_W", "anchor.width"),
-    ("P_ANCHOR_H", "anchor.height"),
-    ("P_CD", "water.normal_drag"),
-    ("P_CF", "water.tangential_drag"),
-    ("P_KZ", "seabed.foundation_stiffness"),
-    ("P_USURF", "water.current_speed"),
-    ("P_SHIP_L", "ship.length"),
-    ("P_SHIP_KS", "ship.roughness"),
-    ("P_CM", "water.added_mass"),
-)
-
-
 def build_system(case: RestraintCase) -> System:
     """The multibody description of a case (a chain of N bodies is N bodies), the
     parameters of its forces and its initial state (ship at x = 0, speed ``ship.speed``,
@@ -1059,21 +1158,23 @@ def build_system(case: RestraintCase) -> System:
     volume = ms / rho
     gm_long = ls**3 * bs / (12.0 * volume) - 0.5 * draught  # eq. (57), z_B = T/2, z_G = T (assumption (8))
     wetted = ls * bs + 2.0 * (ls + bs) * draught
-    p = np.zeros(rf.N_PARAMS)
-    for index, path in _CASE_PARAMETERS:
-        p[getattr(rf, index)] = case[path]
-    p[rf.P_DEPTH] = z_water
-    p[rf.P_SHIP_SW] = wetted
-    p[rf.P_HALF] = 1.0 if case["ship.resistance_form"] == "printed" else 0.5
     perimeter = case["water.tangential_drag_form"] == "perimeter"
-    p[rf.P_TANGENTIAL] = rf.TANGENTIAL_PERIMETER if perimeter else rf.TANGENTIAL_DIAMETER
-    p[rf.P_AW] = ls * bs
-    p[rf.P_VOL] = volume
-    p[rf.P_GML] = gm_long
-    p[rf.P_SOLVER] = rf.SOLVER_KANE if case["numerics.solver"] == "kane" else rf.SOLVER_RECURSIVE
-    p[rf.P_FRICTION] = 1.0 if case["model.friction"] else 0.0
-    p[rf.P_DRAG] = 1.0 if case["model.drag"] else 0.0
-    p[rf.P_MORISON] = 1.0 if case["water.added_mass_form"] == "morison" else 0.0
+    derived = {
+        "derived.water_depth": z_water,
+        "derived.ship_wetted_area": wetted,
+        "derived.waterplane_area": ls * bs,
+        "derived.displaced_volume": volume,
+        "derived.gm_longitudinal": gm_long,
+        "code.resistance_half": 1.0 if case["ship.resistance_form"] == "printed" else 0.5,
+        "code.friction": 1.0 if case["model.friction"] else 0.0,
+        "code.drag": 1.0 if case["model.drag"] else 0.0,
+        "code.morison": 1.0 if case["water.added_mass_form"] == "morison" else 0.0,
+        "code.solver": rf.SOLVER_KANE if case["numerics.solver"] == "kane" else rf.SOLVER_RECURSIVE,
+        "code.tangential_form": rf.TANGENTIAL_PERIMETER if perimeter else rf.TANGENTIAL_DIAMETER,
+    }
+    # the kernels' parameter vector by its declared names (rf.PARAM_NAMES): a field's value or a
+    # derived quantity; a name that is neither is a KeyError here, never a silent zero
+    p = np.array([derived[n] if n in derived else float(case[n]) for n in rf.PARAM_NAMES])
     contact_counts = np.zeros(rf.N_CONTACT_CODES, np.int64)
     params = (desc.arrays(), p, lay.kinds, lay.lengths.copy(), diameter, weight, buoy, contact_counts)
     y0 = np.concatenate([q0, u0, [0.0, 0.0]])

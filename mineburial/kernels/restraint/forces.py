@@ -276,34 +276,68 @@ ELEMENT = 1  # chain link or cable element, in the water
 ROD = 2  # the auxiliary rod, in the air (§3.2.2)
 SHIP = 3
 
-#: indices of the scalar parameter vector (params[1])
-P_G = 0
-P_RHO = 1
-P_NU = 2
-P_MU = 3
-P_VSCALE = 4
-P_CD_ANCHOR = 5
-P_ANCHOR_W = 6
-P_ANCHOR_H = 7
-P_CD = 8
-P_CF = 9
-P_KZ = 10
-P_USURF = 11
-P_DEPTH = 12
-P_SHIP_L = 13
-P_SHIP_SW = 14
-P_SHIP_KS = 15
-P_HALF = 16
-P_AW = 17
-P_VOL = 18
-P_GML = 19
-P_CM = 20
-P_FRICTION = 21
-P_DRAG = 22
-P_MORISON = 23
-P_SOLVER = 24
-P_TANGENTIAL = 25
-N_PARAMS = 26
+#: the scalar parameter vector (params[1]), one name a slot, declared once: a case field's path
+#: (``mineburial.systems.restraint.FIELDS``) where the slot carries that field's value as it is,
+#: else a quantity the system derives from the case (``derived.*``, SI units) or the code of a
+#: choice or switch (``code.*``), both computed by ``systems.restraint.build_system``. The
+#: kernels' ``P_*`` indices below are looked up by these names, so the vector's order is this
+#: tuple's and nothing else numbers it.
+PARAM_NAMES = (
+    "water.gravity",
+    "water.density",
+    "water.kinematic_viscosity",
+    "anchor.friction",
+    "anchor.friction_velocity_scale",
+    "anchor.drag_coefficient",
+    "anchor.width",
+    "anchor.height",
+    "water.normal_drag",
+    "water.tangential_drag",
+    "seabed.foundation_stiffness",
+    "water.current_speed",
+    "derived.water_depth",  # the ship's water plane above the seabed at t = 0 (eq. (38)'s d)
+    "ship.length",
+    "derived.ship_wetted_area",  # S_W of eq. (61): L B + 2 (L + B) T
+    "ship.roughness",
+    "code.resistance_half",  # 1 (eq. (62) as printed) or 1/2 (the ITTC line's own definition)
+    "derived.waterplane_area",  # A_W = L B
+    "derived.displaced_volume",  # m / rho
+    "derived.gm_longitudinal",  # GM_L, eq. (57)
+    "water.added_mass",
+    "code.friction",  # model.friction: 1 on, 0 off
+    "code.drag",  # model.drag: 1 on, 0 off
+    "code.morison",  # water.added_mass_form: 1 Morison, 0 the printed form
+    "code.solver",  # numerics.solver: SOLVER_KANE or SOLVER_RECURSIVE
+    "code.tangential_form",  # water.tangential_drag_form: TANGENTIAL_PERIMETER or _DIAMETER
+)
+PARAM_INDEX = {name: i for i, name in enumerate(PARAM_NAMES)}
+N_PARAMS = len(PARAM_NAMES)
+P_G = PARAM_INDEX["water.gravity"]
+P_RHO = PARAM_INDEX["water.density"]
+P_NU = PARAM_INDEX["water.kinematic_viscosity"]
+P_MU = PARAM_INDEX["anchor.friction"]
+P_VSCALE = PARAM_INDEX["anchor.friction_velocity_scale"]
+P_CD_ANCHOR = PARAM_INDEX["anchor.drag_coefficient"]
+P_ANCHOR_W = PARAM_INDEX["anchor.width"]
+P_ANCHOR_H = PARAM_INDEX["anchor.height"]
+P_CD = PARAM_INDEX["water.normal_drag"]
+P_CF = PARAM_INDEX["water.tangential_drag"]
+P_KZ = PARAM_INDEX["seabed.foundation_stiffness"]
+P_USURF = PARAM_INDEX["water.current_speed"]
+P_DEPTH = PARAM_INDEX["derived.water_depth"]
+P_SHIP_L = PARAM_INDEX["ship.length"]
+P_SHIP_SW = PARAM_INDEX["derived.ship_wetted_area"]
+P_SHIP_KS = PARAM_INDEX["ship.roughness"]
+P_HALF = PARAM_INDEX["code.resistance_half"]
+P_AW = PARAM_INDEX["derived.waterplane_area"]
+P_VOL = PARAM_INDEX["derived.displaced_volume"]
+P_GML = PARAM_INDEX["derived.gm_longitudinal"]
+P_CM = PARAM_INDEX["water.added_mass"]
+P_FRICTION = PARAM_INDEX["code.friction"]
+P_DRAG = PARAM_INDEX["code.drag"]
+P_MORISON = PARAM_INDEX["code.morison"]
+P_SOLVER = PARAM_INDEX["code.solver"]
+P_TANGENTIAL = PARAM_INDEX["code.tangential_form"]
 
 #: values of params[1][P_SOLVER]: how the Kane equations are solved (numerics.solver)
 SOLVER_RECURSIVE = 0.0  # kernels.multibody.accelerations, O(N) tree recursion
