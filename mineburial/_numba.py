@@ -7,7 +7,11 @@ one-line change here.
 
 * ``cache``: compiled machine code is cached on disk beside the sources (numba's
   ``__pycache__/*.nbi, *.nbc``), so the compile cost (tens of seconds for the whole
-  drop stepper) is paid once per installation rather than once per process. The
+  drop stepper) is paid once per installation rather than once per process; ``pip install``
+  pays it for the kernels ``mineburial run`` needs and ships their cache in the wheel
+  (``_build_backend/mineburial_build.py``, docs/design.md "Install-time cache"). A cache
+  file that cannot be read (garbled, truncated) is a miss with one warning line: the kernel
+  compiles and numba rewrites the file. The
   environment variable ``MINEBURIAL_NUMBA_CACHE`` switches it: ``0`` (or ``false``,
   ``no``, ``off``) compiles in memory only, which is what to use while editing a
   kernel (numba checks a cached function against its own source file, not against
