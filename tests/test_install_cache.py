@@ -1,4 +1,4 @@
-"""The install-time cache of compiled kernels (issue 34 item 1; ``_build_backend/mineburial_build.py``,
+"""The install-time cache of compiled kernels (issue 34 item 1; ``_build_backend/``,
 docs/design.md "Install-time cache"): the build backend's compile, its choice of cache files, the
 wheel it writes, and the loading of that cache after installation, on a one-kernel stand-in package
 (a kernel made by ``mineburial._numba.kernel``, compiled in about a second) so that each step runs
@@ -25,7 +25,7 @@ except ModuleNotFoundError:  # pragma: no cover
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "_build_backend"))
-import mineburial_build as backend  # noqa: E402 (the backend's folder, as pip puts it on sys.path)
+import mineburial_cache as backend  # noqa: E402 (the backend's folder, as pip puts it on sys.path)
 
 KERNEL_SOURCE = '''"""A stand-in for mineburial's kernels."""
 from mineburial._numba import kernel
@@ -46,9 +46,9 @@ root = os.path.abspath(sys.argv[1])
 sys.path.insert(0, root)
 sys.path.insert(0, sys.argv[2])
 import numpy as np
-import toypkg.kern, mineburial_build
+import toypkg.kern, mineburial_cache
 assert toypkg.kern.weighted_sum(np.arange(4.0), 2.0) == 12.0
-print("CACHE " + json.dumps(mineburial_build.current_cache_files(os.path.join(root, "toypkg"))))
+print("CACHE " + json.dumps(mineburial_cache.current_cache_files(os.path.join(root, "toypkg"))))
 """
 
 #: after installation: call the kernel, print its result and numba's cache hits and misses
