@@ -39,28 +39,37 @@ compiles in the source tree, which the editable install runs.
 """
 
 import os
-import zipfile
 
 from mineburial_cache import add_to_wheel, precompile, warn
 from setuptools import build_meta as _setuptools
 from setuptools.build_meta import *  # noqa: F403 (every other hook is setuptools' own)
 
 
+def _precompile(root):
+    """:func:`mineburial_cache.precompile`, whatever goes wrong a warning and None: the compile
+    never fails the build."""
+    try:
+        return precompile(root)
+    except Exception as exc:
+        warn(f"the install-time compile failed ({type(exc).__name__}: {exc}); kernels compile at first use")
+        return None
+
+
 def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     """setuptools' wheel, with numba's cache of the kernels ``mineburial run`` reaches."""
     root = os.getcwd()
-    files = precompile(root)
+    files = _precompile(root)
     name = _setuptools.build_wheel(wheel_directory, config_settings, metadata_directory)
     if files:
-        try:
+        try:  # the wheel is replaced only once rewritten whole: on an error it stays setuptools'
             added = add_to_wheel(os.path.join(wheel_directory, name), root, files)
             warn(f"{added} numba cache files added to {name}")
-        except (OSError, ValueError, KeyError, StopIteration, zipfile.BadZipFile) as exc:
-            warn(f"numba's cache not added to the wheel ({exc}); the kernels compile at the first run")
+        except Exception as exc:
+            warn(f"numba's cache not added to the wheel ({type(exc).__name__}: {exc}); compiled at first use")
     return name
 
 
 def build_editable(wheel_directory, config_settings=None, metadata_directory=None):
     """setuptools' editable wheel, after compiling the kernels in the source tree it points to."""
-    precompile(os.getcwd())
+    _precompile(os.getcwd())
     return _setuptools.build_editable(wheel_directory, config_settings, metadata_directory)

@@ -167,7 +167,11 @@ def precompile(root, timeout: float = TIMEOUT_S, script: str = COMPILE_SCRIPT) -
         tail = (out.stderr.strip().splitlines() or ["no output"])[-1]
         warn(f"the install-time compile failed (exit {out.returncode}: {tail}); kernels compile at first use")
         return None
-    files = json.loads(cache[-1])
+    try:
+        files = json.loads(cache[-1])
+    except ValueError as exc:
+        warn(f"the install-time compile's list of cache files cannot be read ({exc}); compiled at first use")
+        return None
     each = seconds[-1] if seconds else "?"
     warn(f"compiled in {time.perf_counter() - t0:.0f} s (seconds each: {each}), {len(files)} cache indexes")
     return files

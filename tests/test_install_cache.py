@@ -9,11 +9,13 @@ measurements and the command."""
 
 import base64
 import hashlib
+import importlib
 import os
 import pathlib
 import pickle
 import subprocess
 import sys
+import types
 import zipfile
 
 import pytest
@@ -272,6 +274,47 @@ def test_a_failed_compile_warns_and_builds_on(env, tmp_path, capsys, script, tim
     assert backend.precompile(root, timeout=timeout, script=script) is None
     err = capsys.readouterr().err
     assert "the install-time compile failed" in err and message in err
+
+
+def backend_hooks(monkeypatch, root):
+    """``mineburial_build`` imported over a stand-in for setuptools' backend whose ``build_wheel``
+    writes the stand-in's wheel as setuptools would (its folder as cwd, as pip runs a backend)."""
+    fake = types.ModuleType("setuptools.build_meta")
+    fake.__all__ = ["build_wheel"]
+
+    def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
+        assert pathlib.Path.cwd() == root
+        return make_wheel(pathlib.Path(wheel_directory) / "toypkg-0.1-py3-none-any.whl", root).name
+
+    fake.build_wheel = build_wheel
+    package = types.ModuleType("setuptools")
+    package.build_meta = fake
+    monkeypatch.setitem(sys.modules, "setuptools", package)
+    monkeypatch.setitem(sys.modules, "setuptools.build_meta", fake)
+    monkeypatch.delitem(sys.modules, "mineburial_build", raising=False)
+    monkeypatch.chdir(root)
+    return importlib.import_module("mineburial_build")
+
+
+def test_the_backend_adds_the_cache_and_builds_on_whatever_the_compile_does(
+    built, monkeypatch, tmp_path, capsys
+):
+    root, files, _, _ = built
+    hooks = backend_hooks(monkeypatch, root)
+    monkeypatch.setattr(hooks, "precompile", lambda where: files if pathlib.Path(where) == root else None)
+    name = hooks.build_wheel(str(tmp_path))
+    with zipfile.ZipFile(tmp_path / name) as zf:
+        assert files[0]["index"] in zf.namelist() and files[0]["data"][0] in zf.namelist()
+
+    def broken(where):
+        raise RuntimeError("the compile broke")
+
+    monkeypatch.setattr(hooks, "precompile", broken)
+    (tmp_path / name).unlink()
+    assert hooks.build_wheel(str(tmp_path)) == name
+    with zipfile.ZipFile(tmp_path / name) as zf:
+        assert not [n for n in zf.namelist() if n.endswith((".nbi", ".nbc"))]
+    assert "the install-time compile failed (RuntimeError: the compile broke)" in capsys.readouterr().err
 
 
 def test_the_build_resolves_the_runtime_pins():
