@@ -1,6 +1,8 @@
-"""Compile time and start-up: the engine from an empty numba cache, then with a warm one.
+"""Compile time and start-up: the engine from an empty numba cache, then with a warm one; and the
+README's first command on a fresh install (``--fresh-install``).
 
 Run:  python benchmarks/bench_startup.py [--repeat 3] [--cold-only] [--profile [N]]
+      python benchmarks/bench_startup.py --fresh-install [--runs 2] [--no-precompile]
 
 Each measurement is a fresh interpreter that imports the engine, samples one drop of
 the embedded default ensemble and runs it through the batch driver (what
@@ -28,16 +30,27 @@ taken out), split into numba's typing and lowering passes and the LLVM work insi
 lowering (function passes, linking the callees' modules, module optimisation, machine
 code), plus the CPU time spent writing the cache files. The LLVM split wraps numba's
 ``CPUCodeLibrary`` methods in that one process (measurement only).
+
+``--fresh-install`` measures what a newcomer waits for (issue 34 item 1): a ``git clone`` of this
+repository's committed HEAD (``--source``) and a fresh virtual environment, then the README's
+command 1 from the clone's root, ``python3 -m pip install . && mineburial run``, the install and each
+of ``--runs`` runs of ``mineburial run`` timed apart (wall and CPU s), with the number of numba cache
+indexes each run wrote (0: every kernel came from the cache that the build backend compiled at
+install time, docs/design.md "Install-time cache"). ``--no-precompile`` installs with
+``MINEBURIAL_PRECOMPILE=0`` (a wheel without cache: the first run compiles, as before issue 34). The
+environment's ``NUMBA_CACHE_DIR``, ``MINEBURIAL_*`` and ``PYTHONPATH`` are not passed on.
 """
 
 import argparse
 import json
 import os
+import pathlib
 import resource
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 
 from _common import machine
 
@@ -240,6 +253,74 @@ def profile(top, dump=None, reference=None):
     )
 
 
+#: variables of the caller's environment that a fresh install does not see
+_NOT_PASSED = ("NUMBA_CACHE_DIR", "PYTHONPATH", "PYTHONDONTWRITEBYTECODE", "VIRTUAL_ENV", "PYTHONHOME")
+
+
+def _timed(cmd, cwd, env):
+    """(wall s, CPU s of the process and its children, stdout) of ``cmd``; exits on failure."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    out = subprocess.run([str(c) for c in cmd], cwd=cwd, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if out.returncode:
+        raise SystemExit(f"{' '.join(map(str, cmd))} failed ({out.returncode}):\n{out.stderr[-3000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, out.stdout
+
+
+def _indexes(folder: pathlib.Path) -> dict:
+    """numba's cache indexes under ``folder`` and their modification times."""
+    return {p: p.stat().st_mtime_ns for p in folder.rglob("__pycache__/*.nbi")}
+
+
+def fresh_install(source, runs=2, precompile=True):
+    """Time the README's command 1 on a fresh clone of ``source`` in a fresh venv (module doc)."""
+    with tempfile.TemporaryDirectory(prefix="mineburial-fresh-") as tmp:
+        tmp = pathlib.Path(tmp)
+        clone, venv = tmp / "clone", tmp / "venv"
+        subprocess.run(["git", "clone", "-q", str(source), str(clone)], check=True)
+        head = subprocess.run(
+            ["git", "-C", str(clone), "log", "-1", "--format=%h %s"], capture_output=True, text=True
+        ).stdout.strip()
+        subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+        env = {
+            k: v for k, v in os.environ.items() if k not in _NOT_PASSED and not k.startswith("MINEBURIAL_")
+        }
+        env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
+        if not precompile:
+            env["MINEBURIAL_PRECOMPILE"] = "0"
+        print(f"machine: {machine()}; load average {os.getloadavg()[0]:.1f}")
+        print(f"fresh clone of {source} at {head}; MINEBURIAL_PRECOMPILE={'1' if precompile else '0'}")
+        wall, cpu, _ = _timed([venv / "bin" / "python3", "-m", "pip", "install", "-q", "."], clone, env)
+        print(f"python3 -m pip install .: {wall:6.1f} s wall, {cpu:6.1f} s CPU", flush=True)
+        _, _, where = _timed(
+            [
+                venv / "bin" / "python3",
+                "-c",
+                "import mineburial, os; print(os.path.dirname(mineburial.__file__))",
+            ],
+            tmp,
+            env,
+        )
+        package = pathlib.Path(where.strip())
+        shipped = len(_indexes(package))
+        print(f"installed: {package} with {shipped} numba cache indexes")
+        for i in range(runs):
+            before = _indexes(package)
+            wall, cpu, out = _timed([venv / "bin" / "mineburial", "run"], clone, env)
+            after = _indexes(package)
+            written = sum(1 for p, t in after.items() if before.get(p) != t)
+            check = next((line for line in out.splitlines() if line.startswith("numerical self-check")), "")
+            took = next((line for line in out.splitlines() if line.startswith("time:")), "")
+            print(
+                f"mineburial run #{i + 1}: {wall:6.1f} s wall, {cpu:6.1f} s CPU, {written} cache indexes "
+                f"written; {took}; self-check {check.rsplit(';', 2)[-2].strip() if ';' in check else '?'}",
+                flush=True,
+            )
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="warm start-ups to time (best kept)")
@@ -262,7 +343,26 @@ def main():
         "(reference: rk4 and the reference sediment quadrature; self-check: the path of "
         "ensembles/accuracy.py)",
     )
+    ap.add_argument(
+        "--fresh-install",
+        action="store_true",
+        help="time the README's command 1 on a fresh clone in a fresh venv (install, then --runs runs)",
+    )
+    ap.add_argument("--runs", type=int, default=2, help="with --fresh-install: runs of 'mineburial run'")
+    ap.add_argument(
+        "--no-precompile",
+        action="store_true",
+        help="with --fresh-install: install with MINEBURIAL_PRECOMPILE=0 (no install-time cache)",
+    )
+    ap.add_argument(
+        "--source",
+        default=str(pathlib.Path(__file__).resolve().parent.parent),
+        help="with --fresh-install: the repository to clone (default: this one; its committed HEAD)",
+    )
     args = ap.parse_args()
+    if args.fresh_install:
+        fresh_install(args.source, args.runs, not args.no_precompile)
+        return
     if args.profile:
         profile(args.profile, args.profile_json, args.reference)
         return

@@ -7,7 +7,11 @@ one-line change here.
 
 * ``cache``: compiled machine code is cached on disk beside the sources (numba's
   ``__pycache__/*.nbi, *.nbc``), so the compile cost (tens of seconds for the whole
-  drop stepper) is paid once per installation rather than once per process. The
+  drop stepper) is paid once per installation rather than once per process; ``pip install``
+  pays it for the kernels ``mineburial run`` needs and ships their cache in the wheel
+  (``_build_backend/mineburial_build.py``, docs/design.md "Install-time cache"). A cache
+  file that cannot be read (garbled, truncated) is a miss with one warning line: the kernel
+  compiles and numba rewrites the file. The
   environment variable ``MINEBURIAL_NUMBA_CACHE`` switches it: ``0`` (or ``false``,
   ``no``, ``off``) compiles in memory only, which is what to use while editing a
   kernel (numba checks a cached function against its own source file, not against
@@ -189,10 +193,24 @@ def _warn_file(path, problem: str) -> None:
         )
 
 
+def _warn_unreadable(path, exc: BaseException, what: str = "cache file") -> None:
+    """One warning line for a cache file that cannot be read (garbled, truncated): numba would
+    raise out of the kernel's first call; it is compiled instead and the file rewritten."""
+    if path not in _FILES:
+        _FILES.add(path)
+        print(
+            f"mineburial: warning: numba's {what} '{path}' cannot be read "
+            f"({type(exc).__name__}: {str(exc)[:80]}); compiling instead (the file is rewritten)",
+            file=sys.stderr,
+        )
+
+
 class _CheckedCacheFile(IndexDataCacheFile):
     """numba's index and data files of one kernel, each checked before numba unpickles it
     (:func:`cache_file_problem`) and written mode 0600 (not through the umask). After a file
-    is refused, the kernel neither loads nor saves its cache: it compiles in memory."""
+    is refused, the kernel neither loads nor saves its cache: it compiles in memory. A file that
+    cannot be read (garbled or truncated: numba's unpickling error would end the run; issue 34, a
+    cache shipped in the wheel) counts as no entry: the kernel compiles and numba rewrites it."""
 
     _refused = False
 
@@ -204,13 +222,25 @@ class _CheckedCacheFile(IndexDataCacheFile):
         return not self._refused
 
     def _load_index(self):
-        return super()._load_index() if self._trusted(self._index_path) else {}
+        if not self._trusted(self._index_path):
+            return {}
+        try:
+            return super()._load_index()
+        except Exception as exc:  # any unpickling error; numba's save() then writes a new index
+            _warn_unreadable(self._index_path, exc)
+            return {}
 
     def _load_data(self, name):
         path = self._data_path(name)
         if not self._trusted(path):  # numba's load() treats an OSError as no entry
             raise OSError(errno.EPERM, "refused numba cache file", path)
-        return super()._load_data(name)
+        try:
+            return super()._load_data(name)
+        except OSError:
+            raise
+        except Exception as exc:  # unpickling: no entry, compiled and the file overwritten
+            _warn_unreadable(path, exc)
+            raise OSError(errno.EIO, "unreadable numba cache file", path) from exc
 
     def save(self, key, data):
         if self._trusted(self._index_path):
@@ -233,6 +263,17 @@ class _CheckedCacheFile(IndexDataCacheFile):
             raise
 
 
+def _checked_load_overload(cache, sig, target_context):
+    """numba's ``load_overload`` of ``cache`` (a kernel's ``FunctionCache``), an entry that numba
+    cannot rebuild compiled code from (unpickled, but not what numba wrote) counted as no entry:
+    the kernel is compiled (set on the instance by :func:`_safe_cache`; the class stays numba's)."""
+    try:
+        return type(cache).load_overload(cache, sig, target_context)
+    except Exception as exc:
+        _warn_unreadable(cache._cache_file._index_path, exc, "cache entry indexed in")
+        return None
+
+
 #: cache folder -> its problem (None: safe), each folder examined and reported once
 _FOLDERS: dict[str, str | None] = {}
 
@@ -246,6 +287,7 @@ def _safe_cache(disp) -> None:
         return
     if type(cache._cache_file) is IndexDataCacheFile:  # the same state, checked loads and saves
         cache._cache_file.__class__ = _CheckedCacheFile
+    cache.load_overload = types.MethodType(_checked_load_overload, cache)
     folders = [cache.cache_path]
     if numba_config.CACHE_DIR:
         folders.append(numba_config.CACHE_DIR)
