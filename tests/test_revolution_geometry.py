@@ -18,8 +18,15 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from mineburial.kernels.mine.bodies.revolution_geometry import cut_profile, extent_profile, volume_profile
-from mineburial.kernels.mine.geometry import cut_cylinder, vertical_extent
+from mineburial.kernels.mine.bodies.revolution_geometry import (
+    burial_profile,
+    cut_profile,
+    extent_profile,
+    inertia_profile,
+    lowest_profile_point,
+    volume_profile,
+)
+from mineburial.kernels.mine.geometry import burial_measures, cut_cylinder, vertical_extent
 
 #: a Manta-like truncated cone on its base (base radius 0.49 m, top 0.2 m, height 0.38 m; COM low)
 FRUSTUM = (np.array([-0.15, 0.23]), np.array([0.49, 0.2]))
@@ -187,3 +194,64 @@ def test_extent_is_the_lowest_and_highest_surface_points(body, a_z):
     lo, hi = extent_profile(xs, rs, a_z, z_c)
     assert lo == pytest.approx(z_c + np.min(a_z * x - b * r), abs=1e-12)
     assert hi == pytest.approx(z_c + np.max(a_z * x + b * r), abs=1e-12)
+
+
+@pytest.mark.parametrize("body", [FRUSTUM, CHAIN])
+def test_inertia_of_the_uniform_body_is_the_integral_over_it(body):
+    xs, rs = body
+    mass = 700.0
+
+    def over_body(f):  # int f(x, r, phi) r dr dphi dx over the solid, scipy's tplquad
+        total = 0.0
+        for x0, x1 in zip(xs[:-1], xs[1:]):
+            total += integrate.tplquad(
+                lambda r, phi, x: f(x, r, phi) * r,
+                x0,
+                x1,
+                0.0,
+                2.0 * math.pi,
+                0.0,
+                lambda x, phi: _radius(xs, rs, x),
+                epsabs=1e-13,
+                epsrel=1e-11,
+            )[0]
+        return total
+
+    rho = mass / over_body(lambda x, r, phi: 1.0)
+    x_c = over_body(lambda x, r, phi: x) * rho / mass
+    j_axial = rho * over_body(lambda x, r, phi: r * r)
+    j_transverse = rho * over_body(lambda x, r, phi: (x - x_c) ** 2 + (r * math.sin(phi)) ** 2)
+    assert inertia_profile(xs, rs, mass) == pytest.approx((j_axial, j_transverse), rel=1e-10)
+    assert volume_profile(xs, rs)[1] == pytest.approx(x_c, rel=1e-10)
+
+
+def test_inertia_of_two_stations_of_one_radius_is_the_cylinders():
+    L, R, chi, m = 2.0, 0.3, 0.1, 700.0
+    j1, j2 = inertia_profile(np.array([-0.5 * L - chi, 0.5 * L - chi]), np.array([R, R]), m)
+    assert (j1, j2) == pytest.approx((m * R * R / 2.0, m * (3.0 * R * R + L * L) / 12.0), rel=1e-14)
+
+
+@pytest.mark.parametrize("a_z", [-1.0, -0.5, 0.0, 0.3, 1.0])
+def test_burial_and_lowest_point_of_two_stations_of_one_radius_are_the_cylinders(a_z):
+    L, R, chi = 2.0, 0.3, 0.1
+    xs, rs = np.array([-0.5 * L - chi, 0.5 * L - chi]), np.array([R, R])
+    for z_c in (-0.9, -0.2, 0.0, 0.45, 1.3):
+        got = burial_profile(xs, rs, a_z, z_c, 0.0)
+        assert got == pytest.approx(burial_measures(L, R, chi, a_z, z_c, 0.0), rel=1e-12, abs=1e-12)
+    k = (a_z, 0.0, math.sqrt(1.0 - a_z * a_z))  # k in the body's x-z plane
+    x, y, z, height = lowest_profile_point(xs, rs, *k)
+    assert height == pytest.approx(vertical_extent(L, R, chi, a_z, 0.0)[0], abs=1e-15)
+    assert k[0] * x + k[1] * y + k[2] * z == pytest.approx(height, abs=1e-15)  # the point is that low
+
+
+def test_burial_of_an_upright_frustum_half_in():
+    (x0, x1), (r0, r1) = FRUSTUM
+    h = 0.5 * (x1 - x0)  # the plane half way up: base and lower half of the side below
+    r_h = 0.5 * (r0 + r1)
+    pct_v, pct_h, pct_a, proud, pen = burial_profile(*FRUSTUM, 1.0, 0.0, x0 + h)
+    v_tot = math.pi * (x1 - x0) * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0
+    s_tot = math.pi * (r0 * r0 + r1 * r1) + math.pi * (r0 + r1) * math.hypot(x1 - x0, r1 - r0)
+    v = math.pi * h * (r0 * r0 + r0 * r_h + r_h * r_h) / 3.0
+    area = math.pi * r0 * r0 + math.pi * (r0 + r_h) * math.hypot(h, r_h - r0)
+    assert (pct_v, pct_h, pct_a) == pytest.approx((100.0 * v / v_tot, 50.0, 100.0 * area / s_tot), rel=1e-13)
+    assert (proud, pen) == pytest.approx((h, h), rel=1e-13)

@@ -53,11 +53,12 @@ GL_W = np.ascontiguousarray(0.5 * _W, dtype=np.float64)
 @small_kernel
 def _segment_cap(d, br, r):
     """Area of the disc of radius ``r`` (its centre ``d`` above the plane, its rim reaching
-    ``br = b r`` above and below) that lies below the plane."""
-    if d <= -br:
-        return math.pi * r * r
+    ``br = b r`` above and below) that lies below the plane; a disc lying in the plane (``b = 0, d =
+    0``) counts as not below, as the cylinder's caps (:func:`.geometry._cap_area`)."""
     if d >= br:
         return 0.0
+    if d <= -br:
+        return math.pi * r * r
     kappa = d / br
     theta = math.acos(kappa)
     return r * r * (theta - math.sqrt((1.0 - kappa) * (1.0 + kappa)) * kappa)
@@ -236,3 +237,73 @@ def volume_profile(xs, rs):
         Mx += mx
         area += lat
     return V, Mx / V, area
+
+
+@kernel
+def burial_profile(xs, rs, a_z, z_c, level):
+    """The results table's burial measures of the body below the plane ``z = level``, as
+    :func:`.geometry.burial_measures` gives the cylinder's: ``(pct_volume, pct_height, pct_area,
+    height_proud, penetration)`` (percent of the volume, of the vertical extent and of the whole
+    surface, lateral and both end caps, below the plane; ``max(z_max - level, 0)``, ``max(level -
+    z_min, 0)``)."""
+    v, _, _, lat, nose, tail = cut_profile(xs, rs, a_z, z_c, level)
+    v_tot, _, s_tot = volume_profile(xs, rs)
+    z_min, z_max = extent_profile(xs, rs, a_z, z_c)
+    ext = z_max - z_min
+    below = min(max(level - z_min, 0.0), ext)
+    return (
+        100.0 * v / v_tot,
+        100.0 * below / ext,
+        100.0 * (lat + nose + tail) / s_tot,
+        max(z_max - level, 0.0),
+        max(level - z_min, 0.0),
+    )
+
+
+@kernel
+def lowest_profile_point(xs, rs, k1, k2, k3):
+    """A lowest point of the body (body frame, about the COM) for the E-frame vertical ``k`` in body
+    components (``k1 = a_z``): on the rim of the station whose rim reaches lowest, towards
+    ``e_down = (0, -k2, -k3)/sqrt(k2^2 + k3^2)``; and its height above the COM (the protocol's
+    ``deepest_point`` and ``lowest_offset`` of a profile)."""
+    b = math.sqrt(k2 * k2 + k3 * k3)
+    best = 0
+    lowest = math.inf
+    for i in range(xs.shape[0]):
+        zi = k1 * xs[i] - b * rs[i]
+        if zi < lowest:
+            lowest = zi
+            best = i
+    dn2 = 0.0
+    dn3 = 0.0
+    if b > 0.0:
+        dn2 = -k2 / b
+        dn3 = -k3 / b
+    return xs[best], rs[best] * dn2, rs[best] * dn3, lowest
+
+
+#: three Gauss-Legendre nodes on [0, 1]: exact for the polynomials of degree <= 5 of the mass properties
+_GL3_U = np.array([0.5 - 0.5 * math.sqrt(0.6), 0.5, 0.5 + 0.5 * math.sqrt(0.6)])
+_GL3_W = np.array([5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0])
+
+
+@kernel
+def inertia_profile(xs, rs, mass):
+    """``(J_axial, J_transverse)`` of the uniform body of mass ``mass`` about its centroid: ``rho int
+    pi r^4/2 dx`` about the axis, ``rho int (pi r^4/4 + pi r^2 (x - x_c)^2) dx`` about a transverse axis
+    through the centroid (each disc's own moment plus its parallel-axis term), ``rho = mass / V``;
+    the integrands are polynomials of degree 4 on each frustum, so a 3-node Gauss rule is exact."""
+    v, x_c, _ = volume_profile(xs, rs)
+    rho = mass / v
+    j1 = 0.0
+    j2 = 0.0
+    for i in range(xs.shape[0] - 1):
+        h = xs[i + 1] - xs[i]
+        for k in range(3):
+            x = xs[i] + h * _GL3_U[k]
+            r = rs[i] + (rs[i + 1] - rs[i]) * _GL3_U[k]
+            w = _GL3_W[k] * h
+            r2 = r * r
+            j1 += w * 0.5 * math.pi * r2 * r2
+            j2 += w * math.pi * (0.25 * r2 * r2 + r2 * (x - x_c) * (x - x_c))
+    return rho * j1, rho * j2
