@@ -441,13 +441,7 @@ RULES: tuple[Rule, ...] = (
         ("current.kind", "current.table_index"),
         lambda v: (v["current.table_index"] >= 0) == (v["current.kind"] == CURRENT_KINDS.index("table")),
     ),
-    Rule(
-        "|mine.com_offset| < mine.length/2",
-        ("mine.com_offset", "mine.length"),
-        lambda v: np.abs(v["mine.com_offset"]) < v["mine.length"] / 2,
-        note="|chi| < length/2: the COM lies inside the body",
-        bounds=lambda v: (-v["mine.length"] / 2.0, v["mine.length"] / 2.0, None),
-    ),
+    *DROP_SHAPE.rules,  # the relations between the body's own fields (the COM inside the body)
     Rule(
         "mine.inertia_axial <= 2 mine.inertia_transverse",
         ("mine.inertia_axial", "mine.inertia_transverse"),

@@ -148,3 +148,17 @@ def test_the_shapes_module_imports_no_shape_kernel():
     imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     assert not any("sediment" in m or m.endswith(".cylinder") for m in imported), imported
+
+
+def test_the_shapes_rule_keeps_the_com_inside_the_body():
+    rule = next(r for r in cfg.RULES if r in DROP_SHAPE.rules)
+    lengths = np.array([2.0, 2.0, 2.0, 2.0])
+    offsets = np.array([0.0, 0.99, -1.0, 1.2])  # inside, inside, on the end, beyond
+    assert rule.holds({"mine.length": lengths, "mine.com_offset": offsets}).tolist() == [
+        True,
+        True,
+        False,
+        False,
+    ]
+    with pytest.raises(cfg.ScenarioError, match="mine.com_offset"):
+        cfg.Mine(length=2.0, diameter=0.5, mass=500.0, com_offset=1.0)

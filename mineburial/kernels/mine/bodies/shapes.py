@@ -2,10 +2,11 @@
 the drop's shape without compiling it, and the one place that names that shape.
 
 The compiled protocol (:mod:`mineburial.kernels.mine.bodies`) serves the kernels; this module
-serves the Python around them, and stays light: it imports numpy, the parameter layout and the
-closed forms of :mod:`mineburial.kernels.mine.geometry` (which ``config`` imported before), never
-a shape's kernel module, which imports the sediment kernels (~43 ms more on every import of the
-configuration, ``python -X importtime``, docs/design.md "Body protocol").
+serves the Python around them, and stays light: it imports numpy, the parameter layout, the
+closed forms of :mod:`mineburial.kernels.mine.geometry` and :class:`mineburial.schema.Rule` (all of
+which ``config`` imported before), never a shape's kernel module, which imports the sediment
+kernels (~43 ms more on every import of the configuration, ``python -X importtime``,
+docs/design.md "Body protocol").
 
 A shape (:class:`Shape`) gives, from its dimensions ``dims`` (a mapping from the scenario field
 path to a value: a float, or an array with one value per drop; :meth:`Shape.dims_of_params`
@@ -24,7 +25,9 @@ reads them from packed parameter rows):
   height ``z`` and whose axis has E-frame vertical component ``a_z``, by the kernel that the
   stepper's seabed-contact event uses (the placement rule: the mine starts above the seabed);
 * ``kernel_module``: the module of its compiled protocol, whose ``from_params(p)`` builds the
-  drop's body in the kernels (``dynamics.drop_body``).
+  drop's body in the kernels (``dynamics.drop_body``);
+* ``rules``: the relations between its own fields (the cylinder's: the COM inside the body,
+  ``|chi| < L/2``), which ``config.RULES`` checks per scenario and over parameter rows.
 
 :data:`DROP_SHAPE` is the drop's shape: the one place that names it, on both sides
 (``dynamics.drop_body`` is ``DROP_SHAPE.kernel().from_params``).
@@ -37,6 +40,7 @@ import numpy as np
 
 from mineburial.kernels.mine.geometry import vertical_extent
 from mineburial.kernels.mine.layout import INDEX
+from mineburial.schema import Rule
 
 
 class Shape:
@@ -46,6 +50,8 @@ class Shape:
     fields: tuple = ()
     inertia_fields: tuple = ()
     kernel_module: str = ""
+    #: the relations between its own fields (:class:`mineburial.schema.Rule`; ``config.RULES`` holds them)
+    rules: tuple = ()
 
     def kernel(self):
         """The module of the shape's compiled protocol (imported on first use: it imports the
@@ -87,6 +93,15 @@ class CylinderShape(Shape):
     fields = ("mine.length", "mine.diameter", "mine.com_offset")
     inertia_fields = ("mine.length", "mine.diameter")
     kernel_module = "mineburial.kernels.mine.bodies.cylinder"
+    rules = (
+        Rule(
+            "|mine.com_offset| < mine.length/2",
+            ("mine.com_offset", "mine.length"),
+            lambda v: np.abs(v["mine.com_offset"]) < v["mine.length"] / 2,
+            note="|chi| < length/2: the COM lies inside the body",
+            bounds=lambda v: (-v["mine.length"] / 2.0, v["mine.length"] / 2.0, None),
+        ),
+    )
 
     @staticmethod
     def volume(dims):
