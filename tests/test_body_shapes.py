@@ -162,3 +162,15 @@ def test_the_shapes_rule_keeps_the_com_inside_the_body():
     ]
     with pytest.raises(cfg.ScenarioError, match="mine.com_offset"):
         cfg.Mine(length=2.0, diameter=0.5, mass=500.0, com_offset=1.0)
+
+
+def test_importing_the_configuration_loads_no_shape_kernel_nor_sediment_kernel():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, mineburial.config; print(sorted(m for m in sys.modules "
+        "if m.startswith('mineburial.kernels.mine.sediment') or m.endswith('bodies.cylinder')))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
