@@ -30,7 +30,10 @@ reads them from packed parameter rows):
   ``|chi| < L/2``), which ``config.RULES`` checks per scenario and over parameter rows.
 
 :data:`DROP_SHAPE` is the drop's shape: the one place that names it, on both sides
-(``dynamics.drop_body`` is ``DROP_SHAPE.kernel().from_params``).
+(``dynamics.drop_body`` is ``DROP_SHAPE.kernel().from_params``). :class:`CylinderShape` is the
+cylinder's Python side; :class:`ProfileShape` a body of revolution with a piecewise-linear radius
+profile (:mod:`.revolution_geometry`), the Python side a cone will need, not yet a drop's shape (it
+has no compiled protocol and no scenario fields; issue 36 item 2).
 """
 
 import importlib
@@ -137,6 +140,76 @@ class CylinderShape(Shape):
     def _extent_row(length, diameter, com_offset, a_z, z):
         """(z_min, z_max) of one cylinder (:func:`.geometry.vertical_extent`, the stepper's event)."""
         return vertical_extent(length, 0.5 * diameter, com_offset, a_z, z)
+
+
+class ProfileShape(Shape):
+    """A solid body of revolution with a piecewise-linear radius profile (issue 36 item 2): its
+    dimensions give the stations ``xs`` (about the COM, tail first) and the radii ``rs`` through
+    ``profile(dims) -> (xs, rs)``; volume, centroid, inertia and the lowest point are
+    :mod:`.revolution_geometry`'s (compiled on first use). Not the drop's shape yet: it has no
+    compiled protocol (``kernel_module`` empty) and no scenario fields of its own; a subclass or an
+    instance gives ``fields``, ``inertia_fields`` and ``profile``.
+
+    ``reference_lengths``: the largest diameter and the length between the end stations, the sizes
+    that the laws written for a cylinder would take for it (a choice to revisit with those laws:
+    the sediment law's width, the scour laws' D)."""
+
+    def __init__(self, name, fields, inertia_fields, profile):
+        self.name = name
+        self.fields = tuple(fields)
+        self.inertia_fields = tuple(inertia_fields)
+        self.profile = profile
+
+    def _each(self, dims, fn, *extra):
+        """``fn(xs, rs, *extra_row)`` for each drop of ``dims`` (arrays broadcast); an array of the
+        results (a trailing axis when ``fn`` returns a tuple), a scalar (tuple) for scalar input."""
+        args = np.broadcast_arrays(
+            *(np.asarray(x, dtype=np.float64) for x in (*(dims[f] for f in self.fields), *extra))
+        )
+        shape = args[0].shape
+        k = len(self.fields)
+        out = []
+        for row in zip(*(a.ravel().tolist() for a in args)):
+            xs, rs = self.profile(dict(zip(self.fields, row[:k])))
+            out.append(fn(np.asarray(xs, dtype=np.float64), np.asarray(rs, dtype=np.float64), *row[k:]))
+        result = np.array(out, dtype=np.float64)
+        if shape == ():
+            return tuple(result[0]) if result.ndim > 1 else float(result[0])
+        return result.reshape(shape + result.shape[1:])
+
+    def volume(self, dims):
+        """The frusta's volumes summed (:func:`.revolution_geometry.volume_profile`)."""
+        return self._each(dims, lambda xs, rs: _revolution().volume_profile(xs, rs)[0])
+
+    def centroid(self, dims):
+        """The uniform body's centroid on the axis, about the COM."""
+        return self._each(dims, lambda xs, rs: _revolution().volume_profile(xs, rs)[1])
+
+    def inertia(self, mass, dims):
+        """(J_axial, J_transverse) of the uniform body about its centroid
+        (:func:`.revolution_geometry.inertia_profile`)."""
+        both = self._each(dims, lambda xs, rs, m: _revolution().inertia_profile(xs, rs, m), mass)
+        return (both[0], both[1]) if isinstance(both, tuple) else (both[..., 0], both[..., 1])
+
+    def reference_lengths(self, dims):
+        """The largest diameter and the length between the end stations."""
+        both = self._each(dims, lambda xs, rs: (2.0 * float(np.max(rs)), float(xs[-1] - xs[0])))
+        return (both[0], both[1]) if isinstance(both, tuple) else (both[..., 0], both[..., 1])
+
+    def lowest_point(self, dims, a_z, z):
+        """Height of the lowest point (:func:`.revolution_geometry.extent_profile`)."""
+        return np.asarray(
+            self._each(dims, lambda xs, rs, a, zc: _revolution().extent_profile(xs, rs, a, zc)[0], a_z, z)
+        )
+
+
+def _revolution():
+    """:mod:`.revolution_geometry`, imported on first use (the configuration, which imports this
+    module, does not need it)."""
+    # local import: the profile's kernels, only for a ProfileShape (import cost of config)
+    from mineburial.kernels.mine.bodies import revolution_geometry
+
+    return revolution_geometry
 
 
 CYLINDER = CylinderShape()
