@@ -255,3 +255,12 @@ def test_burial_of_an_upright_frustum_half_in():
     area = math.pi * r0 * r0 + math.pi * (r0 + r_h) * math.hypot(h, r_h - r0)
     assert (pct_v, pct_h, pct_a) == pytest.approx((100.0 * v / v_tot, 50.0, 100.0 * area / s_tot), rel=1e-13)
     assert (proud, pen) == pytest.approx((h, h), rel=1e-13)
+
+
+def test_tuples_of_stations_give_what_arrays_give():
+    xs, rs = CHAIN
+    for a_z, z_c in ((0.3, 0.1), (-0.75, -0.25), (0.0, 0.0)):
+        as_tuples = (tuple(xs.tolist()), tuple(rs.tolist()))
+        assert cut_profile(*as_tuples, a_z, z_c, 0.0) == cut_profile(xs, rs, a_z, z_c, 0.0)
+        assert burial_profile(*as_tuples, a_z, z_c, 0.0) == burial_profile(xs, rs, a_z, z_c, 0.0)
+    assert inertia_profile(*as_tuples, 5.0) == inertia_profile(xs, rs, 5.0)

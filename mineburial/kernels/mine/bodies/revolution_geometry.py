@@ -5,7 +5,8 @@ The body (M-frame, axis ``i_M`` through the COM, as :mod:`mineburial.kernels.min
 cylinder) spans the stations ``xs[0] < xs[1] < ... < xs[n-1]`` (``xs[0]`` the tail, ``xs[-1]``
 the nose, about the COM) with radii ``rs[i] >= 0`` at them and ``r(x)`` linear between: a chain of
 frusta (the cylinder two stations of one radius, a cone a zero radius at one end), closed by flat
-end caps of radii ``rs[0]`` and ``rs[-1]``.
+end caps of radii ``rs[0]`` and ``rs[-1]``. ``xs`` and ``rs`` are arrays or tuples of floats (a
+shape's NamedTuple fields: no allocation in the kernels); the results are the same.
 
 Derivation (the cylinder's of seed 000 section 4, eqs. (25)-(33), with a radius that varies
 along the axis). With ``b = sqrt(1 - a_z^2)`` and ``e_down = (a_z i_M - k)/b``, the body point
@@ -187,7 +188,7 @@ def cut_profile(xs, rs, a_z, z_c, level):
     a = min(max(a_z, -1.0), 1.0)
     b = math.sqrt((1.0 - a) * (1.0 + a))
     c = z_c - level
-    n = xs.shape[0]
+    n = len(xs)
     acc = (0.0, 0.0, 0.0, 0.0)
     for i in range(n - 1):
         acc = _frustum_below(xs[i], xs[i + 1], rs[i], rs[i + 1], c, a, b, acc)
@@ -218,7 +219,7 @@ def extent_profile(xs, rs, a_z, z_c):
     b = math.sqrt((1.0 - a) * (1.0 + a))
     lo = math.inf
     hi = -math.inf
-    for i in range(xs.shape[0]):
+    for i in range(len(xs)):
         lo = min(lo, a * xs[i] - b * rs[i])
         hi = max(hi, a * xs[i] + b * rs[i])
     return z_c + lo, z_c + hi
@@ -231,7 +232,7 @@ def volume_profile(xs, rs):
     V = 0.0
     Mx = 0.0
     area = math.pi * (rs[0] * rs[0] + rs[-1] * rs[-1])
-    for i in range(xs.shape[0] - 1):
+    for i in range(len(xs) - 1):
         v, mx, lat = _full_frustum(xs[i], xs[i + 1], rs[i], rs[i + 1])
         V += v
         Mx += mx
@@ -269,7 +270,7 @@ def lowest_profile_point(xs, rs, k1, k2, k3):
     b = math.sqrt(k2 * k2 + k3 * k3)
     best = 0
     lowest = math.inf
-    for i in range(xs.shape[0]):
+    for i in range(len(xs)):
         zi = k1 * xs[i] - b * rs[i]
         if zi < lowest:
             lowest = zi
@@ -297,7 +298,7 @@ def inertia_profile(xs, rs, mass):
     rho = mass / v
     j1 = 0.0
     j2 = 0.0
-    for i in range(xs.shape[0] - 1):
+    for i in range(len(xs) - 1):
         h = xs[i + 1] - xs[i]
         for k in range(3):
             x = xs[i] + h * _GL3_U[k]
