@@ -264,7 +264,8 @@ def burial_profile(xs, rs, a_z, z_c, level):
 @kernel
 def lowest_profile_point(xs, rs, k1, k2, k3):
     """A lowest point of the body (body frame, about the COM) for the E-frame vertical ``k`` in body
-    components (``k1 = a_z``): on the rim of the station whose rim reaches lowest, towards
+    components (``k1 = a_z``): on the rim of the station whose rim reaches lowest (the last of those
+    that tie), towards
     ``e_down = (0, -k2, -k3)/sqrt(k2^2 + k3^2)``; and its height above the COM (the protocol's
     ``deepest_point`` and ``lowest_offset`` of a profile)."""
     b = math.sqrt(k2 * k2 + k3 * k3)
@@ -272,7 +273,7 @@ def lowest_profile_point(xs, rs, k1, k2, k3):
     lowest = math.inf
     for i in range(len(xs)):
         zi = k1 * xs[i] - b * rs[i]
-        if zi < lowest:
+        if zi <= lowest:  # on a tie the station nearer the nose, as the cylinder's deepest_point
             lowest = zi
             best = i
     dn2 = 0.0
