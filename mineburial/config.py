@@ -47,7 +47,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from mineburial.io.files import atomic_write_text
 from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.kernels.mine import layout
-from mineburial.kernels.mine.geometry import vertical_extent
+from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
 from mineburial.scenario_fields import CURRENT_KINDS, TABLE
 from mineburial.schema import (
@@ -91,7 +91,6 @@ __all__ = [
     "Numerics",
     "Scenario",
     "quaternion_from_angles",
-    "uniform_cylinder_inertia",
     "pack_banks",
     "example_names",
     "example_path",
@@ -312,18 +311,11 @@ def _set(obj, name, value):
 
 
 # ===========================================================================
-# Mass properties
+# Mass properties: the drop's shape's (mineburial.kernels.mine.bodies.shapes.DROP_SHAPE)
 # ===========================================================================
-def uniform_cylinder_inertia(mass, diameter, length):
-    """(J1, J2) of a uniform solid cylinder about its centre: m R^2/2 about the axis and
-    m (3 R^2 + L^2)/12 about a transverse axis. Scalars or numpy arrays.
-
-    The one formula of the default inertia (:class:`Mine` and the ensembles that vary the
-    mass or size). ``length ** 2`` is kept as written: a Python float squares with ``pow``
-    and an array with ``x * x``, which is what each caller has always computed.
-    """
-    r = diameter / 2.0
-    return mass * r * r / 2.0, mass * (3.0 * r * r + length**2) / 12.0
+def _mine_dims(mine) -> dict:
+    """The shape's dimensions of a :class:`Mine` (field path -> value)."""
+    return {f: getattr(mine, f.split(".", 1)[1]) for f in DROP_SHAPE.fields}
 
 
 # ===========================================================================
@@ -353,20 +345,14 @@ def quaternion_from_angles(psi1, psi2, psi3) -> np.ndarray:
     )
 
 
-def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
-    """Height of the lowest point of the cylinder whose COM is at height ``z`` with
-    attitude ``q`` (..., 4), by the kernel the stepper's seabed-contact event uses
-    (kernels/mine/geometry.py ``vertical_extent``); arrays broadcast."""
+def _lowest_point(dims, q, z) -> np.ndarray:
+    """Height of the lowest point of the drop's body (dimensions ``dims``, field path -> value)
+    whose COM is at height ``z`` with attitude ``q`` (..., 4), by the kernel the stepper's
+    seabed-contact event uses (the shape's ``lowest_point``); arrays broadcast."""
     q = np.asarray(q, dtype=np.float64)
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
-    args = np.broadcast_arrays(
-        *(np.asarray(x, dtype=np.float64) for x in (length, diameter, com_offset, a_z, z))
-    )
-    rows = zip(*(x.ravel().tolist() for x in args))
-    return np.array(
-        [vertical_extent(L, 0.5 * d, chi, a, zc)[0] for L, d, chi, a, zc in rows], dtype=np.float64
-    ).reshape(args[0].shape)
+    return DROP_SHAPE.lowest_point(dims, a_z, z)
 
 
 # ===========================================================================
@@ -374,7 +360,7 @@ def _lowest_point(length, diameter, com_offset, q, z) -> np.ndarray:
 # _check_rules) and over packed parameter rows (check_params, _param_checks)
 # ===========================================================================
 _Q = _list_paths("release.quaternion")
-_BODY = ("mine.length", "mine.diameter", "mine.com_offset")
+_BODY = DROP_SHAPE.fields
 
 
 def _starts_above_seabed(v) -> np.ndarray:
@@ -383,13 +369,13 @@ def _starts_above_seabed(v) -> np.ndarray:
     if np.all(embedded):
         return embedded
     q = np.stack(np.broadcast_arrays(*(np.asarray(v[k], dtype=np.float64) for k in _Q)), axis=-1)
-    lowest = _lowest_point(*(v[k] for k in _BODY), q, v["release.z"])
+    lowest = _lowest_point({k: v[k] for k in _BODY}, q, v["release.z"])
     return embedded | (lowest >= -np.asarray(v["environment.water_depth"]))
 
 
 def _inside_seabed_message(v) -> str:
     z, depth = v["release.z"], v["environment.water_depth"]
-    lowest = float(_lowest_point(*(v[k] for k in _BODY), [v[k] for k in _Q], z))
+    lowest = float(_lowest_point({k: v[k] for k in _BODY}, [v[k] for k in _Q], z))
     return (
         f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
         f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
@@ -416,13 +402,7 @@ RULES: tuple[Rule, ...] = (
         ("current.kind", "current.table_index"),
         lambda v: (v["current.table_index"] >= 0) == (v["current.kind"] == CURRENT_KINDS.index("table")),
     ),
-    Rule(
-        "|mine.com_offset| < mine.length/2",
-        ("mine.com_offset", "mine.length"),
-        lambda v: np.abs(v["mine.com_offset"]) < v["mine.length"] / 2,
-        note="|chi| < length/2: the COM lies inside the body",
-        bounds=lambda v: (-v["mine.length"] / 2.0, v["mine.length"] / 2.0, None),
-    ),
+    *DROP_SHAPE.rules,  # the relations between the body's own fields (the COM inside the body)
     Rule(
         "mine.inertia_axial <= 2 mine.inertia_transverse",
         ("mine.inertia_axial", "mine.inertia_transverse"),
@@ -527,10 +507,12 @@ def write_field_tables(path="docs/scenario.md") -> None:
 @dataclass(frozen=True, kw_only=True)
 @_table_defaults("mine")
 class Mine:
-    """The rigid cylinder (seed 000 sec. 2, Table 2). SI units.
+    """The rigid mine, of the drop's shape (``bodies.shapes.DROP_SHAPE``: the cylinder of seed
+    000 sec. 2, Table 2). SI units.
 
     ``inertia_axial`` / ``inertia_transverse`` left as ``None`` are replaced on
-    construction by those of a uniform cylinder (m R^2/2, m (3R^2 + L^2)/12); pass
+    construction by those of the uniform body (the shape's ``inertia``: the cylinder's
+    m R^2/2, m (3R^2 + L^2)/12); pass
     ``None`` again through ``dataclasses.replace`` to recompute them after changing the
     mass or size.
     """
@@ -548,7 +530,7 @@ class Mine:
             raise ScenarioError(f"mine.name = {self.name!r} must be a string")
         for f in ("length", "diameter", "mass", "com_offset"):  # the default inertia needs them
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
-        j1, j2 = uniform_cylinder_inertia(self.mass, self.diameter, self.length)
+        j1, j2 = DROP_SHAPE.inertia(self.mass, _mine_dims(self))
         if self.inertia_axial is None:
             _set(self, "inertia_axial", j1)
         if self.inertia_transverse is None:
@@ -561,11 +543,12 @@ class Mine:
 
     @property
     def volume(self) -> float:
-        return math.pi * self.radius**2 * self.length
+        """The body's volume (the drop's shape's, ``bodies.shapes``) [m3]."""
+        return DROP_SHAPE.volume(_mine_dims(self))
 
     @property
     def density(self) -> float:
-        """Mean density m / (pi R^2 L) [kg m-3]."""
+        """Mean density m / volume [kg m-3]."""
         return self.mass / self.volume
 
     def to_dict(self) -> dict:

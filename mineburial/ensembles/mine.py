@@ -43,6 +43,7 @@ from mineburial.ensembles.store import notice
 from mineburial.errors import EnsembleError, ScenarioError, unknown_names_message
 from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.mine.stepper import MAX_STEPS
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks
 
@@ -71,7 +72,8 @@ ENSEMBLE_DEFAULTS = {
 }
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
-_INERTIA_INPUTS = ("mine.mass", "mine.length", "mine.diameter")
+#: the sampled inputs whose values change the default inertia (the mass and the shape's sizes)
+_INERTIA_INPUTS = ("mine.mass", *DROP_SHAPE.inertia_fields)
 #: time steps a drop above which a fixed-step integrator gets a warning: the stepper's step
 #: budget, after which a drop still moving ends ``time_limit``
 STEPS_WARNING = float(MAX_STEPS)
@@ -367,8 +369,8 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
             q = cfg.quaternion_from_angles(*(np.radians(a) for a in ang))
             P[:, layout.P_Q00 : layout.P_Q30 + 1] = q
         if spec.recompute_inertia:
-            P[:, layout.P_J1], P[:, layout.P_J2] = cfg.uniform_cylinder_inertia(
-                P[:, layout.P_MASS], P[:, layout.P_DIAMETER], P[:, layout.P_LENGTH]
+            P[:, layout.P_J1], P[:, layout.P_J2] = DROP_SHAPE.inertia(
+                P[:, layout.P_MASS], DROP_SHAPE.dims_of_params(P)
             )
     valid = cfg.check_params(
         P,

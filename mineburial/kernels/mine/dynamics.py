@@ -15,8 +15,8 @@ One function, :func:`derivatives`, evaluates the right-hand side of the
     integrals (eqs. (42)-(58)) in the F-frame, no added mass (the ratios f_i of
     eqs. (39)-(58) are never given numbers) and no gyroscopic torque (eq. (22)).
 
-Both share the buoyancy of the equivalent cylinder at the interfaces (seed 000
-eqs. (25)-(36), exact cut-cylinder volumes) and the sediment tractions of
+Both share the buoyancy of the body's parts cut by the interfaces (the body protocol's
+``cut``; the cylinder's exact volumes of seed 000 eqs. (25)-(36)) and the sediment tractions of
 :mod:`mineburial.kernels.mine.sediment` (seed 000 section 6).
 
 Extended state (length :data:`N_EXT`): the 13 physical states of
@@ -34,7 +34,7 @@ from mineburial.kernels.mine.added_mass import (
     finite_body_cross_drag,
     munk_incidence_factor,
 )
-from mineburial.kernels.mine.bodies import cylinder
+from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.mine.coefficients import (
     axial_drag_coefficient,
     cross_drag_coefficient,
@@ -81,9 +81,9 @@ from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
 
 
-#: the mine's body from its parameter vector (``layout.P_*``): the one place that names the shape
-#: of the drop's kernels (docs/design.md, "Body protocol")
-drop_body = cylinder.from_params
+#: the mine's body from its parameter vector (``layout.P_*``): the ``from_params`` of the drop's
+#: shape, which ``bodies.shapes.DROP_SHAPE`` names (docs/design.md, "Body protocol")
+drop_body = DROP_SHAPE.kernel().from_params
 
 
 @kernel

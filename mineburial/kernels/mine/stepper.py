@@ -66,10 +66,8 @@ from mineburial.kernels.mine.layout import (
     N_WORK,
     P_ATOL,
     P_DEPTH,
-    P_DIAMETER,
     P_DT,
     P_INTEGRATOR,
-    P_LENGTH,
     P_MASS,
     P_OM10,
     P_OM20,
@@ -618,7 +616,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     for i in range(N_SUMMARY):
         summary[i] = np.nan
     p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
-    law = pack_law(p, p[P_DIAMETER], reference_paths)
+    body = drop_body(p)
+    law = pack_law(p, bodies.reference_lengths(body)[0], reference_paths)  # the law's width D
     y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
     ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
@@ -626,8 +625,8 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     integrator = int(p[P_INTEGRATOR])
     adaptive = ADAPTIVE_INTEGRATOR[integrator]
     stiff_in_sediment = integrator == INTEGRATOR_STIFF
-    R = 0.5 * p[P_DIAMETER]
-    buoyant = p[P_MASS] < p[P_RHO_WATER] * math.pi * R * R * p[P_LENGTH]
+    volume, _ = bodies.volume(body)
+    buoyant = p[P_MASS] < p[P_RHO_WATER] * volume  # lighter than the water it displaces
     derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
     event_values(y, p, g0)
     entered_water = g0[0] < 0.0

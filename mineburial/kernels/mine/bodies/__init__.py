@@ -19,7 +19,11 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
 * ``equivalent_part(body, V, x_c, eta)`` -> ``(l, x_a, x_b, eta)``: the equivalent body of a part
   (seed 000 section 4.1) that the strip forces of the fluid integrate over;
 * ``volume(body)`` -> ``(volume, x_centroid)``: the whole body's volume and the axial position of
-  its centroid about the COM; ``ends(body)`` -> ``(x_tail, x_nose)``, the axial span about the COM;
+  its centroid about the COM (the stepper's test of a mine lighter than the water uses it);
+  ``ends(body)`` -> ``(x_tail, x_nose)``, the axial span about the COM;
+* ``reference_lengths(body)`` -> ``(diameter, length)``: the sizes that the laws written for a
+  cylinder take (the sediment law's width D, ``sediment.pack_law``); the Python side's
+  ``shapes.Shape.reference_lengths`` gives the same from the scenario's fields;
 * ``lowest_offset(body, k1, k2, k3)``: height of the lowest point above the COM for the E-frame
   vertical ``k`` in body components; ``deepest_point(body, k1, k2, k3)``: a lowest point (body
   frame) about which the body topples; ``sizes(body)`` -> ``(extent_scale, reach)``: the length
@@ -36,9 +40,11 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
   finite body's added-mass factors on the strip values, and ``crossflow_efficiency(body)``, the
   viscous-crossflow model's eta (both from kernels/mine/added_mass.py's tables of the closed cylinder).
 
-Adding a shape: a module here with its NamedTuple class and these functions, which registers
-itself (:func:`register`; docs/design.md, "Adding a body shape"). This package imports no shape,
-so the sediment package can use the protocol while the cylinder's module uses the sediment rules.
+Adding a shape: a module here with its NamedTuple class, ``from_params(p)`` and these functions,
+which registers itself (:func:`register`), and its Python side in :mod:`.shapes` (volume, mass
+properties, reference lengths, placement), where ``DROP_SHAPE`` names the drop's shape
+(docs/design.md, "Adding a body shape"). This package imports no shape, so the sediment package
+can use the protocol while the cylinder's module uses the sediment rules.
 """
 
 import inspect
@@ -115,6 +121,7 @@ burial = _declare("burial", "body, a_z, z_c, level")
 equivalent_part = _declare("equivalent_part", "body, volume, x_c, eta")
 volume = _declare("volume", "body")
 ends = _declare("ends", "body")
+reference_lengths = _declare("reference_lengths", "body")
 lowest_offset = _declare("lowest_offset", "body, k1, k2, k3")
 deepest_point = _declare("deepest_point", "body, k1, k2, k3")
 sizes = _declare("sizes", "body")

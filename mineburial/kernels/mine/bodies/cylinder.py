@@ -79,6 +79,11 @@ def ends(body):
     return -0.5 * body.length - body.com_offset, 0.5 * body.length - body.com_offset
 
 
+def reference_lengths(body):
+    """The diameter ``2R`` (exactly the parameter's ``mine.diameter``: halved and doubled) and ``L``."""
+    return 2.0 * body.radius, body.length
+
+
 def lowest_offset(body, k1, k2, k3):
     """The lower end section's centre, then its rim ``R sqrt(k2^2 + k3^2) = R sqrt(1 - a_z^2)`` below."""
     xa, xb = bodies.ends(body)
