@@ -1510,7 +1510,8 @@ MAP_STATISTICS = (
     "status_count",
 ) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
 #: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis,
-#: but the mobile share by lead time that only a run's file holds: ensembles.scour.dataset)
+#: but the mobile shares by lead time and the mean pit depth that only a run's file holds:
+#: ensembles.scour.dataset)
 MAP_SCOUR_STATISTICS = tuple(
     name
     for name, var in VARIABLES.items()
