@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from test_scour_run import D50, KAPPA, LEADS, LENGTH, RHO_S, D, G, U, lying_b0, scenario, scour_section
 
-from mineburial.ensembles import runner
+from mineburial.ensembles import engine, runner
 
 RHO = 1025.0  # conftest's water
 NU = 1.0e-6
@@ -77,3 +77,32 @@ def test_mobility_per_lead_time_is_the_moment_balance_by_hand(settle_run):
     # the impact leaves these mines 0.45-0.6 D in the sand: none moves, while the same flow moves a
     # mine lying on the bed (the criterion is not a constant; mobile cases: tests/test_scour_settle.py)
     assert want.sum() == 0 and all(pocket_mobile(0.0, m) == 1.0 for m in mass)
+
+
+@pytest.fixture
+def no_computing(monkeypatch):
+    def fail(spec, start, stop):
+        raise AssertionError("a drop was computed")
+
+    monkeypatch.setattr(engine, "compute_chunk", fail)
+
+
+@pytest.mark.parametrize(
+    "over, needle",
+    [
+        ({"burial_law": "nope"}, "scour.burial_law"),
+        ({"mobility": "rolling"}, "scour.mobility"),
+        ({"wave_a": 0.0}, "scour.wave_a = 0.0 is outside the allowed range"),
+        ({"wave_kc_exponent": 3.0}, "scour.wave_kc_exponent = 3.0 is outside the allowed range"),
+        ({"infill_days": -1.0}, "scour.infill_days = -1.0 d is outside the allowed range"),
+        ({"bed_lowering_rate": -0.1}, "scour.bed_lowering_rate = -0.1 m d-1 is outside the allowed range"),
+        ({"mobility_drag": 9.0}, "scour.mobility_drag = 9.0 is outside the allowed range"),
+    ],
+)
+def test_bad_settle_input_is_one_line_naming_the_field(tmp_path, capsys, no_computing, over, needle):
+    from mineburial.cli import main
+
+    path = scenario(tmp_path, scour_section(tmp_path, **{"burial_law": "scour_settle", **over}))
+    assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and needle in err, err
