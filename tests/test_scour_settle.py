@@ -212,6 +212,7 @@ def test_invalid_new_parameters_are_refused():
         ("wave_kc_exp", -0.1),
         ("infill_time", 0.0),
         ("bed_rate", math.nan),
+        ("bed_rate", -1e-6),
         ("mobility", 3.0),
         ("mob_cd", 0.0),
     ):

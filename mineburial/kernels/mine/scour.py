@@ -79,7 +79,7 @@ S_BURIAL_LAW = 24  # BURIAL_RENNIE (one state, the first version) or BURIAL_SCOU
 S_WAVE_A = 25  # a_w of the wave pit S_w/D = a_w KC^m_w (Sumer & Fredsoe 1990: 0.1)
 S_WAVE_KC_EXP = 26  # m_w (Sumer & Fredsoe 1990: 0.5)
 S_INFILL_TIME = 27  # time scale [s] of the pit's infill toward a shallower equilibrium (inf: none)
-S_BED_RATE = 28  # far-field bed lowering rate [m/s] (> 0 lowers and re-exposes, < 0 accretes)
+S_BED_RATE = 28  # far-field bed lowering rate [m/s], >= 0 (lowers the bed and re-exposes the mine)
 S_MOBILITY = 29  # MOBILITY_PROUD (the first version's flag) or MOBILITY_POCKET (burial-aware)
 S_MOB_CD = 30  # drag coefficient of the lying cylinder in the burial-aware criterion
 N_PARAMS = 31
@@ -164,7 +164,9 @@ def default_parameters(**overrides):
     p[S_INFILL_TIME] = 5.0 * 86400.0  # judgement, docs/scour.md (Infill): field pits fill in days-weeks
     p[S_BED_RATE] = 0.0
     p[S_MOBILITY] = MOBILITY_PROUD
-    p[S_MOB_CD] = 1.2  # a circular cylinder in cross-flow, subcritical Re (Sumer & Fredsoe 2006, Fig. 2.9)
+    # a circular cylinder in cross-flow at subcritical Reynolds number, about 1.2 (Sumer & Fredsoe
+    # 2006, Hydrodynamics around Cylindrical Structures, ch. 2, as recalled)
+    p[S_MOB_CD] = 1.2
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -727,7 +729,7 @@ def parameters_valid(p):
     heavier than water, b > 0 (B_eq grows with theta), p < 0 (T shrinks with theta), m >= 0 with
     kc_min > 0 for a KC law (m > 0), mobility exponent < 0, proud limit in [0, 1], a ripple
     exposure >= 0 and a positive blend d50, a known convention code, a known burial law and
-    mobility criterion, a_w > 0, m_w >= 0, an infill time > 0 (inf: none), a finite bed rate, a
+    mobility criterion, a_w > 0, m_w >= 0, an infill time > 0 (inf: none), a finite bed rate >= 0, a
     positive finite drag coefficient, and a current height either <= 0 (depth mean) or >= ks =
     2.5 d50 (above the roughness elements, where the log profile holds)."""
     for i in range(N_PARAMS):
@@ -765,7 +767,7 @@ def parameters_valid(p):
         return False
     if not (p[S_WAVE_KC_EXP] >= 0.0 and p[S_WAVE_KC_EXP] < math.inf):
         return False
-    if not (p[S_INFILL_TIME] > 0.0 and math.isfinite(p[S_BED_RATE])):
+    if not (p[S_INFILL_TIME] > 0.0 and p[S_BED_RATE] >= 0.0 and p[S_BED_RATE] < math.inf):
         return False
     if not ((p[S_MOBILITY] == MOBILITY_PROUD or p[S_MOBILITY] == MOBILITY_POCKET) and p[S_MOB_CD] > 0.0):
         return False
