@@ -63,6 +63,8 @@ CHOICES = {
     "burial_law": sc.S_BURIAL_LAW,
     "mobility": sc.S_MOBILITY,
 }
+#: the fields only the scour-and-settle law reads (left out of the resolved section under rennie)
+SETTLE_ONLY = ("wave_a", "wave_kc_exponent", "infill_days", "bed_lowering_rate")
 #: the section's fields given in days that the stage reads in seconds: factor to its slot's unit
 TO_SECONDS = {"infill_days": 86400.0, "bed_lowering_rate": 1.0 / 86400.0}
 #: the keys of the section, declared in mineburial/scenario_fields.py
@@ -109,7 +111,12 @@ class ScourSpec:
             "cohesive": self.cohesive,
         }
         out.update(self.conventions)
-        out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
+        unused = set()  # the coefficients of a law or criterion the section does not use
+        if self.conventions.get("burial_law", "rennie") != "scour_settle":
+            unused.update(SETTLE_ONLY)
+        if self.conventions.get("mobility", "proud") != "pocket":
+            unused.add("mobility_drag")
+        out.update({k: v for k, v in self.values.items() if math.isfinite(v) and k not in unused})
         for key, value in self.from_class.items():  # one value per label of a sampled class: a list
             out[key] = list(value) if isinstance(value, tuple) else value
         if self.from_class:
