@@ -23,7 +23,8 @@ def summary(path) -> str:
     bd = ds["scour_penetration_depth"].values[ok] / diameter
     q5, q50, q95 = np.nanpercentile(bd, [5, 50, 95], axis=0)
     rows = [
-        f"two-storm example ({pathlib.Path(path).name}): {int(ok.sum())} drops whose stage ran; D = {diameter} m",
+        f"two-storm example ({pathlib.Path(path).name}): {int(ok.sum())} drops whose stage ran; "
+        f"D = {diameter} m",
         "lead [d]  B/D median [5 %, 95 %]   fully buried  mean pit [m]  volume median [%]  would move",
     ]
     vol = ds["scour_burial_volume_quantile"].sel(quantile=0.5).values
