@@ -40,6 +40,9 @@ SCOUR_ORBITAL_NAMES = ("spectral", "hrms", "hs")
 SCOUR_FRICTION_NAMES = ("swart", "soulsby")
 # scour time-scale laws T* = c KC^m theta^p (kernels.mine.scour.TSTAR_LAWS holds their constants)
 SCOUR_TSTAR_LAWS = ("whitehouse", "pipeline", "pile_waves")
+# scour burial laws and mobility criteria (kernels.mine.scour: BURIAL_*, MOBILITY_* are these indices)
+SCOUR_BURIAL_LAWS = ("rennie", "scour_settle")
+SCOUR_MOBILITY_NAMES = ("proud", "pocket")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
 LAB_STRAIN_RATE = 0.01 / 3600.0
@@ -856,6 +859,96 @@ TABLE: tuple[Field, ...] = (
             "ripple crests (Traykovski et al. 2007, MVCO: about one; docs/scour.md, Coarse sand)"
         ),
         1.0,
+        slot=False,
+    ),
+    _choice(
+        "scour.burial_law",
+        SCOUR_BURIAL_LAWS,
+        (
+            "the burial law (a model-form choice, docs/scour.md): `rennie`, the first version's one state "
+            "B relaxing to B_eq/D = a θ^b (Rennie et al. 2017), no memory; `scour_settle`, a scour pit "
+            "S and the mine's burial B as separate states: the pit deepens toward a wave-, current- and "
+            "combined-flow equilibrium that is zero at the threshold of motion, the mine settles into it "
+            "(B >= S), the pit infills in calm spells (scour.infill_days) without lifting the mine, and "
+            "the far-field bed may lower (scour.bed_lowering_rate)"
+        ),
+        "rennie",
+        slot=False,
+        sampled=False,
+    ),
+    _f(
+        "scour.wave_a",
+        "1",
+        0,
+        5,
+        (
+            "`scour_settle`: a_w of the wave pit S/D = a_w KC^m_w (Sumer & Fredsøe 1990, pipelines "
+            "in waves, live bed: 0.1). **Sampling range: about 0.05–0.6** (short cylinders settle "
+            "into their pits and bury deeper than pipelines scour; docs/scour.md)"
+        ),
+        0.1,
+        incl=_OPEN_LOW,
+        slot=False,
+    ),
+    _f(
+        "scour.wave_kc_exponent",
+        "1",
+        0,
+        2,
+        "`scour_settle`: m_w of the same law (Sumer & Fredsøe 1990: 0.5). **Sampling range: about 0.3–0.8**",
+        0.5,
+        slot=False,
+    ),
+    _f(
+        "scour.infill_days",
+        "d",
+        0,
+        1e6,
+        (
+            "`scour_settle`: time scale of the pit's infill toward a shallower equilibrium (the ambient "
+            "bed in calm); the mine is not lifted. Judgement: field pits infill over days to weeks "
+            "(docs/scour.md, Infill). **Sampling range: about 1–30 d**"
+        ),
+        5.0,
+        incl=_OPEN_LOW,
+        slot=False,
+    ),
+    _f(
+        "scour.bed_lowering_rate",
+        "m d-1",
+        0,
+        1,
+        (
+            "`scour_settle`: lowering rate of the far-field bed (erosion by a migrating bar or a storm "
+            "profile): re-exposes the mine, whose burial falls with the bed until it rests on it or in "
+            "its pit (docs/scour.md, Re-exposure). 0: a stable bed"
+        ),
+        0.0,
+        slot=False,
+    ),
+    _choice(
+        "scour.mobility",
+        SCOUR_MOBILITY_NAMES,
+        (
+            "the mobility criterion: `proud`, the first version's rigid-bottom threshold of Rennie et al. "
+            "(2017) while B/D <= 0.1; `pocket`, that threshold raised by the burial: the moment balance "
+            "of a lying cylinder rolling out of a depression of depth B (docs/scour.md, Mobility)"
+        ),
+        "proud",
+        slot=False,
+        sampled=False,
+    ),
+    _f(
+        "scour.mobility_drag",
+        "1",
+        0,
+        5,
+        (
+            "`pocket` mobility: drag coefficient C_D of the lying cylinder in cross-flow (1.2, "
+            "subcritical Reynolds number). **Sampling range: about 0.8–1.5**"
+        ),
+        1.2,
+        incl=_OPEN_LOW,
         slot=False,
     ),
     _f(

@@ -81,7 +81,7 @@ def test_stage_measures_are_those_of_the_lying_mine_and_keep_the_volume_class():
     scour_drops(
         S_, np.ones(n), np.full(n, 12.0), np.ones(n, dtype=np.uint8), geom, t, zero, zero + 8.0,
         zero, zero, zero, zero, np.zeros(n), t[-1], S.build_orbital_table(), leads, np.array([0.5]),
-        measures, time_to, mobile, codes,
+        measures, time_to, mobile, codes, np.empty((n, leads.size)), np.empty((n, leads.size)),
     )  # fmt: skip
     assert np.all(codes == S.SCOUR_OK)
     # the impact's burial by volume of the vertical mine is pen / L; of the horizontal one the segment

@@ -67,6 +67,7 @@ def test_each_drop_scours_over_its_own_window():
     scour_drops(
         S_, np.ones(n), np.full(n, depth), np.ones(n, dtype=np.uint8), geom, t, hs, tp, wdir, uc, cdir,
         np.array(f.water_level), starts, length, table, leads, fractions, measures, time_to, mobile, codes,
+        np.empty((n, leads.size)), np.empty((n, leads.size)),
     )  # fmt: skip
     assert np.all(codes == S.SCOUR_OK)
     finals = []

@@ -72,16 +72,41 @@ def coefficient_block(path: str) -> str:
 
 #: the scour stage's coefficients a set may carry: scenario field -> the stage kernel's name
 #: (kernels/mine/scour.py ``default_parameters``; the same slots as ensembles/scour.py's NUMERIC)
-SCOUR_COEFFICIENTS = {"scour.beq_a": "beq_a", "scour.beq_b": "beq_b", "scour.theta_exponent": "tstar_p"}
+SCOUR_COEFFICIENTS = {
+    "scour.beq_a": "beq_a",
+    "scour.beq_b": "beq_b",
+    "scour.theta_exponent": "tstar_p",
+    # the scour-and-settle law's (issue 33; docs/scour.md, Scour and settle)
+    "scour.wave_a": "wave_a",
+    "scour.wave_kc_exponent": "wave_kc_exp",
+    "scour.infill_days": "infill_time",
+}
+#: the coefficients only the scour-and-settle law reads: a set that carries one is run under that law
+SCOUR_SETTLE_COEFFICIENTS = ("scour.wave_a", "scour.wave_kc_exponent", "scour.infill_days")
+#: a field given in days whose kernel slot holds seconds
+_SCOUR_TO_KERNEL = {"scour.infill_days": 86400.0}
+
+
+def scour_law(coefficients: dict) -> str:
+    """The burial law (``scour.burial_law``) the scour case runs a set under: ``scour_settle``
+    when the set carries one of its coefficients (the priors of priors.toml do), else the
+    stage's default ``rennie``."""
+    return "scour_settle" if any(k in coefficients for k in SCOUR_SETTLE_COEFFICIENTS) else "rennie"
 
 
 def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:
     """B/D at the end of the validation's scour event ``variant`` (``oahu``, ``halekulani``:
     fine carbonate sand, the mine proud, every assumption of validation.cases' scour rows) with
     the peak period ``peak_tp`` and the set's ``scour.*`` coefficients (the stage's defaults for
-    the others)."""
+    the others), under the law :func:`scour_law` names."""
     event = {**vc.SCOUR_EVENTS[variant], "peak_tp": float(peak_tp)}
-    params = {SCOUR_COEFFICIENTS[k]: float(v) for k, v in coefficients.items() if k in SCOUR_COEFFICIENTS}
+    params = {
+        SCOUR_COEFFICIENTS[k]: float(v) * _SCOUR_TO_KERNEL.get(k, 1.0)
+        for k, v in coefficients.items()
+        if k in SCOUR_COEFFICIENTS
+    }
+    if scour_law(coefficients) == "scour_settle":
+        params["burial_law"] = float(vc.scour_kernels.BURIAL_SCOUR_SETTLE)
     burial, _ = vc.scour_final_burial(event, d50=vc.SCOUR_FINE, rho_grain=vc.SCOUR_CARBONATE, **params)
     return burial
 

@@ -48,11 +48,25 @@ NUMERIC = {
     "beq_b": sc.S_BEQ_B,
     "theta_exponent": sc.S_TSTAR_P,
     "ripple_exposure": sc.S_RIPPLE_EXPOSURE,
+    "wave_a": sc.S_WAVE_A,
+    "wave_kc_exponent": sc.S_WAVE_KC_EXP,
+    "infill_days": sc.S_INFILL_TIME,
+    "bed_lowering_rate": sc.S_BED_RATE,
+    "mobility_drag": sc.S_MOB_CD,
     "hs_scale": None,  # scales the forcing, not a stage parameter
     "window_position": None,  # where the drop's window starts in the forcing, not a stage parameter
 }
 #: the conventions of the section (cfg.SCHEMA choices ``scour.<name>``) and the stage slot each fills
-CHOICES = {"orbital": sc.S_ORBITAL, "friction": sc.S_FRICTION}
+CHOICES = {
+    "orbital": sc.S_ORBITAL,
+    "friction": sc.S_FRICTION,
+    "burial_law": sc.S_BURIAL_LAW,
+    "mobility": sc.S_MOBILITY,
+}
+#: the fields only the scour-and-settle law reads (left out of the resolved section under rennie)
+SETTLE_ONLY = ("wave_a", "wave_kc_exponent", "infill_days", "bed_lowering_rate")
+#: the section's fields given in days that the stage reads in seconds: factor to its slot's unit
+TO_SECONDS = {"infill_days": 86400.0, "bed_lowering_rate": 1.0 / 86400.0}
 #: the keys of the section, declared in mineburial/scenario_fields.py
 KEYS = tuple(f.name for f in cfg.SCHEMA.values() if f.section == "scour")
 #: the scour sediment a scenario's sediment class gives where the section does not (docs/scour.md, Sediment)
@@ -67,6 +81,8 @@ assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HRMS] == "hrms"
 assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HS] == "hs"
 assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
 assert cfg.SCHEMA["scour.tstar_law"].choices == tuple(sc.TSTAR_LAWS)
+assert cfg.SCHEMA["scour.burial_law"].choices[sc.BURIAL_SCOUR_SETTLE] == "scour_settle"
+assert cfg.SCHEMA["scour.mobility"].choices[sc.MOBILITY_POCKET] == "pocket"
 assert {*NUMERIC, *CHOICES} <= set(KEYS)
 
 
@@ -95,7 +111,12 @@ class ScourSpec:
             "cohesive": self.cohesive,
         }
         out.update(self.conventions)
-        out.update({k: v for k, v in self.values.items() if math.isfinite(v)})
+        unused = set()  # the coefficients of a law or criterion the section does not use
+        if self.conventions.get("burial_law", "rennie") != "scour_settle":
+            unused.update(SETTLE_ONLY)
+        if self.conventions.get("mobility", "proud") != "pocket":
+            unused.add("mobility_drag")
+        out.update({k: v for k, v in self.values.items() if math.isfinite(v) and k not in unused})
         for key, value in self.from_class.items():  # one value per label of a sampled class: a list
             out[key] = list(value) if isinstance(value, tuple) else value
         if self.from_class:
@@ -410,7 +431,7 @@ def stage_parameters(spec: ScourSpec, P, inputs):
     S[:, sc.S_G] = P[:, layout.P_GRAVITY]
     for name, slot in NUMERIC.items():
         if slot is not None:
-            S[:, slot] = _column(spec, inputs, name, n)
+            S[:, slot] = _column(spec, inputs, name, n) * TO_SECONDS.get(name, 1.0)
     for name, value in spec.conventions.items():
         S[:, CHOICES[name]] = cfg.SCHEMA[f"scour.{name}"].pack(value)
     for name, per_class in spec.from_class.items():  # a sampled class: each drop its class's value
@@ -454,6 +475,8 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     time_to = np.empty((n, levels.size))
     mobile = np.empty(n)
     codes = np.empty(n, dtype=np.int8)
+    pit = np.empty((n, leads.size))
+    mobile_lead = np.empty((n, leads.size))
     depth = np.ascontiguousarray(P[:, layout.P_DEPTH])
     run = run.astype(np.uint8)
     level, table = np.array(f.water_level), _orbital_table()
@@ -463,7 +486,7 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         scour_drops(
             S[a:b], scale[a:b], depth[a:b], run[a:b], geom[a:b], t, hs, tp, wdir, uc, cdir,
             level, start[a:b], length, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b],
-            codes[a:b],
+            codes[a:b], pit[a:b], mobile_lead[a:b],
         )  # fmt: skip
 
     # in blocks on the drops' runner: Ctrl-C ends the stage within about a block, as the
@@ -474,6 +497,9 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         "scour:time_to": time_to / DAY,
         "scour:mobile": mobile / DAY,
         "scour:status": codes,
+        # the scour pit's depth [m] and whether the mine would move, at each lead time (issue 33)
+        "scour:pit": pit,
+        "scour:mobile_lead": mobile_lead,
         # where no post-impact process is modelled: a cohesive bed (B_eq = 0, docs/scour.md)
         "scour:cohesive": (S[:, sc.S_COHESIVE] != 0.0).astype(np.uint8),
         # each drop's lead time 0 [s after the forcing's first record] (forecast_reference_time)
@@ -486,7 +512,8 @@ def bytes_a_drop(spec) -> int:
     sc_spec = getattr(spec, "scour", None)
     if sc_spec is None:
         return 0
-    return 8 * (len(MEASURE_NAMES) * len(sc_spec.lead_times_days) + len(sc_spec.burial_levels) + 2) + 2
+    n_lead = len(sc_spec.lead_times_days)
+    return 8 * ((len(MEASURE_NAMES) + 2) * n_lead + len(sc_spec.burial_levels) + 2) + 2
 
 
 def _per_drop(spec: ScourSpec, chunks):
@@ -502,6 +529,29 @@ def _per_drop(spec: ScourSpec, chunks):
         )
     keys = ("scour:measures", "scour:time_to", "scour:mobile", "scour:status")
     return tuple(np.concatenate([r[key] for r in chunks]) for key in keys)
+
+
+def _per_drop_states(spec: ScourSpec, chunks):
+    """(pit depth [m], mobile 1/0) of the chunks' drops at each lead time (drops x lead times);
+    NaN for chunks stored before these states existed."""
+    n_lead = len(spec.lead_times_days)
+    out = []
+    for key in ("scour:pit", "scour:mobile_lead"):
+        parts = [
+            r[key] if key in r else np.full((len(r["scour:status"]), n_lead), np.nan) for r in chunks or ()
+        ]
+        out.append(np.concatenate(parts) if parts else np.empty((0, n_lead)))
+    return tuple(out)
+
+
+def mobile_probability(mobile_lead, codes) -> np.ndarray:
+    """Share of the drops whose stage ran (status ok) that would move at each lead time (the
+    criterion of ``scour.mobility``); NaN at a lead time without such a drop."""
+    m = np.asarray(mobile_lead, dtype=np.float64)[np.asarray(codes) == 0]
+    finite = np.isfinite(m)
+    count = finite.sum(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(count > 0, np.where(finite, m, 0.0).sum(axis=0) / count, np.nan)
 
 
 def statistics(spec: ScourSpec, chunks, class_basis: str) -> xr.Dataset:
@@ -570,6 +620,17 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
     stats["scour_mobile_fraction_by_lead_time"] = V.variable("scour_mobile_fraction_by_lead_time").data_array(
         mobile_by_lead_time(mobile[ok], spec.lead_times_days)
     )
+    pit, mobile_lead = _per_drop_states(spec, chunks)
+    stats["scour_mobile_probability"] = V.variable("scour_mobile_probability").data_array(
+        mobile_probability(mobile_lead, codes)
+    )
+    with np.errstate(invalid="ignore"):
+        pit_ok = pit[ok]
+        pit_mean = np.array(
+            [np.mean(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in pit_ok.T],
+            dtype=np.float64,
+        )
+    stats["scour_pit_depth_mean"] = V.variable("scour_pit_depth_mean").data_array(pit_mean)
     parts = [ds, stats]
     if per_drop:
         data = {
@@ -579,6 +640,8 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
         data["scour_time_to_level"] = V.variable("scour_time_to_level").data_array(time_to)
         data["scour_mobile_time"] = V.variable("scour_mobile_time").data_array(mobile)
         data["scour_status"] = V.variable("scour_status").data_array(codes)
+        data["scour_pit_depth"] = V.variable("scour_pit_depth").data_array(pit)
+        data["scour_mobile_at_lead_time"] = V.variable("scour_mobile_at_lead_time").data_array(mobile_lead)
         parts.append(
             xr.Dataset(data, coords={"realization": ds["realization"], "lead_time": stats["lead_time"]})
         )
@@ -632,4 +695,7 @@ def summary_lines(ds) -> list[str]:
     lines.append(
         f"  flagged mobile (may roll or migrate; burial unchanged): {float(ds['scour_mobile_fraction']):.3f}"
     )
+    if "scour_mobile_probability" in ds:
+        values = " ".join(f"{v:.3f}" for v in ds["scour_mobile_probability"].values)
+        lines.append(f"  would move at each lead time (scour_mobile_probability): {values}")
     return lines

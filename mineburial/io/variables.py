@@ -681,6 +681,49 @@ def _scour_time_variables() -> list[Variable]:
             group="statistics",
         ),
         Variable(
+            "scour_mobile_probability",
+            ("lead_time",),
+            "float64",
+            "1",
+            "share of drops that would move at the lead time",
+            "Fraction of the drops whose scour stage ran whose mine would move at each lead time: the "
+            "object mobility parameter of the forcing then above the criterion of scour.mobility, with "
+            "the burial then (`proud`: Rennie et al. 2017 on a rigid bottom while B/D <= 0.1; `pocket`: "
+            "raised by the burial, docs/scour.md, Mobility). What follows is not modelled: a mine in an "
+            "open pit rolls back into it (its burial is unchanged), a proud one on a flat bed may "
+            "migrate away (docs/scour.md).",
+            group="statistics",
+        ),
+        Variable(
+            "scour_pit_depth_mean",
+            ("lead_time",),
+            "float64",
+            "m",
+            "mean depth of the scour pit beside the mine",
+            "Arithmetic mean of scour_pit_depth over the drops whose scour stage ran (scour_status ok). "
+            "Under scour.burial_law = rennie the one state is both pit and burial.",
+            group="statistics",
+        ),
+        Variable(
+            "scour_pit_depth",
+            ("realization", "lead_time"),
+            "float64",
+            "m",
+            "depth of the scour pit beside the mine",
+            "Depth of the scour pit beside the mine below the far-field bed at each lead time "
+            "(scour.burial_law = scour_settle: a state of its own, which infills in calm spells while "
+            "the mine's burial stays; rennie: the burial itself); NaN where the stage did not run.",
+        ),
+        Variable(
+            "scour_mobile_at_lead_time",
+            ("realization", "lead_time"),
+            "float64",
+            "1",
+            "whether the mine would move at the lead time",
+            "1 where the mine would move at the lead time (criterion of scour.mobility with the forcing "
+            "and the burial then), else 0; NaN where the stage did not run.",
+        ),
+        Variable(
             "scour_mobile_time",
             ("realization",),
             "float64",
@@ -1467,14 +1510,15 @@ MAP_STATISTICS = (
     "status_count",
 ) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
 #: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis,
-#: but the mobile share by lead time that only a run's file holds: ensembles.scour.dataset)
+#: but the mobile shares by lead time and the mean pit depth that only a run's file holds:
+#: ensembles.scour.dataset)
 MAP_SCOUR_STATISTICS = tuple(
     name
     for name, var in VARIABLES.items()
     if name.startswith("scour_")
     and "realization" not in var.dims
     and var.dims != (name,)
-    and name != "scour_mobile_fraction_by_lead_time"
+    and name not in ("scour_mobile_fraction_by_lead_time", "scour_mobile_probability", "scour_pit_depth_mean")
 )
 #: the epistemic band of the class probabilities, in a map whose ensembles draw from a posterior
 MAP_EPISTEMIC = ("burial_class_probability_epistemic_lower", "burial_class_probability_epistemic_upper")

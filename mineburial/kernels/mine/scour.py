@@ -74,7 +74,24 @@ S_MOB_P = 20  # p
 S_TSTAR_KC_MIN = 21  # smallest KC at which a KC law (m > 0) applies; below it no growth (T = inf)
 S_MOB_BURIAL_MAX = 22  # B/D up to which the mine counts as proud for the mobility criterion
 S_RIPPLE_EXPOSURE = 23  # coarse sand: height left proud above the ripple crests, in ripple heights
-N_PARAMS = 24
+# --- issue 33: the scour-and-settle law with memory and the burial-aware mobility (docs/scour.md) ---
+S_BURIAL_LAW = 24  # BURIAL_RENNIE (one state, the first version) or BURIAL_SCOUR_SETTLE (pit + mine)
+S_WAVE_A = 25  # a_w of the wave pit S_w/D = a_w KC^m_w (Sumer & Fredsoe 1990: 0.1)
+S_WAVE_KC_EXP = 26  # m_w (Sumer & Fredsoe 1990: 0.5)
+S_INFILL_TIME = 27  # time scale [s] of the pit's infill toward a shallower equilibrium (inf: none)
+S_BED_RATE = 28  # far-field bed lowering rate [m/s], >= 0 (lowers the bed and re-exposes the mine)
+S_MOBILITY = 29  # MOBILITY_PROUD (the first version's flag) or MOBILITY_POCKET (burial-aware)
+S_MOB_CD = 30  # drag coefficient of the lying cylinder in the burial-aware criterion
+N_PARAMS = 31
+
+#: burial laws (S_BURIAL_LAW): the first version's single state B relaxing to D a theta^b
+#: (Rennie et al. 2017), and the scour-and-settle law (pit depth S and burial B as two states)
+BURIAL_RENNIE = 0
+BURIAL_SCOUR_SETTLE = 1
+#: mobility criteria (S_MOBILITY): the first version's (Rennie et al. 2017 on a rigid bottom,
+#: while B/D <= S_MOB_BURIAL_MAX) and the burial-aware pivot criterion (mobility_threshold_pocket)
+MOBILITY_PROUD = 0
+MOBILITY_POCKET = 1
 
 #: half-width, in phi units (phi = -log2(d50 / 1 mm), Krumbein), of the d50 interval over which the
 #: coarse-sand exposure limit blends in around S_RIPPLE_D50: from 0.354 to 0.707 mm about the
@@ -140,6 +157,16 @@ def default_parameters(**overrides):
     # bury until the exposed height above the ripple crests was approximately the same as the large
     # wave orbital ripple height"
     p[S_RIPPLE_EXPOSURE] = 1.0
+    p[S_BURIAL_LAW] = BURIAL_RENNIE  # the first version's law: existing scenarios keep their answers
+    # Sumer & Fredsoe (1990; 2002, ch. 3, live-bed scour below pipelines in waves): S/D = 0.1 KC^0.5
+    p[S_WAVE_A] = 0.1
+    p[S_WAVE_KC_EXP] = 0.5
+    p[S_INFILL_TIME] = 5.0 * 86400.0  # judgement, docs/scour.md (Infill): field pits fill in days-weeks
+    p[S_BED_RATE] = 0.0
+    p[S_MOBILITY] = MOBILITY_PROUD
+    # a circular cylinder in cross-flow at subcritical Reynolds number, about 1.2 (Sumer & Fredsoe
+    # 2006, Hydrodynamics around Cylindrical Structures, ch. 2, as recalled)
+    p[S_MOB_CD] = 1.2
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -466,6 +493,146 @@ def mobility_parameter(u, diameter, mine_sg, g):
     return u * u / (g * diameter * (mine_sg - 1.0))
 
 
+# --- the scour-and-settle law with memory (issue 33 items 2 and 3; docs/scour.md, Scour and settle) -
+
+
+@kernel
+def onset_factor(theta, theta_cr):
+    """Factor that takes an equilibrium scour depth smoothly to zero at the threshold of motion:
+    1 - theta_cr/theta above it, 0 at or below it. Our smoothing choice (docs/scour.md, Scour and
+    settle): the excess-stress form of the bed-load laws (Meyer-Peter & Mueller 1948: transport
+    grows from zero with theta - theta_cr), continuous at the threshold and -> 1 in live-bed
+    conditions (theta >> theta_cr), where the laws below were fitted."""
+    if not theta > theta_cr:
+        return 0.0
+    return 1.0 - theta_cr / theta
+
+
+@kernel
+def current_ratio(uc, uw):
+    """U_cw = U_c / (U_c + U_w), the current's share of the near-bed velocity (Sumer & Fredsoe
+    2001, scour in combined waves and current); 0 with no flow at all."""
+    total = uc + uw
+    if not total > 0.0:
+        return 0.0
+    return uc / total
+
+
+@kernel
+def pit_equilibrium(theta, theta_cr, kc, ucw, diameter, a, b, aw, mw):
+    """Equilibrium depth [m] of the scour pit beside a lying cylinder below the far-field bed:
+    D f(theta) [(1 - U_cw) a_w KC^m_w + U_cw a theta^b], f = :func:`onset_factor`.
+
+    Waves (U_cw = 0): S/D = a_w KC^m_w, live-bed scour below pipelines in waves (Sumer & Fredsoe
+    1990, J. Waterway Port Coastal Ocean Eng. 116(3), S/D = 0.1 KC^0.5; Sumer & Fredsoe 2002,
+    The Mechanics of Scour in the Marine Environment, ch. 3), the KC growth that the short-cylinder
+    experiments under waves also show (Catano-Lopera & Garcia 2006; Demir & Garcia 2007) [their own
+    coefficients not verified here: a_w and m_w are sampled with priors covering them]. Currents
+    (U_cw = 1): B_eq/D = a theta^b (Rennie, Brandt & Friedrichs 2017). Combined: weighted by the
+    current's share U_cw (our choice, the weight of Sumer & Fredsoe 2001's combined pile law)."""
+    f = onset_factor(theta, theta_cr)
+    if f == 0.0:
+        return 0.0
+    s_w = aw * kc**mw if kc > 0.0 else 0.0
+    s_c = a * theta**b
+    return diameter * f * ((1.0 - ucw) * s_w + ucw * s_c)
+
+
+@kernel
+def pit_target(p, theta, theta_cr, ub, tb, uc):
+    """(S_eq, T) of the scour-and-settle law for one forcing sample: :func:`pit_equilibrium` with
+    the caps of :func:`burial_target` (full burial D, the mobile layer, the coarse-sand exposure
+    limit) and its time scale (:func:`scour_time_scale`, the section's T* law). A cohesive bed:
+    (0, inf), no scour."""
+    diameter = p[S_DIAMETER]
+    d50 = p[S_D50]
+    if p[S_COHESIVE] != 0.0:
+        return 0.0, math.inf
+    kc = ub * tb / diameter
+    ucw = current_ratio(uc, ub)
+    s_eq = pit_equilibrium(
+        theta, theta_cr, kc, ucw, diameter, p[S_BEQ_A], p[S_BEQ_B], p[S_WAVE_A], p[S_WAVE_KC_EXP]
+    )
+    s_eq = min(min(s_eq, diameter), p[S_MOBILE_LAYER])
+    w = coarse_weight(d50, p[S_RIPPLE_D50])
+    if w > 0.0:
+        eta = ripple_height(ub * tb / math.pi, d50)
+        if eta >= 0.0:
+            s_eq = min(s_eq, exposure_limit(diameter, eta, p[S_RIPPLE_EXPOSURE], w))
+    if not theta > theta_cr:
+        return s_eq, math.inf  # no sediment moves: no scour (the infill has its own time scale)
+    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
+    t_scale = scour_time_scale(
+        theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
+    )
+    return s_eq, t_scale
+
+
+@kernel
+def relax_pit(s, s_eq, dt, t_grow, t_fill):
+    """Pit depth after dt under constant forcing, the exact solution of dS/dt = (S_eq - S)/T with
+    T = t_grow while S < S_eq (scour: :func:`relax_burial`) and T = t_fill while S > S_eq (infill
+    toward the shallower equilibrium, 0 in calm: the ambient bed). An infinite T leaves S."""
+    if s < s_eq:
+        return relax_burial(s, s_eq, dt, t_grow)
+    if s > s_eq and t_fill < math.inf:
+        return s_eq + (s - s_eq) * math.exp(-dt / t_fill)
+    return s
+
+
+@kernel
+def settled_burial(b_self, s, dt, rate):
+    """The mine's burial [m] after dt: its own burial lowered by the far-field bed lowering
+    ``rate`` dt (re-exposure; the mine rests on the bed, so never above it: >= 0), and at least the
+    pit depth ``s`` beside it (scour and settle: a mine whose pit is deeper than its burial rolls
+    or slumps into it, Whitehouse 1998; Trembanis et al. 2007; Friedrichs et al. 2016). Infill
+    never lifts it."""
+    return max(max(b_self - rate * dt, 0.0), s)
+
+
+@kernel
+def pocket_tangent(burial_fraction):
+    """tan(alpha) of the pivot angle of a lying cylinder held in a depression of depth B = f D:
+    it must roll over the lip, a step of height B, whose contact point sets cos(alpha) =
+    (R - B)/R = 1 - 2f (the pivot-angle geometry of Wiberg & Smith 1987 for a grain on its
+    neighbours, applied to the mine in its bed). 0 for f <= 0, inf for f >= 1/2 (the lip at or
+    above the centre: no rolling out)."""
+    if not burial_fraction > 0.0:
+        return 0.0
+    if burial_fraction >= 0.5:
+        return math.inf
+    c = 1.0 - 2.0 * burial_fraction
+    return math.sqrt(1.0 - c * c) / c
+
+
+@kernel
+def mobility_threshold_pocket(theta_rigid, burial_fraction, cd):
+    """Critical object mobility parameter of a partly buried lying cylinder: the larger of the
+    rigid-bottom value of Rennie et al. (2017) and the moment balance about the lip of its
+    depression, drag 1/2 rho C_D U^2 (D - B) L on the exposed height (arm R cos alpha) against the
+    submerged weight (rho_m - rho) g pi D^2/4 L (arm R sin alpha): U^2/(g D (s - 1)) > (pi/(2 C_D))
+    tan(alpha)/(1 - B/D). Our derivation (docs/scour.md, Mobility); it rises from the rigid-bottom
+    value at B = 0 and is infinite from B = D/2, as partly buried munitions in flume tests needed
+    much stronger flow to move (Menzel et al. 2022, qualitative)."""
+    tan_a = pocket_tangent(burial_fraction)
+    if tan_a == math.inf or burial_fraction >= 1.0:
+        return math.inf
+    return max(theta_rigid, math.pi / (2.0 * cd) * tan_a / (1.0 - burial_fraction))
+
+
+@kernel
+def is_mobile(p, u, b, theta_mob, b_proud):
+    """Whether the mine at burial ``b`` [m] moves under the near-bed speed ``u``: the object
+    mobility parameter above the criterion S_MOBILITY selects (:data:`MOBILITY_PROUD`: the
+    rigid-bottom threshold while B <= b_proud; :data:`MOBILITY_POCKET`:
+    :func:`mobility_threshold_pocket`)."""
+    diameter = p[S_DIAMETER]
+    theta_u = mobility_parameter(u, diameter, p[S_MINE_SG], p[S_G])
+    if p[S_MOBILITY] == MOBILITY_POCKET:
+        return theta_u > mobility_threshold_pocket(theta_mob, b / diameter, p[S_MOB_CD])
+    return b <= b_proud and theta_u > theta_mob
+
+
 # --- the stage ---------------------------------------------------------------------------------------
 
 
@@ -561,9 +728,10 @@ def parameters_valid(p):
     codes): finite where it must be, positive sizes, densities and coefficients, s_obj > 1, grains
     heavier than water, b > 0 (B_eq grows with theta), p < 0 (T shrinks with theta), m >= 0 with
     kc_min > 0 for a KC law (m > 0), mobility exponent < 0, proud limit in [0, 1], a ripple
-    exposure >= 0 and a positive blend d50, a known convention code, and a current height either
-    <= 0 (depth mean) or >= ks = 2.5 d50 (above the
-    roughness elements, where the log profile holds)."""
+    exposure >= 0 and a positive blend d50, a known convention code, a known burial law and
+    mobility criterion, a_w > 0, m_w >= 0, an infill time > 0 (inf: none), a finite bed rate >= 0, a
+    positive finite drag coefficient, and a current height either <= 0 (depth mean) or >= ks =
+    2.5 d50 (above the roughness elements, where the log profile holds)."""
     for i in range(N_PARAMS):
         if math.isnan(p[i]):
             return False
@@ -591,6 +759,19 @@ def parameters_valid(p):
     if not (kc_min >= 0.0 and kc_min < math.inf) or (p[S_TSTAR_M] > 0.0 and not kc_min > 0.0):
         return False
     if not (p[S_MOB_C] > 0.0 and p[S_MOB_P] < 0.0 and 0.0 <= p[S_MOB_BURIAL_MAX] <= 1.0):
+        return False
+    law = p[S_BURIAL_LAW]
+    if not (law == BURIAL_RENNIE or law == BURIAL_SCOUR_SETTLE):
+        return False
+    if not (p[S_WAVE_A] > 0.0 and p[S_WAVE_A] < math.inf):
+        return False
+    if not (p[S_WAVE_KC_EXP] >= 0.0 and p[S_WAVE_KC_EXP] < math.inf):
+        return False
+    if not (p[S_INFILL_TIME] > 0.0 and p[S_BED_RATE] >= 0.0 and p[S_BED_RATE] < math.inf):
+        return False
+    if not ((p[S_MOBILITY] == MOBILITY_PROUD or p[S_MOBILITY] == MOBILITY_POCKET) and p[S_MOB_CD] > 0.0):
+        return False
+    if not p[S_MOB_CD] < math.inf:
         return False
     z = p[S_CURRENT_Z]
     if not (math.isfinite(z) and (z <= 0.0 or z >= 2.5 * p[S_D50])):
@@ -645,6 +826,34 @@ def initial_leads(lead_times, order, span, b0, out_burial):
 
 @kernel
 def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, out_burial, out_time_to):
+    """Post-impact scour burial of one mine over a forcing series: :func:`scour_stage_states`
+    without its pit-depth and mobility outputs (same arguments otherwise; returns (status,
+    t_mobile, theta_max))."""
+    n = lead_times.shape[0]
+    return scour_stage_states(
+        p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, out_burial, out_time_to,
+        np.empty(n), np.empty(n),
+    )  # fmt: skip
+
+
+@kernel
+def scour_stage_states(
+    p,
+    t,
+    hs,
+    tp,
+    wdir,
+    uc,
+    cdir,
+    h,
+    table,
+    lead_times,
+    fractions,
+    out_burial,
+    out_time_to,
+    out_pit,
+    out_mobile,
+):
     """Post-impact scour burial of one mine over a forcing series.
 
     Inputs: ``p`` the parameter vector (S_* layout, :func:`default_parameters`); the forcing as
@@ -655,17 +864,25 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
 
     Outputs, written in place: ``out_burial`` the burial B [m] at each lead time (NaN beyond the
     forcing), ``out_time_to`` the time [s] after t_0 at which B/D first reaches each fraction (inf:
-    not within the forcing). Returns (status, t_mobile, theta_max): the start [s] of the first
-    interval in which the mine, still proud (B/D <= S_MOB_BURIAL_MAX), had a mobility parameter
-    above the threshold of Rennie et al. (inf: never), and the largest Shields parameter met.
+    not within the forcing), ``out_pit`` the scour pit's depth [m] below the far-field bed at each
+    lead time (the burial itself under BURIAL_RENNIE, whose one state is both), ``out_mobile`` 1.0
+    where the mine would move at that lead time (the criterion S_MOBILITY selects, with the
+    forcing interval holding the lead time and the burial then), else 0.0 (NaN beyond the forcing).
+    Returns (status, t_mobile, theta_max): the start [s] of the first interval in which the mine
+    met the mobility criterion with its burial at that start (inf: never), and the largest Shields
+    parameter met.
 
-    Over each interval the forcing is constant and the burial follows the exact solution of
-    dB/dt = (B_eq - B)/T (:func:`relax_burial`): no time stepper is needed, which is the seam with
-    the numeric core of issue 18 (docs/scour.md). The lead times are visited in sorted order with
-    one pointer, so the cost is O(N_intervals + N_leads log N_leads).
+    Over each interval the forcing is constant and the states follow exact solutions, so no time
+    stepper is needed. BURIAL_RENNIE: dB/dt = (B_eq - B)/T (:func:`relax_burial`). BURIAL_SCOUR_SETTLE:
+    the pit S relaxes to :func:`pit_target`'s S_eq, growing with T and filling with S_INFILL_TIME
+    (:func:`relax_pit`, monotone within an interval), and the mine's burial is pointwise
+    max(B_self - r tau, S, 0) (:func:`settled_burial`), exact for a constant lowering rate r >= 0.
+    The lead times are visited in sorted order with one pointer: O(N_intervals + N_leads log N_leads).
     """
     out_burial[:] = math.nan
     out_time_to[:] = math.inf
+    out_pit[:] = math.nan
+    out_mobile[:] = math.nan
     if not parameters_valid(p):
         return SCOUR_INVALID_PARAMETER, math.nan, math.nan
     for k in range(fractions.shape[0]):
@@ -680,10 +897,17 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
     theta_cr = shields_threshold(grain_size_number(d50, s, g, p[S_NU]))
     theta_mob = mobility_threshold(diameter, 2.5 * d50, p[S_MOB_C], p[S_MOB_P])
     b_proud = p[S_MOB_BURIAL_MAX] * diameter
+    settle = p[S_BURIAL_LAW] == BURIAL_SCOUR_SETTLE
+    rate = p[S_BED_RATE]
+    t_fill = p[S_INFILL_TIME]
     b = p[S_B0]
+    pit = 0.0 if settle else b  # the impact leaves no scour pit: the mine's burial is its own
     span = t[t.shape[0] - 1] - t[0]
     order = np.argsort(lead_times)  # NaN last
     status, nxt = initial_leads(lead_times, order, span, b, out_burial)
+    for j in range(nxt):
+        if out_burial[order[j]] == b:  # lead time 0 (NaN beyond the forcing)
+            out_pit[order[j]] = pit
     for k in range(fractions.shape[0]):
         if b >= fractions[k] * diameter:
             out_time_to[k] = 0.0
@@ -694,20 +918,39 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
         te = t[i + 1] - t[0]
         theta, ub, tb, u = bed_forcing(p, hs[i], tp[i], wdir[i], uc[i], cdir[i], h[i], table)
         theta_max = max(theta_max, theta)
-        if (
-            t_mobile == math.inf
-            and b <= b_proud
-            and mobility_parameter(u, diameter, p[S_MINE_SG], g) > theta_mob
-        ):
+        if t_mobile == math.inf and is_mobile(p, u, b, theta_mob, b_proud):
             t_mobile = ta
-        b_eq, t_scale = burial_target(p, theta, theta_cr, ub, tb)
+        if i == 0:  # the mobility at lead time 0, with the first interval's flow
+            for j in range(nxt):
+                if out_burial[order[j]] == out_burial[order[j]]:
+                    out_mobile[order[j]] = 1.0 if is_mobile(p, u, b, theta_mob, b_proud) else 0.0
+        if settle:
+            s_eq, t_scale = pit_target(p, theta, theta_cr, ub, tb, uc[i])
+        else:
+            s_eq, t_scale = burial_target(p, theta, theta_cr, ub, tb)
         while nxt < order.shape[0] and lead_times[order[nxt]] <= te:
-            out_burial[order[nxt]] = relax_burial(b, b_eq, lead_times[order[nxt]] - ta, t_scale)
+            j = order[nxt]
+            dt = lead_times[j] - ta
+            if settle:
+                out_pit[j] = relax_pit(pit, s_eq, dt, t_scale, t_fill)
+                out_burial[j] = settled_burial(b, out_pit[j], dt, rate)
+            else:
+                out_burial[j] = relax_burial(b, s_eq, dt, t_scale)
+                out_pit[j] = out_burial[j]
+            out_mobile[j] = 1.0 if is_mobile(p, u, out_burial[j], theta_mob, b_proud) else 0.0
             nxt += 1
-        b_next = relax_burial(b, b_eq, te - ta, t_scale)
+        if settle:
+            pit_next = relax_pit(pit, s_eq, te - ta, t_scale, t_fill)
+            b_next = settled_burial(b, pit_next, te - ta, rate)
+        else:
+            b_next = relax_burial(b, s_eq, te - ta, t_scale)
+            pit_next = b_next
         for k in range(fractions.shape[0]):
             target = fractions[k] * diameter
             if out_time_to[k] == math.inf and b_next >= target:
-                out_time_to[k] = ta + min(time_to_reach(b, b_eq, target, t_scale), te - ta)
+                # under scour and settle only the pit's growth raises B within an interval
+                start = pit if settle else b
+                out_time_to[k] = ta + min(time_to_reach(start, s_eq, target, t_scale), te - ta)
         b = b_next
+        pit = pit_next
     return status, t_mobile, theta_max

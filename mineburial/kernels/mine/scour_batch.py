@@ -121,6 +121,8 @@ def scour_drops(
     out_time_to,
     out_mobile,
     out_status,
+    out_pit,
+    out_mobile_lead,
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/mine/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
@@ -132,8 +134,11 @@ def scour_drops(
 
     Writes ``out_measures[i, k, j]`` (measure k of MEASURE_NAMES at lead time j),
     ``out_time_to[i, k]`` (s after the forcing's start at which B/D reaches ``fractions[k]``;
-    inf never), ``out_mobile[i]`` (s, first time the mobility threshold is passed; inf never) and
-    ``out_status[i]`` (sc.SCOUR_* or SCOUR_NOT_RUN; NaN results only with a status that is not ok).
+    inf never), ``out_mobile[i]`` (s, first time the mobility threshold is passed; inf never),
+    ``out_status[i]`` (sc.SCOUR_* or SCOUR_NOT_RUN; NaN results only with a status that is not ok),
+    ``out_pit[i, j]`` (the scour pit's depth [m] below the far-field bed at lead time j) and
+    ``out_mobile_lead[i, j]`` (1.0 where the mine would move at lead time j, else 0.0;
+    :func:`mineburial.kernels.mine.scour.scour_stage_states`).
     """
     n = S.shape[0]
     nt = t.shape[0]
@@ -152,6 +157,8 @@ def scour_drops(
         out_measures[i, :, :] = math.nan
         out_time_to[i, :] = math.nan
         out_mobile[i] = math.nan
+        out_pit[i, :] = math.nan
+        out_mobile_lead[i, :] = math.nan
         if not run[i]:
             out_status[i] = SCOUR_NOT_RUN
             continue
@@ -172,13 +179,15 @@ def scour_drops(
             cdir_w[m] = cdir[k]
         body = Cylinder(geom[i, G_LENGTH], geom[i, G_RADIUS], geom[i, G_CHI])
         S[i, sc.S_B0] = lying_burial(body, geom[i, G_AZ], geom[i, G_ZC])
-        code, t_mobile, _ = sc.scour_stage(
+        code, t_mobile, _ = sc.scour_stage_states(
             S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
-            lead_times, fractions, burial, out_time_to[i],
+            lead_times, fractions, burial, out_time_to[i], out_pit[i], out_mobile_lead[i],
         )  # fmt: skip
         out_status[i] = code
         if code == sc.SCOUR_INVALID_PARAMETER or code == sc.SCOUR_INVALID_FORCING:
             out_time_to[i, :] = math.nan
+            out_pit[i, :] = math.nan
+            out_mobile_lead[i, :] = math.nan
             continue
         out_mobile[i] = t_mobile
         for j in range(lead_times.shape[0]):
