@@ -333,6 +333,29 @@ def test_a_coefficient_the_scenario_gives_is_not_drawn():
     assert np.all(P[:, layout.INDEX["sediment.rate_coefficient"]] == 0.07)
 
 
+@pytest.mark.parametrize(
+    "section, drawn",
+    [
+        (None, False),  # no [scour]: the stage does not run
+        ({"burial_law": "rennie"}, False),  # conditioned under scour_settle: not rennie's a, b
+        ({}, False),  # rennie by default
+        ({"burial_law": "scour_settle"}, True),
+        ({"burial_law": "scour_settle", "beq_a": 1.1}, True),  # all but the one it gives
+    ],
+)
+def test_scour_coefficients_are_drawn_only_under_the_law_they_were_conditioned_with(section, drawn):
+    """The shipped priors carry the scour-and-settle coefficients, so the posterior's scour block
+    is conditioned with scour.burial_law = "scour_settle" (cases.scour_bands): a section with
+    another law draws none of them; one with that law draws every one it does not give."""
+    post = posterior.load("posterior")
+    scour_paths = [p for p in post.paths if p.startswith("scour.")]
+    assert posterior.scour_law(post.paths) == "scour_settle" and "scour.wave_a" in scour_paths
+    raw = {"mine": {}} if section is None else {"mine": {}, "scour": section}
+    got = [p for p in posterior.drawn_paths(post, raw) if p.startswith("scour.")]
+    given = {f"scour.{k}" for k in (section or {})}
+    assert got == ([p for p in scour_paths if p not in given] if drawn else [])
+
+
 @pytest.mark.parametrize("value", ["", 3, "no/such/posterior.json"])
 def test_bad_coefficients_setting_is_refused_with_its_name(value):
     raw = short_default(5)

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as S
 from mineburial.kernels.mine.bodies.cylinder import Cylinder
-from mineburial.kernels.mine.scour_batch import G_AZ, G_ZC, MEASURE_NAMES, N_GEOM, lying_burial, scour_drops
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, lying_burial, scour_drops
 
 L = 2.0
 R = 0.265
@@ -67,11 +68,13 @@ def test_stage_measures_are_those_of_the_lying_mine_and_keep_the_volume_class():
     pitch = np.radians([0.0, 20.0, 60.0, 90.0])
     a_z = -np.sin(pitch)
     pens = np.array([0.1, 0.3, 0.6, 1.2])
-    geom = np.empty((n, N_GEOM))
-    geom[:, 0], geom[:, 1], geom[:, 2], geom[:, G_AZ] = L, R, CHI, a_z
+    P = np.zeros((n, layout.N_PARAMS))  # the drops' bodies: the L x 2R cylinder, COM offset CHI
+    P[:, layout.P_LENGTH], P[:, layout.P_DIAMETER], P[:, layout.P_CHI] = L, 2 * R, CHI
+    rest = np.empty((n, N_REST))
+    rest[:, R_AZ] = a_z
     for i in range(n):  # COM height that puts the lowest point at -pens[i]
         lo = min(a_z[i] * (-0.5 * L - CHI), a_z[i] * (0.5 * L - CHI)) - R * math.sqrt(1 - a_z[i] ** 2)
-        geom[i, G_ZC] = -pens[i] - lo
+        rest[i, R_ZC] = -pens[i] - lo
     S_ = np.tile(S.default_parameters(diameter=D), (n, 1))
     t = np.arange(25.0) * 3600.0
     zero = np.zeros_like(t)
@@ -79,7 +82,7 @@ def test_stage_measures_are_those_of_the_lying_mine_and_keep_the_volume_class():
     measures = np.empty((n, len(MEASURE_NAMES), leads.size))
     time_to, mobile, codes = np.empty((n, 1)), np.empty(n), np.empty(n, dtype=np.int8)
     scour_drops(
-        S_, np.ones(n), np.full(n, 12.0), np.ones(n, dtype=np.uint8), geom, t, zero, zero + 8.0,
+        S_, np.ones(n), np.full(n, 12.0), np.ones(n, dtype=np.uint8), P, rest, t, zero, zero + 8.0,
         zero, zero, zero, zero, np.zeros(n), t[-1], S.build_orbital_table(), leads, np.array([0.5]),
         measures, time_to, mobile, codes, np.empty((n, leads.size)), np.empty((n, leads.size)),
     )  # fmt: skip

@@ -13,8 +13,9 @@ from test_scour_run import N, scenario, scour_section
 from mineburial.cli import main
 from mineburial.ensembles import runner
 from mineburial.io import forcing as fio
+from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as S
-from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_GEOM, forcing_window, scour_drops
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_ZC, forcing_window, scour_drops
 
 
 def irregular_forcing(n=60, seed=4):
@@ -57,15 +58,17 @@ def test_each_drop_scours_over_its_own_window():
     table = S.build_orbital_table()
     depth = 12.0
     S_ = np.tile(S.default_parameters(), (n, 1))
-    geom = np.zeros((n, N_GEOM))
-    geom[:, 0], geom[:, 1], geom[:, 4] = 2.0, 0.265, 0.265 - 0.02  # lying, 2 cm in
+    P = np.zeros((n, layout.N_PARAMS))  # the drops' bodies: 2.0 m x 0.53 m cylinders
+    P[:, layout.P_LENGTH], P[:, layout.P_DIAMETER] = 2.0, 0.53
+    rest = np.zeros((n, N_REST))
+    rest[:, R_ZC] = 0.265 - 0.02  # lying, 2 cm in
     leads = np.array([0.0, 0.3, 0.7, 1.0]) * length
     fractions = np.array([0.25, 0.5])
     t, hs, tp, wdir, uc, cdir, _ = f.kernel_arrays(depth)
     measures = np.empty((n, len(MEASURE_NAMES), leads.size))
     time_to, mobile, codes = np.empty((n, 2)), np.empty(n), np.empty(n, dtype=np.int8)
     scour_drops(
-        S_, np.ones(n), np.full(n, depth), np.ones(n, dtype=np.uint8), geom, t, hs, tp, wdir, uc, cdir,
+        S_, np.ones(n), np.full(n, depth), np.ones(n, dtype=np.uint8), P, rest, t, hs, tp, wdir, uc, cdir,
         np.array(f.water_level), starts, length, table, leads, fractions, measures, time_to, mobile, codes,
         np.empty((n, leads.size)), np.empty((n, leads.size)),
     )  # fmt: skip

@@ -26,6 +26,7 @@ import dataclasses
 
 import numpy as np
 
+from mineburial.calibration.posterior import scour_law
 from mineburial.config import load_example
 from mineburial.drop import run_params
 from mineburial.ensembles import model_form
@@ -81,17 +82,8 @@ SCOUR_COEFFICIENTS = {
     "scour.wave_kc_exponent": "wave_kc_exp",
     "scour.infill_days": "infill_time",
 }
-#: the coefficients only the scour-and-settle law reads: a set that carries one is run under that law
-SCOUR_SETTLE_COEFFICIENTS = ("scour.wave_a", "scour.wave_kc_exponent", "scour.infill_days")
 #: a field given in days whose kernel slot holds seconds
 _SCOUR_TO_KERNEL = {"scour.infill_days": 86400.0}
-
-
-def scour_law(coefficients: dict) -> str:
-    """The burial law (``scour.burial_law``) the scour case runs a set under: ``scour_settle``
-    when the set carries one of its coefficients (the priors of priors.toml do), else the
-    stage's default ``rennie``."""
-    return "scour_settle" if any(k in coefficients for k in SCOUR_SETTLE_COEFFICIENTS) else "rennie"
 
 
 def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:

@@ -124,13 +124,32 @@ def load(which, base_dir=None) -> Posterior:
     return Posterior(paths, table, w / w.sum(), source, hashlib.sha256(data).hexdigest(), record)
 
 
+#: the coefficients only the ``scour_settle`` burial law reads (priors.toml's)
+SCOUR_SETTLE_COEFFICIENTS = ("scour.wave_a", "scour.wave_kc_exponent", "scour.infill_days")
+
+
+def scour_law(coefficients) -> str:
+    """The burial law (``scour.burial_law``) under which a coefficient set's scour coefficients
+    are conditioned (the calibration's scour case runs the set under it): ``scour_settle`` when
+    the set (its paths, or ``path -> value``) carries one of that law's coefficients, as the
+    priors of priors.toml do, else the stage's default ``rennie``."""
+    return "scour_settle" if any(k in coefficients for k in SCOUR_SETTLE_COEFFICIENTS) else "rennie"
+
+
 def drawn_paths(posterior: Posterior, raw: dict) -> tuple[str, ...]:
     """The posterior's coefficients that scenario ``raw`` does not give itself; those of the
-    post-impact scour stage only where the scenario has a ``[scour]`` section."""
+    post-impact scour stage only where the scenario has a ``[scour]`` section whose burial law
+    is the one they were conditioned under (:func:`scour_law`): the coefficients a, b of
+    B_eq = a theta^b conditioned with the scour-and-settle law are not those of ``rennie``, so a
+    ``rennie`` section keeps its own (or the defaults)."""
     out = []
+    section_scour = raw.get("scour")
+    same_law = isinstance(section_scour, dict) and section_scour.get("burial_law", "rennie") == scour_law(
+        posterior.paths
+    )
     for path in posterior.paths:
         section, name = path.split(".")
-        if section == "scour" and not isinstance(raw.get("scour"), dict):
+        if section == "scour" and not same_law:
             continue
         if name not in raw.get(section, {}):
             out.append(path)

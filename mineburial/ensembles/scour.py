@@ -36,7 +36,8 @@ from mineburial.io import wave_products
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
-from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_GEOM, scour_drops
+from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
 #: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
@@ -423,8 +424,9 @@ def stage_parameters(spec: ScourSpec, P, inputs):
         sc.default_parameters(tstar_c=c, tstar_m=m, tstar_kc_min=kc_min, cohesive=float(spec.cohesive)),
         (n, 1),
     )
-    volume = math.pi * 0.25 * P[:, layout.P_DIAMETER] ** 2 * P[:, layout.P_LENGTH]
-    S[:, sc.S_DIAMETER] = P[:, layout.P_DIAMETER]
+    dims = DROP_SHAPE.dims_of_params(P)  # the drop's body (kernels/mine/bodies/shapes.py)
+    volume = DROP_SHAPE.volume(dims)
+    S[:, sc.S_DIAMETER] = DROP_SHAPE.reference_lengths(dims)[0]
     S[:, sc.S_RHO_WATER] = P[:, layout.P_RHO_WATER]
     S[:, sc.S_MINE_SG] = P[:, layout.P_MASS] / (volume * P[:, layout.P_RHO_WATER])
     S[:, sc.S_NU] = P[:, layout.P_NU_WATER]
@@ -458,12 +460,10 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     n = P.shape[0]
     S, scale = stage_parameters(spec, P, inputs)
     run = np.isin(status, status_codes.IN_STATISTICS) & np.isfinite(summary[:, layout.S_PENETRATION])
-    geom = np.empty((n, N_GEOM))
-    geom[:, 0] = P[:, layout.P_LENGTH]
-    geom[:, 1] = 0.5 * P[:, layout.P_DIAMETER]
-    geom[:, 2] = P[:, layout.P_CHI]
-    geom[:, 3] = -np.sin(np.radians(summary[:, layout.S_FINAL_PITCH]))  # i_M . k, docs/scour.md
-    geom[:, 4] = -summary[:, layout.S_COM_DEPTH]
+    rest = np.empty((n, N_REST))  # the attitude and height at rest; the body is P's (drop_body)
+    rest[:, R_AZ] = -np.sin(np.radians(summary[:, layout.S_FINAL_PITCH]))  # i_M . k, docs/scour.md
+    rest[:, R_ZC] = -summary[:, layout.S_COM_DEPTH]
+    P = np.ascontiguousarray(P, dtype=np.float64)
     f = spec.forcing
     # directions as Forcing.kernel_arrays gives them (radians towards); the depth is the drop's own
     wdir = np.radians(np.mod(f.wave_from + 180.0, 360.0))
@@ -484,7 +484,7 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
 
     def stage(a, b):  # rows [a, b): each drop's stage reads and writes only its own rows
         scour_drops(
-            S[a:b], scale[a:b], depth[a:b], run[a:b], geom[a:b], t, hs, tp, wdir, uc, cdir,
+            S[a:b], scale[a:b], depth[a:b], run[a:b], P[a:b], rest[a:b], t, hs, tp, wdir, uc, cdir,
             level, start[a:b], length, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b],
             codes[a:b], pit[a:b], mobile_lead[a:b],
         )  # fmt: skip

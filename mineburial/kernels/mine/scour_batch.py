@@ -21,7 +21,7 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine import scour as sc
-from mineburial.kernels.mine.bodies.cylinder import Cylinder
+from mineburial.kernels.mine.dynamics import drop_body
 from mineburial.kernels.mine.geometry import segment_area_unit
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
@@ -32,10 +32,10 @@ STATUS_DESCRIPTIONS = sc.STATUS_DESCRIPTIONS + (
     "buried_sinking): there is no initial burial and the stage was not run",
 )
 
-#: columns of ``geom``: length, radius, COM offset chi, axial vertical component a_z, COM height z_c
-#: above the seabed (= -com_depth), all at rest
-G_LENGTH, G_RADIUS, G_CHI, G_AZ, G_ZC = range(5)
-N_GEOM = 5
+#: columns of ``rest``: the axis' vertical component a_z and the COM height z_c above the seabed
+#: (= -com_depth) of the drop at rest; its body comes from its parameter row (``dynamics.drop_body``)
+R_AZ, R_ZC = range(2)
+N_REST = 2
 #: measures at each lead time (``out_measures[i, k, j]``): as layout.SUMMARY_NAMES's columns
 MEASURE_NAMES = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
 
@@ -48,8 +48,9 @@ def lying_burial(body, a_z, z_c):
     segment of half-angle ``t``, seed 000 eq. (25a)), solved by bisection to the last bit. A mine
     whose top lies below the bed (f = 1) lies with its top as deep: ``2R`` + that depth, so the
     map is continuous and never unburies a buried mine. A lying mine maps to its own burial.
-    ``body`` is a :class:`~.bodies.cylinder.Cylinder` (the scour laws are a lying cylinder's)."""
-    R = body.radius
+    ``body`` is the drop's body (``dynamics.drop_body``); the scour laws are a lying cylinder's, of
+    the body's reference diameter (docs/scour.md)."""
+    R = 0.5 * bodies.reference_lengths(body)[0]
     _, z_max = bodies.extent(body, a_z, z_c)
     if z_max <= 0.0:
         return 2.0 * R - z_max
@@ -104,7 +105,8 @@ def scour_drops(
     hs_scale,
     depth,
     run,
-    geom,
+    P,
+    rest,
     t,
     hs,
     tp,
@@ -126,8 +128,9 @@ def scour_drops(
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/mine/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
-    forcing's water ``level`` is added), ``geom[i]`` its geometry at rest (G_* columns); the
-    stage's initial burial ``S[i, S_B0]`` is set here from it (:func:`lying_burial`). The drop
+    forcing's water ``level`` is added), ``P[i]`` its parameter row (its body, ``dynamics.drop_body``)
+    and ``rest[i]`` its attitude and height at rest (R_* columns); the stage's initial burial
+    ``S[i, S_B0]`` is set here from them (:func:`lying_burial`). The drop
     sees the forcing window from ``start[i]`` [s after t[0]] of ``length`` [s]
     (:func:`forcing_window`; the caller keeps it inside the series), lead times counted from its
     start; ``start[i] = 0`` with ``length`` >= the series' span is the whole series as given.
@@ -177,8 +180,8 @@ def scour_drops(
             wdir_w[m] = wdir[k]
             uc_w[m] = uc[k]
             cdir_w[m] = cdir[k]
-        body = Cylinder(geom[i, G_LENGTH], geom[i, G_RADIUS], geom[i, G_CHI])
-        S[i, sc.S_B0] = lying_burial(body, geom[i, G_AZ], geom[i, G_ZC])
+        body = drop_body(P[i])
+        S[i, sc.S_B0] = lying_burial(body, rest[i, R_AZ], rest[i, R_ZC])
         code, t_mobile, _ = sc.scour_stage_states(
             S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
             lead_times, fractions, burial, out_time_to[i], out_pit[i], out_mobile_lead[i],
@@ -195,7 +198,9 @@ def scour_drops(
             if not math.isfinite(b):
                 continue
             # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
-            pv, ph, pa, proud, pen = bodies.burial(body, 0.0, 0.0, b - body.radius)
+            pv, ph, pa, proud, pen = bodies.burial(
+                body, 0.0, 0.0, b + bodies.lowest_offset(body, 0.0, 0.0, 1.0)
+            )
             out_measures[i, 0, j] = pen
             out_measures[i, 1, j] = pv
             out_measures[i, 2, j] = ph
