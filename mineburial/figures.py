@@ -99,7 +99,8 @@ def check_lead_time_plot(path, spec, output=None, inputs=()):
 
 def lead_time_series(ds: xr.Dataset) -> dict:
     """What the figure draws, as arrays over ``lead_time`` [d]: the class probabilities and their
-    Wilson bounds (lead, class), the share of drops flagged mobile by then, and the 5, 50 and
+    Wilson bounds (lead, class), the share of drops flagged mobile by then and (``moves``) the share
+    that would move at the lead time, and the 5, 50 and
     95 % quantiles of the burial by volume [%]."""
     q = ds["scour_burial_volume_quantile"].sel(quantile=[0.05, 0.5, 0.95]).values
     return {
@@ -108,6 +109,8 @@ def lead_time_series(ds: xr.Dataset) -> dict:
         "lower": ds["scour_burial_class_probability_lower"].values,
         "upper": ds["scour_burial_class_probability_upper"].values,
         "mobile": ds["scour_mobile_fraction_by_lead_time"].values,
+        # the share that would move at each lead time (scour.mobility's criterion, issue 33)
+        "moves": ds["scour_mobile_probability"].values if "scour_mobile_probability" in ds else None,
         "volume_q05": q[:, 0],
         "volume_median": q[:, 1],
         "volume_q95": q[:, 2],
@@ -169,7 +172,9 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
     for c, (label, colour) in enumerate(zip(V.BURIAL_CLASS_NAMES, CLASS_LINE_COLOURS)):
         ax1.fill_between(s["lead"], s["lower"][:, c], s["upper"][:, c], color=colour, alpha=0.2, lw=0)
         ax1.plot(s["lead"], s["p"][:, c], "o-", color=colour, ms=3.5, label=f"class {label}")
-    ax1.plot(s["lead"], s["mobile"], "k--", lw=1.2, label="flagged mobile (may roll)")
+    ax1.plot(s["lead"], s["mobile"], "k--", lw=1.2, label="flagged mobile by then (may roll)")
+    if s["moves"] is not None:
+        ax1.plot(s["lead"], s["moves"], "k:", lw=1.5, label="would move then (scour.mobility)")
     ax1.set_ylim(-0.02, 1.02)
     ax1.set_xlabel("lead time after the forcing's start (days)")
     ax1.set_ylabel(f"probability (by {basis.replace('_', ' ')})")
