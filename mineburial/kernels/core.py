@@ -212,9 +212,18 @@ def record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
 
 
 # --- step kernels of a system reached by dispatch ------------------------------------------------------
-#: one-sided differences of the Jacobian columns: relative step and smallest absolute step
-JAC_REL_STEP = 1e-7
-JAC_MIN_STEP = 1e-9
+#: one-sided differences of the Jacobian columns: relative step and smallest absolute step (units of the
+#: columns' state: m s-1 and rad s-1 for the mine). Not the 1e-7 / 1e-9 of a smooth right-hand side: the
+#: mine's sediment force is piecewise smooth in the state at the scale of a tabulated profile's rows (the
+#: fast rule's nodes move with the velocity through the advancing switch line), so differences of
+#: ~1e-8 m s-1 measured the slope of one row's kink, and the Rosenbrock-W steps, stable for any J in
+#: theory, crept with that J at ~0.2 m s-1 instead of settling (issue 34: a rough 200,000-row log, 40
+#: drops of the default ensemble, drop 35 1.725 m against 1.357 m by dopri5 and 1.363 m at rtol 1e-5; with
+#: these steps 1.363 m, the 40 drops within max 1.8 % of dopri5). 1e-6 m s-1 is 2e-4 of the sediment's
+#: regularisation speeds (numerics.switch_speed, slip_speed: 5 mm s-1); on 300 drops of the default
+#: ensemble the steps were 34,472 against 34,608 (benchmarks/results/accuracy_sweep_extended.md).
+JAC_REL_STEP = 1e-5
+JAC_MIN_STEP = 1e-6
 #: Jacobian-age policy of the Rosenbrock-W step: accepted steps before the Jacobian is evaluated
 #: again, and the age above which a rejected step has it evaluated again (measured on the mine's
 #: default ensemble: fewest right-hand sides per drop; docs/design.md)
