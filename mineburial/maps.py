@@ -35,7 +35,7 @@ from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, runner, scour
+from mineburial.ensembles import engine, epistemic, processes, runner, scour
 from mineburial.ensembles.distributed import run_tasks_distributed
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
@@ -628,15 +628,15 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 def _cell_statistics(spec, chunks) -> dict:
     """Statistics of one cell from its chunk results in drop order, name -> values: the
-    impact's and, with ``[scour]``, the stage's at each lead time
-    (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    impact's and each post-impact process's (``[scour]``: the stage's at each lead time,
+    :func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
     and a merge per cell cost about as much as the stage of 20 drops (measured with
     benchmarks/bench_map_scour.py)."""
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
-    if spec.scour is not None:
-        parts.append(scour.statistics(spec.scour, chunks, spec.class_basis))
+    for process, own in processes.active(spec.processes):
+        parts.append(process.statistics(own, chunks, spec.class_basis))
     out = {name: v.values for part in parts for name, v in part.variables.items()}
     if spec.posterior is not None:  # the band across the posterior's coefficient sets (docs/calibration.md)
         sets = np.concatenate([r["input:" + posterior.SET_INPUT] for r in chunks])
@@ -864,10 +864,11 @@ def _merged(parts) -> xr.Dataset:
 
 def _cell_variables(template) -> tuple:
     """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
-    variable of the scour stage (with a lead_time, burial_level or scour_status_code axis, or a
-    scalar)."""
-    scour_vars = tuple(v for v in template.data_vars if str(v).startswith("scour_"))
-    return V.MAP_STATISTICS + scour_vars + tuple(v for v in V.MAP_EPISTEMIC if v in template)
+    variable of the post-impact processes (``<section>_*``; scour's with a lead_time, burial_level or
+    scour_status_code axis, or a scalar)."""
+    prefixes = tuple(f"{name}_" for name in processes.PROCESSES)
+    own = tuple(v for v in template.data_vars if str(v).startswith(prefixes))
+    return V.MAP_STATISTICS + own + tuple(v for v in V.MAP_EPISTEMIC if v in template)
 
 
 # ---------------------------------------------------------------------------
@@ -1158,8 +1159,8 @@ def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
     being written) and a gridded forcing (its fields and each cell's copy) count too."""
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
     per_grid_cell = MAP_BYTES_A_GRID_CELL
-    if base.scour is not None:
-        template = scour.statistics(base.scour, [], base.class_basis)
+    for process, own in processes.active(base.processes):
+        template = process.statistics(own, [], base.class_basis)
         per_grid_cell += 3 * sum(da.nbytes for da in template.data_vars.values())
     forcing_bytes = 0
     if gridded is not None:
@@ -1194,9 +1195,10 @@ def _cell_statistics_template(spec) -> xr.Dataset:
             np.empty((0, layout.N_SUMMARY)), np.empty(0, np.int8), [], spec.class_basis
         )
         st = st.assign(band)
-    if spec.scour is None:
+    found = processes.active(spec.processes)
+    if not found:
         return st
-    return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])
+    return _merged([st] + [process.statistics(own, [], spec.class_basis) for process, own in found])
 
 
 def _horizontal_coords(grid: EnvironmentGrid) -> dict:
@@ -1998,7 +2000,8 @@ def run_map_cli(args) -> int:
 def _check_map_options(args, base, inputs, grid):
     """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
     lead times (days) of the panels, or None."""
-    available = () if base.scour is None else base.scour.lead_times_days
+    after = processes.burial_process(base)  # the process whose burial the lead-time axis holds
+    available = () if after is None else after[0].lead_times(after[1])
     if not (0 <= args.burial_class <= 4):
         raise MapError(f"--class {args.burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")
     leads = None
@@ -2011,7 +2014,7 @@ def _check_map_options(args, base, inputs, grid):
             raise MapError(
                 f"--lead-times {args.lead_times!r}: give days separated by commas, e.g. 0,1,4"
             ) from None
-        if base.scour is None:
+        if after is None:
             raise MapError(
                 "--lead-times: the map has no lead-time axis (give the scenario a [scour] section)"
             )
@@ -2029,7 +2032,7 @@ def _check_map_options(args, base, inputs, grid):
         check_output_path(path, inputs, "--geotiff")
         _check_geotiff_grid(grid)
         if args.lead_time is not None:
-            if base.scour is None:
+            if after is None:
                 raise MapError(
                     "--lead-time: the map has no lead-time axis (give the scenario a [scour] section)"
                 )
