@@ -1713,17 +1713,25 @@ def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     return out
 
 
+def _lead_time_section(ds, option: str) -> str:
+    """The section of the post-impact process whose burial classes per lead time the map ``ds``
+    holds (``<section>_burial_class_probability``; ``scour``), else one line naming ``option``."""
+    for name in processes.PROCESSES:
+        if f"{name}_burial_class_probability" in ds:
+            return name
+    raise MapError(f"{option}: the map has no lead-time axis (run it with a [scour] section)")
+
+
 def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 150) -> pathlib.Path:
     """One panel per lead time (days) of a map with ``[scour]``: the probability of the burial
     class ``burial_class`` (0..4, default '> 75 %') after scour, on one 0-1 colour scale with a
     colour bar; each cell of small grids shows it and n, the drops whose stage ran there."""
     Figure = figure_class("drawing the map")
-    if "scour_burial_class_probability" not in ds:
-        raise MapError("--lead-times: the map has no lead-time axis (run it with a [scour] section)")
+    section = _lead_time_section(ds, "--lead-times")
     ks = lead_indices(ds["lead_time"].values, lead_times)
     g = _Grid.of(ds)
-    prob = ds["scour_burial_class_probability"].values[:, burial_class]
-    count = ds["scour_burial_class_count"].values.sum(axis=1)
+    prob = ds[f"{section}_burial_class_probability"].values[:, burial_class]
+    count = ds[f"{section}_burial_class_count"].values.sum(axis=1)
     ncol = min(len(ks), 3)
     nrow = -(-len(ks) // ncol)
     fig = Figure(figsize=(4.6 * ncol + 0.8, 4.4 * nrow + 0.9), layout="constrained")
@@ -1748,10 +1756,10 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     for ax in axes[len(ks) :]:
         ax.axis("off")
     cb = fig.colorbar(last, ax=list(axes[: len(ks)]), orientation="horizontal", shrink=0.6)
-    cb.set_label(f"P(burial by {basis} in class '{label}') after scour, probability (0 to 1)")
+    cb.set_label(f"P(burial by {basis} in class '{label}') after {section}, probability (0 to 1)")
     fig.suptitle(
-        f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
-        "land tan; grey: no drop's scour stage ran"
+        f"Burial after impact and {section}, class '{label}' by {basis}, of {_plot_title(ds)}\n"
+        f"land tan; grey: no drop's {section} stage ran"
         + ("\nhatched: not modelled (cohesive bed: no post-impact process runs; not 'stays unburied')"
            if hatched.any() else ""),
         fontsize=12,
@@ -1847,11 +1855,11 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
         field = ds["burial_class_probability"].isel(impact_burial_class=int(burial_class))
         what = "impact burial"
     else:
-        if "scour_burial_class_probability" not in ds:
-            raise MapError("--lead-time: the map has no lead-time axis (run it with a [scour] section)")
+        section = _lead_time_section(ds, "--lead-time")
         k = lead_indices(ds["lead_time"].values, [lead_time], "--lead-time")[0]
-        field = ds["scour_burial_class_probability"].isel(lead_time=k, impact_burial_class=int(burial_class))
-        what = f"burial after scour at lead time {float(lead_time):g} d"
+        probability = ds[f"{section}_burial_class_probability"]
+        field = probability.isel(lead_time=k, impact_burial_class=int(burial_class))
+        what = f"burial after {section} at lead time {float(lead_time):g} d"
     ydim, xdim = ds["cell_status"].dims
     values = np.where(ds["cell_status"].values == CELL_COMPUTED, field.values, np.nan).astype(np.float32)
     y = np.asarray(ds[ydim].values, dtype=np.float64)
