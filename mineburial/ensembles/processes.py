@@ -16,9 +16,10 @@ sampled and recorded as every input is, and the mine hands them to the process i
 rather than into its own parameter rows (:func:`owns_input`). Its output variables are declared in
 :mod:`mineburial.io.variables` under names beginning with the section name (:attr:`Process.prefix`).
 
-A second process (bedform migration, liquefaction) is one module that defines such an object and
-calls :func:`register` on import, its fields in the schema and its variables in the catalogue
-(docs/design.md, "Post-impact processes").
+A second process (bedform migration, liquefaction) is one module that defines such an object
+(``PROCESS``, importing nothing from here), registered by one :func:`register` line at the end of this
+module, with its fields in the schema and its variables in the catalogue (docs/design.md,
+"Post-impact processes"); a test registers a toy one itself (tests/test_processes.py).
 """
 
 from __future__ import annotations
