@@ -1390,14 +1390,10 @@ def _global_attrs(grid, status, base, version, stopping=None, drops=None) -> dic
         "burial_class_basis": base.class_basis,
         "environment_source": grid.source or "xarray.Dataset",
     }
-    if base.scour is not None:
-        attrs["summary"] += (
-            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
-            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
-            "the times to reach the burial levels and the share of drops flagged mobile."
-        )
-        for key, value in base.scour.forcing_record.items():
-            attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+    for process, own in processes.active(base.processes):  # what each post-impact process adds
+        text, extra = process.map_attributes(own)
+        attrs["summary"] += text
+        attrs.update(extra)
     if stopping is not None:
         attrs["sequential_stopping"] = json.dumps(resolved["map"]["sequential_stopping"], sort_keys=True)
         attrs["n_drops_total"] = np.int64(0 if drops is None else drops.sum())
@@ -1671,19 +1667,24 @@ def _plot_title(ds) -> str:
 
 
 #: a map cell counts as not modelled after impact when at least this share of its drops lie on a
-#: bed where no post-impact process runs (scour_not_modelled_fraction; docs/maps.md)
+#: bed where no post-impact process runs (<section>_not_modelled_fraction: scour's; docs/maps.md)
 NOT_MODELLED_SHARE = 0.5
 
 
 def not_modelled_cells(ds) -> np.ndarray:
     """(y, x) bool: the computed cells where no post-impact process is modelled for most drops
-    (``scour_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`: a cohesive bed, where the
-    scour stage keeps the impact burial); all False for a map without the variable."""
+    (each process's ``<section>_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`; scour's: a
+    cohesive bed, where the stage keeps the impact burial); all False for a map without such a
+    variable."""
     status = ds["cell_status"].values
-    if "scour_not_modelled_fraction" not in ds:
+    names = [f"{name}_not_modelled_fraction" for name in processes.PROCESSES]
+    shares = [ds[name].values for name in names if name in ds]
+    if not shares:
         return np.zeros(status.shape, dtype=bool)
-    share = ds["scour_not_modelled_fraction"].values
-    return (status == CELL_COMPUTED) & np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+    out = status == CELL_COMPUTED
+    for share in shares:
+        out &= np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+    return out
 
 
 def _hatch_cells(ax, g, cells) -> None:

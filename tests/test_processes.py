@@ -72,6 +72,9 @@ class ToyProcess:
     def lead_times(self, spec):
         return ()
 
+    def map_attributes(self, spec):
+        return "", {}
+
 
 @pytest.fixture
 def toy():

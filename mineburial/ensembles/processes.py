@@ -79,6 +79,9 @@ class Process(Protocol):
     def lead_times(self, spec) -> tuple:
         """The lead times [d] at which the process reports its results."""
 
+    def map_attributes(self, spec) -> tuple:
+        """(sentence appended to a map's ``summary`` attribute, the map's further global attributes)."""
+
 
 @runtime_checkable
 class BurialProcess(Process, Protocol):

@@ -745,6 +745,15 @@ class ScourProcess:
     def lead_times(self, spec: ScourSpec) -> tuple:
         return tuple(spec.lead_times_days)
 
+    def map_attributes(self, spec: ScourSpec) -> tuple[str, dict]:
+        text = (
+            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
+            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
+            "the times to reach the burial levels and the share of drops flagged mobile."
+        )
+        record = spec.forcing_record.items()
+        return text, {k: v if isinstance(v, str) else json.dumps(v, sort_keys=True) for k, v in record}
+
     # the process changes the burial: compare and sensitivity analyse it at one lead time
     def at_lead_time(self, spec: ScourSpec, lead_time: float | None) -> ScourSpec:
         return stage_at_lead_time(spec, lead_time)
