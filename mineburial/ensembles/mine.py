@@ -206,12 +206,6 @@ class EnsembleSpec:
         """The spec of the post-impact process ``section`` (None when the scenario has no such section)."""
         return dict(self.processes).get(section)
 
-    @property
-    def scour(self):
-        """The ``[scour]`` section's spec, or None (:meth:`process`; kept for the callers that still
-        name the stage: maps, compare, sensitivity, figures)."""
-        return self.process("scour")
-
     def lead_time_sections(self) -> tuple:
         """The sections of the active post-impact processes that change the burial over lead times
         (the run's lead-time figure, :func:`mineburial.figures.check_lead_time_plot`)."""

@@ -343,14 +343,15 @@ def at_lead_time(spec, lead_time: float | None):
     forcing when the section names none). Without a ``[scour]`` section the outputs are the
     impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
     outside [0, the forcing's span or ``scour.window_days``]."""
-    if spec.scour is None:
+    stage = spec.process(PROCESS.section)
+    if stage is None:
         if lead_time is not None:
             raise cfg.ScenarioError(
                 f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
                 "impact's (give a [scour] section, or leave --lead-time out)"
             )
         return spec
-    return spec.with_process(PROCESS.section, stage_at_lead_time(spec.scour, lead_time))
+    return spec.with_process(PROCESS.section, stage_at_lead_time(stage, lead_time))
 
 
 def stage_at_lead_time(stage: ScourSpec, lead_time: float | None) -> ScourSpec:
