@@ -149,3 +149,35 @@ def test_scour_is_the_first_registered_process_and_the_registry_checks_the_proto
 
     with pytest.raises(ValueError, match=r"\[scour\] is already registered"):
         processes.register(Other())
+
+
+class ToyBurial(ToyProcess):
+    """A toy process that would change the burial too (the BurialProcess methods)."""
+
+    def at_lead_time(self, spec, lead_time):
+        return spec
+
+    def burial_after(self, spec, summary, chunks, *, missing="nan"):
+        return summary
+
+    def lacks_value(self, spec, chunks):
+        return np.zeros(0, bool)
+
+    def status_text(self, chunks):
+        return ""
+
+
+def test_a_lead_time_needs_the_one_process_that_changes_the_burial(tmp_path, toy):
+    plain = engine.load_ensemble(scenario(tmp_path, toy={"factor": 3.0}))
+    assert isinstance(scour.PROCESS, processes.BurialProcess) and not isinstance(toy, processes.BurialProcess)
+    assert processes.burial_process(plain) is None and processes.at_lead_time(plain, None) is plain
+    assert plain.lead_time_sections() == ()  # no lead-time figure of the toy process
+    with pytest.raises(ScenarioError, match=r"--lead-time 1: the scenario has no \[scour\] section"):
+        processes.at_lead_time(plain, 1.0)
+    processes.unregister("toy")
+    processes.register(ToyBurial())
+    two = dataclasses.replace(plain, processes=(("scour", None), ("toy", None)))
+    with pytest.raises(
+        ScenarioError, match=r"\[scour\], \[toy\]: at most one process that changes the burial"
+    ):
+        processes.burial_process(two)
