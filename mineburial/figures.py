@@ -1,7 +1,8 @@
-"""Figures of a run's results (issue 20): the burial over time of a run with a ``[scour]`` section.
+"""Figures of a run's results (issue 20): the burial over time of a run with a post-impact process
+that reports at lead times (``[scour]``; :mod:`mineburial.ensembles.processes`).
 
 :func:`check_lead_time_plot` checks before computing that the figure can be drawn (the scenario
-has the section; matplotlib, the image type, the path: :func:`check_plot_path`);
+has such a section; matplotlib, the image type, the path: :func:`check_plot_path`);
 :func:`plot_lead_time` draws it from the run's Dataset (or the NetCDF it wrote) after the run.
 matplotlib is the optional extra ``plot``, imported only when drawing (docs/scour.md, "Figure:
 burial against lead time").
@@ -86,9 +87,10 @@ CLASS_LINE_COLOURS = ("#440154", "#3b528b", "#21918c", "#5ec962", "#e6b400")
 
 
 def check_lead_time_plot(path, spec, output=None, inputs=()):
-    """Before a run computes anything: ``--plot`` needs a ``[scour]`` section (the figure is the
-    burial against lead time) and a path matplotlib can draw to (not the run's output)."""
-    if getattr(spec, "scour", None) is None:
+    """Before a run computes anything: ``--plot`` needs a post-impact process that reports at lead
+    times (``[scour]``: the figure is the burial against lead time) and a path matplotlib can draw
+    to (not the run's output)."""
+    if not getattr(spec, "lead_time_sections", tuple)():
         raise RunError(
             f"--plot '{path}': the figure draws the burial against lead time of a scenario with a "
             "[scour] section, and this scenario has none (docs/scour.md; example: mineburial example "
@@ -97,32 +99,44 @@ def check_lead_time_plot(path, spec, output=None, inputs=()):
     return check_plot_path(path, output, inputs, "the run's output")
 
 
-def lead_time_series(ds: xr.Dataset) -> dict:
+def lead_time_section(ds: xr.Dataset) -> str:
+    """The section of the post-impact process whose burial over lead time ``ds`` holds (its
+    variables ``<section>_burial_class_probability``, ...: the first such, ``scour``)."""
+    suffix = "_burial_class_probability"
+    found = [str(k)[: -len(suffix)] for k in ds.data_vars if str(k).endswith(suffix) and str(k) != suffix[1:]]
+    if not found:
+        raise RunError("the Dataset holds no burial against lead time of a post-impact process ([scour])")
+    return found[0]
+
+
+def lead_time_series(ds: xr.Dataset, section: str | None = None) -> dict:
     """What the figure draws, as arrays over ``lead_time`` [d]: the class probabilities and their
     Wilson bounds (lead, class), the share of drops flagged mobile by then and (``moves``) the share
-    that would move at the lead time, and the 5, 50 and
-    95 % quantiles of the burial by volume [%]."""
-    q = ds["scour_burial_volume_quantile"].sel(quantile=[0.05, 0.5, 0.95]).values
+    that would move at the lead time, and the 5, 50 and 95 % quantiles of the burial by volume [%],
+    of the process ``section`` (None: :func:`lead_time_section`)."""
+    x = (section or lead_time_section(ds)) + "_"
+    q = ds[x + "burial_volume_quantile"].sel(quantile=[0.05, 0.5, 0.95]).values
     return {
         "lead": ds["lead_time"].values,
-        "p": ds["scour_burial_class_probability"].values,
-        "lower": ds["scour_burial_class_probability_lower"].values,
-        "upper": ds["scour_burial_class_probability_upper"].values,
-        "mobile": ds["scour_mobile_fraction_by_lead_time"].values,
+        "p": ds[x + "burial_class_probability"].values,
+        "lower": ds[x + "burial_class_probability_lower"].values,
+        "upper": ds[x + "burial_class_probability_upper"].values,
+        "mobile": ds[x + "mobile_fraction_by_lead_time"].values,
         # the share that would move at each lead time (scour.mobility's criterion, issue 33)
-        "moves": ds["scour_mobile_probability"].values if "scour_mobile_probability" in ds else None,
+        "moves": ds[x + "mobile_probability"].values if x + "mobile_probability" in ds else None,
         "volume_q05": q[:, 0],
         "volume_median": q[:, 1],
         "volume_q95": q[:, 2],
     }
 
 
-def forcing_series(ds: xr.Dataset):
+def forcing_series(ds: xr.Dataset, section: str = "scour"):
     """The run's forcing as the figure's top panel draws it, from what the output records: the
     file (``forcing_file``, read again only while its ``forcing_sha256`` still matches) or the
     storm (``forcing_storm``): a dict of ``days`` after the first record, ``hs`` [m], ``tp`` [s]
     and ``current`` [m/s] as given (before the sampled Hs factor), and ``window_days`` (each
-    drop's window, or None); None when it cannot be had (nothing recorded, the file gone or changed)."""
+    drop's window in the process ``section``'s resolved record, or None); None when it cannot be
+    had (nothing recorded, the file gone or changed)."""
     from mineburial.io import forcing as fio  # local import: xarray's reader, only for a figure with forcing
 
     try:
@@ -139,7 +153,7 @@ def forcing_series(ds: xr.Dataset):
     except (OSError, ValueError):
         return None
     try:
-        window = json.loads(str(ds.attrs.get("scenario", "{}"))).get("scour", {}).get("window_days")
+        window = json.loads(str(ds.attrs.get("scenario", "{}"))).get(section, {}).get("window_days")
     except ValueError:
         window = None
     return {
@@ -156,8 +170,9 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
     drops flagged mobile; the median and 5-95 % band of the burial by volume. Above them, when
     the run's forcing can be read again (:func:`forcing_series`), the forcing over the same days:
     Hs (and Tp) and the current speed, each record held until the next, as the stage reads it."""
-    s = lead_time_series(ds)
-    f = forcing_series(ds)
+    section = lead_time_section(ds)
+    s = lead_time_series(ds, section)
+    f = forcing_series(ds, section)
     plt = pyplot()
     if f is None:
         fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
@@ -168,13 +183,13 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
         ax1 = fig.add_subplot(grid[1, 0], sharex=ax0)
         ax2 = fig.add_subplot(grid[1, 1], sharex=ax0)
         _draw_forcing(ax0, f, s["lead"])
-    basis = ds["scour_burial_class_probability"].attrs.get("burial_class_basis", "burial_volume")
+    basis = ds[f"{section}_burial_class_probability"].attrs.get("burial_class_basis", "burial_volume")
     for c, (label, colour) in enumerate(zip(V.BURIAL_CLASS_NAMES, CLASS_LINE_COLOURS)):
         ax1.fill_between(s["lead"], s["lower"][:, c], s["upper"][:, c], color=colour, alpha=0.2, lw=0)
         ax1.plot(s["lead"], s["p"][:, c], "o-", color=colour, ms=3.5, label=f"class {label}")
     ax1.plot(s["lead"], s["mobile"], "k--", lw=1.2, label="flagged mobile by then (may roll)")
     if s["moves"] is not None:
-        ax1.plot(s["lead"], s["moves"], "k:", lw=1.5, label="would move then (scour.mobility)")
+        ax1.plot(s["lead"], s["moves"], "k:", lw=1.5, label=f"would move then ({section}.mobility)")
     ax1.set_ylim(-0.02, 1.02)
     ax1.set_xlabel("lead time after the forcing's start (days)")
     ax1.set_ylabel(f"probability (by {basis.replace('_', ' ')})")
@@ -190,9 +205,9 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
     ax2.legend(fontsize=8, loc="upper left")
     for ax in (ax1, ax2):
         ax.grid(alpha=0.3)
-    n = int(ds.attrs.get("scour_n_in_statistics", 0))
+    n = int(ds.attrs.get(f"{section}_n_in_statistics", 0))
     total = int(ds.attrs.get("n_drops", ds.sizes.get("realization", n)))
-    title = f"{scenario}: burial after impact and scour, n = {n} drops in the statistics (of {total})"
+    title = f"{scenario}: burial after impact and {section}, n = {n} drops in the statistics (of {total})"
     if "forecast_reference_time" in ds.coords:
         value = ds["forecast_reference_time"].values
         if not np.issubdtype(value.dtype, np.datetime64):  # as written: seconds since 1970 (UTC)

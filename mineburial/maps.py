@@ -35,7 +35,7 @@ from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, runner, scour
+from mineburial.ensembles import engine, epistemic, processes, runner, scour
 from mineburial.ensembles.distributed import run_tasks_distributed
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
@@ -628,15 +628,15 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 def _cell_statistics(spec, chunks) -> dict:
     """Statistics of one cell from its chunk results in drop order, name -> values: the
-    impact's and, with ``[scour]``, the stage's at each lead time
-    (:func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    impact's and each post-impact process's (``[scour]``: the stage's at each lead time,
+    :func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
     and a merge per cell cost about as much as the stage of 20 drops (measured with
     benchmarks/bench_map_scour.py)."""
     summary = np.concatenate([r["summary"] for r in chunks])
     status = np.concatenate([r["status"] for r in chunks])
     parts = [burial_statistics(summary, status, class_basis=spec.class_basis, outputs=MAP_OUTPUTS)]
-    if spec.scour is not None:
-        parts.append(scour.statistics(spec.scour, chunks, spec.class_basis))
+    for process, own in processes.active(spec.processes):
+        parts.append(process.statistics(own, chunks, spec.class_basis))
     out = {name: v.values for part in parts for name, v in part.variables.items()}
     if spec.posterior is not None:  # the band across the posterior's coefficient sets (docs/calibration.md)
         sets = np.concatenate([r["input:" + posterior.SET_INPUT] for r in chunks])
@@ -864,10 +864,11 @@ def _merged(parts) -> xr.Dataset:
 
 def _cell_variables(template) -> tuple:
     """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
-    variable of the scour stage (with a lead_time, burial_level or scour_status_code axis, or a
-    scalar)."""
-    scour_vars = tuple(v for v in template.data_vars if str(v).startswith("scour_"))
-    return V.MAP_STATISTICS + scour_vars + tuple(v for v in V.MAP_EPISTEMIC if v in template)
+    variable of the post-impact processes (``<section>_*``; scour's with a lead_time, burial_level or
+    scour_status_code axis, or a scalar)."""
+    prefixes = tuple(f"{name}_" for name in processes.PROCESSES)
+    own = tuple(v for v in template.data_vars if str(v).startswith(prefixes))
+    return V.MAP_STATISTICS + own + tuple(v for v in V.MAP_EPISTEMIC if v in template)
 
 
 # ---------------------------------------------------------------------------
@@ -1158,8 +1159,8 @@ def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
     being written) and a gridded forcing (its fields and each cell's copy) count too."""
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
     per_grid_cell = MAP_BYTES_A_GRID_CELL
-    if base.scour is not None:
-        template = scour.statistics(base.scour, [], base.class_basis)
+    for process, own in processes.active(base.processes):
+        template = process.statistics(own, [], base.class_basis)
         per_grid_cell += 3 * sum(da.nbytes for da in template.data_vars.values())
     forcing_bytes = 0
     if gridded is not None:
@@ -1194,9 +1195,10 @@ def _cell_statistics_template(spec) -> xr.Dataset:
             np.empty((0, layout.N_SUMMARY)), np.empty(0, np.int8), [], spec.class_basis
         )
         st = st.assign(band)
-    if spec.scour is None:
+    found = processes.active(spec.processes)
+    if not found:
         return st
-    return _merged([st, scour.statistics(spec.scour, [], spec.class_basis)])
+    return _merged([st] + [process.statistics(own, [], spec.class_basis) for process, own in found])
 
 
 def _horizontal_coords(grid: EnvironmentGrid) -> dict:
@@ -1388,14 +1390,10 @@ def _global_attrs(grid, status, base, version, stopping=None, drops=None) -> dic
         "burial_class_basis": base.class_basis,
         "environment_source": grid.source or "xarray.Dataset",
     }
-    if base.scour is not None:
-        attrs["summary"] += (
-            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
-            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
-            "the times to reach the burial levels and the share of drops flagged mobile."
-        )
-        for key, value in base.scour.forcing_record.items():
-            attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
+    for process, own in processes.active(base.processes):  # what each post-impact process adds
+        text, extra = process.map_attributes(own)
+        attrs["summary"] += text
+        attrs.update(extra)
     if stopping is not None:
         attrs["sequential_stopping"] = json.dumps(resolved["map"]["sequential_stopping"], sort_keys=True)
         attrs["n_drops_total"] = np.int64(0 if drops is None else drops.sum())
@@ -1669,19 +1667,24 @@ def _plot_title(ds) -> str:
 
 
 #: a map cell counts as not modelled after impact when at least this share of its drops lie on a
-#: bed where no post-impact process runs (scour_not_modelled_fraction; docs/maps.md)
+#: bed where no post-impact process runs (<section>_not_modelled_fraction: scour's; docs/maps.md)
 NOT_MODELLED_SHARE = 0.5
 
 
 def not_modelled_cells(ds) -> np.ndarray:
     """(y, x) bool: the computed cells where no post-impact process is modelled for most drops
-    (``scour_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`: a cohesive bed, where the
-    scour stage keeps the impact burial); all False for a map without the variable."""
+    (each process's ``<section>_not_modelled_fraction`` >= :data:`NOT_MODELLED_SHARE`; scour's: a
+    cohesive bed, where the stage keeps the impact burial); all False for a map without such a
+    variable."""
     status = ds["cell_status"].values
-    if "scour_not_modelled_fraction" not in ds:
+    names = [f"{name}_not_modelled_fraction" for name in processes.PROCESSES]
+    shares = [ds[name].values for name in names if name in ds]
+    if not shares:
         return np.zeros(status.shape, dtype=bool)
-    share = ds["scour_not_modelled_fraction"].values
-    return (status == CELL_COMPUTED) & np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+    out = status == CELL_COMPUTED
+    for share in shares:
+        out &= np.isfinite(share) & (share >= NOT_MODELLED_SHARE)
+    return out
 
 
 def _hatch_cells(ax, g, cells) -> None:
@@ -1711,17 +1714,25 @@ def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     return out
 
 
+def _lead_time_section(ds, option: str) -> str:
+    """The section of the post-impact process whose burial classes per lead time the map ``ds``
+    holds (``<section>_burial_class_probability``; ``scour``), else one line naming ``option``."""
+    for name in processes.PROCESSES:
+        if f"{name}_burial_class_probability" in ds:
+            return name
+    raise MapError(f"{option}: the map has no lead-time axis (run it with a [scour] section)")
+
+
 def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 150) -> pathlib.Path:
     """One panel per lead time (days) of a map with ``[scour]``: the probability of the burial
     class ``burial_class`` (0..4, default '> 75 %') after scour, on one 0-1 colour scale with a
     colour bar; each cell of small grids shows it and n, the drops whose stage ran there."""
     Figure = figure_class("drawing the map")
-    if "scour_burial_class_probability" not in ds:
-        raise MapError("--lead-times: the map has no lead-time axis (run it with a [scour] section)")
+    section = _lead_time_section(ds, "--lead-times")
     ks = lead_indices(ds["lead_time"].values, lead_times)
     g = _Grid.of(ds)
-    prob = ds["scour_burial_class_probability"].values[:, burial_class]
-    count = ds["scour_burial_class_count"].values.sum(axis=1)
+    prob = ds[f"{section}_burial_class_probability"].values[:, burial_class]
+    count = ds[f"{section}_burial_class_count"].values.sum(axis=1)
     ncol = min(len(ks), 3)
     nrow = -(-len(ks) // ncol)
     fig = Figure(figsize=(4.6 * ncol + 0.8, 4.4 * nrow + 0.9), layout="constrained")
@@ -1746,10 +1757,10 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     for ax in axes[len(ks) :]:
         ax.axis("off")
     cb = fig.colorbar(last, ax=list(axes[: len(ks)]), orientation="horizontal", shrink=0.6)
-    cb.set_label(f"P(burial by {basis} in class '{label}') after scour, probability (0 to 1)")
+    cb.set_label(f"P(burial by {basis} in class '{label}') after {section}, probability (0 to 1)")
     fig.suptitle(
-        f"Burial after impact and scour, class '{label}' by {basis}, of {_plot_title(ds)}\n"
-        "land tan; grey: no drop's scour stage ran"
+        f"Burial after impact and {section}, class '{label}' by {basis}, of {_plot_title(ds)}\n"
+        f"land tan; grey: no drop's {section} stage ran"
         + ("\nhatched: not modelled (cohesive bed: no post-impact process runs; not 'stays unburied')"
            if hatched.any() else ""),
         fontsize=12,
@@ -1845,11 +1856,11 @@ def write_geotiff(ds: xr.Dataset, path, *, lead_time=None, burial_class: int = 4
         field = ds["burial_class_probability"].isel(impact_burial_class=int(burial_class))
         what = "impact burial"
     else:
-        if "scour_burial_class_probability" not in ds:
-            raise MapError("--lead-time: the map has no lead-time axis (run it with a [scour] section)")
+        section = _lead_time_section(ds, "--lead-time")
         k = lead_indices(ds["lead_time"].values, [lead_time], "--lead-time")[0]
-        field = ds["scour_burial_class_probability"].isel(lead_time=k, impact_burial_class=int(burial_class))
-        what = f"burial after scour at lead time {float(lead_time):g} d"
+        probability = ds[f"{section}_burial_class_probability"]
+        field = probability.isel(lead_time=k, impact_burial_class=int(burial_class))
+        what = f"burial after {section} at lead time {float(lead_time):g} d"
     ydim, xdim = ds["cell_status"].dims
     values = np.where(ds["cell_status"].values == CELL_COMPUTED, field.values, np.nan).astype(np.float32)
     y = np.asarray(ds[ydim].values, dtype=np.float64)
@@ -1998,7 +2009,8 @@ def run_map_cli(args) -> int:
 def _check_map_options(args, base, inputs, grid):
     """Check before computing the options of the lead-time panels and the GeoTIFF; returns the
     lead times (days) of the panels, or None."""
-    available = () if base.scour is None else base.scour.lead_times_days
+    after = processes.burial_process(base)  # the process whose burial the lead-time axis holds
+    available = () if after is None else after[0].lead_times(after[1])
     if not (0 <= args.burial_class <= 4):
         raise MapError(f"--class {args.burial_class}: allowed 0..4 ({', '.join(_CLASS_LABELS)})")
     leads = None
@@ -2011,7 +2023,7 @@ def _check_map_options(args, base, inputs, grid):
             raise MapError(
                 f"--lead-times {args.lead_times!r}: give days separated by commas, e.g. 0,1,4"
             ) from None
-        if base.scour is None:
+        if after is None:
             raise MapError(
                 "--lead-times: the map has no lead-time axis (give the scenario a [scour] section)"
             )
@@ -2029,7 +2041,7 @@ def _check_map_options(args, base, inputs, grid):
         check_output_path(path, inputs, "--geotiff")
         _check_geotiff_grid(grid)
         if args.lead_time is not None:
-            if base.scour is None:
+            if after is None:
                 raise MapError(
                     "--lead-time: the map has no lead-time axis (give the scenario a [scour] section)"
                 )

@@ -276,7 +276,7 @@ def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
     P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
     sets = inputs[posterior.SET_INPUT].astype(int)
     a = spec.posterior.table[sets, spec.posterior.paths.index("scour.beq_a")]
-    S, _ = scour_ensemble.stage_parameters(spec.scour, P, inputs)
+    S, _ = scour_ensemble.stage_parameters(spec.process("scour"), P, inputs)
     np.testing.assert_array_equal(S[:, scour_ensemble.NUMERIC["beq_a"]], a)
     assert np.all(S[:, scour_ensemble.NUMERIC["beq_b"]] == 0.33)
 

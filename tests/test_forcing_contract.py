@@ -321,7 +321,7 @@ def test_lead_times_days_is_documented_as_what_it_is_optional():
         environment={"water_depth": 3.0}, release={"position": [0.0, 0.0, 1.0]}, sediment={"class": "sand"}
     )
     d["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}}
-    assert engine.load_ensemble(d, n=2).scour.lead_times_days == ()
+    assert engine.load_ensemble(d, n=2).process("scour").lead_times_days == ()
     doc = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "scenario.md").read_text(encoding="utf-8")
     (row,) = [line for line in doc.splitlines() if line.startswith("| `lead_times_days` |")]
     assert "required" not in row and "optional" in row

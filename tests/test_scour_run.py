@@ -229,9 +229,10 @@ def test_output_records_the_forcing_file_and_its_sha256(runs):
 def test_scour_storm_example_reads_the_shipped_storm_file(no_computing):
     spec = engine.load_ensemble(example_path("scour_storm"), systems=engine.SYSTEMS)
     shipped = pathlib.Path(scour.__file__).resolve().parent.parent / "data" / "forcing" / "storm_example.csv"
-    assert spec.scour.forcing_record["forcing_sha256"] == hashlib.sha256(shipped.read_bytes()).hexdigest()
-    assert (str(shipped), spec.scour.forcing_record["forcing_sha256"]) in spec.input_files
-    assert spec.scour.forcing.duration_s == 96 * 3600.0  # the storm file: 96 h hourly (docs/scour.md)
+    stage = spec.process("scour")
+    assert stage.forcing_record["forcing_sha256"] == hashlib.sha256(shipped.read_bytes()).hexdigest()
+    assert (str(shipped), stage.forcing_record["forcing_sha256"]) in spec.input_files
+    assert stage.forcing.duration_s == 96 * 3600.0  # the storm file: 96 h hourly (docs/scour.md)
     assert {"scour.beq_a", "scour.beq_b", "scour.theta_exponent", "scour.hs_scale"} <= set(spec.random)
 
 
@@ -329,7 +330,7 @@ def test_ripple_exposure_is_a_section_field_that_fills_the_stages_slot():
             raw["scour"]["ripple_exposure"] = exposure
         spec = engine.load_ensemble(raw)
         P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
-        S, _ = scour_ensemble.stage_parameters(spec.scour, P, inputs)
+        S, _ = scour_ensemble.stage_parameters(spec.process("scour"), P, inputs)
         return S[:, scour_kernels.S_RIPPLE_EXPOSURE], inputs
 
     default, _ = stage(None)

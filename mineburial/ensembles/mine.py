@@ -33,7 +33,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.calibration import posterior
-from mineburial.ensembles import accuracy, batch, epistemic, model_form, scour
+from mineburial.ensembles import accuracy, batch, epistemic, model_form, processes
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.interrupt import Interrupted
@@ -138,7 +138,8 @@ class EnsembleSpec:
     recompute_inertia: bool
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
-    scour: scour.ScourSpec | None = None  # the optional post-impact scour stage ([scour])
+    # ((section, spec), ...) of the post-impact processes the scenario has a section of (processes.py)
+    processes: tuple = ()
     accuracy_check: int = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
     posterior: posterior.Posterior | None = None  # the coefficient sets drawn per drop, if any
     posterior_paths: tuple = ()  # the posterior's coefficients this scenario does not give itself
@@ -163,8 +164,8 @@ class EnsembleSpec:
                 repr((self.sediment_labels, self.sediment_choice, self.recompute_inertia, self.angles_deg)),
             )
         )
-        if self.scour is not None:
-            items.append(("scour", self.scour.identity()))
+        for process, spec in processes.active(self.processes):
+            items.append((process.section, process.identity(spec)))
         if self.posterior is not None:
             items.append(("posterior", repr((self.posterior.digest, self.posterior_paths)).encode()))
         return items
@@ -197,9 +198,25 @@ class EnsembleSpec:
             out["posterior"] = {**self.posterior.provenance(), "drawn": list(self.posterior_paths)}
         if self.input_files:
             out["input_files"] = {path: digest for path, digest in self.input_files}
-        if self.scour is not None:
-            out["scour"] = self.scour.resolved()
+        for process, spec in processes.active(self.processes):
+            out[process.section] = process.resolved(spec)
         return out
+
+    def process(self, section: str):
+        """The spec of the post-impact process ``section`` (None when the scenario has no such section)."""
+        return dict(self.processes).get(section)
+
+    def lead_time_sections(self) -> tuple:
+        """The sections of the active post-impact processes that change the burial over lead times
+        (the run's lead-time figure, :func:`mineburial.figures.check_lead_time_plot`)."""
+        found = processes.active(self.processes)
+        return tuple(p.section for p, _ in found if isinstance(p, processes.BurialProcess))
+
+    def with_process(self, section: str, spec) -> EnsembleSpec:
+        """This ensemble with the spec of its process ``section`` replaced by ``spec``."""
+        return dataclasses.replace(
+            self, processes=tuple((name, spec if name == section else old) for name, old in self.processes)
+        )
 
 
 def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
@@ -237,11 +254,9 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
         cfg.check_distribution(path, d)
         random[path] = d
         _set_path(template, path, _representative(d))
-    scour_section = template.pop("scour", None)
+    sections = {name: template.pop(name) for name in processes.PROCESSES if name in template}
     base = cfg.Scenario.from_dict(template, base_dir=base_dir)
-    fixed_depth = None if "environment.water_depth" in random else base.environment.water_depth
-    classes = scour.sediment_classes(template.get("sediment"), random.get("sediment.class"))
-    scour_spec = None if scour_section is None else scour.parse(scour_section, base_dir, fixed_depth, classes)
+    active = processes.load_all(sections, base_dir=base_dir, base=base, template=template, random=random)
     p, sed_bank, cur_bank = base.to_params()
 
     labels = ()
@@ -258,7 +273,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     for path in random:
         if path in (choice,) or path in _ANGLE_FIELDS or path in model_form.CHOICE_FIELDS:
             continue
-        if path.startswith("scour.") and path in cfg.FIELDS:  # the stage's own inputs (scour.py)
+        if processes.owns_input(path) and path in cfg.FIELDS:  # a post-impact process's own inputs
             continue
         slot = cfg.ALIASES.get(path, path)
         if slot not in layout.INDEX or slot not in cfg.FIELDS:  # not a number: a name, a code
@@ -283,9 +298,8 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
     if drawn:
         random[posterior.SET_INPUT] = post.set_choice()
     files = input_files_of(raw, random, base_dir)
-    if scour_spec is not None and "forcing_file" in scour_spec.forcing_record:
-        rec = scour_spec.forcing_record
-        files += ((rec["forcing_file"], rec["forcing_sha256"]),)
+    for process, spec in processes.active(active):
+        files += process.input_files(spec)
     if drawn:  # kept with the scenario, so that a variant or a map cell re-loaded from it draws too
         raw["ensemble"] = {"coefficients": ens["coefficients"]}
     return EnsembleSpec(
@@ -306,7 +320,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
         recompute_inertia=recompute,
         angles_deg=angles,
         input_files=files,
-        scour=scour_spec,
+        processes=active,
         accuracy_check=int(ens["accuracy_check"]),
         posterior=post if drawn else None,
         posterior_paths=drawn,
@@ -353,7 +367,7 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
                 P[:, layout.P_SED_PROFILE] = values
                 inputs[path] = values.astype(np.float64)
                 continue
-            if path in _ANGLE_FIELDS or path.startswith("scour."):
+            if path in _ANGLE_FIELDS or processes.owns_input(path):
                 inputs[path] = values.astype(np.float64)
                 continue
             if path == posterior.SET_INPUT:  # each drop's coefficient set from the posterior
@@ -390,7 +404,7 @@ def _posterior_inputs(spec, index, P, inputs) -> None:
     columns = spec.posterior.paths
     for path in spec.posterior_paths:
         values = spec.posterior.table[sets, columns.index(path)]
-        if not path.startswith("scour."):  # the scour stage reads its own from the inputs
+        if not processes.owns_input(path):  # a post-impact process reads its own from the inputs
             P[:, layout.INDEX[path]] = values
         inputs[path] = values
 
@@ -430,8 +444,8 @@ def _chunk_result(spec, start, stop, P, valid, summary, status, inputs) -> dict:
         "status": status,
         "invalid_inputs": np.array(json.dumps(invalid_reasons(spec, P, valid), sort_keys=True)),
     }
-    if spec.scour is not None:
-        out.update(scour.run_chunk(spec.scour, P, summary, status, inputs))
+    for process, own in processes.active(spec.processes):  # after the impact phase
+        out.update(process.run_chunk(own, P, summary, status, inputs))
     for k, v in inputs.items():
         out["input:" + k] = v
     return out
@@ -499,9 +513,10 @@ def _extremes(spec, path, fixed):
 
 def bytes_a_drop(spec: EnsembleSpec) -> int:
     """Bytes of the per-drop values of a run kept until the statistics are computed: the
-    summary row, the status, the sampled inputs and the scour stage's values."""
+    summary row, the status, the sampled inputs and the post-impact processes' values."""
     inputs = len(spec.random) + len(spec.posterior_paths)
-    return spec.summary_width * 8 + 1 + 8 * inputs + scour.bytes_a_drop(spec)
+    own = sum(process.bytes_per_drop(p) for process, p in processes.active(spec.processes))
+    return spec.summary_width * 8 + 1 + 8 * inputs + own
 
 
 def warn_run(spec) -> None:
@@ -559,8 +574,8 @@ def dataset(spec: EnsembleSpec, chunks):
     )
     if posterior.SET_INPUT in inputs:
         epistemic.add_band(ds, summary, status, inputs[posterior.SET_INPUT], spec.class_basis)
-    if spec.scour is not None:
-        ds = scour.dataset(spec.scour, chunks, ds, per_drop=spec.per_drop, class_basis=spec.class_basis)
+    for process, own in processes.active(spec.processes):
+        ds = process.dataset(own, chunks, ds, per_drop=spec.per_drop, class_basis=spec.class_basis)
     return ds
 
 
@@ -628,7 +643,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
             lines.append(f"  P({name}) = {pk:.3f}{ci}")
         lines.extend(epistemic.summary_lines(ds, class_labels(ds)))
     lines.extend(model_form.summary_lines(ds))
-    lines.extend(scour.summary_lines(ds))
+    lines.extend(processes.summary_lines(ds))
     lines.extend(accuracy.summary_lines(ds))
     if elapsed is not None:
         lines.append(f"time: {elapsed:.1f} s ({n / max(elapsed, 1e-9):.1f} drops/s)")

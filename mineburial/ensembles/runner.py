@@ -451,7 +451,7 @@ def run_ensemble_cli(args) -> int:
         systems=engine.SYSTEMS,
     )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
-    if getattr(args, "plot", None):  # the lead-time figure of a [scour] run
+    if getattr(args, "plot", None):  # the lead-time figure of a post-impact process ([scour])
         check_lead_time_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
     check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None

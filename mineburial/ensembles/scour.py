@@ -8,6 +8,9 @@ streams keyed by the field name: no other input's draws change) and validated pe
 every other input. :func:`run_chunk` runs the compiled stage over the drops of a chunk after
 their impact phase; :func:`dataset` adds the statistics and per-drop variables of the stage to a
 run's Dataset; :func:`summary_lines` the class probabilities per lead time to the run summary.
+:data:`PROCESS` puts them behind the post-impact process protocol
+(:class:`mineburial.ensembles.processes.Process`), through which the mine's ensemble, maps,
+``compare``, ``sensitivity`` and the lead-time figure reach the stage.
 A scenario without the section runs exactly as before: nothing here is called.
 """
 
@@ -340,24 +343,29 @@ def at_lead_time(spec, lead_time: float | None):
     forcing when the section names none). Without a ``[scour]`` section the outputs are the
     impact's and ``lead_time`` must be None. One :class:`ScenarioError` line for a lead time
     outside [0, the forcing's span or ``scour.window_days``]."""
-    if spec.scour is None:
+    stage = spec.process(PROCESS.section)
+    if stage is None:
         if lead_time is not None:
             raise cfg.ScenarioError(
                 f"--lead-time {lead_time:g}: the scenario has no [scour] section; its burial is the "
                 "impact's (give a [scour] section, or leave --lead-time out)"
             )
         return spec
-    longest = longest_lead_days(spec.scour.forcing, spec.scour.window_days)
+    return spec.with_process(PROCESS.section, stage_at_lead_time(stage, lead_time))
+
+
+def stage_at_lead_time(stage: ScourSpec, lead_time: float | None) -> ScourSpec:
+    """``stage`` reporting the one lead time [d] analysed (:func:`at_lead_time`)."""
+    longest = longest_lead_days(stage.forcing, stage.window_days)
     if lead_time is None:
-        lead_time = spec.scour.lead_times_days[-1] if spec.scour.lead_times_days else longest
+        lead_time = stage.lead_times_days[-1] if stage.lead_times_days else longest
     elif not (0.0 <= lead_time <= longest):
-        what = "scour.window_days" if spec.scour.window_days is not None else "the forcing's span"
+        what = "scour.window_days" if stage.window_days is not None else "the forcing's span"
         raise cfg.ScenarioError(
             f"--lead-time {_shown(lead_time, 0.0, longest)} is outside the allowed range [0, {longest:g}] "
             f"days ({what})"
         )
-    stage = dataclasses.replace(spec.scour, lead_times_days=(float(lead_time),))
-    return dataclasses.replace(spec, scour=stage)
+    return dataclasses.replace(stage, lead_times_days=(float(lead_time),))
 
 
 def after_scour(summary: np.ndarray, measures: np.ndarray, *, missing: str = "nan") -> np.ndarray:
@@ -507,13 +515,10 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     }
 
 
-def bytes_a_drop(spec) -> int:
-    """Bytes of the stage's per-drop values of an ensemble ``spec`` (0 without a [scour] section)."""
-    sc_spec = getattr(spec, "scour", None)
-    if sc_spec is None:
-        return 0
-    n_lead = len(sc_spec.lead_times_days)
-    return 8 * ((len(MEASURE_NAMES) + 2) * n_lead + len(sc_spec.burial_levels) + 2) + 2
+def bytes_a_drop(spec: ScourSpec) -> int:
+    """Bytes of the stage's per-drop values of a ``[scour]`` section ``spec``."""
+    n_lead = len(spec.lead_times_days)
+    return 8 * ((len(MEASURE_NAMES) + 2) * n_lead + len(spec.burial_levels) + 2) + 2
 
 
 def _per_drop(spec: ScourSpec, chunks):
@@ -699,3 +704,72 @@ def summary_lines(ds) -> list[str]:
         values = " ".join(f"{v:.3f}" for v in ds["scour_mobile_probability"].values)
         lines.append(f"  would move at each lead time (scour_mobile_probability): {values}")
     return lines
+
+
+class ScourProcess:
+    """The scour stage as a post-impact process (:class:`mineburial.ensembles.processes.Process`):
+    the functions above behind the protocol the mine's ensemble calls. Each method looks its
+    function up when called (a test may replace one, e.g. :func:`run_chunk`)."""
+
+    section = "scour"
+
+    def load(self, section, *, base_dir, base, template, random) -> ScourSpec:
+        depth = None if "environment.water_depth" in random else base.environment.water_depth
+        classes = sediment_classes(template.get("sediment"), random.get("sediment.class"))
+        return parse(section, base_dir, depth, classes)
+
+    def identity(self, spec: ScourSpec) -> bytes:
+        return spec.identity()
+
+    def resolved(self, spec: ScourSpec) -> dict:
+        return spec.resolved()
+
+    def input_files(self, spec: ScourSpec) -> tuple:
+        rec = spec.forcing_record
+        return ((rec["forcing_file"], rec["forcing_sha256"]),) if "forcing_file" in rec else ()
+
+    def run_chunk(self, spec: ScourSpec, P, summary, status, inputs) -> dict:
+        return run_chunk(spec, P, summary, status, inputs)
+
+    def bytes_per_drop(self, spec: ScourSpec) -> int:
+        return bytes_a_drop(spec)
+
+    def statistics(self, spec: ScourSpec, chunks, class_basis: str) -> xr.Dataset:
+        return statistics(spec, chunks, class_basis)
+
+    def dataset(self, spec: ScourSpec, chunks, ds, *, per_drop: bool, class_basis: str) -> xr.Dataset:
+        return dataset(spec, chunks, ds, per_drop=per_drop, class_basis=class_basis)
+
+    def summary_lines(self, ds) -> list[str]:
+        return summary_lines(ds)
+
+    def lead_times(self, spec: ScourSpec) -> tuple:
+        return tuple(spec.lead_times_days)
+
+    def map_attributes(self, spec: ScourSpec) -> tuple[str, dict]:
+        text = (
+            " With the post-impact scour stage ([scour], docs/scour.md), per cell and lead time: the "
+            "scour-burial class probabilities with Wilson intervals, statistics of the burial measures, "
+            "the times to reach the burial levels and the share of drops flagged mobile."
+        )
+        record = spec.forcing_record.items()
+        return text, {k: v if isinstance(v, str) else json.dumps(v, sort_keys=True) for k, v in record}
+
+    # the process changes the burial: compare and sensitivity analyse it at one lead time
+    def at_lead_time(self, spec: ScourSpec, lead_time: float | None) -> ScourSpec:
+        return stage_at_lead_time(spec, lead_time)
+
+    def burial_after(self, spec: ScourSpec, summary, chunks, *, missing: str = "nan"):
+        return after_scour(summary, np.concatenate([r["scour:measures"] for r in chunks]), missing=missing)
+
+    def lacks_value(self, spec: ScourSpec, chunks):
+        measures = np.concatenate([r["scour:measures"] for r in chunks])
+        return ~np.isfinite(measures[:, :, 0]).all(axis=1)
+
+    def status_text(self, chunks) -> str:
+        codes = np.bincount(np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64))
+        return ", ".join(f"{V.SCOUR_STATUS_NAMES[k]} {int(n)}" for k, n in enumerate(codes) if n)
+
+
+#: the stage's post-impact process, registered in :data:`mineburial.ensembles.processes.PROCESSES`
+PROCESS = ScourProcess()

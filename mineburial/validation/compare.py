@@ -20,12 +20,13 @@ probabilities with the Wilson score interval (as ``mineburial run``); paired
 differences to the first variant over the drops in the statistics of both, mean +- z
 standard errors of the per-drop differences.
 
-Burial after scour (issue 20): with a ``[scour]`` section every variant runs the post-impact
+Burial after a post-impact process (issue 20; scour is the one there is,
+:mod:`mineburial.ensembles.processes`): with a ``[scour]`` section every variant runs the post-impact
 stage and the compared burial measures are those at **one lead time** (``--lead-time DAYS``,
-default the section's last; :func:`mineburial.ensembles.scour.at_lead_time`), as in
+default the section's last; :func:`mineburial.ensembles.processes.at_lead_time`), as in
 ``mineburial sensitivity``; a drop whose stage did not give a value is left out of the burial
-statistics, as in ``run``'s statistics after scour (:func:`~mineburial.ensembles.scour.after_scour`).
-A ``scour.*`` field may be varied (``--vary scour.orbital=spectral,hs``): it changes no packed
+statistics, as in ``run``'s statistics after scour (the process's ``burial_after``).
+A process's own field (``scour.*``) may be varied (``--vary scour.orbital=spectral,hs``): it changes no packed
 impact parameter, and the sampled inputs of the stage are checked equal across variants like
 every other.
 """
@@ -45,7 +46,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, runner, scour
+from mineburial.ensembles import engine, epistemic, processes, runner
 from mineburial.ensembles.intervals import two_sided_normal_quantile
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
@@ -184,10 +185,10 @@ def _random_slots(spec: engine.EnsembleSpec) -> set[int]:
             slots.add(layout.P_SED_PROFILE)
         elif path in engine._ANGLE_FIELDS:
             slots.update(range(layout.P_Q00, layout.P_Q30 + 1))
-        elif path.startswith("scour."):  # the stage's own inputs: no impact slot
+        elif processes.owns_input(path):  # a post-impact process's own inputs: no impact slot
             continue
         elif path == posterior.SET_INPUT:  # the coefficients drawn from the posterior
-            slots.update(layout.INDEX[p] for p in spec.posterior_paths if not p.startswith("scour."))
+            slots.update(layout.INDEX[p] for p in spec.posterior_paths if not processes.owns_input(p))
         else:
             slots.add(layout.INDEX[cfg.ALIASES.get(path, path)])
     if spec.recompute_inertia:
@@ -204,13 +205,14 @@ def _differs(a, b):
 # ---------------------------------------------------------------------------
 def _plan(scenario, field, values, *, n=None, seed=None, sampling=None, lead_time=None):
     """``(field, base spec, variant specs)`` of a comparison, every request checked; with a
-    ``[scour]`` section every spec's stage reports the one lead time compared."""
+    post-impact process that changes the burial (``[scour]``) every spec's process reports the one
+    lead time compared."""
     field = SHORT_NAMES.get(field, field)
     if values is None or len(values) < 2:
         raise ComparisonError("compare needs at least two values of the varied field")
     if field.startswith("ensemble."):
         raise ComparisonError(f"--vary {field}: the [ensemble] settings cannot be varied (use -n and --seed)")
-    base = scour.at_lead_time(
+    base = processes.at_lead_time(
         engine.load_ensemble(scenario, n=n, seed=seed, sampling=sampling, per_drop=False), lead_time
     )
     loc = _location(field)
@@ -224,9 +226,9 @@ def _plan(scenario, field, values, *, n=None, seed=None, sampling=None, lead_tim
     # the variants' file names are resolved like the scenario's own: against its folder
     path = scenario if isinstance(scenario, (str, os.PathLike)) else None
     base_dir = pathlib.Path(path).resolve().parent if path is not None else None
-    lead = None if base.scour is None else base.scour.lead_times_days[0]
+    lead = processes.analysed_lead_time(base)
     variants = [_variant_spec(base, field, v, base.n, base.seed, base_dir) for v in values]
-    return field, base, [scour.at_lead_time(spec, lead) for spec in variants]
+    return field, base, [processes.at_lead_time(spec, lead) for spec in variants]
 
 
 def comparison_inputs(scenario, field, values, *, n=None, seed=None, lead_time=None) -> list:
@@ -290,11 +292,9 @@ def run_comparison(
     summaries = [np.concatenate([r["summary"] for r in c]) for c in chunks]
     statuses = [np.concatenate([r["status"] for r in c]) for c in chunks]
     inputs = _same_inputs(chunks)
-    if base.scour is not None:
-        summaries = [
-            scour.after_scour(s, np.concatenate([r["scour:measures"] for r in c]))
-            for s, c in zip(summaries, chunks)
-        ]
+    after = processes.burial_process(base)
+    if after is not None:
+        summaries = [after[0].burial_after(after[1], s, c) for s, c in zip(summaries, chunks)]
     attrs = {
         "title": f"mineburial comparison: {base.base.mine.name}, {field} = "
         + ", ".join(str(v) for v in values),
@@ -309,21 +309,18 @@ def run_comparison(
         "elapsed_seconds": float(elapsed),
     }
     ds = _assemble(base, field, values, (summaries, statuses, inputs, changed), confidence_level, attrs)
-    if base.scour is not None:
-        _scour_attrs(ds, base.scour.lead_times_days[0], chunks, values)
+    if after is not None:
+        _process_attrs(ds, after[0], processes.analysed_lead_time(base), chunks, values)
     return ds
 
 
-def _scour_attrs(ds, lead, chunks, values) -> None:
-    """The lead time compared and each variant's count of scour statuses, in ``ds.attrs``."""
-    ds.attrs["title"] += f", burial after scour at lead time {lead:g} d"
+def _process_attrs(ds, process, lead, chunks, values) -> None:
+    """The lead time compared and each variant's count of the process's statuses
+    (``<section>_status_counts``), in ``ds.attrs``."""
+    ds.attrs["title"] += f", burial after {process.section} at lead time {lead:g} d"
     ds.attrs["lead_time_days"] = lead
-    counts = []
-    for value, c in zip(values, chunks):
-        codes = np.bincount(np.concatenate([r["scour:status"] for r in c]).astype(np.int64))
-        named = ", ".join(f"{V.SCOUR_STATUS_NAMES[k]} {int(n)}" for k, n in enumerate(codes) if n)
-        counts.append(f"{value}: {named}")
-    ds.attrs["scour_status_counts"] = "; ".join(counts)
+    counts = [f"{value}: {process.status_text(c)}" for value, c in zip(values, chunks)]
+    ds.attrs[f"{process.section}_status_counts"] = "; ".join(counts)
 
 
 def _changed_parameters(specs, values) -> list[set]:
@@ -659,8 +656,9 @@ def run_compare_cli(args) -> int:
             f"{int(ds.attrs['n_drops'])} drops, seed {ds.attrs['random_seed']}; the same sampled "
             f"inputs for every variant (checked); {ds.attrs['elapsed_seconds']:.1f} s"
         )
-        if ds.attrs.get("scour_status_counts"):
-            print(f"scour stage: {ds.attrs['scour_status_counts']} (scour_status; docs/scour.md)")
+        for name in processes.PROCESSES:  # the statuses of the process compared after
+            if ds.attrs.get(f"{name}_status_counts"):
+                print(f"{name} stage: {ds.attrs[f'{name}_status_counts']} ({name}_status; docs/{name}.md)")
         print(comparison_table(ds))
         if out is not None:
             out.commit(_for_netcdf(ds))

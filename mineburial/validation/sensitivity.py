@@ -32,7 +32,8 @@ resamples of the n rows of the design, seeded: the same seed gives the same
 intervals). scipy's own ``SobolResult.bootstrap`` draws from an unseeded generator,
 so its intervals would change from run to run.
 
-Burial after scour (issue 20): with a ``[scour]`` section the outputs are the burial measures
+Burial after a post-impact process (issue 20; scour is the one there is,
+:mod:`mineburial.ensembles.processes`): with a ``[scour]`` section the outputs are the burial measures
 of the post-impact stage at **one lead time** (:func:`at_lead_time`: ``--lead-time DAYS``,
 default the section's last lead time; docs/validation.md), and the stage's sampled inputs
 (``scour.hs_scale``, ``scour.beq_a``, ...) are inputs of the design beside the impact's. The
@@ -59,8 +60,8 @@ from scipy import stats
 from mineburial._deferred import xarray as xr
 from mineburial.calibration import posterior
 from mineburial.config import ScenarioError
-from mineburial.ensembles import engine, model_form, runner
-from mineburial.ensembles.scour import after_scour, at_lead_time
+from mineburial.ensembles import engine, model_form, processes, runner
+from mineburial.ensembles.processes import at_lead_time
 from mineburial.ensembles.statistics import burial_class
 from mineburial.figures import pyplot, save_figure
 from mineburial.io import variables as V
@@ -356,8 +357,9 @@ def run_sensitivity(
     if refusal:
         raise engine.EnsembleError(refusal)
     counts = np.zeros(len(st.NAMES), dtype=np.int64)
-    scour_counts = np.zeros(len(V.SCOUR_STATUS_NAMES), dtype=np.int64)
-    no_value = [0]  # drops in the burial statistics without a value of the scour stage
+    after = processes.burial_process(spec)  # the post-impact process whose burial is analysed
+    process_counts = [""]  # its statuses' counts (the process's status_text)
+    no_value = [0]  # drops in the burial statistics without a value of the process
 
     def model(values):
         points = DesignSpec.of(spec, n)
@@ -370,13 +372,12 @@ def run_sensitivity(
         summary = np.concatenate([r["summary"] for r in chunks])
         status = np.concatenate([r["status"] for r in chunks])
         counts[:] = np.bincount(status.astype(np.int64), minlength=len(st.NAMES))
-        if spec.scour is not None:
-            codes = np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64)
-            scour_counts[:] = np.bincount(codes, minlength=len(scour_counts))
-            measures = np.concatenate([r["scour:measures"] for r in chunks])
-            lacking = ~np.isfinite(measures[:, :, 0]).all(axis=1)
+        if after is not None:
+            process, own = after
+            process_counts[0] = process.status_text(chunks)
+            lacking = process.lacks_value(own, chunks)
             no_value[0] = int(np.sum(np.isin(status, st.IN_STATISTICS) & lacking))
-            summary = after_scour(summary, measures, missing="impact")  # Sobol' needs every point
+            summary = process.burial_after(own, summary, chunks, missing="impact")  # Sobol' needs every point
         return _outputs(summary, spec.class_basis)
 
     t0 = time.monotonic()
@@ -385,19 +386,17 @@ def run_sensitivity(
     warning = failure_warning(left, total, counts)
     if no_value[0]:  # their burial at the lead time is the impact's (issue 35)
         warning = (warning + "; " if warning else "warning: ") + (
-            f"{no_value[0]} of {total} drops have no value of the scour stage at the lead time "
-            f"(scour status not ok): their burial in the indices is the impact's"
+            f"{no_value[0]} of {total} drops have no value of the {after[0].section} stage at the lead time "
+            f"({after[0].section} status not ok): their burial in the indices is the impact's"
         )
     if warning:
         ds.attrs["warning"] = warning
     title = f"mineburial Sobol' sensitivity: {spec.base.mine.name}"
-    if spec.scour is not None:
-        lead = spec.scour.lead_times_days[0]
-        title += f", burial after scour at lead time {lead:g} d"
+    if after is not None:
+        lead = processes.analysed_lead_time(spec)
+        title += f", burial after {after[0].section} at lead time {lead:g} d"
         ds.attrs["lead_time_days"] = lead
-        ds.attrs["scour_status_counts"] = ", ".join(
-            f"{V.SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(scour_counts) if c
-        )
+        ds.attrs[f"{after[0].section}_status_counts"] = process_counts[0]
     ds.attrs.update(
         {
             "title": title,
@@ -600,8 +599,9 @@ def run_sensitivity_cli(args) -> int:
         )
         if ds.attrs.get("warning"):
             print(ds.attrs["warning"])
-        if ds.attrs.get("scour_status_counts"):
-            print(f"scour stage: {ds.attrs['scour_status_counts']} (scour_status; docs/scour.md)")
+        for name in processes.PROCESSES:  # the statuses of the process analysed after
+            if ds.attrs.get(f"{name}_status_counts"):
+                print(f"{name} stage: {ds.attrs[f'{name}_status_counts']} ({name}_status; docs/{name}.md)")
         print(sensitivity_table(ds.sel(output=list(OUTPUTS))))
         print("\n".join(model_form_lines(ds) + calibrated_share_lines(ds)))
         if out is not None:
