@@ -263,13 +263,15 @@ def test_drops_draw_posterior_sets_by_weight_and_leave_other_inputs_unchanged():
 
 
 def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
-    """With a [scour] section the scour stage's calibrated coefficients come from each drop's
-    set (the stage reads them from the sampled inputs); one the section gives is kept."""
+    """With a [scour] section of the law the posterior was conditioned with (scour_settle) the
+    scour stage's calibrated coefficients come from each drop's set (the stage reads them from
+    the sampled inputs); one the section gives is kept."""
     from mineburial.ensembles import scour as scour_ensemble
 
     raw = short_default(12)
     raw["ensemble"]["coefficients"] = "posterior"
-    raw["scour"] = {"storm": {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}, "beq_b": 0.33}
+    storm = {"peak_hs": 2.0, "peak_tp": 9.0, "duration_h": 24.0}
+    raw["scour"] = {"storm": storm, "beq_b": 0.33, "burial_law": "scour_settle"}
     raw["sediment"] = {"class": "sand"}
     spec = engine.load_ensemble(raw)
     assert "scour.beq_a" in spec.posterior_paths and "scour.beq_b" not in spec.posterior_paths
