@@ -429,3 +429,24 @@ def test_physics_doc_lists_every_prior_as_the_priors_file_declares_it():
     )
     for p in priors.load_priors():
         assert f"`{p.path}`" in doc
+
+
+def test_a_prior_added_to_one_block_leaves_the_other_blocks_draws_unchanged():
+    """Each block's priors are drawn from a Sobol' sequence of their own (conditioning.draw_sets):
+    the impact block's draws do not move when the scour block gains or loses a prior, and the
+    first 32 draws are those of a 4096-set run (the Sobol' prefix, so small rebuilds reproduce)."""
+    coefficients = priors.load_priors()
+    scour = [p for p in coefficients if p.path.startswith("scour.")]
+    assert len(scour) >= 2
+    full = conditioning.draw_sets(tuple(coefficients), 64, 7, calibrate.block_of)
+    fewer = conditioning.draw_sets(
+        tuple(p for p in coefficients if p is not scour[-1]), 64, 7, calibrate.block_of
+    )
+    for p in coefficients:
+        if p.path.startswith("scour."):
+            continue
+        np.testing.assert_array_equal(full[p.path], fewer[p.path])
+    assert not np.array_equal(full[scour[0].path], fewer[scour[0].path])  # the scour block did change
+    prefix = conditioning.draw_sets(tuple(coefficients), 32, 7, calibrate.block_of)
+    for path, values in prefix.items():
+        np.testing.assert_array_equal(values, full[path][:32])

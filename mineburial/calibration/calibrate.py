@@ -157,12 +157,17 @@ def _grid_marginal(prior, joint_w) -> dict:
     return {"median": float(med), "q05": float(lo), "q95": float(hi)}
 
 
+def block_of(path: str) -> str:
+    """The block of the evidence a coefficient or nuisance parameter belongs to: its case's
+    (:data:`cases.CASE_BLOCK`, for a nuisance parameter ``case.name``) or its coefficient's."""
+    head = path.split(".")[0]
+    return cases.CASE_BLOCK[head] if head in cases.CASE_BLOCK else cases.coefficient_block(path)
+
+
 def _weights_of(block_w: dict, path: str, n: int) -> np.ndarray:
     """The weights a coefficient's or nuisance parameter's marginal is read under: its block's
     (the prior's where no evidence reads the block)."""
-    head = path.split(".")[0]
-    block = cases.CASE_BLOCK[head] if head in cases.CASE_BLOCK else cases.coefficient_block(path)
-    return block_w.get(block, np.full(n, 1.0 / n))
+    return block_w.get(block_of(path), np.full(n, 1.0 / n))
 
 
 def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tuple[dict, dict, dict]:
@@ -309,6 +314,8 @@ def identity(n: int, seed: int, priors_file, evidence_file) -> dict:
         "n_prior_sets": int(n),
         "seed": int(seed),
         "mineburial_version": __version__,
+        # 2: each block's priors from a Sobol' sequence of their own (conditioning.draw_sets)
+        "draws": 2,
     }
 
 
@@ -330,7 +337,7 @@ def calibrate(
     coefficients = priors.load_priors(priors_file)
     rows, nuisance = priors.load_evidence(evidence_file)
     ident = identity(n, seed, priors_file, evidence_file)
-    draws = conditioning.draw_sets((*coefficients, *nuisance), n, seed)
+    draws = conditioning.draw_sets((*coefficients, *nuisance), n, seed, block_of)
     blocks = _Blocks(output, ident)
     if threads is None:
         threads = numba.get_num_threads()

@@ -1,9 +1,10 @@
 """Conditioning the coefficient priors on the evidence: importance sampling from the prior
 (issue 32; docs/calibration.md, where the method is justified).
 
-1. ``n`` coefficient sets are drawn from the priors with a scrambled Sobol' sequence
+1. ``n`` coefficient sets are drawn from the priors with scrambled Sobol' sequences
    (scipy.stats.qmc; one dimension per coefficient and nuisance parameter, mapped through
-   each prior's inverse CDF), so the prior is covered evenly with few sets.
+   each prior's inverse CDF; one sequence per block of the evidence, :func:`draw_sets`), so
+   the prior is covered evenly with few sets.
 2. Every evidence drop is run under every set (:mod:`mineburial.calibration.cases`).
 3. Each row scores each set: a continuous row with a Gaussian of scale
    sqrt(sigma^2 + discrepancy^2) around the measurement; a binary row (a pattern seen)
@@ -21,6 +22,7 @@ of all rows but one, predicting the held-out measurement with its band).
 from __future__ import annotations
 
 import math
+import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,15 +38,28 @@ PREDICTIVE_DRAWS = 20000
 BINARY_LEVEL = 0.1
 
 
-def draw_sets(priors: tuple[Prior, ...], n: int, seed: int) -> dict:
-    """``n`` draws of every prior (coefficients and nuisance parameters) from one scrambled
-    Sobol' sequence: ``{path: array (labels as str)}``."""
+def draw_sets(priors: tuple[Prior, ...], n: int, seed: int, block_of=None) -> dict:
+    """``n`` draws of every prior (coefficients and nuisance parameters): ``{path: array (labels
+    as str)}``. The priors of each block of the evidence (``block_of(path)``; one block when
+    None) are drawn from a scrambled Sobol' sequence of their own, seeded by ``seed`` and the
+    block's name, so that a prior added to or removed from one block leaves every other block's
+    draws, and so its weights and resampled sets, bit-identical (a sequence over all dimensions
+    at once redraws every block: adding the scour-and-settle priors moved the impact block's
+    sets and the default ensemble's P(> 75 %) by its Monte Carlo error, 0.265 -> 0.372)."""
     # local import: scipy.stats costs ~0.5 s of start-up; only calibrate draws sets
     from scipy.stats import qmc
 
-    u = qmc.Sobol(d=len(priors), scramble=True, seed=seed).random(n)
-    u = np.clip(u, 1e-12, 1.0 - 1e-12)  # the open interval every ppf takes
-    return {p.path: p.distribution.ppf(u[:, j]) for j, p in enumerate(priors)}
+    groups: dict = {}
+    for p in priors:
+        groups.setdefault("" if block_of is None else block_of(p.path), []).append(p)
+    out = {}
+    for block, members in groups.items():
+        stream = seed if block_of is None else np.random.SeedSequence([seed, zlib.crc32(block.encode())])
+        rng = np.random.default_rng(stream)
+        u = qmc.Sobol(d=len(members), scramble=True, seed=rng).random(n)
+        u = np.clip(u, 1e-12, 1.0 - 1e-12)  # the open interval every ppf takes
+        out.update({p.path: p.distribution.ppf(u[:, j]) for j, p in enumerate(members)})
+    return {p.path: out[p.path] for p in priors}
 
 
 def log_scores(rows: tuple[EvidenceRow, ...], simulated: np.ndarray) -> np.ndarray:
