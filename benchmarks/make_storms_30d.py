@@ -31,19 +31,25 @@ STORMS = (
 COMMON = dict(background_hs=0.4, background_current=0.05, wave_from=270.0, current_to=0.0, total_h=PIECE_H)
 
 
-def storms_30d() -> Forcing:
-    """The three storms' pieces joined: each piece holds hours 0..240, and the next starts where it
-    ends (its first record, equal in Hs, current and level, replaces the piece's last)."""
+def join_storms(storms, source: str) -> Forcing:
+    """The storms' pieces joined: each piece (a storm_series of one ``storms`` row) holds hours
+    0..240, and the next starts where it ends (its first record, equal in Hs, current and level,
+    replaces the piece's last)."""
     pieces = [
         storm_series(hs, tp, dur, peak_h=peak, current=cur, surge=surge, **COMMON)
-        for hs, tp, dur, peak, cur, surge in STORMS
+        for hs, tp, dur, peak, cur, surge in storms
     ]
     last = len(pieces) - 1
     keep = [slice(None) if k == last else slice(None, -1) for k in range(len(pieces))]
     time = np.concatenate([p.time[s] + k * PIECE_H * 3600.0 for k, (p, s) in enumerate(zip(pieces, keep))])
     names = ("hs", "tp", "wave_from", "current_speed", "current_to", "water_level")
     arrays = {n: np.concatenate([getattr(p, n)[s] for p, s in zip(pieces, keep)]) for n in names}
-    return Forcing(time=time, start=START, source="storms_30d (three synthetic storms)", **arrays)
+    return Forcing(time=time, start=START, source=source, **arrays)
+
+
+def storms_30d() -> Forcing:
+    """The three storms joined (:func:`join_storms`)."""
+    return join_storms(STORMS, "storms_30d (three synthetic storms)")
 
 
 if __name__ == "__main__":

@@ -13,33 +13,21 @@ of 0.2 mm sand in 12 m of water, so the pit infills between them while the mine 
 
 import sys
 
-import numpy as np
+from make_storms_30d import join_storms
 
 from mineburial.ensembles.scour import SHIPPED
-from mineburial.io.forcing import Forcing, storm_series, write_csv
+from mineburial.io.forcing import Forcing, write_csv
 
-START = np.datetime64("2003-01-05T00:00:00", "ns")
-PIECE_H = 240.0
 #: (peak_hs m, peak_tp s, duration_h, peak_h within the piece, current m/s, surge m)
 STORMS = (
     (1.4, 9.0, 48.0, 72.0, 0.2, 0.1),
     (1.6, 10.0, 48.0, 72.0, 0.2, 0.1),
 )
-COMMON = dict(background_hs=0.4, background_current=0.05, wave_from=270.0, current_to=0.0, total_h=PIECE_H)
 
 
 def two_storms() -> Forcing:
-    """The two storms' pieces joined (the next piece's first record replaces a piece's last)."""
-    pieces = [
-        storm_series(hs, tp, dur, peak_h=peak, current=cur, surge=surge, **COMMON)
-        for hs, tp, dur, peak, cur, surge in STORMS
-    ]
-    last = len(pieces) - 1
-    keep = [slice(None) if k == last else slice(None, -1) for k in range(len(pieces))]
-    time = np.concatenate([p.time[s] + k * PIECE_H * 3600.0 for k, (p, s) in enumerate(zip(pieces, keep))])
-    names = ("hs", "tp", "wave_from", "current_speed", "current_to", "water_level")
-    arrays = {n: np.concatenate([getattr(p, n)[s] for p, s in zip(pieces, keep)]) for n in names}
-    return Forcing(time=time, start=START, source="two_storms (two synthetic storms)", **arrays)
+    """The two storms' pieces joined as make_storms_30d.py joins its three (:func:`join_storms`)."""
+    return join_storms(STORMS, "two_storms (two synthetic storms)")
 
 
 if __name__ == "__main__":
