@@ -476,19 +476,6 @@ def test_refusals_name_what_is_missing_or_unreadable(tmp_path):
         wp.load_wave_point(tmp_path / "fp_s.nc", 48.3, 351.0)
 
 
-def test_grib_needs_cfgrib_or_is_refused_in_one_line(tmp_path):
-    try:
-        import cfgrib  # noqa: F401
-
-        pytest.skip("cfgrib is installed here")
-    except ImportError:
-        pass
-    path = tmp_path / "era5.grib"
-    path.write_bytes(b"GRIB" + bytes(100))
-    with pytest.raises(ScenarioError, match=r"GRIB file needs the optional reader cfgrib"):
-        wp.load_wave_point(path, 54.0, 10.0)
-
-
 def test_time_interpolation_keeps_records_and_is_linear_between():
     t = np.array([0.0, 10800.0, 21600.0])
     times = wp.stage_times(t)

@@ -66,15 +66,18 @@ STEP_S = 3600.0
 #: documented variable names of each product, read after the CF standard names (in this order):
 #: ERA5 (ECMWF parameter short names: swh 140229, pp1d 140231, mwp 140232 = Tm-1,0, mp1 140220,
 #: mp2 140221, mwd 140230), Copernicus Marine global/regional wave products (VHM0, VTPK, VTM10,
-#: VTM02, VMDR, VPED) and WAVEWATCH III ww3_ounf (hs, tp, fp, t01, t02, t0m1, dir, dp)
+#: VTM02, VMDR, VPED) and WAVEWATCH III ww3_ounf (hs, tp, fp, t01, t02, t0m1, dir, dp); in GRIB,
+#: as cfgrib names them by ecCodes' short names: ERA5's as above, NCEP's WAVEWATCH III GRIB2 swh
+#: (HTSGW, 10-0-3), perpw (PERPW, 10-0-11, "primary wave mean period", read as the peak period: NCEP's
+#: products derive it from the spectral peak, as recalled, unverified) and dirpw (DIRPW, 10-0-10)
 PRODUCT_NAMES = {  # then this project's own names (docs/scour.md, Formats)
     "hs": ("swh", "VHM0", "hs"),
-    "tp": ("pp1d", "VTPK", "tp"),
+    "tp": ("pp1d", "VTPK", "tp", "perpw"),
     "fp": ("fp",),
     "tm01": ("mp1", "t01", "tm01"),
     "tm02": ("mp2", "VTM02", "t02", "tm02"),
     "tm_10": ("mwp", "VTM10", "t0m1", "tm_10"),
-    "wave_dir": ("mwd", "VMDR", "dir", "VPED", "dp", "wave_dir"),
+    "wave_dir": ("mwd", "VMDR", "dir", "VPED", "dp", "wave_dir", "dirpw"),
 }
 #: standard names searched first, in this order (the first found wins). WAVEWATCH III labels its
 #: total-sea mean periods sea_surface_wind_wave_..., which CF reserves for the wind-sea partition:
@@ -334,26 +337,80 @@ def interpolate_time(seconds, values, times):
 # --- reading -------------------------------------------------------------------------------------------
 
 
+def grib_reader():
+    """Import the optional GRIB reader cfgrib (ImportError without it), after pyproj where pyproj
+    is installed: with the wheels of eccodeslib 2.50 and pyproj 3.7 a process that loads ecCodes
+    before PROJ aborts at exit (double free; measured: ``python -c "import eccodes, pyproj"`` exits
+    134, ``import pyproj, eccodes`` 0), after its work is done but with a failed exit status."""
+    try:
+        import pyproj  # noqa: F401  # local import: optional (GeoTIFF), loaded before ecCodes, above
+    except ImportError:
+        pass
+    import cfgrib  # local import: the optional GRIB reader
+
+    return cfgrib
+
+
 def _open(path, where, max_bytes):
     fio._regular_file(path, where, max_bytes)
     suffix = path.suffix.lower()
     if suffix in GRIB_SUFFIXES:
         try:
-            import cfgrib  # noqa: F401  # local import: the optional GRIB reader
+            grib_reader()
         except ImportError:
             raise ScenarioError(
                 f"{where}: a GRIB file needs the optional reader cfgrib with ecCodes "
                 "(pip install cfgrib eccodes), not installed here; or convert it to NetCDF "
                 "(e.g. ecCodes' grib_to_netcdf, or the Climate Data Store's NetCDF download)"
             ) from None
-        engine = "cfgrib"
-    else:
-        engine = None
+        try:  # indexpath "": cfgrib writes no index file beside the user's file
+            ds = xr.open_dataset(
+                path,
+                engine="cfgrib",
+                decode_times=False,
+                decode_timedelta=False,
+                backend_kwargs={"indexpath": ""},
+            )
+        except Exception as exc:  # noqa: BLE001  # cfgrib/ecCodes raise their own types on a bad file
+            first = str(exc).splitlines()[0] if str(exc) else ""
+            raise ScenarioError(
+                f"{where}: cannot open as GRIB ({type(exc).__name__}: {first[:120]})"
+            ) from None
+        return _grib_valid_time(ds, where)
     try:
-        return xr.open_dataset(path, engine=engine, decode_times=False, decode_timedelta=False)
+        return xr.open_dataset(path, decode_times=False, decode_timedelta=False)
     except (OSError, ValueError, RuntimeError, TypeError, KeyError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise ScenarioError(f"{where}: cannot open as NetCDF ({type(exc).__name__}: {first[:120]})") from None
+
+
+def _grib_valid_time(ds, where):
+    """cfgrib's layout with the valid time as the ``time`` axis. cfgrib names the forecast's
+    reference time ``time`` (standard_name forecast_reference_time), its lead ``step`` and their
+    sum ``valid_time``: an analysis series (ERA5) has ``time`` as its axis (step 0), a forecast
+    (WAVEWATCH III's GRIB2) ``step`` (one reference time). The stage needs the time each field is
+    valid at, so ``valid_time`` replaces whichever axis it runs along; a file with several
+    reference times *and* several steps is refused (select one of them first)."""
+    vt = ds.variables.get("valid_time")
+    if vt is None:
+        return ds
+    if vt.ndim == 0:
+        ds.close()
+        raise ScenarioError(
+            f"{where}: the GRIB file holds fields valid at one time only; allowed: a series of at "
+            "least two times"
+        )
+    if vt.ndim != 1:
+        ds.close()
+        raise ScenarioError(
+            f"{where}: a GRIB file with several reference times and several forecast steps "
+            f"(valid_time of dimensions {vt.dims}); allowed: one of them (select one reference time "
+            "or one step first, e.g. with grib_copy)"
+        )
+    axis = vt.dims[0]
+    drop = [c for c in ("time", "step") if c in ds.variables and c != axis]
+    out = ds.swap_dims({axis: "valid_time"}).drop_vars(drop + [axis]).rename({"valid_time": "time"})
+    return out
 
 
 def _si(key, name, values, units, where):
