@@ -15,13 +15,21 @@ it, under its lock, so threads are safe); after that, each read looks the module
 reads its attribute. ``tests/test_deferred_imports.py`` checks that loading the default
 ensemble and sampling a chunk imports neither library. Type annotations stay strings
 (``from __future__ import annotations``).
+
+Before xarray, pyproj is imported where both it and cfgrib are installed (the extras
+``geotiff`` and ``grib``): xarray imports every installed backend when it first opens a file,
+cfgrib's loads ecCodes, and with the wheels of eccodeslib 2.50 and pyproj 3.7 a process that
+loads ecCodes before PROJ aborts at exit (``python -c "import eccodes, pyproj"`` exits 134,
+the other order 0), after its work is done but with a failed exit status (docs/scour.md, GRIB).
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.util
+import sys
 
-__all__ = ["DeferredModule", "netCDF4", "xarray"]
+__all__ = ["DeferredModule", "netCDF4", "proj_before_eccodes", "xarray"]
 
 
 class DeferredModule:
@@ -33,10 +41,20 @@ class DeferredModule:
         self._name = name
 
     def __getattr__(self, attribute: str):
+        if self._name == "xarray" and "xarray" not in sys.modules:
+            proj_before_eccodes()
         return getattr(importlib.import_module(self._name), attribute)
 
     def __repr__(self) -> str:
         return f"<module {self._name!r}, imported at its first use>"
+
+
+def proj_before_eccodes() -> None:
+    """Import pyproj first where cfgrib is installed too (module docstring)."""
+    if "pyproj" in sys.modules or "eccodes" in sys.modules:
+        return
+    if importlib.util.find_spec("cfgrib") is not None and importlib.util.find_spec("pyproj") is not None:
+        importlib.import_module("pyproj")
 
 
 xarray = DeferredModule("xarray")

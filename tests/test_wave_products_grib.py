@@ -10,6 +10,7 @@ reader gets back), interpolated with scipy's RegularGridInterpolator and numpy.i
 from __future__ import annotations
 
 import datetime as dt
+import subprocess
 import sys
 
 import numpy as np
@@ -196,3 +197,19 @@ def test_without_cfgrib_a_grib_file_is_refused_with_the_extra_to_install(tmp_pat
     path.write_bytes(b"GRIB" + bytes(100))
     with pytest.raises(ScenarioError, match=r"GRIB file needs the optional reader cfgrib"):
         wp.load_wave_point(path, 54.0, 10.0)
+
+
+def test_a_process_with_cfgrib_and_pyproj_installed_exits_cleanly_after_opening_a_netcdf(tmp_path):
+    """xarray imports every backend at its first open (cfgrib's loads ecCodes); mineburial imports
+    pyproj before xarray where both are installed, so the process exits 0 (ecCodes first: 134)."""
+    pytest.importorskip("pyproj")
+    path = tmp_path / "plain.nc"
+    code = (
+        "import numpy as np, sys\n"
+        "from mineburial._deferred import xarray as xr\n"
+        f"xr.Dataset({{'a': ('t', np.arange(3.0))}}).to_netcdf({str(path)!r})\n"
+        f"assert float(xr.open_dataset({str(path)!r})['a'].sum()) == 3.0\n"
+        "assert 'eccodes' in sys.modules and 'pyproj' in sys.modules\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]

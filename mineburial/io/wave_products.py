@@ -34,6 +34,7 @@ import pathlib
 import numpy as np
 
 from mineburial import resources
+from mineburial._deferred import proj_before_eccodes
 from mineburial._deferred import xarray as xr
 from mineburial.io import forcing as fio
 from mineburial.sediment_profiles import ScenarioError
@@ -338,14 +339,10 @@ def interpolate_time(seconds, values, times):
 
 
 def grib_reader():
-    """Import the optional GRIB reader cfgrib (ImportError without it), after pyproj where pyproj
-    is installed: with the wheels of eccodeslib 2.50 and pyproj 3.7 a process that loads ecCodes
-    before PROJ aborts at exit (double free; measured: ``python -c "import eccodes, pyproj"`` exits
-    134, ``import pyproj, eccodes`` 0), after its work is done but with a failed exit status."""
-    try:
-        import pyproj  # noqa: F401  # local import: optional (GeoTIFF), loaded before ecCodes, above
-    except ImportError:
-        pass
+    """Import the optional GRIB reader cfgrib (ImportError without it), after pyproj where both
+    are installed (:func:`mineburial._deferred.proj_before_eccodes`: ecCodes loaded before PROJ
+    aborts the process at exit)."""
+    proj_before_eccodes()
     import cfgrib  # local import: the optional GRIB reader
 
     return cfgrib
