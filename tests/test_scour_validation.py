@@ -39,11 +39,13 @@ def test_each_band_row_passes_exactly_when_the_published_band_holds(rows):
         r = row(rows, start)
         assert r.passed == (lo <= r.model <= hi), start
     info = [r for r in rows.values() if "information" in r.quantity]
-    # 5, and the two bands' sensitivity to the assumed forcing (issue 33 item 8): Oahu at 24 and
-    # 72 h, Halekulani at Tp 10 and 14 s and 24 and 72 h
-    assert len(info) == 11 and all(r.passed is None and r.result == "info" for r in info)
+    # 5, and the bands' sensitivity to the assumed forcing (issue 33 item 8): Oahu at 24 and 72 h,
+    # Halekulani at Tp 10 and 14 s and 24 and 72 h, IRB fine sand at peak Hs 1 and 2 m and Tp 9 s;
+    # and the IRB fine sand at its two printed site depths
+    assert len(info) == 16 and all(r.passed is None and r.result == "info" for r in info)
     sensitivity = [r for r in info if "sensitivity to the assumed forcing" in r.quantity]
-    assert len(sensitivity) == 6 and {r.reference for r in sensitivity} == {"0.75-1", "0.4-0.6"}
+    assert len(sensitivity) == 9
+    assert {r.reference for r in sensitivity} == {"0.75-1", "0.4-0.6", "0.745-1"}
 
 
 def test_the_indian_rocks_beach_rows_that_cannot_fail_are_information(rows):
@@ -115,3 +117,59 @@ def test_coarse_sand_stays_below_the_exposure_limit_and_the_fine_sand(rows):
     theta = peak_theta(1.5, 7.0, 13.5, 6.0e-4, 2650.0)
     assert coarse.model == pytest.approx(1.3 * theta**0.36, rel=1e-2)
     assert coarse.model < row(rows, "B/D after 60 days of weekly fronts").model
+
+
+# Wolfson, Naar, Howd, Locker, Donahue, Friedrichs, Trembanis, Richardson & Wever (2007), "Multibeam
+# observations of mine burial near Clearwater, FL, including comparisons to predictions of
+# wave-induced burial", IEEE J. Oceanic Eng. 32(1), abstract (read in the source's text): "two
+# fine-sand sites, a shallow one located in 13 m of water depth and a deep site located in 14 m",
+# surveys "between January and March 2003", and the mines in fine sand "are nearly buried within two
+# months of deployment (i.e., they sunk 74.5% or more below the ambient seafloor depth)".
+WOLFSON_DEPTHS = (13.0, 14.0)
+WOLFSON_LOWER = 0.745  # "74.5% or more"
+WOLFSON_DAYS = 60.0  # "within two months"
+
+
+def test_irb_fine_row_reads_wolfson_et_al_2007_as_a_lower_bound(rows):
+    """The row's band and inputs are the printed numbers: 74.5 % or more, at most the whole
+    diameter ('nearly buried'); a series of two months; the event depth between the two printed
+    fine-sand sites, and one information row at each of them; fine sand (Wentworth 0.125-0.25 mm)
+    of quartz. The row can fail: a model with no scour at all (B/D = 0) lies outside it."""
+    r = row(rows, "B/D two months into the IRB fine-sand deployment")
+    assert C.SCOUR_IRB_FINE_BAND == (WOLFSON_LOWER, 1.0)
+    assert r.reference == "0.745-1" and "74.5 % or more" in r.source and "Wolfson et al. 2007" in r.source
+    assert r.passed == (WOLFSON_LOWER <= r.model <= 1.0) and r.result in ("pass", "FAIL")
+    assert not (WOLFSON_LOWER <= 0.0 <= 1.0)  # no scour fails it: the row is counted, not information
+    ev = C.SCOUR_EVENTS["irb"]
+    assert ev["total_h"] / 24.0 == WOLFSON_DAYS
+    assert WOLFSON_DEPTHS[0] <= ev["depth"] <= WOLFSON_DEPTHS[1]
+    assert C.SCOUR_IRB_DEPTHS == WOLFSON_DEPTHS
+    assert 1.25e-4 <= C.SCOUR_FINE <= 2.5e-4 and C.SCOUR_QUARTZ == 2650.0
+    for h in WOLFSON_DEPTHS:
+        assert row(rows, f"B/D IRB fine sand at the {h:g} m site").reference == "0.745-1"
+
+
+def test_irb_fine_rows_reach_the_burial_law_at_the_peak_of_each_assumed_front(rows):
+    """Each IRB fine-sand row (the band and its information rows) is the Rennie et al. (2017)
+    B_eq/D = 1.3 theta^0.36 of its peak sea state, theta from scipy's quadrature of the JONSWAP bed
+    velocity (independent of the stage's orbital table): the fronts reach equilibrium. Burial rises
+    with the assumed peak Hs, and 2 m fronts still stay below the printed 74.5 %."""
+    ev = C.SCOUR_EVENTS["irb"]
+    cases = {
+        "B/D two months into the IRB fine-sand deployment": (ev["peak_hs"], ev["peak_tp"], ev["depth"]),
+        "B/D IRB fine sand at the 13 m site": (ev["peak_hs"], ev["peak_tp"], 13.0),
+        "B/D IRB fine sand at the 14 m site": (ev["peak_hs"], ev["peak_tp"], 14.0),
+        "B/D IRB fine sand with the peak Hs = 1 m": (1.0, ev["peak_tp"], ev["depth"]),
+        "B/D IRB fine sand with the peak Hs = 2 m": (2.0, ev["peak_tp"], ev["depth"]),
+        "B/D IRB fine sand with the peak Tp = 9 s": (ev["peak_hs"], 9.0, ev["depth"]),
+    }
+    got = {}
+    for start, (hs, tp, h) in cases.items():
+        b_eq = 1.3 * peak_theta(hs, tp, h, 2.0e-4, 2650.0) ** 0.36
+        got[start] = row(rows, start).model
+        assert got[start] <= b_eq * (1 + 1e-4), start
+        assert got[start] == pytest.approx(b_eq, rel=1e-2), start
+    hs1 = got["B/D IRB fine sand with the peak Hs = 1 m"]
+    hs15 = got["B/D two months into the IRB fine-sand deployment"]
+    hs2 = got["B/D IRB fine sand with the peak Hs = 2 m"]
+    assert hs1 < hs15 < hs2 < WOLFSON_LOWER

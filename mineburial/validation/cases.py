@@ -1060,6 +1060,23 @@ SCOUR_OAHU_TP_RANGE = (10.0, 14.0)
 #: the storm durations (h) over which the two band rows are repeated as information: each band's
 #: sensitivity to the assumed forcing (issue 33 item 8), half and one and a half times the 48 h assumed
 SCOUR_DURATION_RANGE = (24.0, 72.0)
+#: Indian Rocks Beach fine sand as Wolfson et al. (2007, IEEE J. Oceanic Eng. 32(1), "Multibeam
+#: observations of mine burial near Clearwater, FL", abstract [text]) print it: the mines "are nearly
+#: buried within two months of deployment (i.e., they sunk 74.5% or more below the ambient seafloor
+#: depth)", at two fine-sand sites in 13 and 14 m. A LOWER bound with "nearly buried" above it: read
+#: as B/D in [0.745, 1] (as "about their diameter" is read 0.75-1 at Oahu). Wolfson's 2005 USF thesis
+#: (abstract) says "upwards of 74.5% buried"; the "up to 74.5 %" of the information row above is a
+#: misreading (docs/notes/scour_field_data.md). The forcing is not printed: the IRB fronts above.
+SCOUR_IRB_WOLFSON_SOURCE = (
+    "Wolfson et al. 2007, IEEE J. Oceanic Eng. 32(1), abstract: Indian Rocks Beach, Jan-Mar 2003, "
+    "fine-sand sites in 13 and 14 m"
+)
+SCOUR_IRB_FINE_BAND = (0.745, 1.0)
+#: the two fine-sand sites' depths (m) printed by Wolfson et al. 2007, and the peak Hs (m) and peak
+#: Tp (s) of the information rows showing the band's sensitivity to the assumed (unprinted) fronts
+SCOUR_IRB_DEPTHS = (13.0, 14.0)
+SCOUR_IRB_HS_RANGE = (1.0, 2.0)
+SCOUR_IRB_TP_ALT = 9.0
 
 
 def scour_event_forcing(peaks_h, peak_hs, peak_tp, duration_h, total_h, background_hs, depth):
@@ -1228,6 +1245,47 @@ def scour_field_bands(quick_only=False, figures=None):
             quick=True,
         )
     )
+    rows += _scour_irb_lower_bound_rows(irb)
+    return rows
+
+
+def _scour_irb_lower_bound_rows(irb):
+    """Indian Rocks Beach fine sand read as Wolfson et al. (2007) print it, 74.5 % or more below
+    the ambient bed within two months (:data:`SCOUR_IRB_FINE_BAND`), under the assumed weekly
+    fronts of :data:`SCOUR_EVENTS`; then, as information, the same at the two printed site depths
+    and at other peak Hs and Tp (the fronts are not printed: the band's sensitivity to them)."""
+    fine = {"d50": SCOUR_FINE, "rho_grain": SCOUR_QUARTZ}
+    b, theta = scour_final_burial(irb, **fine)
+    rows = [
+        _band_row(
+            "B/D two months into the IRB fine-sand deployment (weekly fronts Hs 1.5 m, Tp 7 s, 36 h; 13.5 m)",
+            f"{SCOUR_IRB_WOLFSON_SOURCE}: 'nearly buried', 74.5 % or more below the ambient seafloor",
+            SCOUR_IRB_FINE_BAND,
+            b,
+            f"quartz sand 0.2 mm, peak theta {theta:.3f}; the fronts are assumed (not printed)",
+            "'nearly buried': 74.5 % or more, at most the whole diameter",
+        )
+    ]
+    lo, hi = SCOUR_IRB_FINE_BAND
+    variants = [
+        (f"at the {h:g} m site (information: a printed site depth)", {"depth": h}) for h in SCOUR_IRB_DEPTHS
+    ]
+    variants += [(f"with the peak Hs = {hs:g} m", {"peak_hs": hs}) for hs in SCOUR_IRB_HS_RANGE]
+    variants += [(f"with the peak Tp = {SCOUR_IRB_TP_ALT:g} s", {"peak_tp": SCOUR_IRB_TP_ALT})]
+    assumed = " (information: the band's sensitivity to the assumed forcing)"
+    for what, change in variants:
+        b, _ = scour_final_burial({**irb, **change}, **fine)
+        rows.append(
+            Row(
+                "scour field bands",
+                f"B/D IRB fine sand {what}" + ("" if "depth" in change else assumed),
+                SCOUR_IRB_WOLFSON_SOURCE,
+                f"{lo:.3g}-{hi:.3g}",
+                b,
+                "B/D",
+                quick=True,
+            )
+        )
     return rows
 
 
