@@ -1030,8 +1030,6 @@ SCOUR_IRB_SOURCE = "Indian Rocks Beach, Jan-Mar 2003 (13-14 m, NRL report, Bower
 SCOUR_OAHU_THICK_BAND = (0.75, 1.0)
 #: Halekulani 2008: three of four mines at 40-60 % after two events of Hs ~ 1 m (one at 10 %)
 SCOUR_HALEKULANI_BAND = (0.40, 0.60)
-#: "up to 74.5 % burial within two months" (the largest of the mines; fine sand)
-SCOUR_IRB_MAX = 0.745
 #: ASSUMPTIONS common to every scour row (none of these is printed in the sources' summaries):
 #: the mine is the 0.53 m Oahu cylinder (D printed for Oahu only), placed proud (B0 = 0), density
 #: 1.5 x the water's (enters only the mobility flag); fine sand d50 = 0.2 mm (Wentworth's fine
@@ -1065,8 +1063,9 @@ SCOUR_DURATION_RANGE = (24.0, 72.0)
 #: buried within two months of deployment (i.e., they sunk 74.5% or more below the ambient seafloor
 #: depth)", at two fine-sand sites in 13 and 14 m. A LOWER bound with "nearly buried" above it: read
 #: as B/D in [0.745, 1] (as "about their diameter" is read 0.75-1 at Oahu). Wolfson's 2005 USF thesis
-#: (abstract) says "upwards of 74.5% buried"; the "up to 74.5 %" of the information row above is a
-#: misreading (docs/notes/scour_field_data.md). The forcing is not printed: the IRB fronts above.
+#: (abstract) says "upwards of 74.5% buried"; the "up to 74.5 %" (an upper bound, an information
+#: row until issue 33) was a misreading (docs/notes/scour_field_data.md). The forcing is not
+#: printed: the IRB fronts above.
 SCOUR_IRB_WOLFSON_SOURCE = (
     "Wolfson et al. 2007, IEEE J. Oceanic Eng. 32(1), abstract: Indian Rocks Beach, Jan-Mar 2003, "
     "fine-sand sites in 13 and 14 m"
@@ -1202,24 +1201,10 @@ def scour_field_bands(quick_only=False, figures=None):
             "three of four mines",
         )
     )
-    # the two Indian Rocks Beach rows cannot fail, so they are information, not passes: the fine-sand
-    # figure bounds burial from above only (a model with no scour, B/D = 0, lies within it too), and
-    # the coarse-sand cap is built into the stage from this very observation (the stage stops burial
-    # at the ripple height), so the row checks the chain against itself, not against the field
-    fine, theta = scour_final_burial(irb, d50=SCOUR_FINE, rho_grain=SCOUR_QUARTZ)
-    rows.append(
-        Row(
-            "scour field bands",
-            "B/D after 60 days of weekly fronts (Hs 1.5 m, Tp 7 s, 36 h), fine sand (information)",
-            f"{SCOUR_IRB_SOURCE}: up to 74.5 % within two months; quartz sand 0.2 mm, peak theta {theta:.3f}",
-            f"at most {SCOUR_IRB_MAX:.3g}",
-            fine,
-            "B/D",
-            "information: the source prints only the largest burial, an upper bound that a model with "
-            "no scour (B/D = 0) also meets, so no value below it can fail",
-            quick=True,
-        )
-    )
+    # the coarse-sand Indian Rocks Beach row cannot fail, so it is information, not a pass: the
+    # exposure limit is built into the stage from the MVCO observation, so the row checks the chain
+    # against itself, not against the field. (Its fine-sand row, read until issue 33 as an upper
+    # bound "up to 74.5 %" that no model could fail, is a lower bound: _scour_irb_lower_bound_rows)
     coarse, theta = scour_final_burial(irb, d50=SCOUR_COARSE, rho_grain=SCOUR_QUARTZ)
     eta = scour_max_ripple(scour_event_forcing(**irb), SCOUR_COARSE)
     w = scour_kernels.coarse_weight(
