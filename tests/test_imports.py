@@ -93,7 +93,7 @@ def test_graph_sees_function_local_imports():
     graph = import_graph()
     # mineburial/__init__.py imports these only inside its wrapper functions
     assert {"mineburial.drop", "mineburial.ensembles.runner"} <= graph["mineburial"]
-    assert "mineburial.maps" in graph["mineburial.cli"]  # imported inside _cmd_map only
+    assert "mineburial.maps" in graph["mineburial.systems.mine_commands"]  # inside the map command's run only
 
 
 def test_no_import_cycles():
