@@ -748,6 +748,9 @@ def summary_lines(ds) -> list[str]:
     if "scour_mobile_probability" in ds:
         values = " ".join(f"{v:.3f}" for v in ds["scour_mobile_probability"].values)
         lines.append(f"  would move at each lead time (scour_mobile_probability): {values}")
+    if "scour_tilt_mean" in ds:  # rest_attitude = "impact"
+        values = " ".join(f"{v:.1f}" for v in ds["scour_tilt_mean"].values)
+        lines.append(f"  mean tilt [deg] at each lead time (scour_tilt_mean): {values}")
     return lines
 
 
