@@ -653,9 +653,10 @@ def settled_high_end(b, h, s, dt, rate):
     """Depth [m] below the far-field bed of the higher end's lowest point after dt, the mine's
     lowest point (the deeper end) following :func:`settled_burial`. Both ends fall with the bed
     (``rate`` dt, the tilt kept). Then: a pit at least as deep as the lower end, ``s >= max(B -
-    rate dt, 0)``, has undermined the whole mine, which lies in it (a lower end lowered to the bed
-    itself, B = 0 = s, leaves nothing embedded: the mine lies on the bed) (both ends at ``s``: the mines "fell into their own scour pits ... and became level",
-    Traykovski et al. 2007; "mine roll into the resulting pit", Baeye et al. 2011); else an end that
+    rate dt, 0)``, has undermined the whole mine, which lies in it, both ends at ``s`` (the mines
+    "fell into their own scour pits ... and became level", Traykovski et al. 2007; "mine roll into
+    the resulting pit", Baeye et al. 2011; a lower end lowered to the bed itself, B = 0 = s, leaves
+    nothing embedded: the mine lies on the bed); else an end that
     rests in the sand (H >= 0) settles into the pit beside it, max(H, s) (Whitehouse 1998; Trembanis
     et al. 2007; Friedrichs et al. 2016: scour and settle, applied to each end), so the mine levels
     about its lower end as the pit passes the higher; a proud end (H < 0, held up by the embedded
