@@ -43,6 +43,8 @@ SCOUR_TSTAR_LAWS = ("whitehouse", "pipeline", "pile_waves")
 # scour burial laws and mobility criteria (kernels.mine.scour: BURIAL_*, MOBILITY_* are these indices)
 SCOUR_BURIAL_LAWS = ("rennie", "scour_settle")
 SCOUR_MOBILITY_NAMES = ("proud", "pocket")
+# the scour stage's rest attitude at lead 0 (kernels.mine.scour: REST_* are these indices)
+SCOUR_REST_ATTITUDES = ("flat", "impact")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
 LAB_STRAIN_RATE = 0.01 / 3600.0
@@ -935,6 +937,20 @@ TABLE: tuple[Field, ...] = (
             "of a lying cylinder rolling out of a depression of depth B (docs/scour.md, Mobility)"
         ),
         "proud",
+        slot=False,
+        sampled=False,
+    ),
+    _choice(
+        "scour.rest_attitude",
+        SCOUR_REST_ATTITUDES,
+        (
+            "the mine's attitude at lead time 0 (a model-form choice, docs/scour.md, Tilt): `flat`, the "
+            "cylinder laid level with the impact's buried volume (the first version's); `impact`, the "
+            "impact's own rest attitude, its tilt a state: the two ends' depths, each settling into the "
+            "pit where it rests in the sand, so the mine levels as the pit passes its higher end and lies "
+            'in the pit once the pit reaches its lower end (needs `burial_law = "scour_settle"`)'
+        ),
+        "flat",
         slot=False,
         sampled=False,
     ),

@@ -371,13 +371,13 @@ def test_every_key_of_the_scour_section_is_a_declared_field_listed_in_its_doc_ta
     block = doc.split("<!-- table scour:")[1].split("<!-- end of table scour")[0]
     listed = [line.split("|")[1].strip().strip("`") for line in block.splitlines()[3:]]
     # the keys its reader accepted before they were declared (mineburial/ensembles/scour.py, ee0fb46);
-    # issue 33 added burial_law ... mobility_drag (the scour-and-settle law's)
+    # issue 33 added burial_law ... mobility_drag (the scour-and-settle law's; rest_attitude: the tilt)
     assert listed == list(scour.KEYS) == [
         "forcing", "storm", "forcing_grid", "forcing_location", "lead_times_days", "burial_levels",
         "cohesive", "tstar_law", "window_days", "d50", "grain_density", "mobile_layer", "beq_a", "beq_b",
         "theta_exponent", "ripple_exposure", "burial_law", "wave_a", "wave_kc_exponent", "infill_days",
-        "bed_lowering_rate", "mobility", "mobility_drag", "hs_scale", "window_position", "orbital",
-        "friction",
+        "bed_lowering_rate", "mobility", "rest_attitude", "mobility_drag", "hs_scale", "window_position",
+        "orbital", "friction",
     ]  # fmt: skip
 
 

@@ -40,7 +40,7 @@ from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
 from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
-from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops
+from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops_ends
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
 #: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
@@ -66,6 +66,7 @@ CHOICES = {
     "friction": sc.S_FRICTION,
     "burial_law": sc.S_BURIAL_LAW,
     "mobility": sc.S_MOBILITY,
+    "rest_attitude": sc.S_REST_ATTITUDE,
 }
 #: the fields only the scour-and-settle law reads (left out of the resolved section under rennie)
 SETTLE_ONLY = ("wave_a", "wave_kc_exponent", "infill_days", "bed_lowering_rate")
@@ -87,6 +88,7 @@ assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
 assert cfg.SCHEMA["scour.tstar_law"].choices == tuple(sc.TSTAR_LAWS)
 assert cfg.SCHEMA["scour.burial_law"].choices[sc.BURIAL_SCOUR_SETTLE] == "scour_settle"
 assert cfg.SCHEMA["scour.mobility"].choices[sc.MOBILITY_POCKET] == "pocket"
+assert cfg.SCHEMA["scour.rest_attitude"].choices[sc.REST_IMPACT] == "impact"
 assert {*NUMERIC, *CHOICES} <= set(KEYS)
 
 
@@ -115,6 +117,8 @@ class ScourSpec:
             "cohesive": self.cohesive,
         }
         out.update(self.conventions)
+        if out.get("rest_attitude") == "flat":  # the default: a flat section resolves as before it existed
+            del out["rest_attitude"]
         unused = set()  # the coefficients of a law or criterion the section does not use
         if self.conventions.get("burial_law", "rennie") != "scour_settle":
             unused.update(SETTLE_ONLY)
@@ -326,6 +330,11 @@ def parse(sec, base_dir=None, depth=None, classes=()) -> ScourSpec:
         name: cfg._check(f"scour.{name}", sec.get(name, cfg.SCHEMA[f"scour.{name}"].default))
         for name in CHOICES
     }
+    if conventions["rest_attitude"] == "impact" and conventions["burial_law"] != "scour_settle":
+        raise cfg.ScenarioError(
+            f'scour.rest_attitude = "impact" needs scour.burial_law = "scour_settle" (the tilt settles '
+            f'into a scour pit, a state of its own; got burial_law = "{conventions["burial_law"]}")'
+        )
     if depth is not None:  # the one-line error of a bed that falls dry or below the stage's floor
         forcing.kernel_arrays(depth, values["d50"])
     return ScourSpec(leads, levels, law, cohesive, values, forcing, record, window, conventions, from_class)
@@ -485,22 +494,23 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     codes = np.empty(n, dtype=np.int8)
     pit = np.empty((n, leads.size))
     mobile_lead = np.empty((n, leads.size))
+    tilt = np.empty((n, leads.size))
     depth = np.ascontiguousarray(P[:, layout.P_DEPTH])
     run = run.astype(np.uint8)
     level, table = np.array(f.water_level), _orbital_table()
     start, length = window_starts(spec, inputs, n)
 
     def stage(a, b):  # rows [a, b): each drop's stage reads and writes only its own rows
-        scour_drops(
+        scour_drops_ends(
             S[a:b], scale[a:b], depth[a:b], run[a:b], P[a:b], rest[a:b], t, hs, tp, wdir, uc, cdir,
             level, start[a:b], length, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b],
-            codes[a:b], pit[a:b], mobile_lead[a:b],
+            codes[a:b], pit[a:b], mobile_lead[a:b], tilt[a:b],
         )  # fmt: skip
 
     # in blocks on the drops' runner: Ctrl-C ends the stage within about a block, as the
     # impact phase (the chunk is then not kept), and the stage uses every thread
     run_blocks(n, stage, numba.get_num_threads())
-    return {
+    out = {
         "scour:measures": measures,
         "scour:time_to": time_to / DAY,
         "scour:mobile": mobile / DAY,
@@ -513,12 +523,16 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         # each drop's lead time 0 [s after the forcing's first record] (forecast_reference_time)
         "scour:window_start": np.asarray(start, dtype=np.float64),
     }
+    if spec.conventions.get("rest_attitude") == "impact":
+        out["scour:tilt"] = tilt  # the tilt [deg] at each lead time (docs/scour.md, Tilt)
+    return out
 
 
 def bytes_a_drop(spec: ScourSpec) -> int:
     """Bytes of the stage's per-drop values of a ``[scour]`` section ``spec``."""
     n_lead = len(spec.lead_times_days)
-    return 8 * ((len(MEASURE_NAMES) + 2) * n_lead + len(spec.burial_levels) + 2) + 2
+    tilt = 1 if spec.conventions.get("rest_attitude") == "impact" else 0
+    return 8 * ((len(MEASURE_NAMES) + 2 + tilt) * n_lead + len(spec.burial_levels) + 2) + 2
 
 
 def _per_drop(spec: ScourSpec, chunks):
@@ -636,6 +650,9 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
             dtype=np.float64,
         )
     stats["scour_pit_depth_mean"] = V.variable("scour_pit_depth_mean").data_array(pit_mean)
+    tilt = _per_drop_tilt(chunks)
+    if tilt is not None:  # rest_attitude = "impact": the tilt state's statistics (docs/scour.md, Tilt)
+        stats = stats.assign(tilt_statistics(tilt[ok], stats["quantile"].values))
     parts = [ds, stats]
     if per_drop:
         data = {
@@ -647,6 +664,8 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
         data["scour_status"] = V.variable("scour_status").data_array(codes)
         data["scour_pit_depth"] = V.variable("scour_pit_depth").data_array(pit)
         data["scour_mobile_at_lead_time"] = V.variable("scour_mobile_at_lead_time").data_array(mobile_lead)
+        if tilt is not None:
+            data["scour_tilt"] = V.variable("scour_tilt").data_array(tilt)
         parts.append(
             xr.Dataset(data, coords={"realization": ds["realization"], "lead_time": stats["lead_time"]})
         )
@@ -660,6 +679,32 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
         attrs[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
     out.attrs = attrs
     return out
+
+
+def _per_drop_tilt(chunks):
+    """The tilt [deg] of the chunks' drops at each lead time (drops x lead times), or None when the
+    section lays the mine flat (``rest_attitude = "flat"``: no tilt state)."""
+    if not chunks or not all("scour:tilt" in r for r in chunks):
+        return None
+    return np.concatenate([r["scour:tilt"] for r in chunks])
+
+
+def tilt_statistics(tilt, quantiles) -> dict:
+    """``scour_tilt_mean`` and ``scour_tilt_quantile`` (type 7) of ``tilt`` (drops x lead times,
+    the drops whose stage ran) over its finite values at each lead time; NaN where there are none."""
+    q = np.asarray(quantiles, dtype=np.float64)
+    n_lead = tilt.shape[1]
+    mean = np.full(n_lead, np.nan)
+    quant = np.full((n_lead, q.size), np.nan)
+    for j in range(n_lead):
+        col = tilt[:, j][np.isfinite(tilt[:, j])]
+        if col.size:
+            mean[j] = np.mean(col)
+            quant[j] = np.quantile(col, q, method="linear")
+    return {
+        "scour_tilt_mean": V.variable("scour_tilt_mean").data_array(mean),
+        "scour_tilt_quantile": V.variable("scour_tilt_quantile").data_array(quant),
+    }
 
 
 def mobile_by_lead_time(mobile_days, lead_days) -> np.ndarray:
@@ -703,6 +748,9 @@ def summary_lines(ds) -> list[str]:
     if "scour_mobile_probability" in ds:
         values = " ".join(f"{v:.3f}" for v in ds["scour_mobile_probability"].values)
         lines.append(f"  would move at each lead time (scour_mobile_probability): {values}")
+    if "scour_tilt_mean" in ds:  # rest_attitude = "impact"
+        values = " ".join(f"{v:.1f}" for v in ds["scour_tilt_mean"].values)
+        lines.append(f"  mean tilt [deg] at each lead time (scour_tilt_mean): {values}")
     return lines
 
 

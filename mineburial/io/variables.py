@@ -813,7 +813,8 @@ _LAY_FLAT = (
     "those of a lying cylinder; docs/scour.md, Rest attitude). Burial by volume at lead 0 equals the "
     "impact's; height proud, burial by height and area, and penetration depth (the lowest point) of a "
     "mine that came to rest tilted or nose-down differ from the impact's (a mine standing on its "
-    "nose is much less proud once lying)."
+    'nose is much less proud once lying). Under scour.rest_attitude = "impact" the stage keeps the '
+    "impact's attitude instead (scour_tilt): every measure at lead 0 equals the impact's."
 )
 
 
@@ -860,6 +861,50 @@ def _scour_measure_variables() -> list[Variable]:
     return out
 
 
+# --- the tilt state of scour.rest_attitude = "impact" (issue 33 item 2; docs/scour.md, Tilt) --------
+#: the tilt's statistics: in a run's file only (maps do not carry them, as the pit depth)
+SCOUR_TILT_STATISTICS = ("scour_tilt_mean", "scour_tilt_quantile")
+_TILT = (
+    "Tilt of the mine's axis to the horizontal after the scour stage under scour.rest_attitude = "
+    '"impact" (absent under "flat", where the mine lies level): from the impact\'s rest attitude at '
+    "lead time 0, levelling as the scour pit undermines the higher end and 0 once the mine lies in its "
+    "pit (docs/scour.md, Tilt)."
+)
+
+
+def _scour_tilt_variables() -> list[Variable]:
+    """The tilt state per drop at each lead time, its mean and quantiles."""
+    return [
+        Variable(
+            "scour_tilt",
+            ("realization", "lead_time"),
+            "float64",
+            "degree",
+            "tilt of the mine's axis at the lead time",
+            f"{_TILT} NaN where the stage did not run (scour_status).",
+        ),
+        Variable(
+            "scour_tilt_mean",
+            ("lead_time",),
+            "float64",
+            "degree",
+            "mean tilt of the mine's axis at the lead time",
+            f"Arithmetic mean of scour_tilt {_SCOUR_BASIS}. {_TILT}",
+            attrs={"cell_methods": "realization: mean"},
+            group="statistics",
+        ),
+        Variable(
+            "scour_tilt_quantile",
+            ("lead_time", "quantile"),
+            "float64",
+            "degree",
+            "quantile of the tilt of the mine's axis at the lead time",
+            f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_tilt {_SCOUR_BASIS}. {_TILT}",
+            group="statistics",
+        ),
+    ]
+
+
 def _scour_variables() -> list[Variable]:
     """The variables of the scour stage: the ``lead_time`` and ``burial_level`` coordinates, the
     statistics of each burial measure at each lead time, the burial-class probabilities per lead
@@ -870,6 +915,7 @@ def _scour_variables() -> list[Variable]:
         *_scour_time_variables(),
         *_scour_class_variables(),
         *_scour_measure_variables(),
+        *_scour_tilt_variables(),
     ]
 
 
@@ -1519,6 +1565,7 @@ MAP_SCOUR_STATISTICS = tuple(
     and "realization" not in var.dims
     and var.dims != (name,)
     and name not in ("scour_mobile_fraction_by_lead_time", "scour_mobile_probability", "scour_pit_depth_mean")
+    and name not in SCOUR_TILT_STATISTICS
 )
 #: the epistemic band of the class probabilities, in a map whose ensembles draw from a posterior
 MAP_EPISTEMIC = ("burial_class_probability_epistemic_lower", "burial_class_probability_epistemic_upper")

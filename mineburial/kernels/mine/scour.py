@@ -82,7 +82,11 @@ S_INFILL_TIME = 27  # time scale [s] of the pit's infill toward a shallower equi
 S_BED_RATE = 28  # far-field bed lowering rate [m/s], >= 0 (lowers the bed and re-exposes the mine)
 S_MOBILITY = 29  # MOBILITY_PROUD (the first version's flag) or MOBILITY_POCKET (burial-aware)
 S_MOB_CD = 30  # drag coefficient of the lying cylinder in the burial-aware criterion
-N_PARAMS = 31
+# --- issue 33 item 2: the tilt state (docs/scour.md, Tilt: the two ends as states) ---------------
+S_REST_ATTITUDE = 31  # REST_FLAT (the mine laid flat at lead 0) or REST_IMPACT (the impact's attitude)
+S_B0_HIGH = 32  # REST_IMPACT: depth [m] of the higher end's lowest point below the bed at lead 0 (< 0: proud)
+S_AXIS_SPAN = 33  # REST_IMPACT: axial span L [m] of the mine (tail to nose): sin(tilt) = (B - H)/L
+N_PARAMS = 34
 
 #: burial laws (S_BURIAL_LAW): the first version's single state B relaxing to D a theta^b
 #: (Rennie et al. 2017), and the scour-and-settle law (pit depth S and burial B as two states)
@@ -92,6 +96,11 @@ BURIAL_SCOUR_SETTLE = 1
 #: while B/D <= S_MOB_BURIAL_MAX) and the burial-aware pivot criterion (mobility_threshold_pocket)
 MOBILITY_PROUD = 0
 MOBILITY_POCKET = 1
+#: rest attitudes (S_REST_ATTITUDE): the mine laid flat at lead 0 with the impact's buried volume
+#: (the first version's, scour_batch.lying_burial), or the impact's own attitude, whose tilt is a
+#: state (the two ends' depths) that levels as the pit undermines the higher end (docs/scour.md, Tilt)
+REST_FLAT = 0
+REST_IMPACT = 1
 
 #: half-width, in phi units (phi = -log2(d50 / 1 mm), Krumbein), of the d50 interval over which the
 #: coarse-sand exposure limit blends in around S_RIPPLE_D50: from 0.354 to 0.707 mm about the
@@ -167,6 +176,9 @@ def default_parameters(**overrides):
     # a circular cylinder in cross-flow at subcritical Reynolds number, about 1.2 (Sumer & Fredsoe
     # 2006, Hydrodynamics around Cylindrical Structures, ch. 2, as recalled)
     p[S_MOB_CD] = 1.2
+    p[S_REST_ATTITUDE] = REST_FLAT  # the first version's: existing scenarios keep their answers
+    p[S_B0_HIGH] = 0.0
+    p[S_AXIS_SPAN] = 1.0
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -633,6 +645,99 @@ def is_mobile(p, u, b, theta_mob, b_proud):
     return b <= b_proud and theta_u > theta_mob
 
 
+# --- the tilt state: the two ends of the mine (issue 33 item 2; docs/scour.md, Tilt) ---------------
+
+
+@kernel
+def settled_high_end(b, h, s, dt, rate):
+    """Depth [m] below the far-field bed of the higher end's lowest point after dt, the mine's
+    lowest point (the deeper end) following :func:`settled_burial`. Both ends fall with the bed
+    (``rate`` dt, the tilt kept). Then: a pit at least as deep as the lower end, ``s >= max(B -
+    rate dt, 0)``, has undermined the whole mine, which lies in it, both ends at ``s`` (the mines
+    "fell into their own scour pits ... and became level", Traykovski et al. 2007; "mine roll into
+    the resulting pit", Baeye et al. 2011; a lower end lowered to the bed itself, B = 0 = s, leaves
+    nothing embedded: the mine lies on the bed); else an end that
+    rests in the sand (H >= 0) settles into the pit beside it, max(H, s) (Whitehouse 1998; Trembanis
+    et al. 2007; Friedrichs et al. 2016: scour and settle, applied to each end), so the mine levels
+    about its lower end as the pit passes the higher; a proud end (H < 0, held up by the embedded
+    one) stays. Our geometric choice; infill never lifts an end."""
+    bl = max(b - rate * dt, 0.0)
+    if s >= bl:
+        return s
+    hl = h - rate * dt
+    if hl >= 0.0:
+        return max(hl, s)
+    return hl
+
+
+@kernel
+def tilt_sine(b, h, span):
+    """sin of the tilt of the axis to the horizontal from the depths of the two ends' lowest
+    points: (B - H)/L, in [0, 1]."""
+    return min(max((b - h) / span, 0.0), 1.0)
+
+
+@kernel
+def mean_clipped_linear(y0, y1):
+    """Mean over [0, 1] of clip(y, 0, 1) for y linear from y0 to y1 (exact, piecewise)."""
+    if y0 == y1:
+        return min(max(y0, 0.0), 1.0)
+    lo = min(y0, y1)
+    hi = max(y0, y1)
+    w = hi - lo
+    # length-weighted: the part below 0 counts 0, above 1 counts 1, between the mean of the line
+    a = max(lo, 0.0)
+    e = min(hi, 1.0)
+    mid = 0.0
+    if e > a:
+        mid = (e - a) / w * 0.5 * (a + e)
+    top = 0.0
+    if hi > 1.0:
+        top = (hi - max(lo, 1.0)) / w
+    return mid + top
+
+
+@kernel
+def mobility_threshold_tilted(theta_rigid, b, h, diameter, span, cd):
+    """Critical object mobility parameter of a tilted, partly buried cylinder (``mobility =
+    "pocket"`` under ``rest_attitude = "impact"``): the rolling moment balance of
+    :func:`mobility_threshold_pocket` written per section along the axis and integrated. In the
+    section normal to the axis the bed lies (D - b_n) below the top, b_n(x) = d(x)/cos(beta),
+    d(x) the depth of the bottom line, linear from H (higher end) to B (lower end). A rigid roll
+    turns about a line parallel to the axis over the highest lip, the deepest section's:
+    cos(alpha) = 1 - 2 B/(D cos beta). Drag 1/2 rho C_D U^2 (D - b_n)+ per length, arm R cos(alpha);
+    the weight's part normal to the axis (rho_m - rho) g pi D^2/4 L cos(beta), arm R sin(alpha):
+    U^2/(g D (s - 1)) > (pi/(2 C_D)) tan(alpha) cos(beta)/e, e the mean over the axis of
+    clip(1 - b_n/D, 0, 1). Our derivation (docs/scour.md, Tilt); with H = B (level) it is
+    :func:`mobility_threshold_pocket` (same operations)."""
+    sb = tilt_sine(b, h, span)
+    cb = math.sqrt(1.0 - sb * sb) if sb > 0.0 else 1.0
+    if not cb > 0.0:
+        return math.inf
+    f = b / (diameter * cb)
+    tan_a = pocket_tangent(f)
+    if tan_a == math.inf or f >= 1.0:
+        return math.inf
+    if h == b:
+        e = 1.0 - f
+    else:
+        e = mean_clipped_linear(1.0 - h / (diameter * cb), 1.0 - f)
+    if not e > 0.0:
+        return math.inf
+    return max(theta_rigid, math.pi / (2.0 * cd) * tan_a * cb / e)
+
+
+@kernel
+def is_mobile_tilted(p, u, b, h, theta_mob, b_proud):
+    """:func:`is_mobile` of a tilted mine (lowest point ``b``, higher end ``h``): the pocket
+    criterion by :func:`mobility_threshold_tilted`; the proud one on the lowest point, as level."""
+    diameter = p[S_DIAMETER]
+    theta_u = mobility_parameter(u, diameter, p[S_MINE_SG], p[S_G])
+    if p[S_MOBILITY] == MOBILITY_POCKET:
+        return theta_u > mobility_threshold_tilted(theta_mob, b, h, diameter, p[S_AXIS_SPAN], p[S_MOB_CD])
+    return b <= b_proud and theta_u > theta_mob
+
+
 # --- the stage ---------------------------------------------------------------------------------------
 
 
@@ -773,6 +878,16 @@ def parameters_valid(p):
         return False
     if not p[S_MOB_CD] < math.inf:
         return False
+    attitude = p[S_REST_ATTITUDE]
+    if not (attitude == REST_FLAT or attitude == REST_IMPACT):
+        return False
+    if attitude == REST_IMPACT:  # the tilt needs the pit as a state apart from the mine's burial
+        if law != BURIAL_SCOUR_SETTLE or not (p[S_AXIS_SPAN] > 0.0 and p[S_AXIS_SPAN] < math.inf):
+            return False
+        if not (math.isfinite(p[S_B0_HIGH]) and p[S_B0_HIGH] <= p[S_B0]):
+            return False
+        if p[S_B0] - p[S_B0_HIGH] > p[S_AXIS_SPAN] * (1.0 + 1e-12):  # sin(tilt) <= 1
+            return False
     z = p[S_CURRENT_Z]
     if not (math.isfinite(z) and (z <= 0.0 or z >= 2.5 * p[S_D50])):
         return False
@@ -838,6 +953,18 @@ def scour_stage(p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, o
 
 @kernel
 def scour_stage_states(
+    p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, out_burial, out_time_to, out_pit,
+    out_mobile,
+):  # fmt: skip
+    """:func:`scour_stage_ends` without the higher end's depth (same arguments otherwise)."""
+    return scour_stage_ends(
+        p, t, hs, tp, wdir, uc, cdir, h, table, lead_times, fractions, out_burial, out_time_to, out_pit,
+        out_mobile, np.empty(lead_times.shape[0]),
+    )  # fmt: skip
+
+
+@kernel
+def scour_stage_ends(
     p,
     t,
     hs,
@@ -853,6 +980,7 @@ def scour_stage_states(
     out_time_to,
     out_pit,
     out_mobile,
+    out_high,
 ):
     """Post-impact scour burial of one mine over a forcing series.
 
@@ -867,7 +995,9 @@ def scour_stage_states(
     not within the forcing), ``out_pit`` the scour pit's depth [m] below the far-field bed at each
     lead time (the burial itself under BURIAL_RENNIE, whose one state is both), ``out_mobile`` 1.0
     where the mine would move at that lead time (the criterion S_MOBILITY selects, with the
-    forcing interval holding the lead time and the burial then), else 0.0 (NaN beyond the forcing).
+    forcing interval holding the lead time and the burial then), else 0.0 (NaN beyond the forcing),
+    ``out_high`` the depth [m] of the higher end's lowest point below the far-field bed (< 0: proud;
+    equal to the burial for a level mine: always under REST_FLAT, where the mine lies level).
     Returns (status, t_mobile, theta_max): the start [s] of the first interval in which the mine
     met the mobility criterion with its burial at that start (inf: never), and the largest Shields
     parameter met.
@@ -877,12 +1007,15 @@ def scour_stage_states(
     the pit S relaxes to :func:`pit_target`'s S_eq, growing with T and filling with S_INFILL_TIME
     (:func:`relax_pit`, monotone within an interval), and the mine's burial is pointwise
     max(B_self - r tau, S, 0) (:func:`settled_burial`), exact for a constant lowering rate r >= 0.
+    REST_IMPACT (scour and settle only): the mine keeps the impact's tilt, a second state, the depth H
+    of its higher end (:func:`settled_high_end`, pointwise as B); B is the lower end's, as level.
     The lead times are visited in sorted order with one pointer: O(N_intervals + N_leads log N_leads).
     """
     out_burial[:] = math.nan
     out_time_to[:] = math.inf
     out_pit[:] = math.nan
     out_mobile[:] = math.nan
+    out_high[:] = math.nan
     if not parameters_valid(p):
         return SCOUR_INVALID_PARAMETER, math.nan, math.nan
     for k in range(fractions.shape[0]):
@@ -902,12 +1035,15 @@ def scour_stage_states(
     t_fill = p[S_INFILL_TIME]
     b = p[S_B0]
     pit = 0.0 if settle else b  # the impact leaves no scour pit: the mine's burial is its own
+    tilted = p[S_REST_ATTITUDE] == REST_IMPACT
+    hb = p[S_B0_HIGH] if tilted else b  # the higher end's depth (a level mine: its burial)
     span = t[t.shape[0] - 1] - t[0]
     order = np.argsort(lead_times)  # NaN last
     status, nxt = initial_leads(lead_times, order, span, b, out_burial)
     for j in range(nxt):
         if out_burial[order[j]] == b:  # lead time 0 (NaN beyond the forcing)
             out_pit[order[j]] = pit
+            out_high[order[j]] = hb
     for k in range(fractions.shape[0]):
         if b >= fractions[k] * diameter:
             out_time_to[k] = 0.0
@@ -918,12 +1054,16 @@ def scour_stage_states(
         te = t[i + 1] - t[0]
         theta, ub, tb, u = bed_forcing(p, hs[i], tp[i], wdir[i], uc[i], cdir[i], h[i], table)
         theta_max = max(theta_max, theta)
-        if t_mobile == math.inf and is_mobile(p, u, b, theta_mob, b_proud):
+        if tilted:
+            mobile_now = is_mobile_tilted(p, u, b, hb, theta_mob, b_proud)
+        else:
+            mobile_now = is_mobile(p, u, b, theta_mob, b_proud)
+        if t_mobile == math.inf and mobile_now:
             t_mobile = ta
         if i == 0:  # the mobility at lead time 0, with the first interval's flow
             for j in range(nxt):
                 if out_burial[order[j]] == out_burial[order[j]]:
-                    out_mobile[order[j]] = 1.0 if is_mobile(p, u, b, theta_mob, b_proud) else 0.0
+                    out_mobile[order[j]] = 1.0 if mobile_now else 0.0
         if settle:
             s_eq, t_scale = pit_target(p, theta, theta_cr, ub, tb, uc[i])
         else:
@@ -937,7 +1077,13 @@ def scour_stage_states(
             else:
                 out_burial[j] = relax_burial(b, s_eq, dt, t_scale)
                 out_pit[j] = out_burial[j]
-            out_mobile[j] = 1.0 if is_mobile(p, u, out_burial[j], theta_mob, b_proud) else 0.0
+            if tilted:
+                out_high[j] = settled_high_end(b, hb, out_pit[j], dt, rate)
+                moving = is_mobile_tilted(p, u, out_burial[j], out_high[j], theta_mob, b_proud)
+            else:
+                out_high[j] = out_burial[j]
+                moving = is_mobile(p, u, out_burial[j], theta_mob, b_proud)
+            out_mobile[j] = 1.0 if moving else 0.0
             nxt += 1
         if settle:
             pit_next = relax_pit(pit, s_eq, te - ta, t_scale, t_fill)
@@ -945,6 +1091,7 @@ def scour_stage_states(
         else:
             b_next = relax_burial(b, s_eq, te - ta, t_scale)
             pit_next = b_next
+        hb = settled_high_end(b, hb, pit_next, te - ta, rate) if tilted else b_next
         for k in range(fractions.shape[0]):
             target = fractions[k] * diameter
             if out_time_to[k] == math.inf and b_next >= target:

@@ -101,6 +101,43 @@ def forcing_window(t, offset, length, idx, tw):
 
 @kernel
 def scour_drops(
+    S, hs_scale, depth, run, P, rest, t, hs, tp, wdir, uc, cdir, level, start, length, table, lead_times,
+    fractions, out_measures, out_time_to, out_mobile, out_status, out_pit, out_mobile_lead,
+):  # fmt: skip
+    """:func:`scour_drops_ends` without the tilt output (same arguments otherwise)."""
+    scour_drops_ends(
+        S, hs_scale, depth, run, P, rest, t, hs, tp, wdir, uc, cdir, level, start, length, table, lead_times,
+        fractions, out_measures, out_time_to, out_mobile, out_status, out_pit, out_mobile_lead,
+        np.empty((S.shape[0], lead_times.shape[0])),
+    )  # fmt: skip
+
+
+@kernel
+def impact_ends(body, a_z, z_c):
+    """(B, H, L) of the impact's rest attitude for ``rest_attitude = "impact"``: the depth B [m] of
+    the lowest point below the bed (z = 0), the depth H of the higher end's lowest point (of the
+    reference cylinder: B - L |a_z|; < 0 where that end stands proud) and the axial span L [m] (tail
+    to nose, ``bodies.ends``). The tilt is asin((B - H)/L) = asin(|a_z|) (docs/scour.md, Tilt)."""
+    x_tail, x_nose = bodies.ends(body)
+    span = x_nose - x_tail
+    z_min, _ = bodies.extent(body, a_z, z_c)
+    b = -z_min
+    return b, b - span * abs(a_z), span
+
+
+@kernel
+def tilted_measures(body, a_z_sign, b, h, span):
+    """The burial measures (``bodies.burial``) of the mine tilted at sin(beta) = (B - H)/L, its
+    lower end on the side of ``a_z_sign`` (the impact's: the nose down for a_z < 0), with its lowest
+    point ``b`` below the bed; with H = B the level mine of the flat choice."""
+    sb = sc.tilt_sine(b, h, span)
+    a_z = -sb if a_z_sign < 0.0 else sb
+    k3 = math.sqrt(1.0 - a_z * a_z)
+    return bodies.burial(body, a_z, 0.0, b + bodies.lowest_offset(body, a_z, 0.0, k3))
+
+
+@kernel
+def scour_drops_ends(
     S,
     hs_scale,
     depth,
@@ -125,6 +162,7 @@ def scour_drops(
     out_status,
     out_pit,
     out_mobile_lead,
+    out_tilt,
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/mine/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
@@ -141,11 +179,15 @@ def scour_drops(
     ``out_status[i]`` (sc.SCOUR_* or SCOUR_NOT_RUN; NaN results only with a status that is not ok),
     ``out_pit[i, j]`` (the scour pit's depth [m] below the far-field bed at lead time j) and
     ``out_mobile_lead[i, j]`` (1.0 where the mine would move at lead time j, else 0.0;
-    :func:`mineburial.kernels.mine.scour.scour_stage_states`).
+    :func:`mineburial.kernels.mine.scour.scour_stage_states`) and ``out_tilt[i, j]`` (the tilt of
+    the axis to the horizontal [degrees] at lead time j: 0 under the flat rest attitude; under
+    ``S_REST_ATTITUDE = REST_IMPACT`` the stage starts from the impact's attitude, :func:`impact_ends`,
+    and the measures are those of the tilted mine, :func:`tilted_measures`).
     """
     n = S.shape[0]
     nt = t.shape[0]
     burial = np.empty(lead_times.shape[0])
+    high = np.empty(lead_times.shape[0])
     nb = nt + 1  # a window has at most one record more than the series (both ends cut)
     hs_i = np.empty(nb)
     h_i = np.empty(nb)
@@ -162,6 +204,7 @@ def scour_drops(
         out_mobile[i] = math.nan
         out_pit[i, :] = math.nan
         out_mobile_lead[i, :] = math.nan
+        out_tilt[i, :] = math.nan
         if not run[i]:
             out_status[i] = SCOUR_NOT_RUN
             continue
@@ -181,10 +224,17 @@ def scour_drops(
             uc_w[m] = uc[k]
             cdir_w[m] = cdir[k]
         body = drop_body(P[i])
-        S[i, sc.S_B0] = lying_burial(body, rest[i, R_AZ], rest[i, R_ZC])
-        code, t_mobile, _ = sc.scour_stage_states(
+        tilted = S[i, sc.S_REST_ATTITUDE] == sc.REST_IMPACT
+        if tilted:
+            b0, h0, span = impact_ends(body, rest[i, R_AZ], rest[i, R_ZC])
+            S[i, sc.S_B0] = b0
+            S[i, sc.S_B0_HIGH] = h0
+            S[i, sc.S_AXIS_SPAN] = span
+        else:
+            S[i, sc.S_B0] = lying_burial(body, rest[i, R_AZ], rest[i, R_ZC])
+        code, t_mobile, _ = sc.scour_stage_ends(
             S[i], t_w[:nw], hs_i[:nw], tp_w[:nw], wdir_w[:nw], uc_w[:nw], cdir_w[:nw], h_i[:nw], table,
-            lead_times, fractions, burial, out_time_to[i], out_pit[i], out_mobile_lead[i],
+            lead_times, fractions, burial, out_time_to[i], out_pit[i], out_mobile_lead[i], high,
         )  # fmt: skip
         out_status[i] = code
         if code == sc.SCOUR_INVALID_PARAMETER or code == sc.SCOUR_INVALID_FORCING:
@@ -197,6 +247,17 @@ def scour_drops(
             b = burial[j]
             if not math.isfinite(b):
                 continue
+            if tilted:
+                span = S[i, sc.S_AXIS_SPAN]
+                out_tilt[i, j] = math.degrees(math.asin(sc.tilt_sine(b, high[j], span)))
+                pv, ph, pa, proud, pen = tilted_measures(body, rest[i, R_AZ], b, high[j], span)
+                out_measures[i, 0, j] = pen
+                out_measures[i, 1, j] = pv
+                out_measures[i, 2, j] = ph
+                out_measures[i, 3, j] = pa
+                out_measures[i, 4, j] = proud
+                continue
+            out_tilt[i, j] = 0.0
             # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
             pv, ph, pa, proud, pen = bodies.burial(
                 body, 0.0, 0.0, b + bodies.lowest_offset(body, 0.0, 0.0, 1.0)
