@@ -29,8 +29,8 @@ from mineburial.cli import main
 from mineburial.config import dumps_toml
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io import forcing as fio
+from mineburial.io import variables as V
 from mineburial.io.dataset import registry_mismatches
-from mineburial.io.variables import MAP_SCOUR_STATISTICS
 from mineburial.maps import run_map
 from mineburial.sediment_profiles import ScenarioError
 
@@ -73,6 +73,10 @@ SCOUR_NAMES = (
     "scour_time_to_level_quantile",
     "scour_mobile_fraction",
     "scour_status_count",
+    # per lead time, as run's file has them (issue 33 item 5)
+    "scour_mobile_fraction_by_lead_time",
+    "scour_mobile_probability",
+    "scour_pit_depth_mean",
 )
 
 
@@ -96,7 +100,7 @@ def test_map_with_scour_keeps_every_impact_statistic_of_the_map_without(maps):
 def test_each_cell_holds_the_scour_statistics_of_its_single_run(maps):
     _, sec, _, ds = maps
     assert registry_mismatches(ds, "map", names=GRID_NAMES) == []  # the stage's statistics declared too
-    assert set(MAP_SCOUR_STATISTICS) == {
+    assert set(V.PROCESS_VARIABLES["scour"].map_statistics()) == {
         v for v in ds.data_vars if str(v).startswith("scour_")
     }  # and no more
     assert list(ds["lead_time"].values) == LEADS
