@@ -627,8 +627,8 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 def _cell_statistics(spec, chunks) -> dict:
     """Statistics of one cell from its chunk results in drop order, name -> values: the
-    impact's and each post-impact process's (``[scour]``: the stage's at each lead time,
-    :func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    impact's and each post-impact process's (:meth:`~mineburial.ensembles.processes.Process.statistics`;
+    scour's at each lead time). Plain arrays: a Dataset's item access
     and a merge per cell cost about as much as the stage of 20 drops (measured with
     benchmarks/bench_map_scour.py)."""
     summary = np.concatenate([r["summary"] for r in chunks])
@@ -863,8 +863,8 @@ def _merged(parts) -> xr.Dataset:
 
 def _cell_variables(template) -> tuple:
     """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
-    variable of the post-impact processes (``<section>_*``; scour's with a lead_time, burial_level or
-    scour_status_code axis, or a scalar)."""
+    variable of the post-impact processes' statistics (``<section>_*``, their per-cell declarations:
+    :meth:`mineburial.io.variables.ProcessVariables.map_statistics`)."""
     prefixes = tuple(f"{name}_" for name in processes.PROCESSES)
     own = tuple(v for v in template.data_vars if str(v).startswith(prefixes))
     return V.MAP_STATISTICS + own + tuple(v for v in V.MAP_EPISTEMIC if v in template)
@@ -1646,12 +1646,22 @@ def _hatch_cells(ax, g, cells) -> None:
                                linewidth=0.0, zorder=3))  # fmt: skip
 
 
+def _lead_time_sections() -> str:
+    """The sections whose process gives a map its lead-time axis (the registered processes that
+    change the burial: ``[scour]``), for an error line."""
+    found = [f"[{n}]" for n, p in processes.PROCESSES.items() if isinstance(p, processes.BurialProcess)]
+    return " or ".join(found)
+
+
 def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     """Indices into a map's lead times (days) of the ``wanted`` ones (each within 1e-9 d of one),
     else one line naming the value and the map's lead times."""
     available = np.asarray(available, dtype=np.float64)
     if available.size == 0:
-        raise MapError(f"{option}: the map has no lead times (give [scour] lead_times_days in the scenario)")
+        raise MapError(
+            f"{option}: the map has no lead times (give {_lead_time_sections()} lead_times_days in the "
+            "scenario)"
+        )
     out = []
     for w in wanted:
         k = np.flatnonzero(np.abs(available - float(w)) <= 1e-9)
@@ -1668,7 +1678,7 @@ def _lead_time_section(ds, option: str) -> str:
     for name in processes.PROCESSES:
         if f"{name}_burial_class_probability" in ds:
             return name
-    raise MapError(f"{option}: the map has no lead-time axis (run it with a [scour] section)")
+    raise MapError(f"{option}: the map has no lead-time axis (run it with a {_lead_time_sections()} section)")
 
 
 def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 150) -> pathlib.Path:
@@ -1972,7 +1982,8 @@ def _check_map_options(args, base, inputs, grid):
             ) from None
         if after is None:
             raise MapError(
-                "--lead-times: the map has no lead-time axis (give the scenario a [scour] section)"
+                f"--lead-times: the map has no lead-time axis (give the scenario a {_lead_time_sections()} "
+                "section)"
             )
         lead_indices(available, leads)
     if args.lead_time is not None and not args.geotiff:
@@ -1990,7 +2001,8 @@ def _check_map_options(args, base, inputs, grid):
         if args.lead_time is not None:
             if after is None:
                 raise MapError(
-                    "--lead-time: the map has no lead-time axis (give the scenario a [scour] section)"
+                    "--lead-time: the map has no lead-time axis (give the scenario a "
+                    f"{_lead_time_sections()} section)"
                 )
             lead_indices(available, [args.lead_time], "--lead-time")
     return leads
