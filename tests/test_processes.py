@@ -195,11 +195,20 @@ def test_a_process_registers_its_own_variables_and_unregisters_them(toy):
 def test_a_process_runs_in_a_map_with_its_statistic_per_cell(tmp_path, toy):
     from test_maps import GRID_NAMES, SEED, _scenario, cell_reference, expected_seed, uniform_environment
 
-    from mineburial.maps import run_map
+    from mineburial.cli import main
 
-    env = uniform_environment()  # 2 x 2 cells of stiff clay, cell (1, 0) land
-    ds = run_map(dict(_scenario(), toy={"factor": 2.5}), env, n=3, seed=SEED, output=tmp_path / "map.nc")
-    assert registry_mismatches(ds, "map", names=GRID_NAMES) == []  # declared by the process itself
+    env, scen, out = tmp_path / "env.nc", tmp_path / "toy.toml", tmp_path / "map.nc"
+    uniform_environment().to_netcdf(env)  # 2 x 2 cells of stiff clay, cell (1, 0) land
+    scen.write_text(dumps_toml(dict(_scenario(), toy={"factor": 2.5})))
+    args = ["map", str(scen), "--environment", str(env), "-o", str(out), "-n", "3", "--seed", str(SEED)]
+    assert main(args + ["--quiet"]) == 0
+    with xr.open_dataset(out) as ds:
+        ds = ds.load()
+    # declared by the process itself, per cell (the file as read back: decoded fill values aside)
+    assert [m for m in registry_mismatches(ds, "map", names=GRID_NAMES) if m.startswith("toy")] == []
+    attrs = ds["toy_scaled_max"].attrs
+    assert attrs["units"] == "m" and attrs["long_name"] == "largest scaled penetration depth"
+    assert attrs["comment"] == TOY_VARIABLES.variables[1].description + TOY_VARIABLES.map_note
     got = ds["toy_scaled_max"].values
     assert np.isnan(got[1, 0])  # land
     current = {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2}

@@ -31,6 +31,11 @@ the Sobol' indices, the synthetic environment grid, the burial map and the compa
 variants, whose statistics are the ensemble's declarations per cell or per variant);
 :func:`mineburial.io.dataset.build` makes every file from the family of its kind.
 
+A post-impact process (:mod:`mineburial.ensembles.processes`) declares its own variables
+(:class:`ProcessVariables`, in its own module) and adds them when it registers
+(:func:`register_process_variables`): the ensemble's registry gains them and the map's family each
+of its statistics per cell. This module names no process.
+
 In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
 rest (``platform_pitch`` and friends describe observation platforms, not the
