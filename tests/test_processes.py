@@ -9,6 +9,7 @@ was (invariance), and its per-drop value is the closed form it states (a factor 
 own penetration depth), per map cell that of the cell's own run."""
 
 import dataclasses
+import subprocess
 
 import numpy as np
 import pytest
@@ -312,3 +313,24 @@ def test_a_lead_time_needs_the_one_process_that_changes_the_burial(tmp_path, toy
         ScenarioError, match=r"\[scour\], \[toy\]: at most one process that changes the burial"
     ):
         processes.burial_process(two)
+
+
+def test_a_process_s_own_variables_pass_the_cf_compliance_checker(tmp_path, toy):
+    from test_netcdf import _checker_executable, synthetic
+
+    from mineburial.ensembles.dataset import build_dataset
+    from mineburial.io.netcdf import write_netcdf
+
+    summary, status, _ = synthetic(12)
+    ds = build_dataset(summary, status, version="0.1.0", statistics_options={"outputs": ("burial_area",)})
+    scaled = 2.0 * summary[:, layout.S_PENETRATION]
+    ds = toy.dataset(ToySpec(2.0), [{"toy:scaled": scaled}], ds, per_drop=True, class_basis="burial_volume")
+    path = write_netcdf(ds, tmp_path / "toy.nc")
+    exe = _checker_executable()
+    assert exe, "compliance-checker is not installed"
+    res = subprocess.run(
+        [exe, "-t", "cf:1.11", "-c", "lenient", str(path)], capture_output=True, text=True, timeout=120
+    )
+    assert res.returncode == 0 and "Errors" not in res.stdout, res.stdout + res.stderr
+    with xr.open_dataset(path) as back:
+        np.testing.assert_array_equal(back["toy_scaled"].values, scaled)
