@@ -177,6 +177,8 @@ def test_a_process_registers_its_own_variables_and_unregisters_them(toy):
 
     assert V.variable("toy_scaled").units == "m" and "toy_scaled" in V.FAMILIES["ensemble"]
     assert V.PROCESS_VARIABLES["toy"].map_statistics() == ("toy_scaled_max",)  # not the per-drop one
+    only_run = dataclasses.replace(V.PROCESS_VARIABLES["toy"], run_only=("toy_scaled_max",))
+    assert only_run.map_statistics() == ()  # a statistic only a run's file holds
     cell = V.family("map")["toy_scaled_max"]
     assert cell.dims == ("y", "x") and cell.description.endswith(
         "Per cell, over the drops of the cell's ensemble."

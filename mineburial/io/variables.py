@@ -1206,18 +1206,21 @@ class ProcessVariables:
     map_note: str = ""
     #: its statistics that are quality information on a map (status counts)
     map_quality: tuple[str, ...] = ()
+    #: its statistics that only a run's file holds, not a map per cell (none of scour's)
+    run_only: tuple[str, ...] = ()
     #: its name prefix (set by :func:`register_process_variables`)
     section: str = ""
 
     def map_statistics(self) -> tuple[str, ...]:
         """The statistics a map holds per cell (and lead time): every variable ``<section>_*``
-        without a ``realization`` axis that is not a dimension coordinate."""
+        without a ``realization`` axis that is not a dimension coordinate, but :attr:`run_only`."""
         return tuple(
             var.name
             for var in self.variables
             if var.name.startswith(f"{self.section}_")
             and "realization" not in var.dims
             and var.dims != (var.name,)
+            and var.name not in self.run_only
         )
 
 
