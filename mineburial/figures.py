@@ -16,13 +16,12 @@ so each of them can import it (tests/test_imports.py).
 
 from __future__ import annotations
 
-import hashlib
-import json
 import pathlib
 
 import numpy as np
 
 from mineburial._deferred import xarray as xr
+from mineburial.ensembles import processes
 from mineburial.ensembles.store import RunError, check_output_path, same_file
 from mineburial.io import variables as V
 from mineburial.io.files import atomic_path
@@ -122,7 +121,7 @@ def lead_time_series(ds: xr.Dataset, section: str | None = None) -> dict:
         "lower": ds[x + "burial_class_probability_lower"].values,
         "upper": ds[x + "burial_class_probability_upper"].values,
         "mobile": ds[x + "mobile_fraction_by_lead_time"].values,
-        # the share that would move at each lead time (scour.mobility's criterion, issue 33)
+        # the share that would move at each lead time (the process's mobility criterion, issue 33)
         "moves": ds[x + "mobile_probability"].values if x + "mobile_probability" in ds else None,
         "volume_q05": q[:, 0],
         "volume_median": q[:, 1],
@@ -130,59 +129,41 @@ def lead_time_series(ds: xr.Dataset, section: str | None = None) -> dict:
     }
 
 
-def forcing_series(ds: xr.Dataset, section: str = "scour"):
-    """The run's forcing as the figure's top panel draws it, from what the output records: the
-    file (``forcing_file``, read again only while its ``forcing_sha256`` still matches) or the
-    storm (``forcing_storm``): a dict of ``days`` after the first record, ``hs`` [m], ``tp`` [s]
-    and ``current`` [m/s] as given (before the sampled Hs factor), and ``window_days`` (each
-    drop's window in the process ``section``'s resolved record, or None); None when it cannot be
-    had (nothing recorded, the file gone or changed)."""
-    from mineburial.io import forcing as fio  # local import: xarray's reader, only for a figure with forcing
-
-    try:
-        if "forcing_file" in ds.attrs:
-            path = pathlib.Path(str(ds.attrs["forcing_file"]))
-            data = path.read_bytes()
-            if hashlib.sha256(data).hexdigest() != ds.attrs.get("forcing_sha256"):
-                return None
-            f = fio.load_forcing(path)
-        elif "forcing_storm" in ds.attrs:
-            f = fio.storm_series(**json.loads(str(ds.attrs["forcing_storm"])))
-        else:
-            return None
-    except (OSError, ValueError):
-        return None
-    try:
-        window = json.loads(str(ds.attrs.get("scenario", "{}"))).get(section, {}).get("window_days")
-    except ValueError:
-        window = None
-    return {
-        "days": f.time / 86400.0,
-        "hs": f.hs,
-        "tp": f.tp,
-        "current": f.current_speed,
-        "window_days": window,
-    }
+def process_panels(ds: xr.Dataset) -> list:
+    """The panels the registered post-impact processes whose variables ``ds`` holds add to the
+    lead-time figure (:meth:`~mineburial.ensembles.processes.Process.figure_panels`: scour's
+    forcing), in registration order: callables ``draw(ax, lead_days)``."""
+    names = [str(k) for k in ds.variables]
+    return [
+        draw
+        for section, process in processes.PROCESSES.items()
+        if any(k.startswith(f"{section}_") for k in names)
+        for draw in process.figure_panels(ds)
+    ]
 
 
 def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> None:
     """Two panels against lead time: P(burial class) with 95 % Wilson bands and the share of
-    drops flagged mobile; the median and 5-95 % band of the burial by volume. Above them, when
-    the run's forcing can be read again (:func:`forcing_series`), the forcing over the same days:
-    Hs (and Tp) and the current speed, each record held until the next, as the stage reads it."""
+    drops flagged mobile; the median and 5-95 % band of the burial by volume. Above them, each on
+    a row of its own over the same days, the panels the processes add (:func:`process_panels`;
+    scour's: the forcing, Hs (and Tp) and the current speed, each record held until the next, as
+    the stage reads it, when the run's forcing can be read again)."""
     section = lead_time_section(ds)
     s = lead_time_series(ds, section)
-    f = forcing_series(ds, section)
+    panels = process_panels(ds)
     plt = pyplot()
-    if f is None:
+    if not panels:
         fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
     else:
-        fig = plt.figure(figsize=(11, 6.6), constrained_layout=True)
-        grid = fig.add_gridspec(2, 2, height_ratios=(1.0, 1.9))
+        k = len(panels)
+        fig = plt.figure(figsize=(11, 4.2 + 2.4 * k), constrained_layout=True)
+        grid = fig.add_gridspec(k + 1, 2, height_ratios=(1.0,) * k + (1.9,))
         ax0 = fig.add_subplot(grid[0, :])
-        ax1 = fig.add_subplot(grid[1, 0], sharex=ax0)
-        ax2 = fig.add_subplot(grid[1, 1], sharex=ax0)
-        _draw_forcing(ax0, f, s["lead"])
+        above = [ax0] + [fig.add_subplot(grid[m, :], sharex=ax0) for m in range(1, k)]
+        ax1 = fig.add_subplot(grid[k, 0], sharex=ax0)
+        ax2 = fig.add_subplot(grid[k, 1], sharex=ax0)
+        for ax, draw in zip(above, panels):
+            draw(ax, s["lead"])
     basis = ds[f"{section}_burial_class_probability"].attrs.get("burial_class_basis", "burial_volume")
     for c, (label, colour) in enumerate(zip(V.BURIAL_CLASS_NAMES, CLASS_LINE_COLOURS)):
         ax1.fill_between(s["lead"], s["lower"][:, c], s["upper"][:, c], color=colour, alpha=0.2, lw=0)
@@ -219,29 +200,3 @@ def plot_lead_time(ds: xr.Dataset, path, *, scenario: str, dpi: int = 100) -> No
         save_figure(fig, path, dpi=dpi)
     finally:
         plt.close(fig)
-
-
-def _draw_forcing(ax, f, lead) -> None:
-    """The forcing panel: Hs and the current speed (right axis) as steps (each record held until
-    the next), over the lead times' span, Tp written beside the Hs peak."""
-    end = float(np.max(lead)) if len(lead) else float(f["days"][-1])
-    keep = f["days"] <= end + 1e-9
-    keep[: np.searchsorted(f["days"], end, side="right") + 1] = True  # the record in effect at the end
-    d, hs, uc = f["days"][keep], f["hs"][keep], f["current"][keep]
-    ax.step(d, hs, where="post", color="C3", lw=1.4, label="Hs (as given)")
-    ax.set_ylabel("Hs (m)", color="C3")
-    ax.set_ylim(0.0, max(float(np.max(hs)) * 1.15, 0.1))
-    k = int(np.argmax(hs))
-    ax.annotate(f"peak Hs {hs[k]:.2f} m, Tp {f['tp'][keep][k]:.1f} s", (d[k], hs[k]), xytext=(6, -12),
-                textcoords="offset points", fontsize=8, color="C3")  # fmt: skip
-    ax2 = ax.twinx()
-    ax2.step(d, uc, where="post", color="C0", lw=1.2, ls="--", label="current speed")
-    ax2.set_ylabel("current (m/s)", color="C0")
-    ax2.set_ylim(0.0, max(float(np.max(uc)) * 1.15, 0.05))
-    ax.set_xlim(-0.02 * end, end * 1.02 if end > 0 else 1.0)
-    what = "forcing (each record held until the next; before the sampled Hs factor)"
-    if f["window_days"] is not None:
-        what += "; each drop sees its own window of it: days here are from the series' first record"
-    ax.set_title(what, fontsize=10)
-    ax.grid(alpha=0.3)
-    ax.tick_params(labelbottom=True)

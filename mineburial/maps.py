@@ -22,12 +22,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import functools
 import hashlib
 import json
 import math
 import pathlib
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -35,16 +36,14 @@ from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, processes, runner, scour
+from mineburial.ensembles import engine, epistemic, processes, runner
 from mineburial.ensembles.distributed import run_tasks_distributed
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
 from mineburial.ensembles.store import OutputRun, check_output_path, same_file
 from mineburial.figures import check_plot_path, figure_class, save_figure
-from mineburial.io import forcing as fio
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
-from mineburial.io import wave_products
 from mineburial.io.dataset import build
 from mineburial.io.files import atomic_write_bytes
 from mineburial.io.inputs import check_input, read_toml
@@ -628,8 +627,8 @@ def _cell_label(grid: EnvironmentGrid, j: int, i: int) -> str:
 # ---------------------------------------------------------------------------
 def _cell_statistics(spec, chunks) -> dict:
     """Statistics of one cell from its chunk results in drop order, name -> values: the
-    impact's and each post-impact process's (``[scour]``: the stage's at each lead time,
-    :func:`mineburial.ensembles.scour.statistics`). Plain arrays: a Dataset's item access
+    impact's and each post-impact process's (:meth:`~mineburial.ensembles.processes.Process.statistics`;
+    scour's at each lead time). Plain arrays: a Dataset's item access
     and a merge per cell cost about as much as the stage of 20 drops (measured with
     benchmarks/bench_map_scour.py)."""
     summary = np.concatenate([r["summary"] for r in chunks])
@@ -864,15 +863,15 @@ def _merged(parts) -> xr.Dataset:
 
 def _cell_variables(template) -> tuple:
     """The statistics copied per cell: :data:`mineburial.io.variables.MAP_STATISTICS` and every
-    variable of the post-impact processes (``<section>_*``; scour's with a lead_time, burial_level or
-    scour_status_code axis, or a scalar)."""
+    variable of the post-impact processes' statistics (``<section>_*``, their per-cell declarations:
+    :meth:`mineburial.io.variables.ProcessVariables.map_statistics`)."""
     prefixes = tuple(f"{name}_" for name in processes.PROCESSES)
     own = tuple(v for v in template.data_vars if str(v).startswith(prefixes))
     return V.MAP_STATISTICS + own + tuple(v for v in V.MAP_EPISTEMIC if v in template)
 
 
 # ---------------------------------------------------------------------------
-# a gridded forcing ([scour] forcing_grid)
+# what a post-impact process reads per cell (scour's gridded forcing: ensembles/scour_map.py)
 # ---------------------------------------------------------------------------
 def _scenario_raw(scenario):
     """The scenario as a dict when it is a file or a dict; None otherwise, or when the file
@@ -887,118 +886,65 @@ def _scenario_raw(scenario):
     return None
 
 
-def _read_forcing_grid(value, base_dir, grid: EnvironmentGrid):
-    """(gridded forcing on the environment's cells, its record) of ``scour.forcing_grid``:
-    a CF NetCDF (time, y, x) (:func:`mineburial.io.forcing.load_gridded_netcdf`) whose axes
-    are those of the environment grid (same sizes and coordinate values, either order) and
-    whose every water cell of the environment has a forcing; else one line naming the file,
-    the coordinate or the cell."""
-    if not isinstance(value, str):
-        raise MapError(f"scour.forcing_grid = {value!r} must be a NetCDF file path (time, y, x)")
-    path = pathlib.Path(value)
-    if not path.is_absolute() and base_dir is not None:
-        path = pathlib.Path(base_dir) / path
-    where = f"scour.forcing_grid '{path}'"
-    if not path.is_file():
-        raise MapError(f"{where}: no such file")
-    computed = grid.cell_status() == CELL_COMPUTED  # land cells' series are neither read nor checked
-    product = _wave_product_grid(path, grid, computed)  # a lat/lon grid other than the environment's
-    if product is not None:
-        return product, {
-            "forcing_grid_file": str(path),
-            "forcing_grid_sha256": file_digest(path),
-            "forcing_grid_interpolation": wave_products.METHOD,
-        }
-    g = fio.load_gridded_netcdf(path, only=(computed, (grid.ydim, grid.xdim)))
-    if tuple(g.dims) == (grid.xdim, grid.ydim):  # stored (time, x, y): the environment's order
-        g = dataclasses.replace(
-            g,
-            dims=(grid.ydim, grid.xdim),
-            y=g.x,
-            x=g.y,
-            wet=g.wet.T,
-            fields={k: v.transpose(0, 2, 1) for k, v in g.fields.items()},
-        )
-    if g.shape != grid.shape:
-        raise MapError(
-            f"{where}: its grid ({', '.join(g.dims)}) has {g.shape[0]} x {g.shape[1]} cells, the "
-            f"environment grid ({grid.ydim}, {grid.xdim}) {grid.shape[0]} x {grid.shape[1]}; give the "
-            "forcing on the environment's cells"
-        )
-    for name, own, env in ((g.dims[0], g.y, grid.ydim), (g.dims[1], g.x, grid.xdim)):
-        own = np.asarray(own, dtype=np.float64)
-        ref = np.asarray(grid.ds[env].values, dtype=np.float64)
-        bad = np.flatnonzero(~(np.abs(own - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max()))))
-        if bad.size:
-            k = int(bad[0])
-            raise MapError(
-                f"{where}: coordinate '{name}'[{k}] = {own[k]:g} does not match the environment grid's "
-                f"'{env}'[{k}] = {ref[k]:g}; the forcing must be on the environment's cells (same "
-                "coordinates)"
-            )
-    dry = np.argwhere(computed & ~g.wet)
-    if dry.size:
-        j, i = (int(v) for v in dry[0])
-        raise MapError(
-            f"{where}: the wave height is missing at every time at {_cell_label(grid, j, i)}, a water "
-            f"cell of the environment grid ({len(dry)} such cell{'s' * (len(dry) > 1)}); give its "
-            "forcing, or make it land in the grid"
-        )
-    return g, {"forcing_grid_file": str(path), "forcing_grid_sha256": file_digest(path)}
+@dataclasses.dataclass(frozen=True)
+class MapCells:
+    """What a post-impact process sees of a map's grid when it reads inputs per cell
+    (:meth:`mineburial.ensembles.processes.Process.cell_inputs`: scour's gridded forcing)."""
+
+    dims: tuple  # the environment grid's (y, x) dimension names
+    y: np.ndarray  # their coordinate values
+    x: np.ndarray
+    geographic: bool  # latitude/longitude axes (else projected y/x)
+    computed: np.ndarray  # (ny, nx) bool: the cells the map computes (not land, with sediment data)
+    label: Callable[[int, int], str]  # "cell (j, i) at latitude ..., longitude ..." of an error line
 
 
-def _wave_product_grid(path, grid: EnvironmentGrid, computed):
-    """A gridded forcing on its own latitude/longitude grid (a wave product: ERA5, Copernicus
-    Marine, WAVEWATCH III), interpolated onto the environment's computed cells
-    (:func:`mineburial.io.wave_products.load_wave_grid`: bilinear, land by the nearest sea node,
-    linear in time); None for a file on the environment's own cells or not on a lat/lon grid
-    (read as before, bit for bit)."""
-    axes = wave_products.is_lat_lon_grid(path) if grid.geographic else None
-    if axes is None:
-        return None
-    lat = np.asarray(grid.ds[grid.ydim].values, dtype=np.float64)
-    lon = np.asarray(grid.ds[grid.xdim].values, dtype=np.float64)
-
-    def same(own, ref):
-        return own.shape == ref.shape and bool(
-            np.all(np.abs(own - ref) <= 1e-9 * max(1.0, float(np.abs(ref).max())))
-        )
-
-    if same(axes[0], lat) and same(axes[1], lon):
-        return None
-    return wave_products.load_wave_grid(
-        path, lat, lon, computed, (grid.ydim, grid.xdim), labels=lambda j, i: _cell_label(grid, j, i)
+def map_cells(grid: EnvironmentGrid) -> MapCells:
+    """The :class:`MapCells` of the environment grid ``grid``."""
+    return MapCells(
+        (grid.ydim, grid.xdim),
+        grid.ds[grid.ydim].values,
+        grid.ds[grid.xdim].values,
+        grid.geographic,
+        grid.cell_status() == CELL_COMPUTED,
+        functools.partial(_cell_label, grid),
     )
 
 
-def _cell_forcing(raw: dict, gridded, j: int, i: int) -> dict:
-    """``raw`` (a cell's scenario) with its own series of the gridded forcing in
-    ``scour.forcing_grid`` (:class:`mineburial.ensembles.scour.CellForcing`)."""
-    g, record = gridded
-    raw["scour"] = dict(raw["scour"])
-    raw["scour"]["forcing_grid"] = scour.CellForcing(g.cell(j, i), {**record, "forcing_grid_cell": [j, i]})
-    return raw
-
-
 def _load_base(scenario, environment, **settings):
-    """(base ensemble spec, environment grid, gridded forcing and its record or None,
-    the scenario's folder) of a map. With ``scour.forcing_grid`` the base takes the series
-    of the first cell to compute (every cell shares the time axis, which the lead times are
-    checked against), recorded as the grid file alone."""
+    """(base ensemble spec, environment grid, what the post-impact processes read per cell of the
+    grid ({section: its cell inputs}, :meth:`~mineburial.ensembles.processes.Process.cell_inputs`:
+    scour's gridded forcing), the scenario's folder) of a map. A process with cell inputs gives
+    the base scenario its section (``base_section``; scour's: the series of the first cell to
+    compute, recorded as the grid file alone); the environment is then read first."""
     base_dir = None
     if isinstance(scenario, (str, pathlib.Path)):
         base_dir = pathlib.Path(scenario).resolve().parent
     raw = _scenario_raw(scenario)
-    sec = (raw or {}).get("scour")
-    if not (isinstance(sec, Mapping) and "forcing_grid" in sec):
-        base = engine.load_ensemble(scenario, per_drop=False, base_dir=base_dir, **settings)
-        return base, read_environment(environment), None, base_dir
-    grid = read_environment(environment)
-    gridded = _read_forcing_grid(sec["forcing_grid"], base_dir, grid)
-    j, i = (int(v) for v in np.argwhere(grid.cell_status() == CELL_COMPUTED)[0])
-    raw = dict(raw, scour=dict(sec, forcing_grid=scour.CellForcing(gridded[0].cell(j, i), gridded[1])))
-    base = engine.load_ensemble(raw, per_drop=False, base_dir=base_dir, **settings)
-    return base, grid, gridded, base_dir
+    grid = None
+
+    def cells() -> MapCells:
+        nonlocal grid
+        if grid is None:
+            grid = read_environment(environment)
+        return map_cells(grid)
+
+    per_cell = {}
+    for name, process in processes.PROCESSES.items():
+        if name not in (raw or {}):
+            continue
+        try:
+            found = process.cell_inputs(raw[name], base_dir=base_dir, cells=cells)
+        except MapError:
+            raise
+        except cfg.ScenarioError as exc:
+            raise MapError(str(exc)) from None
+        if found is not None:
+            per_cell[name] = found
+    if per_cell:
+        raw = dict(raw, **{name: found.base_section(raw[name]) for name, found in per_cell.items()})
+    base = engine.load_ensemble(raw if per_cell else scenario, per_drop=False, base_dir=base_dir, **settings)
+    return base, grid if grid is not None else read_environment(environment), per_cell, base_dir
 
 
 def run_map(
@@ -1040,14 +986,14 @@ def run_map(
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
-    base, grid, gridded, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
+    base, grid, per_cell, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
     stopping = check_stopping(target_half_width, min_drops, step, base.n, base.sampling)
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
     status = grid.cell_status()
     ny, nx = grid.shape
-    _check_map_memory(base, status, gridded)
-    specs = _cell_specs(base, grid, gridded, base_dir, status)
+    _check_map_memory(base, status, per_cell)
+    specs = _cell_specs(base, grid, per_cell, base_dir, status)
     template = _cell_statistics_template(base)
     names = _cell_variables(template)
     arrays = {name: _empty_cell_array(template[name], ny, nx) for name in names}
@@ -1088,7 +1034,7 @@ def run_map(
     if output is None:
         reduce(cells())
         return finish()
-    inputs, env_files = _map_inputs(scenario, base, environment, gridded, specs)
+    inputs, env_files = _map_inputs(scenario, base, environment, per_cell, specs)
     with OutputRun(output, inputs) as out:
         reduce(cells({k: out.store(spec, f"cell-{k:09d}", env_files) for k, spec in specs.items()}))
         ds = finish()
@@ -1096,7 +1042,7 @@ def run_map(
     return ds
 
 
-def _cell_specs(base, grid, gridded, base_dir, status) -> dict:
+def _cell_specs(base, grid, per_cell, base_dir, status) -> dict:
     """The ensemble of each computed cell, by row-major index ``k``, seeded :func:`cell_seed`."""
     ny, nx = grid.shape
     raw = copy.deepcopy(base.raw)
@@ -1108,8 +1054,10 @@ def _cell_specs(base, grid, gridded, base_dir, status) -> dict:
             k = j * nx + i
             try:
                 cell_raw = cell_scenario(raw, grid, j, i)
+                for name, found in per_cell.items():  # the cell's own inputs (scour: its series)
+                    cell_raw[name] = found.section(cell_raw[name], j, i)
                 specs[k] = engine.load_ensemble(
-                    cell_raw if gridded is None else _cell_forcing(cell_raw, gridded, j, i),
+                    cell_raw,
                     n=base.n,
                     seed=cell_seed(base.seed, k),
                     sampling=base.sampling,
@@ -1129,12 +1077,13 @@ def _empty_cell_array(da, ny, nx) -> np.ndarray:
     return np.full(da.shape + (ny, nx), fill, dtype=da.dtype)
 
 
-def _map_inputs(scenario, base, environment, gridded, specs):
+def _map_inputs(scenario, base, environment, per_cell, specs):
     """(input paths, (file, digest) pairs of the grids) that identify a map's run on disk."""
     env_path = None if isinstance(environment, xr.Dataset) else pathlib.Path(environment)
     env_files = ((str(env_path.resolve()), file_digest(env_path)),) if env_path else ()
-    grid_files = [] if gridded is None else [pathlib.Path(gridded[1]["forcing_grid_file"])]
-    env_files += tuple((str(f.resolve()), gridded[1]["forcing_grid_sha256"]) for f in grid_files)
+    read = [(pathlib.Path(f), digest) for found in per_cell.values() for f, digest in found.files]
+    grid_files = [f for f, _ in read]
+    env_files += tuple((str(f.resolve()), digest) for f, digest in read)
     inputs = (
         runner.input_paths(scenario, base)
         + ([env_path] if env_path else [])
@@ -1153,18 +1102,17 @@ MAP_BYTES_A_COMPUTED_CELL = 20_000
 MAP_BYTES_A_GRID_CELL = 1_000
 
 
-def _check_map_memory(base, status: np.ndarray, gridded=None) -> None:
+def _check_map_memory(base, status: np.ndarray, per_cell=None) -> None:
     """Refuse, before computing, a map whose cells would not fit in the available memory: with
-    ``[scour]`` the map's lead-time arrays (three copies: the arrays, the Dataset, the file
-    being written) and a gridded forcing (its fields and each cell's copy) count too."""
+    a post-impact process its per-cell arrays (three copies: the arrays, the Dataset, the file
+    being written) and its inputs per cell (scour's gridded forcing: its fields and each cell's
+    copy) count too."""
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
     per_grid_cell = MAP_BYTES_A_GRID_CELL
     for process, own in processes.active(base.processes):
         template = process.statistics(own, [], base.class_basis)
         per_grid_cell += 3 * sum(da.nbytes for da in template.data_vars.values())
-    forcing_bytes = 0
-    if gridded is not None:
-        forcing_bytes = 2 * sum(v.nbytes for v in gridded[0].fields.values())
+    forcing_bytes = sum(found.nbytes for found in (per_cell or {}).values())
     need = (
         n_comp * MAP_BYTES_A_COMPUTED_CELL
         + status.size * per_grid_cell
@@ -1263,7 +1211,7 @@ def _assemble(grid, status, arrays, drops, template, base, version, stopping=Non
     data.update(_cell_fields(grid, status, base.seed, extra))
     data["cell_drop_count"] = (drops, extra)
     data.update(_environment_fields(grid, extra))
-    coords = {c: template[c] for c in V.MAP_SHARED_COORDS if c in template.coords}
+    coords = {c: template[c] for c in V.map_shared_coords() if c in template.coords}
     coords.update(_horizontal_coords(grid))
     names = {V.MAP_Y: grid.ydim, V.MAP_X: grid.xdim}
     if grid.grid_mapping:
@@ -1698,12 +1646,22 @@ def _hatch_cells(ax, g, cells) -> None:
                                linewidth=0.0, zorder=3))  # fmt: skip
 
 
+def _lead_time_sections() -> str:
+    """The sections whose process gives a map its lead-time axis (the registered processes that
+    change the burial: ``[scour]``), for an error line."""
+    found = [f"[{n}]" for n, p in processes.PROCESSES.items() if isinstance(p, processes.BurialProcess)]
+    return " or ".join(found)
+
+
 def lead_indices(available, wanted, option="--lead-times") -> list[int]:
     """Indices into a map's lead times (days) of the ``wanted`` ones (each within 1e-9 d of one),
     else one line naming the value and the map's lead times."""
     available = np.asarray(available, dtype=np.float64)
     if available.size == 0:
-        raise MapError(f"{option}: the map has no lead times (give [scour] lead_times_days in the scenario)")
+        raise MapError(
+            f"{option}: the map has no lead times (give {_lead_time_sections()} lead_times_days in the "
+            "scenario)"
+        )
     out = []
     for w in wanted:
         k = np.flatnonzero(np.abs(available - float(w)) <= 1e-9)
@@ -1720,7 +1678,7 @@ def _lead_time_section(ds, option: str) -> str:
     for name in processes.PROCESSES:
         if f"{name}_burial_class_probability" in ds:
             return name
-    raise MapError(f"{option}: the map has no lead-time axis (run it with a [scour] section)")
+    raise MapError(f"{option}: the map has no lead-time axis (run it with a {_lead_time_sections()} section)")
 
 
 def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 150) -> pathlib.Path:
@@ -1944,13 +1902,12 @@ def run_map_cli(args) -> int:
 
     Every check that can be made before computing is made first: the scenario, the
     environment grid, the output and plot paths, the scheduler."""
-    base, grid, gridded, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
+    base, grid, per_cell, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
     stopping = check_stopping(args.target_half_width, args.min_drops, args.step, base.n, base.sampling)
     runner.check_run(base, what="each cell of the map")
-    _check_map_memory(base, grid.cell_status(), gridded)
+    _check_map_memory(base, grid.cell_status(), per_cell)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
-    if gridded is not None:
-        inputs.append(pathlib.Path(gridded[1]["forcing_grid_file"]))
+    inputs += [pathlib.Path(f) for found in per_cell.values() for f, _ in found.files]
     check_output_path(args.output, inputs, "-o")
     if args.plot:
         check_plot_path(args.plot, args.output, inputs, "the map's output")
@@ -2025,7 +1982,8 @@ def _check_map_options(args, base, inputs, grid):
             ) from None
         if after is None:
             raise MapError(
-                "--lead-times: the map has no lead-time axis (give the scenario a [scour] section)"
+                f"--lead-times: the map has no lead-time axis (give the scenario a {_lead_time_sections()} "
+                "section)"
             )
         lead_indices(available, leads)
     if args.lead_time is not None and not args.geotiff:
@@ -2043,7 +2001,8 @@ def _check_map_options(args, base, inputs, grid):
         if args.lead_time is not None:
             if after is None:
                 raise MapError(
-                    "--lead-time: the map has no lead-time axis (give the scenario a [scour] section)"
+                    "--lead-time: the map has no lead-time axis (give the scenario a "
+                    f"{_lead_time_sections()} section)"
                 )
             lead_indices(available, [args.lead_time], "--lead-time")
     return leads

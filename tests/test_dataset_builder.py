@@ -153,7 +153,7 @@ def test_a_map_takes_its_grids_names_and_copies_the_grids_axes_and_grid_mapping(
 
 def test_the_map_and_comparison_families_derive_their_statistics_from_the_ensembles():
     ens, m, c = V.FAMILIES["ensemble"], V.FAMILIES["map"], V.FAMILIES["comparison"]
-    for name in V.MAP_STATISTICS + V.MAP_SCOUR_STATISTICS:
+    for name in V.MAP_STATISTICS + V.map_process_statistics():
         assert m[name].dims == ens[name].dims + ("y", "x") and m[name].units == ens[name].units, name
         assert m[name].long_name == ens[name].long_name and m[name].description.startswith(
             ens[name].description

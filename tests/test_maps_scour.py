@@ -29,8 +29,8 @@ from mineburial.cli import main
 from mineburial.config import dumps_toml
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io import forcing as fio
+from mineburial.io import variables as V
 from mineburial.io.dataset import registry_mismatches
-from mineburial.io.variables import MAP_SCOUR_STATISTICS
 from mineburial.maps import run_map
 from mineburial.sediment_profiles import ScenarioError
 
@@ -73,6 +73,10 @@ SCOUR_NAMES = (
     "scour_time_to_level_quantile",
     "scour_mobile_fraction",
     "scour_status_count",
+    # per lead time, as run's file has them (issue 33 item 5)
+    "scour_mobile_fraction_by_lead_time",
+    "scour_mobile_probability",
+    "scour_pit_depth_mean",
 )
 
 
@@ -96,7 +100,7 @@ def test_map_with_scour_keeps_every_impact_statistic_of_the_map_without(maps):
 def test_each_cell_holds_the_scour_statistics_of_its_single_run(maps):
     _, sec, _, ds = maps
     assert registry_mismatches(ds, "map", names=GRID_NAMES) == []  # the stage's statistics declared too
-    assert set(MAP_SCOUR_STATISTICS) == {
+    assert set(V.PROCESS_VARIABLES["scour"].map_statistics()) == {
         v for v in ds.data_vars if str(v).startswith("scour_")
     }  # and no more
     assert list(ds["lead_time"].values) == LEADS
@@ -218,12 +222,13 @@ def test_memory_check_counts_the_lead_time_arrays(tmp_path, monkeypatch):
     sec = scour_section(forcing_csv(tmp_path / "f.csv"))
     for d in (_scenario(), with_scour(_scenario(), sec)):
         maps._check_map_memory(engine.load_ensemble(d, n=N), status)
-    # per grid cell and lead time: 5 measures x (mean + 5 quantiles) + 4 class arrays x 5 classes;
+    # per grid cell and lead time: 5 measures x (mean + 5 quantiles) + 4 class arrays x 5 classes
+    # + the mobile share by then, the share that would move and the mean pit depth (issue 33);
     # per cell: 2 levels x 5 time quantiles + 2 reached fractions + 1 mobile share + 5 status
     # counts + 1 not-modelled share; 8 bytes each, three copies; plus the stage's per-drop values
     # in flight (with the window start and the cohesive flag; issue 33: the pit depth and the mobility
     # at each lead time beside the 5 measures)
-    lead_bytes = 8 * (len(LEADS) * (5 * 6 + 4 * 5) + 2 * 5 + 2 + 1 + 5 + 1)
+    lead_bytes = 8 * (len(LEADS) * (5 * 6 + 4 * 5 + 3) + 2 * 5 + 2 + 1 + 5 + 1)
     per_drop = 8 * ((5 + 2) * len(LEADS) + 2 + 2) + 2
     extra = needs[1] - needs[0]
     assert extra >= 3 * lead_bytes * status.size

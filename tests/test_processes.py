@@ -1,23 +1,57 @@
 """The post-impact process seam (issue 33 item 1, mineburial/ensembles/processes.py): a second
-process registered from a test module alone — no edit of the mine's ensemble, the runner or the
-store — runs in ``run``: its section is parsed, its chunk values are stored and reduced, its
-variables and summary lines reach the output, its memory enters the estimate and its identity
-the run's. Adding it leaves every impact output bit for bit as it was (invariance), and its
-per-drop value is the closed form it states (twice the drop's own penetration depth)."""
+process registered from a test module alone — no edit of the mine's ensemble, the runner, the
+store, the variable catalogue, maps or figures — runs in ``run`` and ``map``: its section is
+parsed, its chunk values are stored and reduced, the output variables it declares itself are
+written with their declared CF attributes (and the map holds its statistic per cell), its
+summary lines reach the output, its memory enters the estimate and its identity the run's, and
+it draws a panel of the lead-time figure. Adding it leaves every impact output bit for bit as it
+was (invariance), and its per-drop value is the closed form it states (a factor times the drop's
+own penetration depth), per map cell that of the cell's own run."""
 
 import dataclasses
+import subprocess
 
 import numpy as np
 import pytest
+import tomllib
 import xarray as xr
 from conftest import scenario_dict
 
+from mineburial import figures
 from mineburial.config import ScenarioError, dumps_toml
 from mineburial.ensembles import engine, mine, processes, runner, scour
 from mineburial.ensembles.store import run_identity
+from mineburial.io import variables as V
+from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels.mine import layout
 
 N = 6
+
+#: the toy's own output variables (ProcessVariables: a per-drop value and its largest)
+TOY_VARIABLES = V.ProcessVariables(
+    variables=(
+        V.Variable(
+            "toy_scaled",
+            ("realization",),
+            "float64",
+            "m",
+            "scaled penetration depth",
+            "The factor toy.factor times the drop's penetration depth at impact.",
+        ),
+        V.Variable(
+            "toy_scaled_max",
+            (),
+            "float64",
+            "m",
+            "largest scaled penetration depth",
+            "Largest toy_scaled over the drops (NaN without one).",
+            group="statistics",
+        ),
+    ),
+    map_note=" Per cell, over the drops of the cell's ensemble.",
+)
+#: the title of the toy's panel of the lead-time figure
+TOY_PANEL = "toy: largest scaled depth"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -51,14 +85,19 @@ class ToyProcess:
     def bytes_per_drop(self, spec):
         return 8
 
+    def variables(self):
+        return TOY_VARIABLES
+
     def statistics(self, spec, chunks, class_basis):
         values = np.concatenate([r["toy:scaled"] for r in chunks]) if chunks else np.empty(0)
-        return xr.Dataset({"toy_scaled_max": np.nanmax(values) if values.size else np.nan})
+        largest = np.nanmax(values) if np.isfinite(values).any() else np.nan
+        return xr.Dataset({"toy_scaled_max": V.variable("toy_scaled_max").data_array(largest)})
 
     def dataset(self, spec, chunks, ds, *, per_drop, class_basis):
         out = ds.merge(self.statistics(spec, chunks, class_basis))
         if per_drop:
-            out["toy_scaled"] = ("realization", np.concatenate([r["toy:scaled"] for r in chunks]))
+            values = np.concatenate([r["toy:scaled"] for r in chunks])
+            out["toy_scaled"] = V.variable("toy_scaled").data_array(values)
         out.attrs = dict(ds.attrs)
         return out
 
@@ -74,6 +113,16 @@ class ToyProcess:
 
     def map_attributes(self, spec):
         return "", {}
+
+    def cell_inputs(self, section, *, base_dir, cells):
+        return None
+
+    def figure_panels(self, ds):
+        def draw(ax, lead):
+            ax.plot(lead, np.full(len(lead), float(ds["toy_scaled_max"])), label="toy")
+            ax.set_title(TOY_PANEL)
+
+        return [draw]
 
 
 @pytest.fixture
@@ -113,7 +162,92 @@ def test_a_process_registered_by_its_own_module_runs_in_run(tmp_path, toy):
     assert '"toy": {"factor": 3.0}' in ran.attrs["scenario"]
     with xr.open_dataset(tmp_path / "toy.nc") as back:
         np.testing.assert_array_equal(back["toy_scaled"].values, 3.0 * depth)
+        # written with the attributes it declared itself (CF: long_name, units, comment), as every
+        # variable of the catalogue is: nothing in the file the registry does not declare
+        for var in TOY_VARIABLES.variables:
+            for key, value in {"long_name": var.long_name, "units": "m", "comment": var.description}.items():
+                assert back[var.name].attrs[key] == value, (var.name, key)
+        assert back["toy_scaled"].attrs["coverage_content_type"] == "modelResult"
+        assert registry_mismatches(back, "ensemble") == []
     assert "toy: largest scaled depth" in mine.summarize(ran)
+
+
+def test_a_process_registers_its_own_variables_and_unregisters_them(toy):
+    import cf_units  # UDUNITS-2 bindings, installed with compliance-checker
+
+    assert V.variable("toy_scaled").units == "m" and "toy_scaled" in V.FAMILIES["ensemble"]
+    assert V.PROCESS_VARIABLES["toy"].map_statistics() == ("toy_scaled_max",)  # not the per-drop one
+    only_run = dataclasses.replace(V.PROCESS_VARIABLES["toy"], run_only=("toy_scaled_max",))
+    assert only_run.map_statistics() == ()  # a statistic only a run's file holds
+    cell = V.family("map")["toy_scaled_max"]
+    assert cell.dims == ("y", "x") and cell.description.endswith(
+        "Per cell, over the drops of the cell's ensemble."
+    )
+    assert not cf_units.Unit(cell.units).is_unknown()
+    processes.register(toy)  # the same process again: nothing changes
+    with pytest.raises(ValueError, match=r"\[toy\] are registered already"):
+        V.register_process_variables("toy", dataclasses.replace(TOY_VARIABLES))
+    with pytest.raises(ValueError, match="must begin with 'other_'"):
+        V.register_process_variables("other", TOY_VARIABLES)
+    processes.unregister("toy")
+    assert "toy_scaled" not in V.VARIABLES and "toy_scaled_max" not in V.family("map")
+    assert "lead_time" in V.VARIABLES  # scour's coordinates stay
+    processes.register(toy)
+
+
+def test_a_process_runs_in_a_map_with_its_statistic_per_cell(tmp_path, toy):
+    from test_maps import GRID_NAMES, SEED, _scenario, cell_reference, expected_seed, uniform_environment
+
+    from mineburial.cli import main
+
+    env, scen, out = tmp_path / "env.nc", tmp_path / "toy.toml", tmp_path / "map.nc"
+    uniform_environment().to_netcdf(env)  # 2 x 2 cells of stiff clay, cell (1, 0) land
+    scen.write_text(dumps_toml(dict(_scenario(), toy={"factor": 2.5})))
+    args = ["map", str(scen), "--environment", str(env), "-o", str(out), "-n", "3", "--seed", str(SEED)]
+    assert main(args + ["--quiet"]) == 0
+    with xr.open_dataset(out) as ds:
+        ds = ds.load()
+    # declared by the process itself, per cell (the file as read back: decoded fill values aside)
+    assert [m for m in registry_mismatches(ds, "map", names=GRID_NAMES) if m.startswith("toy")] == []
+    attrs = ds["toy_scaled_max"].attrs
+    assert attrs["units"] == "m" and attrs["long_name"] == "largest scaled penetration depth"
+    assert attrs["comment"] == TOY_VARIABLES.variables[1].description + TOY_VARIABLES.map_note
+    got = ds["toy_scaled_max"].values
+    assert np.isnan(got[1, 0])  # land
+    current = {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2}
+    ref = dict(cell_reference(3.0, {"class": "stiff_clay"}, current), toy={"factor": 2.5})
+    for j, i in ((0, 0), (0, 1), (1, 1)):
+        # the cell's own run, its scenario written out by hand (tests/test_maps.py)
+        run = runner.run_ensemble(ref, n=3, seed=expected_seed(SEED, j * 2 + i), per_drop=True)
+        depth = run["penetration_depth"].values
+        assert np.isfinite(depth).any()
+        assert got[j, i] == np.nanmax(2.5 * depth), (j, i)
+
+
+def test_a_process_draws_its_panel_of_the_lead_time_figure(tmp_path, toy, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from test_scour_run import scenario as scour_scenario
+    from test_scour_run import scour_section
+
+    path = scour_scenario(tmp_path, scour_section(tmp_path))
+    d = tomllib.loads(path.read_text())
+    d["toy"] = {"factor": 3.0}
+    path.write_text(dumps_toml(d))
+    ds = runner.run_ensemble(path)
+    drawn = {}
+
+    def keep(fig, where, **kw):
+        drawn["titles"] = [ax.get_title() for ax in fig.axes]
+        drawn["lines"] = {ax.get_title(): [line.get_ydata() for line in ax.get_lines()] for ax in fig.axes}
+
+    monkeypatch.setattr(figures, "save_figure", keep)
+    figures.plot_lead_time(ds, tmp_path / "lead.png", scenario="toy")
+    assert TOY_PANEL in drawn["titles"]
+    (line,) = drawn["lines"][TOY_PANEL]
+    np.testing.assert_array_equal(line, float(ds["toy_scaled_max"]))
+    # above the burial panels: scour's forcing (through the protocol too), then the toy's
+    assert drawn["titles"][0].startswith("forcing") and drawn["titles"][1] == TOY_PANEL
+    assert "burial classes, 95 % Wilson bands" in drawn["titles"]
 
 
 def test_a_process_enters_the_memory_estimate_and_the_identity(tmp_path, toy):
@@ -181,3 +315,24 @@ def test_a_lead_time_needs_the_one_process_that_changes_the_burial(tmp_path, toy
         ScenarioError, match=r"\[scour\], \[toy\]: at most one process that changes the burial"
     ):
         processes.burial_process(two)
+
+
+def test_a_process_s_own_variables_pass_the_cf_compliance_checker(tmp_path, toy):
+    from test_netcdf import _checker_executable, synthetic
+
+    from mineburial.ensembles.dataset import build_dataset
+    from mineburial.io.netcdf import write_netcdf
+
+    summary, status, _ = synthetic(12)
+    ds = build_dataset(summary, status, version="0.1.0", statistics_options={"outputs": ("burial_area",)})
+    scaled = 2.0 * summary[:, layout.S_PENETRATION]
+    ds = toy.dataset(ToySpec(2.0), [{"toy:scaled": scaled}], ds, per_drop=True, class_basis="burial_volume")
+    path = write_netcdf(ds, tmp_path / "toy.nc")
+    exe = _checker_executable()
+    assert exe, "compliance-checker is not installed"
+    res = subprocess.run(
+        [exe, "-t", "cf:1.11", "-c", "lenient", str(path)], capture_output=True, text=True, timeout=120
+    )
+    assert res.returncode == 0 and "Errors" not in res.stdout, res.stdout + res.stderr
+    with xr.open_dataset(path) as back:
+        np.testing.assert_array_equal(back["toy_scaled"].values, scaled)

@@ -50,13 +50,13 @@ def test_compare_at_a_lead_time_counts_the_drops_run_counts(tmp_path, half_fail)
 
 
 def test_after_scour_leaves_a_drop_without_a_stage_value_out_or_keeps_its_impact_on_request():
-    from mineburial.io import variables as V
+    from mineburial.ensembles.scour_variables import SCOUR_MEASURES
     from mineburial.kernels.mine import layout
 
     summary = np.zeros((2, layout.N_SUMMARY))
     col = layout.SUMMARY_INDEX["burial_volume"]
     summary[:, col] = [10.0, 20.0]
-    measures = np.full((2, len(V.SCOUR_MEASURES), 1), np.nan)
+    measures = np.full((2, len(SCOUR_MEASURES), 1), np.nan)
     measures[0, :, 0] = 90.0
     assert scour.after_scour(summary, measures)[:, col].tolist()[0] == 90.0
     assert np.isnan(scour.after_scour(summary, measures)[1, col])

@@ -522,12 +522,13 @@ def test_map_reads_a_wave_product_on_its_own_grid_onto_the_environment_cells(tmp
     from test_maps_scour import scour_section, with_scour
 
     from mineburial import maps
+    from mineburial.ensembles import scour_map
 
     env = uniform_environment()  # 2 x 2 cells at 54.50/54.51 N, 10.300/10.315 E; cell (1, 0) land
     path = tmp_path / "cmems.nc"
     lat, lon, t, f = cmems(path, lat0=54.45, lon0=10.25)
     grid = maps.read_environment(env)
-    g, record = maps._read_forcing_grid(str(path), tmp_path, grid)
+    g, record = scour_map.read_forcing_grid(str(path), tmp_path, maps.map_cells(grid))
     assert record["forcing_grid_interpolation"] == wp.METHOD and record["forcing_grid_file"] == str(path)
     assert not g.wet[1, 0] and g.wet.sum() == 3
     for j, i in ((0, 0), (0, 1), (1, 1)):
@@ -551,13 +552,14 @@ def test_map_forcing_on_the_environment_cells_is_read_as_before_bit_for_bit(tmp_
     from test_maps import uniform_environment
 
     from mineburial import maps
+    from mineburial.ensembles import scour_map
     from mineburial.io import forcing as fio
 
     env = uniform_environment()
     cells = [[fio.storm_series(2.0, 8.0, 6.0, current=0.3), None], [None, fio.storm_series(1.0, 7.0, 6.0)]]
     cells[0][1] = cells[0][0]
     path = fio.write_gridded_netcdf(cells, env["latitude"], env["longitude"], tmp_path / "grid.nc")
-    g, record = maps._read_forcing_grid(str(path), tmp_path, maps.read_environment(env))
+    g, record = scour_map.read_forcing_grid(str(path), tmp_path, maps.map_cells(maps.read_environment(env)))
     assert "forcing_grid_interpolation" not in record
     for j, i in ((0, 0), (0, 1), (1, 1)):
         for name in ("hs", "tp", "wave_from", "current_speed", "current_to", "water_level"):

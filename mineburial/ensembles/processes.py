@@ -13,13 +13,17 @@ mine's own plus a loop over the active processes.
 A process's numeric inputs are ordinary fields ``<section>.<name>`` of
 :data:`mineburial.config.FIELDS` (declared in ``mineburial/scenario_fields.py``): they are checked,
 sampled and recorded as every input is, and the mine hands them to the process in ``inputs``
-rather than into its own parameter rows (:func:`owns_input`). Its output variables are declared in
-:mod:`mineburial.io.variables` under names beginning with the section name (:attr:`Process.prefix`).
+rather than into its own parameter rows (:func:`owns_input`). Its output variables are its own
+declarations (:meth:`Process.variables`, names beginning with the section name), added to the
+catalogue of :mod:`mineburial.io.variables` when it registers (the run's file, the map's per-cell
+family and docs/notes/output.md). A map reaches what a process reads per cell of its grid
+(:meth:`Process.cell_inputs`: scour's gridded forcing) and the run's lead-time figure the panels
+it adds (:meth:`Process.figure_panels`: scour's forcing) through it too.
 
 A second process (bedform migration, liquefaction) is one module that defines such an object
 (``PROCESS``, importing nothing from here), registered by one :func:`register` line at the end of this
-module, with its fields in the schema and its variables in the catalogue (docs/design.md,
-"Post-impact processes"); a test registers a toy one itself (tests/test_processes.py).
+module, with its fields in the schema (docs/design.md, "Post-impact processes"); a test registers a
+toy one itself, which runs in ``run`` and ``map`` and draws a panel (tests/test_processes.py).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from typing import Any, Protocol, runtime_checkable
 
 from mineburial.config import ScenarioError
 from mineburial.ensembles import scour
+from mineburial.io import variables as V
 
 
 @runtime_checkable
@@ -66,8 +71,29 @@ class Process(Protocol):
     def bytes_per_drop(self, spec) -> int:
         """Bytes of the process's per-drop values kept until the statistics are computed."""
 
+    def variables(self) -> V.ProcessVariables:
+        """The process's output variables (:class:`mineburial.io.variables.ProcessVariables`: the
+        run file's, in order, named ``<section>_*`` but for shared coordinates such as
+        ``lead_time``; the coordinates a map shares; the per-cell note); :func:`register` adds them
+        to the catalogue, and a map holds each statistic among them per cell."""
+
     def statistics(self, spec, chunks, class_basis: str):
-        """The process's statistics of ``chunks`` as a Dataset (a map cell's; none: the empty template)."""
+        """The process's statistics of ``chunks`` as a Dataset (a map cell's; none: the empty
+        template): every statistic of :meth:`variables` a map holds per cell (and lead time)."""
+
+    def cell_inputs(self, section, *, base_dir, cells):
+        """What the scenario's raw ``section`` reads per cell of a map's grid (scour: the gridded
+        forcing of ``forcing_grid``), or None when every cell takes the section as given.
+        ``cells()`` gives the grid's :class:`mineburial.maps.MapCells` (call it only when needed:
+        the environment is read then). The object returned has ``files`` (``((path, SHA-256),
+        ...)``, identifying the map's run), ``nbytes`` (its memory while the map runs),
+        ``section(section, j, i)`` (the raw section of cell (j, i)) and ``base_section(section)``
+        (that of the map's base scenario); a problem is one ScenarioError line."""
+
+    def figure_panels(self, ds) -> list:
+        """The panels the process adds to the run's lead-time figure of ``ds``
+        (:func:`mineburial.figures.plot_lead_time`), above the burial panels: callables
+        ``draw(ax, lead_days)``, each given a full-width axes sharing the lead-time axis ([] for none)."""
 
     def dataset(self, spec, chunks, ds, *, per_drop: bool, class_basis: str):
         """``ds`` (the run's Dataset) with the process's statistics, per-drop variables (with
@@ -114,13 +140,15 @@ def register(process: Process) -> Process:
         raise TypeError(f"{process!r} does not provide the Process protocol (mineburial.ensembles.processes)")
     if process.section in PROCESSES and PROCESSES[process.section] is not process:
         raise ValueError(f"a post-impact process [{process.section}] is already registered")
+    V.register_process_variables(process.section, process.variables())
     PROCESSES[process.section] = process
     return process
 
 
 def unregister(section: str) -> None:
-    """Remove the process of ``section`` (a test's toy process)."""
+    """Remove the process of ``section`` and its output variables (a test's toy process)."""
     PROCESSES.pop(section, None)
+    V.unregister_process_variables(section)
 
 
 def owns_input(path: str) -> bool:

@@ -31,6 +31,9 @@ import numpy as np
 
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
+from mineburial.ensembles import scour_figure, scour_map, scour_variables
+from mineburial.ensembles.scour_map import CellForcing
+from mineburial.ensembles.scour_variables import SCOUR_MEASURES, SCOUR_STATUS_NAMES
 from mineburial.ensembles.statistics import scour_statistics
 from mineburial.ensembles.threads import run_blocks
 from mineburial.io import forcing as fio
@@ -81,7 +84,7 @@ DEFAULT_LEVELS = cfg.SCHEMA["scour.burial_levels"].default
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``
 SHIPPED = pathlib.Path(__file__).resolve().parent.parent / "data" / "forcing"
-assert MEASURE_NAMES == V.SCOUR_MEASURES
+assert MEASURE_NAMES == SCOUR_MEASURES
 assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HRMS] == "hrms"
 assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HS] == "hs"
 assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
@@ -138,19 +141,6 @@ class ScourSpec:
         arrays = (self.forcing.time, self.forcing.hs, self.forcing.tp, self.forcing.wave_from)
         arrays += (self.forcing.current_speed, self.forcing.current_to, self.forcing.water_level)
         return repr(sorted(self.resolved().items())).encode() + b"".join(a.tobytes() for a in arrays)
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class CellForcing:
-    """A map cell's own series of a gridded forcing (``scour.forcing_grid``, docs/maps.md), put in
-    the cell's scenario by :mod:`mineburial.maps` in place of the file name (a scenario file
-    cannot hold one). Immutable, so copies of a scenario share it."""
-
-    forcing: fio.Forcing
-    record: dict  # the grid file, its sha256 (and the cell) for the output's attributes
-
-    def __deepcopy__(self, memo):
-        return self
 
 
 def _shown(value: float, *bounds: float) -> str:
@@ -379,7 +369,7 @@ def stage_at_lead_time(stage: ScourSpec, lead_time: float | None) -> ScourSpec:
 
 def after_scour(summary: np.ndarray, measures: np.ndarray, *, missing: str = "nan") -> np.ndarray:
     """``summary`` with its burial measures replaced by the scour stage's at its one lead time
-    (``measures``: drops x :data:`~mineburial.io.variables.SCOUR_MEASURES` x 1): the outputs of
+    (``measures``: drops x :data:`~mineburial.ensembles.scour_variables.SCOUR_MEASURES` x 1): the outputs of
     ``compare`` and ``sensitivity`` at ``--lead-time``.
 
     A drop without a stage value (scour status not ok) gets NaN (``missing="nan"``): the
@@ -390,7 +380,7 @@ def after_scour(summary: np.ndarray, measures: np.ndarray, *, missing: str = "na
     if missing not in ("nan", "impact"):
         raise ValueError(f"missing must be 'nan' or 'impact', got {missing!r}")
     out = summary.copy()
-    for k, name in enumerate(V.SCOUR_MEASURES):
+    for k, name in enumerate(SCOUR_MEASURES):
         column = layout.SUMMARY_INDEX[name]
         value = measures[:, k, 0]
         otherwise = out[:, column] if missing == "impact" else np.nan
@@ -735,7 +725,7 @@ def summary_lines(ds) -> list[str]:
     for level, med, frac in zip(ds["burial_level"].values, tq, ds["scour_level_reached_fraction"].values):
         lines.append(f"  B/D >= {level:g}: reached by {frac:.3f} of the drops, median time {med:.3g} d")
     counts = ds["scour_status_count"].values
-    left = [f"{V.SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k != 0]
+    left = [f"{SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k != 0]
     if left:
         lines.append(
             "  left out of the scour statistics: "
@@ -782,8 +772,36 @@ class ScourProcess:
     def bytes_per_drop(self, spec: ScourSpec) -> int:
         return bytes_a_drop(spec)
 
+    def variables(self) -> V.ProcessVariables:
+        return scour_variables.DECLARED
+
     def statistics(self, spec: ScourSpec, chunks, class_basis: str) -> xr.Dataset:
-        return statistics(spec, chunks, class_basis)
+        """A map cell's statistics: :func:`statistics` and, per lead time, the share flagged mobile
+        by then, the share that would move and the mean pit depth, as :func:`dataset` gives them."""
+        stats = statistics(spec, chunks, class_basis)
+        _, _, mobile, codes = _per_drop(spec, chunks)
+        ok = codes == 0
+        pit, mobile_lead = _per_drop_states(spec, chunks)
+        with np.errstate(invalid="ignore"):
+            pit_mean = np.array(
+                [np.mean(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in pit[ok].T],
+                dtype=np.float64,
+            )
+        return stats.assign(
+            scour_mobile_fraction_by_lead_time=V.variable("scour_mobile_fraction_by_lead_time").data_array(
+                mobile_by_lead_time(mobile[ok], spec.lead_times_days)
+            ),
+            scour_mobile_probability=V.variable("scour_mobile_probability").data_array(
+                mobile_probability(mobile_lead, codes)
+            ),
+            scour_pit_depth_mean=V.variable("scour_pit_depth_mean").data_array(pit_mean),
+        )
+
+    def cell_inputs(self, section, *, base_dir, cells):
+        return scour_map.cell_inputs(section, base_dir, cells)
+
+    def figure_panels(self, ds) -> list:
+        return scour_figure.panels(ds, self.section)
 
     def dataset(self, spec: ScourSpec, chunks, ds, *, per_drop: bool, class_basis: str) -> xr.Dataset:
         return dataset(spec, chunks, ds, per_drop=per_drop, class_basis=class_basis)
@@ -816,7 +834,7 @@ class ScourProcess:
 
     def status_text(self, chunks) -> str:
         codes = np.bincount(np.concatenate([r["scour:status"] for r in chunks]).astype(np.int64))
-        return ", ".join(f"{V.SCOUR_STATUS_NAMES[k]} {int(n)}" for k, n in enumerate(codes) if n)
+        return ", ".join(f"{SCOUR_STATUS_NAMES[k]} {int(n)}" for k, n in enumerate(codes) if n)
 
 
 #: the stage's post-impact process, registered in :data:`mineburial.ensembles.processes.PROCESSES`

@@ -38,6 +38,7 @@ import numpy as np
 
 from mineburial._deferred import xarray as xr
 from mineburial.ensembles.intervals import wilson_interval
+from mineburial.ensembles.scour_variables import SCOUR_MEASURES, SCOUR_STATUS_NAMES
 from mineburial.io import variables as V
 from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
@@ -389,7 +390,7 @@ def scour_statistics(
 
     ``measures`` (n, len(SCOUR_MEASURES), n_lead): the burial measures of each drop at each lead
     time; ``time_to_days`` (n, n_levels); ``mobile_days`` (n,); ``scour_status`` (n,) codes of
-    :data:`mineburial.io.variables.SCOUR_STATUS_NAMES`. Only drops with status ok enter: the
+    :data:`mineburial.ensembles.scour_variables.SCOUR_STATUS_NAMES`. Only drops with status ok enter: the
     same mean, type-7 quantiles, burial classes (:func:`burial_class`) and Wilson intervals
     (:func:`~mineburial.ensembles.intervals.wilson_interval`) as the impact statistics, per lead time.
     """
@@ -404,10 +405,10 @@ def scour_statistics(
         "burial_level": var("burial_level").data_array(np.asarray(burial_levels, dtype=np.float64)),
         "quantile": var("quantile").data_array(q),
         "impact_burial_class": var("impact_burial_class").data_array(np.arange(5)),
-        "scour_status_code": var("scour_status_code").data_array(np.arange(len(V.SCOUR_STATUS_NAMES))),
+        "scour_status_code": var("scour_status_code").data_array(np.arange(len(SCOUR_STATUS_NAMES))),
     }
     n_lead = coords["lead_time"].size
-    for k, name in enumerate(V.SCOUR_MEASURES):
+    for k, name in enumerate(SCOUR_MEASURES):
         mean = np.full(n_lead, np.nan)
         quant = np.full((n_lead, q.size), np.nan)
         for j in range(n_lead):
@@ -419,7 +420,7 @@ def scour_statistics(
         data_vars[f"scour_{name}_mean"] = var(f"scour_{name}_mean").data_array(mean)
         data_vars[f"scour_{name}_quantile"] = var(f"scour_{name}_quantile").data_array(quant)
 
-    k_basis = V.SCOUR_MEASURES.index(class_basis)
+    k_basis = SCOUR_MEASURES.index(class_basis)
     counts = np.zeros((n_lead, 5), dtype=np.int64)
     n_cls = np.zeros(n_lead, dtype=np.int64)
     for j in range(n_lead):
@@ -456,7 +457,7 @@ def scour_statistics(
     mobile = np.asarray(mobile_days, dtype=np.float64)[ok]
     frac = float(np.count_nonzero(np.isfinite(mobile)) / n_ok) if n_ok else np.nan
     data_vars["scour_mobile_fraction"] = var("scour_mobile_fraction").data_array(frac)
-    codes = np.bincount(scour_status.astype(np.int64), minlength=len(V.SCOUR_STATUS_NAMES))
+    codes = np.bincount(scour_status.astype(np.int64), minlength=len(SCOUR_STATUS_NAMES))
     data_vars["scour_status_count"] = var("scour_status_count").data_array(codes)
     ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs={"scour_n_in_statistics": np.int64(n_ok)})
     for name, da in {**data_vars, **coords}.items():

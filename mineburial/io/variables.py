@@ -31,6 +31,11 @@ the Sobol' indices, the synthetic environment grid, the burial map and the compa
 variants, whose statistics are the ensemble's declarations per cell or per variant);
 :func:`mineburial.io.dataset.build` makes every file from the family of its kind.
 
+A post-impact process (:mod:`mineburial.ensembles.processes`) declares its own variables
+(:class:`ProcessVariables`, in its own module) and adds them when it registers
+(:func:`register_process_variables`): the ensemble's registry gains them and the map's family each
+of its statistics per cell. This module names no process.
+
 In the ensemble's family only ``realization`` carries a CF standard name: the CF Standard Name Table
 (v93) has no names for burial depths, burial percentages or mine attitude at
 rest (``platform_pitch`` and friends describe observation platforms, not the
@@ -330,6 +335,11 @@ def _flag_attrs(values, meanings) -> dict[str, Any]:
     return {"flag_values": np.asarray(values, dtype=np.int8), "flag_meanings": " ".join(meanings)}
 
 
+#: for a process's own declarations (:func:`register_process_variables`): write no ``_FillValue``,
+#: and the ``flag_values``/``flag_meanings`` attributes of codes
+NO_FILL, flag_attrs = _NO_FILL, _flag_attrs
+
+
 def _drop_variables() -> list[Variable]:
     """The per-drop variables along ``realization``: the index, every summary output, the
     termination status and the impact-burial class."""
@@ -545,378 +555,25 @@ def _coverage_content_type(name: str, var: Variable) -> str:
     return "modelResult"
 
 
+def _with_coverage(var: Variable) -> Variable:
+    """``var`` with its ACDD coverage_content_type (:func:`_coverage_content_type`) unless it sets one."""
+    if var.is_bounds or "coverage_content_type" in var.attrs:
+        return var
+    cct = _coverage_content_type(var.name, var)
+    return dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
+
+
 def _declare() -> dict[str, Variable]:
-    """The mine ensemble's registry: per-drop variables, ensemble-wide statistics, the statistics
-    of every summary output (templates) and the post-impact scour stage (optional [scour]
-    section, docs/scour.md), each with its ACDD coverage_content_type."""
+    """The mine ensemble's registry: per-drop variables, ensemble-wide statistics and the statistics
+    of every summary output (templates), each with its ACDD coverage_content_type. A post-impact
+    process adds its own (:func:`register_process_variables`)."""
     stats = [var for name, o in SUMMARY_OUTPUTS.items() for var in _statistics_of(name, o)]
     v: dict[str, Variable] = {}
-    for var in [*_drop_variables(), *_ensemble_variables(), *stats, *_scour_variables()]:
+    for var in [*_drop_variables(), *_ensemble_variables(), *stats]:
         if var.name in v:  # pragma: no cover - guards the registry itself
             raise RuntimeError(f"output variable {var.name!r} declared twice")
         v[var.name] = var
-    for name, var in v.items():
-        if not (var.is_bounds or "coverage_content_type" in var.attrs):
-            cct = _coverage_content_type(name, var)
-            v[name] = dataclasses.replace(var, attrs={**var.attrs, "coverage_content_type": cct})
-    return v
-
-
-#: burial measures the scour stage reports at each lead time (columns of the impact summary)
-SCOUR_MEASURES = ("penetration_depth", "burial_volume", "burial_height", "burial_area", "height_proud")
-#: status codes of the scour stage (mineburial.kernels.mine.scour_batch.STATUS_NAMES)
-SCOUR_STATUS_NAMES = ("ok", "invalid_parameter", "invalid_forcing", "beyond_forcing", "not_run")
-_SCOUR_BASIS = "over the drops whose scour stage ran (scour_status ok) and a finite value"
-
-
-def _scour_coordinates() -> list[Variable]:
-    """The scour stage's ``lead_time`` and ``burial_level`` coordinates and its status codes, their
-    count and the status of each drop."""
-    return [
-        Variable(
-            "lead_time",
-            ("lead_time",),
-            "float64",
-            "days",
-            "time after the start of the forcing",
-            "Lead time of the scour stage: time after the first record of the forcing, when the "
-            "mines are taken to lie on the bed with their impact burial.",
-            standard_name="forecast_period",
-            attrs={"axis": "T"},
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "forecast_reference_time",
-            (),
-            "float64",
-            "seconds since 1970-01-01 00:00:00",
-            "date of lead time 0",
-            "Calendar date (UTC) of lead time 0: the forcing's first record, or the start of every "
-            "drop's window of it (scour.window_days at a fixed scour.window_position). Absent when the "
-            "forcing has no dates or the drops' windows start at different times.",
-            standard_name="forecast_reference_time",
-            attrs={"calendar": "proleptic_gregorian"},
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "burial_level",
-            ("burial_level",),
-            "float64",
-            "1",
-            "burial level B/D",
-            "Burial of the lowest point as a fraction of the mine diameter whose time to reach is reported.",
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "scour_status_code",
-            ("scour_status_code",),
-            "int8",
-            None,
-            "scour-stage status code",
-            "Status codes of the scour stage (mineburial.kernels.mine.scour_batch.STATUS_NAMES).",
-            attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "scour_status_count",
-            ("scour_status_code",),
-            "int64",
-            "1",
-            "number of drops with the scour-stage status",
-            "Number of drops of the ensemble with each scour-stage status code.",
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "scour_status",
-            ("realization",),
-            "int8",
-            None,
-            "scour-stage status",
-            "Status of the drop's scour stage; not_run: the impact phase did not leave it at rest.",
-            attrs=_flag_attrs(range(len(SCOUR_STATUS_NAMES)), SCOUR_STATUS_NAMES),
-            fill_value=-127,
-        ),
-    ]
-
-
-def _scour_time_variables() -> list[Variable]:
-    """When the mines of the scour stage are first flagged mobile and reach the burial levels."""
-    return [
-        Variable(
-            "scour_mobile_fraction",
-            (),
-            "float64",
-            "1",
-            "share of drops flagged mobile",
-            "Fraction of the drops whose scour stage ran in which the object mobility parameter passed "
-            "the threshold of Rennie et al. (2017) at some time of the forcing: the mine may roll or "
-            "migrate (an upper bound; the burial is not changed, docs/scour.md).",
-            group="statistics",
-        ),
-        Variable(
-            "scour_not_modelled_fraction",
-            (),
-            "float64",
-            "1",
-            "share of drops where no post-impact process is modelled",
-            "Fraction of the drops whose scour stage ran that lie on a cohesive bed (mud, clay; "
-            "scour.cohesive or the sediment class): no scour law holds there, the stage keeps the "
-            "impact burial at every lead time. Not a prediction that the mine stays unburied: 1 means "
-            "not modelled (maps hatch such cells, docs/maps.md).",
-            group="statistics",
-        ),
-        Variable(
-            "scour_mobile_fraction_by_lead_time",
-            ("lead_time",),
-            "float64",
-            "1",
-            "share of drops flagged mobile by the lead time",
-            "Fraction of the drops whose scour stage ran that were first flagged mobile (Rennie et al. "
-            "2017 threshold) at or before each lead time; at the forcing's end it is scour_mobile_fraction.",
-            group="statistics",
-        ),
-        Variable(
-            "scour_mobile_probability",
-            ("lead_time",),
-            "float64",
-            "1",
-            "share of drops that would move at the lead time",
-            "Fraction of the drops whose scour stage ran whose mine would move at each lead time: the "
-            "object mobility parameter of the forcing then above the criterion of scour.mobility, with "
-            "the burial then (`proud`: Rennie et al. 2017 on a rigid bottom while B/D <= 0.1; `pocket`: "
-            "raised by the burial, docs/scour.md, Mobility). What follows is not modelled: a mine in an "
-            "open pit rolls back into it (its burial is unchanged), a proud one on a flat bed may "
-            "migrate away (docs/scour.md).",
-            group="statistics",
-        ),
-        Variable(
-            "scour_pit_depth_mean",
-            ("lead_time",),
-            "float64",
-            "m",
-            "mean depth of the scour pit beside the mine",
-            "Arithmetic mean of scour_pit_depth over the drops whose scour stage ran (scour_status ok). "
-            "Under scour.burial_law = rennie the one state is both pit and burial.",
-            group="statistics",
-        ),
-        Variable(
-            "scour_pit_depth",
-            ("realization", "lead_time"),
-            "float64",
-            "m",
-            "depth of the scour pit beside the mine",
-            "Depth of the scour pit beside the mine below the far-field bed at each lead time "
-            "(scour.burial_law = scour_settle: a state of its own, which infills in calm spells while "
-            "the mine's burial stays; rennie: the burial itself); NaN where the stage did not run.",
-        ),
-        Variable(
-            "scour_mobile_at_lead_time",
-            ("realization", "lead_time"),
-            "float64",
-            "1",
-            "whether the mine would move at the lead time",
-            "1 where the mine would move at the lead time (criterion of scour.mobility with the forcing "
-            "and the burial then), else 0; NaN where the stage did not run.",
-        ),
-        Variable(
-            "scour_mobile_time",
-            ("realization",),
-            "float64",
-            "days",
-            "first time the mine is flagged mobile",
-            "Time after the start of the forcing at which the mobility threshold of Rennie et al. (2017) "
-            "was first passed; inf: never.",
-        ),
-        Variable(
-            "scour_time_to_level",
-            ("realization", "burial_level"),
-            "float64",
-            "days",
-            "time to reach the burial level",
-            "Time after the start of the forcing at which the burial B/D first reaches the level; 0: the "
-            "impact burial is there already; inf: not within the forcing.",
-        ),
-        Variable(
-            "scour_time_to_level_quantile",
-            ("burial_level", "quantile"),
-            "float64",
-            "days",
-            "quantile of the time to reach the burial level",
-            f"Quantiles (numpy linear) of scour_time_to_level {_SCOUR_BASIS}; inf where that share of "
-            "the drops does not reach the level within the forcing.",
-            group="statistics",
-        ),
-        Variable(
-            "scour_level_reached_fraction",
-            ("burial_level",),
-            "float64",
-            "1",
-            "share of drops reaching the burial level",
-            f"Fraction of the drops {_SCOUR_BASIS} that reach the level within the forcing.",
-            group="statistics",
-        ),
-    ]
-
-
-def _scour_class_variables() -> list[Variable]:
-    """The burial-class counts and probabilities (with the Wilson interval) at each lead time."""
-    out = [
-        Variable(
-            "scour_burial_class_count",
-            ("lead_time", "impact_burial_class"),
-            "int64",
-            "1",
-            "number of drops in the burial class at the lead time",
-            f"Number of drops {_SCOUR_BASIS} in each burial class (the impact classes) at each lead time.",
-            fill_value=_NO_FILL,
-            group="statistics",
-        ),
-        Variable(
-            "scour_burial_class_probability",
-            ("lead_time", "impact_burial_class"),
-            "float64",
-            "1",
-            "probability of the burial class at the lead time",
-            f"Fraction k/n of the drops {_SCOUR_BASIS} in each burial class at each lead time.",
-            group="statistics",
-            attrs={
-                "ancillary_variables": "scour_burial_class_probability_lower "
-                "scour_burial_class_probability_upper scour_burial_class_count"
-            },
-        ),
-    ]
-    for side in ("lower", "upper"):
-        out.append(
-            Variable(
-                f"scour_burial_class_probability_{side}",
-                ("lead_time", "impact_burial_class"),
-                "float64",
-                "1",
-                f"{side} confidence limit of the burial-class probability at the lead time",
-                f"{side.capitalize()} limit of the Wilson score interval (Wilson 1927) at the "
-                "confidence level given by the attribute confidence_level.",
-                group="statistics",
-            )
-        )
-    return out
-
-
-#: why the measures at lead time 0 differ from the impact's (issue 33): the stage lays the mine flat
-_LAY_FLAT = (
-    "The scour stage lays the mine flat: from lead time 0 it is the same cylinder lying horizontal with "
-    "the same fraction of its volume below the bed as at its impact rest attitude (the scour laws are "
-    "those of a lying cylinder; docs/scour.md, Rest attitude). Burial by volume at lead 0 equals the "
-    "impact's; height proud, burial by height and area, and penetration depth (the lowest point) of a "
-    "mine that came to rest tilted or nose-down differ from the impact's (a mine standing on its "
-    'nose is much less proud once lying). Under scour.rest_attitude = "impact" the stage keeps the '
-    "impact's attitude instead (scour_tilt): every measure at lead 0 equals the impact's."
-)
-
-
-def _scour_measure_variables() -> list[Variable]:
-    """Each burial measure after the scour stage: per drop at each lead time, its mean and quantiles."""
-    lt = ("lead_time",)
-    out = []
-    for name in SCOUR_MEASURES:
-        o = SUMMARY_OUTPUTS[name]
-        out.append(
-            Variable(
-                f"scour_{name}",
-                ("realization", "lead_time"),
-                "float64",
-                o.units,
-                f"{o.long_name} at the lead time",
-                f"{o.description} After the scour stage, at each lead time; NaN where the stage did "
-                f"not run (scour_status). {_LAY_FLAT}",
-            )
-        )
-        out.append(
-            Variable(
-                f"scour_{name}_mean",
-                lt,
-                "float64",
-                o.units,
-                f"mean of {o.long_name} at the lead time",
-                f"Arithmetic mean of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
-                attrs={"cell_methods": "realization: mean"},
-                group="statistics",
-            )
-        )
-        out.append(
-            Variable(
-                f"scour_{name}_quantile",
-                ("lead_time", "quantile"),
-                "float64",
-                o.units,
-                f"quantile of {o.long_name} at the lead time",
-                f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_{name} {_SCOUR_BASIS}. {_LAY_FLAT}",
-                group="statistics",
-            )
-        )
-    return out
-
-
-# --- the tilt state of scour.rest_attitude = "impact" (issue 33 item 2; docs/scour.md, Tilt) --------
-#: the tilt's statistics: in a run's file only (maps do not carry them, as the pit depth)
-SCOUR_TILT_STATISTICS = ("scour_tilt_mean", "scour_tilt_quantile")
-_TILT = (
-    "Tilt of the mine's axis to the horizontal after the scour stage under scour.rest_attitude = "
-    '"impact" (absent under "flat", where the mine lies level): from the impact\'s rest attitude at '
-    "lead time 0, levelling as the scour pit undermines the higher end and 0 once the mine lies in its "
-    "pit (docs/scour.md, Tilt)."
-)
-
-
-def _scour_tilt_variables() -> list[Variable]:
-    """The tilt state per drop at each lead time, its mean and quantiles."""
-    return [
-        Variable(
-            "scour_tilt",
-            ("realization", "lead_time"),
-            "float64",
-            "degree",
-            "tilt of the mine's axis at the lead time",
-            f"{_TILT} NaN where the stage did not run (scour_status).",
-        ),
-        Variable(
-            "scour_tilt_mean",
-            ("lead_time",),
-            "float64",
-            "degree",
-            "mean tilt of the mine's axis at the lead time",
-            f"Arithmetic mean of scour_tilt {_SCOUR_BASIS}. {_TILT}",
-            attrs={"cell_methods": "realization: mean"},
-            group="statistics",
-        ),
-        Variable(
-            "scour_tilt_quantile",
-            ("lead_time", "quantile"),
-            "float64",
-            "degree",
-            "quantile of the tilt of the mine's axis at the lead time",
-            f"Quantiles (numpy linear, Hyndman & Fan type 7) of scour_tilt {_SCOUR_BASIS}. {_TILT}",
-            group="statistics",
-        ),
-    ]
-
-
-def _scour_variables() -> list[Variable]:
-    """The variables of the scour stage: the ``lead_time`` and ``burial_level`` coordinates, the
-    statistics of each burial measure at each lead time, the burial-class probabilities per lead
-    time, the times to reach the burial levels, the share of drops flagged mobile; per drop the
-    measures, times and statuses."""
-    return [
-        *_scour_coordinates(),
-        *_scour_time_variables(),
-        *_scour_class_variables(),
-        *_scour_measure_variables(),
-        *_scour_tilt_variables(),
-    ]
+    return {name: _with_coverage(var) for name, var in v.items()}
 
 
 def _statistics_of(name: str, out: _Output) -> list[Variable]:
@@ -1533,21 +1190,115 @@ def _environment_variables() -> list[Variable]:
 
 
 # ---------------------------------------------------------------------------
+# the output variables of the post-impact processes (mineburial.ensembles.processes)
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ProcessVariables:
+    """What a post-impact process declares of its output (its ``variables()``; scour's:
+    :data:`mineburial.ensembles.scour_variables.DECLARED`)."""
+
+    #: the variables of a run's file, in order: names beginning ``<section>_``, but for coordinates
+    #: that processes may share (``lead_time``, ...; declared alike by each that has them)
+    variables: tuple[Variable, ...]
+    #: the coordinates of its statistics that a map shares with its cells' template run, in order
+    map_coordinates: tuple[str, ...] = ()
+    #: appended to the description of each of its statistics on a map (over which drops of a cell)
+    map_note: str = ""
+    #: its statistics that are quality information on a map (status counts)
+    map_quality: tuple[str, ...] = ()
+    #: its statistics that only a run's file holds, not a map per cell (none of scour's)
+    run_only: tuple[str, ...] = ()
+    #: its name prefix (set by :func:`register_process_variables`)
+    section: str = ""
+
+    def map_statistics(self) -> tuple[str, ...]:
+        """The statistics a map holds per cell (and lead time): every variable ``<section>_*``
+        without a ``realization`` axis that is not a dimension coordinate, but :attr:`run_only`."""
+        return tuple(
+            var.name
+            for var in self.variables
+            if var.name.startswith(f"{self.section}_")
+            and "realization" not in var.dims
+            and var.dims != (var.name,)
+            and var.name not in self.run_only
+        )
+
+
+#: the declarations of each registered post-impact process (section -> its :class:`ProcessVariables`)
+PROCESS_VARIABLES: dict[str, ProcessVariables] = {}
+_AS_DECLARED: dict[str, ProcessVariables] = {}  # as the process gave them (a second registration: the same)
+
+
+def _same(a: Variable, b: Variable) -> bool:
+    return repr(a) == repr(b)  # attrs may hold arrays (flag_values): compare their text
+
+
+def register_process_variables(section: str, declared: ProcessVariables) -> None:
+    """Add the output variables ``declared`` by the post-impact process ``section`` to the mine
+    ensemble's registry (:data:`VARIABLES`, with their coverage_content_type) and its statistics,
+    per cell, to the map's family. Registering the same declarations again does nothing; other
+    declarations under a registered section, a name outside the section's prefix that is not a
+    coordinate, or a name declared otherwise already are refused (ValueError)."""
+    previous = _AS_DECLARED.get(section)
+    if previous is not None:
+        if previous is declared:
+            return
+        raise ValueError(
+            f"the output variables of the post-impact process [{section}] are registered already"
+        )
+    new = {}
+    for var in declared.variables:
+        var = _with_coverage(var)
+        coordinate = var.dims in ((var.name,), ())
+        if not (var.name.startswith(f"{section}_") or coordinate):
+            raise ValueError(f"[{section}]: output variable {var.name!r} must begin with '{section}_'")
+        if var.name in VARIABLES and not (coordinate and _same(VARIABLES[var.name], var)):
+            raise ValueError(f"[{section}]: output variable {var.name!r} is declared already")
+        new[var.name] = var
+    VARIABLES.update(new)
+    PROCESS_VARIABLES[section] = dataclasses.replace(declared, variables=tuple(new.values()), section=section)
+    _AS_DECLARED[section] = declared
+    FAMILIES["map"] = _family(_map_variables(), "map")
+
+
+def unregister_process_variables(section: str) -> None:
+    """Remove the output variables of the process ``section`` (a test's toy process), but the
+    coordinates another registered process shares."""
+    gone = PROCESS_VARIABLES.pop(section, None)
+    _AS_DECLARED.pop(section, None)
+    if gone is None:
+        return
+    kept = {var.name for p in PROCESS_VARIABLES.values() for var in p.variables}
+    for var in gone.variables:
+        if var.name not in kept:
+            VARIABLES.pop(var.name, None)
+    FAMILIES["map"] = _family(_map_variables(), "map")
+
+
+def map_process_statistics() -> tuple[str, ...]:
+    """The statistics of every registered post-impact process that a map holds per cell."""
+    return tuple(name for p in PROCESS_VARIABLES.values() for name in p.map_statistics())
+
+
+def map_shared_coords() -> tuple[str, ...]:
+    """The coordinates of the statistics that a map shares with its cells' template run: the
+    impact's (:data:`MAP_SHARED_COORDS`) and every registered process's."""
+    out = list(MAP_SHARED_COORDS)
+    for p in PROCESS_VARIABLES.values():
+        out += [name for name in p.map_coordinates if name not in out]
+    return tuple(out)
+
+
+# ---------------------------------------------------------------------------
 # the burial map (mineburial.maps): ensemble statistics per cell of an environment grid
 # ---------------------------------------------------------------------------
-#: the coordinates of the statistics that a map shares with its cells' template run
-MAP_SHARED_COORDS = (
-    "quantile",
-    "impact_burial_class",
-    "status_code",
-    "lead_time",
-    "burial_level",
-    "scour_status_code",
-    "forecast_reference_time",
-)
+#: the coordinates of the impact statistics that a map shares with its cells' template run (with a
+#: post-impact process also its own: :func:`map_shared_coords`)
+MAP_SHARED_COORDS = ("quantile", "impact_burial_class", "status_code")
 #: summary outputs whose mean, standard deviation and quantiles a map holds per cell
 MAP_OUTPUTS = ("burial_volume", "penetration_depth")
-#: the ensemble statistics a map holds per cell; with [scour] also the stage's (MAP_SCOUR_STATISTICS)
+#: the impact statistics a map holds per cell; with a post-impact process also its own
+#: (:func:`map_process_statistics`)
 MAP_STATISTICS = (
     "burial_class_count",
     "burial_class_probability",
@@ -1555,18 +1306,6 @@ MAP_STATISTICS = (
     "burial_class_probability_upper",
     "status_count",
 ) + tuple(f"{o}_{s}" for o in MAP_OUTPUTS for s in ("mean", "std", "quantile"))
-#: the scour stage's statistics (every scour_* variable of the ensemble without a realization axis,
-#: but the mobile shares by lead time and the mean pit depth that only a run's file holds:
-#: ensembles.scour.dataset)
-MAP_SCOUR_STATISTICS = tuple(
-    name
-    for name, var in VARIABLES.items()
-    if name.startswith("scour_")
-    and "realization" not in var.dims
-    and var.dims != (name,)
-    and name not in ("scour_mobile_fraction_by_lead_time", "scour_mobile_probability", "scour_pit_depth_mean")
-    and name not in SCOUR_TILT_STATISTICS
-)
 #: the epistemic band of the class probabilities, in a map whose ensembles draw from a posterior
 MAP_EPISTEMIC = ("burial_class_probability_epistemic_lower", "burial_class_probability_epistemic_upper")
 #: the horizontal dims of a map as declared; a file names them (and its grid mapping variable) as
@@ -1578,19 +1317,16 @@ _PER_CELL_IMPACT = (
     " Per cell, over the drops of the cell's ensemble that came to rest; NaN on land, "
     "where no drop came to rest, or (std) where fewer than 2 did."
 )
-_PER_CELL_SCOUR = (
-    " Per cell, over the drops of the cell's ensemble whose scour stage ran (scour_status "
-    "ok); NaN on land or where no drop's stage ran."
-)
 
 
-def _per_cell(name: str) -> Variable:
-    """The ensemble statistic ``name`` on a map: one value per cell (the grid's axes appended)."""
+def _per_cell(name: str, process: ProcessVariables | None = None) -> Variable:
+    """The ensemble statistic ``name`` on a map: one value per cell (the grid's axes appended);
+    ``process``: the declarations of the post-impact process whose statistic it is."""
     var = VARIABLES[name]
-    quality = name in ("status_count", "scour_status_count")
+    quality = name == "status_count" or (process is not None and name in process.map_quality)
     note = ""
-    if name.startswith("scour_") and not quality:
-        note = _PER_CELL_SCOUR
+    if process is not None:
+        note = "" if quality else process.map_note
     elif name.endswith(("_mean", "_std", "_quantile")):
         note = _PER_CELL_IMPACT
     cct = "qualityInformation" if quality else "modelResult"
@@ -1742,13 +1478,16 @@ def _map_environment_variables() -> list[Variable]:
 def _map_variables() -> list[Variable]:
     """The burial map of :mod:`mineburial.maps`: the ensemble statistics per cell, the class
     bounds and the coordinates of the statistics, each cell's status, seed and environment."""
+    own = [_per_cell(name, p) for p in PROCESS_VARIABLES.values() for name in p.map_statistics()]
     return [
-        *(_per_cell(name) for name in MAP_STATISTICS + MAP_SCOUR_STATISTICS + MAP_EPISTEMIC),
+        *(_per_cell(name) for name in MAP_STATISTICS),
+        *own,
+        *(_per_cell(name) for name in MAP_EPISTEMIC),
         VARIABLES["burial_class_lower_percent"],
         VARIABLES["burial_class_upper_percent"],
         *_map_cell_variables(),
         *_map_environment_variables(),
-        *(VARIABLES[name] for name in MAP_SHARED_COORDS),
+        *(VARIABLES[name] for name in map_shared_coords()),
     ]
 
 
