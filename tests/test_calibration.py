@@ -293,7 +293,7 @@ def test_the_scour_case_names_the_slots_the_ensemble_fills():
         slot = getattr(scour_kernels, "S_" + kernel_name.upper())
         assert scour_ensemble.NUMERIC[path.split(".", 1)[1]] == slot, path
     calibrated = {p.path for p in priors.load_priors() if p.path.startswith("scour.")}
-    assert calibrated <= set(cases.SCOUR_COEFFICIENTS)
+    assert calibrated <= {*cases.SCOUR_COEFFICIENTS, cases.SCOUR_LAW}  # the law: the set's own
 
 
 def test_the_scour_band_case_is_the_validation_row_at_its_assumptions():

@@ -337,7 +337,7 @@ def _posterior(which, raw, base_dir, model):
             "or the path of a posterior file written by mineburial calibrate"
         )
     if which == posterior.FIXED:
-        return None, ()
+        return posterior.for_scenario(None, raw)
     if model != posterior.CALIBRATED_MODEL:
         raise ScenarioError(
             f"ensemble.coefficients = {which!r}: the posterior was calibrated with numerics.model = "
@@ -348,7 +348,7 @@ def _posterior(which, raw, base_dir, model):
     why = post.stale() if post.source == "shipped" else None
     if why:
         notice(f"warning: the shipped posterior is stale: {why}; rebuild it (docs/calibration.md)")
-    return post, posterior.drawn_paths(post, raw)
+    return posterior.for_scenario(post, raw)  # a [scour] section's law restricts its block (issue 33)
 
 
 # ---------------------------------------------------------------------------
