@@ -316,3 +316,14 @@ def _minimal_stage():
 def _params(n):
     spec = engine.load_ensemble({**short_default(n), "ensemble": {"n": n}})
     return engine.chunk_inputs(spec, 0, n)[0]
+
+
+def test_the_per_drop_law_is_written_with_the_kernels_codes(tmp_path):
+    """The sampled input scour.burial_law names its codes as the stage's kernel defines them."""
+    from mineburial.ensembles.mine import input_metadata
+
+    path, *_ = _posterior_file(tmp_path)
+    spec = engine.load_ensemble(_law_scenario(path, "posterior", n=4))
+    assert LAW in spec.posterior_paths
+    codes = f"{scour_kernels.BURIAL_RENNIE} rennie, {scour_kernels.BURIAL_SCOUR_SETTLE} scour_settle"
+    assert input_metadata(spec, LAW) == ("1", f"code of {LAW}: {codes}")

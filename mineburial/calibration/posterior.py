@@ -189,9 +189,7 @@ def restricted(posterior: Posterior, law: str) -> Posterior:
     mine = codes == choice_labels(LAW).index(law)
     w = posterior.weights
     if not np.any(mine & (w > 0)):
-        raise ScenarioError(
-            f"scour.burial_law = {law!r}: the posterior ({posterior.source}) has no set of that law"
-        )
+        raise ScenarioError(f"scour.burial_law = {law!r}: {_named(posterior)} has no set of that law")
     src = np.arange(w.size)
     other = np.flatnonzero(~mine)
     if other.size:
@@ -205,6 +203,11 @@ def restricted(posterior: Posterior, law: str) -> Posterior:
     cols = [k for k, p in enumerate(posterior.paths) if p.startswith("scour.")]
     table[:, cols] = posterior.table[src][:, cols]
     return dataclasses.replace(posterior, table=table, scour_law=law)
+
+
+def _named(posterior: Posterior) -> str:
+    """The posterior in a message: ``the shipped posterior`` or ``the posterior <path>``."""
+    return "the shipped posterior" if posterior.source == "shipped" else f"the posterior {posterior.source}"
 
 
 def _section_law(raw: dict) -> str | None:
@@ -235,7 +238,7 @@ def drawn_paths(posterior: Posterior, raw: dict) -> tuple[str, ...]:
         if law == SCOUR_LAW_FROM_POSTERIOR:
             raise ScenarioError(
                 f"scour.burial_law = {law!r} draws each drop's law from the posterior, but "
-                f"{posterior.source} carries no law per set (built before the law had a prior): "
+                f"{_named(posterior)} carries no law per set (built before the law had a prior): "
                 "name the law, or rebuild the posterior (mineburial calibrate, docs/calibration.md)"
             )
         same = law == scour_law(posterior.paths)
@@ -278,7 +281,7 @@ def for_scenario(posterior: Posterior | None, raw: dict) -> tuple[Posterior | No
 
             notice(
                 f"warning: scour.burial_law = {law!r} has posterior probability "
-                f"{probabilities.get(law, 0.0):.3g} (< {LAW_FLOOR:g}) in {posterior.source}: the evidence "
+                f"{probabilities.get(law, 0.0):.3g} (< {LAW_FLOOR:g}) in {_named(posterior)}: the evidence "
                 "leaves no sets of it, so the section's scour coefficients are its own (or the defaults), "
                 "not the posterior's; burial_law = 'posterior' draws the laws by their weight"
             )

@@ -33,6 +33,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.calibration import posterior
+from mineburial.calibration.priors import choice_labels
 from mineburial.ensembles import accuracy, batch, epistemic, model_form, processes
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.dataset import build_dataset
@@ -459,8 +460,8 @@ def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
         return "1", f"index of the drop's coefficient set in the posterior ({spec.posterior.source})"
     if path in _ANGLE_FIELDS:
         return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
-    if path in model_form.CHOICE_FIELDS:
-        names = model_form.CHOICE_FIELDS[path]
+    names = choice_labels(path)  # a model choice of the impact phase, or the scour stage's law (issue 33)
+    if names is not None:
         return "1", f"code of {path}: " + ", ".join(f"{k} {v}" for k, v in enumerate(names))
     field = cfg.FIELDS.get(cfg.ALIASES.get(path, path))
     if field is not None:
