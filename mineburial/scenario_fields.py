@@ -42,6 +42,9 @@ SCOUR_FRICTION_NAMES = ("swart", "soulsby")
 SCOUR_TSTAR_LAWS = ("whitehouse", "pipeline", "pile_waves")
 # scour burial laws and mobility criteria (kernels.mine.scour: BURIAL_*, MOBILITY_* are these indices)
 SCOUR_BURIAL_LAWS = ("rennie", "scour_settle")
+# scour.burial_law's further value: each drop's law drawn with its coefficient set from the posterior
+# (calibration/posterior.py); never a kernel code (ensembles/scour.py stage_parameters fills the slot)
+SCOUR_LAW_FROM_POSTERIOR = "posterior"
 SCOUR_MOBILITY_NAMES = ("proud", "pocket")
 # the scour stage's rest attitude at lead 0 (kernels.mine.scour: REST_* are these indices)
 SCOUR_REST_ATTITUDES = ("flat", "impact")
@@ -865,14 +868,17 @@ TABLE: tuple[Field, ...] = (
     ),
     _choice(
         "scour.burial_law",
-        SCOUR_BURIAL_LAWS,
+        (*SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR),
         (
             "the burial law (a model-form choice, docs/scour.md): `rennie`, the first version's one state "
             "B relaxing to B_eq/D = a θ^b (Rennie et al. 2017), no memory; `scour_settle`, a scour pit "
             "S and the mine's burial B as separate states: the pit deepens toward a wave-, current- and "
             "combined-flow equilibrium that is zero at the threshold of motion, the mine settles into it "
             "(B >= S), the pit infills in calm spells (scour.infill_days) without lifting the mine, and "
-            "the far-field bed may lower (scour.bed_lowering_rate)"
+            "the far-field bed may lower (scour.bed_lowering_rate); `posterior`, each drop's law drawn with "
+            "its coefficient set from the posterior of `ensemble.coefficients`, which carries the "
+            "evidence's weight on each law (docs/calibration.md). A named law with a posterior gets the "
+            "coefficients of the posterior's sets of that law"
         ),
         "rennie",
         slot=False,

@@ -293,7 +293,7 @@ def test_the_scour_case_names_the_slots_the_ensemble_fills():
         slot = getattr(scour_kernels, "S_" + kernel_name.upper())
         assert scour_ensemble.NUMERIC[path.split(".", 1)[1]] == slot, path
     calibrated = {p.path for p in priors.load_priors() if p.path.startswith("scour.")}
-    assert calibrated <= set(cases.SCOUR_COEFFICIENTS)
+    assert calibrated <= {*cases.SCOUR_COEFFICIENTS, cases.SCOUR_LAW}  # the law: the set's own
 
 
 def test_the_scour_band_case_is_the_validation_row_at_its_assumptions():
@@ -336,26 +336,44 @@ def test_a_coefficient_the_scenario_gives_is_not_drawn():
 
 
 @pytest.mark.parametrize(
-    "section, drawn",
+    "section",
     [
-        (None, False),  # no [scour]: the stage does not run
-        ({"burial_law": "rennie"}, False),  # conditioned under scour_settle: not rennie's a, b
-        ({}, False),  # rennie by default
-        ({"burial_law": "scour_settle"}, True),
-        ({"burial_law": "scour_settle", "beq_a": 1.1}, True),  # all but the one it gives
+        None,  # no [scour]: the stage does not run
+        {"burial_law": "rennie"},
+        {},  # rennie by default
+        {"burial_law": "scour_settle"},
+        {"burial_law": "scour_settle", "beq_a": 1.1},  # all but the one it gives
+        {"burial_law": "posterior"},
     ],
 )
-def test_scour_coefficients_are_drawn_only_under_the_law_they_were_conditioned_with(section, drawn):
-    """The shipped priors carry the scour-and-settle coefficients, so the posterior's scour block
-    is conditioned with scour.burial_law = "scour_settle" (cases.scour_bands): a section with
-    another law draws none of them; one with that law draws every one it does not give."""
+def test_scour_coefficients_are_drawn_only_under_the_law_they_were_conditioned_with(section):
+    """The shipped posterior's scour coefficients are drawn only under the law they were conditioned
+    with. Built with a law per set (scour.burial_law has a prior): a section that names a law with
+    posterior mass draws that law's coefficients (rennie does not read a_w, m_w, the infill time),
+    "posterior" draws every one and the law. Built before (a file without the law, every set
+    scour_settle): only a scour_settle section draws, every coefficient it does not give."""
     post = posterior.load("posterior")
     scour_paths = [p for p in post.paths if p.startswith("scour.")]
-    assert posterior.scour_law(post.paths) == "scour_settle" and "scour.wave_a" in scour_paths
     raw = {"mine": {}} if section is None else {"mine": {}, "scour": section}
-    got = [p for p in posterior.drawn_paths(post, raw) if p.startswith("scour.")]
     given = {f"scour.{k}" for k in (section or {})}
-    assert got == ([p for p in scour_paths if p not in given] if drawn else [])
+    law = None if section is None else section.get("burial_law", "rennie")
+    probabilities = posterior.law_probabilities(post)
+    if probabilities is None and law == "posterior":
+        with pytest.raises(ScenarioError, match="carries no law per set"):
+            posterior.for_scenario(post, raw)
+        return
+    got = [p for p in posterior.for_scenario(post, raw)[1] if p.startswith("scour.")]
+    if probabilities is None:
+        assert posterior.scour_law(post.paths) == "scour_settle" and "scour.wave_a" in scour_paths
+        want = [p for p in scour_paths if p not in given] if law == "scour_settle" else []
+    elif law is None or (law != "posterior" and probabilities[law] < posterior.LAW_FLOOR):
+        want = []
+    elif law == "posterior":
+        want = scour_paths
+    else:
+        unread = {posterior.LAW, *(posterior.SCOUR_SETTLE_COEFFICIENTS if law == "rennie" else ())}
+        want = [p for p in scour_paths if p not in given and p not in unread]
+    assert got == want
 
 
 @pytest.mark.parametrize("value", ["", 3, "no/such/posterior.json"])

@@ -170,6 +170,33 @@ def _weights_of(block_w: dict, path: str, n: int) -> np.ndarray:
     return block_w.get(block_of(path), np.full(n, 1.0 / n))
 
 
+def model_choice(prior, coefficients, draws, w) -> dict:
+    """The evidence's weight on each label of the model choice ``prior`` (e.g. the scour stage's
+    burial law) under its block's weights ``w``: per label its prior and posterior probability,
+    the number of prior sets drawn with it, the effective sample size of those sets' weights
+    (Kish's, renormalised within the label: how many sets the label's posterior rests on), and
+    the posterior of the block's other numeric coefficients among the label's sets."""
+    labels = np.asarray(draws[prior.path])
+    block = cases.coefficient_block(prior.path)
+    mates = [q for q in coefficients if not q.categorical and cases.coefficient_block(q.path) == block]
+    out = {}
+    for label, p0 in zip(prior.distribution.values, prior.distribution.weights):
+        m = labels == label
+        mass = float(np.sum(w[m]))
+        entry = {
+            "prior": float(p0),
+            "prior_sets": int(m.sum()),
+            "posterior": mass,
+            "ess": conditioning.effective_sample_size(w[m]) if mass > 0 else 0.0,
+            "coefficients": {},
+        }
+        if mass > 0:
+            wl = np.where(m, w, 0.0) / mass
+            entry["coefficients"] = {q.path: conditioning.marginal(q, draws[q.path], wl) for q in mates}
+        out[label] = entry
+    return out
+
+
 def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tuple[dict, dict, dict]:
     """Per block of the evidence (:data:`cases.CASE_BLOCK`), the (sets,) log likelihood and
     weights of the sets, and the report: effective sample sizes, prior and posterior
@@ -204,6 +231,11 @@ def condition(coefficients, nuisance, rows, draws, simulated, seed: int) -> tupl
         },
         "influence": {},
         "predictive": [],
+        "choices": {
+            p.path: model_choice(p, coefficients, draws, _weights_of(block_w, p.path, n))
+            for p in coefficients
+            if p.categorical
+        },
     }
 
     def others(case):
@@ -364,6 +396,50 @@ def _fmt(m: dict) -> str:
     return ", ".join(f"{k} {v:.2f}" for k, v in m.items())
 
 
+def _choice_lines(choices: dict) -> list[str]:
+    """The report's section on each model choice with a prior: the evidence's weight on each
+    label, and the block's coefficients among the sets of each label."""
+    if not choices:
+        return []
+    lines = [
+        "",
+        "## Model choices: the evidence's weight on each label",
+        "",
+        "Each label's prior and posterior probability, the prior sets drawn with it, and the "
+        "effective sample size of their weights (Kish's, within the label: the sets its posterior "
+        "rests on). A law whose sets are weighted down by the evidence has a small posterior "
+        "probability; an ensemble that names it draws the coefficients of its own sets "
+        "(docs/calibration.md).",
+    ]
+    for path, labels in choices.items():
+        lines += [
+            "",
+            f"### {path}",
+            "",
+            "| label | prior | posterior | prior sets | ESS within |",
+            "|---|---|---|---|---|",
+        ]
+        for label, e in labels.items():
+            lines.append(
+                f"| {label} | {e['prior']:.3f} | {e['posterior']:.3f} | {e['prior_sets']} | {e['ess']:.1f} |"
+            )
+        coefs = list(dict.fromkeys(q for e in labels.values() for q in e["coefficients"]))
+        if coefs:
+            lines += [
+                "",
+                "Posterior of the block's coefficients among the sets of each label (median [5 %, 95 %]):",
+                "",
+                "| coefficient | " + " | ".join(labels) + " |",
+                "|---|" + "---|" * len(labels),
+            ]
+            for q in coefs:
+                cells = (
+                    _fmt(e["coefficients"][q]) if q in e["coefficients"] else "-" for e in labels.values()
+                )
+                lines.append(f"| {q} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def report_text(record: dict) -> str:
     """The calibration report (Markdown): prior against posterior of every coefficient, the
     effective sample size, which rows move which coefficient, the predictive checks."""
@@ -393,6 +469,7 @@ def report_text(record: dict) -> str:
     ]
     for path, post in rep["posterior"].items():
         lines.append(f"| {path} | {_fmt(rep['prior'][path])} | {_fmt(post)} |")
+    lines += _choice_lines(rep.get("choices", {}))
     paths = list(rep["posterior"])
     lines += [
         "",
@@ -515,6 +592,11 @@ def run_cli(args) -> int:
     )
     for path, post in rep["posterior"].items():
         print(f"  {path}: prior {_fmt(rep['prior'][path])} -> posterior {_fmt(post)}")
+    for path, labels in rep.get("choices", {}).items():
+        print(
+            f"  {path}, effective sample size within each label: "
+            + ", ".join(f"{k} {e['ess']:.1f} of {e['prior_sets']}" for k, e in labels.items())
+        )
     print(
         f"wrote {output}"
         + (f", {args.report}" if args.report else "")

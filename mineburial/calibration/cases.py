@@ -17,7 +17,8 @@ case is run under every coefficient set with the same code as an ensemble drop.
 * ``scour_bands``: the field bands of the post-impact scour stage (the validation's Oahu and
   Halekulani events, :data:`validation.cases.SCOUR_EVENTS`), the peak wave period a nuisance
   parameter; quantity: B/D at the end of the event series, from the stage kernel an ensemble
-  runs, with the set's ``scour.*`` coefficients (issue 33 conditions its laws here).
+  runs, with the set's ``scour.*`` coefficients and under the set's burial law (issue 33: the law
+  is a coefficient with a prior, so the posterior weighs the laws).
 """
 
 from __future__ import annotations
@@ -26,12 +27,12 @@ import dataclasses
 
 import numpy as np
 
-from mineburial.calibration.posterior import scour_law
 from mineburial.config import load_example
 from mineburial.drop import run_params
 from mineburial.ensembles import model_form
 from mineburial.kernels import status
 from mineburial.kernels.mine import layout
+from mineburial.scenario_fields import SCOUR_BURIAL_LAWS
 from mineburial.validation import cases as vc
 
 #: record interval of the Exp-1 trajectories (s): the validation's
@@ -86,19 +87,28 @@ SCOUR_COEFFICIENTS = {
 _SCOUR_TO_KERNEL = {"scour.infill_days": 86400.0}
 
 
+#: the set's burial law (a model-form coefficient with a prior, priors.toml): the stage runs under it
+SCOUR_LAW = "scour.burial_law"
+
+
 def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:
     """B/D at the end of the validation's scour event ``variant`` (``oahu``, ``halekulani``:
     fine carbonate sand, the mine proud, every assumption of validation.cases' scour rows) with
     the peak period ``peak_tp`` and the set's ``scour.*`` coefficients (the stage's defaults for
-    the others), under the law :func:`scour_law` names."""
+    the others), under the set's own burial law :data:`SCOUR_LAW` (the stage's default
+    ``rennie`` when the set carries none). A coefficient the law does not read is unused."""
     event = {**vc.SCOUR_EVENTS[variant], "peak_tp": float(peak_tp)}
     params = {
         SCOUR_COEFFICIENTS[k]: float(v) * _SCOUR_TO_KERNEL.get(k, 1.0)
         for k, v in coefficients.items()
         if k in SCOUR_COEFFICIENTS
     }
-    if scour_law(coefficients) == "scour_settle":
-        params["burial_law"] = float(vc.scour_kernels.BURIAL_SCOUR_SETTLE)
+    law = str(coefficients.get(SCOUR_LAW, "rennie"))
+    laws = vc.scour_kernels.BURIAL_RENNIE, vc.scour_kernels.BURIAL_SCOUR_SETTLE
+    codes = dict(zip(SCOUR_BURIAL_LAWS, laws))
+    if law not in codes:
+        raise ValueError(f"{SCOUR_LAW} = {law!r} is not one of {', '.join(SCOUR_BURIAL_LAWS)}")
+    params["burial_law"] = float(codes[law])
     burial, _ = vc.scour_final_burial(event, d50=vc.SCOUR_FINE, rho_grain=vc.SCOUR_CARBONATE, **params)
     return burial
 

@@ -124,19 +124,49 @@ def _prior(entry: dict, where: str, key: str) -> Prior:
     return Prior(path, d, str(entry["source"]), str(entry.get("units", "")), integrate)
 
 
+def choice_labels(path: str) -> tuple | None:
+    """The labels of the model choice ``path`` that a prior may sample, in the order of their
+    codes (a posterior file's table holds a label as its code), or None for a number: the impact
+    phase's choices (:data:`mineburial.ensembles.model_form.CHOICE_FIELDS`) and the scour stage's
+    burial law (``scour.burial_law``: its laws, the kernel's codes; not ``posterior``, which asks a
+    posterior for the law)."""
+    from mineburial.ensembles import model_form
+    from mineburial.scenario_fields import SCOUR_BURIAL_LAWS
+
+    if path in model_form.CHOICE_FIELDS:
+        return tuple(model_form.CHOICE_FIELDS[path])
+    if path == "scour.burial_law":
+        return SCOUR_BURIAL_LAWS
+    return None
+
+
+def _check_labels(path: str, d) -> str | None:
+    """Why the prior ``d`` of the model choice ``path`` is not a choice among its labels, or None."""
+    labels = choice_labels(path)
+    if not isinstance(d, dist.Choice) or not d.categorical:
+        return f"{path} can only vary as a 'choice' among {', '.join(labels)}, got {d.family}" + (
+            " of numbers" if isinstance(d, dist.Choice) else ""
+        )
+    bad = [v for v in d.values if v not in labels]
+    if bad:
+        return f"{path}: {', '.join(map(repr, bad))} not one of {', '.join(labels)}"
+    if len(set(d.values)) != len(d.values):
+        return f"{path}: a label is given twice in {list(d.values)}"
+    return None
+
+
 def load_priors(path=PRIORS_FILE) -> tuple[Prior, ...]:
     """The coefficient priors of ``path``, each checked against its field's allowed range
     (:func:`mineburial.config.check_distribution`) and, for a model choice, its labels."""
     # local import: config pulls in the kernels' layout; a priors file is read by calibrate and run only
     from mineburial import config as cfg
-    from mineburial.ensembles import model_form
 
     raw = _read(path)
     out = []
     for j, entry in enumerate(raw.get("coefficient", [])):
         prior = _prior(entry, f"{path}: coefficient[{j}]", "path")
-        if prior.path in model_form.CHOICE_FIELDS:
-            why = model_form.check_labels(prior.path, prior.distribution)
+        if choice_labels(prior.path) is not None:
+            why = _check_labels(prior.path, prior.distribution)
             if why:
                 raise ScenarioError(f"{path}: {why}")
         elif prior.path not in cfg.FIELDS:

@@ -33,6 +33,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._version import __version__
 from mineburial.calibration import posterior
+from mineburial.calibration.priors import choice_labels
 from mineburial.ensembles import accuracy, batch, epistemic, model_form, processes
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.dataset import build_dataset
@@ -337,7 +338,7 @@ def _posterior(which, raw, base_dir, model):
             "or the path of a posterior file written by mineburial calibrate"
         )
     if which == posterior.FIXED:
-        return None, ()
+        return posterior.for_scenario(None, raw)
     if model != posterior.CALIBRATED_MODEL:
         raise ScenarioError(
             f"ensemble.coefficients = {which!r}: the posterior was calibrated with numerics.model = "
@@ -348,7 +349,7 @@ def _posterior(which, raw, base_dir, model):
     why = post.stale() if post.source == "shipped" else None
     if why:
         notice(f"warning: the shipped posterior is stale: {why}; rebuild it (docs/calibration.md)")
-    return post, posterior.drawn_paths(post, raw)
+    return posterior.for_scenario(post, raw)  # a [scour] section's law restricts its block (issue 33)
 
 
 # ---------------------------------------------------------------------------
@@ -459,8 +460,8 @@ def input_metadata(spec: EnsembleSpec, path: str) -> tuple[str, str]:
         return "1", f"index of the drop's coefficient set in the posterior ({spec.posterior.source})"
     if path in _ANGLE_FIELDS:
         return "degree", path.split(".")[1].replace("_deg", "") + " angle at release"
-    if path in model_form.CHOICE_FIELDS:
-        names = model_form.CHOICE_FIELDS[path]
+    names = choice_labels(path)  # a model choice of the impact phase, or the scour stage's law (issue 33)
+    if names is not None:
         return "1", f"code of {path}: " + ", ".join(f"{k} {v}" for k, v in enumerate(names))
     field = cfg.FIELDS.get(cfg.ALIASES.get(path, path))
     if field is not None:

@@ -44,6 +44,7 @@ from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
 from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops_ends
+from mineburial.scenario_fields import SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
 #: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
@@ -71,6 +72,10 @@ CHOICES = {
     "mobility": sc.S_MOBILITY,
     "rest_attitude": sc.S_REST_ATTITUDE,
 }
+#: ``burial_law = "posterior"``: each drop's law is the sampled input LAW_INPUT (its posterior set's
+#: law, as the kernel's code), drawn with its coefficient set (calibration/posterior.py)
+LAW_FROM_POSTERIOR = SCOUR_LAW_FROM_POSTERIOR
+LAW_INPUT = "scour.burial_law"
 #: the fields only the scour-and-settle law reads (left out of the resolved section under rennie)
 SETTLE_ONLY = ("wave_a", "wave_kc_exponent", "infill_days", "bed_lowering_rate")
 #: the section's fields given in days that the stage reads in seconds: factor to its slot's unit
@@ -90,6 +95,8 @@ assert cfg.SCHEMA["scour.orbital"].choices[sc.ORBITAL_HS] == "hs"
 assert cfg.SCHEMA["scour.friction"].choices[sc.FRICTION_SOULSBY] == "soulsby"
 assert cfg.SCHEMA["scour.tstar_law"].choices == tuple(sc.TSTAR_LAWS)
 assert cfg.SCHEMA["scour.burial_law"].choices[sc.BURIAL_SCOUR_SETTLE] == "scour_settle"
+assert SCOUR_BURIAL_LAWS[sc.BURIAL_RENNIE] == "rennie"  # a posterior's law column holds these codes
+assert SCOUR_BURIAL_LAWS[sc.BURIAL_SCOUR_SETTLE] == "scour_settle"
 assert cfg.SCHEMA["scour.mobility"].choices[sc.MOBILITY_POCKET] == "pocket"
 assert cfg.SCHEMA["scour.rest_attitude"].choices[sc.REST_IMPACT] == "impact"
 assert {*NUMERIC, *CHOICES} <= set(KEYS)
@@ -123,8 +130,8 @@ class ScourSpec:
         if out.get("rest_attitude") == "flat":  # the default: a flat section resolves as before it existed
             del out["rest_attitude"]
         unused = set()  # the coefficients of a law or criterion the section does not use
-        if self.conventions.get("burial_law", "rennie") != "scour_settle":
-            unused.update(SETTLE_ONLY)
+        if self.conventions.get("burial_law", "rennie") not in ("scour_settle", LAW_FROM_POSTERIOR):
+            unused.update(SETTLE_ONLY)  # a law per drop from the posterior: some drops read them
         if self.conventions.get("mobility", "proud") != "pocket":
             unused.add("mobility_drag")
         out.update({k: v for k, v in self.values.items() if math.isfinite(v) and k not in unused})
@@ -442,7 +449,16 @@ def stage_parameters(spec: ScourSpec, P, inputs):
         if slot is not None:
             S[:, slot] = _column(spec, inputs, name, n) * TO_SECONDS.get(name, 1.0)
     for name, value in spec.conventions.items():
+        if name == "burial_law" and value == LAW_FROM_POSTERIOR:
+            continue  # not a law: each drop's, below
         S[:, CHOICES[name]] = cfg.SCHEMA[f"scour.{name}"].pack(value)
+    if LAW_INPUT in inputs:  # each drop's law, drawn with its coefficient set (calibration/posterior.py)
+        S[:, CHOICES["burial_law"]] = np.asarray(inputs[LAW_INPUT], dtype=np.float64)
+    elif spec.conventions.get("burial_law") == LAW_FROM_POSTERIOR:
+        raise cfg.ScenarioError(
+            f"scour.burial_law = {LAW_FROM_POSTERIOR!r} draws each drop's law from a posterior: give "
+            "ensemble.coefficients = 'posterior' or a posterior file whose sets carry a law"
+        )
     for name, per_class in spec.from_class.items():  # a sampled class: each drop its class's value
         if isinstance(per_class, tuple):
             S[:, SLOT[name]] = np.asarray(per_class, dtype=np.float64)[
