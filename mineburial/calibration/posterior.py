@@ -35,6 +35,7 @@ from mineburial.calibration.priors import (
     file_digest,
 )
 from mineburial.ensembles import distributions as dist
+from mineburial.ensembles.store import notice
 from mineburial.errors import ScenarioError
 from mineburial.scenario_fields import SCOUR_LAW_FROM_POSTERIOR
 
@@ -277,8 +278,6 @@ def for_scenario(posterior: Posterior | None, raw: dict) -> tuple[Posterior | No
     probabilities = law_probabilities(posterior)
     if probabilities is not None and law not in (None, SCOUR_LAW_FROM_POSTERIOR):
         if probabilities.get(law, 0.0) < LAW_FLOOR:
-            from mineburial.ensembles.store import notice  # local: the store is the run's
-
             notice(
                 f"warning: scour.burial_law = {law!r} has posterior probability "
                 f"{probabilities.get(law, 0.0):.3g} (< {LAW_FLOOR:g}) in {_named(posterior)}: the evidence "

@@ -24,8 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from mineburial.ensembles import distributions as dist
+from mineburial.ensembles import model_form
 from mineburial.errors import ScenarioError
 from mineburial.io.files import atomic_write_text
+from mineburial.scenario_fields import SCOUR_BURIAL_LAWS
 from mineburial.schema import replace_generated
 
 try:  # Python >= 3.11
@@ -130,9 +132,6 @@ def choice_labels(path: str) -> tuple | None:
     phase's choices (:data:`mineburial.ensembles.model_form.CHOICE_FIELDS`) and the scour stage's
     burial law (``scour.burial_law``: its laws, the kernel's codes; not ``posterior``, which asks a
     posterior for the law)."""
-    from mineburial.ensembles import model_form
-    from mineburial.scenario_fields import SCOUR_BURIAL_LAWS
-
     if path in model_form.CHOICE_FIELDS:
         return tuple(model_form.CHOICE_FIELDS[path])
     if path == "scour.burial_law":
