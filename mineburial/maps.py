@@ -1635,6 +1635,14 @@ def not_modelled_cells(ds) -> np.ndarray:
     return out
 
 
+def hatched_cells(ds, k: int) -> np.ndarray:
+    """The cells (y, x bool) a lead-time panel hatches at lead-time index ``k``: those of
+    :func:`not_modelled_cells` after lead time 0. At lead time 0 the impact is modelled everywhere
+    (its burial is the probability shown); after it, a cell where no post-impact process runs is
+    hatched, not coloured as a prediction that nothing changes."""
+    return not_modelled_cells(ds) & (float(ds["lead_time"].values[k]) > 0.0)
+
+
 def _hatch_cells(ax, g, cells) -> None:
     """Each cell of ``cells`` (y, x bool) drawn light grey with dark diagonal hatching."""
     from matplotlib.patches import Rectangle
@@ -1697,8 +1705,9 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
     basis = ds.attrs.get("burial_class_basis", "burial_volume").replace("burial_", "")
     label = _CLASS_LABELS[burial_class]
-    hatched = not_modelled_cells(ds)
+    not_modelled = not_modelled_cells(ds)
     for ax, k in zip(axes, ks):
+        hatched = hatched_cells(ds, k)
         p = np.where((g.status == CELL_COMPUTED) & ~hatched, prob[k], np.nan)
         g.background(ax, ~np.isfinite(p) & ~hatched)
         last = g.mesh(
@@ -1719,8 +1728,8 @@ def plot_lead_times(ds, path, lead_times, *, burial_class: int = 4, dpi: int = 1
     fig.suptitle(
         f"Burial after impact and {section}, class '{label}' by {basis}, of {_plot_title(ds)}\n"
         f"land tan; grey: no drop's {section} stage ran"
-        + ("\nhatched: not modelled (cohesive bed: no post-impact process runs; not 'stays unburied')"
-           if hatched.any() else ""),
+        + ("\nhatched after lead time 0: not modelled (cohesive bed: no post-impact process runs; "
+           "not 'stays unburied')" if not_modelled.any() else ""),
         fontsize=12,
     )  # fmt: skip
     path = pathlib.Path(path)

@@ -154,7 +154,7 @@ def test_cohesive_cells_are_marked_not_modelled_and_hatched_on_the_map(clay_and_
     scour_not_modelled_fraction is the share of the cell's drops on a cohesive bed (catalogue:
     soft_clay cohesive, sand not), and the lead-time panels hatch such cells."""
     pytest.importorskip("matplotlib")
-    from mineburial.maps import not_modelled_cells, plot_lead_times
+    from mineburial.maps import hatched_cells, not_modelled_cells, plot_lead_times
 
     _, ds = clay_and_sand_map
     share = ds["scour_not_modelled_fraction"].values
@@ -162,5 +162,9 @@ def test_cohesive_cells_are_marked_not_modelled_and_hatched_on_the_map(clay_and_
     assert share[0, 0] == 1.0 and share[0, 1] == 0.0
     assert sp.CATALOGUE["soft_clay"].cohesive and not sp.CATALOGUE["sand"].cohesive
     np.testing.assert_array_equal(not_modelled_cells(ds), [[True, False]])
+    lead = ds["lead_time"].values
+    assert lead[0] == 0.0 and lead[1] > 0.0
+    np.testing.assert_array_equal(hatched_cells(ds, 0), [[False, False]])  # the impact: modelled
+    np.testing.assert_array_equal(hatched_cells(ds, 1), [[True, False]])
     png = plot_lead_times(ds, tmp_path / "lead.png", list(ds["lead_time"].values[:2]))
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
