@@ -47,31 +47,20 @@ from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_Z
 from mineburial.scenario_fields import SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
 
-#: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills
-NUMERIC = {
-    "d50": sc.S_D50,
-    "grain_density": sc.S_RHO_GRAIN,
-    "mobile_layer": sc.S_MOBILE_LAYER,
-    "beq_a": sc.S_BEQ_A,
-    "beq_b": sc.S_BEQ_B,
-    "theta_exponent": sc.S_TSTAR_P,
-    "ripple_exposure": sc.S_RIPPLE_EXPOSURE,
-    "wave_a": sc.S_WAVE_A,
-    "wave_kc_exponent": sc.S_WAVE_KC_EXP,
-    "infill_days": sc.S_INFILL_TIME,
-    "bed_lowering_rate": sc.S_BED_RATE,
-    "mobility_drag": sc.S_MOB_CD,
-    "hs_scale": None,  # scales the forcing, not a stage parameter
-    "window_position": None,  # where the drop's window starts in the forcing, not a stage parameter
-}
+#: the section's fields that fill a slot of the stage's parameter vector, by the kernel's names
+#: (kernels/mine/scour.py ``PARAM_NAMES``): field name -> slot, in slot order
+FIELD_SLOTS = {path.split(".", 1)[1]: k for k, path in enumerate(sc.PARAM_NAMES) if path.startswith("scour.")}
+#: the bed's cohesion: a flag of the section and of the sediment class, not a sampled number
+_FLAGS = ("cohesive",)
 #: the conventions of the section (cfg.SCHEMA choices ``scour.<name>``) and the stage slot each fills
-CHOICES = {
-    "orbital": sc.S_ORBITAL,
-    "friction": sc.S_FRICTION,
-    "burial_law": sc.S_BURIAL_LAW,
-    "mobility": sc.S_MOBILITY,
-    "rest_attitude": sc.S_REST_ATTITUDE,
-}
+CHOICES = {name: k for name, k in FIELD_SLOTS.items() if cfg.SCHEMA[f"scour.{name}"].choices}
+#: numeric fields of the section (cfg.FIELDS ``scour.<name>``) and the stage slot each fills; the
+#: two that act on the forcing, not the stage, have none
+NUMERIC = {name: k for name, k in FIELD_SLOTS.items() if name not in CHOICES and name not in _FLAGS}
+NUMERIC.update(
+    hs_scale=None,  # scales the forcing, not a stage parameter
+    window_position=None,  # where the drop's window starts in the forcing, not a stage parameter
+)
 #: ``burial_law = "posterior"``: each drop's law is the sampled input LAW_INPUT (its posterior set's
 #: law, as the kernel's code), drawn with its coefficient set (calibration/posterior.py)
 LAW_FROM_POSTERIOR = SCOUR_LAW_FROM_POSTERIOR
@@ -84,7 +73,7 @@ TO_SECONDS = {"infill_days": 86400.0, "bed_lowering_rate": 1.0 / 86400.0}
 KEYS = tuple(f.name for f in cfg.SCHEMA.values() if f.section == "scour")
 #: the scour sediment a scenario's sediment class gives where the section does not (docs/scour.md, Sediment)
 SEDIMENT = ("d50", "grain_density", "cohesive")
-SLOT = dict(NUMERIC, cohesive=sc.S_COHESIVE)
+SLOT = dict(NUMERIC, cohesive=FIELD_SLOTS["cohesive"])
 DEFAULT_LEVELS = cfg.SCHEMA["scour.burial_levels"].default
 DAY = 86400.0
 #: the forcing files shipped with the package, named without extension in ``scour.forcing``

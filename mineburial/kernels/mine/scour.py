@@ -50,43 +50,97 @@ FRICTION_SWART = 0
 FRICTION_SOULSBY = 1
 
 # --- the stage's parameter vector (one flat float64 array; defaults in default_parameters) ---------
-S_B0 = 0  # initial burial [m] (from the impact phase)
-S_DIAMETER = 1  # mine diameter D [m]
-S_MINE_SG = 2  # mine density / water density [-] (for the mobility parameter)
-S_D50 = 3  # median grain size [m]
-S_RHO_GRAIN = 4  # grain density [kg/m^3]
-S_RHO_WATER = 5  # water density [kg/m^3]
-S_NU = 6  # kinematic viscosity of the water [m^2/s]
-S_G = 7  # gravity [m/s^2]
-S_COHESIVE = 8  # 1: cohesive bed, no scour (docs/scour.md); 0: sand
-S_MOBILE_LAYER = 9  # thickness of the mobile sand layer [m] (inf: unlimited)
-S_RIPPLE_D50 = 10  # d50 [m] at the middle of the blend into the coarse-sand exposure limit (RIPPLE_BLEND_PHI)
-S_BEQ_A = 11  # a of B_eq / D = a theta^b (Rennie et al. 2017)
-S_BEQ_B = 12  # b
-S_TSTAR_C = 13  # c of T* = c KC^m theta^p
-S_TSTAR_M = 14  # m
-S_TSTAR_P = 15  # p
-S_ORBITAL = 16  # ORBITAL_SPECTRAL, ORBITAL_HRMS or ORBITAL_HS
-S_FRICTION = 17  # FRICTION_SWART or FRICTION_SOULSBY
-S_CURRENT_Z = 18  # height [m] above the bed of the current speed; <= 0: the speed is the depth mean
-S_MOB_C = 19  # c of the mobility threshold c (D/k)^p (Rennie et al. 2017)
-S_MOB_P = 20  # p
-S_TSTAR_KC_MIN = 21  # smallest KC at which a KC law (m > 0) applies; below it no growth (T = inf)
-S_MOB_BURIAL_MAX = 22  # B/D up to which the mine counts as proud for the mobility criterion
-S_RIPPLE_EXPOSURE = 23  # coarse sand: height left proud above the ripple crests, in ripple heights
-# --- issue 33: the scour-and-settle law with memory and the burial-aware mobility (docs/scour.md) ---
-S_BURIAL_LAW = 24  # BURIAL_RENNIE (one state, the first version) or BURIAL_SCOUR_SETTLE (pit + mine)
-S_WAVE_A = 25  # a_w of the wave pit S_w/D = a_w KC^m_w (Sumer & Fredsoe 1990: 0.1)
-S_WAVE_KC_EXP = 26  # m_w (Sumer & Fredsoe 1990: 0.5)
-S_INFILL_TIME = 27  # time scale [s] of the pit's infill toward a shallower equilibrium (inf: none)
-S_BED_RATE = 28  # far-field bed lowering rate [m/s], >= 0 (lowers the bed and re-exposes the mine)
-S_MOBILITY = 29  # MOBILITY_PROUD (the first version's flag) or MOBILITY_POCKET (burial-aware)
-S_MOB_CD = 30  # drag coefficient of the lying cylinder in the burial-aware criterion
-# --- issue 33 item 2: the tilt state (docs/scour.md, Tilt: the two ends as states) ---------------
-S_REST_ATTITUDE = 31  # REST_FLAT (the mine laid flat at lead 0) or REST_IMPACT (the impact's attitude)
-S_B0_HIGH = 32  # REST_IMPACT: depth [m] of the higher end's lowest point below the bed at lead 0 (< 0: proud)
-S_AXIS_SPAN = 33  # REST_IMPACT: axial span L [m] of the mine (tail to nose): sin(tilt) = (B - H)/L
-N_PARAMS = 34
+#: the slots of the stage's parameter vector, named (issue 33 item 1, issue 36 item 4): a ``[scour]``
+#: field's path where the slot holds that field's value (its default, range and units are the
+#: schema's, mineburial/scenario_fields.py; a choice as its code; a field in days as seconds),
+#: ``derived.*`` a value the run computes for each drop (its impact, body and water), ``code.*`` a
+#: constant of the code (its value and source in :func:`default_parameters`). The ``S_`` constants
+#: below are looked up by name, so a slot added here moves no other; ensembles/scour.py fills the
+#: field slots by name (``NUMERIC``, ``CHOICES`` are derived from these names) and
+#: tests/test_scour_layout.py checks that each field slot's default here is the schema's.
+PARAM_NAMES = (
+    "derived.b0",  # initial burial [m] (from the impact phase)
+    "derived.diameter",  # mine diameter D [m]
+    "derived.mine_sg",  # mine density / water density [-] (for the mobility parameter)
+    "scour.d50",  # median grain size [m]
+    "scour.grain_density",  # grain density [kg/m^3]
+    "derived.rho_water",  # water density [kg/m^3]
+    "derived.nu",  # kinematic viscosity of the water [m^2/s]
+    "derived.gravity",  # gravity [m/s^2]
+    "scour.cohesive",  # 1: cohesive bed, no scour (docs/scour.md); 0: sand
+    "scour.mobile_layer",  # thickness of the mobile sand layer [m] (inf: unlimited)
+    "code.ripple_d50",  # d50 [m] at the middle of the blend into the coarse-sand exposure limit
+    "scour.beq_a",  # a of B_eq / D = a theta^b (Rennie et al. 2017)
+    "scour.beq_b",  # b
+    "code.tstar_c",  # c of T* = c KC^m theta^p (the scour.tstar_law preset)
+    "code.tstar_m",  # m (the preset)
+    "scour.theta_exponent",  # p (the preset's unless given)
+    "scour.orbital",  # ORBITAL_SPECTRAL, ORBITAL_HRMS or ORBITAL_HS
+    "scour.friction",  # FRICTION_SWART or FRICTION_SOULSBY
+    "code.current_z",  # height [m] above the bed of the current speed; <= 0: the speed is the depth mean
+    "code.mob_c",  # c of the mobility threshold c (D/k)^p (Rennie et al. 2017)
+    "code.mob_p",  # p
+    "code.tstar_kc_min",  # smallest KC at which a KC law (m > 0) applies; below it no growth (T = inf)
+    "code.mob_burial_max",  # B/D up to which the mine counts as proud for the mobility criterion
+    "scour.ripple_exposure",  # coarse sand: height left proud above the ripple crests, in ripple heights
+    # issue 33: the scour-and-settle law with memory and the burial-aware mobility (docs/scour.md)
+    "scour.burial_law",  # BURIAL_RENNIE (one state) or BURIAL_SCOUR_SETTLE (pit + mine)
+    "scour.wave_a",  # a_w of the wave pit S_w/D = a_w KC^m_w (Sumer & Fredsoe 1990: 0.1)
+    "scour.wave_kc_exponent",  # m_w (Sumer & Fredsoe 1990: 0.5)
+    "scour.infill_days",  # time scale [s] of the pit's infill toward a shallower equilibrium (inf: none)
+    "scour.bed_lowering_rate",  # far-field bed lowering rate [m/s], >= 0 (re-exposes the mine)
+    "scour.mobility",  # MOBILITY_PROUD (the first version's flag) or MOBILITY_POCKET (burial-aware)
+    "scour.mobility_drag",  # drag coefficient of the lying cylinder in the burial-aware criterion
+    # issue 33 item 2: the tilt state (docs/scour.md, Tilt: the two ends as states)
+    "scour.rest_attitude",  # REST_FLAT (laid flat at lead 0) or REST_IMPACT (the impact's attitude)
+    "derived.b0_high",  # REST_IMPACT: depth [m] of the higher end's lowest point at lead 0 (< 0: proud)
+    "derived.axis_span",  # REST_IMPACT: axial span L [m] of the mine (tail to nose): sin(tilt) = (B - H)/L
+)
+N_PARAMS = len(PARAM_NAMES)
+
+
+def slot(name: str) -> int:
+    """The index of the stage parameter ``name`` (:data:`PARAM_NAMES`); KeyError naming it."""
+    try:
+        return PARAM_NAMES.index(name)
+    except ValueError:
+        raise KeyError(f"no stage parameter {name!r}; the names: {', '.join(PARAM_NAMES)}") from None
+
+
+S_B0 = slot("derived.b0")
+S_DIAMETER = slot("derived.diameter")
+S_MINE_SG = slot("derived.mine_sg")
+S_D50 = slot("scour.d50")
+S_RHO_GRAIN = slot("scour.grain_density")
+S_RHO_WATER = slot("derived.rho_water")
+S_NU = slot("derived.nu")
+S_G = slot("derived.gravity")
+S_COHESIVE = slot("scour.cohesive")
+S_MOBILE_LAYER = slot("scour.mobile_layer")
+S_RIPPLE_D50 = slot("code.ripple_d50")
+S_BEQ_A = slot("scour.beq_a")
+S_BEQ_B = slot("scour.beq_b")
+S_TSTAR_C = slot("code.tstar_c")
+S_TSTAR_M = slot("code.tstar_m")
+S_TSTAR_P = slot("scour.theta_exponent")
+S_ORBITAL = slot("scour.orbital")
+S_FRICTION = slot("scour.friction")
+S_CURRENT_Z = slot("code.current_z")
+S_MOB_C = slot("code.mob_c")
+S_MOB_P = slot("code.mob_p")
+S_TSTAR_KC_MIN = slot("code.tstar_kc_min")
+S_MOB_BURIAL_MAX = slot("code.mob_burial_max")
+S_RIPPLE_EXPOSURE = slot("scour.ripple_exposure")
+S_BURIAL_LAW = slot("scour.burial_law")
+S_WAVE_A = slot("scour.wave_a")
+S_WAVE_KC_EXP = slot("scour.wave_kc_exponent")
+S_INFILL_TIME = slot("scour.infill_days")
+S_BED_RATE = slot("scour.bed_lowering_rate")
+S_MOBILITY = slot("scour.mobility")
+S_MOB_CD = slot("scour.mobility_drag")
+S_REST_ATTITUDE = slot("scour.rest_attitude")
+S_B0_HIGH = slot("derived.b0_high")
+S_AXIS_SPAN = slot("derived.axis_span")
 
 #: burial laws (S_BURIAL_LAW): the first version's single state B relaxing to D a theta^b
 #: (Rennie et al. 2017), and the scour-and-settle law (pit depth S and burial B as two states)
