@@ -91,13 +91,20 @@ _SCOUR_TO_KERNEL = {"scour.infill_days": 86400.0}
 SCOUR_LAW = "scour.burial_law"
 
 
+#: the grain density of each scour event's fine sand (validation.cases' assumptions): carbonate
+#: off Oahu, quartz at Indian Rocks Beach
+SCOUR_GRAINS = {"oahu": vc.SCOUR_CARBONATE, "halekulani": vc.SCOUR_CARBONATE, "irb": vc.SCOUR_QUARTZ}
+
+
 def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:
-    """B/D at the end of the validation's scour event ``variant`` (``oahu``, ``halekulani``:
-    fine carbonate sand, the mine proud, every assumption of validation.cases' scour rows) with
+    """B/D at the end of the validation's scour event ``variant`` (``oahu``, ``halekulani``: fine
+    carbonate sand; ``irb``: fine quartz sand, the Indian Rocks Beach fronts; the mine proud, every
+    assumption of validation.cases' scour rows) with
     the peak period ``peak_tp`` and the set's ``scour.*`` coefficients (the stage's defaults for
     the others), under the set's own burial law :data:`SCOUR_LAW` (the stage's default
     ``rennie`` when the set carries none). A coefficient the law does not read is unused."""
     event = {**vc.SCOUR_EVENTS[variant], "peak_tp": float(peak_tp)}
+    grains = SCOUR_GRAINS[variant]
     params = {
         SCOUR_COEFFICIENTS[k]: float(v) * _SCOUR_TO_KERNEL.get(k, 1.0)
         for k, v in coefficients.items()
@@ -109,7 +116,7 @@ def scour_burial(variant: str, coefficients: dict, peak_tp: float) -> float:
     if law not in codes:
         raise ValueError(f"{SCOUR_LAW} = {law!r} is not one of {', '.join(SCOUR_BURIAL_LAWS)}")
     params["burial_law"] = float(codes[law])
-    burial, _ = vc.scour_final_burial(event, d50=vc.SCOUR_FINE, rho_grain=vc.SCOUR_CARBONATE, **params)
+    burial, _ = vc.scour_final_burial(event, d50=vc.SCOUR_FINE, rho_grain=grains, **params)
     return burial
 
 
