@@ -25,7 +25,7 @@ table holds (``FRUSTUM_*``): with V the volume, x_v its centroid on the axis and
 
 Checks printed first: the sphere (k = 0.5 exactly), and a prolate and an oblate spheroid against
 Lamb's closed forms (Lamb, Hydrodynamics, 6th ed., section 114; ``alpha_0, beta_0`` integrals),
-which the test ``tests/test_revolution_fluid.py`` re-evaluates with scipy.
+which the test ``tests/test_revolution_added_mass.py`` re-evaluates with scipy.
 
     python benchmarks/added_mass_revolution_bem.py > benchmarks/results/added_mass_revolution_bem.txt
 """
@@ -157,7 +157,7 @@ def coefficients(meridian, length):
 def main(argv):
     quick = "--quick" in argv
     print(f"# capytaine {cpt.__version__}, direct method, N_THETA={N_THETA}, N_PER_RADIUS={N_PER_RADIUS}")
-    print("# checks: body, k_axial, k_transverse (closed forms: tests/test_revolution_fluid.py)")
+    print("# checks: body, k_axial, k_transverse (closed forms: tests/test_revolution_added_mass.py)")
     for name, a, b in (("sphere", 1.0, 1.0), ("prolate_2", 2.0, 1.0), ("oblate_0.45", 0.45, 1.0)):
         ka, kt, delta, _, dv, nf, _ = coefficients(spheroid_meridian(a, b), 2.0 * a)
         print(f"check {name} {ka:.5f} {kt:.5f} delta={delta:+.1e} dV={dv:+.1e} faces={nf}")
