@@ -46,8 +46,9 @@ is called: a frustum of equal radii gives the cylinder's forces bit for bit
 import math
 
 import numpy as np
+from numba.extending import overload
 
-from mineburial._numba import kernel, small_kernel
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels.crossflow import LAMBDA_SWITCH, N_SERIES, _root_moments
 from mineburial.kernels.mine.added_mass import finite_body_cross_drag
 from mineburial.kernels.mine.coefficients import (
@@ -56,7 +57,23 @@ from mineburial.kernels.mine.coefficients import (
     lift_coefficient,
     roughness_scaled,
 )
-from mineburial.kernels.mine.dynamics import strip_forces
+
+
+def _cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
+    """:func:`mineburial.kernels.mine.dynamics.strip_forces`, for compiled code: imported when a
+    caller is typed, not when this module is (``dynamics`` imports the drop's shape module, which
+    imports this one: a shape whose module uses these strips would close the cycle)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_cylinder_strip, jit_options=JIT_OPTIONS)
+def _overload_cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
+    from mineburial.kernels.mine.dynamics import strip_forces
+
+    def impl(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
+        return strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness)
+
+    return impl
 
 
 @kernel
@@ -223,7 +240,9 @@ def profile_strip_forces(rho, nu, xs, rs, L, a, b, ur1, ur2, ur3, w1, w2, w3, dr
     n = len(xs)
     for i in range(n - 1):
         if xs[i] <= a and b <= xs[i + 1] and rs[i] == rs[i + 1]:
-            return strip_forces(rho, nu, rs[i], L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness)
+            return _cylinder_strip(
+                rho, nu, rs[i], L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness
+            )
     ell = b - a
     _, d_mean, r_max = profile_means(xs, rs)
     aspect = L / d_mean
