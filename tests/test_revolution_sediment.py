@@ -222,3 +222,47 @@ def test_pore_law_equal_radii_and_the_frustums_lever_arm():
     deep = rsed.profile_pore_pressure((x0, x1), (r0, r1), *c2, d0, 5.0, -0.8, law, EMPTY_BANK)
     deep_cyl = pore_pressure(0.5, r0, 0.0, *c2, d0, 5.0, -0.8, law, EMPTY_BANK)
     assert deep[0] == pytest.approx(deep_cyl[0], rel=1e-14)
+
+
+def _largest_step(fun, s0, s1, n):
+    """Largest change of the force and of the torque (relative to their largest value on the path)
+    between neighbours of n + 1 equally spaced samples of s in [s0, s1] (tests/test_sediment_fast.py)."""
+    out = np.array([fun(s) for s in np.linspace(s0, s1, n + 1)])
+    d1 = np.abs(np.diff(out, axis=0))
+    fs = np.max(np.linalg.norm(out[:, :3], axis=1))
+    ms = np.max(np.linalg.norm(out[:, 3:], axis=1))
+    assert fs > 0.0 and ms > 0.0
+    return max(np.max(d1[:, :3]) / fs, np.max(d1[:, 3:]) / ms)
+
+
+_MANTA = ((-0.16, 0.28), (0.49, 0.20))
+#: paths in the state (the fast rule's point: no jumps), on the Manta-like frustum
+TAPER_PATHS = {
+    # first contact of the base's rim, tilted: the rim crosses the seabed near s = 0
+    "seabed contact": (
+        lambda s: ((0.9, 0.3, 0.3162), -0.16 * 0.9 - 0.49 * math.hypot(0.3, 0.3162) + s),
+        -4e-3,
+        6e-3,
+    ),
+    # on its flank, the seabed line sweeping from the base to the top
+    "seabed line along the flank": (lambda s: ((0.3, 0.1, -0.9487), s), -0.2, 0.3),
+}
+
+
+@pytest.mark.parametrize("name", list(TAPER_PATHS))
+def test_frustum_force_is_continuous_along_paths(name):
+    """As the cylinder's fast rule (tests/test_sediment_fast.py): a tenfold finer sampling divides
+    the largest step by 4 at least (by 1 if the force jumped) and no step exceeds 0.5 % of the scale."""
+    case, s0, s1 = TAPER_PATHS[name]
+    vb = (-0.4, 0.3, -0.6, 0.2, -0.5, 0.3)
+    for model in (0, 2):
+        law = _law(0.98, P_SED_RESISTANCE=model, P_SED_RATE_LAW=model % 3)
+
+        def fun(s, law=law):
+            c2, d0 = case(s)
+            return np.array(rsed.profile_tractions(*_MANTA, *c2, d0, vb, law, EMPTY_BANK))
+
+        coarse = _largest_step(fun, s0, s1, 300)
+        fine = _largest_step(fun, s0, s1, 3000)
+        assert fine < 0.25 * coarse, (name, model, coarse, fine)
+        assert fine < 5e-3, (name, model, fine)
