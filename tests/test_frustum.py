@@ -71,10 +71,22 @@ def test_each_function_takes_the_protocols_arguments():
         )
 
 
-def test_the_physics_is_missing_so_registration_is_refused():
-    with pytest.raises(TypeError, match="surface_tractions"):
-        bodies.register(Frustum, frustum)
+def test_the_protocol_is_complete_but_the_frustum_is_not_registered():
+    # every protocol function is here (register accepts the module), but the module does not register
+    # itself: dynamics' strips still take one radius (frustum module docstring)
+    assert set(frustum.GEOMETRY + frustum.PHYSICS) == set(bodies.PROTOCOL)
+    for name in frustum.PHYSICS:
+        assert list(inspect.signature(getattr(frustum, name)).parameters) == bodies.SIGNATURES[name].split(
+            ", "
+        )
     assert Frustum not in bodies.SHAPES
+    saved = dict(bodies.SHAPES)
+    try:
+        bodies.register(Frustum, frustum)
+        assert bodies.SHAPES[Frustum] is frustum
+    finally:
+        bodies.SHAPES.clear()
+        bodies.SHAPES.update(saved)
 
 
 @pytest.mark.parametrize("a_z", [-1.0, -0.45, 0.0, 0.3, 0.999, 1.0])
@@ -125,3 +137,110 @@ def test_upright_frustum_half_in_the_seabed():
     assert cut[0] == pytest.approx(math.pi * h * (rt * rt + rt * r_h + r_h * r_h) / 3.0, rel=1e-13)
     assert burial[1] == pytest.approx(50.0, rel=1e-13)
     assert burial[3:] == pytest.approx((h, h), rel=1e-13)
+
+
+# ---------------------------------------------------------------------------------------------
+# the physics (issue 36 item 2)
+# ---------------------------------------------------------------------------------------------
+_equivalent_part, _surface_tractions, _pore, _strip_section, _finite_added_mass, _crossflow_efficiency = (
+    njit(cache=False)(getattr(frustum, name)) for name in frustum.PHYSICS
+)
+
+
+@njit(cache=False)
+def _frustum_physics(body, k1, k2, k3, d0, vbody, law, bank, volume, x_c):
+    return (
+        _equivalent_part(body, volume, x_c, 0.1),
+        _surface_tractions(body, None, k1, k2, k3, d0, vbody, law, bank),
+        _pore(body, k1, k2, k3, d0, 0.15, -0.7, law, bank),
+        _strip_section(body),
+        _finite_added_mass(body),
+        _crossflow_efficiency(body),
+    )
+
+
+@njit(cache=False)
+def _cylinder_physics(body, k1, k2, k3, d0, vbody, law, bank, volume, x_c):
+    return (
+        bodies.equivalent_part(body, volume, x_c, 0.1),
+        bodies.surface_tractions(body, None, k1, k2, k3, d0, vbody, law, bank),
+        bodies.pore(body, k1, k2, k3, d0, 0.15, -0.7, law, bank),
+        bodies.strip_section(body),
+        bodies.finite_added_mass(body),
+        bodies.crossflow_efficiency(body),
+    )
+
+
+def _law(diameter):
+    from test_sediment_kernel import params
+
+    from mineburial.kernels.mine.sediment import pack_law
+    from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS
+
+    p = params(P_SED_QUADRATURE=0, P_SED_RESISTANCE=2, P_SED_RATE_LAW=1, P_SED_PORE=1.0)
+    return pack_law(p, diameter)[:LAW_REFERENCE_PATHS]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_equal_radii_physics_is_the_cylinders_bit_for_bit(seed):
+    rng = np.random.default_rng(seed)
+    length, radius, chi = rng.uniform(0.8, 2.5), rng.uniform(0.15, 0.5), rng.uniform(-0.2, 0.2)
+    k = rng.normal(size=3)
+    k /= np.linalg.norm(k)
+    vbody = tuple(float(v) for v in rng.normal(size=6))
+    bank = np.full((1, 3, 2), np.nan)
+    law = _law(2.0 * radius)
+    v_part = rng.uniform(0.1, 0.9) * math.pi * radius * radius * length
+    x_c = rng.uniform(-0.4, 0.4) * length
+    args = (*k, rng.uniform(-0.3, 0.3), vbody, law, bank, v_part, x_c)
+    got = _frustum_physics(Frustum(length, radius, radius, chi), *args)
+    ref = _cylinder_physics(Cylinder(length, radius, chi), *args)
+    assert got == ref
+
+
+@pytest.mark.parametrize("fraction", [0.05, 0.3, 0.7, 0.97])
+def test_equivalent_part_has_the_parts_volume_and_centroid(fraction):
+    from scipy.integrate import quad
+
+    length, rt, rn, chi = MANTA
+    xs = (-0.5 * length - chi, 0.5 * length - chi)
+    area = lambda x: math.pi * np.interp(x, xs, (rt, rn)) ** 2  # noqa: E731
+    v_all = quad(area, *xs)[0]
+    # the part below a horizontal plane of an upright frustum: [xs[0], x_top], its own centroid
+    x_top = xs[0] + fraction * length
+    v = quad(area, xs[0], x_top)[0]
+    x_c = quad(lambda x: x * area(x), xs[0], x_top)[0] / v
+    ell, xa, xb, eta = _equivalent_part(MANTA, v, x_c, 0.25)
+    assert (ell, xa, xb, eta) == pytest.approx((x_top - xs[0], xs[0], x_top, 0.25), rel=1e-11, abs=1e-12)
+    # a slice in the middle: any interval [p, q] is found back from its volume and centroid
+    p, q = xs[0] + 0.2 * fraction * length, xs[0] + (0.2 + 0.75 * fraction) * length
+    v = quad(area, p, q)[0]
+    x_c = quad(lambda x: x * area(x), p, q)[0] / v
+    ell, xa, xb, _ = _equivalent_part(MANTA, v, x_c, 0.0)
+    assert (xa, xb) == pytest.approx((p, q), rel=1e-10, abs=1e-11)
+    # a centroid too close to an end: shifted to end there, the volume kept
+    ell, xa, xb, _ = _equivalent_part(MANTA, 0.5 * v_all, xs[1] - 0.01, 0.0)
+    assert xb == xs[1] and quad(area, xa, xb)[0] == pytest.approx(0.5 * v_all, rel=1e-12)
+
+
+def test_added_mass_of_the_whole_frustum_is_the_bem_tables():
+    from mineburial.kernels.mine.added_mass import frustum_added_mass
+
+    length, rt, rn, chi = MANTA
+    xs = (-0.5 * length - chi, 0.5 * length - chi)
+    v, x_v = _volume(MANTA)
+    m_a, m_t, m_c, m_r = frustum_added_mass(rt, rn, length)  # the top (smaller) is the nose: +x
+    a0, a1, a2, a11 = frustum.added_mass_moments(MANTA, xs[0], xs[1])
+    assert a0 == pytest.approx(m_t, rel=1e-13)
+    assert a11 == pytest.approx(m_a, rel=1e-13)
+    # coupling about the COM: m_c about the centroid plus m_t times the centroid's position
+    assert a1 == pytest.approx(m_c + m_t * x_v, rel=1e-12)
+    # rotation about the COM by parallel axes from the centroid's
+    assert a2 == pytest.approx(m_r + 2.0 * x_v * m_c + m_t * x_v * x_v, rel=1e-12)
+    # the same frustum turned round (nose the larger end) has its centre of added mass mirrored
+    flipped = Frustum(length, rn, rt, -chi)
+    b0, b1, b2, b11 = frustum.added_mass_moments(flipped, -xs[1], -xs[0])
+    assert (b0, b1, b2, b11) == pytest.approx((a0, -a1, a2, a11), rel=1e-12)
+    # the protocol's factors: fractions of rho V, k_r about the centre of added mass
+    k_t, k_a, k_r = _finite_added_mass(MANTA)
+    assert (k_t * v, k_a * v) == pytest.approx((m_t, m_a), rel=1e-13)

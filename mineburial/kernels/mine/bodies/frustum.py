@@ -1,14 +1,24 @@
-"""The solid frustum (truncated cone; a cone when one radius is 0, the cylinder when both are equal):
-its **geometric** protocol functions, for the Manta-like mine of issue 36 (items 2-3).
+"""The solid frustum (truncated cone; a cone when one radius is 0, the cylinder when both are equal),
+for the Manta-like mine of issue 36 (items 2-3): the body protocol's functions.
 
-Not a registered shape yet: the physics the protocol also asks for (the sediment's
-``surface_tractions`` and ``pore`` law, the fluid strips' ``strip_section``, ``finite_added_mass``,
-``crossflow_efficiency``, and ``equivalent_part``) are closed forms of the constant-radius cylinder
-and have no frustum version, so :func:`mineburial.kernels.mine.bodies.register` would refuse this
-module, and the drop's kernels cannot build a frustum. What is here is what the body's geometry
-needs, by :mod:`.revolution_geometry` on the two stations (no allocation: the stations are tuples):
+Geometry (:mod:`.revolution_geometry` on the two stations, no allocation: the stations are tuples):
 ``cut``, ``extent``, ``burial``, ``volume``, ``ends``, ``reference_lengths``, ``lowest_offset``,
-``deepest_point``, ``sizes``, under the protocol's signatures (tests/test_frustum.py).
+``deepest_point``, ``sizes`` and ``equivalent_part`` (seed 000 section 4.1's equivalent body: the
+axial interval of the part's volume and centroid). Physics: the sediment's ``surface_tractions``
+(the fast rule on the tilted lateral surface and the two caps, :mod:`.revolution_sediment`; a
+profile has no reference quadrature, so ``reference_paths`` is ignored) and ``pore`` (seed 000 eq.
+(73)); the fluid's ``finite_added_mass`` (the closed frustum's BEM table,
+:func:`.added_mass.frustum_added_mass`) and ``crossflow_efficiency`` (DATCOM's eta at the aspect
+ratio ``L / d_mean``). A frustum of equal radii calls the cylinder's own functions wherever the
+profile's arithmetic would differ in the last bits, so it gives the cylinder's answers bit for bit
+(tests/test_frustum.py).
+
+Not registered (:func:`mineburial.kernels.mine.bodies.register` would accept the module now):
+``dynamics.derivatives`` integrates the fluid strips with the one radius of ``strip_section`` and
+the strip added mass of that radius, so a frustum needs ``dynamics`` to call
+:func:`.revolution_fluid.profile_strip_forces` and :func:`added_mass_moments` (here) through the
+protocol before a drop may build one (docs/bodies_revolution.md, "What is left").
+``strip_section`` returns the mean radius meanwhile (the cylinder's R for equal radii).
 
 A frustum of length ``length`` whose tail (``x = -L/2 - chi``) has radius ``radius_tail`` and nose
 (``x = L/2 - chi``) ``radius_nose``; its COM sits ``com_offset`` (chi) behind its middle, as the
@@ -17,14 +27,21 @@ cylinder's (seed 000 eq. (42)).
 
 from typing import NamedTuple
 
-from mineburial._numba import small_kernel
+from mineburial._numba import kernel, small_kernel
+from mineburial.kernels.mine.added_mass import crossflow_efficiency as _crossflow_efficiency
+from mineburial.kernels.mine.added_mass import cylinder_added_mass, frustum_added_mass
+from mineburial.kernels.mine.bodies.revolution_fluid import profile_strip_added_mass
 from mineburial.kernels.mine.bodies.revolution_geometry import (
     burial_profile,
     cut_profile,
+    equivalent_interval,
     extent_profile,
     lowest_profile_point,
     volume_profile,
 )
+from mineburial.kernels.mine.bodies.revolution_sediment import profile_pore_pressure, profile_tractions
+from mineburial.kernels.mine.geometry import equivalent_of_part
+from mineburial.kernels.mine.sediment.pore import pore_pressure
 
 
 class Frustum(NamedTuple):
@@ -101,6 +118,101 @@ def sizes(body):
     return body.length + r, 0.5 * body.length + abs(body.com_offset) + r
 
 
+def equivalent_part(body, volume, x_c, eta):
+    """Seed 000 section 4.1's equivalent body of a part: the axial interval whose volume is the
+    part's and whose centroid is the part's (:func:`.revolution_geometry.equivalent_interval`); for
+    equal radii the cylinder's (:func:`.geometry.equivalent_of_part`)."""
+    if body.radius_tail == body.radius_nose:
+        return equivalent_of_part(body.length, body.radius_tail, body.com_offset, volume, x_c, eta)
+    xs, rs = _stations(body)
+    ell, xa, xb = equivalent_interval(xs, rs, volume, x_c)
+    return ell, xa, xb, eta
+
+
+def surface_tractions(body, reference_paths, k1, k2, k3, d0, vbody, law, bank):
+    """Seed 000 section 6 by the fast rule over the tilted lateral surface and the two caps
+    (:func:`.revolution_sediment.profile_tractions`; for equal radii the cylinder's fast rule, bit
+    for bit). ``reference_paths`` is not used: a profile has no reference quadrature."""
+    xs, rs = _stations(body)
+    return profile_tractions(xs, rs, k1, k2, k3, d0, vbody, law, bank)
+
+
+def pore(body, k1, k2, k3, d0, zeta_tip, w_z, law, bank):
+    """Seed 000 eq. (73) (:func:`.revolution_sediment.profile_pore_pressure`; for equal radii the
+    cylinder's :func:`.sediment.pore.pore_pressure`)."""
+    if body.radius_tail == body.radius_nose:
+        return pore_pressure(
+            body.length, body.radius_tail, body.com_offset, k1, k2, k3, d0, zeta_tip, w_z, law, bank
+        )
+    xs, rs = _stations(body)
+    return profile_pore_pressure(xs, rs, k1, k2, k3, d0, zeta_tip, w_z, law, bank)
+
+
+def strip_section(body):
+    """The mean radius ``(r_t + r_n)/2`` and the length (the cylinder's ``(R, L)`` for equal radii);
+    a frustum's strips are :func:`.revolution_fluid.profile_strip_forces` (module docstring)."""
+    return 0.5 * (body.radius_tail + body.radius_nose), body.length
+
+
+@kernel
+def _added_mass_parts(body):
+    """``(m_axial, m_transverse, x_m, I_m, V, x_v, strip_rot)`` per unit density: the BEM table's
+    added masses (:func:`.added_mass.frustum_added_mass`), the centre of added mass ``x_m`` about the
+    COM (body axis), the rotational added inertia ``I_m`` about it, the volume, its centroid and
+    strip theory's rotational inertia about the centroid ``int pi r^2 (x - x_v)^2 dx``."""
+    xs, rs = _stations(body)
+    a0, a1, a2 = profile_strip_added_mass(xs, rs, xs[0], xs[1])
+    x_v = a1 / a0
+    strip_rot = a2 - a1 * x_v
+    if body.radius_nose <= body.radius_tail:  # the top (smaller end) is the nose: +x
+        m_a, m_t, m_c, m_r = frustum_added_mass(body.radius_tail, body.radius_nose, body.length)
+        sgn = 1.0
+    else:
+        m_a, m_t, m_c, m_r = frustum_added_mass(body.radius_nose, body.radius_tail, body.length)
+        sgn = -1.0
+    shift = m_c / m_t
+    return m_a, m_t, x_v + sgn * shift, m_r - m_c * shift, a0, x_v, strip_rot
+
+
+def finite_added_mass(body):
+    """``(k_t, k_a, k_r)``: the closed frustum's transverse and axial added mass as fractions of
+    ``rho V`` and its rotational added inertia about the centre of added mass as a fraction of
+    strip theory's about the centroid (the cylinder table's normalisation; for equal radii the
+    cylinder's :func:`.added_mass.cylinder_added_mass`, bit for bit); the centre of added mass:
+    :func:`added_mass_moments`."""
+    if body.radius_tail == body.radius_nose:
+        return cylinder_added_mass(body.length / (2.0 * body.radius_tail))
+    m_a, m_t, _, i_m, v, _, strip_rot = _added_mass_parts(body)
+    return m_t / v, m_a / v, i_m / strip_rot
+
+
+@kernel
+def added_mass_moments(body, a, b):
+    """The finite body's added mass of the wetted interval ``[a, b]`` per unit density, as
+    ``dynamics._added_mass`` forms the cylinder's: ``(a0, a1, a2, a11)``, the transverse added mass,
+    its first and second moments about the COM along the axis and the axial added mass. Strip
+    theory's moments of ``[a, b]`` (:func:`.revolution_fluid.profile_strip_added_mass`) scaled by
+    the BEM factors of the whole body (``k_t``, ``k_a``; ``k_r`` about the centre of added mass,
+    which lies ``x_m - x_v`` from the strip centroid, scaled by the wetted length fraction): the
+    whole body's BEM added-mass matrix when ``[a, b]`` is the whole body."""
+    xs, rs = _stations(body)
+    m_a, m_t, x_m, i_m, v, x_v, strip_rot = _added_mass_parts(body)
+    s0, s1, s2 = profile_strip_added_mass(xs, rs, a, b)
+    if not (s0 > 0.0):
+        return 0.0, 0.0, 0.0, 0.0
+    frac = (b - a) / body.length
+    centre = s1 / s0 + (x_m - x_v) * frac
+    a0 = m_t / v * s0
+    rot = i_m / strip_rot * (s2 - s1 * s1 / s0)
+    return a0, a0 * centre, rot + a0 * centre * centre, m_a / v * s0
+
+
+def crossflow_efficiency(body):
+    """DATCOM's crossflow efficiency at the aspect ratio ``L / d_mean``, ``d_mean = r_t + r_n`` (for
+    equal radii the cylinder's ``L/(2R)``: ``R + R == 2 R`` exactly)."""
+    return _crossflow_efficiency(body.length / (body.radius_tail + body.radius_nose))
+
+
 #: the protocol functions written here (the rest: module docstring)
 GEOMETRY = (
     "cut",
@@ -112,4 +224,13 @@ GEOMETRY = (
     "lowest_offset",
     "deepest_point",
     "sizes",
+)
+#: the physics: with GEOMETRY, every function of the protocol (``bodies.PROTOCOL``)
+PHYSICS = (
+    "equivalent_part",
+    "surface_tractions",
+    "pore",
+    "strip_section",
+    "finite_added_mass",
+    "crossflow_efficiency",
 )

@@ -309,3 +309,98 @@ def inertia_profile(xs, rs, mass):
             j1 += w * 0.5 * math.pi * r2 * r2
             j2 += w * math.pi * (0.25 * r2 * r2 + r2 * (x - x_c) * (x - x_c))
     return rho * j1, rho * j2
+
+
+@small_kernel
+def _cumulative(xs, rs, x):
+    """``(W, M, A)``: the volume ``int pi r^2`` and its first moment ``int pi r^2 x`` from the tail to
+    ``x`` (clamped to the body), and the section area ``pi r(x)^2`` there (closed forms of a linear
+    ``r`` on each segment)."""
+    n = len(xs)
+    x = min(max(x, xs[0]), xs[n - 1])
+    w = 0.0
+    m = 0.0
+    area = 0.0
+    for i in range(n - 1):
+        x0 = xs[i]
+        if x <= x0:
+            break
+        h = xs[i + 1] - x0
+        k = (rs[i + 1] - rs[i]) / h
+        t = min(x, xs[i + 1]) - x0
+        r0 = rs[i]
+        wi = math.pi * t * (r0 * r0 + r0 * k * t + k * k * t * t / 3.0)
+        w += wi
+        m += x0 * wi + math.pi * t * t * (0.5 * r0 * r0 + 2.0 * r0 * k * t / 3.0 + 0.25 * k * k * t * t)
+        r = r0 + k * t
+        area = math.pi * r * r
+    return w, m, area
+
+
+@kernel
+def equivalent_interval(xs, rs, volume, x_c):
+    """Seed 000 section 4.1's equivalent body of a part, for a profile: ``(l, x_a, x_b)``, the axial
+    interval of the body whose volume is ``volume`` and whose centroid is at ``x_c`` (the
+    cylinder's: ``l = V / (pi R^2)`` about ``x_c``, :func:`.geometry.equivalent_of_part`), by Newton's
+    method on the two conditions (the cumulative volume and moment in closed form); where the
+    interval would leave the body it is shifted, not shrunk, to end there (its volume kept, its
+    centroid then not ``x_c``), as the cylinder's is."""
+    n = len(xs)
+    xt = xs[0]
+    xn = xs[n - 1]
+    w_all, _, _ = _cumulative(xs, rs, xn)
+    if volume >= w_all:
+        return xn - xt, xt, xn
+    _, _, a_c = _cumulative(xs, rs, x_c)
+    if a_c > 0.0:
+        ell = volume / a_c
+    else:
+        ell = (xn - xt) * volume / w_all
+    xa = max(x_c - 0.5 * ell, xt)
+    xb = min(x_c + 0.5 * ell, xn)
+    tol = 1e-14 * w_all
+    for _ in range(60):
+        wa, ma, aa = _cumulative(xs, rs, xa)
+        wb, mb, ab = _cumulative(xs, rs, xb)
+        f1 = wb - wa - volume
+        f2 = mb - ma - x_c * volume
+        if abs(f1) <= tol and abs(f2) <= tol * (xn - xt):
+            break
+        det = aa * ab * (xa - xb)
+        if det == 0.0:
+            break
+        dxa = -(ab * xb * f1 - ab * f2) / det
+        dxb = -(aa * xa * f1 - aa * f2) / det
+        xa_new = min(max(xa + dxa, xt), xn)
+        xb_new = min(max(xb + dxb, xt), xn)
+        if not (xb_new > xa_new):
+            break
+        if xa_new == xa and xb_new == xb:
+            break
+        xa = xa_new
+        xb = xb_new
+    # at an end: keep the volume, shift the interval (Newton on the free end alone)
+    wa, _, _ = _cumulative(xs, rs, xa)
+    wb, _, _ = _cumulative(xs, rs, xb)
+    if xa <= xt or xb >= xn or abs(wb - wa - volume) > 1e-12 * w_all:
+        if x_c - xt < xn - x_c:  # the tail end
+            xa = xt
+            target = volume
+            x = xb
+            for _ in range(60):
+                w, _, a = _cumulative(xs, rs, x)
+                if a <= 0.0 or abs(w - target) <= tol:
+                    break
+                x = min(max(x - (w - target) / a, xt), xn)
+            xb = x
+        else:
+            xb = xn
+            target = w_all - volume
+            x = xa
+            for _ in range(60):
+                w, _, a = _cumulative(xs, rs, x)
+                if a <= 0.0 or abs(w - target) <= tol:
+                    break
+                x = min(max(x - (w - target) / a, xt), xn)
+            xa = x
+    return xb - xa, xa, xb
