@@ -68,6 +68,7 @@ def _cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta
 
 @overload(_cylinder_strip, jit_options=JIT_OPTIONS)
 def _overload_cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
+    # local import: dynamics imports the drop's shape module, which imports this one (cycle)
     from mineburial.kernels.mine.dynamics import strip_forces
 
     def impl(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
