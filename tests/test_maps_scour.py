@@ -76,6 +76,8 @@ SCOUR_NAMES = (
     # per lead time, as run's file has them (issue 33 item 5)
     "scour_mobile_fraction_by_lead_time",
     "scour_mobile_probability",
+    "scour_mobile_into_pit_probability",
+    "scour_mobile_away_probability",
     "scour_pit_depth_mean",
 )
 
@@ -223,13 +225,14 @@ def test_memory_check_counts_the_lead_time_arrays(tmp_path, monkeypatch):
     for d in (_scenario(), with_scour(_scenario(), sec)):
         maps._check_map_memory(engine.load_ensemble(d, n=N), status)
     # per grid cell and lead time: 5 measures x (mean + 5 quantiles) + 4 class arrays x 5 classes
-    # + the mobile share by then, the share that would move and the mean pit depth (issue 33);
+    # + the mobile share by then, the share that would move (and its split: into an open pit, away)
+    # and the mean pit depth (issue 33);
     # per cell: 2 levels x 5 time quantiles + 2 reached fractions + 1 mobile share + 5 status
     # counts + 1 not-modelled share; 8 bytes each, three copies; plus the stage's per-drop values
     # in flight (with the window start and the cohesive flag; issue 33: the pit depth and the mobility
     # at each lead time beside the 5 measures)
-    lead_bytes = 8 * (len(LEADS) * (5 * 6 + 4 * 5 + 3) + 2 * 5 + 2 + 1 + 5 + 1)
-    per_drop = 8 * ((5 + 2) * len(LEADS) + 2 + 2) + 2
+    lead_bytes = 8 * (len(LEADS) * (5 * 6 + 4 * 5 + 5) + 2 * 5 + 2 + 1 + 5 + 1)
+    per_drop = 8 * ((5 + 3) * len(LEADS) + 2 + 2) + 2
     extra = needs[1] - needs[0]
     assert extra >= 3 * lead_bytes * status.size
     assert extra <= 3 * lead_bytes * status.size + 4 * per_drop * N

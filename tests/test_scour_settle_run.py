@@ -106,3 +106,29 @@ def test_bad_settle_input_is_one_line_naming_the_field(tmp_path, capsys, no_comp
     assert main(["run", str(path), "-o", str(tmp_path / "out.nc"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and needle in err, err
+
+
+def test_what_follows_a_move_is_split_into_rolling_back_into_an_open_pit_and_leaving_a_flat_bed():
+    """Issue 33 item 5, "what follows reported (rolls into its pit vs migrates away)": of the drops
+    that would move at a lead time, those with a pit at least PIT_OPEN = 0.1 diameters deep roll back
+    into it, the others may migrate away; the two shares add up to the share that would move. Hand
+    arrays: 4 drops (D 0.5 m; one whose stage did not run) at 3 lead times."""
+    from mineburial.ensembles import scour
+
+    mobile = np.array([[1.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 0.0], [np.nan, np.nan, np.nan]])
+    pit = np.array([[0.0, 0.05, 0.2], [0.049, 0.3, 0.051], [0.4, 0.4, 0.4], [np.nan, np.nan, np.nan]])
+    d = np.full(4, 0.5)
+    in_pit = scour.mobile_in_pit(mobile, pit, d)
+    # 0.1 D = 0.05 m: a pit of 0.05 m counts as open, 0.049 m does not
+    np.testing.assert_array_equal(in_pit[:3], [[0, 1, 0], [0, 0, 1], [0, 0, 0]])
+    assert np.all(np.isnan(in_pit[3]))
+    codes = np.array([0, 0, 0, 1], dtype=np.int8)
+    chunks = [
+        {"scour:status": codes, "scour:pit": pit, "scour:mobile_lead": mobile, "scour:mobile_in_pit": in_pit}
+    ]
+    spec = type("Spec", (), {"lead_times_days": (0.0, 1.0, 2.0)})()
+    got = {k: v.values for k, v in scour.lead_time_states(spec, chunks, codes).items()}
+    np.testing.assert_allclose(got["scour_mobile_probability"], [2 / 3, 1 / 3, 1 / 3])
+    np.testing.assert_allclose(got["scour_mobile_into_pit_probability"], [0.0, 1 / 3, 1 / 3])
+    np.testing.assert_allclose(got["scour_mobile_away_probability"], [2 / 3, 0.0, 0.0])
+    np.testing.assert_allclose(got["scour_pit_depth_mean"], pit[:3].mean(axis=0))

@@ -513,6 +513,8 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
         # the scour pit's depth [m] and whether the mine would move, at each lead time (issue 33)
         "scour:pit": pit,
         "scour:mobile_lead": mobile_lead,
+        # of those that would move, the ones lying in an open pit (docs/scour.md, Mobility: what follows)
+        "scour:mobile_in_pit": mobile_in_pit(mobile_lead, pit, S[:, sc.S_DIAMETER]),
         # where no post-impact process is modelled: a cohesive bed (B_eq = 0, docs/scour.md)
         "scour:cohesive": (S[:, sc.S_COHESIVE] != 0.0).astype(np.uint8),
         # each drop's lead time 0 [s after the forcing's first record] (forecast_reference_time)
@@ -527,7 +529,7 @@ def bytes_a_drop(spec: ScourSpec) -> int:
     """Bytes of the stage's per-drop values of a ``[scour]`` section ``spec``."""
     n_lead = len(spec.lead_times_days)
     tilt = 1 if spec.conventions.get("rest_attitude") == "impact" else 0
-    return 8 * ((len(MEASURE_NAMES) + 2 + tilt) * n_lead + len(spec.burial_levels) + 2) + 2
+    return 8 * ((len(MEASURE_NAMES) + 3 + tilt) * n_lead + len(spec.burial_levels) + 2) + 2
 
 
 def _per_drop(spec: ScourSpec, chunks):
@@ -546,16 +548,30 @@ def _per_drop(spec: ScourSpec, chunks):
 
 
 def _per_drop_states(spec: ScourSpec, chunks):
-    """(pit depth [m], mobile 1/0) of the chunks' drops at each lead time (drops x lead times);
-    NaN for chunks stored before these states existed."""
+    """(pit depth [m], mobile 1/0, mobile in an open pit 1/0) of the chunks' drops at each lead
+    time (drops x lead times); NaN for chunks stored before these states existed."""
     n_lead = len(spec.lead_times_days)
     out = []
-    for key in ("scour:pit", "scour:mobile_lead"):
+    for key in ("scour:pit", "scour:mobile_lead", "scour:mobile_in_pit"):
         parts = [
             r[key] if key in r else np.full((len(r["scour:status"]), n_lead), np.nan) for r in chunks or ()
         ]
         out.append(np.concatenate(parts) if parts else np.empty((0, n_lead)))
     return tuple(out)
+
+
+#: the pit depth, in diameters, from which a mine that would move lies in an open pit it rolls back
+#: into rather than on a flat bed it may leave: the `proud` criterion's B/D = 0.1 (our choice,
+#: docs/scour.md, Mobility)
+PIT_OPEN = 0.1
+
+
+def mobile_in_pit(mobile_lead, pit, diameter) -> np.ndarray:
+    """1 where the mine would move at a lead time and lies in an open scour pit (pit depth >=
+    :data:`PIT_OPEN` diameters), else 0; NaN where ``mobile_lead`` is (the stage did not run)."""
+    mobile_lead = np.asarray(mobile_lead, dtype=np.float64)
+    deep = np.asarray(pit, dtype=np.float64) >= PIT_OPEN * np.asarray(diameter, dtype=np.float64)[:, None]
+    return np.where(np.isfinite(mobile_lead), (mobile_lead > 0.0) & deep, np.nan)
 
 
 def mobile_probability(mobile_lead, codes) -> np.ndarray:
@@ -619,6 +635,30 @@ def reference_time_variable(when) -> xr.DataArray:
     return V.variable("forecast_reference_time").data_array(np.float64(seconds))
 
 
+def lead_time_states(spec: ScourSpec, chunks, codes) -> dict:
+    """Per lead time, over the drops whose stage ran: the share that would move, split into those
+    lying in an open pit (they roll back into it) and those on a flat bed (they may migrate away),
+    and the mean pit depth."""
+    pit, mobile_lead, in_pit = _per_drop_states(spec, chunks)
+    moving = mobile_probability(mobile_lead, codes)
+    into_pit = mobile_probability(in_pit, codes)
+    with np.errstate(invalid="ignore"):
+        pit_mean = np.array(
+            [np.mean(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in pit[codes == 0].T],
+            dtype=np.float64,
+        )
+    return {
+        "scour_mobile_probability": V.variable("scour_mobile_probability").data_array(moving),
+        "scour_mobile_into_pit_probability": V.variable("scour_mobile_into_pit_probability").data_array(
+            into_pit
+        ),
+        "scour_mobile_away_probability": V.variable("scour_mobile_away_probability").data_array(
+            moving - into_pit
+        ),
+        "scour_pit_depth_mean": V.variable("scour_pit_depth_mean").data_array(pit_mean),
+    }
+
+
 def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_basis: str) -> xr.Dataset:
     """``ds`` with the stage's statistics (and per-drop variables with ``per_drop``) and the
     forcing's record in the global attributes."""
@@ -634,22 +674,13 @@ def dataset(spec: ScourSpec, chunks, ds: xr.Dataset, *, per_drop: bool, class_ba
     stats["scour_mobile_fraction_by_lead_time"] = V.variable("scour_mobile_fraction_by_lead_time").data_array(
         mobile_by_lead_time(mobile[ok], spec.lead_times_days)
     )
-    pit, mobile_lead = _per_drop_states(spec, chunks)
-    stats["scour_mobile_probability"] = V.variable("scour_mobile_probability").data_array(
-        mobile_probability(mobile_lead, codes)
-    )
-    with np.errstate(invalid="ignore"):
-        pit_ok = pit[ok]
-        pit_mean = np.array(
-            [np.mean(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in pit_ok.T],
-            dtype=np.float64,
-        )
-    stats["scour_pit_depth_mean"] = V.variable("scour_pit_depth_mean").data_array(pit_mean)
+    stats = stats.assign(lead_time_states(spec, chunks, codes))
     tilt = _per_drop_tilt(chunks)
     if tilt is not None:  # rest_attitude = "impact": the tilt state's statistics (docs/scour.md, Tilt)
         stats = stats.assign(tilt_statistics(tilt[ok], stats["quantile"].values))
     parts = [ds, stats]
     if per_drop:
+        pit, mobile_lead, _ = _per_drop_states(spec, chunks)
         data = {
             f"scour_{name}": V.variable(f"scour_{name}").data_array(measures[:, k])
             for k, name in enumerate(MEASURE_NAMES)
@@ -743,6 +774,9 @@ def summary_lines(ds) -> list[str]:
     if "scour_mobile_probability" in ds:
         values = " ".join(f"{v:.3f}" for v in ds["scour_mobile_probability"].values)
         lines.append(f"  would move at each lead time (scour_mobile_probability): {values}")
+        if "scour_mobile_into_pit_probability" in ds:
+            into = " ".join(f"{v:.3f}" for v in ds["scour_mobile_into_pit_probability"].values)
+            lines.append(f"    of those, into their open pit (scour_mobile_into_pit_probability): {into}")
     if "scour_tilt_mean" in ds:  # rest_attitude = "impact"
         values = " ".join(f"{v:.1f}" for v in ds["scour_tilt_mean"].values)
         lines.append(f"  mean tilt [deg] at each lead time (scour_tilt_mean): {values}")
@@ -786,20 +820,11 @@ class ScourProcess:
         stats = statistics(spec, chunks, class_basis)
         _, _, mobile, codes = _per_drop(spec, chunks)
         ok = codes == 0
-        pit, mobile_lead = _per_drop_states(spec, chunks)
-        with np.errstate(invalid="ignore"):
-            pit_mean = np.array(
-                [np.mean(c[np.isfinite(c)]) if np.isfinite(c).any() else np.nan for c in pit[ok].T],
-                dtype=np.float64,
-            )
         return stats.assign(
             scour_mobile_fraction_by_lead_time=V.variable("scour_mobile_fraction_by_lead_time").data_array(
                 mobile_by_lead_time(mobile[ok], spec.lead_times_days)
             ),
-            scour_mobile_probability=V.variable("scour_mobile_probability").data_array(
-                mobile_probability(mobile_lead, codes)
-            ),
-            scour_pit_depth_mean=V.variable("scour_pit_depth_mean").data_array(pit_mean),
+            **lead_time_states(spec, chunks, codes),
         )
 
     def cell_inputs(self, section, *, base_dir, cells):

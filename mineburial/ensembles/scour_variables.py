@@ -148,9 +148,35 @@ def _scour_time_variables() -> list[Variable]:
             "Fraction of the drops whose scour stage ran whose mine would move at each lead time: the "
             "object mobility parameter of the forcing then above the criterion of scour.mobility, with "
             "the burial then (`proud`: Rennie et al. 2017 on a rigid bottom while B/D <= 0.1; `pocket`: "
-            "raised by the burial, docs/scour.md, Mobility). What follows is not modelled: a mine in an "
-            "open pit rolls back into it (its burial is unchanged), a proud one on a flat bed may "
-            "migrate away (docs/scour.md).",
+            "raised by the burial, docs/scour.md, Mobility). What follows is not modelled but split: "
+            "a mine in an open pit rolls back into it, its burial unchanged "
+            "(scour_mobile_into_pit_probability), one on a flat bed may migrate away "
+            "(scour_mobile_away_probability).",
+            group="statistics",
+        ),
+        Variable(
+            "scour_mobile_into_pit_probability",
+            ("lead_time",),
+            "float64",
+            "1",
+            "share of drops that would move and roll back into their pit at the lead time",
+            "Fraction of the drops whose scour stage ran whose mine would move at the lead time "
+            "(scour_mobile_probability) while it lies in an open scour pit, the pit at least 0.1 of its "
+            "diameter deep (scour.PIT_OPEN, our choice): it rolls back into the pit, its burial unchanged "
+            "(mines that fell into their own scour pits: Traykovski et al. 2007; objects rolling into "
+            "their scour holes: Rennie et al. 2017; docs/scour.md, Mobility).",
+            group="statistics",
+        ),
+        Variable(
+            "scour_mobile_away_probability",
+            ("lead_time",),
+            "float64",
+            "1",
+            "share of drops that would move off a flat bed at the lead time",
+            "Fraction of the drops whose scour stage ran whose mine would move at the lead time "
+            "(scour_mobile_probability) with no open scour pit beside it (pit shallower than 0.1 of "
+            "its diameter): it may migrate away, out of the model's reach (Rennie et al. 2017); "
+            "scour_mobile_probability less scour_mobile_into_pit_probability.",
             group="statistics",
         ),
         Variable(
