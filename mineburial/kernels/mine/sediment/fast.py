@@ -57,7 +57,7 @@ N_U = 4
 N_S = 2
 #: Durand-Kerner sweeps for the seabed/delta crossing angles, and the relative size of the
 #: quartic's leading coefficient below which it counts as degenerate.
-CROSS_ITERATIONS = 24
+CROSS_ITERATIONS = 16
 CROSS_DEGENERATE = 1.0e-9
 
 
@@ -102,6 +102,26 @@ def _harmonic_roots(k, a, b):
     else:
         w = 0.0
     return psi - w, psi + w
+
+
+@small_kernel
+def _on_body(t, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp):
+    """Crossing angle t of the seabed and delta lines as a breakpoint (offset from tdeep,
+    clamped like the others): where the crossing lies beyond a body end, the angle where the
+    seabed line reaches that end instead (on the same side of tdeep), which it equals when the
+    crossing passes the end; so a crossing outside the body adds no panel and none jumps."""
+    p = _local(t, tdeep, a_any)
+    if c20 == 0.0 or not (rp > 0.0):
+        return p
+    xc = (d0 - R * (c21 * math.cos(t) + c22 * math.sin(t))) / c20  # the seabed line's x at t
+    if xc > xb:
+        xe = xb
+    elif xc < xa:
+        xe = xa
+    else:
+        return p
+    a_end = math.acos(_clip1(-(d0 - c20 * xe) / rp))
+    return min(a_end, a_any) if p >= 0.0 else -min(a_end, a_any)
 
 
 @small_kernel
@@ -245,13 +265,23 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
     # v.n = 0 on one generator, a0(t) b1(t) - a1 b0(t) = 0 (an embedded, advancing sliver
     # between the two lines ends there)
     x0, x1, x2, x3 = _crossing_angles(d0, -R * c21, -R * c22, -c20, w3, -w2, v2, v3)
+    if x0 == x0:
+        x0 = _on_body(x0, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x1 = _on_body(x1, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x2 = _on_body(x2, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x3 = _on_body(x3, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+    else:  # none: at the domain's end, where a breakpoint changes nothing
+        x0 = a_any
+        x1 = a_any
+        x2 = a_any
+        x3 = a_any
     # and, so that no panel is wider than pi/2, the quarter points of the circle
     hq = min(_HALF_PI, a_any)
     bps = (
-        _local(x0, tdeep, a_any),
-        _local(x1, tdeep, a_any),
-        _local(x2, tdeep, a_any),
-        _local(x3, tdeep, a_any),
+        x0,
+        x1,
+        x2,
+        x3,
         -a_all,
         a_all,
         _local(pa0, tdeep, a_any),
