@@ -20,6 +20,11 @@ between breakpoints that are continuous functions of the state, clamped into it:
 * with friction, the angles where the circumferential slip v_t reverses at a body end
   (two per end); a root that does not exist is replaced by the clipped double root
   (where it is born), so the breakpoints never jump;
+* the angles where the seabed line and the delta line cross inside the lateral surface
+  (issue 34: an embedded, advancing sliver between the two lines, as a rotating slap cuts,
+  ends there; without them its few nodes fell mostly where the generators are empty):
+  the arguments of the four roots of a self-inversive quartic, a complex pair giving its
+  clipped double root, so these never jump either (:func:`_crossing_angles`);
 * phi = +-pi/2, so that no panel is wider than a quarter of the circle.
 
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
@@ -50,6 +55,10 @@ N_T = 3
 N_X = 3
 N_U = 4
 N_S = 2
+#: Durand-Kerner sweeps for the seabed/delta crossing angles, and the relative size of the
+#: quartic's leading coefficient below which it counts as degenerate.
+CROSS_ITERATIONS = 16
+CROSS_DEGENERATE = 1.0e-9
 
 
 _PI = math.pi
@@ -96,6 +105,26 @@ def _harmonic_roots(k, a, b):
 
 
 @small_kernel
+def _on_body(t, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp):
+    """Crossing angle t of the seabed and delta lines as a breakpoint (offset from tdeep,
+    clamped like the others): where the crossing lies beyond a body end, the angle where the
+    seabed line reaches that end instead (on the same side of tdeep), which it equals when the
+    crossing passes the end; so a crossing outside the body adds no panel and none jumps."""
+    p = _local(t, tdeep, a_any)
+    if c20 == 0.0 or not (rp > 0.0):
+        return p
+    xc = (d0 - R * (c21 * math.cos(t) + c22 * math.sin(t))) / c20  # the seabed line's x at t
+    if xc > xb:
+        xe = xb
+    elif xc < xa:
+        xe = xa
+    else:
+        return p
+    a_end = math.acos(_clip1(-(d0 - c20 * xe) / rp))
+    return min(a_end, a_any) if p >= 0.0 else -min(a_end, a_any)
+
+
+@small_kernel
 def _next_break(bps, cur, end):
     """Smallest breakpoint above cur, at most end."""
     nxt = end
@@ -104,6 +133,47 @@ def _next_break(bps, cur, end):
         if b > cur and b < nxt:
             nxt = b
     return nxt
+
+
+@small_kernel
+def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
+    """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
+    the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
+    - a1 (k1c cos t + k1s sin t) = 0, i.e. the arguments of the four roots of the quartic
+    w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle,
+    where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double
+    zero where a pair of real zeros is born). Roots by CROSS_ITERATIONS Durand-Kerner sweeps
+    from fixed starts: a continuous function of the coefficients. When the quartic degenerates
+    (no rotation across the axis: the delta line is then made of generators, whose angles are
+    breakpoints already), the four angles are NaN."""
+    c0 = 0.5 * (ac * bc + as_ * bs)
+    ca1 = a0 * bc - a1 * k1c
+    cb1 = a0 * bs - a1 * k1s
+    ca2 = 0.5 * (ac * bc - as_ * bs)
+    cb2 = 0.5 * (ac * bs + as_ * bc)
+    lead = complex(0.5 * ca2, -0.5 * cb2)
+    big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
+    if not (abs(lead) > CROSS_DEGENERATE * big):
+        return math.nan, math.nan, math.nan, math.nan
+    q3 = complex(0.5 * ca1, -0.5 * cb1) / lead
+    q2 = complex(c0, 0.0) / lead
+    q1 = complex(0.5 * ca1, 0.5 * cb1) / lead
+    q0 = complex(0.5 * ca2, 0.5 * cb2) / lead
+    r0 = complex(1.0, 0.0)
+    r1 = complex(0.4, 0.9)
+    r2 = r1 * r1
+    r3 = r2 * r1
+    for _ in range(CROSS_ITERATIONS):
+        r0 = r0 - ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
+        r1 = r1 - ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
+        r2 = r2 - ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
+        r3 = r3 - ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
+    return (
+        math.atan2(r0.imag, r0.real),
+        math.atan2(r1.imag, r1.real),
+        math.atan2(r2.imag, r2.real),
+        math.atan2(r3.imag, r3.real),
+    )
 
 
 @kernel
@@ -191,9 +261,27 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         q1 = _local(r1, tdeep, a_any)
         q2 = _local(r2, tdeep, a_any)
         q3 = _local(r3, tdeep, a_any)
+    # where the seabed line and the delta line cross inside the lateral surface: zeta = 0 and
+    # v.n = 0 on one generator, a0(t) b1(t) - a1 b0(t) = 0 (an embedded, advancing sliver
+    # between the two lines ends there)
+    x0, x1, x2, x3 = _crossing_angles(d0, -R * c21, -R * c22, -c20, w3, -w2, v2, v3)
+    if x0 == x0:
+        x0 = _on_body(x0, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x1 = _on_body(x1, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x2 = _on_body(x2, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x3 = _on_body(x3, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+    else:  # none: at the domain's end, where a breakpoint changes nothing
+        x0 = a_any
+        x1 = a_any
+        x2 = a_any
+        x3 = a_any
     # and, so that no panel is wider than pi/2, the quarter points of the circle
     hq = min(_HALF_PI, a_any)
     bps = (
+        x0,
+        x1,
+        x2,
+        x3,
         -a_all,
         a_all,
         _local(pa0, tdeep, a_any),
