@@ -225,9 +225,14 @@ def record_until(r, t, h, t_stop, t_out, i_rec, times, states, ytmp):
 JAC_REL_STEP = 1e-5
 JAC_MIN_STEP = 1e-6
 #: Jacobian-age policy of the Rosenbrock-W step: accepted steps before the Jacobian is evaluated
-#: again, and the age above which a rejected step has it evaluated again (measured on the mine's
-#: default ensemble: fewest right-hand sides per drop; docs/design.md)
-JAC_MAX_AGE = 50
+#: again, and the age above which a rejected step has it evaluated again. 50 (fewest right-hand
+#: sides on the mine's default ensemble, docs/design.md) until issue 34 item 3: with the fast
+#: sediment rule's crossing breakpoints, three shallow rotating slaps in firm clay (the extended
+#: sweep's drops 7, 22, 36) ran off on a 50-step-old Jacobian (0.068 / 0.055 / 0.053 m against the
+#: reference's 0.0017 / 0.0097 / 0.0075 m); at 10 they agree (stratum max 13.3 % -> 0.00 %), the
+#: default ensemble's 200 drops take 21,050 steps against 22,354, every drop within 1.6 mm, at about
+#: 4 % of the throughput (benchmarks/results/accuracy_sweep_extended.md)
+JAC_MAX_AGE = 10
 JAC_AGE_AT_REJECTION = 2
 #: stage times of ROS34PW2 (row sums of its alpha, Hairer & Wanner II sec. IV.7 eq. (7.4'))
 ROS_C = ROS_ALPHA.sum(axis=1)
