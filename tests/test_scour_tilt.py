@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 from test_scour_run import scenario, scour_section
+from test_scour_settle import constant_forcing
 
 from mineburial.ensembles import runner
 from mineburial.kernels.mine import layout
@@ -37,12 +38,6 @@ def tilt_params(b0, h0, **kw):
     )  # fmt: skip
     base.update(kw)
     return S.default_parameters(**base)
-
-
-def constant_forcing(hours, hs=1.5, tp=9.0, uc=0.0, depth=12.0, step=1.0):
-    t = np.arange(0.0, hours + step / 2, step) * 3600.0
-    one = np.ones_like(t)
-    return t, hs * one, tp * one, 0.0 * one, uc * one, 0.0 * one, depth * one
 
 
 def run(p, forcing, leads, fractions=(0.25, 0.5)):

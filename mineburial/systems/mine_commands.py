@@ -23,6 +23,15 @@ def seconds(text: str) -> float:
     return value
 
 
+def _execution_arguments(parser) -> None:
+    """Where and how quietly the drops of compare and sensitivity run (as ``mineburial run``'s)."""
+    parser.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
+    parser.add_argument(
+        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+
+
 # --- drop ----------------------------------------------------------------------------------------------
 
 
@@ -140,11 +149,7 @@ def _compare_arguments(cmp_) -> None:
         metavar="DAYS",
         help="with [scour]: lead time of the compared burial (default: the last of scour.lead_times_days)",
     )
-    cmp_.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
-    cmp_.add_argument(
-        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
-    )
-    cmp_.add_argument("--quiet", action="store_true", help="no progress lines")
+    _execution_arguments(cmp_)
 
 
 def _run_compare(args) -> int:
@@ -176,11 +181,7 @@ def _sensitivity_arguments(sens) -> None:
     )
     sens.add_argument("-o", "--output", default=None, help="write the indices (NetCDF)")
     sens.add_argument("--plot", default=None, help="draw the indices to this PNG")
-    sens.add_argument("--threads", type=int, default=None, help="numba threads (1 to the cores)")
-    sens.add_argument(
-        "--scheduler", default=None, help="address of a dask.distributed scheduler to spread chunks over"
-    )
-    sens.add_argument("--quiet", action="store_true", help="no progress lines")
+    _execution_arguments(sens)
 
 
 def _run_sensitivity(args) -> int:
