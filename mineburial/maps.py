@@ -559,6 +559,48 @@ def cell_seed(seed: int, index: int) -> int:
     return int.from_bytes(digest[:8], "little")
 
 
+#: how a map seeds its cells: ``"index"`` (default) :func:`cell_seed` of the cell's row-major index, every
+#: cell its own ensemble; ``"inputs"`` :func:`inputs_seed` of the cell's resolved scenario, so cells with
+#: identical inputs share one ensemble, computed once (docs/maps.md, "Cells with identical inputs")
+CELL_SEEDS = ("index", "inputs")
+_INPUTS_SEED_TAG = "mineburial-map-inputs"
+
+
+def inputs_digest(cell_raw: Mapping) -> str | None:
+    """SHA-256 (hex) of a cell's scenario dict ``cell_raw`` in a canonical form: JSON with sorted keys,
+    floats by ``repr`` (exact), numpy arrays by dtype, shape and the SHA-256 of their bytes, dataclasses by
+    their type and fields. Two cells have the same digest exactly when their scenarios are equal value for
+    value (up to SHA-256 collisions). None when the scenario holds a value of another kind (the cell is
+    then never merged with another)."""
+
+    def encode(obj):
+        if isinstance(obj, np.ndarray):
+            a = np.ascontiguousarray(obj)
+            return {"__ndarray__": [a.dtype.str, list(a.shape), hashlib.sha256(a.tobytes()).hexdigest()]}
+        if isinstance(obj, np.generic):
+            return obj.item()
+        if isinstance(obj, pathlib.PurePath):
+            return {"__path__": str(obj)}
+        if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+            fields = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+            return {"__dataclass__": type(obj).__qualname__, **fields}
+        raise TypeError(type(obj).__name__)
+
+    try:
+        text = json.dumps(cell_raw, sort_keys=True, default=encode, allow_nan=True)
+    except (TypeError, ValueError):
+        return None
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def inputs_seed(seed: int, digest: str) -> int:
+    """Seed of the cells whose scenario has the :func:`inputs_digest` ``digest``, in a map with seed
+    ``seed`` and ``cell_seeds = "inputs"``: the first 8 bytes, little-endian, of SHA-256 of the ASCII
+    text ``"mineburial-map-inputs:<seed>:<digest>"``, an integer in [0, 2**64)."""
+    text = f"{_INPUTS_SEED_TAG}:{int(seed)}:{digest}"
+    return int.from_bytes(hashlib.sha256(text.encode("ascii")).digest()[:8], "little")
+
+
 def cell_scenario(raw: Mapping, grid: EnvironmentGrid, j: int, i: int) -> dict:
     """The scenario dict of cell (j, i): ``raw`` with the cell's environment overriding
     ``environment.water_depth``, the sediment profile (``sediment.class`` or the linear
@@ -960,6 +1002,7 @@ def run_map(
     target_half_width: float | None = None,
     min_drops: int | None = None,
     step: int | None = None,
+    cell_seeds: str = "index",
 ) -> xr.Dataset:
     """Burial-probability map: one ensemble of ``n`` drops per water cell of ``environment``.
 
@@ -983,17 +1026,23 @@ def run_map(
         points (``min_drops``, then every ``step`` drops; ``n`` is the maximum) where every
         class probability's Wilson 95 % interval has a half-width under the target. Default
         (None): every cell runs ``n`` drops.
+    cell_seeds : ``"index"`` (default): cell ``k`` has the seed :func:`cell_seed` ``(seed, k)``, every cell
+        its own ensemble; ``"inputs"``: the seed :func:`inputs_seed` of the cell's resolved scenario
+        (:func:`inputs_digest`), so cells with identical inputs share one ensemble, computed once and
+        copied to each of them (docs/maps.md, "Cells with identical inputs").
 
     Returns the map as a CF-1.11 :class:`xarray.Dataset` (docs/maps.md).
     """
     base, grid, per_cell, base_dir = _load_base(scenario, environment, n=n, seed=seed, chunk_size=chunk_size)
     stopping = check_stopping(target_half_width, min_drops, step, base.n, base.sampling)
+    check_cell_seeds(cell_seeds)
     runner.check_run(base, what="each cell of the map")
     runner.warn_run(base)
     status = grid.cell_status()
     ny, nx = grid.shape
     _check_map_memory(base, status, per_cell)
-    specs = _cell_specs(base, grid, per_cell, base_dir, status)
+    plan = _cell_plan(base, grid, per_cell, base_dir, status, cell_seeds)
+    specs = plan.specs
     template = _cell_statistics_template(base)
     names = _cell_variables(template)
     arrays = {name: _empty_cell_array(template[name], ny, nx) for name in names}
@@ -1003,10 +1052,11 @@ def run_map(
     def reduce(stream):
         for k, chunks, st in stream:
             st = _cell_statistics(specs[k], chunks) if st is None else st
-            j, i = divmod(k, nx)
-            for name in names:
-                arrays[name][..., j, i] = st[name]
-            drops[j, i] = sum(len(c["status"]) for c in chunks)
+            used = sum(len(c["status"]) for c in chunks)
+            for j, i in plan.members[k]:  # the cells with the inputs of cell k (itself alone by default)
+                for name in names:
+                    arrays[name][..., j, i] = st[name]
+                drops[j, i] = used
             for rule, (count, example) in merge_invalid_reasons(chunks).items():
                 invalid.setdefault(rule, [0, example])[0] += count
 
@@ -1023,7 +1073,7 @@ def run_map(
         yield from sorted(done, key=lambda item: item[0])
 
     def finish():
-        ds = _assemble(grid, status, arrays, drops, template, base, __version__, stopping)
+        ds = _assemble(grid, status, arrays, drops, template, base, __version__, stopping, plan)
         ds.attrs["scenario_name"] = (
             pathlib.Path(scenario).stem if isinstance(scenario, (str, pathlib.Path)) else base.base.mine.name
         )
@@ -1042,11 +1092,34 @@ def run_map(
     return ds
 
 
-def _cell_specs(base, grid, per_cell, base_dir, status) -> dict:
-    """The ensemble of each computed cell, by row-major index ``k``, seeded :func:`cell_seed`."""
+def check_cell_seeds(cell_seeds) -> None:
+    """Refuse, in one line, a ``cell_seeds`` (``--cell-seeds``) other than those of :data:`CELL_SEEDS`."""
+    if cell_seeds not in CELL_SEEDS:
+        raise MapError(
+            f"cell_seeds (--cell-seeds) = {cell_seeds!r} is not one of {', '.join(map(repr, CELL_SEEDS))}"
+        )
+
+
+@dataclasses.dataclass(frozen=True)
+class _CellPlan:
+    """Which ensembles a map computes and where each one's statistics go."""
+
+    specs: dict  # k -> the ensemble of cell k (row-major), for each cell that is computed
+    members: dict  # k -> the (j, i) cells that take cell k's statistics (k itself first)
+    seeds: np.ndarray  # (ny, nx) uint64: each cell's seed, 0 for skipped cells
+    cell_seeds: str  # "index" or "inputs" (CELL_SEEDS)
+
+
+def _cell_plan(base, grid, per_cell, base_dir, status, cell_seeds: str = "index") -> _CellPlan:
+    """The ensemble of each computed cell, by row-major index ``k``, seeded :func:`cell_seed`; with
+    ``cell_seeds = "inputs"`` seeded :func:`inputs_seed`, and one ensemble (that of the first such
+    cell) for all the cells whose scenario is the same (:func:`inputs_digest`)."""
     ny, nx = grid.shape
     raw = copy.deepcopy(base.raw)
     specs: dict[int, engine.EnsembleSpec] = {}
+    members: dict[int, list] = {}
+    seeds = np.zeros((ny, nx), dtype=np.uint64)
+    first: dict[str, int] = {}  # inputs digest -> the first cell with it
     for j in range(ny):
         for i in range(nx):
             if status[j, i] != CELL_COMPUTED:
@@ -1056,10 +1129,22 @@ def _cell_specs(base, grid, per_cell, base_dir, status) -> dict:
                 cell_raw = cell_scenario(raw, grid, j, i)
                 for name, found in per_cell.items():  # the cell's own inputs (scour: its series)
                     cell_raw[name] = found.section(cell_raw[name], j, i)
+                seed = cell_seed(base.seed, k)
+                if cell_seeds == "inputs":
+                    digest = inputs_digest(cell_raw)
+                    if digest is not None:
+                        seed = inputs_seed(base.seed, digest)
+                        if digest in first:  # computed once, for the first cell with these inputs
+                            seeds[j, i] = seed
+                            members[first[digest]].append((j, i))
+                            continue
+                        first[digest] = k
+                seeds[j, i] = seed
+                members[k] = [(j, i)]
                 specs[k] = engine.load_ensemble(
                     cell_raw,
                     n=base.n,
-                    seed=cell_seed(base.seed, k),
+                    seed=seed,
                     sampling=base.sampling,
                     chunk_size=base.chunk_size,
                     per_drop=False,
@@ -1068,7 +1153,7 @@ def _cell_specs(base, grid, per_cell, base_dir, status) -> dict:
                 )
             except cfg.ScenarioError as exc:
                 raise MapError(f"{_cell_label(grid, j, i)}: {exc}") from None
-    return specs
+    return _CellPlan(specs, members, seeds, cell_seeds)
 
 
 def _empty_cell_array(da, ny, nx) -> np.ndarray:
@@ -1201,14 +1286,14 @@ def _latlon_from_projection(grid: EnvironmentGrid):
     return np.asarray(lat), np.asarray(lon)
 
 
-def _assemble(grid, status, arrays, drops, template, base, version, stopping=None) -> xr.Dataset:
+def _assemble(grid, status, arrays, drops, template, base, version, stopping=None, plan=None) -> xr.Dataset:
     """The map Dataset, built from the registry's map family (:func:`mineburial.io.dataset.build`):
     per-cell results, the cells' status and seeds, the environment used. The family's ``y``, ``x``
     and ``grid_mapping`` take the grid's names."""
     extra = {"grid_mapping": grid.grid_mapping} if grid.grid_mapping else {}
     data = _result_fields(arrays, template, extra)
     data["most_likely_burial_class"] = (_most_likely_class(arrays["burial_class_probability"]), extra)
-    data.update(_cell_fields(grid, status, base.seed, extra))
+    data.update(_cell_fields(grid, status, plan.seeds, plan.cell_seeds, extra))
     data["cell_drop_count"] = (drops, extra)
     data.update(_environment_fields(grid, extra))
     coords = {c: template[c] for c in V.map_shared_coords() if c in template.coords}
@@ -1216,7 +1301,7 @@ def _assemble(grid, status, arrays, drops, template, base, version, stopping=Non
     names = {V.MAP_Y: grid.ydim, V.MAP_X: grid.xdim}
     if grid.grid_mapping:
         names["grid_mapping"] = grid.grid_mapping
-    attrs = _global_attrs(grid, status, base, version, stopping, drops)
+    attrs = _global_attrs(grid, status, base, version, stopping, drops, plan)
     return build(data, coords, attrs, kind="map", version=version, names=names)
 
 
@@ -1241,14 +1326,17 @@ def _most_likely_class(prob) -> np.ndarray:
     return likely.astype(np.int8)
 
 
-def _cell_fields(grid, status, seed, extra) -> dict:
-    """Per-cell status, ensemble seed (:func:`cell_seed`) and the water depth used."""
-    ny, nx = grid.shape
-    seeds = np.zeros((ny, nx), dtype=np.uint64)
-    for j in range(ny):
-        for i in range(nx):
-            if status[j, i] == CELL_COMPUTED:
-                seeds[j, i] = cell_seed(seed, j * nx + i)
+def _cell_fields(grid, status, seeds, cell_seeds, extra) -> dict:
+    """Per-cell status, ensemble seed (:func:`cell_seed`, or :func:`inputs_seed` with ``cell_seeds =
+    "inputs"``) and the water depth used."""
+    seed_attrs = dict(extra)
+    if cell_seeds == "inputs":
+        seed_attrs["comment"] = (
+            "First 8 bytes (little-endian) of SHA-256 of 'mineburial-map-inputs:<seed>:<digest>' with <seed> "
+            "the global attribute random_seed and <digest> the SHA-256 of the cell's resolved scenario "
+            "(global attribute seed_derivation): cells with identical inputs share the seed and one "
+            "ensemble; rerun a cell with mineburial run --seed <cell_seed>. 0 for skipped cells."
+        )
     depth = np.where(status == CELL_LAND, np.nan, grid.water_depth)
     how = (
         "Water depth of the cell used by its ensemble (from the environment grid's "
@@ -1256,7 +1344,7 @@ def _cell_fields(grid, status, seed, extra) -> dict:
     )
     return {
         "cell_status": (status, extra),
-        "cell_seed": (seeds, extra),
+        "cell_seed": (seeds, seed_attrs),
         "water_depth": (depth, {"comment": how, **extra}),
     }
 
@@ -1285,11 +1373,11 @@ def _environment_fields(grid, extra) -> dict:
     return data
 
 
-def _global_attrs(grid, status, base, version, stopping=None, drops=None) -> dict:
+def _global_attrs(grid, status, base, version, stopping=None, drops=None, plan=None) -> dict:
     """The map's own global attributes (ACDD/CF; :func:`mineburial.io.dataset.build` adds the
     ones every file carries), scenario included."""
     created = ncio.utc_now()
-    resolved = _map_scenario(grid, base, stopping)
+    resolved = _map_scenario(grid, base, stopping, plan)
     scen = ncio.scenario_json(resolved)
     n_cells = int(status.size)
     n_comp = int(np.count_nonzero(status == CELL_COMPUTED))
@@ -1344,19 +1432,37 @@ def _global_attrs(grid, status, base, version, stopping=None, drops=None) -> dic
         attrs.update(extra)
     if stopping is not None:
         attrs["sequential_stopping"] = json.dumps(resolved["map"]["sequential_stopping"], sort_keys=True)
-        attrs["n_drops_total"] = np.int64(0 if drops is None else drops.sum())
+        attrs["n_drops_total"] = np.int64(_drops_computed(drops, plan))
         attrs["history"] += f" (at most; sequential stopping: {int(attrs['n_drops_total'])} drops in all)"
         attrs["summary"] = attrs["summary"].replace(
             f"an ensemble of {base.n} drops",
             f"an ensemble of at most {base.n} drops (fewer where every class probability's Wilson "
             f"95 % interval was narrower than +/- {stopping.target_half_width:g}; cell_drop_count)",
         )
+    if plan is not None and plan.cell_seeds == "inputs":
+        attrs["cell_seeds"] = "inputs"
+        attrs["n_cells_distinct"] = np.int64(len(plan.specs))
+        attrs["n_drops_total"] = np.int64(_drops_computed(drops, plan))
+        attrs["history"] += (
+            f" (cells with identical inputs computed once: {len(plan.specs)} distinct of {n_comp} cells, "
+            f"{int(attrs['n_drops_total'])} drops computed)"
+        )
     if grid.geographic:
         attrs.update(_geospatial_bounds(grid))
     return attrs
 
 
-def _map_scenario(grid, base, stopping=None) -> dict:
+def _drops_computed(drops, plan=None) -> int:
+    """The drops a map computed: every cell's ``cell_drop_count``, or with ``cell_seeds = "inputs"``
+    those of one cell of each set of cells with identical inputs."""
+    if drops is None:
+        return 0
+    if plan is None or plan.cell_seeds != "inputs":
+        return int(drops.sum())
+    return sum(int(drops[plan.members[k][0]]) for k in plan.specs)
+
+
+def _map_scenario(grid, base, stopping=None, plan=None) -> dict:
     """The resolved scenario with a ``map`` section: the grid, what it overrides per cell, the seeds
     (and with sequential stopping its settings)."""
     resolved = base.resolved()
@@ -1376,6 +1482,14 @@ def _map_scenario(grid, base, stopping=None) -> dict:
         "seed_derivation": "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
         "'mineburial-map-cell:<seed>:<k>', k = row * n_columns + column",
     }
+    if plan is not None and plan.cell_seeds == "inputs":
+        resolved["map"]["cell_seeds"] = "inputs"
+        resolved["map"]["seed_derivation"] = (
+            "cell_seed = first 8 bytes (little-endian) of SHA-256 of "
+            "'mineburial-map-inputs:<seed>:<digest>', digest = SHA-256 (hex) of the cell's "
+            "resolved scenario as JSON with sorted keys (floats exact, arrays by dtype, shape and "
+            "the SHA-256 of their bytes); cells with the same digest share one ensemble"
+        )
     if stopping is not None:
         resolved["map"]["sequential_stopping"] = stopping.record(base.n, base.sampling)
     return resolved
@@ -1913,6 +2027,7 @@ def run_map_cli(args) -> int:
     environment grid, the output and plot paths, the scheduler."""
     base, grid, per_cell, _ = _load_base(args.scenario, args.environment, n=args.drops, seed=args.seed)
     stopping = check_stopping(args.target_half_width, args.min_drops, args.step, base.n, base.sampling)
+    check_cell_seeds(args.cell_seeds)
     runner.check_run(base, what="each cell of the map")
     _check_map_memory(base, grid.cell_status(), per_cell)
     inputs = runner.input_paths(args.scenario, base) + [pathlib.Path(args.environment)]
@@ -1935,6 +2050,7 @@ def run_map_cli(args) -> int:
             target_half_width=args.target_half_width,
             min_drops=args.min_drops,
             step=args.step,
+            cell_seeds=args.cell_seeds,
         )
     finally:
         if client is not None:
@@ -1942,7 +2058,7 @@ def run_map_cli(args) -> int:
     elapsed = time.monotonic() - t0
     n_comp = int(ds.attrs["n_cells_computed"])
     n = int(ds.attrs["n_drops_per_cell"])
-    total = int(ds["cell_drop_count"].values.sum())
+    total = int(ds.attrs.get("n_drops_total", ds["cell_drop_count"].values.sum()))
     per_cell = f"{n} drops per cell"
     if stopping is not None:
         used = ds["cell_drop_count"].values[ds["cell_status"].values == CELL_COMPUTED]
@@ -1951,6 +2067,11 @@ def run_map_cli(args) -> int:
             f"{stopping.target_half_width:g}: {total} drops in all, "
             f"{100.0 * total / max(n * n_comp, 1):.1f} % of {n * n_comp}; "
             f"{int(np.count_nonzero(used < n))} cells stopped early)"
+        )
+    if args.cell_seeds == "inputs":
+        per_cell += (
+            f"; cells with identical inputs computed once: {int(ds.attrs['n_cells_distinct'])} distinct "
+            f"of {n_comp} ({total} drops computed)"
         )
     print(
         f"{ds.attrs['title']}\n"

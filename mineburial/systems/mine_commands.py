@@ -96,6 +96,13 @@ def _map_arguments(mp) -> None:
         default=None,
         help="with --target-half-width: drops between a cell's looks after --min-drops (its value)",
     )
+    mp.add_argument(
+        "--cell-seeds",
+        choices=("index", "inputs"),
+        default="index",
+        help="seed each cell by its index (default: every cell its own ensemble) or by its inputs (cells "
+        "with identical inputs share one ensemble, computed once)",
+    )
     mp.add_argument("--plot", default=None, help="also draw the map to this image (.png, .pdf, .svg, ...)")
     mp.add_argument(
         "--lead-times",
