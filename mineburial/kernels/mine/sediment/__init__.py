@@ -18,8 +18,10 @@ import math
 from mineburial._numba import kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine.sediment.laws import (
+    LAW_G,
     LAW_PORE,
     LAW_REFERENCE_PATHS,
+    LAW_RHO_W,
     RATE_IMPACT35,
     RATE_NONE,
     RATE_SEMILOG,
@@ -33,6 +35,9 @@ from mineburial.kernels.mine.sediment.laws import (
     sediment_properties,
 )
 
+#: the law's slots after the water density and gravity (a constant: numba slices a tuple by constants)
+_AFTER_G = LAW_G + 1
+assert LAW_G == LAW_RHO_W + 1
 QUADRATURE_FAST = 0
 QUADRATURE_REFERENCE = 1
 
@@ -127,5 +132,5 @@ def sediment_force_torque(body, rot, com, vel, omega, seabed_z, water_density, g
     (``water_density`` and ``gravity`` as given, for tests that vary them)."""
     radius, _ = bodies.strip_section(body)
     law = pack_law(p, 2.0 * radius)
-    law = law[:9] + (water_density, gravity) + law[11:]
+    law = law[:LAW_RHO_W] + (water_density, gravity) + law[_AFTER_G:]
     return sediment_tractions(body, rot, com, vel, omega, seabed_z, law, sediment_bank)

@@ -307,7 +307,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     velocity in the body frame; (w1, w2, w3): angular velocity (body).
     ``law``: :func:`pack_law` (slots ``LAW_*``).
     """
-    model = law[0]
+    model = law[LAW_MODEL]
     vx = v1 + w2 * z - w3 * y
     vy = v2 + w3 * x - w1 * z
     vz = v3 + w1 * y - w2 * x
@@ -317,16 +317,28 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    rho, s, sig = _properties(zeta, law[11], law[12], law[13], law[14], law[15], bank, law[9], law[10])
-    gfac = _rate(speed, law[1], law[2], law[3], law[4], law[5], law[8])
-    mu = law[6]
+    rho, s, sig = _properties(
+        zeta,
+        law[LAW_RHO0],
+        law[LAW_KRHO],
+        law[LAW_S0],
+        law[LAW_KS],
+        law[LAW_ROW],
+        bank,
+        law[LAW_RHO_W],
+        law[LAW_G],
+    )
+    gfac = _rate(
+        speed, law[LAW_RATE], law[LAW_A], law[LAW_VREST], law[LAW_BETA], law[LAW_RATE_REF], law[LAW_DIAMETER]
+    )
+    mu = law[LAW_MU]
     # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
     # full value over ~V_REG_N, so the force is continuous in the velocity (no
     # chattering of the explicit integrator at rest; docs/notes/sediment.md). The form
     # v_n / sqrt(v_n^2 + V_REG_N^2) has a short tail (1 - h ~ V_REG_N^2 / (2 v_n^2)), so
     # the ramp is a thin layer along the delta line that the quadrature need not resolve
     # (v_n / (v_n + V_REG_N) would lower the traction by 1 % up to v_n = 100 V_REG_N).
-    vrn = law[22]
+    vrn = law[LAW_VREG_N]
     hn = vn / math.sqrt(vn * vn + vrn * vrn) if vn > 0.0 else 0.0
     if model == RES_DELTA:
         pn = sig * hn
@@ -334,11 +346,11 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     elif model == RES_FRICTION:
         # the geostatic overburden sig acts on every embedded element and is added in
         # closed form by the stepper (kernels/mine/overburden.py)
-        pn = law[7] * s * gfac * hn
+        pn = law[LAW_N0] * s * gfac * hn
         ft = mu * pn
     else:
         # Brinch Hansen (1970) depth factor 1 + f arctan(zeta/d), f = sediment.bearing_depth_factor
-        nc = law[7] * (1.0 + law[LAW_DEPTH_FACTOR] * math.atan(zeta / law[8]))
+        nc = law[LAW_N0] * (1.0 + law[LAW_DEPTH_FACTOR] * math.atan(zeta / law[LAW_DIAMETER]))
         pn = nc * s * gfac * hn
         ft = mu * s * gfac
     cd = law[LAW_INERTIAL_DRAG]
@@ -351,35 +363,67 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
 # =============================================================================
 # the law of one drop, packed once
 # =============================================================================
-#: Slots of the packed law tuple (:func:`pack_law`).
-(
-    LAW_MODEL,
-    LAW_RATE,
-    LAW_A,
-    LAW_VREST,
-    LAW_BETA,
-    LAW_RATE_REF,
-    LAW_MU,
-    LAW_N0,
-    LAW_DIAMETER,
-    LAW_RHO_W,
-    LAW_G,
-    LAW_RHO0,
-    LAW_KRHO,
-    LAW_S0,
-    LAW_KS,
-    LAW_ROW,
-    LAW_QUADRATURE,
-    LAW_PORE,
-    LAW_B,
-    LAW_KP,
-    LAW_EV,
-    LAW_VREG,
-    LAW_VREG_N,
-    LAW_DEPTH_FACTOR,
-    LAW_INERTIAL_DRAG,
-    LAW_REFERENCE_PATHS,
-) = range(26)
+#: What each slot of the packed law tuple (:func:`pack_law`) holds, by name (issue 36 item 4): a scenario
+#: field's path where the slot carries the field's value as it is (from its parameter slot
+#: ``layout.INDEX[path]``; an integer code as ``int``), ``derived.*`` where :func:`pack_law` computes it
+#: (a fallback, a boolean, the body's diameter) and ``code.*`` for the argument whose numba type chooses what
+#: is compiled. The ``LAW_*`` indices are looked up here by name; tests/test_law_slots.py checks that
+#: :func:`pack_law` fills every field slot from its field's parameter slot and each derived one by its rule.
+LAW_NAMES = (
+    "derived.resistance",  # sediment.resistance's code (layout.RESISTANCE_NAMES); an unknown code: delta
+    "sediment.rate_law",
+    "sediment.impact_factor",
+    "sediment.rest_speed",
+    "sediment.rate_coefficient",
+    "sediment.reference_rate",
+    "sediment.friction",
+    "derived.bearing_factor",  # sediment.bearing_factor; non-positive: pi + 2 (Prandtl 1920)
+    "derived.diameter",  # the body's reference diameter (bodies.reference_lengths)
+    "environment.water_density",
+    "environment.gravity",
+    "sediment.density",
+    "sediment.density_gradient",
+    "sediment.strength",
+    "sediment.strength_gradient",
+    "sediment.profile_index",
+    "numerics.sediment_quadrature",
+    "derived.pore_pressure",  # sediment.pore_pressure > 0, a boolean
+    "sediment.rupture_length",
+    "sediment.permeability",
+    "sediment.void_ratio",
+    "numerics.slip_speed",
+    "numerics.switch_speed",
+    "sediment.bearing_depth_factor",
+    "sediment.inertial_drag",
+    "code.reference_paths",  # None: the fast rule only; True: the reference quadrature too
+)
+_LAW = {name: k for k, name in enumerate(LAW_NAMES)}
+LAW_MODEL = _LAW["derived.resistance"]
+LAW_RATE = _LAW["sediment.rate_law"]
+LAW_A = _LAW["sediment.impact_factor"]
+LAW_VREST = _LAW["sediment.rest_speed"]
+LAW_BETA = _LAW["sediment.rate_coefficient"]
+LAW_RATE_REF = _LAW["sediment.reference_rate"]
+LAW_MU = _LAW["sediment.friction"]
+LAW_N0 = _LAW["derived.bearing_factor"]
+LAW_DIAMETER = _LAW["derived.diameter"]
+LAW_RHO_W = _LAW["environment.water_density"]
+LAW_G = _LAW["environment.gravity"]
+LAW_RHO0 = _LAW["sediment.density"]
+LAW_KRHO = _LAW["sediment.density_gradient"]
+LAW_S0 = _LAW["sediment.strength"]
+LAW_KS = _LAW["sediment.strength_gradient"]
+LAW_ROW = _LAW["sediment.profile_index"]
+LAW_QUADRATURE = _LAW["numerics.sediment_quadrature"]
+LAW_PORE = _LAW["derived.pore_pressure"]
+LAW_B = _LAW["sediment.rupture_length"]
+LAW_KP = _LAW["sediment.permeability"]
+LAW_EV = _LAW["sediment.void_ratio"]
+LAW_VREG = _LAW["numerics.slip_speed"]
+LAW_VREG_N = _LAW["numerics.switch_speed"]
+LAW_DEPTH_FACTOR = _LAW["sediment.bearing_depth_factor"]
+LAW_INERTIAL_DRAG = _LAW["sediment.inertial_drag"]
+LAW_REFERENCE_PATHS = _LAW["code.reference_paths"]
 
 
 @kernel
