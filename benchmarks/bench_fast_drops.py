@@ -233,7 +233,8 @@ def main():
         return
     import numba
 
-    from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+    from mineburial.ensembles.engine import load_ensemble
+    from mineburial.ensembles.mine import chunk_inputs
 
     print(f"machine: {machine()}; threads: {numba.get_num_threads()}")
     rows = []
