@@ -13,8 +13,7 @@ from mineburial.config import Scenario
 from mineburial.errors import ScenarioError
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.layout import N_TRAJ, TRAJ_COLUMNS
 from mineburial.kernels.mine.overburden import with_long_tables
 from mineburial.kernels.mine.stepper import reference_paths, run_drop

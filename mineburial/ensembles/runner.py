@@ -38,7 +38,6 @@ from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, check_output_path
-from mineburial.figures import check_lead_time_plot, plot_lead_time
 from mineburial.resources import memory_refusal
 from mineburial.systems import registry
 
@@ -441,8 +440,11 @@ def run_ensemble_cli(args) -> int:
         systems=engine.SYSTEMS,
     )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
-    if getattr(args, "plot", None):  # the lead-time figure of a post-impact process ([scour])
-        check_lead_time_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
+    system = registry.of(spec)
+    if getattr(args, "plot", None):  # the system's figure (the mine's: burial against lead time)
+        if system.check_plot is None:
+            raise RunError(f"--plot '{args.plot}': a {system.name!r} ensemble draws no figure")
+        system.check_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
     check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
@@ -464,8 +466,8 @@ def run_ensemble_cli(args) -> int:
         if client is not None:
             client.close()
     elapsed = time.monotonic() - t0
-    print(registry.of(spec).summarize(ds, elapsed, args.output))
+    print(system.summarize(ds, elapsed, args.output))
     if getattr(args, "plot", None):
-        plot_lead_time(ds, args.plot, scenario=pathlib.Path(args.scenario or "default").stem)
+        system.plot(ds, args.plot, scenario=pathlib.Path(args.scenario or "default").stem)
         print(f"wrote {args.plot}")
     return 0

@@ -22,6 +22,7 @@ import dataclasses
 import pathlib
 from collections.abc import Callable
 
+from mineburial import figures
 from mineburial.ensembles import mine, restraint
 from mineburial.errors import ScenarioError, unknown_name_message
 
@@ -58,6 +59,11 @@ class System:
     #: the scenario file :func:`~mineburial.ensembles.engine.load_ensemble` reads when given
     #: none (used of the default system only; None: the system has none)
     default_scenario: pathlib.Path | None = None
+    #: ``check_plot(path, spec, output, inputs) -> None``: before a run computes, refuses a
+    #: ``mineburial run --plot`` the system cannot draw (RunError) or a path it cannot draw to
+    check_plot: Callable | None = None
+    #: ``plot(ds, path, scenario=) -> None``: the figure of ``mineburial run --plot``
+    plot: Callable | None = None
     #: ``check_accuracy(spec, chunks, progress=None) -> dict``: global attributes of a numerical
     #: self-check of the finished run, made after its chunks are in (``progress``: None or the
     #: runner's Progress class, for its progress lines; None: the system has no check)
@@ -79,6 +85,8 @@ SYSTEMS = {
             example=mine.example,
             warm_up_spec=mine.warm_up_spec,
             default_scenario=mine.DEFAULT_SCENARIO,
+            check_plot=figures.check_lead_time_plot,  # the lead-time figure of a post-impact process
+            plot=figures.plot_lead_time,
             check_accuracy=mine.check_accuracy,
         ),
         System(
@@ -91,6 +99,8 @@ SYSTEMS = {
             warn_run=restraint.warn_run,
             example_names=restraint.example_names,
             example=restraint.example,
+            # it has no lead times: the lead-time figure's check refuses --plot, naming [scour]
+            check_plot=figures.check_lead_time_plot,
         ),
     )
 }

@@ -54,8 +54,8 @@ from mineburial.ensembles.store import OutputRun
 from mineburial.figures import check_plot_path, pyplot, save_figure
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 from mineburial.resources import memory_refusal
 
 __all__ = [

@@ -66,8 +66,8 @@ from mineburial.ensembles.statistics import burial_class
 from mineburial.figures import pyplot, save_figure
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 from mineburial.resources import memory_refusal
 from mineburial.validation.compare import cli_client, cli_output
 
