@@ -73,8 +73,7 @@ def load_ensemble(
         source = registry.get(registry.DEFAULT).default_scenario
     if registry.is_spec(source):
         raw = copy.deepcopy(source.raw)
-        if source.system != registry.DEFAULT:
-            raw["system"] = source.system
+        raw["system"] = source.system  # its raw scenario is without the key (popped below)
     elif isinstance(source, Mapping):
         raw = copy.deepcopy(dict(source))
     elif callable(getattr(source, "to_dict", None)):  # the default system's scenario object
