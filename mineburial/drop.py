@@ -165,7 +165,7 @@ def drop_summary(ds: xr.Dataset, name: str, output) -> str:
     """The line ``mineburial drop`` prints for a drop of :func:`simulate_drop`.
 
     Burial numbers are printed only for a drop whose burial enters the statistics
-    (:data:`mineburial.kernels.status.IN_STATISTICS`: at rest, or buried and still
+    (:data:`mineburial.kernels.mine.status.IN_STATISTICS`: at rest, or buried and still
     sinking, whose penetration is a lower bound). A drop that floated, never reached the
     seabed, or ended at a time limit or in a failure gets its status and why, and no
     penetration or burial: its last state is not a burial. The file keeps the status
