@@ -20,10 +20,18 @@ Reference: the source files parsed with :mod:`ast`, and the module objects' attr
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import sys
 
+import pytest
+import tomllib
 from test_imports import import_graph
+from test_system_registry import _toy_system
+
+from mineburial import cli
+from mineburial.ensembles import engine
+from mineburial.systems import registry
 
 #: packages whose every module is the mine's
 MINE_PACKAGES = ("mineburial.kernels.mine", "mineburial.calibration", "mineburial.validation")
@@ -120,3 +128,75 @@ def test_the_generic_layer_exports_none_of_the_mine_s_names():
             if isinstance(origin, str) and is_mine(origin) and not isinstance(value, type(sys)):
                 found.setdefault(name, []).append(attr)
     assert found == {}
+
+
+# ---------------------------------------------------------------------------
+# what the engine and the driver took from the mine now comes from the system's registry entry
+# ---------------------------------------------------------------------------
+@pytest.fixture
+def toy(monkeypatch, tmp_path):
+    """The toy system of test_system_registry, with a default scenario and a figure of its own."""
+    calls: list = []
+    default = tmp_path / "toy_default.toml"
+    default.write_text('system = "toy"\nlabel = "default toy"\n[ensemble]\nn = 3\n')
+
+    def check_plot(path, spec, output, inputs):
+        calls.append(("check_plot", str(path), spec.n))
+
+    def plot(ds, path, *, scenario):
+        calls.append(("plot", str(path), float(ds["square_mean"]), scenario))
+
+    system = dataclasses.replace(
+        _toy_system(calls), default_scenario=default, check_plot=check_plot, plot=plot
+    )
+    monkeypatch.setitem(registry.SYSTEMS, "toy", system)
+    monkeypatch.setattr(engine, "SYSTEMS", registry.names())
+    return calls
+
+
+def test_the_default_scenario_is_the_default_system_s(toy, monkeypatch):
+    assert engine.load_ensemble(None, n=4).system == registry.DEFAULT  # the mine's, unchanged
+    monkeypatch.setattr(registry, "DEFAULT", "toy")
+    spec = engine.load_ensemble(None, systems=("toy",))
+    assert (spec.system, spec.base.label, spec.n) == ("toy", "default toy", 3)
+
+
+def test_a_spec_of_any_registered_system_is_read_back_as_its_system():
+    spec = engine.load_ensemble(
+        {"system": "restraint", **restraint_ensemble_raw()}, n=3, systems=engine.SYSTEMS
+    )
+    again = engine.load_ensemble(spec, n=3, systems=engine.SYSTEMS)
+    assert type(again) is type(spec) and again.base == spec.base and again.random.keys() == spec.random.keys()
+    assert registry.is_spec(spec) and not registry.is_spec(spec.raw) and not registry.is_spec(None)
+
+
+def restraint_ensemble_raw() -> dict:
+    from mineburial.ensembles import restraint
+
+    _, text = restraint.example("restraint_ensemble")
+    raw = tomllib.loads(text)
+    raw.pop("system")
+    return raw
+
+
+def test_run_plot_goes_to_the_system_s_figure(toy, tmp_path, capsys):
+    scenario = tmp_path / "toy.toml"
+    scenario.write_text('system = "toy"\nlabel = "squares"\n[ensemble]\nn = 4\nchunk_size = 2\n')
+    png = tmp_path / "toy.png"
+    assert cli.main(["run", str(scenario), "--plot", str(png), "--quiet"]) == 0
+    checks = [c for c in toy if isinstance(c, tuple) and c[0] in ("check_plot", "plot")]
+    assert checks == [("check_plot", str(png), 4), ("plot", str(png), (0 + 1 + 4 + 9) / 4, "toy")]
+    assert toy.index(checks[0]) < toy.index((0, 2))  # checked before the first chunk is computed
+    assert f"wrote {png}" in capsys.readouterr().out
+
+
+def test_a_system_without_a_figure_refuses_run_plot_before_computing(toy, monkeypatch, tmp_path, capsys):
+    system = registry.SYSTEMS["toy"]
+    monkeypatch.setitem(registry.SYSTEMS, "toy", dataclasses.replace(system, check_plot=None, plot=None))
+    scenario = tmp_path / "toy.toml"
+    scenario.write_text('system = "toy"\nlabel = "squares"\n')
+    assert cli.main(["run", str(scenario), "--plot", str(tmp_path / "t.png")]) == cli.EXIT_USAGE
+    assert capsys.readouterr().err.strip() == (
+        f"mineburial: error: --plot '{tmp_path / 't.png'}': a 'toy' ensemble draws no figure"
+    )
+    assert not [c for c in toy if isinstance(c, tuple) and isinstance(c[0], int)]  # nothing computed

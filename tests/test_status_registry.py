@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import pathlib
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -115,3 +117,24 @@ def test_registering_is_idempotent_and_refuses_a_second_vocabulary_under_a_name(
         status.VOCABULARIES.pop("toy", None)
     with pytest.raises(KeyError, match="no status vocabulary of system 'toy'; registered: mine"):
         status.vocabulary("toy")
+
+
+def test_the_status_modules_import_no_numba_and_nothing_else_of_mineburial():
+    """kernels/status.py and the mine's kernels/mine/status.py are read by the variable registry and
+    the command line without numba: in a fresh interpreter they load only each other and the package
+    folders above them."""
+    code = (
+        "import sys\n"
+        "import mineburial.kernels.mine.status as m\n"
+        "print(sorted(k for k in sys.modules if k.startswith('mineburial') or k in ('numba', 'numpy')))\n"
+        "print(m.VOCABULARY.flag_meanings)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    loaded, meanings = done.stdout.splitlines()
+    assert loaded == str(
+        ["mineburial", "mineburial._version", "mineburial.kernels", "mineburial.kernels.mine",
+         "mineburial.kernels.mine.status", "mineburial.kernels.status"]
+    )  # fmt: skip
+    assert meanings.split() == [_design_table()[c] for c in sorted(_design_table())]
