@@ -62,7 +62,7 @@ def compile_paths(drops: int = 4) -> dict:
         raise RuntimeError(f"the self-check compiled nothing: {attrs.get('numerical_check')}")
     seconds["self_check"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    scour = os.path.join(os.path.dirname(engine.DEFAULT_SCENARIO), "scour_storm.toml")
+    scour = os.path.join(os.path.dirname(mine.DEFAULT_SCENARIO), "scour_storm.toml")
     spec = engine.load_ensemble(scour, n=drops, chunk_size=drops)
     engine.compute_chunk(spec, 0, drops)
     seconds["scour"] = time.perf_counter() - t0

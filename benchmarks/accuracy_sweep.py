@@ -60,7 +60,7 @@ import numpy as np
 import tomllib
 from _common import machine
 
-from mineburial.ensembles import accuracy, engine
+from mineburial.ensembles import accuracy, engine, mine
 from mineburial.ensembles.batch import run_batch
 from mineburial.kernels.mine import layout as L
 
@@ -208,7 +208,7 @@ def run_extended(args, out):
     names = args.strata.split(",") if args.strata else list(EXTENDED)
     for name in names:
         spec = engine.load_ensemble(extended(name), n=args.n, seed=args.seed)
-        P, valid, _ = engine.chunk_inputs(spec, 0, args.n)
+        P, valid, _ = mine.chunk_inputs(spec, 0, args.n)
         n = int(valid.sum())
         t_def, s_def, st_def = timed(spec, P, valid, args.threads)
         if not args.split:
@@ -314,7 +314,7 @@ def main():
     print("\n".join(out), flush=True)
     for name in names:
         spec = engine.load_ensemble(stratum(*name.split("-")), n=args.n, seed=args.seed)
-        P, valid, _ = engine.chunk_inputs(spec, 0, args.n)
+        P, valid, _ = mine.chunk_inputs(spec, 0, args.n)
         t_def, s_def, st_def = timed(spec, P, valid)
         t_ref, s_ref, st_ref = timed(spec, accuracy.reference_params(P), valid)
         diff = accuracy.differences(s_def, st_def, s_ref, st_ref)

@@ -71,7 +71,7 @@ def main():
         run_params(p, sb, cb)  # compile / warm
         t, (code, summary, _) = best_of(lambda p=p, sb=sb, cb=cb: run_params(p, sb, cb), args.repeat)
         steps = summary[layout.S_N_STEPS]
-        from mineburial.kernels import status
+        from mineburial.kernels.mine import status
 
         print(
             f"{name:48s} {p[layout.P_DT]:8.0e} {int(steps):8d} {steps / t:10.0f} {1 / t:9.2f} "

@@ -81,8 +81,8 @@ def run(spec, P, valid):
 
 def compare(summary, status, ref_summary, ref_status):
     from mineburial.ensembles.statistics import burial_class
-    from mineburial.kernels import status as S
     from mineburial.kernels.mine import layout as L
+    from mineburial.kernels.mine import status as S
 
     pen = summary[:, L.S_PENETRATION]
     pen_ref = ref_summary[:, L.S_PENETRATION]
@@ -128,7 +128,7 @@ def ladder(spec, P, valid, summary, truth, k):
 
 
 def counts(status):
-    from mineburial.kernels import status as S
+    from mineburial.kernels.mine import status as S
 
     return ", ".join(f"{S.NAMES[k]} {int((status == k).sum())}" for k in np.unique(status))
 
@@ -233,7 +233,8 @@ def main():
         return
     import numba
 
-    from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+    from mineburial.ensembles.engine import load_ensemble
+    from mineburial.ensembles.mine import chunk_inputs
 
     print(f"machine: {machine()}; threads: {numba.get_num_threads()}")
     rows = []

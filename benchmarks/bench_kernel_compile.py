@@ -24,7 +24,8 @@ from bench_startup import PROFILER
 SETUP = {
     "derivatives": """
 import numpy as np
-from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+from mineburial.ensembles.engine import load_ensemble
+from mineburial.ensembles.mine import chunk_inputs
 from mineburial.kernels.mine import dynamics, layout
 from mineburial.kernels.mine.sediment import pack_law
 spec = load_ensemble(None)

@@ -42,7 +42,8 @@ def main():
 
     from mineburial import run_ensemble
     from mineburial.ensembles.batch import run_batch
-    from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+    from mineburial.ensembles.engine import load_ensemble
+    from mineburial.ensembles.mine import chunk_inputs
     from mineburial.kernels.mine import scour as S
 
     print(f"machine: {machine()}")

@@ -32,7 +32,7 @@ def main():
     args = ap.parse_args()
     from mineburial import run_ensemble
     from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
-    from mineburial.ensembles.engine import DEFAULT_SCENARIO
+    from mineburial.ensembles.mine import DEFAULT_SCENARIO
 
     if args.short:
         with open(args.scenario or DEFAULT_SCENARIO, "rb") as fh:

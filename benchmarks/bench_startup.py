@@ -58,7 +58,8 @@ SNIPPET = """
 import time
 t0 = time.perf_counter()
 from mineburial.ensembles.batch import run_batch
-from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+from mineburial.ensembles.engine import load_ensemble
+from mineburial.ensembles.mine import chunk_inputs
 t_import = time.perf_counter() - t0
 spec = load_ensemble(None)
 P, valid, _ = chunk_inputs(spec, 0, 1)

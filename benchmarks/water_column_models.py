@@ -19,7 +19,7 @@ import xarray as xr
 
 from mineburial.config import load_example
 from mineburial.drop import simulate_drop
-from mineburial.kernels.status import IN_STATISTICS
+from mineburial.kernels.mine.status import IN_STATISTICS
 from mineburial.validation import cases
 
 MODELS = {

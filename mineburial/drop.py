@@ -13,8 +13,7 @@ from mineburial.config import Scenario
 from mineburial.errors import ScenarioError
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.layout import N_TRAJ, TRAJ_COLUMNS
 from mineburial.kernels.mine.overburden import with_long_tables
 from mineburial.kernels.mine.stepper import reference_paths, run_drop
@@ -166,7 +165,7 @@ def drop_summary(ds: xr.Dataset, name: str, output) -> str:
     """The line ``mineburial drop`` prints for a drop of :func:`simulate_drop`.
 
     Burial numbers are printed only for a drop whose burial enters the statistics
-    (:data:`mineburial.kernels.status.IN_STATISTICS`: at rest, or buried and still
+    (:data:`mineburial.kernels.mine.status.IN_STATISTICS`: at rest, or buried and still
     sinking, whose penetration is a lower bound). A drop that floated, never reached the
     seabed, or ended at a time limit or in a failure gets its status and why, and no
     penetration or burial: its last state is not a burial. The file keeps the status

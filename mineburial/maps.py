@@ -36,7 +36,7 @@ from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial._version import __version__
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, processes, runner
+from mineburial.ensembles import engine, epistemic, mine, processes, runner
 from mineburial.ensembles.distributed import run_tasks_distributed
 from mineburial.ensembles.settings import file_digest, merge_invalid_reasons
 from mineburial.ensembles.statistics import burial_statistics
@@ -1078,7 +1078,7 @@ def run_map(
             pathlib.Path(scenario).stem if isinstance(scenario, (str, pathlib.Path)) else base.base.mine.name
         )
         if invalid:
-            ds.attrs["invalid_inputs"] = runner.invalid_inputs_text(invalid)
+            ds.attrs["invalid_inputs"] = mine.invalid_inputs_text(invalid)
         return ds
 
     if output is None:
@@ -1116,7 +1116,7 @@ def _cell_plan(base, grid, per_cell, base_dir, status, cell_seeds: str = "index"
     cell) for all the cells whose scenario is the same (:func:`inputs_digest`)."""
     ny, nx = grid.shape
     raw = copy.deepcopy(base.raw)
-    specs: dict[int, engine.EnsembleSpec] = {}
+    specs: dict[int, mine.EnsembleSpec] = {}
     members: dict[int, list] = {}
     seeds = np.zeros((ny, nx), dtype=np.uint64)
     first: dict[str, int] = {}  # inputs digest -> the first cell with it

@@ -15,7 +15,8 @@ from conftest import scenario_dict
 from mineburial.cli import main
 from mineburial.config import ScenarioError, dumps_toml
 from mineburial.ensembles import accuracy, engine
-from mineburial.ensembles.runner import run_ensemble, summarize
+from mineburial.ensembles.mine import summarize
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.kernels.mine import layout
 
 N, SEED, SIZE = 6, 3, 3  # 9 reference drops in all (~3 s each): the suite's budget

@@ -14,7 +14,7 @@ import pathlib
 import numpy as np
 import pytest
 
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, mine
 from mineburial.kernels.mine import layout as L
 from mineburial.sediment_profiles import CATALOGUE
 
@@ -38,7 +38,7 @@ def _inputs(source, n=400, seed=34):
     """The packed inputs of ``n`` drops and the catalogue class of each (by the surface density and
     strength of its sediment-bank row)."""
     spec = engine.load_ensemble(source, n=n, seed=seed)
-    P, valid, _ = engine.chunk_inputs(spec, 0, n)
+    P, valid, _ = mine.chunk_inputs(spec, 0, n)
     assert valid.all()
     names = []
     for i in P[:, L.INDEX["sediment.profile_index"]].astype(int):

@@ -19,7 +19,7 @@ from test_compare import short_default
 from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
 from mineburial.drop import run_params
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import engine, epistemic
+from mineburial.ensembles import engine, epistemic, mine
 from mineburial.ensembles.sampling import uniforms
 from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
@@ -245,8 +245,8 @@ def _fixed_and_drawn(n=400):
 def test_drops_draw_posterior_sets_by_weight_and_leave_other_inputs_unchanged():
     fixed, drawn = _fixed_and_drawn()
     n = fixed.n
-    P0, _, in0 = engine.chunk_inputs(fixed, 0, n)
-    P1, _, in1 = engine.chunk_inputs(drawn, 0, n)
+    P0, _, in0 = mine.chunk_inputs(fixed, 0, n)
+    P1, _, in1 = mine.chunk_inputs(drawn, 0, n)
     for path, values in in0.items():  # the seed contract: every other input unchanged
         np.testing.assert_array_equal(in1[path], values, err_msg=path)
     post = drawn.posterior
@@ -275,7 +275,7 @@ def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
     raw["sediment"] = {"class": "sand"}
     spec = engine.load_ensemble(raw)
     assert "scour.beq_a" in spec.posterior_paths and "scour.beq_b" not in spec.posterior_paths
-    P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
+    P, _, inputs = mine.chunk_inputs(spec, 0, spec.n)
     sets = inputs[posterior.SET_INPUT].astype(int)
     a = spec.posterior.table[sets, spec.posterior.paths.index("scour.beq_a")]
     S, _ = scour_ensemble.stage_parameters(spec.process("scour"), P, inputs)
@@ -331,7 +331,7 @@ def test_a_coefficient_the_scenario_gives_is_not_drawn():
     raw["sediment"]["rate_coefficient"] = 0.07
     spec = engine.load_ensemble(raw)
     assert "sediment.rate_coefficient" not in spec.posterior_paths
-    P, _, _ = engine.chunk_inputs(spec, 0, 50)
+    P, _, _ = mine.chunk_inputs(spec, 0, 50)
     assert np.all(P[:, layout.INDEX["sediment.rate_coefficient"]] == 0.07)
 
 

@@ -18,7 +18,7 @@ from mineburial.cli import main
 from mineburial.config import Scenario, ensemble_example_names, example_names, example_path
 from mineburial.drop import simulate_drop
 from mineburial.io.dataset import registry_mismatches
-from mineburial.kernels import status
+from mineburial.kernels.mine import status
 
 DROP = """
 [mine]

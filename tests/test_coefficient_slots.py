@@ -17,8 +17,7 @@ from scipy.optimize import brentq
 
 from mineburial.config import SCHEMA, Scenario, ScenarioError, check_params
 from mineburial.drop import run_params
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.coefficients import roughness_scaled
 from mineburial.kernels.mine.dynamics import impact35_strip_forces, strip_forces
 from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS, _traction, pack_law

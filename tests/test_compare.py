@@ -8,7 +8,7 @@ import tomllib
 import xarray as xr
 
 from mineburial.cli import main
-from mineburial.ensembles.engine import DEFAULT_SCENARIO
+from mineburial.ensembles.mine import DEFAULT_SCENARIO
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io.dataset import registry_mismatches
 from mineburial.validation.compare import ComparisonError, parse_vary, run_comparison

@@ -922,7 +922,7 @@ def test_sampled_angle_outside_range_marks_the_drop_invalid(monkeypatch):
         "sample_fields",
         lambda *a, **k: SampleTable({"release.pitch_deg": np.array([10.0, 120.0, -90.0])}),
     )
-    _, valid, inputs = engine.chunk_inputs(spec, 0, 3)
+    _, valid, inputs = mine.chunk_inputs(spec, 0, 3)
     assert valid.tolist() == [True, False, True]
     assert inputs["release.pitch_deg"].tolist() == [10.0, 120.0, -90.0]
 
@@ -1022,7 +1022,7 @@ def test_docs_name_only_examples_that_exist():
     import re
 
     from mineburial.ensembles import restraint as restraint_ensemble
-    from mineburial.ensembles.engine import DEFAULT_SCENARIO
+    from mineburial.ensembles.mine import DEFAULT_SCENARIO
     from mineburial.systems import restraint
 
     names = set(config.example_names()) | set(config.ensemble_example_names())

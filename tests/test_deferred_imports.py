@@ -30,7 +30,8 @@ def test_sampling_a_chunk_of_the_default_ensemble_imports_no_file_library():
     found = _imported_after(
         """
         from mineburial.ensembles.batch import run_batch
-        from mineburial.ensembles.engine import chunk_inputs, load_ensemble
+        from mineburial.ensembles.engine import load_ensemble
+        from mineburial.ensembles.mine import chunk_inputs
         from mineburial.cli import main
         spec = load_ensemble(None)
         P, valid, _ = chunk_inputs(spec, 0, 4)

@@ -19,8 +19,7 @@ from scipy.integrate import quad, solve_ivp
 
 from mineburial.config import Numerics, Scenario
 from mineburial.drop import run_params, simulate_drop
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.bodies.cylinder import Cylinder
 from mineburial.kernels.mine.overburden import overburden_force
 from mineburial.kernels.mine.sediment.laws import pack_law

@@ -12,7 +12,8 @@ import xarray as xr
 
 from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
 from mineburial.drop import run_params
-from mineburial.ensembles.engine import DEFAULT_SCENARIO, chunk_inputs, load_ensemble
+from mineburial.ensembles.engine import load_ensemble
+from mineburial.ensembles.mine import DEFAULT_SCENARIO, chunk_inputs
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.kernels.mine import layout
 

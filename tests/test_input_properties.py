@@ -27,7 +27,8 @@ from test_bad_input import toml_text
 
 from mineburial.config import Scenario, ScenarioError, example_path, tomllib
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles.engine import EnsembleSpec, load_ensemble
+from mineburial.ensembles.engine import load_ensemble
+from mineburial.ensembles.mine import EnsembleSpec
 from mineburial.maps import EnvironmentGrid, read_environment
 from mineburial.sediment_profiles import SedimentProfile, load_csv
 from mineburial.synthetic import synthetic_environment

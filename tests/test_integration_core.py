@@ -27,9 +27,9 @@ from mineburial import _numba
 from mineburial import multibody as mbp
 from mineburial.kernels import core, methods
 from mineburial.kernels import multibody as mb
-from mineburial.kernels import status as st
 from mineburial.kernels.core import System
 from mineburial.kernels.mine import layout, stepper
+from mineburial.kernels.mine import status as st
 from mineburial.systems import restraint as R
 
 G = 9.81

@@ -15,8 +15,7 @@ from scipy.integrate import quad
 
 from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import integrators as it
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 
 G = 9.81
 

@@ -20,7 +20,7 @@ from test_compare import short_default
 
 from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import engine
+from mineburial.ensembles import engine, mine
 from mineburial.ensembles import scour as scour_ensemble
 from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import scour as scour_kernels
@@ -315,7 +315,7 @@ def _minimal_stage():
 
 def _params(n):
     spec = engine.load_ensemble({**short_default(n), "ensemble": {"n": n}})
-    return engine.chunk_inputs(spec, 0, n)[0]
+    return mine.chunk_inputs(spec, 0, n)[0]
 
 
 def test_the_per_drop_law_is_written_with_the_kernels_codes(tmp_path):

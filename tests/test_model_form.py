@@ -13,9 +13,10 @@ from test_compare import short_default
 
 from mineburial.cli import main
 from mineburial.config import example_path
-from mineburial.ensembles import engine, model_form
+from mineburial.ensembles import engine, mine, model_form
 from mineburial.ensembles.distributions import from_dict
-from mineburial.ensembles.runner import run_ensemble, summarize
+from mineburial.ensembles.mine import summarize
+from mineburial.ensembles.runner import run_ensemble
 from mineburial.ensembles.sampling import uniforms
 from mineburial.kernels.mine import layout
 from mineburial.validation.sensitivity import model_form_lines, model_form_share, sobol_analysis
@@ -43,8 +44,8 @@ def test_adding_a_sampled_model_choice_leaves_every_other_draw_unchanged():
     raw["ensemble"]["coefficients"] = "fixed"  # start from no model choice (none from the posterior)
     plain = engine.load_ensemble(raw)
     mixed = engine.load_ensemble(with_choices(64, numerics__water_column=WC, sediment__resistance=RES))
-    _, _, before = engine.chunk_inputs(plain, 0, 64)
-    _, _, after = engine.chunk_inputs(mixed, 0, 64)
+    _, _, before = mine.chunk_inputs(plain, 0, 64)
+    _, _, after = mine.chunk_inputs(mixed, 0, 64)
     assert set(after) - set(before) == {"numerics.water_column", "sediment.resistance"}
     for path, values in before.items():
         np.testing.assert_array_equal(after[path], values, err_msg=path)
@@ -55,7 +56,7 @@ def test_sampled_choice_codes_follow_the_weights_through_the_cumulative_weights(
     Philox uniform (sampling.uniforms), and the labels' codes are kernels.mine.layout's."""
     n = 4000
     spec = engine.load_ensemble(with_choices(n, sediment__resistance=RES))
-    P, valid, inputs = engine.chunk_inputs(spec, 0, n)
+    P, valid, inputs = mine.chunk_inputs(spec, 0, n)
     u = uniforms(spec.seed, ["sediment.resistance"], 0, n, "mc")[:, 0]
     label = np.where(u < 0.5, "bearing", np.where(u < 0.75, "friction", "delta"))
     expected = np.array([layout.RESISTANCE_NAMES.index(v) for v in label], dtype=np.float64)
@@ -105,7 +106,7 @@ def test_bad_sampled_water_column_is_one_line_exit_2(tmp_path, capsys, table, me
 def test_munk_factor_can_be_sampled_continuously():
     table = {"distribution": "uniform", "low": 0.0, "high": 1.0}
     spec = engine.load_ensemble(with_choices(200, numerics__munk_factor=table))
-    P, valid, _ = engine.chunk_inputs(spec, 0, 200)
+    P, valid, _ = mine.chunk_inputs(spec, 0, 200)
     u = uniforms(spec.seed, ["numerics.munk_factor"], 0, 200, "mc")[:, 0]
     np.testing.assert_array_equal(P[:, layout.P_MUNK], u)  # uniform(0, 1): ppf(u) = u
     assert valid.all()

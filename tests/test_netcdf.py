@@ -28,8 +28,8 @@ from mineburial.ensembles.dataset import build_dataset
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
 from mineburial.io.netcdf import write_netcdf
-from mineburial.kernels import status as S
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as S
 
 OUTPUTS = ("penetration_depth", "burial_volume", "final_heading")
 SCENARIO = {

@@ -317,7 +317,7 @@ def test_ripple_exposure_is_a_section_field_that_fills_the_stages_slot():
     from test_compare import short_default
 
     from mineburial.config import ScenarioError
-    from mineburial.ensembles import engine
+    from mineburial.ensembles import engine, mine
     from mineburial.ensembles import scour as scour_ensemble
     from mineburial.kernels.mine import scour as scour_kernels
 
@@ -329,7 +329,7 @@ def test_ripple_exposure_is_a_section_field_that_fills_the_stages_slot():
         if exposure is not None:
             raw["scour"]["ripple_exposure"] = exposure
         spec = engine.load_ensemble(raw)
-        P, _, inputs = engine.chunk_inputs(spec, 0, spec.n)
+        P, _, inputs = mine.chunk_inputs(spec, 0, spec.n)
         S, _ = scour_ensemble.stage_parameters(spec.process("scour"), P, inputs)
         return S[:, scour_kernels.S_RIPPLE_EXPOSURE], inputs
 

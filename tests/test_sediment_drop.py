@@ -7,8 +7,7 @@ from conftest import scenario_dict
 
 from mineburial.config import Scenario
 from mineburial.drop import run_params, simulate_drop
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.validation import cases
 from mineburial.validation.references import archimedes_penetration
 

@@ -285,7 +285,7 @@ def test_sensitivity_warns_when_every_drop_ended_at_its_time_limit(tmp_path, cap
 
 
 def test_sensitivity_failure_warning_threshold_is_10_percent():
-    from mineburial.kernels import status as st
+    from mineburial.kernels.mine import status as st
     from mineburial.validation.sensitivity import failure_warning
 
     counts = np.zeros(len(st.NAMES), dtype=int)

@@ -107,7 +107,7 @@ def _embedded_truncated_normals():
     """Every truncated_normal table in the embedded default ensemble and the examples."""
     from mineburial.config import ensemble_example_names, example_names, example_path
     from mineburial.ensembles import restraint as restraint_ensemble
-    from mineburial.ensembles.engine import DEFAULT_SCENARIO
+    from mineburial.ensembles.mine import DEFAULT_SCENARIO
     from mineburial.systems import restraint
 
     texts = {"default": DEFAULT_SCENARIO.read_text()}
@@ -224,7 +224,8 @@ def test_start_up_does_not_import_scipy_stats():
     code = (
         "import sys\n"
         "import mineburial\n"
-        "from mineburial.ensembles.engine import chunk_inputs, load_ensemble\n"
+        "from mineburial.ensembles.engine import load_ensemble\n"
+        "from mineburial.ensembles.mine import chunk_inputs\n"
         "spec = load_ensemble(None)\n"
         "chunk_inputs(spec, 0, 64)\n"
         "assert 'scipy.stats' not in sys.modules, [m for m in sys.modules if m.startswith('scipy.stats')]\n"

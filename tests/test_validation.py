@@ -12,7 +12,7 @@ import xarray as xr
 
 from mineburial.cli import main
 from mineburial.config import example_path
-from mineburial.kernels import status
+from mineburial.kernels.mine import status
 from mineburial.scenario_fields import WATER_COLUMN_NAMES
 from mineburial.systems import registry, restraint
 from mineburial.validation.cases import (

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 
 from mineburial.config import ScenarioError
 from mineburial.drop import simulate_drop
-from mineburial.ensembles import engine, model_form
+from mineburial.ensembles import engine, mine, model_form
 from mineburial.kernels.mine import added_mass, layout
 from mineburial.kernels.mine.coefficients import cross_drag_coefficient
 from mineburial.validation import compare
@@ -337,7 +337,7 @@ def test_default_ensemble_draws_the_water_column_from_the_posterior_with_bearing
     the water column drawn from the shipped posterior (50/50 before issue 32), the resistance the
     mineburial model's bearing (Chu & Fan 2007), not written in the file so that a model variant
     still takes its own laws."""
-    spec = engine.load_ensemble(engine.DEFAULT_SCENARIO)
+    spec = engine.load_ensemble(mine.DEFAULT_SCENARIO)
     got = model_form.choices(spec)
     text = got["numerics.water_column"]
     assert text.startswith("from the posterior (shipped): ")
@@ -345,5 +345,5 @@ def test_default_ensemble_draws_the_water_column_from_the_posterior_with_bearing
     assert sum(shares) == pytest.approx(1.0, abs=2e-3)
     assert got["sediment.resistance"] == "fixed: bearing"
     assert got["numerics.model"] == "fixed: mineburial"
-    with open(engine.DEFAULT_SCENARIO, "rb") as fh:
+    with open(mine.DEFAULT_SCENARIO, "rb") as fh:
         assert "resistance" not in tomllib.load(fh)["sediment"]

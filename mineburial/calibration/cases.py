@@ -30,8 +30,7 @@ import numpy as np
 from mineburial.config import load_example
 from mineburial.drop import run_params
 from mineburial.ensembles import model_form
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.scenario_fields import SCOUR_BURIAL_LAWS
 from mineburial.validation import cases as vc
 

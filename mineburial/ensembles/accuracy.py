@@ -44,8 +44,8 @@ import numpy as np
 
 from mineburial.ensembles import batch
 from mineburial.ensembles.statistics import burial_class
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 
 __all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
 

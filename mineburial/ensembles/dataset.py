@@ -25,8 +25,8 @@ from mineburial.ensembles.statistics import burial_class, burial_statistics
 from mineburial.io import netcdf as ncio
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as status_codes
 
 __all__ = ["build_dataset"]
 

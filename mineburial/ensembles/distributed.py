@@ -1,7 +1,7 @@
 """Scale-out of ensembles and maps on a dask.distributed cluster.
 
-The unit of work is a *chunk* of drops ``[start, stop)`` of one
-:class:`~mineburial.ensembles.engine.EnsembleSpec`. Every random input of drop
+The unit of work is a *chunk* of drops ``[start, stop)`` of one ensemble spec of any
+system (:mod:`mineburial.systems.registry`). Every random input of drop
 *i* is a pure function of ``(seed, i)``, so a chunk gives the same bits on any
 worker, thread count or retry; the cluster only decides *where* chunks run.
 

@@ -12,8 +12,11 @@ spec. Running the chunks, keeping finished ones on disk and reducing them to sta
 is the run driver's job (:mod:`mineburial.ensembles.runner`, with the chunk store
 :mod:`mineburial.ensembles.store`).
 
-The mine's names that callers reach here (:class:`EnsembleSpec`, :func:`chunk_inputs`,
-...) are those of :mod:`mineburial.ensembles.mine`.
+This module names no system and imports none of a system's modules (issue 36 item 5,
+``tests/test_generic_layer.py``): the default scenario, the specs and scenario objects
+it accepts and everything a system does are reached through the registry. A system's own
+names (the mine's :class:`~mineburial.ensembles.mine.EnsembleSpec`,
+:func:`~mineburial.ensembles.mine.chunk_inputs`, ...) are imported from its module.
 """
 
 from __future__ import annotations
@@ -22,16 +25,6 @@ import copy
 import pathlib
 from collections.abc import Mapping
 
-from mineburial import config as cfg
-from mineburial.ensembles.mine import (  # the mine's names, reached here by their callers
-    _ANGLE_FIELDS,  # noqa: F401 (validation/compare.py reads engine._ANGLE_FIELDS)
-    DEFAULT_SCENARIO,
-    ENSEMBLE_DEFAULTS,
-    EnsembleSpec,
-    chunk_inputs,
-    input_metadata,
-    invalid_reasons,
-)
 from mineburial.errors import EnsembleError, ScenarioError
 from mineburial.io.inputs import read_toml
 from mineburial.systems import registry
@@ -46,13 +39,7 @@ __all__ = [
     "load_ensemble",
     "compute_chunk",
     "chunk_bounds",
-    "DEFAULT_SCENARIO",
-    "ENSEMBLE_DEFAULTS",
     "EnsembleError",
-    "EnsembleSpec",
-    "chunk_inputs",
-    "input_metadata",
-    "invalid_reasons",
 ]
 
 #: the systems an ensemble scenario may name with its top-level ``system`` key
@@ -69,23 +56,27 @@ def load_ensemble(
     per_drop=None,
     class_basis=None,
     base_dir=None,
-    systems=("mine",),
+    systems=(registry.DEFAULT,),
 ):
-    """Parse an ensemble scenario (path, TOML text dict, or None for the embedded default).
+    """Parse an ensemble scenario: a path, a dict, a spec of any system (its ``raw``
+    scenario), an object of the default system with ``to_dict()`` (the mine's
+    :class:`~mineburial.config.Scenario`), or None for the default system's embedded
+    default scenario (:attr:`~mineburial.systems.registry.System.default_scenario`).
 
     Keyword arguments override the ``[ensemble]`` table. ``systems``: the values of the
-    scenario's ``system`` key the caller can run (default only ``"mine"``, the falling
-    mine: maps, comparisons and sensitivity indices are of burial); ``mineburial run``
+    scenario's ``system`` key the caller can run (default only the default system, the
+    falling mine: maps, comparisons and sensitivity indices are of burial); ``mineburial run``
     passes :data:`SYSTEMS`. Returns the spec the system's ``load`` makes (the mine's:
     :class:`~mineburial.ensembles.mine.EnsembleSpec`).
     """
     if source is None:
-        source = DEFAULT_SCENARIO
-    if isinstance(source, EnsembleSpec):
+        source = registry.get(registry.DEFAULT).default_scenario
+    if registry.is_spec(source):
         raw = copy.deepcopy(source.raw)
+        raw["system"] = source.system  # its raw scenario is without the key (popped below)
     elif isinstance(source, Mapping):
         raw = copy.deepcopy(dict(source))
-    elif isinstance(source, cfg.Scenario):
+    elif callable(getattr(source, "to_dict", None)):  # the default system's scenario object
         raw = source.to_dict()
     else:
         path = pathlib.Path(source)

@@ -25,8 +25,8 @@ from scipy import special
 
 from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
-from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as status_codes
 
 #: the central band of the epistemic spread
 BAND_LEVEL = 0.90

@@ -42,8 +42,8 @@ from mineburial.ensembles.sampling import sample_fields
 from mineburial.ensembles.settings import check_ensemble_settings, input_files_of, merge_invalid_reasons
 from mineburial.ensembles.store import notice
 from mineburial.errors import EnsembleError, ScenarioError, unknown_names_message
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.mine.stepper import MAX_STEPS
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks

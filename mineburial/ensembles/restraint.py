@@ -47,6 +47,7 @@ from mineburial.io import netcdf as ncio
 from mineburial.io.dataset import build
 from mineburial.io.variables import RESTRAINT_OUTPUTS, input_variable
 from mineburial.kernels import multibody as kmb
+from mineburial.kernels import status as status_codes
 from mineburial.schema import check_distribution
 from mineburial.systems import restraint as rs
 
@@ -69,6 +70,12 @@ __all__ = [
 
 #: the value of the scenario's top-level ``system`` key that selects this module
 SYSTEM = "restraint"
+#: its status codes in the registry of :mod:`mineburial.kernels.status`: those of the multibody core
+#: (the shared codes, the normal end named ``stopped``), no code of its own; none enters a statistic
+#: as such (the stopping time is of the cases that stopped)
+STATUS = status_codes.register(
+    status_codes.Vocabulary(SYSTEM, kmb.STATUS_NAMES, kmb.STATUS_DESCRIPTIONS, (kmb.STOPPED,))
+)
 #: the ``[ensemble]`` settings of a restraint ensemble when the scenario does not give them
 #: (cases take seconds, not milliseconds: fewer of them, small chunks so that an interrupted
 #: run loses little, and the per-case values kept, since they are the product)
@@ -352,8 +359,8 @@ def warn_run(spec: RestraintEnsembleSpec) -> None:
 # ---------------------------------------------------------------------------
 def _status_attrs() -> dict:
     return {
-        "flag_values": kmb.STATUS_CODES,
-        "flag_meanings": kmb.STATUS_MEANINGS,
+        "flag_values": np.asarray(STATUS.codes, dtype=np.int8),
+        "flag_meanings": STATUS.flag_meanings,
     }
 
 
@@ -466,7 +473,7 @@ def summarize(ds, elapsed: float | None = None, output=None) -> str:
     """A short human-readable report of a restraint-ensemble dataset."""
     n = int(ds.attrs.get("n_cases", 0))
     counts = dict(zip(ds["status"].values.tolist(), ds["status_count"].values.tolist()))
-    parts = [f"{kmb.STATUS_NAMES[k]} {int(c)}" for k, c in counts.items() if c]
+    parts = [f"{STATUS.name(k)} {int(c)}" for k, c in counts.items() if c]
     lines = [
         str(ds.attrs.get("title", "mineburial restraint ensemble")),
         f"cases: {n} (" + ", ".join(parts) + ")",

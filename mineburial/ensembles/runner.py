@@ -1,8 +1,8 @@
 """The run driver: one mechanism that runs the chunks of ensembles, resumes them and
 reduces them, for both :func:`run_ensemble` and :func:`mineburial.maps.run_map`.
 
-A run is a list of :class:`Job` s, each an ensemble (:class:`~mineburial.ensembles.
-engine.EnsembleSpec`) with an optional chunk store
+A run is a list of :class:`Job` s, each an ensemble (the spec of any system of the
+registry, :mod:`mineburial.systems.registry`) with an optional chunk store
 (:class:`~mineburial.ensembles.store.ChunkStore`). :func:`run_jobs` loads the valid
 chunk files already in the stores, computes the other chunks here (a thread pool over
 compiled drops per chunk) or on a dask cluster (:mod:`mineburial.ensembles.distributed`), saves
@@ -11,7 +11,7 @@ chunk results, in drop order, as soon as the job is complete. Everything that ca
 checked before computing is checked first (:func:`check_run`).
 
 :func:`run_ensemble` is one job: its statistics and per-drop values go into one
-Dataset (:func:`mineburial.ensembles.dataset.build_dataset`), written atomically to the
+Dataset (its system's ``dataset``), written atomically to the
 output path under the run's lock (:class:`~mineburial.ensembles.store.OutputRun`).
 """
 
@@ -35,16 +35,9 @@ import numpy as np
 from mineburial.ensembles import engine
 from mineburial.ensembles.distributed import open_client, probe_scheduler, run_tasks_distributed
 from mineburial.ensembles.interrupt import Interrupted
-from mineburial.ensembles.mine import (  # the mine's report, reached here by its callers
-    STEPS_WARNING,
-    class_labels,
-    invalid_inputs_text,
-    summarize,
-)
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, check_output_path
-from mineburial.figures import check_lead_time_plot, plot_lead_time
 from mineburial.resources import memory_refusal
 from mineburial.systems import registry
 
@@ -52,7 +45,6 @@ __all__ = [
     "Job",
     "run_jobs",
     "run_ensemble",
-    "summarize",
     "run_ensemble_cli",
     "Progress",
     "check_run",
@@ -60,9 +52,6 @@ __all__ = [
     "check_threads",
     "numba_threads",
     "connect_scheduler",
-    "STEPS_WARNING",
-    "class_labels",
-    "invalid_inputs_text",
 ]
 
 #: seconds to wait for a dask scheduler to answer before giving up
@@ -155,7 +144,7 @@ def check_run(spec, *, what: str = "the ensemble") -> None:
 
 def warn_run(spec) -> None:
     """Warnings of the ensemble's system before computing (the mine's: a fixed-step
-    integrator that would take more than :data:`STEPS_WARNING` steps a drop)."""
+    integrator that would take more than ``mine.STEPS_WARNING`` steps a drop)."""
     registry.of(spec).warn_run(spec)
 
 
@@ -276,7 +265,7 @@ def _finished_head(store, start: int, stop: int) -> dict | None:
 def _joined(head: dict, tail: dict) -> dict:
     """The chunk dict of drops ``[head.start, tail.stop)`` from two consecutive ones: the
     per-drop arrays concatenated, the reasons for invalid drops added up (in drop order,
-    as :func:`~mineburial.ensembles.engine.invalid_reasons` of the whole would give)."""
+    as the system's ``invalid_reasons`` of the whole would give)."""
     out = {}
     for key, value in head.items():
         if key == "invalid_inputs":
@@ -451,8 +440,11 @@ def run_ensemble_cli(args) -> int:
         systems=engine.SYSTEMS,
     )
     check_output_path(args.output, input_paths(args.scenario, spec), "-o")
-    if getattr(args, "plot", None):  # the lead-time figure of a post-impact process ([scour])
-        check_lead_time_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
+    system = registry.of(spec)
+    if getattr(args, "plot", None):  # the system's figure (the mine's: burial against lead time)
+        if system.check_plot is None:
+            raise RunError(f"--plot '{args.plot}': a {system.name!r} ensemble draws no figure")
+        system.check_plot(args.plot, spec, args.output, input_paths(args.scenario, spec))
     check_run(spec)
     client = connect_scheduler(args.scheduler) if args.scheduler else None
     t0 = time.monotonic()
@@ -474,8 +466,8 @@ def run_ensemble_cli(args) -> int:
         if client is not None:
             client.close()
     elapsed = time.monotonic() - t0
-    print(registry.of(spec).summarize(ds, elapsed, args.output))
+    print(system.summarize(ds, elapsed, args.output))
     if getattr(args, "plot", None):
-        plot_lead_time(ds, args.plot, scenario=pathlib.Path(args.scenario or "default").stem)
+        system.plot(ds, args.plot, scenario=pathlib.Path(args.scenario or "default").stem)
         print(f"wrote {args.plot}")
     return 0

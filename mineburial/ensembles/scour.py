@@ -39,9 +39,9 @@ from mineburial.ensembles.threads import run_blocks
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
 from mineburial.io import wave_products
-from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
+from mineburial.kernels.mine import status as status_codes
 from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
 from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops_ends
 from mineburial.scenario_fields import SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR

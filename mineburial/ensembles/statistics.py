@@ -40,8 +40,8 @@ from mineburial._deferred import xarray as xr
 from mineburial.ensembles.intervals import wilson_interval
 from mineburial.ensembles.scour_variables import SCOUR_MEASURES, SCOUR_STATUS_NAMES
 from mineburial.io import variables as V
-from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as status_codes
 
 __all__ = [
     "burial_statistics",

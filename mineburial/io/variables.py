@@ -54,8 +54,8 @@ from typing import Any
 import numpy as np
 
 from mineburial._deferred import xarray as xr
-from mineburial.kernels import status as status_codes
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as _mine_status
 
 __all__ = [
     "Variable",
@@ -335,6 +335,16 @@ def _flag_attrs(values, meanings) -> dict[str, Any]:
     return {"flag_values": np.asarray(values, dtype=np.int8), "flag_meanings": " ".join(meanings)}
 
 
+#: the falling mine's status codes (the registry of mineburial.kernels.status), of the ``status``
+#: variables of its drops
+_MINE_STATUS = _mine_status.VOCABULARY
+
+
+def _status_flags(vocabulary) -> dict[str, Any]:
+    """The CF ``flag_values``/``flag_meanings`` of a system's status codes (its vocabulary)."""
+    return _flag_attrs(vocabulary.codes, vocabulary.names.values())
+
+
 #: for a process's own declarations (:func:`register_process_variables`): write no ``_FillValue``,
 #: and the ``flag_values``/``flag_meanings`` attributes of codes
 NO_FILL, flag_attrs = _NO_FILL, _flag_attrs
@@ -379,12 +389,12 @@ def _drop_variables() -> list[Variable]:
             "termination status of the drop",
             "How the drop ended: "
             + "; ".join(
-                f"{code} {name}: {desc}"
-                for code, (name, desc) in enumerate(zip(status_codes.NAMES, status_codes.DESCRIPTIONS))
+                f"{code} {name}: {_MINE_STATUS.descriptions[code]}"
+                for code, name in _MINE_STATUS.names.items()
             )
             + ".",
             attrs={
-                **_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+                **_status_flags(_MINE_STATUS),
                 "coverage_content_type": "qualityInformation",
             },
         )
@@ -527,7 +537,7 @@ def _ensemble_variables() -> list[Variable]:
         None,
         "termination status code",
         "Status codes of mineburial.kernels.status.",
-        attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+        attrs=_status_flags(_MINE_STATUS),
         fill_value=_NO_FILL,
         group="statistics",
     )
@@ -877,7 +887,7 @@ def _trajectory_variables() -> list[Variable]:
             None,
             "drop status",
             "",
-            attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES),
+            attrs=_status_flags(_MINE_STATUS),
         )
     )
     return out
@@ -1566,7 +1576,7 @@ def _comparison_variables() -> list[Variable]:
     ]
     out.append(
         Variable("drop_status", vr, "int8", None, "drop status", "",
-                 attrs=_flag_attrs(range(len(status_codes.NAMES)), status_codes.NAMES))
+                 attrs=_status_flags(_MINE_STATUS))
     )  # fmt: skip
     out.append(
         Variable("changed_parameters", ("variant",), "object", None,

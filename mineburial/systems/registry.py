@@ -19,12 +19,14 @@ A spec of a system carries the system's name in its class attribute ``system``
 from __future__ import annotations
 
 import dataclasses
+import pathlib
 from collections.abc import Callable
 
+from mineburial import figures
 from mineburial.ensembles import mine, restraint
 from mineburial.errors import ScenarioError, unknown_name_message
 
-__all__ = ["System", "SYSTEMS", "DEFAULT", "get", "of", "names", "example"]
+__all__ = ["System", "SYSTEMS", "DEFAULT", "get", "of", "is_spec", "names", "example"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,6 +56,14 @@ class System:
     #: ``warm_up_spec() -> spec``: a one-realization ensemble whose chunk compiles the
     #: system's kernels on a dask worker before its tasks arrive (None: none)
     warm_up_spec: Callable | None = None
+    #: the scenario file :func:`~mineburial.ensembles.engine.load_ensemble` reads when given
+    #: none (used of the default system only; None: the system has none)
+    default_scenario: pathlib.Path | None = None
+    #: ``check_plot(path, spec, output, inputs) -> None``: before a run computes, refuses a
+    #: ``mineburial run --plot`` the system cannot draw (RunError) or a path it cannot draw to
+    check_plot: Callable | None = None
+    #: ``plot(ds, path, scenario=) -> None``: the figure of ``mineburial run --plot``
+    plot: Callable | None = None
     #: ``check_accuracy(spec, chunks, progress=None) -> dict``: global attributes of a numerical
     #: self-check of the finished run, made after its chunks are in (``progress``: None or the
     #: runner's Progress class, for its progress lines; None: the system has no check)
@@ -74,6 +84,9 @@ SYSTEMS = {
             example_names=mine.example_names,
             example=mine.example,
             warm_up_spec=mine.warm_up_spec,
+            default_scenario=mine.DEFAULT_SCENARIO,
+            check_plot=figures.check_lead_time_plot,  # the lead-time figure of a post-impact process
+            plot=figures.plot_lead_time,
             check_accuracy=mine.check_accuracy,
         ),
         System(
@@ -86,6 +99,8 @@ SYSTEMS = {
             warn_run=restraint.warn_run,
             example_names=restraint.example_names,
             example=restraint.example,
+            # it has no lead times: the lead-time figure's check refuses --plot, naming [scour]
+            check_plot=figures.check_lead_time_plot,
         ),
     )
 }
@@ -109,6 +124,12 @@ def get(name: str) -> System:
 def of(spec) -> System:
     """The system of an ensemble spec (its class attribute ``system``)."""
     return SYSTEMS[spec.system]
+
+
+def is_spec(obj) -> bool:
+    """Whether ``obj`` is an ensemble spec of a registered system (its class attribute
+    ``system`` names one, and it keeps the scenario it was read from in ``raw``)."""
+    return getattr(type(obj), "system", None) in SYSTEMS and hasattr(obj, "raw")
 
 
 def example(name: str) -> tuple[str, str]:

@@ -38,8 +38,7 @@ from mineburial.config import Scenario, load_example
 from mineburial.drop import run_params, simulate_drop
 from mineburial.figures import save_figure
 from mineburial.io.forcing import storm_shape
-from mineburial.kernels import status
-from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine import scour as scour_kernels
 from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
 from mineburial.systems import restraint

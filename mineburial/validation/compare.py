@@ -46,7 +46,7 @@ import numpy as np
 from mineburial import config as cfg
 from mineburial._deferred import xarray as xr
 from mineburial.calibration import posterior
-from mineburial.ensembles import engine, epistemic, processes, runner
+from mineburial.ensembles import engine, epistemic, mine, processes, runner
 from mineburial.ensembles.intervals import two_sided_normal_quantile
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.statistics import burial_statistics
@@ -54,8 +54,8 @@ from mineburial.ensembles.store import OutputRun
 from mineburial.figures import check_plot_path, pyplot, save_figure
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 from mineburial.resources import memory_refusal
 
 __all__ = [
@@ -154,7 +154,7 @@ def _set_field(raw: dict, location: str, value) -> None:
         node[last] = value
 
 
-def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: int, base_dir=None):
+def _variant_spec(base: mine.EnsembleSpec, field: str, value, n: int, seed: int, base_dir=None):
     raw = copy.deepcopy(base.raw)
     _set_field(raw, _location(field), value)
     try:
@@ -177,13 +177,13 @@ def _variant_spec(base: engine.EnsembleSpec, field: str, value, n: int, seed: in
     return spec
 
 
-def _random_slots(spec: engine.EnsembleSpec) -> set[int]:
+def _random_slots(spec: mine.EnsembleSpec) -> set[int]:
     """Parameter slots written from the sampled inputs (not fixed by the scenario)."""
     slots = set()
     for path in spec.random:
         if path == spec.sediment_choice:
             slots.add(layout.P_SED_PROFILE)
-        elif path in engine._ANGLE_FIELDS:
+        elif path in mine._ANGLE_FIELDS:
             slots.update(range(layout.P_Q00, layout.P_Q30 + 1))
         elif processes.owns_input(path):  # a post-impact process's own inputs: no impact slot
             continue
@@ -334,10 +334,10 @@ def _changed_parameters(specs, values) -> list[set]:
     ]
     changed = [set() for _ in specs]
     for s, e in engine.chunk_bounds(specs[0].n, specs[0].chunk_size):
-        rows0 = engine.chunk_inputs(specs[0], s, e)[0]
+        rows0 = mine.chunk_inputs(specs[0], s, e)[0]
         for k in range(1, len(specs)):
             cols = set(
-                np.flatnonzero(_differs(engine.chunk_inputs(specs[k], s, e)[0], rows0).any(axis=0)).tolist()
+                np.flatnonzero(_differs(mine.chunk_inputs(specs[k], s, e)[0], rows0).any(axis=0)).tolist()
             )
             if not cols <= allowed[k]:
                 bad = [layout.PARAM_NAMES[i] for i in sorted(cols - allowed[k])]

@@ -60,14 +60,14 @@ from scipy import stats
 from mineburial._deferred import xarray as xr
 from mineburial.calibration import posterior
 from mineburial.config import ScenarioError
-from mineburial.ensembles import engine, model_form, processes, runner
+from mineburial.ensembles import engine, mine, model_form, processes, runner
 from mineburial.ensembles.processes import at_lead_time
 from mineburial.ensembles.statistics import burial_class
 from mineburial.figures import pyplot, save_figure
 from mineburial.io import variables as V
 from mineburial.io.dataset import build
-from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine import status as st
 from mineburial.resources import memory_refusal
 from mineburial.validation.compare import cli_client, cli_output
 
@@ -296,7 +296,7 @@ def design_points(random: dict, n: int, seed: int) -> dict:
 
 
 @dataclasses.dataclass(frozen=True)
-class DesignSpec(engine.EnsembleSpec):
+class DesignSpec(mine.EnsembleSpec):
     """An ensemble whose drops are the points of the Sobol' design of base size ``base_n``
     (:func:`design_points`) instead of draws. Its chunks run on the run driver like any
     ensemble's; it carries the design's recipe, not its points (a dask task of a large
@@ -307,8 +307,8 @@ class DesignSpec(engine.EnsembleSpec):
     base_n: int = 0
 
     @classmethod
-    def of(cls, spec: engine.EnsembleSpec, base_n: int) -> DesignSpec:
-        fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(engine.EnsembleSpec)}
+    def of(cls, spec: mine.EnsembleSpec, base_n: int) -> DesignSpec:
+        fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(mine.EnsembleSpec)}
         n = base_n * (len(spec.random) + 2)
         return cls(**{**fields, "n": n, "per_drop": False}, base_n=base_n)
 

@@ -49,11 +49,11 @@ from collections import namedtuple
 import numpy as np
 
 from mineburial._numba import kernel, small_kernel
-from mineburial.kernels import status as st
 from mineburial.kernels.core import GO_ON, System, all_finite, driver_loop, locate_event
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
 from mineburial.kernels.mine import bodies
+from mineburial.kernels.mine import status as st
 from mineburial.kernels.mine.dynamics import derivatives, drop_body
 from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
