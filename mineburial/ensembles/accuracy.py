@@ -37,6 +37,7 @@ thread at a time, with the run's progress lines.
 from __future__ import annotations
 
 import math
+import threading
 import time
 
 import numba
@@ -44,14 +45,23 @@ import numpy as np
 
 from mineburial.ensembles import batch
 from mineburial.ensembles.statistics import burial_class
+from mineburial.ensembles.threads import BLOCK_SIZE, run_blocks
 from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
+from mineburial.kernels.mine.overburden import with_long_tables
+from mineburial.kernels.mine.stepper import reference_paths
 
 __all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
 
-#: the reference path's relative tolerance, and its absolute one (the defaults' ratio 1/10)
-REFERENCE_RTOL = 1e-5
-REFERENCE_ATOL = 1e-6
+#: the reference paths by name: ``(rtol, atol)`` on the reference quadratures (the defaults' ratio
+#: atol = rtol / 10). ``"check"``, the self-check's and ``benchmarks/accuracy_sweep.py``'s (issue 34):
+#: rtol 3e-5 takes half the steps of 1e-5 on the reference quadratures (whose force is rough at
+#: ~1e-5 of its scale: 5,150 steps against 2,455 on the fast rule at rtol 1e-5) and its penetrations stay
+#: within 0.25 mm of rtol 1e-6's on the default ensemble's check drops (1e-5: 0.18 mm; docs/design.md,
+#: "The numerical self-check"); ``"accurate"``: the reference of issue 19 to issue 34, rtol 1e-5.
+REFERENCES = {"check": (3e-5, 3e-6), "accurate": (1e-5, 1e-6)}
+#: the self-check's reference path's relative tolerance, and its absolute one
+REFERENCE_RTOL, REFERENCE_ATOL = REFERENCES["check"]
 #: (p95, max) of the relative penetration change, percent: the accuracy targets (issue 19)
 TARGETS = (1.0, 5.0)
 #: a penetration change of at most this many metres counts as 0 (answers-vs, bench_fast_drops)
@@ -85,17 +95,21 @@ def drops_needed(rate: float, probability: float = DETECTION_PROBABILITY) -> int
     return math.ceil(math.log1p(-probability) / math.log1p(-rate) - 1e-12)
 
 
-def reference_params(P) -> np.ndarray:
+def reference_params(P, reference: str = "check") -> np.ndarray:
     """A copy of the packed parameters ``P`` (one row a drop) on the tight reference path
-    (never looser than the drop's own tolerances): the reference quadratures at rtol 1e-5 on
+    ``reference`` (:data:`REFERENCES`: ``"check"`` rtol 3e-5, ``"accurate"`` rtol 1e-5; never
+    looser than the drop's own tolerances): the reference quadratures at that rtol on
     the drop's own adaptive integrator; a fixed step (``rk4``, ``local_linear``) replaced by
     ``dopri5``, since a tolerance does not tighten it. Not another integrator family in the
     sediment (tried for issue 34: the explicit ``dopri5`` throughout took 14.9 s against 2.5 s
     on one slowly settling drop of the default ensemble, doubling the default run's time;
     docs/design.md, "The numerical self-check")."""
+    if reference not in REFERENCES:
+        raise ValueError(f"reference = {reference!r}: not one of {', '.join(map(repr, REFERENCES))}")
+    rtol, atol = REFERENCES[reference]
     Q = np.array(P, dtype=np.float64, copy=True)
-    Q[:, layout.P_RTOL] = np.minimum(Q[:, layout.P_RTOL], REFERENCE_RTOL)
-    Q[:, layout.P_ATOL] = np.minimum(Q[:, layout.P_ATOL], REFERENCE_ATOL)
+    Q[:, layout.P_RTOL] = np.minimum(Q[:, layout.P_RTOL], rtol)
+    Q[:, layout.P_ATOL] = np.minimum(Q[:, layout.P_ATOL], atol)
     Q[:, layout.P_SED_QUADRATURE] = layout.SEDIMENT_QUADRATURE_NAMES.index("reference")
     Q[:, layout.P_OB_QUADRATURE] = layout.OVERBURDEN_QUADRATURE_NAMES.index("reference")
     fixed = np.isin(Q[:, layout.P_INTEGRATOR], _FIXED_STEP)
@@ -177,23 +191,38 @@ def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
 
 
 def _rerun(P, spec, progress):
-    """``(summary, status)`` of the drops whose reference parameters are the rows of ``P``:
-    one batch, or with ``progress`` (the run's progress-line class, ``progress(total,
-    unit=...)``, handed down by the runner, which imports this module's callers) blocks of one
-    drop a thread, each followed by a progress line when one is due (the results are the same:
-    each drop writes only its own row)."""
-    valid = np.ones(P.shape[0], bool)
-    if not progress:
-        return batch.run_batch(P, valid, spec.sediment_bank, spec.current_bank)
-    bar = progress(P.shape[0], unit="self-check drops")
-    bar.update(0)
-    step = max(1, numba.get_num_threads())
-    parts = []
-    for a in range(0, P.shape[0], step):
-        block = slice(a, a + step)
-        parts.append(batch.run_batch(P[block], valid[block], spec.sediment_bank, spec.current_bank))
-        bar.update(min(a + step, P.shape[0]), final=a + step >= P.shape[0])
-    return np.concatenate([s for s, _ in parts]), np.concatenate([c for _, c in parts])
+    """``(summary, status)`` of the drops whose reference parameters are the rows of ``P``, one
+    drop a block of the run's thread pool (:func:`~mineburial.ensembles.threads.run_blocks`: a
+    thread takes the next drop when done with its last; blocks of two drops, or a batch a
+    thread, left a thread idle while the other ran a long drop, and the progress blocks of
+    ``threads`` drops each ran on one thread: the 8 drops serially). With ``progress`` (the
+    run's progress-line class, ``progress(total, unit=...)``, handed down by the runner, which
+    imports this module's callers) a line when one is due as the drops finish. Each drop writes
+    only its own row, so the results do not depend on the threads or the schedule."""
+    n = P.shape[0]
+    params = np.ascontiguousarray(P, dtype=np.float64)
+    sediment_bank = np.ascontiguousarray(spec.sediment_bank, dtype=np.float64)
+    current_bank = np.ascontiguousarray(spec.current_bank, dtype=np.float64)
+    summary = np.empty((n, layout.N_SUMMARY))
+    codes = np.empty(n, dtype=np.int8)
+    valid = np.ones(n, dtype=np.uint8)
+    paths = with_long_tables(reference_paths(params), params, sediment_bank)
+    bar = progress(n, unit="self-check drops") if progress else None
+    if bar is not None:
+        bar.update(0)
+    lock = threading.Lock()
+    done = [0]
+
+    def one(start, _stop):  # block k of BLOCK_SIZE items is drop k
+        i = start // BLOCK_SIZE
+        batch._run_drops(params, valid, sediment_bank, current_bank, summary, codes, paths, i, i + 1)
+        if bar is not None:
+            with lock:
+                done[0] += 1
+                bar.update(done[0], final=done[0] == n)
+
+    run_blocks(n * BLOCK_SIZE, one, numba.get_num_threads())
+    return summary, codes
 
 
 def _inconclusive(idx, status, ref_status, wall: float) -> dict:
