@@ -7,6 +7,11 @@ changes no draw), the differences recomputed here with numpy from the two runs' 
 outputs; and the main results compared bit for bit with a run without the check.
 """
 
+import threading
+import time
+import types
+
+import numba
 import numpy as np
 import pytest
 import xarray as xr
@@ -250,3 +255,40 @@ def test_the_check_reference_agrees_with_the_accurate_one_far_inside_the_floor()
     assert np.max(np.abs(pen[0] - pen[2])) < 1e-3 and np.max(np.abs(pen[1] - pen[2])) < 1e-3
     with pytest.raises(ValueError, match="reference = 'loose': not one of 'check', 'accurate'"):
         accuracy.reference_params(P, "loose")
+
+
+def test_the_check_runs_its_drops_one_a_block_on_every_thread(monkeypatch):
+    """Regression: with progress lines the drops ran in batches of one drop a thread, each batch
+    on one thread (the pool takes two drops a block), so the check ran serially. Here each drop
+    sleeps 0.2 s (the GIL released, as the compiled drops do): on 2 threads two drops are in
+    flight at once, with or without progress lines, one drop a block, each drop's row its own."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs 2 numba threads")
+    lock, active, peak = threading.Lock(), [0], [0]
+
+    def fake(params, valid, sb, cb, summary, codes, paths, start, stop):
+        assert stop == start + 1  # one drop a block
+        with lock:
+            active[0] += 1
+            peak[0] = max(peak[0], active[0])
+        time.sleep(0.2)
+        with lock:
+            active[0] -= 1
+        summary[start, :] = start
+        codes[start] = 0
+
+    def bar(total, unit):
+        return types.SimpleNamespace(update=lambda done, final=False: None)
+
+    monkeypatch.setattr(accuracy.batch, "_run_drops", fake)
+    spec = types.SimpleNamespace(sediment_bank=np.zeros((1, 3, 2)), current_bank=np.zeros((1, 3, 2)))
+    before = numba.get_num_threads()
+    numba.set_num_threads(2)
+    try:
+        for progress in (None, bar):
+            peak[0] = 0
+            summary, codes = accuracy._rerun(np.zeros((4, layout.N_PARAMS)), spec, progress)
+            assert peak[0] == 2  # serially: 1
+            assert np.array_equal(summary[:, 0], np.arange(4.0)) and np.all(codes == 0)
+    finally:
+        numba.set_num_threads(before)
