@@ -192,8 +192,8 @@ def _run(code, cache_dir):
 def measure(cache_dir, reference=None):
     """(import wall s, total wall s, total CPU s) of one start-up: of the default paths, or
     (``reference``) of the "reference" paths (``rk4`` and the reference sediment quadrature)
-    or of the "self-check" path (``accuracy.reference_params``: ``dopri5`` at rtol 1e-5 with
-    the reference sediment and overburden quadratures)."""
+    or of the "self-check" path (``accuracy.reference_params``: the drop's own adaptive integrator
+    at rtol 3e-5 with the reference sediment and overburden quadratures)."""
     stdout, cpu = _run(SNIPPET.format(reference=reference), cache_dir)
     t_import, total = map(float, stdout.splitlines()[-1].split())
     return t_import, total, cpu
