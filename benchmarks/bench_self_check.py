@@ -3,7 +3,7 @@
 Run:  python benchmarks/bench_self_check.py write DIR [--rows 20000]
       mineburial run DIR/long_profile.toml -n 40 -o DIR/out.nc
       python benchmarks/bench_self_check.py time [--size 8] [--references check,accurate] [--threads 1,2]
-                                                 [--scenario FILE] [--repeat 1]
+                                                 [--scenario FILE] [-n DROPS] [--repeat 1]
 
 ``time`` times the self-check's re-run alone (``accuracy._rerun``, what ``mineburial run`` does after
 the ensemble) on the drops it checks in the scenario (default: the embedded default ensemble; the drops
@@ -73,7 +73,7 @@ def _cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def time_check(scenario, size: int, references, threads, repeat: int) -> None:
+def time_check(scenario, size: int, references, threads, repeat: int, drops=None) -> None:
     """Print the wall and CPU time of the self-check's re-run per reference path and thread count."""
     import numba
 
@@ -81,7 +81,7 @@ def time_check(scenario, size: int, references, threads, repeat: int) -> None:
     from mineburial.ensembles.mine import chunk_inputs
     from mineburial.kernels.mine import layout
 
-    spec = engine.load_ensemble(scenario, systems=engine.SYSTEMS)
+    spec = engine.load_ensemble(scenario, n=drops, systems=engine.SYSTEMS)
     idx = accuracy.choose_drops(spec.seed, np.zeros(spec.n, np.int8), size)
     P = np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()])
     print(
@@ -116,6 +116,7 @@ def main():
     t = sub.add_parser("time", help="time the self-check's re-run per reference path and thread count")
     t.add_argument("--scenario", default=None, help="ensemble scenario (default: the embedded default)")
     t.add_argument("--size", type=int, default=8, help="drops checked (accuracy.choose_drops)")
+    t.add_argument("-n", "--drops", type=int, default=None, help="the ensemble's drops (default: the scenario's)")
     t.add_argument("--references", default="check,accurate", help="names of accuracy.REFERENCES")
     t.add_argument("--threads", default="1,2", help="thread counts, comma-separated")
     t.add_argument("--repeat", type=int, default=1)
@@ -124,7 +125,7 @@ def main():
         print(write(args.folder, args.rows))
     else:
         threads = [int(x) for x in args.threads.split(",")]
-        time_check(args.scenario, args.size, args.references.split(","), threads, args.repeat)
+        time_check(args.scenario, args.size, args.references.split(","), threads, args.repeat, args.drops)
 
 
 if __name__ == "__main__":
