@@ -116,7 +116,7 @@ def main():
     t = sub.add_parser("time", help="time the self-check's re-run per reference path and thread count")
     t.add_argument("--scenario", default=None, help="ensemble scenario (default: the embedded default)")
     t.add_argument("--size", type=int, default=8, help="drops checked (accuracy.choose_drops)")
-    t.add_argument("-n", "--drops", type=int, default=None, help="the ensemble's drops (default: the scenario's)")
+    t.add_argument("-n", "--drops", type=int, default=None, help="drops of the ensemble (default: its own)")
     t.add_argument("--references", default="check,accurate", help="names of accuracy.REFERENCES")
     t.add_argument("--threads", default="1,2", help="thread counts, comma-separated")
     t.add_argument("--repeat", type=int, default=1)
