@@ -261,7 +261,8 @@ def test_the_check_runs_its_drops_one_a_block_on_every_thread(monkeypatch):
     """Regression: with progress lines the drops ran in batches of one drop a thread, each batch
     on one thread (the pool takes two drops a block), so the check ran serially. Here each drop
     sleeps 0.2 s (the GIL released, as the compiled drops do): on 2 threads two drops are in
-    flight at once, with or without progress lines, one drop a block, each drop's row its own."""
+    flight at once, with or without progress lines, one drop a block, each drop's row its own; with
+    a cost per drop the costliest start first."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("needs 2 numba threads")
     lock, active, peak = threading.Lock(), [0], [0]
@@ -290,5 +291,13 @@ def test_the_check_runs_its_drops_one_a_block_on_every_thread(monkeypatch):
             summary, codes = accuracy._rerun(np.zeros((4, layout.N_PARAMS)), spec, progress)
             assert peak[0] == 2  # serially: 1
             assert np.array_equal(summary[:, 0], np.arange(4.0)) and np.all(codes == 0)
+        numba.set_num_threads(1)  # one thread: the order the drops start in
+        started = []
+        monkeypatch.setattr(accuracy.batch, "_run_drops", lambda *a: (started.append(a[-2]), fake(*a)))
+        summary, _ = accuracy._rerun(
+            np.zeros((4, layout.N_PARAMS)), spec, None, np.array([3.0, np.nan, 9.0, 5.0])
+        )
+        assert started == [2, 3, 0, 1]  # the costliest first, an unknown cost last
+        assert np.array_equal(summary[:, 0], np.arange(4.0))  # each drop in its own row
     finally:
         numba.set_num_threads(before)

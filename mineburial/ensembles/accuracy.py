@@ -21,8 +21,8 @@ among the drops that were run, and their inputs are those of the ensemble (re-pa
 :func:`~mineburial.ensembles.mine.chunk_inputs` from ``(seed, drop index)``). The check
 runs here, after the chunks are in (computed here, on a dask cluster or loaded by a
 resume), and changes none of the run's results. The drops run one a block of the run's thread
-pool (a thread takes the next drop when done with its last), with the run's progress lines when
-``progress``.
+pool (a thread takes the next drop when done with its last; those that took the most steps in the
+run first), with the run's progress lines when ``progress``.
 
 The differences are measured as ``../shared/tools/answers-vs`` and
 ``benchmarks/bench_fast_drops.py`` measure them: the penetration change relative to
@@ -171,7 +171,8 @@ def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
         return {"numerical_check": "skipped (no drop was run: every drop's inputs were invalid)"}
     t0 = time.monotonic()
     P = reference_params(np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()]))
-    ref_summary, ref_status = _rerun(P, spec, progress)
+    # the drops that took the most steps in the run first, so that a long one does not start last
+    ref_summary, ref_status = _rerun(P, spec, progress, cost=summary[idx, layout.S_N_STEPS])
     wall = time.monotonic() - t0
     ended = np.isin(status[idx], st.IN_STATISTICS) & np.isin(ref_status, st.IN_STATISTICS)
     if not ended.any():  # e.g. every drop timed out: nothing measured, so no pass (issue 35)
@@ -196,15 +197,17 @@ def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
     }
 
 
-def _rerun(P, spec, progress):
+def _rerun(P, spec, progress, cost=None):
     """``(summary, status)`` of the drops whose reference parameters are the rows of ``P``, one
     drop a block of the run's thread pool (:func:`~mineburial.ensembles.threads.run_blocks`: a
     thread takes the next drop when done with its last; blocks of two drops, or a batch a
     thread, left a thread idle while the other ran a long drop, and the progress blocks of
     ``threads`` drops each ran on one thread: the 8 drops serially). With ``progress`` (the
     run's progress-line class, ``progress(total, unit=...)``, handed down by the runner, which
-    imports this module's callers) a line when one is due as the drops finish. Each drop writes
-    only its own row, so the results do not depend on the threads or the schedule."""
+    imports this module's callers) a line when one is due as the drops finish. ``cost``: an estimate
+    per drop (the run's own steps); the costliest start first (NaN last), so that the threads end
+    together. Each drop writes only its own row, so the results do not depend on the threads, the
+    order or the schedule."""
     n = P.shape[0]
     params = np.ascontiguousarray(P, dtype=np.float64)
     sediment_bank = np.ascontiguousarray(spec.sediment_bank, dtype=np.float64)
@@ -218,9 +221,13 @@ def _rerun(P, spec, progress):
         bar.update(0)
     lock = threading.Lock()
     done = [0]
+    order = np.arange(n)
+    if cost is not None:
+        key = np.where(np.isfinite(cost), -np.asarray(cost, dtype=np.float64), np.inf)
+        order = np.argsort(key, kind="stable")
 
-    def one(start, _stop):  # block k of BLOCK_SIZE items is drop k
-        i = start // BLOCK_SIZE
+    def one(start, _stop):  # block k of BLOCK_SIZE items is the k-th drop of ``order``
+        i = int(order[start // BLOCK_SIZE])
         batch._run_drops(params, valid, sediment_bank, current_bank, summary, codes, paths, i, i + 1)
         if bar is not None:
             with lock:
