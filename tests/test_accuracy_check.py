@@ -236,9 +236,9 @@ def test_the_reference_keeps_an_adaptive_integrator_and_replaces_a_fixed_step():
 
 def test_the_check_reference_agrees_with_the_accurate_one_far_inside_the_floor():
     """The self-check's reference (rtol 3e-5) against the accurate one (rtol 1e-5, selectable by
-    name) and a tighter solution of the same equations (rtol 1e-6, the reference quadratures): on
+    name) and a tighter solution of the same equations (rtol 3e-6, the reference quadratures): on
     these drops the two references' penetrations agree within 1 mm (the check counts changes
-    within 5 mm as 0) and both lie within 1 mm of rtol 1e-6's."""
+    within 5 mm as 0) and both lie within 1 mm of rtol 3e-6's."""
     spec = engine.load_ensemble(steep(), n=N, seed=SEED)
     P = np.concatenate([engine.chunk_inputs(spec, i, i + 1)[0] for i in (0, 1)])
     valid = np.ones(len(P), bool)
@@ -246,7 +246,7 @@ def test_the_check_reference_agrees_with_the_accurate_one_far_inside_the_floor()
     check, accurate = accuracy.reference_params(P), accuracy.reference_params(P, "accurate")
     assert np.all(check[:, layout.P_RTOL] == 3e-5) and np.all(accurate[:, layout.P_RTOL] == 1e-5)
     tight = accurate.copy()
-    tight[:, layout.P_RTOL], tight[:, layout.P_ATOL] = 1e-6, 1e-7
+    tight[:, layout.P_RTOL], tight[:, layout.P_ATOL] = 3e-6, 3e-7
     (s_check, c_check), (s_acc, c_acc), (s_tight, _) = run(check), run(accurate), run(tight)
     assert np.all(c_check == c_acc)
     pen = [s[:, layout.S_PENETRATION] for s in (s_check, s_acc, s_tight)]
