@@ -89,7 +89,7 @@ def time_check(scenario, size: int, references, threads, repeat: int, drops=None
         f"{numba.config.NUMBA_NUM_THREADS}"
     )
     for name in references:
-        Q = accuracy.reference_params(P, name)
+        Q = accuracy.reference_params(P, name, sediment_bank=spec.sediment_bank)  # as self_check does
         for nt in threads:
             numba.set_num_threads(nt)
             for rep in range(repeat):

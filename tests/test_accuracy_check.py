@@ -301,3 +301,21 @@ def test_the_check_runs_its_drops_one_a_block_on_every_thread(monkeypatch):
         assert np.array_equal(summary[:, 0], np.arange(4.0))  # each drop in its own row
     finally:
         numba.set_num_threads(before)
+
+
+def test_a_drop_on_a_long_table_gets_dopri5_in_the_reference():
+    """A table of more than 16 depths below the seabed (the reference quadrature samples its rows
+    beyond, sediment/reference.py REFERENCE_LEVELS) takes dopri5 in the reference; a 17-point
+    table (16 depths below the seabed), a linear profile and the run without a bank keep the
+    drop's own adaptive integrator."""
+    names = layout.INTEGRATOR_NAMES
+    bank = np.full((3, 3, 40), np.nan)
+    bank[0, :, :17] = np.linspace(0.0, 6.0, 17)  # the surface and 16 depths below it
+    bank[1, :, :18] = np.linspace(0.0, 6.0, 18)  # 17 depths below the surface
+    bank[2, :, :2] = [[0.0, 1.0]] * 3
+    P = np.zeros((4, layout.N_PARAMS))
+    P[:, layout.P_INTEGRATOR] = names.index("dopri5_ros34pw2")
+    P[:, layout.P_SED_PROFILE] = [0, 1, 2, -1]
+    got = [names[int(i)] for i in accuracy.reference_params(P, sediment_bank=bank)[:, layout.P_INTEGRATOR]]
+    assert got == ["dopri5_ros34pw2", "dopri5", "dopri5_ros34pw2", "dopri5_ros34pw2"]
+    assert np.all(accuracy.reference_params(P)[:, layout.P_INTEGRATOR] == names.index("dopri5_ros34pw2"))

@@ -7,7 +7,9 @@ of its drops (default 8, by cost: docs/design.md; 0 switches it off) on a tight 
 ``numerics.atol`` 3e-6 (the defaults' ratio atol = rtol / 10, the run's own where tighter), the
 reference sediment quadrature and the reference overburden quadrature, on the drop's own adaptive
 integrator; a fixed step (``rk4``, ``local_linear``) is replaced by the adaptive ``dopri5`` (the
-explicit reference of docs/design.md), since a tolerance does not tighten it. Why 3e-5 (issue 34;
+explicit reference of docs/design.md), since a tolerance does not tighten it, and so is the step of a
+drop on a long sediment table (:func:`long_tables`: the Rosenbrock-W step took ~6x ``dopri5``'s steps
+on the rough sampled reference force of a 20,000-row core). Why 3e-5 (issue 34;
 1e-5 from issue 19 until then, still selectable as ``"accurate"``) and not the 1e-7 of issue 19's
 measurement: the reference sediment quadrature's force is rough at ~1e-5 of its scale (its panels
 and grading jump with the state), so that the steps grow ~2x for every 3x of rtol below ~1e-4
@@ -55,6 +57,7 @@ from mineburial.ensembles.threads import BLOCK_SIZE, run_blocks
 from mineburial.kernels import status as st
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine.overburden import with_long_tables
+from mineburial.kernels.mine.sediment.reference import REFERENCE_LEVELS
 from mineburial.kernels.mine.stepper import reference_paths
 
 __all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
@@ -84,7 +87,8 @@ _DOPRI5 = layout.INTEGRATOR_NAMES.index("dopri5")
 REFERENCE_TEXT = (
     f"numerics.rtol {REFERENCE_RTOL:g}, numerics.atol {REFERENCE_ATOL:g} (or the run's own if tighter), "
     "sediment_quadrature 'reference', overburden_quadrature 'reference', the drop's own adaptive "
-    "integrator (a fixed step replaced by 'dopri5')"
+    f"integrator (a fixed step, and any step on a sediment table of more than {REFERENCE_LEVELS} depths, "
+    "replaced by 'dopri5')"
 )
 
 
@@ -101,7 +105,21 @@ def drops_needed(rate: float, probability: float = DETECTION_PROBABILITY) -> int
     return math.ceil(math.log1p(-probability) / math.log1p(-rate) - 1e-12)
 
 
-def reference_params(P, reference: str = "check") -> np.ndarray:
+def long_tables(P, sediment_bank) -> np.ndarray:
+    """Per row of ``P``: whether the drop's tabulated sediment profile has more tabulated depths
+    below the seabed than the reference sediment quadrature resolves one by one
+    (:data:`~mineburial.kernels.mine.sediment.reference.REFERENCE_LEVELS`: beyond, it samples the rows,
+    and on a rough log its force is rough at the rows' scale)."""
+    rows = np.asarray(P)[:, layout.P_SED_PROFILE].astype(np.int64)
+    bank = np.asarray(sediment_bank, dtype=np.float64)
+    depths = np.sum(bank[:, 0, :] > 0.0, axis=1) if bank.size else np.zeros(0, np.int64)
+    inside = (rows >= 0) & (rows < depths.size)
+    out = np.zeros(rows.size, dtype=bool)
+    out[inside] = depths[rows[inside]] > REFERENCE_LEVELS
+    return out
+
+
+def reference_params(P, reference: str = "check", sediment_bank=None) -> np.ndarray:
     """A copy of the packed parameters ``P`` (one row a drop) on the tight reference path
     ``reference`` (:data:`REFERENCES`: ``"check"`` rtol 3e-5, ``"accurate"`` rtol 1e-5; never
     looser than the drop's own tolerances): the reference quadratures at that rtol on
@@ -109,7 +127,11 @@ def reference_params(P, reference: str = "check") -> np.ndarray:
     ``dopri5``, since a tolerance does not tighten it. Not another integrator family in the
     sediment (tried for issue 34: the explicit ``dopri5`` throughout took 14.9 s against 2.5 s
     on one slowly settling drop of the default ensemble, doubling the default run's time;
-    docs/design.md, "The numerical self-check")."""
+    docs/design.md, "The numerical self-check"), except with ``sediment_bank`` for a drop on a long
+    table (:func:`long_tables`): there the Rosenbrock-W step's difference Jacobian of the sampled,
+    rough reference force took ~6x the steps of ``dopri5`` (issue 34: the 20,000-row core of
+    ``benchmarks/bench_self_check.py``, 8 drops at rtol 3e-5: 13,754 steps and 83 s of CPU against
+    2,309 and 12 s, penetrations within 0.8 mm), so such a drop's reference takes ``dopri5``."""
     if reference not in REFERENCES:
         raise ValueError(f"reference = {reference!r}: not one of {', '.join(map(repr, REFERENCES))}")
     rtol, atol = REFERENCES[reference]
@@ -119,6 +141,8 @@ def reference_params(P, reference: str = "check") -> np.ndarray:
     Q[:, layout.P_SED_QUADRATURE] = layout.SEDIMENT_QUADRATURE_NAMES.index("reference")
     Q[:, layout.P_OB_QUADRATURE] = layout.OVERBURDEN_QUADRATURE_NAMES.index("reference")
     fixed = np.isin(Q[:, layout.P_INTEGRATOR], _FIXED_STEP)
+    if sediment_bank is not None:
+        fixed |= long_tables(Q, sediment_bank)
     Q[fixed, layout.P_INTEGRATOR] = _DOPRI5
     return Q
 
@@ -170,7 +194,8 @@ def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
     if idx.size == 0:
         return {"numerical_check": "skipped (no drop was run: every drop's inputs were invalid)"}
     t0 = time.monotonic()
-    P = reference_params(np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()]))
+    P = np.concatenate([chunk_inputs(spec, i, i + 1)[0] for i in idx.tolist()])
+    P = reference_params(P, sediment_bank=spec.sediment_bank)
     # the drops that took the most steps in the run first, so that a long one does not start last
     ref_summary, ref_status = _rerun(P, spec, progress, cost=summary[idx, layout.S_N_STEPS])
     wall = time.monotonic() - t0
