@@ -60,7 +60,16 @@ from mineburial.kernels.mine.overburden import with_long_tables
 from mineburial.kernels.mine.sediment.reference import REFERENCE_LEVELS
 from mineburial.kernels.mine.stepper import reference_paths
 
-__all__ = ["self_check", "reference_params", "choose_drops", "differences", "summary_lines", "TARGETS"]
+__all__ = [
+    "self_check",
+    "reference_params",
+    "long_tables",
+    "choose_drops",
+    "differences",
+    "summary_lines",
+    "REFERENCES",
+    "TARGETS",
+]
 
 #: the reference paths by name: ``(rtol, atol)`` on the reference quadratures (the defaults' ratio
 #: atol = rtol / 10). ``"check"``, the self-check's and ``benchmarks/accuracy_sweep.py``'s (issue 34):
