@@ -76,7 +76,7 @@ def main():
     n_cells = int(wet.sum())
     rows = np.stack([env["water_depth"].values[wet], env["sediment_class"].values[wet].astype(float)], axis=1)
     distinct = len(np.unique(rows, axis=0))
-    print(f"grid {args.ny} x {args.nx}: {n_cells} computed cells, {distinct} distinct (depth, sediment) inputs")
+    print(f"grid {args.ny} x {args.nx}: {n_cells} computed cells, {distinct} distinct (depth, sediment)")
     seq = dict(target_half_width=args.target, min_drops=args.min_drops, step=args.min_drops)
 
     run_map(scenario=scen, environment=chart_environment(2, 3), n=4, seed=args.seed)  # warm-up
@@ -141,7 +141,7 @@ def main():
     }
     print(json.dumps(result, indent=1))
     print(
-        f"\nat equal interval width (every class half-width < {args.target:g} sequential; <= {w2:.3f} plain):\n"
+        f"\nat equal interval width (class half-widths < {args.target:g} sequential; <= {w2:.3f} plain):\n"
         f"  plain map, {args.n} drops a cell:        {plain_drops:>10,d} drops, ~{plain_time / 60:.1f} min "
         "(drops exact; time from the plain rate)\n"
         f"  sequential stopping (index seeds):   ~{seq_drops:>10,.0f} drops (+/- {seq_se:,.0f}), "

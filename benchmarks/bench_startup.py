@@ -2,6 +2,7 @@
 README's first command on a fresh install (``--fresh-install``).
 
 Run:  python benchmarks/bench_startup.py [--repeat 3] [--cold-only] [--profile [N]]
+      python benchmarks/bench_startup.py --phases 3
       python benchmarks/bench_startup.py --fresh-install [--runs 2] [--no-precompile]
 
 Each measurement is a fresh interpreter that imports the engine, samples one drop of
@@ -30,6 +31,16 @@ taken out), split into numba's typing and lowering passes and the LLVM work insi
 lowering (function passes, linking the callees' modules, module optimisation, machine
 code), plus the CPU time spent writing the cache files. The LLVM split wraps numba's
 ``CPUCodeLibrary`` methods in that one process (measurement only).
+
+``--phases N`` times N warm runs of the README's command 2 (``mineburial run`` in an empty folder,
+the default job or ``--run-args``, the numba cache where it is: run one first to fill it) by phase,
+each in a fresh interpreter with its functions wrapped (measurement only): imports, loading the
+scenario (the first compiled kernel's load with numba's one-time set-up), the ensemble, the
+statistics (``ensemble_dataset``, with the first ``xarray`` use), the self-check, the NetCDF write
+and the summary: wall and CPU seconds each; then, in another fresh interpreter, the CPU seconds of
+the first imports in the order a run makes them (numpy, numba, scipy.special, the engine, xarray and
+pandas, dask.array, distributed, netCDF4: the last three come through xarray when dask is
+installed, issue 34 item 4).
 
 ``--fresh-install`` measures what a newcomer waits for (issue 34 item 1): a ``git clone`` of this
 repository's committed HEAD (``--source``) and a fresh virtual environment, then the README's
@@ -190,11 +201,97 @@ def _run(code, cache_dir):
     return out.stdout, cpu
 
 
+PHASES_SNIPPET = """
+import sys, time
+W0, C0 = time.perf_counter(), time.process_time()
+marks = []
+
+
+def mark(label):
+    marks.append((label, time.perf_counter() - W0, time.process_time() - C0))
+
+
+import mineburial.cli as cli
+from mineburial.ensembles import accuracy, engine, runner, store
+mark("imports")
+
+
+def wrap(mod, name, before, after):
+    f = getattr(mod, name)
+
+    def g(*a, **k):
+        mark(before)
+        r = f(*a, **k)
+        mark(after)
+        return r
+
+    setattr(mod, name, g)
+
+
+wrap(engine, "load_ensemble", "-", "scenario loaded")
+wrap(runner, "ensemble_dataset", "ensemble", "statistics")
+wrap(accuracy, "self_check", "-", "self-check")
+wrap(store, "write_netcdf", "-", "NetCDF write")
+cli.main(["run", "-o", "out.nc", "--quiet", *sys.argv[1:]])
+mark("summary")
+print(repr(marks))
+"""
+
+IMPORTS_SNIPPET = """
+import time
+T = time.process_time
+out = []
+t = T()
+for name in ("numpy", "numba", "scipy.special", "mineburial.ensembles.runner", "xarray", "dask.array",
+             "distributed", "netCDF4"):
+    __import__(name)
+    out.append((name, T() - t))
+    t = T()
+print(repr(out))
+"""
+
+
+def phases(runs: int, run_args=()) -> None:
+    """Print the phases of ``runs`` warm runs of ``mineburial run`` (see the module)."""
+    import ast
+
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    rows = []
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as folder:
+            out = subprocess.run(
+                [sys.executable, "-c", PHASES_SNIPPET, *run_args],
+                env=env,
+                cwd=folder,
+                capture_output=True,
+                text=True,
+            )
+            if out.returncode != 0:
+                raise SystemExit(out.stderr)
+            marks = ast.literal_eval(out.stdout.strip().splitlines()[-1])
+        kept, w0, c0 = [], 0.0, 0.0
+        for label, w, c in marks:
+            if label != "-":
+                kept.append((label, w - w0, c - c0))
+            w0, c0 = w, c
+        rows.append(kept)
+        print(
+            "  ".join(f"{lab} {w:.2f}/{c:.2f}" for lab, w, c in kept), f"| total {w0:.2f} s wall", flush=True
+        )
+    med = [
+        (lab, statistics.median(r[i][1] for r in rows), statistics.median(r[i][2] for r in rows))
+        for i, (lab, _, _) in enumerate(rows[0])
+    ]
+    print("median of the runs (wall s / CPU s):", "  ".join(f"{lab} {w:.2f}/{c:.2f}" for lab, w, c in med))
+    out = subprocess.run([sys.executable, "-c", IMPORTS_SNIPPET], env=env, capture_output=True, text=True)
+    print("first imports, CPU s:", ", ".join(f"{n} {c:.2f}" for n, c in ast.literal_eval(out.stdout.strip())))
+
+
 def measure(cache_dir, reference=None):
     """(import wall s, total wall s, total CPU s) of one start-up: of the default paths, or
     (``reference``) of the "reference" paths (``rk4`` and the reference sediment quadrature)
-    or of the "self-check" path (``accuracy.reference_params``: ``dopri5`` at rtol 1e-5 with
-    the reference sediment and overburden quadratures)."""
+    or of the "self-check" path (``accuracy.reference_params``: the drop's own adaptive integrator
+    at rtol 3e-5 with the reference sediment and overburden quadratures)."""
     stdout, cpu = _run(SNIPPET.format(reference=reference), cache_dir)
     t_import, total = map(float, stdout.splitlines()[-1].split())
     return t_import, total, cpu
@@ -350,6 +447,10 @@ def main():
         help="time the README's command 1 on a fresh clone in a fresh venv (install, then --runs runs)",
     )
     ap.add_argument("--runs", type=int, default=2, help="with --fresh-install: runs of 'mineburial run'")
+    ap.add_argument("--phases", type=int, metavar="N", help="time N warm runs of 'mineburial run' by phase")
+    ap.add_argument(
+        "--run-args", default="", help="with --phases: more arguments of 'mineburial run' (e.g. '-n 200')"
+    )
     ap.add_argument(
         "--no-precompile",
         action="store_true",
@@ -363,6 +464,9 @@ def main():
     args = ap.parse_args()
     if args.fresh_install:
         fresh_install(args.source, args.runs, not args.no_precompile)
+        return
+    if args.phases:
+        phases(args.phases, args.run_args.split())
         return
     if args.profile:
         profile(args.profile, args.profile_json, args.reference)
