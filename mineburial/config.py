@@ -353,7 +353,7 @@ def _lowest_point(dims, q, z) -> np.ndarray:
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
     z = np.asarray(z, dtype=np.float64)
-    out = np.full(np.broadcast_shapes(np.shape(a_z), z.shape, *(np.shape(dims[k]) for k in _BODY)), np.nan)
+    out = np.full(np.broadcast_shapes(np.shape(a_z), z.shape, *(np.shape(v) for v in dims.values())), np.nan)
     for shape, where in shapes_of(dims):
         where = np.broadcast_to(where, out.shape)
         if np.any(where):
@@ -391,13 +391,13 @@ def _starts_above_seabed(v) -> np.ndarray:
     if np.all(embedded):
         return embedded
     q = np.stack(np.broadcast_arrays(*(np.asarray(v[k], dtype=np.float64) for k in _Q)), axis=-1)
-    lowest = _lowest_point({k: v[k] for k in _BODY}, q, v["release.z"])
+    lowest = _lowest_point({k: v[k] for k in _BODY if k in v}, q, v["release.z"])
     return embedded | (lowest >= -np.asarray(v["environment.water_depth"]))
 
 
 def _inside_seabed_message(v) -> str:
     z, depth = v["release.z"], v["environment.water_depth"]
-    lowest = float(_lowest_point({k: v[k] for k in _BODY}, [v[k] for k in _Q], z))
+    lowest = float(_lowest_point({k: v[k] for k in _BODY if k in v}, [v[k] for k in _Q], z))
     return (
         f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
         f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "

@@ -141,20 +141,20 @@ def _overload_with_shape(law, shape):
     return carrying
 
 
-def drop_body(p, law):
+def drop_body(p, law=None):
     """The mine's body from its parameter vector ``p`` (``layout.P_*``) and its packed law: the
     ``from_params`` of the shape the law carries (:func:`with_shape`; the default shape's when it
-    carries none): docs/design.md, "Body protocol"."""
+    carries none, or without a law): docs/design.md, "Body protocol"."""
     raise NotImplementedError("compiled code only")
 
 
 @overload(drop_body, jit_options=JIT_OPTIONS, inline="always")
-def _overload_drop_body(p, law):
+def _overload_drop_body(p, law=None):
     shape = law[LAW_SHAPE] if isinstance(law, types.BaseTuple) and len(law) > LAW_SHAPE else None
     cls = _shape_class(shape)
     from_params = _default_body if cls is None else bodies.SHAPES[cls].from_params
 
-    def impl(p, law):
+    def impl(p, law=None):
         return from_params(p)
 
     return impl

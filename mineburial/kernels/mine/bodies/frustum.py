@@ -43,6 +43,7 @@ from mineburial.kernels.mine.bodies.revolution_geometry import (
     volume_profile,
 )
 from mineburial.kernels.mine.bodies.revolution_sediment import profile_pore_pressure, profile_tractions
+from mineburial.kernels.mine.dynamics import _added_mass as _one_radius_added_mass
 from mineburial.kernels.mine.geometry import equivalent_of_part
 from mineburial.kernels.mine.layout import (
     P_ADDED_MASS_FACTOR,
@@ -265,7 +266,11 @@ def added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
     forms the cylinder's: strip theory's moments of the local section ``C_M rho pi r(x)^2`` (seed
     001 eqs. (20)-(21)) with the axial ``(1 - munk_factor) a0`` (the ``munk_factor`` model), or the
     BEM factors of the closed frustum (:func:`added_mass_moments`, the ``viscous_crossflow`` model);
-    ``numerics.added_mass_factor`` on every coefficient."""
+    ``numerics.added_mass_factor`` on every coefficient. Equal radii: the cylinder's own
+    (``dynamics._added_mass``, whose ``model`` R is ``strip_section``'s mean radius, here the
+    radius), bit for bit."""
+    if body.radius_tail == body.radius_nose:
+        return _one_radius_added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
     xs, rs = _stations(body)
     a0 = 0.0
     a1 = 0.0
@@ -314,6 +319,9 @@ PHYSICS = (
     "finite_added_mass",
     "crossflow_efficiency",
 )
+#: a prototype body of the class: its numba type selects the frustum's kernels (``shapes.Shape.marker``)
+PROTOTYPE = Frustum(1.0, 0.5, 0.5, 0.0)
+
 #: the fluid's hooks that dynamics calls when a shape module has them (the cylinder's default otherwise)
 FLUID_HOOKS = ("strip_loads", "added_mass")
 

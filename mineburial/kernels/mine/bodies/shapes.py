@@ -48,8 +48,8 @@ from mineburial.schema import Rule
 
 def _has_shape(v, name):
     """Where ``v["mine.shape"]`` (a name, or the codes of packed rows) is the shape ``name``; a
-    rule of one shape holds for the others."""
-    code = v["mine.shape"]
+    rule of one shape holds for the others; without ``mine.shape``, the default shape."""
+    code = v.get("mine.shape", DEFAULT_SHAPE.name)
     if isinstance(code, str):
         return np.asarray(code == name)
     return np.asarray(code) == MINE_SHAPES.index(name)
@@ -64,6 +64,12 @@ class Shape:
     kernel_module: str = ""
     #: the relations between its own fields (:class:`mineburial.schema.Rule`; ``config.RULES`` holds them)
     rules: tuple = ()
+
+    def marker(self):
+        """A prototype body of the shape's class, whose numba type selects the shape's compiled
+        protocol (``stepper.reference_paths``): the kernel module's ``PROTOTYPE``; None for the
+        default shape (its kernels take no prototype, as before)."""
+        return None if self is DEFAULT_SHAPE else self.kernel().PROTOTYPE
 
     def kernel(self):
         """The module of the shape's compiled protocol (imported on first use: it imports the
@@ -270,13 +276,6 @@ class FrustumShape(ProfileShape):
         r_top = r_base * dims["mine.top_ratio"]
         chi_m = dims["mine.com_offset"] + frustum_centroid_offset(length, r_base, r_top)
         return (-0.5 * length - chi_m, 0.5 * length - chi_m), (r_base, r_top)
-
-    def marker(self):
-        """A prototype body of the frustum's class: its numba type selects the frustum's compiled
-        protocol (``stepper.reference_paths``); imported here, on first use."""
-        from mineburial.kernels.mine.bodies.frustum import Frustum  # local import: a frustum's kernels
-
-        return Frustum(1.0, 0.5, 0.5, 0.0)
 
 
 def _frustum_chi_mid(v):
