@@ -26,6 +26,7 @@ A frustum of length ``length`` whose tail (``x = -L/2 - chi``) has radius ``radi
 cylinder's (seed 000 eq. (42)).
 """
 
+import math
 import sys
 from typing import NamedTuple
 
@@ -44,7 +45,14 @@ from mineburial.kernels.mine.bodies.revolution_geometry import (
 )
 from mineburial.kernels.mine.bodies.revolution_sediment import profile_pore_pressure, profile_tractions
 from mineburial.kernels.mine.dynamics import _added_mass as _one_radius_added_mass
-from mineburial.kernels.mine.geometry import equivalent_of_part
+from mineburial.kernels.mine.geometry import (
+    PI,
+    burial_measures,
+    cut_cylinder,
+    e_down_body,
+    equivalent_of_part,
+    vertical_extent,
+)
 from mineburial.kernels.mine.layout import (
     P_ADDED_MASS_FACTOR,
     P_CHI,
@@ -96,25 +104,34 @@ def _stations(body):
 
 
 def cut(body, a_z, z_c, level):
-    """The part below the plane (:func:`.revolution_geometry.cut_profile`)."""
+    """The part below the plane (:func:`.revolution_geometry.cut_profile`; equal radii: the cylinder's
+    closed form, :func:`.geometry.cut_cylinder`, bit for bit, as every geometric function here)."""
+    if body.radius_tail == body.radius_nose:
+        return cut_cylinder(body.length, body.radius_tail, body.com_offset, a_z, z_c, level)
     xs, rs = _stations(body)
     return cut_profile(xs, rs, a_z, z_c, level)
 
 
 def extent(body, a_z, z_c):
     """Lowest and highest heights: at the end sections' rims (:func:`.revolution_geometry.extent_profile`)."""
+    if body.radius_tail == body.radius_nose:
+        return vertical_extent(body.length, body.radius_tail, body.com_offset, a_z, z_c)
     xs, rs = _stations(body)
     return extent_profile(xs, rs, a_z, z_c)
 
 
 def burial(body, a_z, z_c, level):
     """The results table's burial measures (:func:`.revolution_geometry.burial_profile`)."""
+    if body.radius_tail == body.radius_nose:
+        return burial_measures(body.length, body.radius_tail, body.com_offset, a_z, z_c, level)
     xs, rs = _stations(body)
     return burial_profile(xs, rs, a_z, z_c, level)
 
 
 def volume(body):
     """``pi L (r_t^2 + r_t r_n + r_n^2)/3`` and the axial position of its centroid about the COM."""
+    if body.radius_tail == body.radius_nose:
+        return PI * body.radius_tail * body.radius_tail * body.length, -body.com_offset
     xs, rs = _stations(body)
     v, x_c, _ = volume_profile(xs, rs)
     return v, x_c
@@ -134,12 +151,19 @@ def reference_lengths(body):
 
 def lowest_offset(body, k1, k2, k3):
     """Height above the COM of the lower end section's rim towards ``e_down``."""
+    if body.radius_tail == body.radius_nose:
+        xa, xb = bodies.ends(body)
+        return min(k1 * xa, k1 * xb) - body.radius_tail * math.sqrt(k2 * k2 + k3 * k3)
     xs, rs = _stations(body)
     return lowest_profile_point(xs, rs, k1, k2, k3)[3]
 
 
 def deepest_point(body, k1, k2, k3):
     """A lowest point (body frame): on the rim of the end section that reaches lowest."""
+    if body.radius_tail == body.radius_nose:
+        xa, xb = bodies.ends(body)
+        _, dn2, dn3 = e_down_body(k1, k2, k3)
+        return (xa if k1 * xa < k1 * xb else xb), body.radius_tail * dn2, body.radius_tail * dn3
     xs, rs = _stations(body)
     x, y, z, _ = lowest_profile_point(xs, rs, k1, k2, k3)
     return x, y, z

@@ -269,6 +269,32 @@ class FrustumShape(ProfileShape):
             self._profile,
         )
 
+    def _as_cylinder(self, dims, profile_value, cylinder_value):
+        """``profile_value`` but where the radii are equal (``mine.top_ratio == 1``) the cylinder's
+        closed form ``cylinder_value`` (a frustum of equal radii is the cylinder bit for bit, as its
+        kernels are)."""
+        equal = np.asarray(dims["mine.top_ratio"]) == 1.0
+        if not np.any(equal):
+            return profile_value
+        if np.ndim(equal) == 0:
+            return cylinder_value
+        return np.where(equal, cylinder_value, profile_value)
+
+    def volume(self, dims):
+        """The frustum's volume (the cylinder's ``pi R^2 L`` for equal radii)."""
+        return self._as_cylinder(dims, super().volume(dims), CylinderShape.volume(dims))
+
+    def centroid(self, dims):
+        """The uniform frustum's centroid about the COM (the cylinder's ``-chi`` for equal radii)."""
+        return self._as_cylinder(dims, super().centroid(dims), CylinderShape.centroid(dims))
+
+    def inertia(self, mass, dims):
+        """(J_axial, J_transverse) of the uniform frustum about its centroid (the cylinder's closed
+        forms for equal radii)."""
+        j1, j2 = super().inertia(mass, dims)
+        c1, c2 = CylinderShape.inertia(mass, dims)
+        return self._as_cylinder(dims, j1, c1), self._as_cylinder(dims, j2, c2)
+
     @staticmethod
     def _profile(dims):
         length = dims["mine.length"]
