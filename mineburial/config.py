@@ -47,9 +47,9 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from mineburial.io.files import atomic_write_text
 from mineburial.io.inputs import parse_toml, read_toml
 from mineburial.kernels.mine import layout
-from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
+from mineburial.kernels.mine.bodies.shapes import SHAPES, shape_named, shapes_of
 from mineburial.kernels.rotation import euler_angles, normalize_quaternion
-from mineburial.scenario_fields import CURRENT_KINDS, TABLE
+from mineburial.scenario_fields import CURRENT_KINDS, MINE_SHAPES, MODEL_NAMES, TABLE
 from mineburial.schema import (
     SUPPORT_TOLERANCE,
     Rule,
@@ -311,11 +311,11 @@ def _set(obj, name, value):
 
 
 # ===========================================================================
-# Mass properties: the drop's shape's (mineburial.kernels.mine.bodies.shapes.DROP_SHAPE)
+# Mass properties: the mine's shape's (``mine.shape``: mineburial.kernels.mine.bodies.shapes.SHAPES)
 # ===========================================================================
 def _mine_dims(mine) -> dict:
     """The shape's dimensions of a :class:`Mine` (field path -> value)."""
-    return {f: getattr(mine, f.split(".", 1)[1]) for f in DROP_SHAPE.fields}
+    return {f: getattr(mine, f.split(".", 1)[1]) for f in shape_named(mine.shape).fields}
 
 
 # ===========================================================================
@@ -352,7 +352,15 @@ def _lowest_point(dims, q, z) -> np.ndarray:
     q = np.asarray(q, dtype=np.float64)
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     a_z = 2.0 * (q1 * q3 - q0 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # i_M . k
-    return DROP_SHAPE.lowest_point(dims, a_z, z)
+    z = np.asarray(z, dtype=np.float64)
+    out = np.full(np.broadcast_shapes(np.shape(a_z), z.shape, *(np.shape(v) for v in dims.values())), np.nan)
+    for shape, where in shapes_of(dims):
+        where = np.broadcast_to(where, out.shape)
+        if np.any(where):
+            rows = {k: np.broadcast_to(np.asarray(dims[k], float), out.shape)[where] for k in shape.fields}
+            a, zz = (np.broadcast_to(x, out.shape)[where] for x in (a_z, z))
+            out[where] = shape.lowest_point(rows, a, zz)
+    return out if out.shape else float(out)
 
 
 # ===========================================================================
@@ -360,7 +368,21 @@ def _lowest_point(dims, q, z) -> np.ndarray:
 # _check_rules) and over packed parameter rows (check_params, _param_checks)
 # ===========================================================================
 _Q = _list_paths("release.quaternion")
-_BODY = DROP_SHAPE.fields
+#: the body's fields of every shape (the placement rule reads them), ``mine.shape`` first
+_BODY = ("mine.shape", *dict.fromkeys(f for shape in SHAPES.values() for f in shape.fields))
+
+
+def _is(v, path, names, name) -> np.ndarray:
+    """Where the choice ``v[path]`` (a name, or the codes of packed rows) is ``name`` of ``names``."""
+    code = v[path]
+    if isinstance(code, str):
+        return np.asarray(code == name)
+    return np.asarray(code) == names.index(name)
+
+
+def _shape_is(v, name) -> np.ndarray:
+    """Where ``v["mine.shape"]`` is the shape ``name``."""
+    return _is(v, "mine.shape", MINE_SHAPES, name)
 
 
 def _starts_above_seabed(v) -> np.ndarray:
@@ -369,13 +391,13 @@ def _starts_above_seabed(v) -> np.ndarray:
     if np.all(embedded):
         return embedded
     q = np.stack(np.broadcast_arrays(*(np.asarray(v[k], dtype=np.float64) for k in _Q)), axis=-1)
-    lowest = _lowest_point({k: v[k] for k in _BODY}, q, v["release.z"])
+    lowest = _lowest_point({k: v[k] for k in _BODY if k in v}, q, v["release.z"])
     return embedded | (lowest >= -np.asarray(v["environment.water_depth"]))
 
 
 def _inside_seabed_message(v) -> str:
     z, depth = v["release.z"], v["environment.water_depth"]
-    lowest = float(_lowest_point({k: v[k] for k in _BODY}, [v[k] for k in _Q], z))
+    lowest = float(_lowest_point({k: v[k] for k in _BODY if k in v}, [v[k] for k in _Q], z))
     return (
         f"release.position[2] = {z!r} m starts the mine {-depth - lowest:.3g} m inside "
         f"the seabed (its lowest point at z = {lowest:.6g} m, the seabed at "
@@ -402,7 +424,24 @@ RULES: tuple[Rule, ...] = (
         ("current.kind", "current.table_index"),
         lambda v: (v["current.table_index"] >= 0) == (v["current.kind"] == CURRENT_KINDS.index("table")),
     ),
-    *DROP_SHAPE.rules,  # the relations between the body's own fields (the COM inside the body)
+    # the relations between the body's own fields (the COM inside the body), each shape's
+    *(rule for shape in SHAPES.values() for rule in shape.rules),
+    Rule(
+        "mine.top_ratio = 1 unless mine.shape is 'frustum'",
+        ("mine.top_ratio", "mine.shape"),
+        lambda v: _shape_is(v, "frustum") | (np.asarray(v["mine.top_ratio"]) == 1.0),
+        note="a cylinder's ends are equal: mine.top_ratio is a frustum's (mine.shape = 'frustum')",
+        bounds=lambda v: (1.0, 1.0, True),
+    ),
+    Rule(
+        "numerics.model is 'mineburial' when mine.shape is 'frustum'",
+        ("numerics.model", "mine.shape"),
+        lambda v: ~_shape_is(v, "frustum") | _is(v, "numerics.model", MODEL_NAMES, "mineburial"),
+        message=lambda v: (
+            "numerics.model = 'impact35' with mine.shape = 'frustum': the printed IMPACT35 model is a "
+            "cylinder's (seed 000); use numerics.model = 'mineburial' for a frustum"
+        ),
+    ),
     Rule(
         "mine.inertia_axial <= 2 mine.inertia_transverse",
         ("mine.inertia_axial", "mine.inertia_transverse"),
@@ -507,8 +546,8 @@ def write_field_tables(path="docs/scenario.md") -> None:
 @dataclass(frozen=True, kw_only=True)
 @_table_defaults("mine")
 class Mine:
-    """The rigid mine, of the drop's shape (``bodies.shapes.DROP_SHAPE``: the cylinder of seed
-    000 sec. 2, Table 2). SI units.
+    """The rigid mine, of the shape ``shape`` (``bodies.shapes.SHAPES``: the cylinder of seed
+    000 sec. 2, Table 2, or a frustum whose top diameter is ``top_ratio`` of ``diameter``). SI units.
 
     ``inertia_axial`` / ``inertia_transverse`` left as ``None`` are replaced on
     construction by those of the uniform body (the shape's ``inertia``: the cylinder's
@@ -523,6 +562,8 @@ class Mine:
     com_offset: float  # the declared default (_table_defaults), as every unassigned field below
     inertia_axial: float | None = None
     inertia_transverse: float | None = None
+    shape: str  # the declared defaults: "cylinder", 1.0
+    top_ratio: float
     name: str = "mine"
 
     def __post_init__(self):
@@ -530,7 +571,9 @@ class Mine:
             raise ScenarioError(f"mine.name = {self.name!r} must be a string")
         for f in ("length", "diameter", "mass", "com_offset"):  # the default inertia needs them
             _set(self, f, _check(f"mine.{f}", getattr(self, f)))
-        j1, j2 = DROP_SHAPE.inertia(self.mass, _mine_dims(self))
+        _set(self, "shape", _check("mine.shape", self.shape))
+        _set(self, "top_ratio", _check("mine.top_ratio", self.top_ratio))  # a frustum's inertia needs it
+        j1, j2 = shape_named(self.shape).inertia(self.mass, _mine_dims(self))
         if self.inertia_axial is None:
             _set(self, "inertia_axial", j1)
         if self.inertia_transverse is None:
@@ -544,7 +587,7 @@ class Mine:
     @property
     def volume(self) -> float:
         """The body's volume (the drop's shape's, ``bodies.shapes``) [m3]."""
-        return DROP_SHAPE.volume(_mine_dims(self))
+        return shape_named(self.shape).volume(_mine_dims(self))
 
     @property
     def density(self) -> float:

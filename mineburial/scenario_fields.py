@@ -48,6 +48,8 @@ SCOUR_LAW_FROM_POSTERIOR = "posterior"
 SCOUR_MOBILITY_NAMES = ("proud", "pocket")
 # the scour stage's rest attitude at lead 0 (kernels.mine.scour: REST_* are these indices)
 SCOUR_REST_ATTITUDES = ("flat", "impact")
+# the mine's body shapes (kernels/mine/bodies/shapes.py: SHAPES, one Shape per name, in this order)
+MINE_SHAPES = ("cylinder", "frustum")
 
 #: 1 %/h, the conventional laboratory (triaxial) shear rate, in s-1.
 LAB_STRAIN_RATE = 0.01 / 3600.0
@@ -692,6 +694,30 @@ TABLE: tuple[Field, ...] = (
         ),
         1.0,
         incl=_OPEN_LOW,
+    ),
+    # the body's shape (issue 36): slots appended after the last slotted field (layout.py)
+    _choice(
+        "mine.shape",
+        MINE_SHAPES,
+        (
+            "the body's shape: `cylinder` (seed 000), or `frustum`, a solid truncated cone whose base "
+            "(the tail, diameter `mine.diameter`) and top (the nose, `mine.top_ratio` of it) are "
+            "`mine.length` apart; one per scenario, not sampled (it is the compiled body's type; "
+            "docs/bodies_revolution.md)"
+        ),
+        "cylinder",
+        sampled=False,
+    ),
+    _f(
+        "mine.top_ratio",
+        "1",
+        0,
+        1,
+        (
+            "a frustum's top (nose) diameter over its base diameter `mine.diameter` (0 a cone); "
+            "1 for the cylinder, whose ends are equal"
+        ),
+        1.0,
     ),
     # --- post-impact scour, the optional [scour] section (docs/scour.md): no kernel slot of the
     # impact phase; read by mineburial/ensembles/scour.py (its key list is this table's), the

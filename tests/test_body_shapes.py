@@ -114,10 +114,15 @@ def test_the_placement_rule_refuses_a_mine_released_into_the_seabed():
 
 
 def test_the_drops_shape_names_the_kernels_body():
-    assert DROP_SHAPE is CYLINDER
-    assert dynamics.drop_body is cylinder.from_params
+    assert DROP_SHAPE is CYLINDER and shapes.DEFAULT_SHAPE is CYLINDER
+    assert dynamics._default_body is cylinder.from_params
     assert DROP_SHAPE.kernel() is cylinder
-    assert cfg._BODY == DROP_SHAPE.fields
+    # issue 36: mine.shape chooses among the registered shapes; the placement rule reads every field
+    assert tuple(shapes.SHAPES) == layout.MINE_SHAPES
+    assert set(cfg._BODY) == {"mine.shape", *(f for s in shapes.SHAPES.values() for f in s.fields)}
+    frustum = shapes.FRUSTUM.kernel()
+    assert bodies.SHAPES[frustum.Frustum] is frustum
+    assert shapes.FRUSTUM.marker() is frustum.PROTOTYPE and CYLINDER.marker() is None
 
 
 def test_compiled_reference_lengths_and_volume_agree_with_the_python_side_bit_for_bit():

@@ -644,6 +644,7 @@ def test_to_params_puts_each_value_in_its_named_slot():
         }
     )
     expected.update({"numerics.model": 1, "numerics.integrator": 0, "numerics.drag": 0.0})
+    expected.update({"mine.shape": 0, "mine.top_ratio": 1.0})  # the default shape, the cylinder (issue 36)
     ref_q = Rotation.from_euler(
         "ZYX", [r["heading_deg"], r["pitch_deg"], r["roll_deg"]], degrees=True
     ).as_quat()
@@ -720,6 +721,7 @@ def test_fields_table_is_consistent():
         "numerics.sediment_quadrature",
         "numerics.water_column",
         "numerics.overburden_quadrature",
+        "mine.shape",
     }
     assert set(layout.PARAM_NAMES) - codes <= set(FIELDS)
     # dataclass defaults agree with the table

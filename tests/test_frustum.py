@@ -71,22 +71,17 @@ def test_each_function_takes_the_protocols_arguments():
         )
 
 
-def test_the_protocol_is_complete_but_the_frustum_is_not_registered():
-    # every protocol function is here (register accepts the module), but the module does not register
-    # itself: dynamics' strips still take one radius (frustum module docstring)
+def test_the_protocol_is_complete_and_the_frustum_is_registered():
+    # every protocol function is here and the module registers itself (issue 36: mine.shape), with
+    # the fluid hooks that dynamics calls for it (strip_loads, added_mass) and its prototype body
     assert set(frustum.GEOMETRY + frustum.PHYSICS) == set(bodies.PROTOCOL)
     for name in frustum.PHYSICS:
         assert list(inspect.signature(getattr(frustum, name)).parameters) == bodies.SIGNATURES[name].split(
             ", "
         )
-    assert Frustum not in bodies.SHAPES
-    saved = dict(bodies.SHAPES)
-    try:
-        bodies.register(Frustum, frustum)
-        assert bodies.SHAPES[Frustum] is frustum
-    finally:
-        bodies.SHAPES.clear()
-        bodies.SHAPES.update(saved)
+    assert bodies.SHAPES[Frustum] is frustum
+    assert all(callable(getattr(frustum, name)) for name in frustum.FLUID_HOOKS)
+    assert type(frustum.PROTOTYPE) is Frustum
 
 
 @pytest.mark.parametrize("a_z", [-1.0, -0.45, 0.0, 0.3, 0.999, 1.0])

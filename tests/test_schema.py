@@ -95,6 +95,8 @@ PINNED = (
     ("P_SED_CD", "sediment.inertial_drag"),
     ("P_CROSSFLOW_MUNK", "numerics.crossflow_munk_fraction"),
     ("P_ADDED_MASS_FACTOR", "numerics.added_mass_factor"),
+    ("P_SHAPE", "mine.shape"),
+    ("P_TOP_RATIO", "mine.top_ratio"),
 )
 
 
@@ -277,6 +279,16 @@ def test_each_rule_is_exercised_and_named_in_explanations():
         "numerics.dt <= numerics.t_max_fall": {"numerics.t_max_fall": 1e-4},
         "the release quaternion has unit norm (within 1e-9)": {"release.q0": 0.5},
         "current.table_index >= 0 exactly when current.kind is 'table'": {"current.table_index": 0.0},
+        # the frustum's (issue 36): mine.shape's code 1
+        "the COM inside the frustum: -h_c < mine.com_offset < mine.length - h_c": {
+            "mine.shape": 1.0,
+            "mine.com_offset": 1.5,
+        },
+        "mine.top_ratio = 1 unless mine.shape is 'frustum'": {"mine.top_ratio": 0.5},
+        "numerics.model is 'mineburial' when mine.shape is 'frustum'": {
+            "mine.shape": 1.0,
+            "numerics.model": 1.0,
+        },
     }
     assert set(broken) == {r.text for r in RULES}
     for text, changes in broken.items():
@@ -392,6 +404,7 @@ def test_the_dataclasses_take_keys_defaults_and_resolved_order_from_the_declarat
     out = s.to_dict()
     assert list(out["mine"]) == [
         "name", "length", "diameter", "mass", "com_offset", "inertia_axial", "inertia_transverse",
+        "shape", "top_ratio",  # issue 36: the body's shape, declared after the last slotted field
     ]  # fmt: skip
     assert list(out["environment"]) == [
         "gravity", "air_density", "air_viscosity", "water_density", "water_viscosity", "water_depth",

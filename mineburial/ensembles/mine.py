@@ -44,7 +44,7 @@ from mineburial.ensembles.store import notice
 from mineburial.errors import EnsembleError, ScenarioError, unknown_names_message
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import status as st
-from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
+from mineburial.kernels.mine.bodies.shapes import SHAPES, shape_of_params
 from mineburial.kernels.mine.stepper import MAX_STEPS
 from mineburial.sediment_profiles import catalogue_profile, load_file, pack_banks
 
@@ -74,7 +74,7 @@ ENSEMBLE_DEFAULTS = {
 _ENSEMBLE_KEYS = tuple(ENSEMBLE_DEFAULTS)
 _ANGLE_FIELDS = ("release.roll_deg", "release.pitch_deg", "release.heading_deg")
 #: the sampled inputs whose values change the default inertia (the mass and the shape's sizes)
-_INERTIA_INPUTS = ("mine.mass", *DROP_SHAPE.inertia_fields)
+_INERTIA_INPUTS = ("mine.mass", *dict.fromkeys(f for shape in SHAPES.values() for f in shape.inertia_fields))
 #: time steps a drop above which a fixed-step integrator gets a warning: the stepper's step
 #: budget, after which a drop still moving ends ``time_limit``
 STEPS_WARNING = float(MAX_STEPS)
@@ -384,9 +384,8 @@ def chunk_inputs(spec: EnsembleSpec, start: int, stop: int):
             q = cfg.quaternion_from_angles(*(np.radians(a) for a in ang))
             P[:, layout.P_Q00 : layout.P_Q30 + 1] = q
         if spec.recompute_inertia:
-            P[:, layout.P_J1], P[:, layout.P_J2] = DROP_SHAPE.inertia(
-                P[:, layout.P_MASS], DROP_SHAPE.dims_of_params(P)
-            )
+            shape = shape_of_params(P)  # the scenario's one shape (mine.shape is not sampled)
+            P[:, layout.P_J1], P[:, layout.P_J2] = shape.inertia(P[:, layout.P_MASS], shape.dims_of_params(P))
     valid = cfg.check_params(
         P,
         n_sediment=spec.sediment_bank.shape[0],

@@ -42,7 +42,7 @@ from mineburial.io import wave_products
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
 from mineburial.kernels.mine import status as status_codes
-from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
+from mineburial.kernels.mine.bodies.shapes import DEFAULT_SHAPE, shape_of_params
 from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops_ends
 from mineburial.scenario_fields import SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
@@ -417,6 +417,16 @@ def _column(spec, inputs, name, n):
     return np.full(n, spec.values[name])
 
 
+#: the scour stage refuses a body other than the lying cylinder its laws were fitted to (docs/scour.md,
+#: docs/bodies_revolution.md "The scour stage and a frustum")
+NOT_FOR_SHAPE = (
+    "mine.shape = '{shape}' with a [scour] section: the scour stage's laws (Whitehouse's scour time "
+    "scale, Rennie's burial, the pit and mobility laws) are a lying cylinder's of diameter D and "
+    "have no frustum version; remove [scour] or use mine.shape = 'cylinder' "
+    "(docs/bodies_revolution.md)"
+)
+
+
 def stage_parameters(spec: ScourSpec, P, inputs):
     """(S, hs_scale): the stage parameters of each drop (the mine, the water and gravity from its
     packed impact parameters ``P``; the sediment and the laws from the section and its sampled
@@ -427,9 +437,12 @@ def stage_parameters(spec: ScourSpec, P, inputs):
         sc.default_parameters(tstar_c=c, tstar_m=m, tstar_kc_min=kc_min, cohesive=float(spec.cohesive)),
         (n, 1),
     )
-    dims = DROP_SHAPE.dims_of_params(P)  # the drop's body (kernels/mine/bodies/shapes.py)
-    volume = DROP_SHAPE.volume(dims)
-    S[:, sc.S_DIAMETER] = DROP_SHAPE.reference_lengths(dims)[0]
+    shape = shape_of_params(P)  # the drop's body (kernels/mine/bodies/shapes.py)
+    if shape is not DEFAULT_SHAPE:
+        raise cfg.ScenarioError(NOT_FOR_SHAPE.format(shape=shape.name))
+    dims = shape.dims_of_params(P)
+    volume = shape.volume(dims)
+    S[:, sc.S_DIAMETER] = shape.reference_lengths(dims)[0]
     S[:, sc.S_RHO_WATER] = P[:, layout.P_RHO_WATER]
     S[:, sc.S_MINE_SG] = P[:, layout.P_MASS] / (volume * P[:, layout.P_RHO_WATER])
     S[:, sc.S_NU] = P[:, layout.P_NU_WATER]
@@ -791,6 +804,8 @@ class ScourProcess:
     section = "scour"
 
     def load(self, section, *, base_dir, base, template, random) -> ScourSpec:
+        if base.mine.shape != DEFAULT_SHAPE.name:  # the laws are a lying cylinder's: refused at load
+            raise cfg.ScenarioError(NOT_FOR_SHAPE.format(shape=base.mine.shape))
         depth = None if "environment.water_depth" in random else base.environment.water_depth
         classes = sediment_classes(template.get("sediment"), random.get("sediment.class"))
         return parse(section, base_dir, depth, classes)

@@ -27,14 +27,17 @@ same scheme so that energy bookkeeping closes to the integration error.
 
 import math
 
-from mineburial._numba import kernel, small_kernel
+from numba.core import types
+from numba.extending import overload
+
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels.crossflow import quadratic_drag_integrals
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine.added_mass import (
     finite_body_cross_drag,
     munk_incidence_factor,
 )
-from mineburial.kernels.mine.bodies.shapes import DROP_SHAPE
+from mineburial.kernels.mine.bodies.shapes import DEFAULT_SHAPE
 from mineburial.kernels.mine.coefficients import (
     axial_drag_coefficient,
     cross_drag_coefficient,
@@ -76,14 +79,93 @@ from mineburial.kernels.mine.layout import (
 )
 from mineburial.kernels.mine.overburden import overburden_force
 from mineburial.kernels.mine.sediment import RES_DELTA, sediment_tractions
+from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
 
 C_M = 1.0  # transverse added-mass coefficient of a circular section (seed 001 eq. (5), (20))
 
 
-#: the mine's body from its parameter vector (``layout.P_*``): the ``from_params`` of the drop's
-#: shape, which ``bodies.shapes.DROP_SHAPE`` names (docs/design.md, "Body protocol")
-drop_body = DROP_SHAPE.kernel().from_params
+#: the default shape's body from a parameter vector (``bodies.shapes.DEFAULT_SHAPE``, the cylinder)
+_default_body = DEFAULT_SHAPE.kernel().from_params
+
+#: the slot of the packed law (``sediment.laws.pack_law``) after its last, where a drop of a shape
+#: other than the default carries a prototype body of its class (:func:`with_shape`)
+LAW_SHAPE = LAW_REFERENCE_PATHS + 1
+
+
+def _shape_class(shape):
+    """The body class whose numba type ``shape`` is, or None (the default shape): a NamedTuple
+    type of a registered shape, else None, Omitted or nothing."""
+    if isinstance(shape, (types.NamedUniTuple, types.NamedTuple)) and shape.instance_class in bodies.SHAPES:
+        return shape.instance_class
+    return None
+
+
+def body_of(p, shape):
+    """The drop's body from its parameter vector ``p``: the ``from_params`` of the shape whose
+    prototype body ``shape`` is (``bodies.shapes.Shape.marker``), of the default shape when
+    ``shape`` is None. Compiled code only: the choice is made on the *type* of ``shape``."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(body_of, jit_options=JIT_OPTIONS, inline="always")
+def _overload_body_of(p, shape):
+    cls = _shape_class(shape)
+    from_params = _default_body if cls is None else bodies.SHAPES[cls].from_params
+
+    def impl(p, shape):
+        return from_params(p)
+
+    return impl
+
+
+def with_shape(law, shape):
+    """The packed ``law`` carrying the shape's prototype body ``shape`` (:func:`body_of`) in slot
+    :data:`LAW_SHAPE`; the law itself for the default shape (``shape`` None: the law's type, and so
+    every kernel compiled for the default shape, unchanged)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(with_shape, jit_options=JIT_OPTIONS, inline="always")
+def _overload_with_shape(law, shape):
+    if _shape_class(shape) is None:
+
+        def unchanged(law, shape):
+            return law
+
+        return unchanged
+
+    def carrying(law, shape):
+        return law + (shape,)
+
+    return carrying
+
+
+def drop_body(p, law=None):
+    """The mine's body from its parameter vector ``p`` (``layout.P_*``) and its packed law: the
+    ``from_params`` of the shape the law carries (:func:`with_shape`; the default shape's when it
+    carries none, or without a law): docs/design.md, "Body protocol"."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(drop_body, jit_options=JIT_OPTIONS, inline="always")
+def _overload_drop_body(p, law=None):
+    shape = law[LAW_SHAPE] if isinstance(law, types.BaseTuple) and len(law) > LAW_SHAPE else None
+    cls = _shape_class(shape)
+    from_params = _default_body if cls is None else bodies.SHAPES[cls].from_params
+
+    def impl(p, law=None):
+        return from_params(p)
+
+    return impl
+
+
+def _fluid_hook(body, name):
+    """The shape module's own fluid hook ``name`` (``strip_loads``, ``added_mass``), or None: the
+    cylinder's strip theory of ``bodies.strip_section``'s radius then."""
+    if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class in bodies.SHAPES:
+        return getattr(bodies.SHAPES[body.instance_class], name, None)
+    return None
 
 
 @kernel
@@ -251,6 +333,24 @@ def add_strip_forces(model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
     return f1 + h1, f2 + h2, f3 + h3, m1 + h4, m2 + h5, m3 + h6
 
 
+def body_strip_loads(body, model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
+    """The fluid strips of ``[a, b]`` added to ``loads``: the shape's ``strip_loads`` hook, or
+    :func:`add_strip_forces` (the strip theory of one section radius, ``model``'s R)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(body_strip_loads, jit_options=JIT_OPTIONS, inline="always")
+def _overload_body_strip_loads(body, model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
+    own = _fluid_hook(body, "strip_loads")
+    if own is not None:
+        return own
+
+    def one_radius(body, model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads):
+        return add_strip_forces(model, rho, nu, a, b, ur1, ur2, ur3, w1, w2, w3, loads)
+
+    return one_radius
+
+
 @kernel
 def solve6(a, rhs, x):
     """Solve the 6x6 symmetric positive definite system a x = rhs in place (Cholesky).
@@ -344,8 +444,8 @@ def _water_part_loads(body, p, current_bank, model, r, z, a_z, u, w, parts, v_to
         ur1 = r[0] * cu + r[3] * cv - u[0]
         ur2 = r[1] * cu + r[4] * cv - u[1]
         ur3 = r[2] * cu + r[5] * cv - u[2]
-        loads = add_strip_forces(
-            model, p[P_RHO_WATER], p[P_NU_WATER], wa, wb, ur1, ur2, ur3, w[0], w[1], w[2], loads
+        loads = body_strip_loads(
+            body, model, p[P_RHO_WATER], p[P_NU_WATER], wa, wb, ur1, ur2, ur3, w[0], w[1], w[2], loads
         )
         cur = (r[0] * cu + r[3] * cv, r[1] * cu + r[4] * cv, r[2] * cu + r[5] * cv)
     return loads, wa, wb, cur
@@ -361,8 +461,8 @@ def _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads):
     if va > 1e-15 * v_total and p[P_RHO_AIR] > 0.0:
         xa_c = (v_total * x_total - vs * xs) / va
         _, aa, ab, _ = bodies.equivalent_part(body, va, xa_c, 0.0)
-        loads = add_strip_forces(
-            model, p[P_RHO_AIR], p[P_NU_AIR], aa, ab, -u[0], -u[1], -u[2], w[0], w[1], w[2], loads
+        loads = body_strip_loads(
+            body, model, p[P_RHO_AIR], p[P_NU_AIR], aa, ab, -u[0], -u[1], -u[2], w[0], w[1], w[2], loads
         )
     return loads, aa, ab
 
@@ -450,6 +550,24 @@ def _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
     # leaves the potential-flow values bit for bit)
     c = p[P_ADDED_MASS_FACTOR]
     return c * a0, c * a1, c * a2, c * a11
+
+
+def body_added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
+    """The wetted parts' added mass ``(a0, a1, a2, a11)``: the shape's ``added_mass`` hook, or
+    :func:`_added_mass` (strip theory of one section radius and the finite body's factors)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(body_added_mass, jit_options=JIT_OPTIONS, inline="always")
+def _overload_body_added_mass(body, p, model, crossflow_model, wa, wb, aa, ab):
+    own = _fluid_hook(body, "added_mass")
+    if own is not None:
+        return own
+
+    def one_radius(body, p, model, crossflow_model, wa, wb, aa, ab):
+        return _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
+
+    return one_radius
 
 
 @small_kernel
@@ -616,7 +734,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     part's and the air part's fluid forces, the sediment's, gravity; then the added mass, the
     generalised mass matrix and the Kirchhoff equations give the accelerations.
     """
-    body = drop_body(p)
+    body = drop_body(p, law)  # the law carries the shape (with_shape)
     R, L = bodies.strip_section(body)  # of the strip theory (docs/design.md, "Body protocol")
     m = p[P_MASS]
     J1 = p[P_J1]
@@ -667,7 +785,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     fb3 -= m * g * kb[2]
     loads = (fb1, fb2, fb3, mb1, mb2, mb3)
 
-    added = _added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
+    added = body_added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
     mass = work[0:36]
     rhs = work[36:42]
     dnu = work[42:48]  # dU/dt, dW/dt (body frame)

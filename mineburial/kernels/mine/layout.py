@@ -25,6 +25,7 @@ here too, once.
 from mineburial.scenario_fields import (  # noqa: F401 - the names of the coded choices, re-exported
     CURRENT_KINDS,
     INTEGRATOR_NAMES,
+    MINE_SHAPES,
     MODEL_NAMES,
     OVERBURDEN_QUADRATURE_NAMES,
     RATE_LAW_NAMES,
@@ -155,6 +156,8 @@ P_CROSSFLOW_FACTOR = INDEX["numerics.crossflow_drag_factor"]
 P_SED_CD = INDEX["sediment.inertial_drag"]
 P_CROSSFLOW_MUNK = INDEX["numerics.crossflow_munk_fraction"]
 P_ADDED_MASS_FACTOR = INDEX["numerics.added_mass_factor"]
+P_SHAPE = INDEX["mine.shape"]
+P_TOP_RATIO = INDEX["mine.top_ratio"]
 
 WC_MUNK_FACTOR = WATER_COLUMN_NAMES.index("munk_factor")
 WC_VISCOUS_CROSSFLOW = WATER_COLUMN_NAMES.index("viscous_crossflow")

@@ -120,6 +120,8 @@ def with_long_tables(paths, params, sediment_bank):
     :data:`REFERENCE_DEPTHS`. The bounded rule is then compiled with
     the reference paths: a run's self-check (ensembles/accuracy.py) compiles those anyway, and a
     third type of ``paths`` would compile the whole drop once more (docs/design.md)."""
+    if isinstance(paths, tuple):  # (paths, a shape's prototype body): stepper.reference_paths
+        return (with_long_tables(paths[0], params, sediment_bank), paths[1])
     if paths is not None:
         return paths
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)

@@ -63,7 +63,7 @@ def static_load(y, p, law, bank):
     of gravity, water buoyancy of the immersed part (seed 000 eqs. (34)-(36)) and, for the
     ``friction`` and ``bearing`` laws, the geostatic overburden on the embedded part
     (:mod:`.overburden`). Returns (Fx, Fy, Fz, M1, M2, M3)."""
-    body = drop_body(p)
+    body = drop_body(p, law)
     g = p[P_GRAVITY]
     rho_w = p[P_RHO_WATER]
     depth = p[P_DEPTH]
@@ -97,7 +97,7 @@ def _resisted(y, p, law, bank, r, v1, v2, v3, w1, w2, w3, load_power, tol_power)
     vy = r[3] * v1 + r[4] * v2 + r[5] * v3
     vz = r[6] * v1 + r[7] * v2 + r[8] * v3
     fx, fy, fz, m1, m2, m3, _ = sediment_tractions(
-        drop_body(p), r, (y[0], y[1], y[2]), (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH], law, bank
+        drop_body(p, law), r, (y[0], y[1], y[2]), (vx, vy, vz), (w1, w2, w3), -p[P_DEPTH], law, bank
     )
     dissipated = -(fx * vx + fy * vy + fz * vz + m1 * w1 + m2 * w2 + m3 * w3)
     return dissipated >= load_power - tol_power
@@ -107,7 +107,7 @@ def _resisted(y, p, law, bank, r, v1, v2, v3, w1, w2, w3, load_power, tol_power)
 def held_by_sediment(y, p, law, bank, probe_speed):
     """Rigid-plastic hold test (module docstring): True when no probed mechanism lets the
     static load move the mine against the sediment's resistance at ``probe_speed``."""
-    body = drop_body(p)
+    body = drop_body(p, law)
     depth = p[P_DEPTH]
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     r = rotation_matrix(y[6] / qn, y[7] / qn, y[8] / qn, y[9] / qn)

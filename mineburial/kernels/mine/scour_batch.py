@@ -21,7 +21,7 @@ import numpy as np
 from mineburial._numba import kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine import scour as sc
-from mineburial.kernels.mine.dynamics import drop_body
+from mineburial.kernels.mine.dynamics import body_of
 from mineburial.kernels.mine.geometry import segment_area_unit
 
 #: the drop did not come to rest (its impact status is not in the statistics): not run
@@ -223,7 +223,7 @@ def scour_drops_ends(
             wdir_w[m] = wdir[k]
             uc_w[m] = uc[k]
             cdir_w[m] = cdir[k]
-        body = drop_body(P[i])
+        body = body_of(P[i], None)  # the default shape: the stage refuses another (ensembles/scour.py)
         tilted = S[i, sc.S_REST_ATTITUDE] == sc.REST_IMPACT
         if tilted:
             b0, h0, span = impact_ends(body, rest[i, R_AZ], rest[i, R_ZC])

@@ -47,14 +47,17 @@ import math
 from collections import namedtuple
 
 import numpy as np
+from numba.core import types
+from numba.extending import overload
 
-from mineburial._numba import kernel, small_kernel
+from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels.core import GO_ON, System, all_finite, driver_loop, locate_event
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine import status as st
-from mineburial.kernels.mine.dynamics import derivatives, drop_body
+from mineburial.kernels.mine.bodies.shapes import DEFAULT_SHAPE, shape_of_params
+from mineburial.kernels.mine.dynamics import body_of, derivatives, drop_body, with_shape
 from mineburial.kernels.mine.layout import (
     I_WORK_FLUID,
     I_WORK_SEDIMENT,
@@ -184,12 +187,13 @@ def _normalize_attitude(y):
 
 
 @kernel
-def event_values(y, p, g):
+def event_values(y, p, law, g):
     """Event functions of the state: signed distances of the lowest/highest point to the
-    water surface (g0, g1) and to the seabed (g2, g3), and the rest measure (g4)."""
+    water surface (g0, g1) and to the seabed (g2, g3), and the rest measure (g4); the body is
+    ``p``'s of the shape the packed ``law`` carries (:func:`.dynamics.drop_body`)."""
     qn = math.sqrt(y[6] * y[6] + y[7] * y[7] + y[8] * y[8] + y[9] * y[9])
     a_z = 2.0 * (y[7] * y[9] - y[6] * y[8]) / (qn * qn)  # R[2,0] = i_M . k
-    lo, hi = bodies.extent(drop_body(p), a_z, y[2])
+    lo, hi = bodies.extent(drop_body(p, law), a_z, y[2])
     depth = p[P_DEPTH]
     g[0] = lo
     g[1] = hi
@@ -287,9 +291,9 @@ def mine_rhs(t, y, args, dy):
 
 @small_kernel
 def event_component(t, y, args):
-    """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, e, gtmp)."""
-    p, e, gtmp = args
-    event_values(y, p, gtmp)
+    """Event ``e`` of :func:`event_values` at state y, for the core's locator; args = (p, law, e, gtmp)."""
+    p, law, e, gtmp = args
+    event_values(y, p, law, gtmp)
     return gtmp[e]
 
 
@@ -303,7 +307,7 @@ def mine_own_step(method, t, y, h, args, k, ytmp, out):
 
 #: the falling mine as a system of the integration core: its steps are the core's (:func:`.core.attempt_step`)
 #: over :func:`mine_rhs`, with the quaternion normalised after a fixed step and :func:`mine_own_step` as
-#: its own; its events, located by :func:`.core.locate_event`, take the parameters (p, e, gtmp)
+#: its own; its events, located by :func:`.core.locate_event`, take the parameters (p, law, e, gtmp)
 #: of :func:`event_component` (one component of :func:`event_values` at a time)
 MINE = System("mine", mine_rhs, event_component, project=_normalize_attitude, own_step=mine_own_step)
 
@@ -317,11 +321,39 @@ def reference_paths(params):
     the reference sediment quadrature) are not even compiled, which halves the compile
     time of the engine from an empty cache. ``True`` when any drop asks for one of them:
     then all are compiled and chosen per drop by its parameters.
+
+    A drop of a shape other than the default (``mine.shape``) gets ``(paths, prototype)``: the
+    paths above and a prototype body of its shape's class (``bodies.shapes.Shape.marker``), whose
+    type selects the shape's compiled protocol (:func:`split_paths`, :func:`.dynamics.body_of`);
+    the default shape's argument is the paths alone, as before (its kernels unchanged).
     """
     params = np.asarray(params, dtype=np.float64).reshape(-1, N_PARAMS)
     adaptive = ADAPTIVE_INTEGRATOR[params[:, P_INTEGRATOR].astype(np.int64)]
     uses_reference = ~adaptive | (params[:, P_SED_QUADRATURE] != QUADRATURE_FAST)
-    return True if np.any(uses_reference) else None
+    paths = True if np.any(uses_reference) else None
+    shape = shape_of_params(params)
+    return paths if shape is DEFAULT_SHAPE else (paths, shape.marker())
+
+
+def split_paths(reference_paths):
+    """``(paths, shape)`` of :func:`run_drop`'s ``reference_paths`` argument: the paths and the
+    shape's prototype body (None for the default shape). Compiled code only."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(split_paths, jit_options=JIT_OPTIONS, inline="always")
+def _overload_split_paths(reference_paths):
+    if isinstance(reference_paths, types.BaseTuple):
+
+        def carried(reference_paths):
+            return reference_paths[0], reference_paths[1]
+
+        return carried
+
+    def default_shape(reference_paths):
+        return reference_paths, None
+
+    return default_shape
 
 
 @small_kernel
@@ -342,7 +374,7 @@ def _step_request(integrator, adaptive, stiff_in_sediment, t, h_adapt, t_limit, 
 
 
 @small_kernel
-def _first_event(r, t, h, g0, g1, p, gtmp, ytmp):
+def _first_event(r, t, h, g0, g1, p, law, gtmp, ytmp):
     """(theta, e): the first event inside the accepted step (t, t + h) on its continuous extension ``r``
     (theta = 2, e = -1 when none): an interface crossed (events 0-3) or the rest measure turning
     negative while in contact with the sediment (event 4), each located by :func:`.core.locate_event`."""
@@ -357,7 +389,7 @@ def _first_event(r, t, h, g0, g1, p, gtmp, ytmp):
         elif not _crossed(g0[e], g1[e]):
             continue
         th = locate_event(
-            MINE, r, t, h, g0[e], g1[e], (p, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
+            MINE, r, t, h, g0[e], g1[e], (p, law, e, gtmp), ytmp, EVENT_TOLERANCE, MAX_EVENT_ITERATIONS
         )
         if th < theta:
             theta = th
@@ -380,12 +412,12 @@ def _record_step(traj, row, next_record, record_dt, r, t, h, t_end, ytmp, args, 
 
 
 @small_kernel
-def _cut_at_event(r, theta, first, ynew, p, g0, g1):
+def _cut_at_event(r, theta, first, ynew, p, law, g0, g1):
     """The end state of a step cut at its first event: ynew on the continuous extension at theta and
     its event values g1, with the event's sign change made exact (strictly: a value of -0.0 would
     read as not crossed)."""
     dense_state(r, theta, ynew)
-    event_values(ynew, p, g1)
+    event_values(ynew, p, law, g1)
     if first < EVENT_REST:
         # the interface is crossed at the cut: make its sign change exact
         mag = max(abs(g1[first]), 1e-300)
@@ -406,11 +438,11 @@ def _impact_summary(summary, t, y):
 
 
 @small_kernel
-def _end_summary(summary, p, y, t, max_decel, hit_seabed, n_steps):
+def _end_summary(summary, p, body, y, t, max_decel, hit_seabed, n_steps):
     """The burial measures (:func:`.bodies.burial`), final attitude and position at the end of the drop."""
     depth = p[P_DEPTH]
     rot = rotation_matrix(y[6], y[7], y[8], y[9])
-    pv, ph, pa, proud, pen = bodies.burial(drop_body(p), rot[6], y[2], -depth)
+    pv, ph, pa, proud, pen = bodies.burial(body, rot[6], y[2], -depth)
     summary[S_PENETRATION] = pen
     summary[S_COM_DEPTH] = -depth - y[2]
     summary[S_BURIAL_VOLUME] = pv
@@ -546,8 +578,8 @@ def _accepted(t, h, traj, ctx, loop):
     t_limit, h_cap, redo, max_decel, n_steps, n_attempts, row, next_record, entered_water, hit_seabed = loop
     status = GO_ON
     accepted_before = True
-    event_values(ynew, p, g1)
-    theta, first = _first_event(r, t, h, g0, g1, p, gtmp, ytmp)
+    event_values(ynew, p, law, g1)
+    theta, first = _first_event(r, t, h, g0, g1, p, law, gtmp, ytmp)
     if (
         first >= 0
         and first < EVENT_REST
@@ -568,7 +600,7 @@ def _accepted(t, h, traj, ctx, loop):
             )
         # ---- accept the step (cut at the first event) ----
         if first >= 0:
-            _cut_at_event(r, theta, first, ynew, p, g0, g1)
+            _cut_at_event(r, theta, first, ynew, p, law, g0, g1)
         h_cap = math.inf
         redo = 0
         _normalize_attitude(ynew)
@@ -616,8 +648,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     for i in range(N_SUMMARY):
         summary[i] = np.nan
     p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
-    body = drop_body(p)
-    law = pack_law(p, bodies.reference_lengths(body)[0], reference_paths)  # the law's width D
+    paths, shape = split_paths(reference_paths)  # a shape other than the default rides with the paths
+    body = body_of(p, shape)
+    # the law's width D; the law carries the shape to every kernel that builds the body (drop_body)
+    law = with_shape(pack_law(p, bodies.reference_lengths(body)[0], paths), shape)
     y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
     ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
@@ -628,7 +662,7 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     volume, _ = bodies.volume(body)
     buoyant = p[P_MASS] < p[P_RHO_WATER] * volume  # lighter than the water it displaces
     derivatives(y, p, law, sed_bank, cur_bank, work, k[0], diag)
-    event_values(y, p, g0)
+    event_values(y, p, law, g0)
     entered_water = g0[0] < 0.0
     hit_seabed = g0[2] < 0.0
     if entered_water:
@@ -647,12 +681,12 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     # the first trial step of an adaptive integrator: numerics.dt
     status, t, loop = driver_loop(
         _next_step, _accepted,
-        MINE, 0.0, y, p[P_DT], args, reference_paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop,
+        MINE, 0.0, y, p[P_DT], args, paths, ERROR_GROUPS, p[P_RTOL], p[P_ATOL], ws, traj, ctx, loop,
     )  # fmt: skip
     row = loop.row
     if traj is not None:
         if row < traj.shape[0] and (row == 0 or traj[row - 1, 0] < t):
             _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
             row += 1
-    _end_summary(summary, p, y, t, loop.max_decel, loop.hit_seabed, loop.n_steps)
+    _end_summary(summary, p, body, y, t, loop.max_decel, loop.hit_seabed, loop.n_steps)
     return status, row

@@ -46,9 +46,8 @@ is called: a frustum of equal radii gives the cylinder's forces bit for bit
 import math
 
 import numpy as np
-from numba.extending import overload
 
-from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
+from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.crossflow import LAMBDA_SWITCH, N_SERIES, _root_moments
 from mineburial.kernels.mine.added_mass import finite_body_cross_drag
 from mineburial.kernels.mine.coefficients import (
@@ -58,23 +57,9 @@ from mineburial.kernels.mine.coefficients import (
     roughness_scaled,
 )
 
-
-def _cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
-    """:func:`mineburial.kernels.mine.dynamics.strip_forces`, for compiled code: imported when a
-    caller is typed, not when this module is (``dynamics`` imports the drop's shape module, which
-    imports this one: a shape whose module uses these strips would close the cycle)."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(_cylinder_strip, jit_options=JIT_OPTIONS)
-def _overload_cylinder_strip(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
-    # local import: dynamics imports the drop's shape module, which imports this one (cycle)
-    from mineburial.kernels.mine.dynamics import strip_forces
-
-    def impl(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness):
-        return strip_forces(rho, nu, R, L, a, b, ur1, ur2, ur3, w1, w2, w3, drag_on, eta, roughness)
-
-    return impl
+# the cylinder's strips: dynamics loads no shape module at its import (a frustum's module is
+# imported by the Python side that makes its body, shapes.FrustumShape.marker), so no cycle
+from mineburial.kernels.mine.dynamics import strip_forces as _cylinder_strip
 
 
 @kernel

@@ -42,8 +42,17 @@ import math
 import numpy as np
 
 from mineburial.kernels.mine.geometry import vertical_extent
-from mineburial.kernels.mine.layout import INDEX
+from mineburial.kernels.mine.layout import INDEX, MINE_SHAPES, N_PARAMS, P_SHAPE
 from mineburial.schema import Rule
+
+
+def _has_shape(v, name):
+    """Where ``v["mine.shape"]`` (a name, or the codes of packed rows) is the shape ``name``; a
+    rule of one shape holds for the others; without ``mine.shape``, the default shape."""
+    code = v.get("mine.shape", DEFAULT_SHAPE.name)
+    if isinstance(code, str):
+        return np.asarray(code == name)
+    return np.asarray(code) == MINE_SHAPES.index(name)
 
 
 class Shape:
@@ -55,6 +64,12 @@ class Shape:
     kernel_module: str = ""
     #: the relations between its own fields (:class:`mineburial.schema.Rule`; ``config.RULES`` holds them)
     rules: tuple = ()
+
+    def marker(self):
+        """A prototype body of the shape's class, whose numba type selects the shape's compiled
+        protocol (``stepper.reference_paths``): the kernel module's ``PROTOTYPE``; None for the
+        default shape (its kernels take no prototype, as before)."""
+        return None if self is DEFAULT_SHAPE else self.kernel().PROTOTYPE
 
     def kernel(self):
         """The module of the shape's compiled protocol (imported on first use: it imports the
@@ -99,8 +114,8 @@ class CylinderShape(Shape):
     rules = (
         Rule(
             "|mine.com_offset| < mine.length/2",
-            ("mine.com_offset", "mine.length"),
-            lambda v: np.abs(v["mine.com_offset"]) < v["mine.length"] / 2,
+            ("mine.com_offset", "mine.length", "mine.shape"),
+            lambda v: ~_has_shape(v, "cylinder") | (np.abs(v["mine.com_offset"]) < v["mine.length"] / 2),
             note="|chi| < length/2: the COM lies inside the body",
             bounds=lambda v: (-v["mine.length"] / 2.0, v["mine.length"] / 2.0, None),
         ),
@@ -212,8 +227,126 @@ def _revolution():
     return revolution_geometry
 
 
-CYLINDER = CylinderShape()
+def frustum_centroid_offset(length, r_base, r_top):
+    """The uniform frustum's centroid about the middle of its length, towards the top:
+    ``L (r_t^2 - r_b^2) / (4 (r_b^2 + r_b r_t + r_t^2))`` (the centroid lies ``L (r_b^2 + 2 r_b r_t +
+    3 r_t^2) / (4 (r_b^2 + r_b r_t + r_t^2))`` above the base; exactly 0 for equal radii). Scalars or
+    numpy arrays; :func:`.frustum.from_params` computes the same expression in compiled code."""
+    sum_sq = r_base * r_base + r_base * r_top + r_top * r_top
+    return length * (r_top * r_top - r_base * r_base) / (4.0 * sum_sq)
 
-#: the drop's shape: the one place that names it (the kernels' ``dynamics.drop_body`` is its
-#: ``kernel().from_params``; the configuration's mass properties and placement rule are its own)
-DROP_SHAPE = CYLINDER
+
+class FrustumShape(ProfileShape):
+    """The solid frustum of :mod:`mineburial.kernels.mine.bodies.frustum`: base (the tail)
+    diameter ``mine.diameter``, top (the nose) ``mine.top_ratio`` of it, ``mine.length`` apart;
+    its COM ``mine.com_offset`` (chi) from the centre of volume towards the top, as the
+    cylinder's (chi = 0: the uniform body). The profile's two stations about the COM are the
+    kernel body's (``from_params``): the tail at ``-L/2 - chi_m``, the nose at ``L/2 - chi_m``,
+    ``chi_m = chi + frustum_centroid_offset`` the COM's offset from the middle of the length.
+
+    ``reference_lengths``: the base diameter and the length (``ProfileShape``'s largest diameter)."""
+
+    kernel_module = "mineburial.kernels.mine.bodies.frustum"
+    rules = (
+        Rule(
+            "the COM inside the frustum: -h_c < mine.com_offset < mine.length - h_c",
+            ("mine.com_offset", "mine.length", "mine.diameter", "mine.top_ratio", "mine.shape"),
+            lambda v: ~_has_shape(v, "frustum") | (np.abs(_frustum_chi_mid(v)) < v["mine.length"] / 2),
+            note="h_c the centroid's height above the base: the COM lies inside the body",
+            bounds=lambda v: (
+                -v["mine.length"] / 2 - _frustum_chi_mid({**v, "mine.com_offset": 0.0}),
+                v["mine.length"] / 2 - _frustum_chi_mid({**v, "mine.com_offset": 0.0}),
+                False,
+            ),
+        ),
+    )
+
+    def __init__(self):
+        super().__init__(
+            "frustum",
+            ("mine.length", "mine.diameter", "mine.com_offset", "mine.top_ratio"),
+            ("mine.length", "mine.diameter", "mine.top_ratio"),
+            self._profile,
+        )
+
+    def _as_cylinder(self, dims, profile_value, cylinder_value):
+        """``profile_value`` but where the radii are equal (``mine.top_ratio == 1``) the cylinder's
+        closed form ``cylinder_value`` (a frustum of equal radii is the cylinder bit for bit, as its
+        kernels are)."""
+        equal = np.asarray(dims["mine.top_ratio"]) == 1.0
+        if not np.any(equal):
+            return profile_value
+        if np.ndim(equal) == 0:
+            return cylinder_value
+        return np.where(equal, cylinder_value, profile_value)
+
+    def volume(self, dims):
+        """The frustum's volume (the cylinder's ``pi R^2 L`` for equal radii)."""
+        return self._as_cylinder(dims, super().volume(dims), CylinderShape.volume(dims))
+
+    def centroid(self, dims):
+        """The uniform frustum's centroid about the COM (the cylinder's ``-chi`` for equal radii)."""
+        return self._as_cylinder(dims, super().centroid(dims), CylinderShape.centroid(dims))
+
+    def inertia(self, mass, dims):
+        """(J_axial, J_transverse) of the uniform frustum about its centroid (the cylinder's closed
+        forms for equal radii)."""
+        j1, j2 = super().inertia(mass, dims)
+        c1, c2 = CylinderShape.inertia(mass, dims)
+        return self._as_cylinder(dims, j1, c1), self._as_cylinder(dims, j2, c2)
+
+    @staticmethod
+    def _profile(dims):
+        length = dims["mine.length"]
+        r_base = 0.5 * dims["mine.diameter"]
+        r_top = r_base * dims["mine.top_ratio"]
+        chi_m = dims["mine.com_offset"] + frustum_centroid_offset(length, r_base, r_top)
+        return (-0.5 * length - chi_m, 0.5 * length - chi_m), (r_base, r_top)
+
+
+def _frustum_chi_mid(v):
+    """The frustum's COM offset from the middle of its length (rows or one scenario)."""
+    r_base = 0.5 * np.asarray(v["mine.diameter"], dtype=np.float64)
+    shift = frustum_centroid_offset(v["mine.length"], r_base, r_base * v["mine.top_ratio"])
+    return v["mine.com_offset"] + shift
+
+
+CYLINDER = CylinderShape()
+FRUSTUM = FrustumShape()
+
+#: the body shapes by name, in the order of ``scenario_fields.MINE_SHAPES`` (``mine.shape``'s codes)
+SHAPES = {"cylinder": CYLINDER, "frustum": FRUSTUM}
+
+#: the default shape (``mine.shape``'s default): the cylinder of seed 000
+DEFAULT_SHAPE = CYLINDER
+
+
+def shape_named(name):
+    """The shape of ``mine.shape`` = ``name`` (a name or its code)."""
+    if not isinstance(name, str):
+        name = MINE_SHAPES[int(name)]
+    return SHAPES[name]
+
+
+def shape_of_params(P):
+    """The one shape of the packed parameter rows ``P`` (their ``mine.shape`` slot); a batch
+    mixes no shapes (the shape is the compiled body's type: one per scenario)."""
+    codes = np.unique(np.asarray(P, dtype=np.float64).reshape(-1, N_PARAMS)[:, P_SHAPE])
+    if codes.size > 1:
+        names = ", ".join(MINE_SHAPES[int(c)] for c in codes)
+        raise ValueError(f"mine.shape: one batch of drops mixes the shapes {names}; run one shape at a time")
+    return shape_named(codes[0]) if codes.size else DEFAULT_SHAPE
+
+
+def shapes_of(v):
+    """``(shape, mask)`` for each shape of the values ``v`` (``v["mine.shape"]``: a name, or codes
+    for rows); ``mask`` where the rows have that shape (a boolean array of ``v``'s rows' shape)."""
+    code = v.get("mine.shape", 0.0)
+    if isinstance(code, str):
+        code = float(MINE_SHAPES.index(code))
+    code = np.asarray(code, dtype=np.float64)
+    return [(shape, code == i) for i, shape in enumerate(SHAPES.values())]
+
+
+#: the drop's shape when a scenario names none: kept for the callers that took the one shape
+DROP_SHAPE = DEFAULT_SHAPE
