@@ -65,8 +65,10 @@ def test_defaults_are_the_constants_of_the_printed_laws():
     assert p[layout.P_SED_DEPTH_FACTOR] == 0.4  # Brinch Hansen (1970)
     assert p[layout.P_CROSSFLOW_FACTOR] == 1.0  # eq. (44) as printed
     assert p[layout.P_SED_CD] == 0.0  # seed 000 has no inertial drag
-    # appended after the last slot of the layout before issue 32 (numba's cache is keyed per file)
-    assert layout.PARAM_NAMES[-5:-2] == (
+    # appended after the last slot of the layout before issue 32 (numba's cache is keyed per file);
+    # later slots (issue 34's water column, issue 36's shape) come after them
+    k = layout.INDEX["numerics.overburden_quadrature"] + 1
+    assert layout.PARAM_NAMES[k : k + 3] == (
         "sediment.bearing_depth_factor",
         "numerics.crossflow_drag_factor",
         "sediment.inertial_drag",
