@@ -348,12 +348,31 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         while cur < hi:
             nxt = _next_break(bps, cur, hi)
             h = 0.5 * (nxt - cur)
-            mid = 0.5 * (nxt + cur)
-            for i in range(N_T):
-                t = tdeep + mid + h * _GL_NODES[N_T, i]
-                wgt = R * h * _GL_WEIGHTS[N_T, i]
+            tm = tdeep + 0.5 * (nxt + cur)
+            cm = math.cos(tm)
+            sm = math.sin(tm)
+            # the nodes come in pairs tm -+ a (and tm itself for odd N_T): their cosines and sines
+            # by the addition theorem, two trigonometric calls a pair
+            for i in range((N_T + 1) // 2):
+                j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
+                wgt = R * h * _GL_WEIGHTS[N_T, j]
+                if i == j:
+                    g1, g2, g3, h1, h2, h3 = _generator(
+                        cm, sm, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                    )
+                    f1, f2, f3, m1, m2, m3 = add_weighted(
+                        (f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3)
+                    )
+                    continue
+                a = h * _GL_NODES[N_T, j]
+                ca = math.cos(a)
+                sa = math.sin(a)
                 g1, g2, g3, h1, h2, h3 = _generator(
-                    math.cos(t), math.sin(t), R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                    cm * ca + sm * sa, sm * ca - cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                )
+                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
+                g1, g2, g3, h1, h2, h3 = _generator(
+                    cm * ca - sm * sa, sm * ca + cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
                 )
                 f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
