@@ -50,13 +50,9 @@ from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import _traction, add_point_traction, add_weighted
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
-#: cap (N_U), per cap chord (N_S) (the depth is constant along a chord). N_X 3 -> 2 in issue 34
-#: (the traction evaluations are ~2/3 of the rule's cost, those along the generators 3/4 of them):
-#: the generator's interval is cut exactly at the seabed and delta lines, so its integrand is
-#: smooth there; on the kernel tests' random poses the error against the reference quadrature
-#: went from median 0.07 %, p90 0.6 %, max 1.5 % of the force scale to 0.09 %, 0.9 %, 2.1 %.
+#: cap (N_U), per cap chord (N_S) (the depth is constant along a chord).
 N_T = 3
-N_X = 2
+N_X = 3
 N_U = 4
 N_S = 2
 #: Durand-Kerner sweeps for the seabed/delta crossing angles (at most), and the relative size of
