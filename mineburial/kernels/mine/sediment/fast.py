@@ -55,10 +55,17 @@ N_T = 3
 N_X = 3
 N_U = 4
 N_S = 2
-#: Durand-Kerner sweeps for the seabed/delta crossing angles, and the relative size of the
-#: quartic's leading coefficient below which it counts as degenerate.
-CROSS_ITERATIONS = 16
+#: Durand-Kerner sweeps for the seabed/delta crossing angles (at most), and the relative size of
+#: the quartic's leading coefficient below which it counts as degenerate.
+CROSS_ITERATIONS = 32
 CROSS_DEGENERATE = 1.0e-9
+#: The sweeps stop once no root moved by more than this fraction of its modulus (squared here):
+#: the iteration converges quadratically at simple roots, so the roots are then at rounding level
+#: (issue 34: 6-7 sweeps on the default ensemble's contact states, at most 11 in 2,000, where
+#: there were always 16; the cap, 16 before, is 32 so that the rare start that converges slowly
+#: converges too, and a double root, the birth of a pair, where it converges linearly, is
+#: followed further).
+CROSS_TOL2 = 1.0e-20
 
 
 _PI = math.pi
@@ -136,14 +143,22 @@ def _next_break(bps, cur, end):
 
 
 @small_kernel
+def _abs2(z):
+    """|z|^2."""
+    return z.real * z.real + z.imag * z.imag
+
+
+@small_kernel
 def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
     """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
     the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
     - a1 (k1c cos t + k1s sin t) = 0, i.e. the arguments of the four roots of the quartic
     w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle,
     where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double
-    zero where a pair of real zeros is born). Roots by CROSS_ITERATIONS Durand-Kerner sweeps
-    from fixed starts: a continuous function of the coefficients. When the quartic degenerates
+    zero where a pair of real zeros is born). Roots by Durand-Kerner sweeps from fixed starts
+    until a sweep moves none by more than 1e-10 of its modulus (CROSS_TOL2; at most
+    CROSS_ITERATIONS): a continuous function of the coefficients up to rounding (at simple roots
+    the error after that sweep is of the order of the square of that move). When the quartic degenerates
     (no rotation across the axis: the delta line is then made of generators, whose angles are
     breakpoints already), the four angles are NaN."""
     c0 = 0.5 * (ac * bc + as_ * bs)
@@ -164,10 +179,22 @@ def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
     r2 = r1 * r1
     r3 = r2 * r1
     for _ in range(CROSS_ITERATIONS):
-        r0 = r0 - ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
-        r1 = r1 - ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
-        r2 = r2 - ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
-        r3 = r3 - ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
+        d0 = ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
+        r0 = r0 - d0
+        d1 = ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
+        r1 = r1 - d1
+        d2 = ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
+        r2 = r2 - d2
+        d3 = ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
+        r3 = r3 - d3
+        # converged (a NaN moves on to the cap, as before)
+        if (
+            _abs2(d0) <= CROSS_TOL2 * _abs2(r0)
+            and _abs2(d1) <= CROSS_TOL2 * _abs2(r1)
+            and _abs2(d2) <= CROSS_TOL2 * _abs2(r2)
+            and _abs2(d3) <= CROSS_TOL2 * _abs2(r3)
+        ):
+            break
     return (
         math.atan2(r0.imag, r0.real),
         math.atan2(r1.imag, r1.real),
@@ -323,12 +350,31 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         while cur < hi:
             nxt = _next_break(bps, cur, hi)
             h = 0.5 * (nxt - cur)
-            mid = 0.5 * (nxt + cur)
-            for i in range(N_T):
-                t = tdeep + mid + h * _GL_NODES[N_T, i]
-                wgt = R * h * _GL_WEIGHTS[N_T, i]
+            tm = tdeep + 0.5 * (nxt + cur)
+            cm = math.cos(tm)
+            sm = math.sin(tm)
+            # the nodes come in pairs tm -+ a (and tm itself for odd N_T): their cosines and sines
+            # by the addition theorem, two trigonometric calls a pair
+            for i in range((N_T + 1) // 2):
+                j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
+                wgt = R * h * _GL_WEIGHTS[N_T, j]
+                if i == j:
+                    g1, g2, g3, h1, h2, h3 = _generator(
+                        cm, sm, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                    )
+                    f1, f2, f3, m1, m2, m3 = add_weighted(
+                        (f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3)
+                    )
+                    continue
+                a = h * _GL_NODES[N_T, j]
+                ca = math.cos(a)
+                sa = math.sin(a)
                 g1, g2, g3, h1, h2, h3 = _generator(
-                    math.cos(t), math.sin(t), R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                    cm * ca + sm * sa, sm * ca - cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
+                )
+                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
+                g1, g2, g3, h1, h2, h3 = _generator(
+                    cm * ca - sm * sa, sm * ca + cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
                 )
                 f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
