@@ -59,6 +59,7 @@ from mineburial.kernels.mine.sediment.laws import (
     LAW_EV,
     LAW_G,
     LAW_KP,
+    LAW_MU,
     _law_properties,
     _traction,
     add_point_traction,
@@ -338,7 +339,7 @@ def profile_tractions(xs, rs, c20, c21, c22, d0, vbody, law, bank):
     rule (module docstring); the arguments of :func:`.sediment.fast.fast_tractions` with the profile
     for ``(L, R, chi)``. Summed as that function sums: the lateral surface (segment by segment,
     tail to nose), then the nose cap, then the tail cap."""
-    tangential = law[6] != 0.0
+    tangential = law[LAW_MU] != 0.0
     n = len(xs)
     acc = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     for i in range(n - 1):

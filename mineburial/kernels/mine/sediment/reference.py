@@ -31,8 +31,16 @@ from mineburial.kernels.mine.environment import bracket, last_point
 from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import (
+    LAW_A,
+    LAW_BETA,
+    LAW_DIAMETER,
+    LAW_MU,
+    LAW_RATE,
+    LAW_RATE_REF,
+    LAW_ROW,
     LAW_VREG,
     LAW_VREG_N,
+    LAW_VREST,
     RATE_IMPACT35,
     RATE_SEMILOG,
     _traction,
@@ -542,7 +550,7 @@ def _inner(kind, c, s, lo, hi, sg, fe, fd, ft, vel, law, bank, tangential, dip, 
     else:
         z0 = sg[6] + sg[7] * sg[3] + sg[8] * sg[4]
         line = (sg[0], sg[3], sg[4], 0.0, c, s, sg[1], 0.0, 0.0, z0, sg[7] * c + sg[8] * s, True)
-    row = law[15]
+    row = law[LAW_ROW]
     nlev = bank.shape[2] if (row >= 0 and line[10] != 0.0) else 0
     npiece = 1 + (1 if p1 == p1 else 0) + (1 if p2 == p2 else 0)
     acc = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -701,7 +709,7 @@ def _surface(kind, sg, fe, fd, ft, vel, law, bank, tangential, dip, rule, bps, e
     cur = 0.0
     e_cur = inf
     er_cur = inf
-    row = law[15] if kind == 0 else -1
+    row = law[LAW_ROW] if kind == 0 else -1
     xa = sg[1]
     xb = sg[2]
     zmax = fe[0] + max(fe[3] * xa, fe[3] * xb) + math.sqrt(fe[1] * fe[1] + fe[2] * fe[2])
@@ -1150,16 +1158,17 @@ def reference_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     xb = 0.5 * L - chi
     rperp = math.sqrt(c21 * c21 + c22 * c22)
     v1, v2, v3, w1, w2, w3 = vbody
-    tangential = law[6] != 0.0
+    tangential = law[LAW_MU] != 0.0
     # speed dip of the rate factor: (mode, floor, limit). impact35: G falls from A to 1
     # over |v| ~ V_rest, resolved where v_min < DIP_SPEEDS V_rest, down to V_rest/4;
     # semilog: log singularity at |v| -> 0 (clipped at d rate_ref), resolved where v_min
     # is below 5 % of the rotation speed scale.
     dip = (0, 0.0, 0.0)
-    if law[1] == RATE_IMPACT35 and law[3] > 0.0 and law[2] != 1.0:
-        dip = (1, 0.25 * law[3], DIP_SPEEDS * law[3])
-    elif law[1] == RATE_SEMILOG and law[4] != 0.0 and law[5] > 0.0:
-        dip = (2, law[8] * law[5], 0.05 * math.sqrt(w1 * w1 + w2 * w2 + w3 * w3) * (L + R))
+    if law[LAW_RATE] == RATE_IMPACT35 and law[LAW_VREST] > 0.0 and law[LAW_A] != 1.0:
+        dip = (1, 0.25 * law[LAW_VREST], DIP_SPEEDS * law[LAW_VREST])
+    elif law[LAW_RATE] == RATE_SEMILOG and law[LAW_BETA] != 0.0 and law[LAW_RATE_REF] > 0.0:
+        spin = math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
+        dip = (2, law[LAW_DIAMETER] * law[LAW_RATE_REF], 0.05 * spin * (L + R))
     geo = (R, xa, xb, v1, v2, v3, w1, w2, w3)
     # switch families (k0, kc, ks, l0, lc, ls) along a lateral generator, linear in x
     fe = (d0, -R * c21, -R * c22, -c20, 0.0, 0.0)  # zeta
