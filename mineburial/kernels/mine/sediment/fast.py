@@ -30,7 +30,9 @@ between breakpoints that are continuous functions of the state, clamped into it:
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
 breakpoints crossing each other or the ends change the result continuously. At each
 node the embedded and advancing x-interval of the generator is exact (both conditions
-are linear in x), with N_X nodes.
+are linear in x), with N_XR = 2 Gauss nodes whose weights are product weights for the
+advancing switch's ramp along the generator (:func:`_ramp_weights`: exact for the ramp
+times a linear function, where an interval ends at the delta line; issue 34 item 4).
 
 End caps, point (xc, s d + t e) with d the unit direction of increasing depth in the
 cap plane: zeta = e0 + rperp s > 0 is s > s0, and s = R sin u, t in
