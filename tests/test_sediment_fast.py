@@ -785,3 +785,41 @@ def test_crossing_angles_degenerate_without_transverse_rotation():
     """No rotation across the axis (bc = bs = 0): the delta line is made of generators (the
     rule's other breakpoints), no crossing angles (NaN)."""
     assert all(math.isnan(a) for a in _crossing_angles(0.2, 0.1, -0.3, -0.5, 0.0, 0.0, 1.0, -1.0))
+
+
+def test_ramp_weights_integrate_the_switch_times_a_linear_function_exactly():
+    """The 2 nodes' product weights of a generator (issue 34 item 4): with the advancing switch
+    h = v.n / sqrt(v.n^2 + vrn^2) at the nodes folded back in, they integrate h(tau) (a + b tau)
+    over [-1, 1] exactly, v.n = vm + dv tau >= 0 on it, against scipy's adaptive quad (to 1e-9
+    of int h), from intervals that end at the delta line (vm = |dv|) through ramps much wider and
+    much narrower than the interval, either Taylor or closed-form moments; and they are Gauss's
+    (1, 1) where h is constant along the generator (dv = 0) or the interval lies far from the
+    ramp."""
+    from mineburial.kernels.mine.sediment.fast import N_XR, _ramp_weights
+
+    g = 1.0 / math.sqrt(3.0)
+    rng = np.random.default_rng(344)
+    checked = 0
+    for _ in range(300):
+        vrn = 10.0 ** rng.uniform(-4, -2)
+        dv = vrn * 10.0 ** rng.uniform(-5, 4) * rng.choice([-1.0, 1.0])
+        vm = abs(dv) * (1.0 + rng.choice([0.0, 10.0 ** rng.uniform(-3, 3)]))
+        wa, wb = _ramp_weights(vm, dv, vrn)
+
+        def h(t, vm=vm, dv=dv, vrn=vrn):
+            v = vm + dv * t
+            return v / math.sqrt(v * v + vrn * vrn) if v > 0.0 else 0.0
+
+        pts = [-vm / dv] if -1.0 < -vm / dv + vrn / abs(dv) < 1.0 else None
+        for p in (lambda t: 1.0, lambda t: t, lambda t: 0.3 - 2.0 * t):
+            want = integrate.quad(
+                lambda t, p=p: h(t) * p(t), -1.0, 1.0, points=pts, epsabs=0.0, epsrel=1e-11, limit=200
+            )[0]
+            got = wa * h(-g) * p(-g) + wb * h(g) * p(g)
+            scale = integrate.quad(h, -1.0, 1.0, points=pts, epsabs=0.0, epsrel=1e-11, limit=200)[0]
+            assert abs(got - want) < 1e-9 * scale, (vm, dv, vrn, got, want)
+        checked += 1
+    assert checked == 300 and N_XR == 2
+    assert _ramp_weights(0.0, 0.0, 5e-3) == (1.0, 1.0)  # v.n = 0 along the generator: friction only
+    assert np.allclose(_ramp_weights(0.3, 0.0, 5e-3), (1.0, 1.0), rtol=1e-14, atol=0.0)
+    assert np.allclose(_ramp_weights(50.0, 1.0, 5e-3), (1.0, 1.0), rtol=1e-8, atol=0.0)

@@ -30,7 +30,9 @@ between breakpoints that are continuous functions of the state, clamped into it:
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
 breakpoints crossing each other or the ends change the result continuously. At each
 node the embedded and advancing x-interval of the generator is exact (both conditions
-are linear in x), with N_X nodes.
+are linear in x), with N_XR = 2 Gauss nodes whose weights are product weights for the
+advancing switch's ramp along the generator (:func:`_ramp_weights`: exact for the ramp
+times a linear function, where an interval ends at the delta line; issue 34 item 4).
 
 End caps, point (xc, s d + t e) with d the unit direction of increasing depth in the
 cap plane: zeta = e0 + rperp s > 0 is s > s0, and s = R sin u, t in
@@ -57,6 +59,15 @@ N_U = 4
 N_S = 2
 #: Durand-Kerner sweeps for the seabed/delta crossing angles (at most), and the relative size of
 #: the quartic's leading coefficient below which it counts as degenerate.
+#: Nodes per generator of the cylinder's lateral surface (issue 34 item 4): 2 Gauss nodes with
+#: product weights for the advancing switch's ramp (:func:`_ramp_weights`); ``N_X`` (3 plain Gauss
+#: nodes) stays the rule of the bodies of revolution.
+N_XR = 2
+#: Where v.n changes along a generator's interval by less than this fraction of
+#: sqrt(v.n^2 + switch_speed^2) at its middle (from the middle to an end), the ramp's first moment
+#: comes from its Taylor series (truncation ~ RAMP_SERIES^5), where the closed form loses digits by
+#: cancellation (~ 1e-16 / RAMP_SERIES^2).
+RAMP_SERIES = 1.0e-2
 CROSS_ITERATIONS = 32
 CROSS_DEGENERATE = 1.0e-9
 #: The sweeps stop once no root moved by more than this fraction of its modulus (squared here):
@@ -203,6 +214,50 @@ def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
     )
 
 
+@small_kernel
+def _ramp_weights(vm, dv, vrn):
+    """Weights (per unit half-length) of the 2 Gauss nodes of a generator's interval that make
+    the rule exact for h(x) p(x), p any linear function and h = v.n / sqrt(v.n^2 + vrn^2) the
+    advancing switch's ramp (:func:`.laws._traction`), v.n = vm + dv tau on tau in [-1, 1]
+    (product integration; issue 34 item 4). The tractions are such products (plus the
+    friction, which has no ramp); plain Gauss nodes need 3 a generator for the ramp where the
+    interval ends at the delta line. Each node's traction already holds h at the node, so the
+    weight returned is the product weight over h there (0 where h is 0: no traction there).
+
+    Moments over tau: M0 = int h, M1 = int tau h, in u = v.n / vrn (u = um + du tau):
+    int h = [sqrt(1 + u^2)] / du and int (u - um) h = [(u S - asinh u) / 2 - um S] / du;
+    M0 in its cancellation-free form, M1 from its Taylor series where |du| < RAMP_SERIES S(um)."""
+    g = _GL_NODES[N_XR, 1]  # the nodes are -g, g
+    if not (vrn > 0.0):
+        return _GL_WEIGHTS[N_XR, 0], _GL_WEIGHTS[N_XR, 1]
+    um = vm / vrn
+    du = dv / vrn
+    ulo = um - du
+    uhi = um + du
+    slo = math.sqrt(1.0 + ulo * ulo)
+    shi = math.sqrt(1.0 + uhi * uhi)
+    sm = math.sqrt(1.0 + um * um)
+    m0 = 2.0 * (uhi + ulo) / (shi + slo)
+    if abs(du) < RAMP_SERIES * sm:
+        # h(u) = hm + h1 (du tau) + h3 (du tau)^3 / 6 + ..., h1 = S^-3, h3 = 3 (4 u^2 - 1) / S^7
+        m1 = du * (2.0 / 3.0) / (sm * sm * sm) + du * du * du * 0.2 * (4.0 * um * um - 1.0) / sm**7
+    else:
+        flo = 0.5 * (ulo * slo - math.asinh(ulo)) - um * slo
+        fhi = 0.5 * (uhi * shi - math.asinh(uhi)) - um * shi
+        m1 = (fhi - flo) / (du * du)
+    # product weights at -g, g: wa + wb = m0, g (wb - wa) = m1
+    wa = 0.5 * (m0 - m1 / g)
+    wb = 0.5 * (m0 + m1 / g)
+    ha = vm - dv * g
+    hb = vm + dv * g
+    ha = ha / math.sqrt(ha * ha + vrn * vrn) if ha > 0.0 else 0.0
+    hb = hb / math.sqrt(hb * hb + vrn * vrn) if hb > 0.0 else 0.0
+    # where v.n is 0 at a node (v.n = 0 along the whole generator, up to rounding: the nodes are
+    # inside the interval where v.n >= 0) only the friction acts there: the weight is the limit
+    # of the ratio as v.n -> 0 along the generator, Gauss's
+    return (wa / ha if ha > 0.0 else 1.0), (wb / hb if hb > 0.0 else 1.0)
+
+
 @kernel
 def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
@@ -239,9 +294,12 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         return f1, f2, f3, m1, m2, m3
     h = 0.5 * (hi - lo)
     mid = 0.5 * (hi + lo)
-    for i in range(N_X):
-        x = mid + h * _GL_NODES[N_X, i]
-        wgt = h * _GL_WEIGHTS[N_X, i]
+    wa, wb = _ramp_weights(b0 + b1 * mid, b1 * h, law[22])
+    for i in range(N_XR):
+        x = mid + h * _GL_NODES[N_XR, i]
+        wgt = h * (wa if i == 0 else wb)
+        if not (wgt != 0.0):
+            continue
         g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law, bank)
         f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
