@@ -49,7 +49,13 @@ import math
 from mineburial._numba import kernel, small_kernel
 from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
-from mineburial.kernels.mine.sediment.laws import _traction, add_point_traction, add_weighted
+from mineburial.kernels.mine.sediment.laws import (
+    LAW_MU,
+    LAW_VREG_N,
+    _traction,
+    add_point_traction,
+    add_weighted,
+)
 
 #: Gauss-Legendre points: per theta panel (N_T), per generator (N_X), per u panel of a
 #: cap (N_U), per cap chord (N_S) (the depth is constant along a chord).
@@ -57,8 +63,6 @@ N_T = 3
 N_X = 3
 N_U = 4
 N_S = 2
-#: Durand-Kerner sweeps for the seabed/delta crossing angles (at most), and the relative size of
-#: the quartic's leading coefficient below which it counts as degenerate.
 #: Nodes per generator of the cylinder's lateral surface (issue 34 item 4): 2 Gauss nodes with
 #: product weights for the advancing switch's ramp (:func:`_ramp_weights`); ``N_X`` (3 plain Gauss
 #: nodes) stays the rule of the bodies of revolution.
@@ -68,6 +72,8 @@ N_XR = 2
 #: comes from its Taylor series (truncation ~ RAMP_SERIES^5), where the closed form loses digits by
 #: cancellation (~ 1e-16 / RAMP_SERIES^2).
 RAMP_SERIES = 1.0e-2
+#: Durand-Kerner sweeps for the seabed/delta crossing angles (at most), and the relative size of
+#: the quartic's leading coefficient below which it counts as degenerate.
 CROSS_ITERATIONS = 32
 CROSS_DEGENERATE = 1.0e-9
 #: The sweeps stop once no root moved by more than this fraction of its modulus (squared here):
@@ -294,7 +300,7 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         return f1, f2, f3, m1, m2, m3
     h = 0.5 * (hi - lo)
     mid = 0.5 * (hi + lo)
-    wa, wb = _ramp_weights(b0 + b1 * mid, b1 * h, law[22])
+    wa, wb = _ramp_weights(b0 + b1 * mid, b1 * h, law[LAW_VREG_N])
     for i in range(N_XR):
         x = mid + h * _GL_NODES[N_XR, i]
         wgt = h * (wa if i == 0 else wb)
@@ -527,7 +533,7 @@ def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     """
     xa = -0.5 * L - chi
     xb = 0.5 * L - chi
-    tangential = law[6] != 0.0
+    tangential = law[LAW_MU] != 0.0
     f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential)
     for k in range(2):
         xc = xb if k == 0 else xa
