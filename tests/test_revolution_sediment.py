@@ -73,9 +73,13 @@ def test_tapered_rule_at_slope_zero_is_the_cylinders_to_rounding(seed):
     law = _law(2.0 * R, P_SED_RESISTANCE=2, P_SED_RATE_LAW=1)
     got = np.array(rsed.tapered_lateral(x0, x1, R, R, d0, *c2, vb, law, EMPTY_BANK, True))
     ref = np.array(_lateral(R, x0, x1, d0, *c2, vb, law, EMPTY_BANK, True))
-    # the same panels, the seabed/delta crossing breakpoints (issue 34 item 3) included: the
-    # same integral to rounding (measured 1.0e-16 to 2.4e-16 of the largest component)
-    np.testing.assert_allclose(got, ref, rtol=0.0, atol=1e-13 * (np.abs(ref).max() + 1e-300))
+    # the same panels, the seabed/delta crossing breakpoints (issue 34 item 3) included; along a generator
+    # the cylinder's rule takes 2 Gauss nodes with the ramp's product weights (issue 34 item 4), the
+    # tapered rule 3 plain Gauss nodes (the ramp weights cost it 5 % on a cone with the delta law's
+    # unramped friction, test_frustum_tractions_match_a_midpoint_rule_of_the_definition), so they agree to
+    # their quadrature error: measured 0.013-0.175 % of the largest component (was 2.4e-16 with the
+    # same nodes)
+    np.testing.assert_allclose(got, ref, rtol=0.0, atol=5e-3 * (np.abs(ref).max() + 1e-300))
 
 
 @njit(cache=False)
