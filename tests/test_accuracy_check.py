@@ -121,7 +121,7 @@ def test_a_loose_tolerance_warns_and_the_defaults_do_not(runs, tmp_path, capsys)
     assert int(checked.attrs["numerical_check_exceeds_targets"]) == 0
     assert "WARNING" not in summarize(checked) and f"numerical self-check ({SIZE} drops" in summarize(checked)
     scen = tmp_path / "loose.toml"
-    scen.write_text(dumps_toml(steep({"rtol": 1e-2, "atol": 1e-3}, n=N, seed=SEED)))
+    scen.write_text(dumps_toml(steep({"rtol": 5e-2, "atol": 5e-3}, n=N, seed=SEED)))
     out = tmp_path / "loose.nc"
     assert main(["run", str(scen), "-o", str(out), "--quiet"]) == 0
     printed = capsys.readouterr().out
