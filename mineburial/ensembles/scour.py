@@ -42,7 +42,7 @@ from mineburial.io import wave_products
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
 from mineburial.kernels.mine import status as status_codes
-from mineburial.kernels.mine.bodies.shapes import DEFAULT_SHAPE, shape_of_params
+from mineburial.kernels.mine.bodies.shapes import shape_named, shape_of_params
 from mineburial.kernels.mine.scour_batch import MEASURE_NAMES, N_REST, R_AZ, R_ZC, scour_drops_ends
 from mineburial.scenario_fields import SCOUR_BURIAL_LAWS, SCOUR_LAW_FROM_POSTERIOR
 from mineburial.sediment_profiles import CATALOGUE, catalogue_profile
@@ -417,13 +417,12 @@ def _column(spec, inputs, name, n):
     return np.full(n, spec.values[name])
 
 
-#: the scour stage refuses a body other than the lying cylinder its laws were fitted to (docs/scour.md,
-#: docs/bodies_revolution.md "The scour stage and a frustum")
-NOT_FOR_SHAPE = (
-    "mine.shape = '{shape}' with a [scour] section: the scour stage's laws (Whitehouse's scour time "
-    "scale, Rennie's burial, the pit and mobility laws) are a lying cylinder's of diameter D and "
-    "have no frustum version; remove [scour] or use mine.shape = 'cylinder' "
-    "(docs/bodies_revolution.md)"
+#: the tilt state is a lying body's (its two ends); a body that stands on its base in the stage has none
+#: (docs/scour.md, Standing body; docs/bodies_revolution.md "The scour stage and a frustum")
+NOT_FOR_STANDING = (
+    "scour.rest_attitude = 'impact' with mine.shape = '{shape}': the tilt state levels a lying "
+    "body's two ends; a {shape} stands on its base in the scour stage (docs/scour.md, Standing "
+    "body); remove rest_attitude or give rest_attitude = 'flat'"
 )
 
 
@@ -438,11 +437,15 @@ def stage_parameters(spec: ScourSpec, P, inputs):
         (n, 1),
     )
     shape = shape_of_params(P)  # the drop's body (kernels/mine/bodies/shapes.py)
-    if shape is not DEFAULT_SHAPE:
-        raise cfg.ScenarioError(NOT_FOR_SHAPE.format(shape=shape.name))
     dims = shape.dims_of_params(P)
     volume = shape.volume(dims)
     S[:, sc.S_DIAMETER] = shape.reference_lengths(dims)[0]
+    if shape.scour_attitude == "standing":  # a short body on its base: the pile laws (docs/scour.md)
+        standing, diameter, height, flank = shape.scour_geometry(dims)
+        S[:, sc.S_STANDING] = standing
+        S[:, sc.S_DIAMETER] = diameter
+        S[:, sc.S_HEIGHT] = height
+        S[:, sc.S_FLANK_ANGLE] = flank
     S[:, sc.S_RHO_WATER] = P[:, layout.P_RHO_WATER]
     S[:, sc.S_MINE_SG] = P[:, layout.P_MASS] / (volume * P[:, layout.P_RHO_WATER])
     S[:, sc.S_NU] = P[:, layout.P_NU_WATER]
@@ -507,12 +510,14 @@ def run_chunk(spec: ScourSpec, P, summary, status, inputs) -> dict:
     run = run.astype(np.uint8)
     level, table = np.array(f.water_level), _orbital_table()
     start, length = window_starts(spec, inputs, n)
+    marker = shape_of_params(P).marker()  # None for the default shape: its kernels as before
+    shape = () if marker is None else (marker,)
 
     def stage(a, b):  # rows [a, b): each drop's stage reads and writes only its own rows
         scour_drops_ends(
             S[a:b], scale[a:b], depth[a:b], run[a:b], P[a:b], rest[a:b], t, hs, tp, wdir, uc, cdir,
             level, start[a:b], length, table, leads, levels, measures[a:b], time_to[a:b], mobile[a:b],
-            codes[a:b], pit[a:b], mobile_lead[a:b], tilt[a:b],
+            codes[a:b], pit[a:b], mobile_lead[a:b], tilt[a:b], *shape,
         )  # fmt: skip
 
     # in blocks on the drops' runner: Ctrl-C ends the stage within about a block, as the
@@ -755,6 +760,16 @@ def mobile_by_lead_time(mobile_days, lead_days) -> np.ndarray:
     return (m[:, None] <= np.asarray(lead_days, dtype=np.float64)[None, :]).mean(axis=0)
 
 
+def _stands(ds) -> bool:
+    """Whether the run's body stands on its base in the stage (its shape's ``scour_attitude``; the
+    resolved scenario's ``mine.shape``): its burial levels are then fractions of its height h."""
+    try:
+        name = json.loads(ds.attrs["scenario"])["mine"]["shape"]
+        return shape_named(name).scour_attitude == "standing"
+    except (KeyError, TypeError, ValueError):
+        return False
+
+
 def summary_lines(ds) -> list[str]:
     """The class probabilities per lead time as a small table, the times to reach the levels and
     the share of drops flagged mobile."""
@@ -771,8 +786,9 @@ def summary_lines(ds) -> list[str]:
     for j, lead in enumerate(ds["lead_time"].values):
         lines.append(f"  {lead:8.3g} " + " ".join(f"{v:11.3f}" for v in p[j]))
     tq = ds["scour_time_to_level_quantile"].sel(quantile=0.5).values
+    unit = "B/h" if _stands(ds) else "B/D"  # the levels are fractions of the body's height on the bed
     for level, med, frac in zip(ds["burial_level"].values, tq, ds["scour_level_reached_fraction"].values):
-        lines.append(f"  B/D >= {level:g}: reached by {frac:.3f} of the drops, median time {med:.3g} d")
+        lines.append(f"  {unit} >= {level:g}: reached by {frac:.3f} of the drops, median time {med:.3g} d")
     counts = ds["scour_status_count"].values
     left = [f"{SCOUR_STATUS_NAMES[k]} {int(c)}" for k, c in enumerate(counts) if c and k != 0]
     if left:
@@ -804,8 +820,9 @@ class ScourProcess:
     section = "scour"
 
     def load(self, section, *, base_dir, base, template, random) -> ScourSpec:
-        if base.mine.shape != DEFAULT_SHAPE.name:  # the laws are a lying cylinder's: refused at load
-            raise cfg.ScenarioError(NOT_FOR_SHAPE.format(shape=base.mine.shape))
+        standing = shape_named(base.mine.shape).scour_attitude == "standing"
+        if standing and section.get("rest_attitude") == "impact":  # the tilt state is a lying body's
+            raise cfg.ScenarioError(NOT_FOR_STANDING.format(shape=base.mine.shape))
         depth = None if "environment.water_depth" in random else base.environment.water_depth
         classes = sediment_classes(template.get("sediment"), random.get("sediment.class"))
         return parse(section, base_dir, depth, classes)

@@ -95,6 +95,10 @@ PARAM_NAMES = (
     "scour.rest_attitude",  # REST_FLAT (laid flat at lead 0) or REST_IMPACT (the impact's attitude)
     "derived.b0_high",  # REST_IMPACT: depth [m] of the higher end's lowest point at lead 0 (< 0: proud)
     "derived.axis_span",  # REST_IMPACT: axial span L [m] of the mine (tail to nose): sin(tilt) = (B - H)/L
+    # issue 36: the body's attitude in the stage (the body protocol's, shapes.Shape.scour_geometry)
+    "derived.standing",  # 0: a body lying on its side (the cylinder); 1: a short body standing on its base
+    "derived.height",  # STANDING: the body's height [m] above its base (B = height: top level with the bed)
+    "derived.flank_angle",  # STANDING: the flank's inclination from the vertical [rad] (0: a vertical wall)
 )
 N_PARAMS = len(PARAM_NAMES)
 
@@ -141,6 +145,9 @@ S_MOB_CD = slot("scour.mobility_drag")
 S_REST_ATTITUDE = slot("scour.rest_attitude")
 S_B0_HIGH = slot("derived.b0_high")
 S_AXIS_SPAN = slot("derived.axis_span")
+S_STANDING = slot("derived.standing")
+S_HEIGHT = slot("derived.height")
+S_FLANK_ANGLE = slot("derived.flank_angle")
 
 #: burial laws (S_BURIAL_LAW): the first version's single state B relaxing to D a theta^b
 #: (Rennie et al. 2017), and the scour-and-settle law (pit depth S and burial B as two states)
@@ -233,6 +240,9 @@ def default_parameters(**overrides):
     p[S_REST_ATTITUDE] = REST_FLAT  # the first version's: existing scenarios keep their answers
     p[S_B0_HIGH] = 0.0
     p[S_AXIS_SPAN] = 1.0
+    p[S_STANDING] = 0.0  # the lying cylinder (the first version's): existing scenarios keep their answers
+    p[S_HEIGHT] = 0.53  # unused while lying (the lying body's height is its diameter)
+    p[S_FLANK_ANGLE] = 0.0
     for key, value in overrides.items():
         p[globals()["S_" + key.upper()]] = value
     return p
@@ -634,6 +644,99 @@ def pit_target(p, theta, theta_cr, ub, tb, uc):
     return s_eq, t_scale
 
 
+# --- a short body standing on its base (issue 36: a Manta-like frustum; docs/scour.md, Standing body) ----
+
+#: S/D of local scour at a vertical pile in a steady current, live bed (Sumer, Fredsoe & Christiansen
+#: 1992, J. Waterway Port Coastal Ocean Eng. 118(1); Breusers, Nicollet & Shen 1977, J. Hydraul. Res.
+#: 15(3)); the KC -> infinity limit of :func:`pile_scour_ratio`
+PILE_CURRENT_RATIO = 1.3
+#: the flank's inclination [deg] and the factor on the scour depth of a vertical pile: Al-Awadi 2021
+#: (Math. Model. Eng. Probl. 8(5):787, abstract), piers inclined downstream at 10, 16 and 22 deg scour
+#: about 5, 10 and 15 % less than the vertical pier near the threshold (V/Vc = 0.989, clear water,
+#: d50 0.72 mm). The upstream face of a frustum standing on its base leans downstream by its half-angle.
+FLANK_DEG = (0.0, 10.0, 16.0, 22.0)
+FLANK_FACTOR = (1.0, 0.95, 0.90, 0.85)
+
+
+@kernel
+def pile_scour_ratio(kc, ucw):
+    """S/D of local scour at a vertical pile in combined waves and current (Sumer & Fredsoe 2001,
+    J. Hydraul. Eng. 127(5):403, as quoted in sources.md section 3 and coded in pyCoastal
+    ``scour_ratio_combined``): 1.3 {1 - exp[-A (KC - B)]} for KC > B, else 0, with A = 0.03 + 0.75
+    U_cw^2.6 and B = 6 exp(-4.7 U_cw). U_cw = 0 is the waves-only law of Sumer, Fredsoe &
+    Christiansen (1992), no scour below KC = 6 (no horseshoe vortex)."""
+    a = 0.03 + 0.75 * ucw**2.6
+    b = 6.0 * math.exp(-4.7 * ucw)
+    if not kc > b:
+        return 0.0
+    return PILE_CURRENT_RATIO * (1.0 - math.exp(-a * (kc - b)))
+
+
+@kernel
+def flank_factor(angle):
+    """Factor <= 1 on a vertical pile's scour depth for a flank inclined ``angle`` [rad] from the
+    vertical: linear between the published points FLANK_DEG / FLANK_FACTOR (Al-Awadi 2021), held at
+    the last (0.85 at 22 deg) beyond them: no extrapolation past the measured range (our choice,
+    docs/scour.md)."""
+    deg = math.degrees(angle)
+    if not deg > 0.0:
+        return 1.0
+    for k in range(1, len(FLANK_DEG)):
+        if deg <= FLANK_DEG[k]:
+            w = (deg - FLANK_DEG[k - 1]) / (FLANK_DEG[k] - FLANK_DEG[k - 1])
+            return FLANK_FACTOR[k - 1] + w * (FLANK_FACTOR[k] - FLANK_FACTOR[k - 1])
+    return FLANK_FACTOR[len(FLANK_FACTOR) - 1]
+
+
+@kernel
+def standing_equilibrium(theta, theta_cr, kc, ucw, theta_c, diameter, angle):
+    """Equilibrium depth [m] of the local scour at the foot of a short body standing on its base of
+    diameter ``diameter`` (its horseshoe vortex; docs/scour.md, Standing body):
+    D K(angle) max(f(theta) S/D(KC, U_cw), f(theta_c) 1.3), f = :func:`onset_factor`.
+
+    S/D is the pile law in waves and current (:func:`pile_scour_ratio`), taken without a height
+    factor: the scour depth at a submerged cylinder's upstream edge does not depend on its height
+    for h/D < 2 (Zhao, Cheng & Zang 2010, Coastal Eng. 57:709, abstract). The second term is the
+    current's own scour, the steady-current pile value 1.3 (Sumer et al. 1992) where the current
+    alone (Shields parameter ``theta_c``) moves the bed: the KC of the combined law is the waves',
+    so small waves on a strong current would give almost none (pyCoastal's floor, an addition to the
+    published law). K is :func:`flank_factor`; the onset factor takes it to zero at the threshold
+    of motion, as the scour-and-settle pit (our choice, docs/scour.md)."""
+    s_wc = onset_factor(theta, theta_cr) * pile_scour_ratio(kc, ucw)
+    s_c = onset_factor(theta_c, theta_cr) * PILE_CURRENT_RATIO
+    return diameter * flank_factor(angle) * max(s_wc, s_c)
+
+
+@kernel
+def standing_target(p, theta, theta_cr, ub, tb, uc, theta_c):
+    """(S_eq, T) of one forcing sample for a body standing on its base: :func:`standing_equilibrium`
+    capped by full burial (the body's height: its top level with the bed), the mobile layer and, in
+    coarse sand, the exposure limit above the ripples (:func:`exposure_limit` of the height), with
+    the section's time scale (:func:`scour_time_scale` of the base diameter, KC = U_w T_w / D). A
+    cohesive bed: (0, inf)."""
+    diameter = p[S_DIAMETER]
+    height = p[S_HEIGHT]
+    d50 = p[S_D50]
+    if p[S_COHESIVE] != 0.0:
+        return 0.0, math.inf
+    kc = ub * tb / diameter
+    ucw = current_ratio(uc, ub)
+    s_eq = standing_equilibrium(theta, theta_cr, kc, ucw, theta_c, diameter, p[S_FLANK_ANGLE])
+    s_eq = min(min(s_eq, height), p[S_MOBILE_LAYER])
+    w = coarse_weight(d50, p[S_RIPPLE_D50])
+    if w > 0.0:
+        eta = ripple_height(ub * tb / math.pi, d50)
+        if eta >= 0.0:
+            s_eq = min(s_eq, exposure_limit(height, eta, p[S_RIPPLE_EXPOSURE], w))
+    if not theta > theta_cr:
+        return s_eq, math.inf
+    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
+    t_scale = scour_time_scale(
+        theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
+    )
+    return s_eq, t_scale
+
+
 @kernel
 def relax_pit(s, s_eq, dt, t_grow, t_fill):
     """Pit depth after dt under constant forcing, the exact solution of dS/dt = (S_eq - S)/T with
@@ -942,6 +1045,14 @@ def parameters_valid(p):
             return False
         if p[S_B0] - p[S_B0_HIGH] > p[S_AXIS_SPAN] * (1.0 + 1e-12):  # sin(tilt) <= 1
             return False
+    standing = p[S_STANDING]
+    if not (standing == 0.0 or standing == 1.0):
+        return False
+    if standing == 1.0:  # a body standing on its base: its height and flank; no tilt state
+        if not (p[S_HEIGHT] > 0.0 and p[S_HEIGHT] < math.inf and attitude == REST_FLAT):
+            return False
+        if not (p[S_FLANK_ANGLE] >= 0.0 and p[S_FLANK_ANGLE] < 0.5 * math.pi):
+            return False
     z = p[S_CURRENT_Z]
     if not (math.isfinite(z) and (z <= 0.0 or z >= 2.5 * p[S_D50])):
         return False
@@ -1085,6 +1196,8 @@ def scour_stage_ends(
     theta_mob = mobility_threshold(diameter, 2.5 * d50, p[S_MOB_C], p[S_MOB_P])
     b_proud = p[S_MOB_BURIAL_MAX] * diameter
     settle = p[S_BURIAL_LAW] == BURIAL_SCOUR_SETTLE
+    standing = p[S_STANDING] == 1.0  # a short body on its base: the pile laws, no mobility criterion
+    size = p[S_HEIGHT] if standing else diameter  # the burial levels' unit: the height in the attitude
     rate = p[S_BED_RATE]
     t_fill = p[S_INFILL_TIME]
     b = p[S_B0]
@@ -1099,7 +1212,7 @@ def scour_stage_ends(
             out_pit[order[j]] = pit
             out_high[order[j]] = hb
     for k in range(fractions.shape[0]):
-        if b >= fractions[k] * diameter:
+        if b >= fractions[k] * size:
             out_time_to[k] = 0.0
     t_mobile = math.inf
     theta_max = 0.0
@@ -1108,7 +1221,9 @@ def scour_stage_ends(
         te = t[i + 1] - t[0]
         theta, ub, tb, u = bed_forcing(p, hs[i], tp[i], wdir[i], uc[i], cdir[i], h[i], table)
         theta_max = max(theta_max, theta)
-        if tilted:
+        if standing:  # Rennie et al.'s criteria are a lying cylinder's rolling (docs/scour.md)
+            mobile_now = False
+        elif tilted:
             mobile_now = is_mobile_tilted(p, u, b, hb, theta_mob, b_proud)
         else:
             mobile_now = is_mobile(p, u, b, theta_mob, b_proud)
@@ -1118,7 +1233,11 @@ def scour_stage_ends(
             for j in range(nxt):
                 if out_burial[order[j]] == out_burial[order[j]]:
                     out_mobile[order[j]] = 1.0 if mobile_now else 0.0
-        if settle:
+        if standing:
+            tau_c = current_stress(uc[i], p[S_CURRENT_Z], h[i], d50, p[S_RHO_WATER])
+            theta_c = shields(tau_c, p[S_RHO_WATER], s, g, d50)
+            s_eq, t_scale = standing_target(p, theta, theta_cr, ub, tb, uc[i], theta_c)
+        elif settle:
             s_eq, t_scale = pit_target(p, theta, theta_cr, ub, tb, uc[i])
         else:
             s_eq, t_scale = burial_target(p, theta, theta_cr, ub, tb)
@@ -1136,7 +1255,7 @@ def scour_stage_ends(
                 moving = is_mobile_tilted(p, u, out_burial[j], out_high[j], theta_mob, b_proud)
             else:
                 out_high[j] = out_burial[j]
-                moving = is_mobile(p, u, out_burial[j], theta_mob, b_proud)
+                moving = False if standing else is_mobile(p, u, out_burial[j], theta_mob, b_proud)
             out_mobile[j] = 1.0 if moving else 0.0
             nxt += 1
         if settle:
@@ -1147,7 +1266,7 @@ def scour_stage_ends(
             pit_next = b_next
         hb = settled_high_end(b, hb, pit_next, te - ta, rate) if tilted else b_next
         for k in range(fractions.shape[0]):
-            target = fractions[k] * diameter
+            target = fractions[k] * size
             if out_time_to[k] == math.inf and b_next >= target:
                 # under scour and settle only the pit's growth raises B within an interval
                 start = pit if settle else b

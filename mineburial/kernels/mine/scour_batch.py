@@ -75,6 +75,45 @@ def lying_burial(body, a_z, z_c):
 
 
 @kernel
+def standing_burial(body, a_z, z_c):
+    """Initial burial [m] of the stage's standing body (a frustum on its base, axis vertical, base
+    down; docs/scour.md, Standing body) from the impact's rest state (bed at z = 0): the depth of the
+    base below the bed of the level standing body with the same fraction of its volume below the
+    bed as at the impact's attitude (as :func:`lying_burial` for the lying one: the lead-0 burial by
+    volume is the impact's), by bisection on the body's own ``bodies.burial`` to the last bit. A
+    body wholly below the bed stands with its top as deep (its height + that depth)."""
+    x_tail, x_nose = bodies.ends(body)
+    height = x_nose - x_tail
+    _, z_max = bodies.extent(body, a_z, z_c)
+    if z_max <= 0.0:
+        return height - z_max
+    pct_v, _, _, _, _ = bodies.burial(body, a_z, z_c, 0.0)
+    if pct_v >= 100.0:
+        return height
+    if pct_v <= 0.0:
+        return 0.0
+    z_low = bodies.lowest_offset(body, 1.0, 0.0, 0.0)  # the base below the COM, axis up
+    lo = 0.0
+    hi = height
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if bodies.burial(body, 1.0, 0.0, mid + z_low)[0] < pct_v:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@kernel
+def standing_measures(body, b):
+    """The burial measures (``bodies.burial``) of the standing body (axis vertical, base down) with
+    its base ``b`` below the bed."""
+    return bodies.burial(body, 1.0, 0.0, b + bodies.lowest_offset(body, 1.0, 0.0, 0.0))
+
+
+@kernel
 def forcing_window(t, offset, length, idx, tw):
     """The records of the window from ``offset`` to ``offset + length`` [s after t[0]], cut as
     :func:`mineburial.io.forcing.window` cuts them (record k holds over [t_k, t_k+1)): the record
@@ -102,13 +141,13 @@ def forcing_window(t, offset, length, idx, tw):
 @kernel
 def scour_drops(
     S, hs_scale, depth, run, P, rest, t, hs, tp, wdir, uc, cdir, level, start, length, table, lead_times,
-    fractions, out_measures, out_time_to, out_mobile, out_status, out_pit, out_mobile_lead,
+    fractions, out_measures, out_time_to, out_mobile, out_status, out_pit, out_mobile_lead, shape=None,
 ):  # fmt: skip
     """:func:`scour_drops_ends` without the tilt output (same arguments otherwise)."""
     scour_drops_ends(
         S, hs_scale, depth, run, P, rest, t, hs, tp, wdir, uc, cdir, level, start, length, table, lead_times,
         fractions, out_measures, out_time_to, out_mobile, out_status, out_pit, out_mobile_lead,
-        np.empty((S.shape[0], lead_times.shape[0])),
+        np.empty((S.shape[0], lead_times.shape[0])), shape,
     )  # fmt: skip
 
 
@@ -163,6 +202,7 @@ def scour_drops_ends(
     out_pit,
     out_mobile_lead,
     out_tilt,
+    shape=None,
 ):
     """Run the stage for each drop ``i`` with ``run[i]``: ``S[i]`` its stage parameters (S_* layout
     of kernels/mine/scour.py), ``hs_scale[i]`` its factor on Hs, ``depth[i]`` its water depth [m] (the
@@ -223,9 +263,12 @@ def scour_drops_ends(
             wdir_w[m] = wdir[k]
             uc_w[m] = uc[k]
             cdir_w[m] = cdir[k]
-        body = body_of(P[i], None)  # the default shape: the stage refuses another (ensembles/scour.py)
+        body = body_of(P[i], shape)  # the drop's body: ``shape`` the prototype of a non-default shape
         tilted = S[i, sc.S_REST_ATTITUDE] == sc.REST_IMPACT
-        if tilted:
+        standing = S[i, sc.S_STANDING] == 1.0
+        if standing:  # a short body on its base (a frustum; the stage refuses a tilt state for it)
+            S[i, sc.S_B0] = standing_burial(body, rest[i, R_AZ], rest[i, R_ZC])
+        elif tilted:
             b0, h0, span = impact_ends(body, rest[i, R_AZ], rest[i, R_ZC])
             S[i, sc.S_B0] = b0
             S[i, sc.S_B0_HIGH] = h0
@@ -258,6 +301,14 @@ def scour_drops_ends(
                 out_measures[i, 4, j] = proud
                 continue
             out_tilt[i, j] = 0.0
+            if standing:  # the base level (no tilt output: "impact" is refused for a standing body)
+                pv, ph, pa, proud, pen = standing_measures(body, b)
+                out_measures[i, 0, j] = pen
+                out_measures[i, 1, j] = pv
+                out_measures[i, 2, j] = ph
+                out_measures[i, 3, j] = pa
+                out_measures[i, 4, j] = proud
+                continue
             # the lying mine (a_z = 0, COM at z = 0, lowest point at -R) with the bed B above it
             pv, ph, pa, proud, pen = bodies.burial(
                 body, 0.0, 0.0, b + bodies.lowest_offset(body, 0.0, 0.0, 1.0)

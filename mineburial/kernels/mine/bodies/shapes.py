@@ -151,6 +151,16 @@ class CylinderShape(Shape):
         """The diameter and the length themselves."""
         return dims["mine.diameter"], dims["mine.length"]
 
+    #: the body's attitude in the scour stage: lying on its side (docs/scour.md, Rest attitude)
+    scour_attitude = "lying"
+
+    @staticmethod
+    def scour_geometry(dims):
+        """``(standing, diameter, height, flank_angle)`` for the scour stage's laws: the lying
+        cylinder (``standing`` 0) of its diameter, whose height on the bed is the diameter; no flank."""
+        d = dims["mine.diameter"]
+        return 0.0, d, d, 0.0
+
     @staticmethod
     def _extent_row(length, diameter, com_offset, a_z, z):
         """(z_min, z_max) of one cylinder (:func:`.geometry.vertical_extent`, the stepper's event)."""
@@ -294,6 +304,20 @@ class FrustumShape(ProfileShape):
         j1, j2 = super().inertia(mass, dims)
         c1, c2 = CylinderShape.inertia(mass, dims)
         return self._as_cylinder(dims, j1, c1), self._as_cylinder(dims, j2, c2)
+
+    #: the body's attitude in the scour stage: standing on its base, axis vertical (docs/scour.md,
+    #: Standing body; docs/bodies_revolution.md, "The scour stage and a frustum")
+    scour_attitude = "standing"
+
+    @staticmethod
+    def scour_geometry(dims):
+        """``(standing, diameter, height, flank_angle)`` for the scour stage's laws: a short body
+        standing on its base (``standing`` 1) of the base diameter, its height the length, its flank
+        inclined ``atan((R_base - R_top) / L)`` from the vertical (the half-angle of the cone)."""
+        d = np.asarray(dims["mine.diameter"], dtype=np.float64)
+        length = np.asarray(dims["mine.length"], dtype=np.float64)
+        flank = np.arctan(0.5 * d * (1.0 - np.asarray(dims["mine.top_ratio"], dtype=np.float64)) / length)
+        return 1.0, d, length, flank
 
     @staticmethod
     def _profile(dims):
