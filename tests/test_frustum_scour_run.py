@@ -77,3 +77,34 @@ def test_the_storm_buries_it_monotonically_within_its_height(chunk):
     assert np.all(out["scour:mobile_lead"] == 0.0) and np.all(np.isinf(out["scour:mobile"]))
     # the storm (Hs to 2.5 m at 10 s, 0.4 m/s current, 12 m) scours: the burial grows
     assert np.all(pen[:, order[-1]] > pen[:, order[0]])
+
+
+def test_manta_scour_end_to_end(tmp_path, capsys):
+    """Four drops of the example through ``mineburial run``: impact, rest, scour. The stage's lead-0
+    burial by volume is the impact's (the standing frustum keeps the buried volume: a conservation
+    statement), each lead time's burial by volume is the standing frustum's closed form of its
+    penetration, and the summary prints the levels as fractions of the height."""
+    from mineburial.cli import main
+
+    out = tmp_path / "manta.nc"
+    path = str(example_path("manta_scour"))
+    assert main(["run", path, "-n", "4", "--per-drop", "--threads", "1", "-o", str(out), "--quiet"]) == 0
+    assert "B/h >= 0.5" in capsys.readouterr().out
+    import xarray as xr
+
+    with xr.open_dataset(out) as ds:
+        assert np.all(ds["scour_status"].values == sc.SCOUR_OK)
+        np.testing.assert_allclose(
+            ds["scour_burial_volume"].values[:, 0], ds["burial_volume"].values, atol=1e-9
+        )
+        top = ds["input_mine_top_ratio"].values
+        pen = ds["scour_penetration_depth"].values
+        vol = np.array(
+            [
+                [100.0 * standing_volume_fraction(b, 0.44, 0.49, 0.49 * t) for b in row]
+                for row, t in zip(pen, top)
+            ]
+        )
+        np.testing.assert_allclose(ds["scour_burial_volume"].values, vol, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(ds["scour_height_proud"].values, 0.44 - pen, atol=1e-12)
+        assert np.all(pen[:, -1] > pen[:, 0]) and np.all(pen <= 0.44 + 1e-12)  # the storm scours, within h

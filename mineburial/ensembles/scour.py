@@ -764,9 +764,10 @@ def _stands(ds) -> bool:
     """Whether the run's body stands on its base in the stage (its shape's ``scour_attitude``; the
     resolved scenario's ``mine.shape``): its burial levels are then fractions of its height h."""
     try:
-        name = json.loads(ds.attrs["scenario"])["mine"]["shape"]
+        resolved = json.loads(ds.attrs["scenario"])
+        name = resolved.get("scenario", resolved)["mine"]["shape"]
         return shape_named(name).scour_attitude == "standing"
-    except (KeyError, TypeError, ValueError):
+    except (KeyError, TypeError, ValueError, AttributeError):
         return False
 
 

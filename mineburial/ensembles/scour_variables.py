@@ -65,7 +65,8 @@ def _scour_coordinates() -> list[Variable]:
             "float64",
             "1",
             "burial level B/D",
-            "Burial of the lowest point as a fraction of the mine diameter whose time to reach is reported.",
+            "Burial of the lowest point as a fraction of the mine diameter (of its height for a body "
+            "standing on its base: a frustum, docs/scour.md) whose time to reach is reported.",
             fill_value=_NO_FILL,
             group="statistics",
         ),
@@ -223,7 +224,8 @@ def _scour_time_variables() -> list[Variable]:
             "float64",
             "days",
             "time to reach the burial level",
-            "Time after the start of the forcing at which the burial B/D first reaches the level; 0: the "
+            "Time after the start of the forcing at which the burial B/D (B/h for a body standing on its "
+            "base) first reaches the level; 0: the "
             "impact burial is there already; inf: not within the forcing.",
         ),
         Variable(
