@@ -1174,6 +1174,9 @@ def scour_stage_ends(
     max(B_self - r tau, S, 0) (:func:`settled_burial`), exact for a constant lowering rate r >= 0.
     REST_IMPACT (scour and settle only): the mine keeps the impact's tilt, a second state, the depth H
     of its higher end (:func:`settled_high_end`, pointwise as B); B is the lower end's, as level.
+    S_STANDING = 1 (a short body on its base, a frustum): the equilibrium and time scale of
+    :func:`standing_target` (the pile laws), B the depth of the base, the burial levels fractions of
+    S_HEIGHT, no mobility criterion (docs/scour.md, Standing body).
     The lead times are visited in sorted order with one pointer: O(N_intervals + N_leads log N_leads).
     """
     out_burial[:] = math.nan
