@@ -5,7 +5,9 @@ Run:  python benchmarks/bench_second_run.py [--runs 3] [--run-args "-n 2000"] [-
 Each run is a fresh interpreter (bytecode cached, the numba cache where it is: run ``mineburial run``
 once first to fill it) that times ``mineburial.cli.main(["run", "-o", OUT, "--quiet", ...])`` with
 some of its functions wrapped (measurement only). Per phase it gives the wall seconds (inclusive, on
-the thread that ran it) and the process's CPU seconds (all threads) while it ran, and, of the wall,
+the thread that ran it), the process's CPU seconds (all threads) while it ran, the CPU seconds of
+the thread that ran it ("own": the main thread's, except the self-check's, which runs on a thread of
+its own, its drops on the pool's threads: the "CPU" column), and, of the wall,
 how much went into imports that the phase triggered on its thread (the outermost
 ``importlib._bootstrap._find_and_load``):
 
@@ -23,6 +25,8 @@ how much went into imports that the phase triggered on its thread (the outermost
 * ``dataset``: the rest of ``runner.ensemble_dataset`` (the per-drop variables, the attributes);
 * ``self-check``: ``accuracy.self_check`` (its drops on the thread pool; since this branch it runs
   beside ``dataset`` and ``statistics``, so their wall overlaps);
+* ``waiting for the self-check``: the main thread's wait for the check once the Dataset is built
+  (this branch's ``runner._Beside.result``; 0 when the building took longer than the check);
 * ``NetCDF write``: ``netcdf.write_netcdf``;
 * ``numba cache loads``: numba's ``load_overload`` of each kernel (count, seconds), inside the phases.
 
@@ -32,7 +36,7 @@ cumulative seconds of the same functions.
 """
 
 import argparse
-import ast
+import json
 import os
 import statistics
 import subprocess
@@ -47,9 +51,9 @@ depth = threading.local()
 import_wall = [0.0]
 
 
-def add(label, wall, cpu, imp):
-    r = rows.setdefault(label, [0.0, 0.0, 0.0, 0])
-    r[0] += wall; r[1] += cpu; r[2] += imp; r[3] += 1
+def add(label, wall, cpu, imp, own=0.0):
+    r = rows.setdefault(label, [0.0, 0.0, 0.0, 0, 0.0])
+    r[0] += wall; r[1] += cpu; r[2] += imp; r[3] += 1; r[4] += own
 
 
 _find_and_load = boot._find_and_load
@@ -79,12 +83,12 @@ def wrap(mod, name, label, owner=None):
 
     def g(*a, **k):
         main = threading.current_thread() is threading.main_thread()
-        w, c, i = time.perf_counter(), time.process_time(), import_wall[0]
+        w, c, i, o = time.perf_counter(), time.process_time(), import_wall[0], time.thread_time()
         try:
             return f(*a, **k)
         finally:
             imp = (import_wall[0] - i) if main else 0.0
-            add(label, time.perf_counter() - w, time.process_time() - c, imp)
+            add(label, time.perf_counter() - w, time.process_time() - c, imp, time.thread_time() - o)
 
     setattr(owner or mod, name, g)
 
@@ -98,6 +102,8 @@ wrap(epistemic, "add_band", "epistemic band")
 wrap(runner, "ensemble_dataset", "dataset (incl. statistics, band)")
 wrap(accuracy, "self_check", "self-check")
 wrap(store, "write_netcdf", "NetCDF write")
+if hasattr(runner, "_Beside"):  # the check beside the dataset's building (this branch)
+    wrap(runner._Beside, "result", "waiting for the self-check", owner=runner._Beside)
 _load = _numba._checked_load_overload
 
 
@@ -110,13 +116,15 @@ def load(*a, **k):
 
 
 _numba._checked_load_overload = load
-add("imports", time.perf_counter() - W0, time.process_time(), import_wall[0])
+add("imports", time.perf_counter() - W0, time.process_time(), import_wall[0], time.thread_time())
 w, c = time.perf_counter(), time.process_time()
 cli.main(["run", "-o", sys.argv[1], "--quiet", *sys.argv[2:]])
 add("cli.main", time.perf_counter() - w, time.process_time() - c, 0.0)
+rows["cli.main"][4] = float("nan")
 ru = resource.getrusage(resource.RUSAGE_SELF)
-add("process", time.perf_counter() - W0, ru.ru_utime + ru.ru_stime, import_wall[0])
-print(repr(rows))
+add("process", time.perf_counter() - W0, ru.ru_utime + ru.ru_stime, import_wall[0], time.thread_time())
+import json
+print(json.dumps(rows))
 """
 
 ORDER = (
@@ -130,6 +138,7 @@ ORDER = (
     "epistemic band",
     "dataset (incl. statistics, band)",
     "self-check",
+    "waiting for the self-check",
     "NetCDF write",
     "cli.main",
     "process",
@@ -158,7 +167,7 @@ def one_run(run_args, env):
         )
     if out.returncode != 0:
         raise SystemExit(out.stderr)
-    return ast.literal_eval(out.stdout.strip().splitlines()[-1])
+    return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def profile(path, run_args, env):
@@ -186,7 +195,7 @@ def main():
     run_args = args.run_args.split()
     runs = [one_run(run_args, env) for _ in range(args.runs)]
     print(f"'mineburial run {args.run_args}' by phase, {args.runs} fresh interpreter(s); median (min-max)")
-    print(f"{'phase':34s} {'wall s':>18s} {'CPU s':>18s} {'imports s':>10s} {'calls':>6s}")
+    print(f"{'phase':34s} {'wall s':>18s} {'CPU s':>18s} {'own CPU s':>18s} {'imports s':>10s} {'calls':>6s}")
 
     def cell(values):
         return f"{statistics.median(values):6.2f} ({min(values):.2f}-{max(values):.2f})"
@@ -197,7 +206,7 @@ def main():
             continue
         print(
             f"{label:34s} {cell([g[0] for g in got]):>18s} {cell([g[1] for g in got]):>18s} "
-            f"{statistics.median(g[2] for g in got):10.2f} {got[0][3]:6d}"
+            f"{cell([g[4] for g in got]):>18s} {statistics.median(g[2] for g in got):10.2f} {got[0][3]:6d}"
         )
     if args.profile:
         profile(args.profile, run_args, env)
