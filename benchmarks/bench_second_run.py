@@ -144,16 +144,19 @@ ORDER = (
     "process",
 )
 
-PROFILED = (
-    "engine.py:49(load_ensemble)",
-    "mine.py:358(chunk_inputs)",
-    "batch.py:48(run_batch)",
-    "statistics.py:178(burial_statistics)",
-    "epistemic.py:97(add_band)",
-    "runner.py:347(ensemble_dataset)",
-    "accuracy.py:189(self_check)",
-    "netcdf.py:143(write_netcdf)",
-)
+PROFILED = {  # (file, function) listed from the cProfile run (main thread only)
+    ("engine.py", "load_ensemble"),
+    ("mine.py", "chunk_inputs"),
+    ("batch.py", "run_batch"),
+    ("statistics.py", "burial_statistics"),
+    ("epistemic.py", "add_band"),
+    ("runner.py", "ensemble_dataset"),
+    ("runner.py", "_dataset_checked"),
+    ("runner.py", "result"),
+    ("accuracy.py", "self_check"),
+    ("netcdf.py", "write_netcdf"),
+    ("cli.py", "main"),
+}
 
 
 def one_run(run_args, env):
@@ -180,9 +183,8 @@ def profile(path, run_args, env):
     st = pstats.Stats(path)
     print(f"cProfile (main thread; {path}), cumulative s:")
     for (file, line, name), (_, _, _, ct, _) in sorted(st.stats.items(), key=lambda kv: -kv[1][3]):
-        key = f"{os.path.basename(file)}:{line}({name})"
-        if key in PROFILED or (name == "main" and file.endswith("cli.py")):
-            print(f"  {ct:7.3f}  {key}")
+        if (os.path.basename(file), name) in PROFILED and "mineburial" in file:
+            print(f"  {ct:7.3f}  {os.path.basename(file)}:{line}({name})")
 
 
 def main():
