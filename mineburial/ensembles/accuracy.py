@@ -2,7 +2,8 @@
 numerics measured on a small random subsample of its own drops, not assumed.
 
 After the ensemble is assembled, :func:`self_check` re-runs ``ensemble.accuracy_check``
-of its drops (default 8, by cost: docs/design.md; 0 switches it off) on a tight reference path
+of its drops (default ``"auto"``: :func:`default_size`, ~15 % of the run's time, 8 to 230 drops; an
+integer: that many; 0 switches it off) on a tight reference path
 (:func:`reference_params`, :data:`REFERENCES` ``"check"``): ``numerics.rtol`` 3e-5 with
 ``numerics.atol`` 3e-6 (the defaults' ratio atol = rtol / 10, the run's own where tighter), the
 reference sediment quadrature and the reference overburden quadrature, on the drop's own adaptive
@@ -36,10 +37,11 @@ summary, with a warning beyond the targets of docs/design.md (p95 1 %, max 5 %).
 Its size (issue 34): n drops catch a defect of a fraction q of the drops (at least one failing
 drop among them) with probability 1 - (1 - q)^n; the attribute
 ``numerical_check_detectable_failure_percent`` and the summary state the q caught with
-probability 0.9 (:func:`detectable_rate`: 25 % for the default 8 drops; :func:`drops_needed`:
-230 drops for 1 %). A reference drop costs ~0.3 s of CPU (~75 default drops), so 15 % of the
-default run's wall time pays for ~8 of them and 230 would take ~35 s on 2 cores: the default
-stays 8 (docs/design.md, "Sizing").
+probability 0.9 (:func:`detectable_rate`: 25 % for 8 drops; :func:`drops_needed`: 230 drops for
+1 %). A reference drop costs ~45 ensemble drops of CPU (:data:`CHECK_COST_RATIO`), so the default
+size (:func:`default_size`) grows with the run, ~n/255 drops, from 8 (up to ~2,300 drops run) to
+230 (from ~58,650): within ~15 % of the run's time, a 1 % defect caught only in large runs
+(docs/design.md, "Sizing").
 """
 
 from __future__ import annotations
@@ -62,6 +64,10 @@ from mineburial.kernels.mine.stepper import reference_paths
 
 __all__ = [
     "self_check",
+    "check_size",
+    "default_size",
+    "detectable_rate",
+    "drops_needed",
     "reference_params",
     "long_tables",
     "choose_drops",
@@ -89,6 +95,19 @@ SCALE_M = 0.5
 #: the probability with which the check is to see at least one failing drop (the sizing rule:
 #: a failure rate q among the drops is seen with probability 1 - (1 - q)^n on n drops)
 DETECTION_PROBABILITY = 0.9
+#: ``ensemble.accuracy_check``'s default: the size of :func:`default_size` for the run's drops
+AUTO = "auto"
+#: the share of a run's wall time the default size is chosen to spend on the check (issue 34 item 2)
+TIME_SHARE = 0.15
+#: CPU time of one drop re-run on the reference path over that of one drop of the ensemble, the
+#: default ensemble on one thread (``benchmarks/bench_check_ratio.py``, 400 drops against 16 check
+#: drops, 2 seeds, the shared 2-core host: 38.9 and 49.3; the default run's 8 check drops 2.3 s of
+#: CPU against 14 s for its 2,000 drops: 41); the larger side, so that the check stays within its share
+CHECK_COST_RATIO = 45.0
+#: the default size's floor: the check's size before issue 34's rule (a defect of 25 % of the drops)
+MIN_DROPS = 8
+#: the failure rate whose detection with :data:`DETECTION_PROBABILITY` caps the default size
+TARGET_RATE = 0.01
 #: mixed into the seed for the subsample's own generator (the drops' input streams stay untouched)
 _STREAM = 0x5E1F_C4EC
 _FIXED_STEP = tuple(layout.INTEGRATOR_NAMES.index(name) for name in ("rk4", "local_linear"))
@@ -112,6 +131,26 @@ def drops_needed(rate: float, probability: float = DETECTION_PROBABILITY) -> int
     """The least number of drops n with 1 - (1 - rate)^n >= probability: 230 for a failure
     rate of 1 % at 90 %."""
     return math.ceil(math.log1p(-probability) / math.log1p(-rate) - 1e-12)
+
+
+def default_size(n: int) -> int:
+    """The self-check's size for a run of ``n`` drops with ``ensemble.accuracy_check = "auto"``
+    (the default): the most drops whose reference re-runs take at most :data:`TIME_SHARE` of the
+    run's time on the same threads, a reference drop costing :data:`CHECK_COST_RATIO` ensemble
+    drops (k K <= s (n + k K), k <= s n / ((1 - s) K): n / 255), at least :data:`MIN_DROPS` and at
+    most :func:`drops_needed` (:data:`TARGET_RATE`), the size that catches a defect of 1 % of
+    the drops with 90 % probability (230): 8 drops up to 2,294 drops run (a defect of 25 % of the
+    drops caught), 39 for 10^4 (5.7 %), 230 from 58,650 on (1 %). A function of ``n`` alone, so
+    that a rerun checks the same drops (:func:`choose_drops`) and writes the same file."""
+    share = TIME_SHARE * int(n) / ((1.0 - TIME_SHARE) * CHECK_COST_RATIO)
+    return int(min(max(math.floor(share), MIN_DROPS), drops_needed(TARGET_RATE)))
+
+
+def check_size(setting, n: int) -> int:
+    """The number of drops the self-check of a run of ``n`` drops re-runs: ``setting``
+    (``ensemble.accuracy_check``) when it is an integer (0: no check), :func:`default_size` of
+    ``n`` when it is :data:`AUTO`."""
+    return default_size(n) if isinstance(setting, str) and setting == AUTO else int(setting)
 
 
 def long_tables(P, sediment_bank) -> np.ndarray:
@@ -194,7 +233,7 @@ def self_check(spec, chunks, chunk_inputs, progress=None) -> dict:
     run's rate-limited progress lines (:class:`~mineburial.ensembles.runner.Progress`, handed
     down so that this module does not import the runner) for lines while the drops are re-run
     (:func:`_rerun`)."""
-    size = int(spec.accuracy_check)
+    size = check_size(spec.accuracy_check, spec.n)
     if size == 0:
         return {"numerical_check": "skipped (ensemble.accuracy_check = 0)"}
     summary = np.concatenate([r["summary"] for r in chunks])

@@ -66,7 +66,9 @@ ENSEMBLE_DEFAULTS = {
     "chunk_size": 256,
     "per_drop": False,
     "class_basis": "burial_volume",
-    "accuracy_check": 8,  # drops re-run on the tight reference path after a run (accuracy.py; 0: off)
+    # drops re-run on the tight reference path after a run: "auto" (~15 % of the run's time, 8 to
+    # 230 drops: accuracy.default_size), an integer (0: off)
+    "accuracy_check": accuracy.AUTO,
     # the open coefficients: "fixed" (the scenario's values and the fields' defaults), "posterior"
     # (drawn per drop from the shipped posterior of `mineburial calibrate`) or a posterior file
     "coefficients": posterior.FIXED,
@@ -141,7 +143,7 @@ class EnsembleSpec:
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
     # ((section, spec), ...) of the post-impact processes the scenario has a section of (processes.py)
     processes: tuple = ()
-    accuracy_check: int = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
+    accuracy_check: int | str = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
     posterior: posterior.Posterior | None = None  # the coefficient sets drawn per drop, if any
     posterior_paths: tuple = ()  # the posterior's coefficients this scenario does not give itself
 
@@ -322,7 +324,7 @@ def load(raw: Mapping, overrides: Mapping, base_dir=None) -> EnsembleSpec:
         angles_deg=angles,
         input_files=files,
         processes=active,
-        accuracy_check=int(ens["accuracy_check"]),
+        accuracy_check=_check_size_setting(ens["accuracy_check"]),
         posterior=post if drawn else None,
         posterior_paths=drawn,
     )
@@ -407,6 +409,11 @@ def _posterior_inputs(spec, index, P, inputs) -> None:
         if not processes.owns_input(path):  # a post-impact process reads its own from the inputs
             P[:, layout.INDEX[path]] = values
         inputs[path] = values
+
+
+def _check_size_setting(value) -> int | str:
+    """``ensemble.accuracy_check`` as kept on the spec: ``"auto"`` (validated before) or an int."""
+    return value if isinstance(value, str) else int(value)
 
 
 def compute_chunk(spec, start: int, stop: int) -> dict:

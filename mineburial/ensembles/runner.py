@@ -25,6 +25,7 @@ import os
 import pathlib
 import re
 import sys
+import threading
 import time
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -38,6 +39,7 @@ from mineburial.ensembles.interrupt import Interrupted
 from mineburial.ensembles.sampling import check_drop_count
 from mineburial.ensembles.settings import merge_invalid_reasons
 from mineburial.ensembles.store import ChunkStore, OutputRun, RunError, check_output_path
+from mineburial.ensembles.threads import POLL
 from mineburial.resources import memory_refusal
 from mineburial.systems import registry
 
@@ -364,6 +366,7 @@ def run_ensemble(
     client=None,
     class_basis: str | None = None,
     self_check: bool = False,
+    loaded=None,
 ):
     """Run a Monte Carlo ensemble and return its statistics as an :class:`xarray.Dataset`.
 
@@ -391,39 +394,95 @@ def run_ensemble(
         Re-run ``ensemble.accuracy_check`` realizations on a tight reference path here, after
         the chunks are in, and record the differences in global attributes (the system's
         ``check_accuracy``, :mod:`mineburial.ensembles.accuracy` for the mine; ``mineburial
-        run`` does).
+        run`` does), beside the building of the Dataset (:func:`_dataset_checked`).
+    loaded : optional
+        The spec that ``engine.load_ensemble`` gives for ``scenario`` with these overrides,
+        when the caller has loaded it already (``mineburial run``): it is not resolved again.
     """
-    spec = engine.load_ensemble(
-        scenario,
-        n=n,
-        seed=seed,
-        sampling=sampling,
-        chunk_size=chunk_size,
-        per_drop=per_drop,
-        class_basis=class_basis,
-        systems=engine.SYSTEMS,
-    )
+    spec = loaded
+    if spec is None:
+        spec = engine.load_ensemble(
+            scenario,
+            n=n,
+            seed=seed,
+            sampling=sampling,
+            chunk_size=chunk_size,
+            per_drop=per_drop,
+            class_basis=class_basis,
+            systems=engine.SYSTEMS,
+        )
     threads = check_threads(threads)
     check_run(spec)
     warn_run(spec)
     if output is None:
         ((_, chunks),) = run_jobs([Job(None, spec)], client=client, progress=progress, threads=threads)
-        return _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check, progress)
+        return _dataset_checked(spec, chunks, self_check, progress)
     with OutputRun(output, input_paths(scenario, spec)) as out:
         job = Job(None, spec, out.store(spec))
         ((_, chunks),) = run_jobs([job], client=client, progress=progress, threads=threads)
-        ds = _checked(ensemble_dataset(spec, chunks), spec, chunks, self_check, progress)
+        ds = _dataset_checked(spec, chunks, self_check, progress)
         out.commit(ds)
     return ds
 
 
-def _checked(ds, spec, chunks, self_check: bool, progress: bool = False):
-    """``ds`` with the system's numerical self-check attributes when asked (results untouched;
-    ``progress``: the check's own progress lines, like the run's)."""
+def _dataset_checked(spec, chunks, self_check: bool, progress: bool = False):
+    """The output Dataset of ``spec`` from its chunks (:func:`ensemble_dataset`), with the
+    system's numerical self-check attributes when asked (results untouched; ``progress``: the
+    check's own progress lines, like the run's).
+
+    The check runs beside the Dataset's building (issue 34 item 1): its drops on the thread
+    pool (:class:`_Beside`), the statistics and variables here. The building is Python on one
+    core (~1 s of CPU on the default run, most of it importing xarray, pandas and dask.array),
+    and the check's last drops leave a core idle (the default run's 8 drops on 2 threads: the
+    longest takes ~0.7 s of its ~1.5 s), so the two together take about the check's time
+    where they took the sum. Its attributes are added when both are done, as before."""
     check = registry.of(spec).check_accuracy
-    if self_check and check is not None:
-        ds.attrs.update(check(spec, chunks, progress=Progress if progress else None))
+    if not self_check or check is None:
+        return ensemble_dataset(spec, chunks)
+    beside = _Beside(check, spec, chunks, progress=Progress if progress else None)
+    try:
+        ds = ensemble_dataset(spec, chunks)
+    except Exception:
+        beside.wait()  # its drops' threads end first; then the building's error is raised
+        raise
+    ds.attrs.update(beside.result())
     return ds
+
+
+class _Beside:
+    """``fn(*args, **kwargs)`` on a daemon thread started now, with the calling thread's numba
+    thread count (numba's count is per thread: the thread pool of a check sized by
+    ``numba.get_num_threads()`` gets the caller's); :meth:`result` waits for it (in steps of
+    :data:`~mineburial.ensembles.threads.POLL` s, so that Ctrl-C is seen in the main thread at
+    once) and returns its value or raises its exception. A Ctrl-C leaves the thread to end
+    with the process (a daemon: its drops cannot be stopped inside compiled code), as the
+    thread pool's own threads do."""
+
+    def __init__(self, fn, *args, **kwargs):
+        self._value = self._error = None
+        self._done = threading.Event()
+        threads = numba.get_num_threads()
+
+        def target():
+            try:
+                numba.set_num_threads(threads)
+                self._value = fn(*args, **kwargs)
+            except BaseException as exc:  # raised in the caller's thread by result()
+                self._error = exc
+            finally:
+                self._done.set()
+
+        threading.Thread(target=target, name="mineburial-beside", daemon=True).start()
+
+    def wait(self) -> None:
+        while not self._done.wait(POLL):
+            pass
+
+    def result(self):
+        self.wait()
+        if self._error is not None:
+            raise self._error
+        return self._value
 
 
 def run_ensemble_cli(args) -> int:
@@ -451,6 +510,7 @@ def run_ensemble_cli(args) -> int:
     try:
         ds = run_ensemble(
             args.scenario,
+            loaded=spec,
             n=args.drops,
             seed=args.seed,
             sampling=args.sampling,

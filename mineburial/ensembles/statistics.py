@@ -231,7 +231,7 @@ def burial_statistics(
     ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
     # xarray keeps encodings on the variables; restore them in case construction dropped any
     for name, da in {**data_vars, **coords}.items():
-        ds[name].encoding.update(da.encoding)
+        ds.variables[name].encoding.update(da.encoding)  # the Variable: no DataArray built
     return ds
 
 
@@ -461,5 +461,5 @@ def scour_statistics(
     data_vars["scour_status_count"] = var("scour_status_count").data_array(codes)
     ds = xr.Dataset(data_vars=data_vars, coords=coords, attrs={"scour_n_in_statistics": np.int64(n_ok)})
     for name, da in {**data_vars, **coords}.items():
-        ds[name].encoding.update(da.encoding)
+        ds.variables[name].encoding.update(da.encoding)  # the Variable: no DataArray built
     return ds

@@ -101,7 +101,7 @@ def build(
             coord_vars.setdefault(cname, c.variable)
     ds = xr.Dataset({name: da.variable for name, da in data.items()}, coords=coord_vars)
     for name, da in {**data, **cs}.items():  # construction may drop encodings: restore them
-        ds[name].encoding.update(da.encoding)
+        ds.variables[name].encoding.update(da.encoding)  # the Variable: no DataArray built
     ds.attrs = standard_attrs(kind, attrs, version=version)
     return ds
 

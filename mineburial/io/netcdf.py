@@ -11,10 +11,12 @@ references) and the helpers that make attribute values netCDF-safe.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import datetime as _dt
 import errno
 import json
+import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -140,6 +142,35 @@ def _encoding(ds: xr.Dataset, complevel: int) -> dict[str, dict[str, Any]]:
     return enc
 
 
+#: the modules whose import xarray's ``to_netcdf`` tries only to ask whether a dask.distributed
+#: client is the scheduler (``xarray.backends.locks.get_dask_scheduler``)
+_DISTRIBUTED = ("distributed", "dask.distributed")
+
+
+@contextlib.contextmanager
+def _without_distributed():
+    """Within the block, ``import distributed`` (and ``dask.distributed``) fails with ImportError
+    unless it was imported before, then it is importable again.
+
+    Why (issue 34 item 1, the second run's start-up): xarray's ``to_netcdf`` asks dask which
+    scheduler is active (``get_dask_scheduler``: ``dask.base.get_scheduler`` tries
+    ``distributed.get_client()``, then ``from dask.distributed import Client``), and so imported
+    dask.distributed, 0.2-0.25 s of CPU, on every write of a plain local run. A process that
+    has not imported it has no dask.distributed client, so the answer is the same ("threaded":
+    xarray then closes the file after the writes, as before; our datasets hold no dask arrays
+    anyway); xarray's ``except ImportError`` is the path it takes where distributed is not
+    installed. A run with ``--scheduler`` imported it with its client: nothing is blocked."""
+    blocked = [] if "distributed" in sys.modules else [n for n in _DISTRIBUTED if n not in sys.modules]
+    for name in blocked:
+        sys.modules[name] = None  # the import machinery's "not importable" (ModuleNotFoundError)
+    try:
+        yield
+    finally:
+        for name in blocked:
+            if name in sys.modules and sys.modules[name] is None:
+                del sys.modules[name]
+
+
 def write_netcdf(ds: xr.Dataset, path, *, complevel: int = 4) -> Path:
     """Write ``ds`` to ``path`` atomically (NETCDF4, zlib level ``complevel``).
 
@@ -154,7 +185,7 @@ def write_netcdf(ds: xr.Dataset, path, *, complevel: int = 4) -> Path:
     """
     path = Path(path)
     try:
-        with atomic_path(path) as tmp:
+        with atomic_path(path) as tmp, _without_distributed():
             ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine="netcdf4", encoding=_encoding(ds, complevel))
     except RuntimeError as exc:
         if not str(exc).startswith("NetCDF:"):  # not the library's report of a failed write
