@@ -166,23 +166,18 @@ def _abs2(z):
 
 
 @small_kernel
-def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
-    """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
-    the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
-    - a1 (k1c cos t + k1s sin t) = 0, i.e. the arguments of the four roots of the quartic
-    w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle,
-    where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double
-    zero where a pair of real zeros is born). Roots by Durand-Kerner sweeps from fixed starts
-    until a sweep moves none by more than 1e-10 of its modulus (CROSS_TOL2; at most
-    CROSS_ITERATIONS): a continuous function of the coefficients up to rounding (at simple roots
-    the error after that sweep is of the order of the square of that move). When the quartic degenerates
-    (no rotation across the axis: the delta line is then made of generators, whose angles are
-    breakpoints already), the four angles are NaN."""
-    c0 = 0.5 * (ac * bc + as_ * bs)
-    ca1 = a0 * bc - a1 * k1c
-    cb1 = a0 * bs - a1 * k1s
-    ca2 = 0.5 * (ac * bc - as_ * bs)
-    cb2 = 0.5 * (ac * bs + as_ * bc)
+def _quartic_angles(c0, ca1, cb1, ca2, cb2):
+    """The four angles of the zeros of the degree-2 trigonometric polynomial ``c0 + ca1 cos t + cb1
+    sin t + ca2 cos 2t + cb2 sin 2t``: the arguments of the four roots of the quartic w^2 p(t) in
+    w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle, where they are real
+    zeros, or in pairs w, 1/conj(w) with one argument, the clipped double zero where a pair of real
+    zeros is born). Roots by Durand-Kerner sweeps from fixed starts until a sweep moves none by more
+    than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a continuous function of the
+    coefficients up to rounding (at simple roots the error after that sweep is of the order of the
+    square of that move). NaN (all four) when the quartic degenerates (its leading coefficient below
+    CROSS_DEGENERATE of the largest). Shared by the cylinder (:func:`_crossing_angles`) and the
+    tapered generators of the bodies of revolution
+    (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
     lead = complex(0.5 * ca2, -0.5 * cb2)
     big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
     if not (abs(lead) > CROSS_DEGENERATE * big):
@@ -217,6 +212,22 @@ def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
         math.atan2(r1.imag, r1.real),
         math.atan2(r2.imag, r2.real),
         math.atan2(r3.imag, r3.real),
+    )
+
+
+@small_kernel
+def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
+    """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
+    the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
+    - a1 (k1c cos t + k1s sin t) = 0, by :func:`_quartic_angles`. When the quartic degenerates
+    (no rotation across the axis: the delta line is then made of generators, whose angles are
+    breakpoints already), the four angles are NaN."""
+    return _quartic_angles(
+        0.5 * (ac * bc + as_ * bs),
+        a0 * bc - a1 * k1c,
+        a0 * bs - a1 * k1s,
+        0.5 * (ac * bc - as_ * bs),
+        0.5 * (ac * bs + as_ * bc),
     )
 
 
@@ -264,7 +275,7 @@ def _ramp_weights(vm, dv, vrn):
     return (wa / ha if ha > 0.0 else 1.0), (wb / hb if hb > 0.0 else 1.0)
 
 
-@kernel
+@small_kernel
 def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
     v1, v2, v3, w1, w2, w3 = vbody
@@ -417,29 +428,28 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
             tm = tdeep + 0.5 * (nxt + cur)
             cm = math.cos(tm)
             sm = math.sin(tm)
-            # the nodes come in pairs tm -+ a (and tm itself for odd N_T): their cosines and sines
-            # by the addition theorem, two trigonometric calls a pair
-            for i in range((N_T + 1) // 2):
+            # the nodes come in pairs tm -+ a (and tm itself for odd N_T, last): their cosines and
+            # sines by the addition theorem, two trigonometric calls a pair; one call site of the
+            # (inlined) generator
+            ca = 1.0
+            sa = 0.0
+            for k in range(N_T):
+                i = k // 2
                 j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
                 wgt = R * h * _GL_WEIGHTS[N_T, j]
                 if i == j:
-                    g1, g2, g3, h1, h2, h3 = _generator(
-                        cm, sm, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                    )
-                    f1, f2, f3, m1, m2, m3 = add_weighted(
-                        (f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3)
-                    )
-                    continue
-                a = h * _GL_NODES[N_T, j]
-                ca = math.cos(a)
-                sa = math.sin(a)
-                g1, g2, g3, h1, h2, h3 = _generator(
-                    cm * ca + sm * sa, sm * ca - cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                )
-                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
-                g1, g2, g3, h1, h2, h3 = _generator(
-                    cm * ca - sm * sa, sm * ca + cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                )
+                    c = cm
+                    s = sm
+                elif k % 2 == 0:
+                    a = h * _GL_NODES[N_T, j]
+                    ca = math.cos(a)
+                    sa = math.sin(a)
+                    c = cm * ca + sm * sa
+                    s = sm * ca - cm * sa
+                else:
+                    c = cm * ca - sm * sa
+                    s = sm * ca + cm * sa
+                g1, g2, g3, h1, h2, h3 = _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank)
                 f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
     return f1, f2, f3, m1, m2, m3
