@@ -189,6 +189,48 @@ def annotate(cgfile, top, fmap):
     return dict(sorted(out.items(), key=lambda kv: -kv[1][0])[:top])
 
 
+def _name(fn, fmap):
+    fn = fn.split(" ")[0].split("'")[0]
+    if fn.startswith("0x"):
+        return fmap.get(int(fn, 16))
+    return _short(fn) if fn.startswith("_ZN") else fn.split("@")[0]
+
+
+def call_counts(cgfile, fmap):
+    """{(caller, callee): calls} between named functions of one callgrind dump (its ``calls=`` lines)."""
+    edges = {}
+    cur = callee = None
+    with open(cgfile) as fh:
+        for line in fh:
+            if line.startswith("fn="):
+                cur = _name(line[3:].strip(), fmap)
+            elif line.startswith("cfn="):
+                callee = _name(line[4:].strip(), fmap)
+            elif line.startswith("calls=") and cur and callee:
+                key = (cur, callee)
+                edges[key] = edges.get(key, 0) + int(line[6:].split()[0])
+    return edges
+
+
+#: callees whose calls are counted by caller: the right-hand side (by the integrator that asks for it:
+#: dopri5 above the seabed, Rosenbrock-W with its Jacobian columns in contact), the steps, the fast
+#: rule's compile units, event location and the rest test
+COUNTED = (
+    "_system_rhs_impl.impl",
+    "derivatives.compiled_callee",
+    "dopri5_step.compiled_callee",
+    "ros34pw2_step.compiled_callee",
+    "jacobian_columns.compiled_callee",
+    "sediment_tractions.compiled_callee",
+    "_lateral.compiled_callee",
+    "_cap.compiled_callee",
+    "_generator.compiled_callee",
+    "_traction.compiled_callee",
+    "locate_event.compiled_callee",
+    "held_by_sediment.compiled_callee",
+)
+
+
 def measure(tree, args, folder):
     env = dict(
         os.environ,
@@ -238,7 +280,7 @@ def measure(tree, args, folder):
     fmap = dict(zip((int(x) for x in b["faddr"]), (str(x) for x in b["fname"])))
     funcs = annotate(f, args.top, fmap)
     total = funcs["stepper.run_drop"][0]  # the drops' instructions: the calls of run_drop between the marks
-    return total, funcs, a
+    return total, funcs, a, call_counts(f, fmap)
 
 
 def main():
@@ -259,7 +301,7 @@ def main():
     for k, tree in enumerate(trees):
         sub = os.path.join(folder, f"tree{k}")
         os.makedirs(sub, exist_ok=True)
-        total, funcs, a = measure(os.path.abspath(tree), args, sub)
+        total, funcs, a, edges = measure(os.path.abspath(tree), args, sub)
         S, names = a["S"], list(a["names"])
         steps = S[:, names.index("n_steps")]
         pen = S[:, names.index("penetration_depth")]
@@ -270,6 +312,11 @@ def main():
         print("\n| function | inclusive Ir a drop | share | self Ir a drop |\n|---|---|---|---|")
         for name, (inc, own) in funcs.items():
             print(f"| `{name}` | {inc / nd:,.0f} | {100.0 * inc / total:.1f} % | {own / nd:,.0f} |")
+        print("\n| calls a drop of | by | calls |\n|---|---|---|")
+        for callee in COUNTED:
+            for (caller, cal), n in sorted(edges.items(), key=lambda kv: -kv[1]):
+                if cal == callee and caller != callee:
+                    print(f"| `{callee}` | `{caller}` | {n / nd:,.1f} |")
         results.append((tree, total, nd, pen))
     if len(results) == 2:
         (ta, xa, na, pa), (tb, xb, nb, pb) = results
