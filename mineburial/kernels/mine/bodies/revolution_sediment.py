@@ -42,7 +42,6 @@ import math
 
 from mineburial._numba import kernel
 from mineburial.kernels.mine.sediment.fast import (
-    CROSS_DEGENERATE,
     N_T,
     N_X,
     _cap,
@@ -51,6 +50,7 @@ from mineburial.kernels.mine.sediment.fast import (
     _lateral,
     _local,
     _next_break,
+    _quartic_angles,
 )
 from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
@@ -65,12 +65,6 @@ from mineburial.kernels.mine.sediment.laws import (
     add_point_traction,
     add_weighted,
 )
-
-#: Durand-Kerner sweeps for a tapered generator's crossing angles: twice the cylinder's
-#: (``sediment.fast.CROSS_ITERATIONS``, 16), whose polynomial has no free constant term; with one,
-#: 16 sweeps left a near-double zero 4e-3 rad off in 1 of 200 random polynomials, 24 and more
-#: none of 1,500 (to 3e-15 rad; tests/test_revolution_sediment.py)
-CROSS_ITERATIONS = 32
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
@@ -139,35 +133,10 @@ def _end_arc(kk, a, b):
 @kernel
 def _trig2_angles(c0, ca1, cb1, ca2, cb2):
     """The four angles of the zeros of the degree-2 trigonometric polynomial ``c0 + ca1 cos t + cb1
-    sin t + ca2 cos 2t + cb2 sin 2t``: the arguments of the roots of the self-inversive quartic
-    ``w^2 p`` in ``w = exp(i t)`` (real zeros on the unit circle; a pair ``w, 1/conj(w)`` off it
-    gives the clipped double zero where a pair of real zeros is born), by
-    :data:`CROSS_ITERATIONS` Durand-Kerner sweeps from fixed starts, as
-    :func:`.sediment.fast._crossing_angles` finds the cylinder's (whose polynomial has no free
-    constant term, a tapered generator's has: ``c20 k v1``). NaN when the quartic degenerates."""
-    lead = complex(0.5 * ca2, -0.5 * cb2)
-    big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
-    if not (abs(lead) > CROSS_DEGENERATE * big):
-        return math.nan, math.nan, math.nan, math.nan
-    q3 = complex(0.5 * ca1, -0.5 * cb1) / lead
-    q2 = complex(c0, 0.0) / lead
-    q1 = complex(0.5 * ca1, 0.5 * cb1) / lead
-    q0 = complex(0.5 * ca2, 0.5 * cb2) / lead
-    r0 = complex(1.0, 0.0)
-    r1 = complex(0.4, 0.9)
-    r2 = r1 * r1
-    r3 = r2 * r1
-    for _ in range(CROSS_ITERATIONS):
-        r0 = r0 - ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
-        r1 = r1 - ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
-        r2 = r2 - ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
-        r3 = r3 - ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
-    return (
-        math.atan2(r0.imag, r0.real),
-        math.atan2(r1.imag, r1.real),
-        math.atan2(r2.imag, r2.real),
-        math.atan2(r3.imag, r3.real),
-    )
+    sin t + ca2 cos 2t + cb2 sin 2t`` (a tapered generator's has a free constant term, ``c20 k v1``):
+    :func:`.sediment.fast._quartic_angles`, the cylinder's root finder (Durand-Kerner sweeps from
+    fixed starts until they converge), shared. NaN when the quartic degenerates."""
+    return _quartic_angles(c0, ca1, cb1, ca2, cb2)
 
 
 @kernel

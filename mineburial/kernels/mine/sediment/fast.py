@@ -129,15 +129,17 @@ def _harmonic_roots(k, a, b):
 
 
 @small_kernel
-def _on_body(t, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp):
-    """Crossing angle t of the seabed and delta lines as a breakpoint (offset from tdeep,
-    clamped like the others): where the crossing lies beyond a body end, the angle where the
-    seabed line reaches that end instead (on the same side of tdeep), which it equals when the
-    crossing passes the end; so a crossing outside the body adds no panel and none jumps."""
-    p = _local(t, tdeep, a_any)
+def _on_body(w, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp):
+    """Crossing angle t = arg w (w a root of :func:`_crossing_roots`; cos t, sin t = w / |w|) of the
+    seabed and delta lines as a breakpoint (offset from tdeep, clamped like the others): where the
+    crossing lies beyond a body end, the angle where the seabed line reaches that end instead (on the
+    same side of tdeep), which it equals when the crossing passes the end; so a crossing outside the
+    body adds no panel and none jumps."""
+    p = _local(math.atan2(w.imag, w.real), tdeep, a_any)
     if c20 == 0.0 or not (rp > 0.0):
         return p
-    xc = (d0 - R * (c21 * math.cos(t) + c22 * math.sin(t))) / c20  # the seabed line's x at t
+    aw = math.sqrt(w.real * w.real + w.imag * w.imag)  # cos t, sin t = w / |w|, no trigonometric call
+    xc = (d0 - R * (c21 * (w.real / aw) + c22 * (w.imag / aw))) / c20  # the seabed line's x at t
     if xc > xb:
         xe = xb
     elif xc < xa:
@@ -166,27 +168,23 @@ def _abs2(z):
 
 
 @small_kernel
-def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
-    """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
-    the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
-    - a1 (k1c cos t + k1s sin t) = 0, i.e. the arguments of the four roots of the quartic
-    w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle,
-    where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double
-    zero where a pair of real zeros is born). Roots by Durand-Kerner sweeps from fixed starts
-    until a sweep moves none by more than 1e-10 of its modulus (CROSS_TOL2; at most
-    CROSS_ITERATIONS): a continuous function of the coefficients up to rounding (at simple roots
-    the error after that sweep is of the order of the square of that move). When the quartic degenerates
-    (no rotation across the axis: the delta line is then made of generators, whose angles are
-    breakpoints already), the four angles are NaN."""
-    c0 = 0.5 * (ac * bc + as_ * bs)
-    ca1 = a0 * bc - a1 * k1c
-    cb1 = a0 * bs - a1 * k1s
-    ca2 = 0.5 * (ac * bc - as_ * bs)
-    cb2 = 0.5 * (ac * bs + as_ * bc)
+def _quartic_roots(c0, ca1, cb1, ca2, cb2):
+    """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2
+    trigonometric polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of
+    the quartic w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit
+    circle, where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped
+    double zero where a pair of real zeros is born). Durand-Kerner sweeps from fixed starts until a
+    sweep moves none by more than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a
+    continuous function of the coefficients up to rounding (at simple roots the error after that
+    sweep is of the order of the square of that move). NaN (all four) when the quartic degenerates
+    (its leading coefficient below CROSS_DEGENERATE of the largest). Shared by the cylinder
+    (:func:`_crossing_roots`, :func:`_crossing_angles`) and the tapered generators of the bodies of
+    revolution (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
     lead = complex(0.5 * ca2, -0.5 * cb2)
     big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
     if not (abs(lead) > CROSS_DEGENERATE * big):
-        return math.nan, math.nan, math.nan, math.nan
+        nan = complex(math.nan, math.nan)
+        return nan, nan, nan, nan
     q3 = complex(0.5 * ca1, -0.5 * cb1) / lead
     q2 = complex(c0, 0.0) / lead
     q1 = complex(0.5 * ca1, 0.5 * cb1) / lead
@@ -212,11 +210,46 @@ def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
             and _abs2(d3) <= CROSS_TOL2 * _abs2(r3)
         ):
             break
+    return r0, r1, r2, r3
+
+
+@small_kernel
+def _quartic_angles(c0, ca1, cb1, ca2, cb2):
+    """The arguments of :func:`_quartic_roots` (NaN when the quartic degenerates)."""
+    r0, r1, r2, r3 = _quartic_roots(c0, ca1, cb1, ca2, cb2)
     return (
         math.atan2(r0.imag, r0.real),
         math.atan2(r1.imag, r1.real),
         math.atan2(r2.imag, r2.real),
         math.atan2(r3.imag, r3.real),
+    )
+
+
+@small_kernel
+def _crossing_roots(a0, ac, as_, a1, bc, bs, k1c, k1s):
+    """:func:`_crossing_angles` as the roots w whose arguments they are (cos t + i sin t = w / |w|)."""
+    return _quartic_roots(
+        0.5 * (ac * bc + as_ * bs),
+        a0 * bc - a1 * k1c,
+        a0 * bs - a1 * k1s,
+        0.5 * (ac * bc - as_ * bs),
+        0.5 * (ac * bs + as_ * bc),
+    )
+
+
+@small_kernel
+def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
+    """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
+    the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
+    - a1 (k1c cos t + k1s sin t) = 0, by :func:`_quartic_angles`. When the quartic degenerates
+    (no rotation across the axis: the delta line is then made of generators, whose angles are
+    breakpoints already), the four angles are NaN."""
+    return _quartic_angles(
+        0.5 * (ac * bc + as_ * bs),
+        a0 * bc - a1 * k1c,
+        a0 * bs - a1 * k1s,
+        0.5 * (ac * bc - as_ * bs),
+        0.5 * (ac * bs + as_ * bc),
     )
 
 
@@ -264,7 +297,7 @@ def _ramp_weights(vm, dv, vrn):
     return (wa / ha if ha > 0.0 else 1.0), (wb / hb if hb > 0.0 else 1.0)
 
 
-@kernel
+@small_kernel
 def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
     v1, v2, v3, w1, w2, w3 = vbody
@@ -355,12 +388,12 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
     # where the seabed line and the delta line cross inside the lateral surface: zeta = 0 and
     # v.n = 0 on one generator, a0(t) b1(t) - a1 b0(t) = 0 (an embedded, advancing sliver
     # between the two lines ends there)
-    x0, x1, x2, x3 = _crossing_angles(d0, -R * c21, -R * c22, -c20, w3, -w2, v2, v3)
-    if x0 == x0:
-        x0 = _on_body(x0, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
-        x1 = _on_body(x1, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
-        x2 = _on_body(x2, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
-        x3 = _on_body(x3, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+    r0c, r1c, r2c, r3c = _crossing_roots(d0, -R * c21, -R * c22, -c20, w3, -w2, v2, v3)
+    if r0c.real == r0c.real:
+        x0 = _on_body(r0c, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x1 = _on_body(r1c, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x2 = _on_body(r2c, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
+        x3 = _on_body(r3c, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp)
     else:  # none: at the domain's end, where a breakpoint changes nothing
         x0 = a_any
         x1 = a_any
@@ -417,29 +450,28 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
             tm = tdeep + 0.5 * (nxt + cur)
             cm = math.cos(tm)
             sm = math.sin(tm)
-            # the nodes come in pairs tm -+ a (and tm itself for odd N_T): their cosines and sines
-            # by the addition theorem, two trigonometric calls a pair
-            for i in range((N_T + 1) // 2):
+            # the nodes come in pairs tm -+ a (and tm itself for odd N_T, last): their cosines and
+            # sines by the addition theorem, two trigonometric calls a pair; one call site of the
+            # (inlined) generator
+            ca = 1.0
+            sa = 0.0
+            for k in range(N_T):
+                i = k // 2
                 j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
                 wgt = R * h * _GL_WEIGHTS[N_T, j]
                 if i == j:
-                    g1, g2, g3, h1, h2, h3 = _generator(
-                        cm, sm, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                    )
-                    f1, f2, f3, m1, m2, m3 = add_weighted(
-                        (f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3)
-                    )
-                    continue
-                a = h * _GL_NODES[N_T, j]
-                ca = math.cos(a)
-                sa = math.sin(a)
-                g1, g2, g3, h1, h2, h3 = _generator(
-                    cm * ca + sm * sa, sm * ca - cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                )
-                f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
-                g1, g2, g3, h1, h2, h3 = _generator(
-                    cm * ca - sm * sa, sm * ca + cm * sa, R, xa, xb, d0, c20, c21, c22, vbody, law, bank
-                )
+                    c = cm
+                    s = sm
+                elif k % 2 == 0:
+                    a = h * _GL_NODES[N_T, j]
+                    ca = math.cos(a)
+                    sa = math.sin(a)
+                    c = cm * ca + sm * sa
+                    s = sm * ca - cm * sa
+                else:
+                    c = cm * ca - sm * sa
+                    s = sm * ca + cm * sa
+                g1, g2, g3, h1, h2, h3 = _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank)
                 f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
     return f1, f2, f3, m1, m2, m3

@@ -299,7 +299,7 @@ def rate_factor(speed, diameter, p):
 # =============================================================================
 # traction at one surface point
 # =============================================================================
-@kernel
+@small_kernel
 def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     """Traction (body frame) of the sediment on an advancing surface element.
 
@@ -317,17 +317,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    rho, s, sig = _properties(
-        zeta,
-        law[LAW_RHO0],
-        law[LAW_KRHO],
-        law[LAW_S0],
-        law[LAW_KS],
-        law[LAW_ROW],
-        bank,
-        law[LAW_RHO_W],
-        law[LAW_G],
-    )
+    rho, s, sig = _law_properties(zeta, law, bank)
     gfac = _rate(
         speed, law[LAW_RATE], law[LAW_A], law[LAW_VREST], law[LAW_BETA], law[LAW_RATE_REF], law[LAW_DIAMETER]
     )
@@ -478,9 +468,10 @@ def pack_law(p, diameter, reference_paths=True):
     )
 
 
-@kernel
+@small_kernel
 def _law_properties(zeta, law, bank):
-    """(rho_s, S, sigma'_eff) at depth zeta for the packed law."""
+    """(rho_s, S, sigma'_eff) at depth zeta for the packed law (inlined: a call would copy the law
+    tuple)."""
     return _properties(
         zeta,
         law[LAW_RHO0],
