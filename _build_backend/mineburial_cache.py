@@ -43,11 +43,12 @@ print("CACHE " + json.dumps(mineburial_cache.current_cache_files(os.path.join(ro
 def compile_paths(drops: int = 4) -> dict:
     """Compile (or load from numba's cache) the kernels that ``mineburial run`` reaches: the default
     ensemble's chunk (its sampling and the drops' default path), its numerical self-check (the
-    reference path, ``ensembles/accuracy.py``) and the scour stage of the embedded scour scenario.
+    reference path, ``systems/mine/accuracy.py``) and the scour stage of the embedded scour scenario.
     ``drops`` drops each; returns the seconds each part took. Runs in the source tree's interpreter
     (:data:`COMPILE_SCRIPT`), with mineburial importable."""
-    from mineburial.ensembles import engine, mine  # local import: only in the compile's interpreter
+    from mineburial.ensembles import engine  # local import: only in the compile's interpreter
     from mineburial.kernels import status as st  # local import: as above
+    from mineburial.systems.mine import ensemble as mine  # local import: only in the compile's interpreter
 
     seconds = {}
     t0 = time.perf_counter()

@@ -18,12 +18,12 @@ families, not a measured population):
   15-30 m/s horizontal and 25-40 m/s down, pitch 40-70 deg, 15-25 m of water);
 * sediment: ``soft_mud`` (very_soft_clay or soft_clay), ``sand`` (sandy_silt or sand),
   ``mixed`` (very_soft_clay, soft_clay, silty_mud or firm_clay: the issue's failing family),
-  catalogue classes (mineburial/sediment_profiles.py) with equal odds.
+  catalogue classes (mineburial/systems/mine/sediment_profiles.py) with equal odds.
 
 On the same sampled drops of each stratum it runs the shipped defaults and the self-check's
-reference path (:func:`mineburial.ensembles.accuracy.reference_params`: rtol 1e-5, atol 1e-6,
+reference path (:func:`mineburial.systems.mine.accuracy.reference_params`: rtol 1e-5, atol 1e-6,
 reference sediment and overburden quadratures) and prints p95 and max of the relative penetration
-change (:func:`mineburial.ensembles.accuracy.differences`: relative to max(reference, 0.5 m), at
+change (:func:`mineburial.systems.mine.accuracy.differences`: relative to max(reference, 0.5 m), at
 most 5 mm counts as 0), the burial-class and status changes, and whether the stratum meets the
 targets (p95 <= 1 %, max <= 5 %). ``--diagnose`` re-runs each stratum that misses with the
 tolerance alone tightened (rtol 1e-5, atol 1e-6, fast rule) and with the reference quadratures
@@ -60,9 +60,11 @@ import numpy as np
 import tomllib
 from _common import machine
 
-from mineburial.ensembles import accuracy, engine, mine
-from mineburial.ensembles.batch import run_batch
+from mineburial.ensembles import engine
 from mineburial.kernels.mine import layout as L
+from mineburial.systems.mine import accuracy
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.batch import run_batch
 
 HERE = pathlib.Path(__file__).resolve().parent
 U = "uniform"

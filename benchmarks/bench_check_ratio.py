@@ -19,9 +19,10 @@ import time
 import numba
 import numpy as np
 
-from mineburial.ensembles import accuracy, batch, engine
-from mineburial.ensembles.mine import chunk_inputs
+from mineburial.ensembles import engine
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import accuracy, batch
+from mineburial.systems.mine.ensemble import chunk_inputs
 
 
 def _cpu() -> float:

@@ -168,7 +168,7 @@ def main(argv=None) -> int:
     print(f"\nload average at the end: {load:.2f} on {cores} cores (other jobs inflate timings)")
     print(
         "note: the batch driver hands drops to numba threads 4 at a time "
-        "(mineburial.ensembles.batch.CHUNK_SIZE), so a chunk of <= 4 drops runs on one thread; "
+        "(mineburial.systems.mine.batch.CHUNK_SIZE), so a chunk of <= 4 drops runs on one thread; "
         "drops differ widely in cost, so small ensembles are dominated by load imbalance."
     )
     return 0

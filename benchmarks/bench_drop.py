@@ -19,8 +19,8 @@ from _common import best_of, machine
 COMPILE_SNIPPET = """
 import time
 t0 = time.perf_counter()
-from mineburial.config import load_example
-from mineburial.drop import run_params
+from mineburial.systems.mine.config import load_example
+from mineburial.systems.mine.drop import run_params
 sc = load_example('exp1_case92')
 p, sb, cb = sc.to_params()
 run_params(p, sb, cb)
@@ -45,9 +45,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
-    from mineburial.config import load_example
-    from mineburial.drop import run_params
     from mineburial.kernels.mine import layout
+    from mineburial.systems.mine.config import load_example
+    from mineburial.systems.mine.drop import run_params
 
     print(f"machine: {machine()}")
     print(f"compile (fresh process, empty numba cache): {compile_time(True):.1f} s")

@@ -27,9 +27,9 @@ def main():
 
     print(f"machine: {machine()}")
     t0 = time.perf_counter()
-    from mineburial.ensembles.batch import run_batch
     from mineburial.ensembles.engine import load_ensemble
-    from mineburial.ensembles.mine import chunk_inputs
+    from mineburial.systems.mine.batch import run_batch
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     spec = load_ensemble(args.scenario)
     P, valid, _ = chunk_inputs(spec, 0, args.n)

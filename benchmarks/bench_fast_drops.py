@@ -72,7 +72,7 @@ def variant(P, integrator, quadrature, dt=None, rtol=None):
 
 
 def run(spec, P, valid):
-    from mineburial.ensembles.batch import run_batch
+    from mineburial.systems.mine.batch import run_batch
 
     t = time.perf_counter()
     summary, status = run_batch(P, valid, spec.sediment_bank, spec.current_bank)
@@ -80,9 +80,9 @@ def run(spec, P, valid):
 
 
 def compare(summary, status, ref_summary, ref_status):
-    from mineburial.ensembles.statistics import burial_class
     from mineburial.kernels.mine import layout as L
     from mineburial.kernels.mine import status as S
+    from mineburial.systems.mine.statistics import burial_class
 
     pen = summary[:, L.S_PENETRATION]
     pen_ref = ref_summary[:, L.S_PENETRATION]
@@ -234,7 +234,7 @@ def main():
     import numba
 
     from mineburial.ensembles.engine import load_ensemble
-    from mineburial.ensembles.mine import chunk_inputs
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     print(f"machine: {machine()}; threads: {numba.get_num_threads()}")
     rows = []

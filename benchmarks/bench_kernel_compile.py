@@ -25,7 +25,7 @@ SETUP = {
     "derivatives": """
 import numpy as np
 from mineburial.ensembles.engine import load_ensemble
-from mineburial.ensembles.mine import chunk_inputs
+from mineburial.systems.mine.ensemble import chunk_inputs
 from mineburial.kernels.mine import dynamics, layout
 from mineburial.kernels.mine.sediment import pack_law
 spec = load_ensemble(None)

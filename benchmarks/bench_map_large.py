@@ -4,8 +4,8 @@ inputs computed once (issue 34 item 5).
 Run:  python benchmarks/bench_map_large.py [--ny 100] [--nx 100] [-n 100] [--target 0.1] [--min-drops 20]
       [--subset 200] [--out FOLDER]
 
-The grid is the synthetic environment (mineburial.synthetic, ``ny`` x ``nx``; invented values) as a chart
-product would give it: water depth in whole metres (soundings banded at 1 m) and no current layer (the
+The grid is the synthetic environment (mineburial.analyses.synthetic, ``ny`` x ``nx``; invented values) as a
+chart product would give it: water depth in whole metres (soundings banded at 1 m) and no current layer (the
 scenario's own current). The scenario is the shipped default (``mineburial example default_soft_mud``,
 posterior coefficients). Equal interval width: a plain map runs ``n`` drops in every cell (every class
 half-width at most 1.96 sqrt(0.25 / n), 0.098 at n = 100); sequential stopping stops a cell once every class
@@ -31,9 +31,9 @@ import time
 import numpy as np
 from _common import machine
 
-from mineburial.config import example_path
-from mineburial.maps import run_map
-from mineburial.synthetic import synthetic_environment
+from mineburial.analyses.maps import run_map
+from mineburial.analyses.synthetic import synthetic_environment
+from mineburial.systems.mine.config import example_path
 
 
 def chart_environment(ny, nx, seed=0):

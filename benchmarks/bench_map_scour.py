@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_map_scour.py [--ny 10] [--nx 11] [-n 20] [--out FOLDER]
 
-The synthetic environment grid (mineburial.synthetic, ``ny`` x ``nx``; 109 water cells at the
+The synthetic environment grid (mineburial.analyses.synthetic, ``ny`` x ``nx``; 109 water cells at the
 default 10 x 11) and, on its cells, a gridded forcing written with
 ``mineburial.io.forcing.write_gridded_netcdf``: per cell a parametrised storm
 (``forcing.storm_series``) over 90 days hourly (2,161 records), peaking on day 30 for 48 h with a
@@ -23,12 +23,12 @@ import time
 import numpy as np
 from _common import machine
 
-from mineburial.config import example_path
-from mineburial.ensembles import scour
+from mineburial.analyses.maps import run_map
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.io import forcing as fio
 from mineburial.io.inputs import read_toml
-from mineburial.maps import run_map
-from mineburial.synthetic import synthetic_environment
+from mineburial.systems.mine.config import example_path
+from mineburial.systems.mine.processes import scour
 
 LEADS = [0.0, 7.0, 30.0, 60.0, 90.0]
 

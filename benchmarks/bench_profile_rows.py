@@ -27,9 +27,9 @@ import time
 import numpy as np
 from _common import best_of, machine
 
-from mineburial.config import Scenario
-from mineburial.drop import run_params
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.drop import run_params
 
 DEFAULT = pathlib.Path(__file__).resolve().parents[1] / "mineburial" / "data" / "default_mine.toml"
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from _common import machine
 
-from mineburial.systems import restraint as R
+from mineburial.systems.restraint import model as R
 
 RESULTS = Path(__file__).parent / "results"
 

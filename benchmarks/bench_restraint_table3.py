@@ -78,7 +78,7 @@ def main(argv=None):
     default_out = Path(__file__).parent / "results" / "restraint_table3.txt"
     out = Path(args.out) if args.out else (None if overrides else default_out)
     from mineburial import __version__
-    from mineburial.systems import restraint as R
+    from mineburial.systems.restraint import model as R
 
     numbers = range(1, R.N_CASES + 1) if args.cases is None else [int(c) for c in args.cases.split(",")]
     rows = {}
@@ -171,7 +171,7 @@ DRAG_FORMS = (
 def drag_forms(args):
     """Table 3 under each combination of tangential-drag form and ship-resistance form."""
     from mineburial import __version__
-    from mineburial.systems import restraint as R
+    from mineburial.systems.restraint import model as R
 
     numbers = range(1, R.N_CASES + 1) if args.cases is None else [int(c) for c in args.cases.split(",")]
     out = (

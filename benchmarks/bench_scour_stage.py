@@ -41,10 +41,10 @@ def main():
     import numba
 
     from mineburial import run_ensemble
-    from mineburial.ensembles.batch import run_batch
     from mineburial.ensembles.engine import load_ensemble
-    from mineburial.ensembles.mine import chunk_inputs
     from mineburial.kernels.mine import scour as S
+    from mineburial.systems.mine.batch import run_batch
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     print(f"machine: {machine()}")
     numba.set_num_threads(1)

@@ -74,7 +74,8 @@ def timed_find_and_load(name, import_):
 boot._find_and_load = timed_find_and_load
 import mineburial.cli as cli
 from mineburial import _numba
-from mineburial.ensembles import accuracy, batch, dataset, engine, epistemic, mine, runner, store
+from mineburial.systems.mine import accuracy, batch, dataset, epistemic, ensemble as mine
+from mineburial.ensembles import engine, runner, store
 from mineburial.io import netcdf
 
 

@@ -77,9 +77,10 @@ def time_check(scenario, size: int, references, threads, repeat: int, drops=None
     """Print the wall and CPU time of the self-check's re-run per reference path and thread count."""
     import numba
 
-    from mineburial.ensembles import accuracy, engine
-    from mineburial.ensembles.mine import chunk_inputs
+    from mineburial.ensembles import engine
     from mineburial.kernels.mine import layout
+    from mineburial.systems.mine import accuracy
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     spec = engine.load_ensemble(scenario, n=drops, systems=engine.SYSTEMS)
     idx = accuracy.choose_drops(spec.seed, np.zeros(spec.n, np.int8), size)

@@ -23,7 +23,7 @@ def main():
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--scenario", default=None)
     args = ap.parse_args()
-    from mineburial.validation.sensitivity import ranking, run_sensitivity, sensitivity_table
+    from mineburial.analyses.sensitivity import ranking, run_sensitivity, sensitivity_table
 
     print(f"machine: {machine()}")
     ranks = {}

@@ -31,8 +31,8 @@ def main():
     ap.add_argument("--short", action="store_true", help="short drops (see the module docstring)")
     args = ap.parse_args()
     from mineburial import run_ensemble
-    from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
-    from mineburial.ensembles.mine import DEFAULT_SCENARIO
+    from mineburial.systems.mine.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
+    from mineburial.systems.mine.ensemble import DEFAULT_SCENARIO
 
     if args.short:
         with open(args.scenario or DEFAULT_SCENARIO, "rb") as fh:

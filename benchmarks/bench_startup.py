@@ -70,9 +70,9 @@ from _common import machine
 SNIPPET = """
 import time
 t0 = time.perf_counter()
-from mineburial.ensembles.batch import run_batch
+from mineburial.systems.mine.batch import run_batch
 from mineburial.ensembles.engine import load_ensemble
-from mineburial.ensembles.mine import chunk_inputs
+from mineburial.systems.mine.ensemble import chunk_inputs
 t_import = time.perf_counter() - t0
 spec = load_ensemble(None)
 P, valid, _ = chunk_inputs(spec, 0, 1)
@@ -81,7 +81,7 @@ if {reference!r} == "reference":
     P[:, layout.P_INTEGRATOR] = layout.INTEGRATOR_NAMES.index("rk4")
     P[:, layout.P_SED_QUADRATURE] = layout.SEDIMENT_QUADRATURE_NAMES.index("reference")
 elif {reference!r} == "self-check":
-    from mineburial.ensembles.accuracy import reference_params
+    from mineburial.systems.mine.accuracy import reference_params
     P = reference_params(P)
 run_batch(P, valid, spec.sediment_bank, spec.current_bank)
 print(t_import, time.perf_counter() - t0)
@@ -214,7 +214,8 @@ def mark(label):
 
 
 import mineburial.cli as cli
-from mineburial.ensembles import accuracy, engine, runner, store
+from mineburial.systems.mine import accuracy
+from mineburial.ensembles import engine, runner, store
 mark("imports")
 
 
@@ -444,7 +445,7 @@ def main():
         choices=("reference", "self-check"),
         help="with --profile or --cold-only: the compile of these paths after the default paths' "
         "(reference: rk4 and the reference sediment quadrature; self-check: the path of "
-        "ensembles/accuracy.py)",
+        "systems/mine/accuracy.py)",
     )
     ap.add_argument(
         "--fresh-install",

@@ -17,8 +17,8 @@ from _common import machine
 
 
 def run(sc, dt):
-    from mineburial.drop import run_params
     from mineburial.kernels.mine import layout
+    from mineburial.systems.mine.drop import run_params
 
     p, sb, cb = sc.to_params()
     p = p.copy()
@@ -43,7 +43,7 @@ def run(sc, dt):
 
 
 def main():
-    from mineburial.config import load_example
+    from mineburial.systems.mine.config import load_example
 
     print(f"machine: {machine()}")
     print(

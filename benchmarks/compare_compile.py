@@ -56,9 +56,9 @@ THROUGHPUT = (
     + """
 import time, numba
 numba.set_num_threads(1)
-from mineburial.ensembles.batch import run_batch
+from mineburial.systems.mine.batch import run_batch
 from mineburial.ensembles.engine import load_ensemble
-from mineburial.ensembles.mine import chunk_inputs
+from mineburial.systems.mine.ensemble import chunk_inputs
 spec = load_ensemble(sys.argv[1])
 P, valid, _ = chunk_inputs(spec, 0, int(sys.argv[2]))
 run_batch(P[:1], valid[:1], spec.sediment_bank, spec.current_bank)

@@ -17,8 +17,8 @@ import sys
 
 import numpy as np
 
-from mineburial.ensembles.scour import SHIPPED
 from mineburial.io.forcing import Forcing, storm_series, write_csv
+from mineburial.systems.mine.processes.scour import SHIPPED
 
 START = np.datetime64("2003-01-05T00:00:00", "ns")
 PIECE_H = 240.0

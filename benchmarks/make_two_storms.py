@@ -15,8 +15,8 @@ import sys
 
 from make_storms_30d import join_storms
 
-from mineburial.ensembles.scour import SHIPPED
 from mineburial.io.forcing import Forcing, write_csv
+from mineburial.systems.mine.processes.scour import SHIPPED
 
 #: (peak_hs m, peak_tp s, duration_h, peak_h within the piece, current m/s, surge m)
 STORMS = (

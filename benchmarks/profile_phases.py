@@ -239,7 +239,7 @@ def profiled_stepper(folder):
 
 def load(scenario, n):
     from mineburial.ensembles.engine import load_ensemble
-    from mineburial.ensembles.mine import chunk_inputs
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     spec = load_ensemble(scenario)
     P, valid, _ = chunk_inputs(spec, 0, n)

@@ -106,9 +106,9 @@ def worker(args):
     stash = _stash_object_code()
     import mineburial
     from mineburial.ensembles.engine import load_ensemble
-    from mineburial.ensembles.mine import chunk_inputs
     from mineburial.kernels.mine.layout import N_SUMMARY, SUMMARY_INDEX
     from mineburial.kernels.mine.stepper import run_drop
+    from mineburial.systems.mine.ensemble import chunk_inputs
 
     spec = load_ensemble(args.scenario)
     P, valid, _ = chunk_inputs(spec, 0, args.n)

@@ -1,6 +1,6 @@
 """The scour map example of issue 33 ("a map with the 'not modelled' mask and the forcing read from a
 standard-named wave file"): the SYNTHETIC 6 x 8 environment grid (sand near the coast, a band of
-soft mud, sandy silt offshore: ``mineburial.synthetic``) under a SYNTHETIC storm written as a
+soft mud, sandy silt offshore: ``mineburial.analyses.synthetic``) under a SYNTHETIC storm written as a
 Copernicus Marine wave product (variables found by their CF standard names, on the product's own
 coarser grid, 3-hourly, int16-packed), run with the scour-and-settle law, then drawn.
 
@@ -22,7 +22,7 @@ import sys
 import numpy as np
 
 from mineburial._deferred import xarray as xr
-from mineburial.synthetic import write_synthetic_environment
+from mineburial.analyses.synthetic import write_synthetic_environment
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENARIO = ROOT / "mineburial" / "data" / "ensembles" / "scour_two_storms.toml"

@@ -17,9 +17,9 @@ import sys
 import numpy as np
 import xarray as xr
 
-from mineburial.config import load_example
-from mineburial.drop import simulate_drop
 from mineburial.kernels.mine.status import IN_STATISTICS
+from mineburial.systems.mine.config import load_example
+from mineburial.systems.mine.drop import simulate_drop
 from mineburial.validation import cases
 
 MODELS = {

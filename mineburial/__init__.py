@@ -10,12 +10,12 @@ from mineburial._version import __version__
 def simulate_drop(*args, **kwargs):
     # local import: start-up, `import mineburial` (every command's first import) takes 0.11 s CPU,
     # with the drop and the runner 2.4 s (median of 5, docs/design.md "Imports")
-    from mineburial.drop import simulate_drop as _simulate_drop
+    from mineburial.systems.mine.drop import simulate_drop as _simulate_drop
 
     return _simulate_drop(*args, **kwargs)
 
 
-simulate_drop.__doc__ = "Simulate one drop; see :func:`mineburial.drop.simulate_drop`."
+simulate_drop.__doc__ = "Simulate one drop; see :func:`mineburial.systems.mine.drop.simulate_drop`."
 
 
 def run_ensemble(*args, **kwargs):

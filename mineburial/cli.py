@@ -167,7 +167,7 @@ def _check_scheduler_option(args) -> None:
 def main(argv=None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status.
 
-    User errors (:class:`~mineburial.config.ScenarioError`, which covers bad distribution
+    User errors (:class:`~mineburial.systems.mine.config.ScenarioError`, which covers bad distribution
     tables and grids too, and files that cannot be read or written) print one line
     ``mineburial: error: ...`` and return 2; an interrupt prints one line and returns 130.
     Anything else is a bug and keeps its traceback.

@@ -4,8 +4,8 @@
 The command line (:mod:`mineburial.cli`) names no system: it registers the generic commands
 (``run``, ``example``) and imports the light modules of :data:`COMMAND_MODULES`, each of which
 registers its system's commands: the mine's (``drop``, ``map``, ``compare``, ``sensitivity``,
-``validate``, ``calibrate``: :mod:`mineburial.systems.mine_commands`) and the restraining
-system's (``restrain``: :mod:`mineburial.systems.restraint_commands`). A command module
+``validate``, ``calibrate``: :mod:`mineburial.systems.mine.commands`) and the restraining
+system's (``restrain``: :mod:`mineburial.systems.restraint.commands`). A command module
 imports nothing heavy at its top: its ``run`` imports what the command needs when it runs, so
 ``mineburial --help`` stays fast (:mod:`mineburial.cli`'s docstring). Adding a command is one
 :func:`register` call in such a module; adding a system's commands, one module named in
@@ -22,7 +22,7 @@ from collections.abc import Callable
 __all__ = ["COMMAND_MODULES", "COMMANDS", "Command", "load", "register", "unregister"]
 
 #: the modules that register the systems' commands, imported by :func:`load` in this order
-COMMAND_MODULES = ("mineburial.systems.mine_commands", "mineburial.systems.restraint_commands")
+COMMAND_MODULES = ("mineburial.systems.mine.commands", "mineburial.systems.restraint.commands")
 
 
 @dataclasses.dataclass(frozen=True)

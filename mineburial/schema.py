@@ -13,8 +13,8 @@ declared once, and what derives from them (issue 18 item 3).
 * :func:`markdown_table` writes the field tables of the user documentation,
   :func:`dumps_toml` the TOML of a resolved input.
 
-The mine scenario's table is :mod:`mineburial.scenario_fields`, the restraining system's
-:data:`mineburial.systems.restraint.FIELDS`. Plain frozen dataclasses: a library
+The mine scenario's table is :mod:`mineburial.systems.mine.scenario_fields`, the restraining system's
+:data:`mineburial.systems.restraint.model.FIELDS`. Plain frozen dataclasses: a library
 (pydantic, attrs) would add its import time to every start of the CLI and a second
 vocabulary beside numpy's vectorised checks (docs/design.md, "One schema mechanism").
 """
@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from mineburial.sediment_profiles import ScenarioError, unknown_name_message
+from mineburial.errors import ScenarioError, unknown_name_message
 
 __all__ = [
     "Field",

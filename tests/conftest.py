@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from mineburial.ensembles import mine
+from mineburial.systems.mine import ensemble as mine
 
 BASE = {
     "mine": {"name": "test cylinder", "length": 1.0, "diameter": 0.25, "mass": 80.0, "com_offset": 0.0},
@@ -55,7 +55,7 @@ def scenario_dict(**sections):
 
 
 def make_scenario(**sections):
-    from mineburial.config import Scenario
+    from mineburial.systems.mine.config import Scenario
 
     return Scenario.from_dict(scenario_dict(**sections))
 
@@ -97,8 +97,8 @@ WARM_UP_MINE = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from conftest import make_scenario
-from mineburial.drop import run_params
-from mineburial.ensembles.batch import run_batch
+from mineburial.systems.mine.drop import run_params
+from mineburial.systems.mine.batch import run_batch
 p, sb, cb = make_scenario(numerics={"sediment_quadrature": sys.argv[1]}).to_params()
 run_batch(p[None, :], [1], sb, cb, threads=1)
 run_params(p, sb, cb, record_interval=0.5)
@@ -108,7 +108,7 @@ run_params(p, sb, cb, record_interval=0.5)
 #: driver (one specialisation for every integrator and case) and its record diagnostics, which
 #: five test files share (tests/test_restraint.py first paid it: 44 s of its fixture's set-up)
 WARM_UP_RESTRAINT = """
-from mineburial.systems import restraint
+from mineburial.systems.restraint import model as restraint
 restraint.simulate(restraint.table2_case(1).replace(**{"numerics.t_max": 0.5}))
 """
 

@@ -18,11 +18,14 @@ import xarray as xr
 from conftest import scenario_dict
 
 from mineburial.cli import main
-from mineburial.config import ScenarioError, dumps_toml
-from mineburial.ensembles import accuracy, batch, engine, mine
-from mineburial.ensembles.mine import summarize
+from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
+from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import accuracy, batch
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.config import dumps_toml
+from mineburial.systems.mine.ensemble import summarize
 
 N, SEED, SIZE = 6, 3, 3  # 9 reference drops in all (~3 s each): the suite's budget
 REFERENCE = {

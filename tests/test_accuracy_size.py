@@ -17,8 +17,11 @@ import pytest
 from conftest import scenario_dict
 
 from mineburial.cli import main
-from mineburial.config import ScenarioError, dumps_toml
-from mineburial.ensembles import accuracy, engine, mine
+from mineburial.ensembles import engine
+from mineburial.errors import ScenarioError
+from mineburial.systems.mine import accuracy
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.config import dumps_toml
 
 
 def least_drops_brute_force(rate, probability=0.9):

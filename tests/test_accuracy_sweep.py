@@ -14,9 +14,10 @@ import pathlib
 import numpy as np
 import pytest
 
-from mineburial.ensembles import engine, mine
+from mineburial.ensembles import engine
 from mineburial.kernels.mine import layout as L
-from mineburial.sediment_profiles import CATALOGUE
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.sediment_profiles import CATALOGUE
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from mineburial import cli
-from mineburial.synthetic import synthetic_environment
+from mineburial.analyses.synthetic import synthetic_environment
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -520,8 +520,8 @@ CASES = {
 @pytest.fixture(autouse=True)
 def no_drops(monkeypatch):
     """Any drop computed fails the test: bad input must be caught before computing."""
-    from mineburial import drop as drop_module
-    from mineburial.ensembles import batch
+    from mineburial.systems.mine import batch
+    from mineburial.systems.mine import drop as drop_module
 
     def computed(*args, **kw):
         raise AssertionError("a drop was computed before the bad input was caught")
@@ -566,7 +566,7 @@ def test_there_are_at_least_40_cases():
 
 def test_interrupt_ends_in_one_line_and_status_130(tmp_path, capsys, monkeypatch):
     """Ctrl-C during the drops: one line, status 130, and no traceback."""
-    from mineburial.ensembles import batch
+    from mineburial.systems.mine import batch
 
     def interrupted(*args, **kw):
         raise KeyboardInterrupt
@@ -584,8 +584,8 @@ def test_interrupt_ends_in_one_line_and_status_130(tmp_path, capsys, monkeypatch
 # the same checks through the Python API
 # ---------------------------------------------------------------------------
 def test_trajectory_rows_and_their_limit():
-    from mineburial.config import ScenarioError
-    from mineburial.drop import trajectory_rows
+    from mineburial.errors import ScenarioError
+    from mineburial.systems.mine.drop import trajectory_rows
 
     assert trajectory_rows(0.01, 5.0) == 503  # ceil(5 / 0.01) + 3
     assert trajectory_rows(3.0, 5.0) == 5
@@ -598,8 +598,8 @@ def test_trajectory_rows_and_their_limit():
 
 def test_ensemble_per_drop_must_be_true_or_false():
     """The scenario's [ensemble] per_drop = "yes" was taken as true without a word."""
-    from mineburial.config import ScenarioError
     from mineburial.ensembles.engine import load_ensemble
+    from mineburial.errors import ScenarioError
 
     d = ensemble()
     d["ensemble"]["per_drop"] = "yes"
@@ -610,7 +610,7 @@ def test_ensemble_per_drop_must_be_true_or_false():
 def test_descending_axes_are_accepted():
     """A north-to-south latitude (common in gridded products) is strictly monotonic: kept
     as it is, cell for cell."""
-    from mineburial.maps import read_environment
+    from mineburial.analyses.maps import read_environment
 
     env = synthetic_environment(ny=3, nx=4, seed=2)
     flipped = env.isel(latitude=slice(None, None, -1), longitude=slice(None, None, -1))

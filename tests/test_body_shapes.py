@@ -16,10 +16,10 @@ import pytest
 from numba import njit
 from scipy import integrate
 
-from mineburial import config as cfg
 from mineburial.kernels.mine import bodies, dynamics, layout
 from mineburial.kernels.mine.bodies import cylinder, shapes
 from mineburial.kernels.mine.bodies.shapes import CYLINDER, DROP_SHAPE
+from mineburial.systems.mine import config as cfg
 
 L, D, CHI, M = 2.0, 0.6, 0.1, 700.0
 DIMS = {"mine.length": L, "mine.diameter": D, "mine.com_offset": CHI}
@@ -174,7 +174,7 @@ def test_importing_the_configuration_loads_no_shape_kernel_nor_sediment_kernel()
     import sys
 
     code = (
-        "import sys, mineburial.config; print(sorted(m for m in sys.modules "
+        "import sys, mineburial.systems.mine.config; print(sorted(m for m in sys.modules "
         "if m.startswith('mineburial.kernels.mine.sediment') or m.endswith('bodies.cylinder')))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

@@ -16,13 +16,15 @@ import scipy.stats
 import xarray as xr
 from test_compare import short_default
 
-from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
-from mineburial.drop import run_params
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import engine, epistemic, mine
+from mineburial.ensembles import engine
 from mineburial.ensembles.sampling import uniforms
 from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine import epistemic
+from mineburial.systems.mine.calibration import calibrate, cases, conditioning, posterior, priors
+from mineburial.systems.mine.drop import run_params
 from mineburial.validation import cases as vc
 
 
@@ -266,7 +268,7 @@ def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
     """With a [scour] section of the law the posterior was conditioned with (scour_settle) the
     scour stage's calibrated coefficients come from each drop's set (the stage reads them from
     the sampled inputs); one the section gives is kept."""
-    from mineburial.ensembles import scour as scour_ensemble
+    from mineburial.systems.mine.processes import scour as scour_ensemble
 
     raw = short_default(12)
     raw["ensemble"]["coefficients"] = "posterior"
@@ -286,8 +288,8 @@ def test_a_scour_ensemble_draws_the_stages_coefficients_from_the_posterior():
 def test_the_scour_case_names_the_slots_the_ensemble_fills():
     """calibration.cases.SCOUR_COEFFICIENTS (field -> the stage's parameter name) and the
     ensemble's NUMERIC (name -> slot) must point at the same slots."""
-    from mineburial.ensembles import scour as scour_ensemble
     from mineburial.kernels.mine import scour as scour_kernels
+    from mineburial.systems.mine.processes import scour as scour_ensemble
 
     for path, kernel_name in cases.SCOUR_COEFFICIENTS.items():
         slot = getattr(scour_kernels, "S_" + kernel_name.upper())
@@ -442,7 +444,7 @@ def test_physics_doc_lists_every_prior_as_the_priors_file_declares_it():
 
     doc = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "physics.md").read_text()
     assert generated_block("priors", priors.prior_table(), priors.DOC_WRITER) in doc, (
-        "regenerate: python -c 'from mineburial.calibration.priors import write_prior_table; "
+        "regenerate: python -c 'from mineburial.systems.mine.calibration.priors import write_prior_table; "
         "write_prior_table()'"
     )
     for p in priors.load_priors():

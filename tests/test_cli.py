@@ -15,10 +15,10 @@ import xarray as xr
 
 from mineburial import __version__
 from mineburial.cli import main
-from mineburial.config import Scenario, ensemble_example_names, example_names, example_path
-from mineburial.drop import simulate_drop
 from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels.mine import status
+from mineburial.systems.mine.config import Scenario, ensemble_example_names, example_names, example_path
+from mineburial.systems.mine.drop import simulate_drop
 
 DROP = """
 [mine]

@@ -15,12 +15,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from mineburial.config import SCHEMA, Scenario, ScenarioError, check_params
-from mineburial.drop import run_params
+from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.coefficients import roughness_scaled
 from mineburial.kernels.mine.dynamics import impact35_strip_forces, strip_forces
 from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS, _traction, pack_law
+from mineburial.systems.mine.config import SCHEMA, Scenario, check_params
+from mineburial.systems.mine.drop import run_params
 from mineburial.validation import cases
 
 G = 9.81

@@ -7,11 +7,11 @@ import pytest
 import tomllib
 import xarray as xr
 
+from mineburial.analyses.compare import ComparisonError, parse_vary, run_comparison
 from mineburial.cli import main
-from mineburial.ensembles.mine import DEFAULT_SCENARIO
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io.dataset import registry_mismatches
-from mineburial.validation.compare import ComparisonError, parse_vary, run_comparison
+from mineburial.systems.mine.ensemble import DEFAULT_SCENARIO
 
 
 def short_default(n=10):
@@ -135,7 +135,7 @@ def test_plot_with_bounds_equal_to_the_estimate_up_to_rounding(resistances, tmp_
     Wilson upper bound of P(> 75 %) = 1 came out 2.2e-16 below it and matplotlib refused the
     negative error bar."""
     pytest.importorskip("matplotlib")
-    from mineburial.validation.compare import plot_comparison
+    from mineburial.analyses.compare import plot_comparison
 
     ds = resistances.copy(deep=True)
     p = ds.burial_class_probability.values

@@ -13,11 +13,11 @@ import pytest
 import xarray as xr
 from test_compare import short_default
 
+from mineburial.analyses.compare import run_comparison
 from mineburial.cli import main
-from mineburial.config import dumps_toml
 from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
-from mineburial.validation.compare import run_comparison
+from mineburial.systems.mine.config import dumps_toml
 
 SEED = 5
 VALUES = ["bearing", "delta"]

@@ -10,24 +10,24 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mineburial import config
-from mineburial.config import (
+from mineburial.errors import ScenarioError
+from mineburial.kernels.mine import layout
+from mineburial.kernels.rotation import euler_angles, normalize_quaternion, rotation_matrix
+from mineburial.systems.mine import config
+from mineburial.systems.mine.config import (
     FIELDS,
     Current,
     Numerics,
     Release,
     Scenario,
-    ScenarioError,
     Sediment,
     check_params,
     check_range,
     explain_params,
     quaternion_from_angles,
-    tomllib,  # tomllib or the tomli fallback
+    tomllib,
 )
-from mineburial.kernels.mine import layout
-from mineburial.kernels.rotation import euler_angles, normalize_quaternion, rotation_matrix
-from mineburial.sediment_profiles import catalogue_profile, pack_banks
+from mineburial.systems.mine.sediment_profiles import catalogue_profile, pack_banks
 
 G_CM2 = 1e-7  # kg m2 per g cm2
 
@@ -674,7 +674,7 @@ def test_to_params_tabulated_profiles_and_banks():
     assert p[idx["current.kind"]] == 3 and p[idx["current.table_index"]] == 0
     np.testing.assert_array_equal(cur_bank[0], [[0, 10, 30], [0.5, 0.3, 0.0], [0, 0.1, 0]])
     # linear slots hold the seabed values and gradients of the class (for information)
-    from mineburial.sediment_profiles import CATALOGUE
+    from mineburial.systems.mine.sediment_profiles import CATALOGUE
 
     c = CATALOGUE["soft_clay"]
     assert p[idx["sediment.strength"]] == c.strength
@@ -913,8 +913,9 @@ def test_invalid_samples_are_counted_per_field():
 def test_sampled_angle_outside_range_marks_the_drop_invalid(monkeypatch):
     """The packed rows hold the angles only as a quaternion, so check_params cannot see a
     sampled pitch of 120 deg: chunk_inputs must mark that drop invalid_input."""
-    from mineburial.ensembles import engine, mine
+    from mineburial.ensembles import engine
     from mineburial.ensembles.sampling import SampleTable
+    from mineburial.systems.mine import ensemble as mine
 
     spec = engine.load_ensemble(
         _ensemble(**{"release.pitch_deg": {"distribution": "uniform", "low": 0.0, "high": 60.0}})
@@ -1023,9 +1024,9 @@ def test_docs_name_only_examples_that_exist():
     which does not exist."""
     import re
 
-    from mineburial.ensembles import restraint as restraint_ensemble
-    from mineburial.ensembles.mine import DEFAULT_SCENARIO
-    from mineburial.systems import restraint
+    from mineburial.systems.mine.ensemble import DEFAULT_SCENARIO
+    from mineburial.systems.restraint import ensemble as restraint_ensemble
+    from mineburial.systems.restraint import model as restraint
 
     names = set(config.example_names()) | set(config.ensemble_example_names())
     names |= set(restraint.example_names()) | {restraint_ensemble.EXAMPLE_NAME}

@@ -17,13 +17,13 @@ import xarray as xr
 from test_netcdf import synthetic
 
 import mineburial
-from mineburial.ensembles.dataset import build_dataset
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.io import variables as V
 from mineburial.io.dataset import build, registry_mismatches, standard_attrs
 from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels.mine import layout
-from mineburial.sediment_profiles import class_names
-from mineburial.synthetic import synthetic_environment
+from mineburial.systems.mine.dataset import build_dataset
+from mineburial.systems.mine.sediment_profiles import class_names
 
 
 def _conventions_and_version(attrs):

@@ -29,9 +29,9 @@ def test_sampling_a_chunk_of_the_default_ensemble_imports_no_file_library():
     # what a dask worker or the first chunk of `mineburial run` does before its first drop
     found = _imported_after(
         """
-        from mineburial.ensembles.batch import run_batch
+        from mineburial.systems.mine.batch import run_batch
         from mineburial.ensembles.engine import load_ensemble
-        from mineburial.ensembles.mine import chunk_inputs
+        from mineburial.systems.mine.ensemble import chunk_inputs
         from mineburial.cli import main
         spec = load_ensemble(None)
         P, valid, _ = chunk_inputs(spec, 0, 4)

@@ -18,11 +18,11 @@ import pytest
 import xarray as xr
 from conftest import scenario_dict
 
+from mineburial.analyses.maps import run_map
 from mineburial.ensembles import distributed as D
 from mineburial.ensembles import engine, runner, store
 from mineburial.ensembles.distributed import chunk_task as _real_chunk_task
 from mineburial.ensembles.store import RunError
-from mineburial.maps import run_map
 
 # tasks defined here travel to the worker processes by value
 cloudpickle.register_pickle_by_value(sys.modules[__name__])
@@ -218,7 +218,7 @@ def test_without_a_shared_filesystem_the_client_saves_the_chunks(client, tmp_pat
 
 
 def test_map_on_the_cluster_equals_the_local_map(client):
-    from mineburial.synthetic import synthetic_environment
+    from mineburial.analyses.synthetic import synthetic_environment
 
     env = synthetic_environment(ny=2, nx=2, seed=3)  # 3 water cells + 1 land cell
     wet = np.isfinite(env["water_depth"].values)

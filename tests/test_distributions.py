@@ -416,6 +416,6 @@ def test_probability_outside_of_discrete_families_counts_open_ends():
 def test_distribution_error_is_a_scenario_error():
     """The command line reports ScenarioErrors in one line: a bad distribution table is one
     (it used to end in a traceback)."""
-    from mineburial.config import ScenarioError
+    from mineburial.errors import ScenarioError
 
     assert issubclass(DistributionError, ScenarioError)

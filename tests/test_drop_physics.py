@@ -17,12 +17,12 @@ from conftest import scenario_dict
 from printed_laws import AREA, NU, RHO, VOL, D, G, L, R, broadside_drag
 from scipy.integrate import quad, solve_ivp
 
-from mineburial.config import Numerics, Scenario
-from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine.bodies.cylinder import Cylinder
 from mineburial.kernels.mine.overburden import overburden_force
 from mineburial.kernels.mine.sediment.laws import pack_law
+from mineburial.systems.mine.config import Numerics, Scenario
+from mineburial.systems.mine.drop import run_params, simulate_drop
 
 
 def make_scenario(**sections):

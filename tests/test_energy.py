@@ -16,8 +16,8 @@ from conftest import make_scenario, scenario_dict
 from printed_laws import AREA, RHO, VOL, D, G, L, broadside_drag
 from scipy.integrate import cumulative_trapezoid
 
-from mineburial.config import Scenario
-from mineburial.drop import simulate_drop
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.drop import simulate_drop
 
 
 def test_water_column_energy_balance_with_the_drag_of_the_printed_law():

@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from mineburial.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
-from mineburial.drop import run_params
 from mineburial.ensembles.engine import load_ensemble
-from mineburial.ensembles.mine import DEFAULT_SCENARIO, chunk_inputs
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine.config import tomllib  # tomllib or the tomli fallback (Python 3.10)
+from mineburial.systems.mine.drop import run_params
+from mineburial.systems.mine.ensemble import DEFAULT_SCENARIO, chunk_inputs
 
 
 def fast_default(**ensemble):
@@ -123,7 +123,7 @@ def test_interrupted_run_resumes_without_recomputing(tmp_path, monkeypatch):
 
 
 def test_bad_ensemble_values_get_clear_errors():
-    from mineburial.config import ScenarioError
+    from mineburial.errors import ScenarioError
 
     with pytest.raises(ScenarioError, match=r"ensemble\.n = 0"):
         load_ensemble(fast_default(n=0))

@@ -17,9 +17,9 @@ import pytest
 import xarray as xr
 from scipy.integrate import quad
 
+from mineburial.errors import ScenarioError
 from mineburial.io import forcing as F
 from mineburial.kernels.mine import scour as S
-from mineburial.sediment_profiles import ScenarioError
 
 START = np.datetime64("2003-01-15T00:00:00", "ns")
 N = 30

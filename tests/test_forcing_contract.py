@@ -20,12 +20,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from mineburial.cli import main
-from mineburial.config import dumps_toml
-from mineburial.ensembles import batch, engine
+from mineburial.ensembles import engine
+from mineburial.errors import ScenarioError
 from mineburial.io import forcing as F
 from mineburial.io.inputs import numbered_csv
-from mineburial.sediment_profiles import ScenarioError
-from mineburial.sediment_profiles import load_csv as load_core
+from mineburial.systems.mine import batch
+from mineburial.systems.mine.config import dumps_toml
+from mineburial.systems.mine.sediment_profiles import load_csv as load_core
 
 HEADER = "time_s,hs_m,tp_s,wave_dir_deg,current_speed_m_s,current_dir_deg"
 

@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 from conftest import make_scenario
 
-from mineburial.drop import simulate_drop
 from mineburial.errors import ScenarioError
+from mineburial.systems.mine.drop import simulate_drop
 
 RHO, G = 1025.0, 9.81
 #: a Manta-like frustum (docs/notes/manta_research.md: base 0.98 m, height 0.44 m, top 0.4 of the

@@ -8,13 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from mineburial.config import example_path
-from mineburial.ensembles import engine, scour
-from mineburial.ensembles import mine as em
+from mineburial.ensembles import engine
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
 from mineburial.kernels.mine import status as status_codes
 from mineburial.kernels.mine.bodies.shapes import frustum_centroid_offset
+from mineburial.systems.mine import ensemble as em
+from mineburial.systems.mine.config import example_path
+from mineburial.systems.mine.processes import scour
 
 N = 6
 

@@ -41,10 +41,10 @@ import pytest
 from test_bad_input import NORMAL, U, ensemble, setting, single, toml_text
 
 from mineburial import cli
-from mineburial.config import example_path, tomllib
-from mineburial.ensembles import restraint as restraint_ensemble
-from mineburial.synthetic import synthetic_environment
-from mineburial.systems import restraint
+from mineburial.analyses.synthetic import synthetic_environment
+from mineburial.systems.mine.config import example_path, tomllib
+from mineburial.systems.restraint import ensemble as restraint_ensemble
+from mineburial.systems.restraint import model as restraint
 
 
 # ---------------------------------------------------------------------------
@@ -838,8 +838,8 @@ XFAIL: dict[str, str] = {}
 @pytest.fixture
 def nothing_computed(monkeypatch):
     """Any drop, restraint case or validation case computed fails the test."""
-    from mineburial import drop as drop_module
-    from mineburial.ensembles import batch
+    from mineburial.systems.mine import batch
+    from mineburial.systems.mine import drop as drop_module
     from mineburial.validation import report
     from mineburial.validation.cases import VERIFICATION, Case
 

@@ -11,7 +11,7 @@ import a mine module themselves (the registry imports every system by design), s
 each generic module's own imports: every ``import``/``from ... import`` anywhere in its source,
 function-local ones included (the import graph of ``tests/test_imports.py``).
 
-``mineburial/ensembles/dataset.py`` is the mine's Dataset (its burial statistics, summary columns and
+``mineburial/systems/mine/dataset.py`` is the mine's Dataset (its burial statistics, summary columns and
 burial classes; docs/design.md): it is a mine module here, and the generic dataset builder is
 ``mineburial/io/dataset.py`` (the one CF builder of every file).
 
@@ -34,32 +34,32 @@ from mineburial.ensembles import engine
 from mineburial.systems import registry
 
 #: packages whose every module is the mine's
-MINE_PACKAGES = ("mineburial.kernels.mine", "mineburial.calibration", "mineburial.validation")
+MINE_PACKAGES = ("mineburial.kernels.mine", "mineburial.systems.mine.calibration", "mineburial.validation")
 #: modules that are the mine's (a package here counts with its submodules)
 MINE_MODULES = (
     # its ensemble: the system entry, the drops on the thread pool, its Dataset and statistics,
     # the self-check, model choices, the epistemic band, the post-impact process seam and scour
-    "mineburial.ensembles.mine",
-    "mineburial.ensembles.batch",
-    "mineburial.ensembles.dataset",
-    "mineburial.ensembles.statistics",
-    "mineburial.ensembles.accuracy",
-    "mineburial.ensembles.model_form",
-    "mineburial.ensembles.epistemic",
-    "mineburial.ensembles.processes",
-    "mineburial.ensembles.scour",
-    "mineburial.ensembles.scour_variables",
-    "mineburial.ensembles.scour_map",
-    "mineburial.ensembles.scour_figure",
+    "mineburial.systems.mine.ensemble",
+    "mineburial.systems.mine.batch",
+    "mineburial.systems.mine.dataset",
+    "mineburial.systems.mine.statistics",
+    "mineburial.systems.mine.accuracy",
+    "mineburial.systems.mine.model_form",
+    "mineburial.systems.mine.epistemic",
+    "mineburial.systems.mine.processes.registry",
+    "mineburial.systems.mine.processes.scour",
+    "mineburial.systems.mine.processes.scour_variables",
+    "mineburial.systems.mine.processes.scour_map",
+    "mineburial.systems.mine.processes.scour_figure",
     # its scenario (the mine's fields and rules), sediment profiles, single drop, maps and figures
-    "mineburial.config",
-    "mineburial.scenario_fields",
-    "mineburial.sediment_profiles",
-    "mineburial.drop",
-    "mineburial.maps",
-    "mineburial.figures",
+    "mineburial.systems.mine.config",
+    "mineburial.systems.mine.scenario_fields",
+    "mineburial.systems.mine.sediment_profiles",
+    "mineburial.systems.mine.drop",
+    "mineburial.analyses.maps",
+    "mineburial.systems.mine.figures",
     # its commands
-    "mineburial.systems.mine_commands",
+    "mineburial.systems.mine.commands",
 )
 #: the generic layer: engine, run driver, chunk store, dask layer, CF dataset builder, command line
 GENERIC = (
@@ -91,7 +91,7 @@ def mine_imports(graph, modules=GENERIC) -> dict:
 
 def test_the_check_sees_a_generic_module_that_imports_the_mine():
     graph = {
-        "mineburial.ensembles.engine": {"mineburial.systems.registry", "mineburial.ensembles.mine"},
+        "mineburial.ensembles.engine": {"mineburial.systems.registry", "mineburial.systems.mine.ensemble"},
         "mineburial.ensembles.runner": {"mineburial.kernels.mine.layout", "mineburial.ensembles.settings"},
         "mineburial.cli": {"mineburial.commands"},
     }
@@ -99,7 +99,7 @@ def test_the_check_sees_a_generic_module_that_imports_the_mine():
         graph, ("mineburial.ensembles.engine", "mineburial.ensembles.runner", "mineburial.cli")
     )
     assert got == {
-        "mineburial.ensembles.engine": ["mineburial.ensembles.mine"],
+        "mineburial.ensembles.engine": ["mineburial.systems.mine.ensemble"],
         "mineburial.ensembles.runner": ["mineburial.kernels.mine.layout"],
     }
     # a module beside the mine's with a shared prefix is not the mine's
@@ -171,7 +171,7 @@ def test_a_spec_of_any_registered_system_is_read_back_as_its_system():
 
 
 def restraint_ensemble_raw() -> dict:
-    from mineburial.ensembles import restraint
+    from mineburial.systems.restraint import ensemble as restraint
 
     _, text = restraint.example("restraint_ensemble")
     raw = tomllib.loads(text)

@@ -12,10 +12,10 @@ import pytest
 import rasterio
 import xarray as xr
 
+from mineburial.analyses.maps import MapError, write_geotiff
+from mineburial.analyses.synthetic import write_synthetic_environment
 from mineburial.cli import main
-from mineburial.config import example_path
-from mineburial.maps import MapError, write_geotiff
-from mineburial.synthetic import write_synthetic_environment
+from mineburial.systems.mine.config import example_path
 
 
 def synthetic_map(y, x, ydim, xdim, mapping, leads=None):

@@ -92,8 +92,10 @@ def test_find_cycle_detects_a_cycle_and_accepts_a_tree():
 def test_graph_sees_function_local_imports():
     graph = import_graph()
     # mineburial/__init__.py imports these only inside its wrapper functions
-    assert {"mineburial.drop", "mineburial.ensembles.runner"} <= graph["mineburial"]
-    assert "mineburial.maps" in graph["mineburial.systems.mine_commands"]  # inside the map command's run only
+    assert {"mineburial.systems.mine.drop", "mineburial.ensembles.runner"} <= graph["mineburial"]
+    assert (
+        "mineburial.analyses.maps" in graph["mineburial.systems.mine.commands"]
+    )  # inside the map command's run only
 
 
 def test_no_import_cycles():
@@ -162,9 +164,9 @@ GENERIC_RUN_MODULES = (
     "mineburial.ensembles.intervals",
 )
 SYSTEM_MODULES = SYSTEM_KERNELS + (
-    "mineburial.ensembles.mine",
-    "mineburial.ensembles.restraint",
-    "mineburial.systems.restraint",
+    "mineburial.systems.mine.ensemble",
+    "mineburial.systems.restraint.ensemble",
+    "mineburial.systems.restraint.model",
 )
 
 
@@ -238,15 +240,15 @@ def f():
     x = 1
     # local import: scipy.stats costs 0.5 s of start-up
     from scipy.stats import qmc
-    from mineburial.config import Scenario
+    from mineburial.systems.mine.config import Scenario
     x = 2
-    from mineburial.drop import simulate_drop  # local import: an import cycle, tests/test_imports.py
-    from mineburial.maps import run_map_cli
+    from mineburial.systems.mine.drop import simulate_drop  # local import: an import cycle, tests/test_imports.py
+    from mineburial.analyses.maps import run_map_cli
     x = 3
-    from mineburial.drop import simulate_drop
+    from mineburial.systems.mine.drop import simulate_drop
     import json  # local import:
     if x:
-        from mineburial import maps
+        from mineburial.analyses import maps
 
     def g():
         from mineburial import ensembles

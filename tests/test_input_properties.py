@@ -25,14 +25,15 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_bad_input import toml_text
 
-from mineburial.config import Scenario, ScenarioError, example_path, tomllib
+from mineburial.analyses.maps import EnvironmentGrid, read_environment
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.ensembles import distributions as dist
 from mineburial.ensembles.engine import load_ensemble
-from mineburial.ensembles.mine import EnsembleSpec
-from mineburial.maps import EnvironmentGrid, read_environment
-from mineburial.sediment_profiles import SedimentProfile, load_csv
-from mineburial.synthetic import synthetic_environment
-from mineburial.systems import restraint
+from mineburial.errors import ScenarioError
+from mineburial.systems.mine.config import Scenario, example_path, tomllib
+from mineburial.systems.mine.ensemble import EnsembleSpec
+from mineburial.systems.mine.sediment_profiles import SedimentProfile, load_csv
+from mineburial.systems.restraint import model as restraint
 
 SETTINGS = settings(
     max_examples=25,

@@ -25,8 +25,10 @@ import numpy as np
 import pytest
 
 from mineburial import _numba, cli
-from mineburial.config import Scenario, ScenarioError
+from mineburial.analyses.maps import read_environment
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.ensembles import distributions as dist
+from mineburial.errors import ScenarioError
 from mineburial.io import inputs
 from mineburial.kernels.mine.environment import interpolate_row
 from mineburial.kernels.mine.layout import N_PARAMS, P_RHO_WATER, P_SED_PROFILE
@@ -36,9 +38,8 @@ from mineburial.kernels.mine.sediment.laws import (
     _scan_properties,
     drop_bank,
 )
-from mineburial.maps import read_environment
-from mineburial.sediment_profiles import load_csv
-from mineburial.synthetic import synthetic_environment
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.sediment_profiles import load_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMEOUT = 120  # s: a subprocess that hangs on a FIFO fails the test instead of the suite
@@ -109,10 +110,10 @@ BAD_INPUTS = {
 #: prints one line per call: the folder, a tab, then REFUSED and the message, or what else happened
 READ_EACH = """
 import sys, os
-from mineburial.config import Scenario
-from mineburial.sediment_profiles import load_csv, load_netcdf, ScenarioError
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.sediment_profiles import load_csv, load_netcdf, ScenarioError
 from mineburial.ensembles import distributions as dist
-from mineburial.maps import read_environment
+from mineburial.analyses.maps import read_environment
 READERS = {readers!r}
 for folder in sys.stdin.read().splitlines():
     os.chdir(folder)

@@ -30,7 +30,7 @@ from mineburial.kernels import multibody as mb
 from mineburial.kernels.core import System
 from mineburial.kernels.mine import layout, stepper
 from mineburial.kernels.mine import status as st
-from mineburial.systems import restraint as R
+from mineburial.systems.restraint import model as R
 
 G = 9.81
 MASS, LENGTH = 2.0, 1.0

@@ -13,9 +13,9 @@ import pytest
 from conftest import make_scenario
 from scipy.integrate import quad
 
-from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels import integrators as it
 from mineburial.kernels.mine import layout, status
+from mineburial.systems.mine.drop import run_params, simulate_drop
 
 G = 9.81
 
@@ -284,7 +284,7 @@ def test_default_path_matches_rk4_reference_on_the_default_mine(integrator):
     rule), dopri5 throughout and the Rosenbrock-W step throughout (the core's method the mine
     offers since both drivers step with core.attempt_step), all at the default tolerances, against
     RK4 at 0.25 ms with the reference quadrature."""
-    from mineburial.config import Scenario, load_example
+    from mineburial.systems.mine.config import Scenario, load_example
 
     d = load_example("default_mine").to_dict()
     d["numerics"] = dict(d["numerics"], integrator=integrator, sediment_quadrature="fast")
@@ -327,7 +327,7 @@ def test_mine_in_sediment_that_cannot_hold_it_is_buried_sinking():
     without limit, fully buried at the time limit; reported as such, 100 % buried."""
     from conftest import scenario_dict
 
-    from mineburial.config import Scenario
+    from mineburial.systems.mine.config import Scenario
 
     d = scenario_dict(
         environment={"water_depth": 3.0},

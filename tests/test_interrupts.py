@@ -19,9 +19,10 @@ import pytest
 import xarray as xr
 from conftest import cheap_ensemble
 
-from mineburial.config import dumps_toml
-from mineburial.ensembles import batch, runner, threads
+from mineburial.ensembles import runner, threads
 from mineburial.ensembles.interrupt import Interrupted
+from mineburial.systems.mine import batch
+from mineburial.systems.mine.config import dumps_toml
 
 ROOT = Path(__file__).resolve().parents[1]
 N, SEED = 12, 20261126

@@ -18,12 +18,13 @@ import pytest
 import scipy.stats
 from test_compare import short_default
 
-from mineburial.calibration import calibrate, cases, conditioning, posterior, priors
 from mineburial.ensembles import distributions as dist
-from mineburial.ensembles import engine, mine
-from mineburial.ensembles import scour as scour_ensemble
+from mineburial.ensembles import engine
 from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import scour as scour_kernels
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.calibration import calibrate, cases, conditioning, posterior, priors
+from mineburial.systems.mine.processes import scour as scour_ensemble
 
 LAW = "scour.burial_law"
 LAWS = ("rennie", "scour_settle")
@@ -320,7 +321,7 @@ def _params(n):
 
 def test_the_per_drop_law_is_written_with_the_kernels_codes(tmp_path):
     """The sampled input scour.burial_law names its codes as the stage's kernel defines them."""
-    from mineburial.ensembles.mine import input_metadata
+    from mineburial.systems.mine.ensemble import input_metadata
 
     path, *_ = _posterior_file(tmp_path)
     spec = engine.load_ensemble(_law_scenario(path, "posterior", n=4))

@@ -12,7 +12,7 @@ import pytest
 
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine.sediment import laws
-from mineburial.scenario_fields import TABLE
+from mineburial.systems.mine.scenario_fields import TABLE
 
 FIELDS = {f.path for f in TABLE}
 INTEGER_FIELDS = {"sediment.rate_law", "sediment.profile_index", "numerics.sediment_quadrature"}

@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from mineburial import config
 from mineburial.ensembles import engine
-from mineburial.ensembles import mine as em
 from mineburial.errors import ScenarioError
 from mineburial.io.inputs import read_toml
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import config
+from mineburial.systems.mine import ensemble as em
 
 EXAMPLES = ("manta_ship_laid", "manta_air_laid", "manta_scour")
 

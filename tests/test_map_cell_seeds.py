@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from test_maps import STAT_NAMES, _scenario, cell_reference
 
+from mineburial.analyses.maps import MapError, run_map
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.cli import main
 from mineburial.ensembles.runner import run_ensemble
-from mineburial.maps import MapError, run_map
-from mineburial.sediment_profiles import class_names
-from mineburial.synthetic import synthetic_environment
+from mineburial.systems.mine.sediment_profiles import class_names
 
 N, SEED = 5, 8675309
 CURRENT = {"kind": "power_law", "surface_velocity": [0.02, -0.01], "exponent": 0.2}

@@ -17,10 +17,10 @@ import xarray as xr
 from scipy.stats import norm
 from test_maps import _scenario, cell_reference, expected_seed, uniform_environment
 
+from mineburial.analyses.maps import MapError, check_stopping, run_map
 from mineburial.cli import main
 from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
-from mineburial.maps import MapError, check_stopping, run_map
 
 SEED = 2024
 MAX, MIN, STEP, TARGET = 32, 8, 8, 0.2

@@ -19,12 +19,12 @@ import pytest
 import xarray as xr
 from conftest import scenario_dict
 
+from mineburial.analyses.maps import MAP_OUTPUTS, MapError, plot_map, read_environment, run_map
+from mineburial.analyses.synthetic import synthetic_environment, write_synthetic_environment
 from mineburial.cli import main
 from mineburial.ensembles import engine
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io.dataset import registry_mismatches
-from mineburial.maps import MAP_OUTPUTS, MapError, plot_map, read_environment, run_map
-from mineburial.synthetic import synthetic_environment, write_synthetic_environment
 
 N, SEED = 5, 424242
 #: the names the synthetic (lat/lon) grid gives the map family's y, x and grid mapping
@@ -136,7 +136,7 @@ def test_a_map_has_only_its_registry_familys_variables_and_the_text_map_files_ha
     ds, _ = uniform_map
     assert registry_mismatches(ds, "map", names=GRID_NAMES) == []
     assert registry_mismatches(ds, "map") != []  # the grid's own names are not the declared y, x
-    # as the maps wrote them by hand before the family (mineburial/maps.py at ee0fb46)
+    # as the maps wrote them by hand before the family (mineburial/analyses/maps.py at ee0fb46)
     assert ds["cell_status"].attrs["flag_meanings"] == "computed land_or_no_water_depth no_sediment_data"
     assert ds["most_likely_burial_class"].attrs["flag_values"].tolist() == [-1, 0, 1, 2, 3, 4]
     assert ds["most_likely_burial_class"].attrs["flag_meanings"].split()[:2] == ["no_data", "not_buried"]

@@ -23,9 +23,9 @@ import rasterio
 from test_maps import SEED, _scenario, uniform_environment
 from test_maps_scour import forcing_csv, scour_section, with_scour
 
-from mineburial import maps
+from mineburial.analyses import maps
 from mineburial.cli import main
-from mineburial.config import dumps_toml
+from mineburial.systems.mine.config import dumps_toml
 
 pytest.importorskip("matplotlib")
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -160,7 +160,7 @@ LIMITED = textwrap.dedent(
     """
     import resource, signal, sys
     import xarray as xr
-    from mineburial import maps
+    from mineburial.analyses import maps
     from mineburial.cli import main
 
     saved = xr.load_dataset(sys.argv[1])
@@ -248,16 +248,16 @@ def test_the_writer_refuses_an_empty_or_short_file_and_keeps_the_earlier_one(tmp
 
 
 def test_synthetic_help_prints_the_usage_and_writes_no_file(tmp_path):
-    """Was: ``python -m mineburial.synthetic --help`` wrote a grid to a file named ``--help``."""
+    """Was: ``python -m mineburial.analyses.synthetic --help`` wrote a grid to a file named ``--help``."""
     proc = subprocess.run(
-        [sys.executable, "-m", "mineburial.synthetic", "--help"],
+        [sys.executable, "-m", "mineburial.analyses.synthetic", "--help"],
         capture_output=True,
         text=True,
         timeout=120,
         cwd=tmp_path,
         env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
     )
-    assert proc.returncode == 0 and proc.stdout.startswith("usage: python -m mineburial.synthetic")
+    assert proc.returncode == 0 and proc.stdout.startswith("usage: python -m mineburial.analyses.synthetic")
     assert list(tmp_path.iterdir()) == []
 
 
@@ -271,7 +271,7 @@ def nothing_computed(monkeypatch):
 
 def test_geotiff_of_an_unevenly_spaced_grid_is_refused_before_computing(tmp_path, capsys, nothing_computed):
     """Was: refused only after the whole map was computed."""
-    from mineburial.synthetic import synthetic_environment
+    from mineburial.analyses.synthetic import synthetic_environment
 
     env = synthetic_environment(ny=3, nx=2, seed=1)
     env = env.assign_coords(latitude=("latitude", [54.50, 54.51, 54.53], env["latitude"].attrs))

@@ -25,14 +25,14 @@ from test_maps import (
     uniform_environment,
 )
 
+from mineburial.analyses.maps import run_map
 from mineburial.cli import main
-from mineburial.config import dumps_toml
 from mineburial.ensembles.runner import run_ensemble
+from mineburial.errors import ScenarioError
 from mineburial.io import forcing as fio
 from mineburial.io import variables as V
 from mineburial.io.dataset import registry_mismatches
-from mineburial.maps import run_map
-from mineburial.sediment_profiles import ScenarioError
+from mineburial.systems.mine.config import dumps_toml
 
 N = 4
 LEADS = [0.0, 0.01, 0.5]  # days
@@ -215,7 +215,7 @@ def test_cli_map_draws_lead_time_panels_and_writes_the_geotiff_after_scour(maps,
 
 
 def test_memory_check_counts_the_lead_time_arrays(tmp_path, monkeypatch):
-    from mineburial import maps
+    from mineburial.analyses import maps
     from mineburial.ensembles import engine
 
     needs = []

@@ -127,7 +127,8 @@ def refused(capsys, argv, *needles):
 
 @pytest.fixture
 def no_drops(monkeypatch):
-    from mineburial.ensembles import batch, engine
+    from mineburial.ensembles import engine
+    from mineburial.systems.mine import batch
 
     def fail(*args, **kwargs):
         raise AssertionError("a drop was computed before the check")
@@ -175,7 +176,7 @@ def test_sensitivity_memory_bound_lies_above_a_measured_peak():
     """The estimate is an upper bound of tracemalloc's peak of a small analysis."""
     import tracemalloc
 
-    from mineburial.validation.sensitivity import memory_needed, sobol_analysis
+    from mineburial.analyses.sensitivity import memory_needed, sobol_analysis
 
     class Uniform:
         def ppf(self, u):
@@ -206,7 +207,7 @@ def test_run_checks_the_available_memory_not_the_total_ram(capsys, no_drops, mon
 
 
 def test_drop_trajectory_check_takes_half_of_the_available_memory(monkeypatch):
-    from mineburial.drop import memory_shortfall
+    from mineburial.systems.mine.drop import memory_shortfall
 
     monkeypatch.setattr(resources, "available_memory", lambda *a: 1_000_000)
     assert memory_shortfall(400_000.0) is None
@@ -217,8 +218,8 @@ def test_drop_trajectory_check_takes_half_of_the_available_memory(monkeypatch):
 def test_a_4_million_cell_map_is_refused_before_computing(monkeypatch):
     """A 2000 x 2000 grid used 2.4 GB unchecked: 20 kB a cell to compute needs 80 GB, more than
     the 24 GiB made available here (a machine with more free memory would rightly accept it)."""
+    from mineburial.analyses.maps import MAP_BYTES_A_COMPUTED_CELL, MapError, _check_map_memory
     from mineburial.ensembles import engine
-    from mineburial.maps import MAP_BYTES_A_COMPUTED_CELL, MapError, _check_map_memory
 
     monkeypatch.setattr(resources, "available_memory", lambda *a: 24 * GiB)
     base = engine.load_ensemble(None, n=10)
@@ -229,7 +230,7 @@ def test_a_4_million_cell_map_is_refused_before_computing(monkeypatch):
 
 
 def test_map_cli_checks_the_available_memory_before_computing(capsys, no_drops, monkeypatch, tmp_path):
-    from mineburial.synthetic import write_synthetic_environment
+    from mineburial.analyses.synthetic import write_synthetic_environment
 
     env = write_synthetic_environment(tmp_path / "env.nc", ny=3, nx=4)
     scenario = tmp_path / "s.toml"

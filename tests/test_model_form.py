@@ -11,15 +11,17 @@ import pytest
 from test_bad_input import toml_text
 from test_compare import short_default
 
+from mineburial.analyses.sensitivity import model_form_lines, model_form_share, sobol_analysis
 from mineburial.cli import main
-from mineburial.config import example_path
-from mineburial.ensembles import engine, mine, model_form
+from mineburial.ensembles import engine
 from mineburial.ensembles.distributions import from_dict
-from mineburial.ensembles.mine import summarize
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.ensembles.sampling import uniforms
 from mineburial.kernels.mine import layout
-from mineburial.validation.sensitivity import model_form_lines, model_form_share, sobol_analysis
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine import model_form
+from mineburial.systems.mine.config import example_path
+from mineburial.systems.mine.ensemble import summarize
 
 WC = {"distribution": "choice", "values": ["munk_factor", "viscous_crossflow"], "weights": [1.0, 3.0]}
 RES = {"distribution": "choice", "values": ["bearing", "friction", "delta"], "weights": [2.0, 1.0, 1.0]}
@@ -208,7 +210,7 @@ def only_water_column_uncertain(table):
 
 
 def test_sensitivity_of_a_scenario_whose_only_uncertainty_is_the_model_gives_it_the_whole_variance():
-    from mineburial.validation.sensitivity import run_sensitivity
+    from mineburial.analyses.sensitivity import run_sensitivity
 
     wc = {"distribution": "choice", "values": list(layout.WATER_COLUMN_NAMES)}
     ds = run_sensitivity(only_water_column_uncertain(wc), n=16, seed=1)

@@ -24,12 +24,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from mineburial.ensembles.dataset import build_dataset
-from mineburial.ensembles.statistics import burial_class
 from mineburial.io import variables as V
 from mineburial.io.netcdf import write_netcdf
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import status as S
+from mineburial.systems.mine.dataset import build_dataset
+from mineburial.systems.mine.statistics import burial_class
 
 OUTPUTS = ("penetration_depth", "burial_volume", "final_heading")
 SCENARIO = {

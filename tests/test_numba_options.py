@@ -88,7 +88,7 @@ def test_importing_the_engine_makes_no_cache_folder_until_a_kernel_is_used(tmp_p
     engine leaves NUMBA_CACHE_DIR empty, and calling one kernel fills its cache there."""
     code = (
         "import os, sys\n"
-        "import mineburial.ensembles.engine, mineburial.ensembles.batch\n"
+        "import mineburial.ensembles.engine, mineburial.systems.mine.batch\n"
         "print(sum(len(dirs) + len(files) for _, dirs, files in os.walk(sys.argv[1])))\n"
         "from mineburial.kernels.rotation import rotation_matrix\n"
         "rotation_matrix(1.0, 0.0, 0.0, 0.0)\n"

@@ -27,13 +27,14 @@ import pytest
 import xarray as xr
 from conftest import scenario_dict
 
-from mineburial import drop as drop_module
 from mineburial.cli import main
-from mineburial.config import dumps_toml
-from mineburial.ensembles import batch, engine, store
+from mineburial.ensembles import engine, store
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.io.files import OutputPathError, atomic_path, atomic_write_bytes
-from mineburial.systems import restraint as R
+from mineburial.systems.mine import batch
+from mineburial.systems.mine import drop as drop_module
+from mineburial.systems.mine.config import dumps_toml
+from mineburial.systems.restraint import model as R
 
 VARY = "sediment.resistance=bearing,delta"
 CORE = "depth_m,density_kg_m3,strength_pa\n0.0,1500.0,2000.0\n0.5,1600.0,4000.0\n2.0,1700.0,8000.0\n"

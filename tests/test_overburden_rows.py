@@ -20,13 +20,14 @@ from numba import types
 from scipy import integrate
 
 from mineburial._numba import JIT_OPTIONS
-from mineburial.config import Scenario, ScenarioError
-from mineburial.drop import run_params
+from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import overburden as ob
 from mineburial.kernels.mine.bodies.cylinder import Cylinder
 from mineburial.kernels.mine.geometry import vertical_extent
 from mineburial.kernels.mine.sediment.laws import drop_bank, pack_law
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.drop import run_params
 
 DEFAULT = pathlib.Path(__file__).resolve().parents[1] / "mineburial" / "data" / "default_mine.toml"
 RHO_W = 1025.0

@@ -1,4 +1,4 @@
-"""The post-impact process seam (issue 33 item 1, mineburial/ensembles/processes.py): a second
+"""The post-impact process seam (issue 33 item 1, mineburial/systems/mine/processes/registry.py): a second
 process registered from a test module alone — no edit of the mine's ensemble, the runner, the
 store, the variable catalogue, maps or figures — runs in ``run`` and ``map``: its section is
 parsed, its chunk values are stored and reduced, the output variables it declares itself are
@@ -17,13 +17,17 @@ import tomllib
 import xarray as xr
 from conftest import scenario_dict
 
-from mineburial import figures
-from mineburial.config import ScenarioError, dumps_toml
-from mineburial.ensembles import engine, mine, processes, runner, scour
+from mineburial.ensembles import engine, runner
 from mineburial.ensembles.store import run_identity
+from mineburial.errors import ScenarioError
 from mineburial.io import variables as V
 from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine import figures
+from mineburial.systems.mine.config import dumps_toml
+from mineburial.systems.mine.processes import registry as processes
+from mineburial.systems.mine.processes import scour
 
 N = 6
 
@@ -320,8 +324,8 @@ def test_a_lead_time_needs_the_one_process_that_changes_the_burial(tmp_path, toy
 def test_a_process_s_own_variables_pass_the_cf_compliance_checker(tmp_path, toy):
     from test_netcdf import _checker_executable, synthetic
 
-    from mineburial.ensembles.dataset import build_dataset
     from mineburial.io.netcdf import write_netcdf
+    from mineburial.systems.mine.dataset import build_dataset
 
     summary, status, _ = synthetic(12)
     ds = build_dataset(summary, status, version="0.1.0", statistics_options={"outputs": ("burial_area",)})

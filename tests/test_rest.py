@@ -21,11 +21,11 @@ import numpy as np
 import pytest
 from conftest import scenario_dict
 
-from mineburial.config import Scenario
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine.rest import REST_TIME, held_by_sediment
 from mineburial.kernels.mine.sediment import pack_law
 from mineburial.kernels.mine.stepper import initial_state
+from mineburial.systems.mine.config import Scenario
 
 G = 9.81
 RHO_W = 1025.0

@@ -1,4 +1,4 @@
-"""Seed 004's restraining system (mineburial.systems.restraint, kernels/restraint/forces.py).
+"""Seed 004's restraining system (mineburial.systems.restraint.model, kernels/restraint/forces.py).
 
 References, each independent of the code under test:
 * the initial catenary: eqs. (30)-(34) solved here with scipy (fsolve on a and x_s), the
@@ -26,7 +26,7 @@ from mineburial.cli import main
 from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels.multibody import joint_forces
 from mineburial.kernels.restraint import forces as rf
-from mineburial.systems import restraint as R
+from mineburial.systems.restraint import model as R
 
 # ---------------------------------------------------------------------------
 # force kernels against closed forms and quadrature

@@ -29,14 +29,14 @@ import pytest
 import xarray as xr
 
 from mineburial.cli import main
-from mineburial.config import ScenarioError
 from mineburial.ensembles import engine
-from mineburial.ensembles import restraint as ens
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.ensembles.sampling import field_id
+from mineburial.errors import ScenarioError
 from mineburial.io.dataset import registry_mismatches
 from mineburial.kernels import multibody as kmb
-from mineburial.systems import restraint as rs
+from mineburial.systems.restraint import ensemble as ens
+from mineburial.systems.restraint import model as rs
 
 
 def _scenario(number: int = 1, t_max: float | None = None, **ensemble) -> dict:

@@ -17,10 +17,10 @@ import pytest
 import xarray as xr
 from conftest import scenario_dict
 
-from mineburial.config import dumps_toml
 from mineburial.ensembles import engine, store
 from mineburial.ensembles.runner import run_ensemble
 from mineburial.ensembles.store import RunLock, RunLockedError
+from mineburial.systems.mine.config import dumps_toml
 
 N, CHUNK = 8, 2
 COMPUTE_CHUNK = engine.compute_chunk
@@ -267,7 +267,7 @@ def test_per_drop_and_class_basis_do_not_change_the_run_identity():
 
 
 def write_grid(path, depth):
-    from mineburial.synthetic import synthetic_environment
+    from mineburial.analyses.synthetic import synthetic_environment
 
     env = synthetic_environment(ny=2, nx=2, seed=1)  # 3 water cells, 1 land cell
     wet = np.isfinite(env["water_depth"].values)
@@ -277,7 +277,7 @@ def write_grid(path, depth):
 
 
 def test_map_resume_after_the_environment_grid_changed_matches_a_clean_map(tmp_path, monkeypatch, capsys):
-    from mineburial.maps import run_map
+    from mineburial.analyses.maps import run_map
 
     env, out = tmp_path / "env.nc", tmp_path / "map.nc"
     scen = cheap()

@@ -15,8 +15,8 @@ import xarray as xr
 from conftest import scenario_dict
 
 from mineburial.cli import main
-from mineburial.config import dumps_toml
 from mineburial.ensembles import engine, runner
+from mineburial.systems.mine.config import dumps_toml
 
 N = 8
 
@@ -243,7 +243,7 @@ def test_invalid_sampled_inputs_get_a_warning_with_reason_and_count(tmp_path, ca
 
 
 def write_grid(path):
-    from mineburial.synthetic import write_synthetic_environment
+    from mineburial.analyses.synthetic import write_synthetic_environment
 
     write_synthetic_environment(path, ny=2, nx=2, seed=1)
 

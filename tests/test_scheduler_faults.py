@@ -22,10 +22,10 @@ import xarray as xr
 from conftest import cheap_ensemble
 
 from mineburial import cli
-from mineburial.config import dumps_toml
 from mineburial.ensembles import distributed as D
 from mineburial.ensembles import runner
 from mineburial.ensembles.store import RunError
+from mineburial.systems.mine.config import dumps_toml
 
 #: s: the scheduler timeout of the refusal tests (the default is 10 s)
 WAIT = 1.0

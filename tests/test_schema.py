@@ -1,5 +1,5 @@
 """The one schema mechanism (issue 18 item 3): each scenario field declared once in
-mineburial/scenario_fields.py, each cross-field rule once in config.RULES, and what derives
+mineburial/systems/mine/scenario_fields.py, each cross-field rule once in config.RULES, and what derives
 from them (the kernels' slot layout, the scalar and vectorised checks, the docs' tables).
 
 References: the slot layout of the kernels at 6f4af93 (the compiled kernels index slots by
@@ -17,9 +17,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mineburial import config, scenario_fields
-from mineburial.config import RULES, SCHEMA, Scenario, ScenarioError, check_params, explain_params
+from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine import config, scenario_fields
+from mineburial.systems.mine.config import RULES, SCHEMA, Scenario, check_params, explain_params
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -334,16 +335,16 @@ def test_scalar_rule_message_names_field_value_range_and_unit():
 def test_scenario_doc_field_table_did_not_drift_from_the_table(name):
     doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
     assert config.field_table_block(name) in doc, (
-        "regenerate: python -c 'from mineburial.config import write_field_tables; write_field_tables()'"
+        "regenerate: python -c 'from mineburial.systems.mine.config import write_field_tables; write_field_tables()'"
     )
 
 
 def test_restraint_doc_field_table_did_not_drift_from_its_fields():
-    from mineburial.systems import restraint
+    from mineburial.systems.restraint import model as restraint
 
     doc = (ROOT / "docs" / "restraint.md").read_text(encoding="utf-8")
     assert restraint.field_table_block() in doc, (
-        "regenerate: python -c 'from mineburial.systems.restraint import write_field_table; "
+        "regenerate: python -c 'from mineburial.systems.restraint.model import write_field_table; "
         "write_field_table()'"
     )
 
@@ -377,13 +378,14 @@ def test_the_model_defaults_table_says_what_a_scenario_of_each_model_resolves_to
 
 
 def test_every_key_of_the_scour_section_is_a_declared_field_listed_in_its_doc_table():
-    from mineburial.ensembles import scour
+    from mineburial.systems.mine.processes import scour
 
     doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
     block = doc.split("<!-- table scour:")[1].split("<!-- end of table scour")[0]
     listed = [line.split("|")[1].strip().strip("`") for line in block.splitlines()[3:]]
-    # the keys its reader accepted before they were declared (mineburial/ensembles/scour.py, ee0fb46);
-    # issue 33 added burial_law ... mobility_drag (the scour-and-settle law's; rest_attitude: the tilt)
+    # the keys its reader accepted before they were declared (mineburial/systems/mine/processes/scour.py,
+    # ee0fb46); issue 33 added burial_law ... mobility_drag (the scour-and-settle law's; rest_attitude: the
+    # tilt)
     assert listed == list(scour.KEYS) == [
         "forcing", "storm", "forcing_grid", "forcing_location", "lead_times_days", "burial_levels",
         "cohesive", "tstar_law", "window_days", "d50", "grain_density", "mobile_layer", "beq_a", "beq_b",

@@ -13,11 +13,12 @@ import pytest
 from scipy.optimize import brentq
 from test_scour_run import D50, LEADS, RHO_S, D, N, forcing_csv, lying_b0, scenario, scour_section
 
+from mineburial.analyses import compare
 from mineburial.cli import main
-from mineburial.ensembles import engine, runner, scour
+from mineburial.ensembles import engine, runner
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
-from mineburial.validation import compare
+from mineburial.systems.mine.processes import scour
 
 G = 9.81
 RHO = 1025.0  # the test scenario's water (tests/conftest.py)

@@ -10,9 +10,10 @@ import xarray as xr
 from test_scour_run import scenario, scour_section
 
 from mineburial.cli import main
-from mineburial.config import dumps_toml
-from mineburial.ensembles import engine, scour
-from mineburial.figures import lead_time_series
+from mineburial.ensembles import engine
+from mineburial.systems.mine.config import dumps_toml
+from mineburial.systems.mine.figures import lead_time_series
+from mineburial.systems.mine.processes import scour
 
 N = 8
 LEADS = [0.0, 0.1, 0.25, 0.5, 1.0]  # days

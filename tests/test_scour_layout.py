@@ -1,7 +1,7 @@
 """The scour stage's parameter vector, named by the scenario schema (issue 33 item 1: a process's
 fields schema-declared, its parameter layout derived; issue 36 item 4): each slot of
-``kernels/mine/scour.PARAM_NAMES`` is a ``[scour]`` field of mineburial/scenario_fields.py, a value
-derived per drop, or a constant of the code; the kernel's defaults of the field slots are the
+``kernels/mine/scour.PARAM_NAMES`` is a ``[scour]`` field of mineburial/systems/mine/scenario_fields.py, a
+value derived per drop, or a constant of the code; the kernel's defaults of the field slots are the
 schema's defaults (the kernel restates none of its own); a run fills each field slot with that
 field's value, by name."""
 
@@ -12,11 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from mineburial import config as cfg
-from mineburial.ensembles import scour
 from mineburial.io import forcing as fio
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
+from mineburial.systems.mine import config as cfg
+from mineburial.systems.mine.processes import scour
 
 #: the fields given in days whose slots hold seconds (s per day, or days per s for a rate)
 SECONDS = {"scour.infill_days": 86400.0, "scour.bed_lowering_rate": 1.0 / 86400.0}

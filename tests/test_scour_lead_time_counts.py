@@ -7,17 +7,17 @@ The fault is injected as the stage reports it: for half of the drops the stage's
 ``invalid_parameter`` and its measures NaN (docs/scour.md, "NaN results only with a status
 that is not ok"). Independent reference: ``run``'s own statistics after scour
 (``scour_burial_class_probability`` over the drops with scour status ok), a separate code
-path (ensembles/statistics.scour_statistics) from compare's burial statistics.
+path (systems/mine/statistics.scour_statistics) from compare's burial statistics.
 """
 
 import numpy as np
 import pytest
 from test_scour_sensitivity import scenario
 
-from mineburial.ensembles import scour
+from mineburial.analyses.compare import run_comparison
+from mineburial.analyses.sensitivity import run_sensitivity
 from mineburial.ensembles.runner import run_ensemble
-from mineburial.validation.compare import run_comparison
-from mineburial.validation.sensitivity import run_sensitivity
+from mineburial.systems.mine.processes import scour
 
 LEAD = 0.5  # d: the section's last lead time
 
@@ -50,8 +50,8 @@ def test_compare_at_a_lead_time_counts_the_drops_run_counts(tmp_path, half_fail)
 
 
 def test_after_scour_leaves_a_drop_without_a_stage_value_out_or_keeps_its_impact_on_request():
-    from mineburial.ensembles.scour_variables import SCOUR_MEASURES
     from mineburial.kernels.mine import layout
+    from mineburial.systems.mine.processes.scour_variables import SCOUR_MEASURES
 
     summary = np.zeros((2, layout.N_SUMMARY))
     col = layout.SUMMARY_INDEX["burial_volume"]
@@ -73,8 +73,8 @@ def test_sensitivity_at_a_lead_time_says_how_many_drops_had_no_stage_value(tmp_p
 
 def test_a_lead_time_just_beyond_the_forcing_is_not_printed_as_equal_to_its_end(tmp_path):
     """Was: "--lead-time 1 is outside the allowed range [0, 1] days" for 1.0000001."""
-    from mineburial.config import ScenarioError
     from mineburial.ensembles import engine
+    from mineburial.errors import ScenarioError
 
     spec = engine.load_ensemble(scenario(tmp_path))  # a 24 h forcing: lead times in [0, 1] d
     with pytest.raises(ScenarioError, match=r"--lead-time 1\.0000001 is outside the allowed range \[0, 1\]"):

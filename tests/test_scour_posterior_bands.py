@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mineburial.calibration import cases, posterior
+from mineburial.systems.mine.calibration import cases, posterior
 from mineburial.validation import cases as vc
 from mineburial.validation import predictive as pr
 

@@ -16,8 +16,9 @@ from conftest import scenario_dict
 from test_scour_rest import segment_burial
 
 from mineburial.cli import main
-from mineburial.config import dumps_toml, example_path
-from mineburial.ensembles import engine, runner, scour
+from mineburial.ensembles import engine, runner
+from mineburial.systems.mine.config import dumps_toml, example_path
+from mineburial.systems.mine.processes import scour
 
 N = 8
 G = 9.81
@@ -228,7 +229,12 @@ def test_output_records_the_forcing_file_and_its_sha256(runs):
 
 def test_scour_storm_example_reads_the_shipped_storm_file(no_computing):
     spec = engine.load_ensemble(example_path("scour_storm"), systems=engine.SYSTEMS)
-    shipped = pathlib.Path(scour.__file__).resolve().parent.parent / "data" / "forcing" / "storm_example.csv"
+    shipped = (
+        pathlib.Path(scour.__file__).resolve().parent.parent.parent.parent
+        / "data"
+        / "forcing"
+        / "storm_example.csv"
+    )
     stage = spec.process("scour")
     assert stage.forcing_record["forcing_sha256"] == hashlib.sha256(shipped.read_bytes()).hexdigest()
     assert (str(shipped), stage.forcing_record["forcing_sha256"]) in spec.input_files
@@ -316,10 +322,11 @@ def test_ripple_exposure_is_a_section_field_that_fills_the_stages_slot():
     Traykovski et al. 2007) reaches the stage: fixed, sampled, and refused out of range."""
     from test_compare import short_default
 
-    from mineburial.config import ScenarioError
-    from mineburial.ensembles import engine, mine
-    from mineburial.ensembles import scour as scour_ensemble
+    from mineburial.ensembles import engine
+    from mineburial.errors import ScenarioError
     from mineburial.kernels.mine import scour as scour_kernels
+    from mineburial.systems.mine import ensemble as mine
+    from mineburial.systems.mine.processes import scour as scour_ensemble
 
     def stage(exposure):
         raw = short_default(8)

@@ -19,13 +19,14 @@ from test_maps import SEED, _scenario, cell_reference, expected_seed
 from test_maps_scour import CURRENT, N, forcing_csv, with_scour
 from test_scour_run import scenario
 
-from mineburial import sediment_profiles as sp
-from mineburial.ensembles import runner, scour
+from mineburial.analyses.maps import run_map
+from mineburial.analyses.synthetic import synthetic_environment
+from mineburial.ensembles import runner
 from mineburial.io.inputs import read_toml
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import scour as sc
-from mineburial.maps import run_map
-from mineburial.synthetic import synthetic_environment
+from mineburial.systems.mine import sediment_profiles as sp
+from mineburial.systems.mine.processes import scour
 
 LEADS = [0.0, 0.01, 0.5]  # days
 SAND_RANGE = (6.25e-5, 2.0e-3)  # m, Wentworth (1922) sand
@@ -154,7 +155,7 @@ def test_cohesive_cells_are_marked_not_modelled_and_hatched_on_the_map(clay_and_
     scour_not_modelled_fraction is the share of the cell's drops on a cohesive bed (catalogue:
     soft_clay cohesive, sand not), and the lead-time panels hatch such cells."""
     pytest.importorskip("matplotlib")
-    from mineburial.maps import hatched_cells, not_modelled_cells, plot_lead_times
+    from mineburial.analyses.maps import hatched_cells, not_modelled_cells, plot_lead_times
 
     _, ds = clay_and_sand_map
     share = ds["scour_not_modelled_fraction"].values

@@ -15,10 +15,10 @@ from test_compare_driver import _count_chunks
 from test_scour_run import LEADS, scour_section
 from test_sensitivity_driver import assert_same_indices
 
+from mineburial.analyses.sensitivity import CLASS_OUTPUTS, run_sensitivity
 from mineburial.cli import main
-from mineburial.config import dumps_toml
 from mineburial.ensembles import engine
-from mineburial.validation.sensitivity import CLASS_OUTPUTS, run_sensitivity
+from mineburial.systems.mine.config import dumps_toml
 
 N = 8
 BEQ_A = {"distribution": "uniform", "low": 1.1, "high": 1.5}

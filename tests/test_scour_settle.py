@@ -171,8 +171,8 @@ def test_far_field_lowering_re_exposes_the_mine():
 def test_two_similar_storms_bury_in_steps_not_at_once():
     """The shipped two-storm forcing: the first storm raises the burial to a level well below D,
     the calm keeps it while the pit infills, the second (similar, 0.2 m higher) storm adds a step."""
-    from mineburial.ensembles.scour import SHIPPED
     from mineburial.io import forcing as fio
+    from mineburial.systems.mine.processes.scour import SHIPPED
 
     f = fio.load_forcing(SHIPPED / "two_storms.csv")
     arrays = f.kernel_arrays(12.0, 2.0e-4)

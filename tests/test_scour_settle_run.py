@@ -113,7 +113,7 @@ def test_what_follows_a_move_is_split_into_rolling_back_into_an_open_pit_and_lea
     that would move at a lead time, those with a pit at least PIT_OPEN = 0.1 diameters deep roll back
     into it, the others may migrate away; the two shares add up to the share that would move. Hand
     arrays: 4 drops (D 0.5 m; one whose stage did not run) at 3 lead times."""
-    from mineburial.ensembles import scour
+    from mineburial.systems.mine.processes import scour
 
     mobile = np.array([[1.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 0.0], [np.nan, np.nan, np.nan]])
     pit = np.array([[0.0, 0.05, 0.2], [0.049, 0.3, 0.051], [0.4, 0.4, 0.4], [np.nan, np.nan, np.nan]])

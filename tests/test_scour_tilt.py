@@ -328,7 +328,7 @@ def test_steep_mines_keep_their_attitude_and_impact_measures_at_lead_zero(two_st
     b = ds["scour_penetration_depth"].values[ok]
     assert np.all(b >= np.maximum(b[:, :1], ds["scour_pit_depth"].values[ok]) - 1e-12)
     assert np.all(np.diff(b, axis=1) >= 0.0)
-    from mineburial.ensembles.scour import summary_lines
+    from mineburial.systems.mine.processes.scour import summary_lines
 
     assert any(line.startswith("  mean tilt [deg]") for line in summary_lines(ds))
     assert np.all(np.diff(ds["scour_tilt"].values[ok], axis=1) <= 1e-9)

@@ -5,9 +5,9 @@ import math
 import pytest
 from conftest import scenario_dict
 
-from mineburial.config import Scenario
-from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels.mine import layout, status
+from mineburial.systems.mine.config import Scenario
+from mineburial.systems.mine.drop import run_params, simulate_drop
 from mineburial.validation import cases
 from mineburial.validation.references import archimedes_penetration
 
@@ -131,7 +131,7 @@ def test_burial_falls_with_shear_strength():
 # ---------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["exp2_barrel", "default_mine"])
 def test_burial_converged_in_time_step(name):
-    from mineburial.config import load_example
+    from mineburial.systems.mine.config import load_example
 
     sc = load_example(name)
     p, sb, cb = sc.to_params()

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from mineburial.sediment_profiles import (
+from mineburial.errors import ScenarioError
+from mineburial.systems.mine.sediment_profiles import (
     CATALOGUE,
     CATALOGUE_MAX_DEPTH,
-    ScenarioError,
     SedimentProfile,
     bearing_capacity_factors,
     catalogue_profile,

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
+from mineburial.analyses.sensitivity import ranking, run_sensitivity, sobol_analysis
 from mineburial.ensembles.distributions import from_dict
 from mineburial.io.dataset import registry_mismatches
-from mineburial.validation.sensitivity import ranking, run_sensitivity, sobol_analysis
 
 A, B = 7.0, 0.1
 

@@ -16,10 +16,10 @@ import xarray as xr
 from test_compare import short_default
 from test_compare_driver import _count_chunks, toml_text
 
+from mineburial.analyses import sensitivity
+from mineburial.analyses.sensitivity import DesignSpec, run_sensitivity
 from mineburial.cli import main
 from mineburial.ensembles import engine, runner, store
-from mineburial.validation import sensitivity
-from mineburial.validation.sensitivity import DesignSpec, run_sensitivity
 
 N, SEED = 4, 1
 D = len(engine.load_ensemble(short_default()).random)  # the design's dimension: its random inputs

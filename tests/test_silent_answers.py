@@ -11,9 +11,9 @@ import pytest
 import xarray as xr
 from conftest import scenario_dict
 
+from mineburial.analyses.maps import CELL_COMPUTED, CELL_LAND, MapError, read_environment, run_map
+from mineburial.analyses.synthetic import synthetic_environment
 from mineburial.cli import main
-from mineburial.maps import CELL_COMPUTED, CELL_LAND, MapError, read_environment, run_map
-from mineburial.synthetic import synthetic_environment
 
 DEPTHS = np.array([[12.0, 3.5, np.nan], [20.0, 7.25, 1.0]])  # (0, 2): land
 
@@ -243,7 +243,7 @@ def test_drop_that_never_reached_the_seabed_reports_no_penetration_0_m_burial_0(
 def test_sensitivity_of_a_constant_output_is_undefined_not_zero():
     """Output a = x0 + 2 x1 has S0 = 1/5, S1 = 4/5, S2 = 0; output b = 3 is constant: its
     indices are 0 / 0, NaN with index_status 1 (they were printed 0.000 [0.000, 0.000])."""
-    from mineburial.validation.sensitivity import sensitivity_table, sobol_analysis
+    from mineburial.analyses.sensitivity import sensitivity_table, sobol_analysis
 
     class Uniform:
         def ppf(self, u):
@@ -285,8 +285,8 @@ def test_sensitivity_warns_when_every_drop_ended_at_its_time_limit(tmp_path, cap
 
 
 def test_sensitivity_failure_warning_threshold_is_10_percent():
+    from mineburial.analyses.sensitivity import failure_warning
     from mineburial.kernels.mine import status as st
-    from mineburial.validation.sensitivity import failure_warning
 
     counts = np.zeros(len(st.NAMES), dtype=int)
     counts[st.AT_REST], counts[st.TIME_LIMIT] = 91, 9

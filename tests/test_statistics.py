@@ -16,10 +16,10 @@ import pytest
 from scipy.stats import binomtest
 
 from mineburial.ensembles.intervals import two_sided_normal_quantile, wilson_interval
-from mineburial.ensembles.statistics import burial_class, burial_statistics, status_counts
 from mineburial.io import variables as V
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import status as S
+from mineburial.systems.mine.statistics import burial_class, burial_statistics, status_counts
 
 IDX = layout.SUMMARY_INDEX
 Q = (0.05, 0.25, 0.5, 0.75, 0.95)

@@ -16,12 +16,13 @@ import sys
 import numpy as np
 import pytest
 
-from mineburial.ensembles import mine, restraint
-from mineburial.ensembles.dataset import build_dataset
 from mineburial.io import variables as V
 from mineburial.kernels import status
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import status as mine_status
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine.dataset import build_dataset
+from mineburial.systems.restraint import ensemble as restraint
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 

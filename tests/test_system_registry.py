@@ -27,10 +27,13 @@ import pytest
 import xarray as xr
 
 import mineburial
-from mineburial import config, errors, sediment_profiles
+from mineburial import errors
 from mineburial.cli import main
-from mineburial.ensembles import engine, mine, restraint, runner, store
+from mineburial.ensembles import engine, runner, store
 from mineburial.systems import registry
+from mineburial.systems.mine import config, sediment_profiles
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.restraint import ensemble as restraint
 
 ROOT = Path(mineburial.__file__).resolve().parent
 

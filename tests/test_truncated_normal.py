@@ -105,10 +105,10 @@ def test_ppf_is_bit_identical_to_scipy_stats(mean, std, low, high):
 
 def _embedded_truncated_normals():
     """Every truncated_normal table in the embedded default ensemble and the examples."""
-    from mineburial.config import ensemble_example_names, example_names, example_path
-    from mineburial.ensembles import restraint as restraint_ensemble
-    from mineburial.ensembles.mine import DEFAULT_SCENARIO
-    from mineburial.systems import restraint
+    from mineburial.systems.mine.config import ensemble_example_names, example_names, example_path
+    from mineburial.systems.mine.ensemble import DEFAULT_SCENARIO
+    from mineburial.systems.restraint import ensemble as restraint_ensemble
+    from mineburial.systems.restraint import model as restraint
 
     texts = {"default": DEFAULT_SCENARIO.read_text()}
     for name in example_names() + ensemble_example_names():
@@ -225,7 +225,7 @@ def test_start_up_does_not_import_scipy_stats():
         "import sys\n"
         "import mineburial\n"
         "from mineburial.ensembles.engine import load_ensemble\n"
-        "from mineburial.ensembles.mine import chunk_inputs\n"
+        "from mineburial.systems.mine.ensemble import chunk_inputs\n"
         "spec = load_ensemble(None)\n"
         "chunk_inputs(spec, 0, 64)\n"
         "assert 'scipy.stats' not in sys.modules, [m for m in sys.modules if m.startswith('scipy.stats')]\n"

@@ -11,10 +11,11 @@ import pytest
 import xarray as xr
 
 from mineburial.cli import main
-from mineburial.config import example_path
 from mineburial.kernels.mine import status
-from mineburial.scenario_fields import WATER_COLUMN_NAMES
-from mineburial.systems import registry, restraint
+from mineburial.systems import registry
+from mineburial.systems.mine.config import example_path
+from mineburial.systems.mine.scenario_fields import WATER_COLUMN_NAMES
+from mineburial.systems.restraint import model as restraint
 from mineburial.validation.cases import (
     ANCHOR,
     ANCHOR_K,

@@ -7,8 +7,8 @@ import pytest
 from conftest import make_scenario as _make_scenario
 from scipy.spatial.transform import Rotation
 
-from mineburial.drop import run_params, simulate_drop
 from mineburial.kernels.mine import layout
+from mineburial.systems.mine.drop import run_params, simulate_drop
 from mineburial.validation.references import terminal_velocity_axial, terminal_velocity_broadside
 
 

@@ -12,12 +12,14 @@ import tomllib
 from conftest import make_scenario
 from scipy.spatial.transform import Rotation
 
-from mineburial.config import ScenarioError
-from mineburial.drop import simulate_drop
-from mineburial.ensembles import engine, mine, model_form
+from mineburial.analyses import compare
+from mineburial.ensembles import engine
+from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import added_mass, layout
 from mineburial.kernels.mine.coefficients import cross_drag_coefficient
-from mineburial.validation import compare
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine import model_form
+from mineburial.systems.mine.drop import simulate_drop
 
 RHO = 1025.0
 L, D = 1.0, 0.25  # conftest's mine: L/D = 4, a tabulated aspect ratio

@@ -13,9 +13,9 @@ import pytest
 import xarray as xr
 from scipy.interpolate import RegularGridInterpolator
 
-from mineburial.ensembles import scour
+from mineburial.errors import ScenarioError
 from mineburial.io import wave_products as wp
-from mineburial.sediment_profiles import ScenarioError
+from mineburial.systems.mine.processes import scour
 
 RNG = np.random.default_rng(20260433)
 FILL = -32767
@@ -521,8 +521,8 @@ def test_map_reads_a_wave_product_on_its_own_grid_onto_the_environment_cells(tmp
     from test_maps import SEED, _scenario, uniform_environment
     from test_maps_scour import scour_section, with_scour
 
-    from mineburial import maps
-    from mineburial.ensembles import scour_map
+    from mineburial.analyses import maps
+    from mineburial.systems.mine.processes import scour_map
 
     env = uniform_environment()  # 2 x 2 cells at 54.50/54.51 N, 10.300/10.315 E; cell (1, 0) land
     path = tmp_path / "cmems.nc"
@@ -551,9 +551,9 @@ def test_map_reads_a_wave_product_on_its_own_grid_onto_the_environment_cells(tmp
 def test_map_forcing_on_the_environment_cells_is_read_as_before_bit_for_bit(tmp_path):
     from test_maps import uniform_environment
 
-    from mineburial import maps
-    from mineburial.ensembles import scour_map
+    from mineburial.analyses import maps
     from mineburial.io import forcing as fio
+    from mineburial.systems.mine.processes import scour_map
 
     env = uniform_environment()
     cells = [[fio.storm_series(2.0, 8.0, 6.0, current=0.3), None], [None, fio.storm_series(1.0, 7.0, 6.0)]]

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from scipy.interpolate import RegularGridInterpolator
 
+from mineburial.errors import ScenarioError
 from mineburial.io import wave_products as wp
-from mineburial.sediment_profiles import ScenarioError
 
 try:  # the reader's import order (pyproj before ecCodes: wave_products.grib_reader), then ecCodes
     wp.grib_reader()

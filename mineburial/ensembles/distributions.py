@@ -31,7 +31,7 @@ Families and parameterisations (scipy.stats names in brackets):
     resample the given numbers with equal weight (inverse empirical CDF).
 
 Every family also gives ``probability_outside(low, high)``, the probability of a draw
-outside an interval, with which :func:`mineburial.config.check_distribution` checks a
+outside an interval, with which :func:`mineburial.systems.mine.config.check_distribution` checks a
 distribution against its field's allowed range when an ensemble scenario is loaded.
 
 Only :mod:`scipy.special` is used, never :mod:`scipy.stats`: importing scipy.stats
@@ -56,8 +56,8 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy import special
 
+from mineburial.errors import ScenarioError
 from mineburial.io import inputs
-from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
     "DistributionError",
@@ -247,7 +247,7 @@ class Distribution:
         """Probability that a draw lies outside the interval from ``low`` to ``high``
         (each end closed or open as given; it matters only for the discrete families).
         Used to check a distribution against a field's allowed range when a scenario
-        is loaded (:func:`mineburial.config.check_distribution`)."""
+        is loaded (:func:`mineburial.systems.mine.config.check_distribution`)."""
         raise NotImplementedError
 
     def to_dict(self) -> dict[str, Any]:

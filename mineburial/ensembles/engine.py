@@ -4,9 +4,9 @@ per-realization results of any chunk of it.
 
 The optional top-level key ``system`` of an ensemble scenario names the system the
 ensemble runs (:data:`SYSTEMS`): ``"mine"`` (the default: the falling mine,
-:mod:`mineburial.ensembles.mine`) or ``"restraint"`` (seed 004's restraining system:
+:mod:`mineburial.systems.mine.ensemble`) or ``"restraint"`` (seed 004's restraining system:
 the scenario is then a restraint case file with distributions,
-:mod:`mineburial.ensembles.restraint`). :func:`load_ensemble` reads the file and hands
+:mod:`mineburial.systems.restraint.ensemble`). :func:`load_ensemble` reads the file and hands
 it to its system; :func:`compute_chunk` runs a chunk ``[start, stop)`` of any system's
 spec. Running the chunks, keeping finished ones on disk and reducing them to statistics
 is the run driver's job (:mod:`mineburial.ensembles.runner`, with the chunk store
@@ -15,8 +15,8 @@ is the run driver's job (:mod:`mineburial.ensembles.runner`, with the chunk stor
 This module names no system and imports none of a system's modules (issue 36 item 5,
 ``tests/test_generic_layer.py``): the default scenario, the specs and scenario objects
 it accepts and everything a system does are reached through the registry. A system's own
-names (the mine's :class:`~mineburial.ensembles.mine.EnsembleSpec`,
-:func:`~mineburial.ensembles.mine.chunk_inputs`, ...) are imported from its module.
+names (the mine's :class:`~mineburial.systems.mine.ensemble.EnsembleSpec`,
+:func:`~mineburial.systems.mine.ensemble.chunk_inputs`, ...) are imported from its module.
 """
 
 from __future__ import annotations
@@ -60,14 +60,14 @@ def load_ensemble(
 ):
     """Parse an ensemble scenario: a path, a dict, a spec of any system (its ``raw``
     scenario), an object of the default system with ``to_dict()`` (the mine's
-    :class:`~mineburial.config.Scenario`), or None for the default system's embedded
+    :class:`~mineburial.systems.mine.config.Scenario`), or None for the default system's embedded
     default scenario (:attr:`~mineburial.systems.registry.System.default_scenario`).
 
     Keyword arguments override the ``[ensemble]`` table. ``systems``: the values of the
     scenario's ``system`` key the caller can run (default only the default system, the
     falling mine: maps, comparisons and sensitivity indices are of burial); ``mineburial run``
     passes :data:`SYSTEMS`. Returns the spec the system's ``load`` makes (the mine's:
-    :class:`~mineburial.ensembles.mine.EnsembleSpec`).
+    :class:`~mineburial.systems.mine.ensemble.EnsembleSpec`).
     """
     if source is None:
         source = registry.get(registry.DEFAULT).default_scenario

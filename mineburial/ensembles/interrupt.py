@@ -16,7 +16,7 @@ __all__ = ["Interrupted", "sigint_flag"]
 
 
 class Interrupted(KeyboardInterrupt):
-    """Ctrl-C during :func:`~mineburial.ensembles.batch.run_batch`: the first ``done`` drops
+    """Ctrl-C during :func:`~mineburial.systems.mine.batch.run_batch`: the first ``done`` drops
     are finished (``summary`` and ``status``: their rows, set by ``run_batch``; ``partial``:
     their chunk dict, set by :func:`~mineburial.ensembles.engine.compute_chunk`); the caller
     may keep them."""

@@ -1,5 +1,5 @@
 """The run driver: one mechanism that runs the chunks of ensembles, resumes them and
-reduces them, for both :func:`run_ensemble` and :func:`mineburial.maps.run_map`.
+reduces them, for both :func:`run_ensemble` and :func:`mineburial.analyses.maps.run_map`.
 
 A run is a list of :class:`Job` s, each an ensemble (the spec of any system of the
 registry, :mod:`mineburial.systems.registry`) with an optional chunk store
@@ -372,10 +372,10 @@ def run_ensemble(
 
     Parameters
     ----------
-    scenario : path, dict, :class:`~mineburial.config.Scenario` or None
+    scenario : path, dict, :class:`~mineburial.systems.mine.config.Scenario` or None
         Ensemble scenario (None: the embedded default soft-mud scenario); with
         ``system = "restraint"`` an ensemble of seed 004's restraining system
-        (:mod:`mineburial.ensembles.restraint`: its statistics are of the stopping time).
+        (:mod:`mineburial.systems.restraint.ensemble`: its statistics are of the stopping time).
     n, seed, sampling, chunk_size, per_drop, class_basis
         Override the scenario's ``[ensemble]`` table.
     output : path, optional
@@ -393,7 +393,7 @@ def run_ensemble(
     self_check : bool
         Re-run ``ensemble.accuracy_check`` realizations on a tight reference path here, after
         the chunks are in, and record the differences in global attributes (the system's
-        ``check_accuracy``, :mod:`mineburial.ensembles.accuracy` for the mine; ``mineburial
+        ``check_accuracy``, :mod:`mineburial.systems.mine.accuracy` for the mine; ``mineburial
         run`` does), beside the building of the Dataset (:func:`_dataset_checked`).
     loaded : optional
         The spec that ``engine.load_ensemble`` gives for ``scenario`` with these overrides,

@@ -3,7 +3,7 @@ files a scenario reads (with the SHA-256 of their contents, for the run identity
 output), and the reasons why realizations were not run, added up over chunks.
 
 Used by :mod:`mineburial.ensembles.engine` (the falling mine) and
-:mod:`mineburial.ensembles.restraint` (seed 004's restraining system).
+:mod:`mineburial.systems.restraint.ensemble` (seed 004's restraining system).
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from mineburial import config as cfg
 from mineburial.ensembles import distributions as dist
-from mineburial.sediment_profiles import unknown_name_message
+from mineburial.errors import unknown_name_message
+from mineburial.systems.mine import config as cfg
 
 __all__ = ["check_ensemble_settings", "file_digest", "input_files_of", "merge_invalid_reasons"]
 

@@ -4,7 +4,7 @@ on daemon threads, the calling thread only waiting, so that Ctrl-C is seen withi
 A thread takes the next block when it is done with its last, so items of very different lengths
 balance themselves; each item writes only its own row, so results do not depend on the thread count
 or the schedule. The compiled kernels release the GIL (``nogil``). Threads rather than ``prange``:
-:mod:`mineburial.ensembles.batch` says why. Generic: it knows no system.
+:mod:`mineburial.systems.mine.batch` says why. Generic: it knows no system.
 """
 
 import itertools

@@ -12,7 +12,7 @@ Sources: a CF NetCDF file with a ``time`` coordinate (:func:`load_netcdf`,
 :func:`load_gridded_netcdf`; variables found by CF ``standard_name`` or a documented name, units
 converted through the ``units`` attribute), a CSV file with a header (:func:`load_csv`), or the
 parametrised storm of :func:`storm_series`. Every reader applies the same checks; bad forcing raises
-:class:`~mineburial.sediment_profiles.ScenarioError` with one line naming the file, the variable,
+:class:`~mineburial.systems.mine.sediment_profiles.ScenarioError` with one line naming the file, the variable,
 the time (ISO 8601, UTC) and the allowed range with its unit, and never quotes the file's content.
 docs/scour.md (Forcing) lists the formats, conventions and checks.
 """
@@ -31,10 +31,10 @@ import numpy as np
 
 from mineburial import resources
 from mineburial._deferred import xarray as xr
+from mineburial.errors import ScenarioError
 from mineburial.io.files import atomic_path, atomic_write_text
 from mineburial.io.inputs import numbered_csv, read_sized
 from mineburial.kernels.mine.scour import depth_floor
-from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
     "Forcing",

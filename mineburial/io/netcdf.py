@@ -4,7 +4,7 @@
 compression (encodings from the one variable registry :mod:`mineburial.io.variables`).
 The datasets themselves are made by the one builder :func:`mineburial.io.dataset.build`
 from what the layers that compute them hand it (an ensemble:
-:func:`mineburial.ensembles.dataset.build_dataset`; a map: :mod:`mineburial.maps`);
+:func:`mineburial.systems.mine.dataset.build_dataset`; a map: :mod:`mineburial.analyses.maps`);
 this module only provides the shared attribute values (conventions, keywords,
 references) and the helpers that make attribute values netCDF-safe.
 """

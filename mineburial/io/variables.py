@@ -31,7 +31,7 @@ the Sobol' indices, the synthetic environment grid, the burial map and the compa
 variants, whose statistics are the ensemble's declarations per cell or per variant);
 :func:`mineburial.io.dataset.build` makes every file from the family of its kind.
 
-A post-impact process (:mod:`mineburial.ensembles.processes`) declares its own variables
+A post-impact process (:mod:`mineburial.systems.mine.processes.registry`) declares its own variables
 (:class:`ProcessVariables`, in its own module) and adds them when it registers
 (:func:`register_process_variables`): the ensemble's registry gains them and the map's family each
 of its statistics per cell. This module names no process.
@@ -762,7 +762,7 @@ def input_variable(path: str, units: str | None, description: str | None = None)
 # builder at run time and named in the description.
 
 #: the restraint's per-case results, in the column order of a chunk's ``summary``
-#: (:mod:`mineburial.ensembles.restraint`): units, long name, comment
+#: (:mod:`mineburial.systems.restraint.ensemble`): units, long name, comment
 RESTRAINT_OUTPUTS: dict[str, tuple[str, str, str]] = {
     "stopping_time": (
         "s",
@@ -949,7 +949,7 @@ def _restraint_run_variables() -> list[Variable]:
             "state of the anchor's seabed contact",
             "lifted: the solved normal reaction is <= 0; friction_unsolvable: eq. (37) has "
             "no solution (1 + mu s dN/df <= 0); in both the friction is zero (docs/restraint.md)",
-            runtime_flags="mineburial.systems.restraint.CONTACT_NAMES",
+            runtime_flags="mineburial.systems.restraint.model.CONTACT_NAMES",
         ),
         f("kinetic_energy", t, "J", "kinetic energy (with the added mass)", "eq. (64)"),
         f(
@@ -1064,7 +1064,7 @@ def _restraint_ensemble_variables() -> list[Variable]:
 
 
 def _sensitivity_variables() -> list[Variable]:
-    """The Sobol' indices of :func:`mineburial.validation.sensitivity.sobol_analysis` (seeds: Saltelli
+    """The Sobol' indices of :func:`mineburial.analyses.sensitivity.sobol_analysis` (seeds: Saltelli
     et al. 2010 first order, Jansen 1999 total; bootstrap intervals) and the model-form shares."""
     oi = ("output", "input")
     out = [
@@ -1112,7 +1112,7 @@ def _sensitivity_variables() -> list[Variable]:
     return out
 
 
-#: the label of every value of the synthetic environment grid (:mod:`mineburial.synthetic`)
+#: the label of every value of the synthetic environment grid (:mod:`mineburial.analyses.synthetic`)
 SYNTHETIC_NOTE = (
     "SYNTHETIC DATA: invented values to demonstrate mineburial maps; not a survey, "
     "not a chart, not for operational use."
@@ -1138,7 +1138,7 @@ def _current_components(dims, long_name_suffix: str, comment: str, attrs) -> lis
 
 
 def _environment_variables() -> list[Variable]:
-    """The synthetic environment grid of :mod:`mineburial.synthetic` (the format the maps read,
+    """The synthetic environment grid of :mod:`mineburial.analyses.synthetic` (the format the maps read,
     docs/maps.md): depth, sediment class and current on a WGS 84 latitude/longitude grid."""
     g, gm = ("latitude", "longitude"), {"grid_mapping": "crs"}
     out = [
@@ -1173,10 +1173,10 @@ def _environment_variables() -> list[Variable]:
             None,
             "seabed sediment class (synthetic)",
             "Index into the mineburial sediment catalogue "
-            "(mineburial.sediment_profiles.class_names()); -1 (fill) on land. " + SYNTHETIC_NOTE,
+            "(mineburial.systems.mine.sediment_profiles.class_names()); -1 (fill) on land. " + SYNTHETIC_NOTE,
             attrs=gm,
             fill_value=-1,
-            runtime_flags="mineburial.sediment_profiles.class_names()",
+            runtime_flags="mineburial.systems.mine.sediment_profiles.class_names()",
         ),
     ]
     out += _current_components(g, " (synthetic)", "", gm)
@@ -1200,12 +1200,12 @@ def _environment_variables() -> list[Variable]:
 
 
 # ---------------------------------------------------------------------------
-# the output variables of the post-impact processes (mineburial.ensembles.processes)
+# the output variables of the post-impact processes (mineburial.systems.mine.processes.registry)
 # ---------------------------------------------------------------------------
 @dataclass(frozen=True)
 class ProcessVariables:
     """What a post-impact process declares of its output (its ``variables()``; scour's:
-    :data:`mineburial.ensembles.scour_variables.DECLARED`)."""
+    :data:`mineburial.systems.mine.processes.scour_variables.DECLARED`)."""
 
     #: the variables of a run's file, in order: names beginning ``<section>_``, but for coordinates
     #: that processes may share (``lead_time``, ...; declared alike by each that has them)
@@ -1300,7 +1300,7 @@ def map_shared_coords() -> tuple[str, ...]:
 
 
 # ---------------------------------------------------------------------------
-# the burial map (mineburial.maps): ensemble statistics per cell of an environment grid
+# the burial map (mineburial.analyses.maps): ensemble statistics per cell of an environment grid
 # ---------------------------------------------------------------------------
 #: the coordinates of the impact statistics that a map shares with its cells' template run (with a
 #: post-impact process also its own: :func:`map_shared_coords`)
@@ -1438,10 +1438,10 @@ def _map_environment_variables() -> list[Variable]:
             "int8",
             None,
             "seabed sediment class",
-            "Catalogue class of the cell (mineburial.sediment_profiles); -1: none.",
+            "Catalogue class of the cell (mineburial.systems.mine.sediment_profiles); -1: none.",
             attrs=ref,
             fill_value=-1,
-            runtime_flags="mineburial.sediment_profiles.class_names()",
+            runtime_flags="mineburial.systems.mine.sediment_profiles.class_names()",
         )
     ]
     out += [
@@ -1486,7 +1486,7 @@ def _map_environment_variables() -> list[Variable]:
 
 
 def _map_variables() -> list[Variable]:
-    """The burial map of :mod:`mineburial.maps`: the ensemble statistics per cell, the class
+    """The burial map of :mod:`mineburial.analyses.maps`: the ensemble statistics per cell, the class
     bounds and the coordinates of the statistics, each cell's status, seed and environment."""
     own = [_per_cell(name, p) for p in PROCESS_VARIABLES.values() for name in p.map_statistics()]
     return [
@@ -1502,7 +1502,7 @@ def _map_variables() -> list[Variable]:
 
 
 # ---------------------------------------------------------------------------
-# the comparison of variants (mineburial.validation.compare): the same drops under each value
+# the comparison of variants (mineburial.analyses.compare): the same drops under each value
 # of one field
 # ---------------------------------------------------------------------------
 #: the burial measures whose statistics a comparison holds per variant
@@ -1544,7 +1544,7 @@ def _paired_variables(name: str) -> list[Variable]:
 
 
 def _comparison_variables() -> list[Variable]:
-    """A comparison (:func:`mineburial.validation.compare.run_comparison`): each variant's burial
+    """A comparison (:func:`mineburial.analyses.compare.run_comparison`): each variant's burial
     statistics (no histograms) with normal bounds of the means, the paired differences to the first
     variant, each drop's values and status per variant, the slots each variant changed; the
     sampled inputs (``input_*``, the same for every variant) once."""
@@ -1744,7 +1744,7 @@ _FAMILY_HEADINGS = {
     "restraint_run": "Restraining-system time series (`mineburial restrain`)",
     "restraint_ensemble": "Restraining-system ensemble (`mineburial run` of a restraint scenario)",
     "sensitivity": "Sobol' sensitivity indices (`mineburial sensitivity`)",
-    "environment": "Synthetic environment grid (`python -m mineburial.synthetic`, the maps' input format)",
+    "environment": "Synthetic environment grid (`python -m mineburial.analyses.synthetic`, the maps' input format)",
     "map": "Burial map (`mineburial map`; `y`, `x` and `grid_mapping` named as in the environment grid)",
     "comparison": "Comparison of variants (`mineburial compare`; the sampled inputs `input_<path>` once)",
 }

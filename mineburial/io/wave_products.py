@@ -36,8 +36,8 @@ import numpy as np
 from mineburial import resources
 from mineburial._deferred import proj_before_eccodes
 from mineburial._deferred import xarray as xr
+from mineburial.errors import ScenarioError
 from mineburial.io import forcing as fio
-from mineburial.sediment_profiles import ScenarioError
 
 __all__ = [
     "PRODUCT_NAMES",

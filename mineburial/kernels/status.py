@@ -10,7 +10,7 @@ systems ``stopped``), 1 the time limit, 3 a numerical failure, 4 invalid inputs 
 Each system contributes its names to the registry (issue 36 item 5): one :class:`Vocabulary` (its
 codes in order, their names and descriptions, the codes whose results enter its statistics) handed
 to :func:`register` by the module that declares the system's codes (the mine's:
-:mod:`mineburial.kernels.mine.status`; the restraint's: :mod:`mineburial.ensembles.restraint`, from the
+:mod:`mineburial.kernels.mine.status`; the restraint's: :mod:`mineburial.systems.restraint.ensemble`, from the
 multibody core's names). The layers that write or print statuses (the output variables' flag
 attributes, statistics, printed summaries) read a system's names from its vocabulary,
 :func:`vocabulary`; the kernels compare the codes as module-level integer constants (numba globals,

@@ -2,8 +2,8 @@
 ``system`` key, each declared once as a :class:`System`.
 
 A system is what one realization of an ensemble simulates: the falling mine
-(``"mine"``, the default: :mod:`mineburial.ensembles.mine`) or seed 004's restraining
-system (``"restraint"``: :mod:`mineburial.ensembles.restraint`). Its :class:`System`
+(``"mine"``, the default: :mod:`mineburial.systems.mine.ensemble`) or seed 004's restraining
+system (``"restraint"``: :mod:`mineburial.systems.restraint.ensemble`). Its :class:`System`
 names the functions by which the generic layer reaches it: the scenario reader
 (:func:`mineburial.ensembles.engine.load_ensemble`), the run driver and its checks
 (:mod:`mineburial.ensembles.runner`), the chunk store and the dask layer, which hand on
@@ -22,9 +22,10 @@ import dataclasses
 import pathlib
 from collections.abc import Callable
 
-from mineburial import figures
-from mineburial.ensembles import mine, restraint
 from mineburial.errors import ScenarioError, unknown_name_message
+from mineburial.systems.mine import ensemble as mine
+from mineburial.systems.mine import figures
+from mineburial.systems.restraint import ensemble as restraint
 
 __all__ = ["System", "SYSTEMS", "DEFAULT", "get", "of", "is_spec", "names", "example"]
 

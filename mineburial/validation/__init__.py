@@ -1,8 +1,8 @@
 """Validation and benchmark suite: model comparison, Sobol' sensitivity, validation cases.
 
-* :mod:`mineburial.validation.compare` -- ``mineburial compare``: the same sampled drops
+* :mod:`mineburial.analyses.compare` -- ``mineburial compare``: the same sampled drops
   under several variants of one scenario field (physics model, sediment resistance, ...).
-* :mod:`mineburial.validation.sensitivity` -- ``mineburial sensitivity``: first-order and
+* :mod:`mineburial.analyses.sensitivity` -- ``mineburial sensitivity``: first-order and
   total Sobol' indices of penetration and burial for every random input.
 * :mod:`mineburial.validation.references` -- closed forms and independent numerical
   references (shared by the validation report and the tests).

@@ -34,14 +34,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mineburial.config import Scenario, load_example
-from mineburial.drop import run_params, simulate_drop
-from mineburial.figures import save_figure
 from mineburial.io.forcing import storm_shape
 from mineburial.kernels.mine import layout, status
 from mineburial.kernels.mine import scour as scour_kernels
 from mineburial.kernels.rotation import normalize_quaternion, rotation_matrix
-from mineburial.systems import restraint
+from mineburial.systems.mine.config import Scenario, load_example
+from mineburial.systems.mine.drop import run_params, simulate_drop
+from mineburial.systems.mine.figures import save_figure
+from mineburial.systems.restraint import model as restraint
 from mineburial.validation import references as ref
 
 __all__ = ["Row", "Case", "CASES", "KINDS", "SYSTEMS", "run_case", "run_cases"]

@@ -4,7 +4,7 @@ evidence set (issue 32 item 5; docs/calibration.md, "Predictive checks").
 A calibration of :data:`SETS` coefficient sets is run
 afresh into a temporary folder; each evidence row is then left out, the posterior rebuilt
 from the other rows (their weights, on the same simulations) and the held-out measurement
-predicted with its 90 % band (:func:`mineburial.calibration.conditioning.predictive_check`).
+predicted with its 90 % band (:func:`mineburial.systems.mine.calibration.conditioning.predictive_check`).
 A row passes when the measurement lies inside the band; a calibration row never counts as a
 pass here, since every row is predicted without itself.
 
@@ -21,8 +21,8 @@ import tempfile
 
 import numpy as np
 
-from mineburial.calibration import calibrate, cases, posterior
-from mineburial.calibration.priors import choice_labels, load_evidence
+from mineburial.systems.mine.calibration import calibrate, cases, posterior
+from mineburial.systems.mine.calibration.priors import choice_labels, load_evidence
 from mineburial.validation import cases as vc
 from mineburial.validation.cases import MINE, PREDICTIVE, Case, Row
 
@@ -83,7 +83,8 @@ PEAK_TP_SEED = 20261129
 def scour_band_predictions(post=None) -> dict:
     """{variant: B/D of every set of the posterior ``post`` (default the shipped one)} at the end of
     each field band's event (:data:`SCOUR_BANDS`), each set under its own burial law and
-    coefficients (:func:`mineburial.calibration.cases.scour_burial`); the Oahu events' peak period
+    coefficients (:func:`mineburial.systems.mine.calibration.cases.scour_burial`); the Oahu events' peak
+    period
     drawn from its prior per set, the Indian Rocks Beach fronts at their assumed 7 s."""
     post = post or posterior.load(posterior.SHIPPED)
     labels = {p: choice_labels(p) for p in post.paths}

@@ -22,7 +22,7 @@ codes, the columns of a recorded trajectory and the per-drop summary are declare
 here too, once.
 """
 
-from mineburial.scenario_fields import (  # noqa: F401 - the names of the coded choices, re-exported
+from mineburial.systems.mine.scenario_fields import (  # noqa: F401 - the names of the coded choices, re-exported
     CURRENT_KINDS,
     INTEGRATOR_NAMES,
     MINE_SHAPES,
@@ -33,7 +33,7 @@ from mineburial.scenario_fields import (  # noqa: F401 - the names of the coded 
     SEDIMENT_QUADRATURE_NAMES,
     WATER_COLUMN_NAMES,
 )
-from mineburial.scenario_fields import TABLE as _TABLE
+from mineburial.systems.mine.scenario_fields import TABLE as _TABLE
 
 # --- state -----------------------------------------------------------------
 X, Y, Z, U, V, W, Q0, Q1, Q2, Q3, P, Q, R = range(13)
@@ -75,7 +75,7 @@ TRAJ_COLUMNS = (
 N_TRAJ = len(TRAJ_COLUMNS)
 
 # --- parameter vector ------------------------------------------------------
-# The slots are the fields of mineburial.scenario_fields.TABLE that have one, in the
+# The slots are the fields of mineburial.systems.mine.scenario_fields.TABLE that have one, in the
 # table's order: a field is declared there once. The constants below are looked up by
 # name, so no positional list can drift from the table (tests/test_schema.py checks that
 # every slot has exactly one constant and that the kernels use no other). A new slot is

@@ -118,7 +118,7 @@ def with_long_tables(paths, params, sediment_bank):
     quadrature ``fast`` and its sediment table with more than :data:`EXACT_DEPTHS` depths below
     the seabed (:func:`depths_inside` counts no more), or ``reference`` and more than
     :data:`REFERENCE_DEPTHS`. The bounded rule is then compiled with
-    the reference paths: a run's self-check (ensembles/accuracy.py) compiles those anyway, and a
+    the reference paths: a run's self-check (systems/mine/accuracy.py) compiles those anyway, and a
     third type of ``paths`` would compile the whole drop once more (docs/design.md)."""
     if isinstance(paths, tuple):  # (paths, a shape's prototype body): stepper.reference_paths
         return (with_long_tables(paths[0], params, sediment_bank), paths[1])

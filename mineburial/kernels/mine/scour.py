@@ -52,10 +52,10 @@ FRICTION_SOULSBY = 1
 # --- the stage's parameter vector (one flat float64 array; defaults in default_parameters) ---------
 #: the slots of the stage's parameter vector, named (issue 33 item 1, issue 36 item 4): a ``[scour]``
 #: field's path where the slot holds that field's value (its default, range and units are the
-#: schema's, mineburial/scenario_fields.py; a choice as its code; a field in days as seconds),
+#: schema's, mineburial/systems/mine/scenario_fields.py; a choice as its code; a field in days as seconds),
 #: ``derived.*`` a value the run computes for each drop (its impact, body and water), ``code.*`` a
 #: constant of the code (its value and source in :func:`default_parameters`). The ``S_`` constants
-#: below are looked up by name, so a slot added here moves no other; ensembles/scour.py fills the
+#: below are looked up by name, so a slot added here moves no other; systems/mine/processes/scour.py fills the
 #: field slots by name (``NUMERIC``, ``CHOICES`` are derived from these names) and
 #: tests/test_scour_layout.py checks that each field slot's default here is the schema's.
 PARAM_NAMES = (

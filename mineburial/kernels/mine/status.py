@@ -30,7 +30,7 @@ __all__ = [
     "VOCABULARY",
 ]
 
-#: the value of the scenario's ``system`` key of the mine (mineburial.ensembles.mine.SYSTEM)
+#: the value of the scenario's ``system`` key of the mine (mineburial.systems.mine.ensemble.SYSTEM)
 SYSTEM = "mine"
 
 AT_REST = END

@@ -277,7 +277,7 @@ ROD = 2  # the auxiliary rod, in the air (§3.2.2)
 SHIP = 3
 
 #: the scalar parameter vector (params[1]), one name a slot, declared once: a case field's path
-#: (``mineburial.systems.restraint.FIELDS``) where the slot carries that field's value as it is,
+#: (``mineburial.systems.restraint.model.FIELDS``) where the slot carries that field's value as it is,
 #: else a quantity the system derives from the case (``derived.*``, SI units) or the code of a
 #: choice or switch (``code.*``), both computed by ``systems.restraint.build_system``. The
 #: kernels' ``P_*`` indices below are looked up by these names, so the vector's order is this
