@@ -62,7 +62,8 @@ def test_help_imports_no_heavy_module_and_lists_every_system_command():
         "parser = cli.build_parser()\n"
         "text = parser.format_help()\n"
         "heavy = [m for m in sys.modules if m in ('numba', 'xarray', 'scipy') or m.startswith(("
-        "'mineburial.kernels', 'mineburial.ensembles', 'mineburial.systems.mine.config', 'mineburial.analyses.maps'))]\n"
+        "'mineburial.kernels', 'mineburial.ensembles', 'mineburial.systems.mine.config', "
+        "'mineburial.analyses.maps'))]\n"
         "print(heavy)\n"
         "print(text)\n"
     )

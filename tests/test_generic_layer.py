@@ -3,11 +3,12 @@ store, the dask layer, the CF dataset builder and the command line import none o
 modules, and export none of its names; they reach a system only through the system registry
 (:mod:`mineburial.systems.registry`).
 
-**A mine module** is a module that exists for the falling mine alone (docs/design.md, "Where things
-are", the row ``systems/mine/``): every module inside one of :data:`MINE_PACKAGES` or equal to, or
-inside, one of :data:`MINE_MODULES`. Generic modules that serve every system (the registry, the
-sampling, the settings, the variable registry ``io/variables.py``, the errors) are not; they may
-import a mine module themselves (the registry imports every system by design), so the check is of
+**A mine module** is a module that exists for the falling mine alone: since the layout of issue 36
+item 6 (docs/design.md, "Layout") its folder says so, every module inside one of
+:data:`MINE_PACKAGES`. The generic layer is every module of ``mineburial/ensembles/`` (a mine module
+put there fails here) and :data:`GENERIC_MODULES`. Other modules that serve every system (the
+registry, the variable registry ``io/variables.py``, the errors) are not mine modules either; they
+may import a mine module themselves (the registry imports every system by design), so the check is of
 each generic module's own imports: every ``import``/``from ... import`` anywhere in its source,
 function-local ones included (the import graph of ``tests/test_imports.py``).
 
@@ -33,44 +34,19 @@ from mineburial import cli
 from mineburial.ensembles import engine
 from mineburial.systems import registry
 
-#: packages whose every module is the mine's
-MINE_PACKAGES = ("mineburial.kernels.mine", "mineburial.systems.mine.calibration", "mineburial.validation")
-#: modules that are the mine's (a package here counts with its submodules)
-MINE_MODULES = (
-    # its ensemble: the system entry, the drops on the thread pool, its Dataset and statistics,
-    # the self-check, model choices, the epistemic band, the post-impact process seam and scour
-    "mineburial.systems.mine.ensemble",
-    "mineburial.systems.mine.batch",
-    "mineburial.systems.mine.dataset",
-    "mineburial.systems.mine.statistics",
-    "mineburial.systems.mine.accuracy",
-    "mineburial.systems.mine.model_form",
-    "mineburial.systems.mine.epistemic",
-    "mineburial.systems.mine.processes.registry",
-    "mineburial.systems.mine.processes.scour",
-    "mineburial.systems.mine.processes.scour_variables",
-    "mineburial.systems.mine.processes.scour_map",
-    "mineburial.systems.mine.processes.scour_figure",
-    # its scenario (the mine's fields and rules), sediment profiles, single drop, maps and figures
-    "mineburial.systems.mine.config",
-    "mineburial.systems.mine.scenario_fields",
-    "mineburial.systems.mine.sediment_profiles",
-    "mineburial.systems.mine.drop",
-    "mineburial.analyses.maps",
-    "mineburial.systems.mine.figures",
-    # its commands
-    "mineburial.systems.mine.commands",
+#: the packages whose every module is the falling mine's (docs/design.md, "Layout"): its kernels, its
+#: Python side (scenario, ensemble, Dataset, statistics, processes, calibration, commands), the
+#: analyses over its ensembles and the validation cases
+MINE_PACKAGES = (
+    "mineburial.kernels.mine",
+    "mineburial.systems.mine",
+    "mineburial.analyses",
+    "mineburial.validation",
 )
-#: the generic layer: engine, run driver, chunk store, dask layer, CF dataset builder, command line
-GENERIC = (
-    "mineburial.ensembles.engine",
-    "mineburial.ensembles.runner",
-    "mineburial.ensembles.store",
-    "mineburial.ensembles.distributed",
-    "mineburial.io.dataset",
-    "mineburial.cli",
-    "mineburial.commands",
-)
+#: the generic layer: every module of the ensemble engine's package (engine, run driver, chunk store,
+#: dask layer, thread pool, sampling, settings, ...), the CF dataset builder and the command line
+GENERIC_PACKAGES = ("mineburial.ensembles",)
+GENERIC_MODULES = ("mineburial.io.dataset", "mineburial.cli", "mineburial.commands")
 
 
 def _within(module: str, package: str) -> bool:
@@ -79,11 +55,19 @@ def _within(module: str, package: str) -> bool:
 
 def is_mine(module: str) -> bool:
     """Whether ``module`` is one of the falling mine's (module docstring)."""
-    return any(_within(module, p) for p in MINE_PACKAGES + MINE_MODULES)
+    return any(_within(module, p) for p in MINE_PACKAGES)
 
 
-def mine_imports(graph, modules=GENERIC) -> dict:
-    """``module -> sorted mine modules it imports`` for each of ``modules`` that imports one."""
+def generic(graph) -> tuple:
+    """The generic layer's modules: :data:`GENERIC_MODULES` and every module in :data:`GENERIC_PACKAGES`."""
+    inside = sorted(m for m in graph if any(_within(m, p) for p in GENERIC_PACKAGES))
+    return tuple(inside) + GENERIC_MODULES
+
+
+def mine_imports(graph, modules=None) -> dict:
+    """``module -> sorted mine modules it imports`` for each of ``modules`` (default: the generic
+    layer) that imports one."""
+    modules = generic(graph) if modules is None else modules
     return {
         m: sorted(t for t in graph[m] if is_mine(t)) for m in modules if any(is_mine(t) for t in graph[m])
     }
@@ -103,14 +87,19 @@ def test_the_check_sees_a_generic_module_that_imports_the_mine():
         "mineburial.ensembles.runner": ["mineburial.kernels.mine.layout"],
     }
     # a module beside the mine's with a shared prefix is not the mine's
-    assert not is_mine("mineburial.ensembles.mine_like") and is_mine("mineburial.kernels.mine.status")
+    assert not is_mine("mineburial.systems.mine_like") and is_mine("mineburial.kernels.mine.status")
 
 
 def test_every_named_module_exists():
     """A renamed module must not make the check pass by naming nothing."""
     graph = import_graph()
-    for module in GENERIC + MINE_MODULES + MINE_PACKAGES:
+    for module in GENERIC_MODULES + GENERIC_PACKAGES + MINE_PACKAGES:
         assert module in graph, module
+    # the engine's package holds the generic layer's core, and the mine's package its ensemble
+    layer = generic(graph)
+    for module in ("engine", "runner", "store", "distributed", "threads", "sampling", "settings"):
+        assert f"mineburial.ensembles.{module}" in layer, module
+    assert is_mine("mineburial.systems.mine.ensemble") and "mineburial.systems.mine.ensemble" in graph
 
 
 def test_the_generic_layer_imports_no_mine_module():
@@ -121,7 +110,7 @@ def test_the_generic_layer_exports_none_of_the_mine_s_names():
     """No attribute of a generic module is a class or function defined in a mine module (a
     re-export such as engine's former ``EnsembleSpec`` or the runner's ``summarize``)."""
     found = {}
-    for name in GENERIC:
+    for name in generic(import_graph()):
         module = importlib.import_module(name)
         for attr, value in vars(module).items():
             origin = getattr(value, "__module__", None)

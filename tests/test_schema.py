@@ -335,7 +335,8 @@ def test_scalar_rule_message_names_field_value_range_and_unit():
 def test_scenario_doc_field_table_did_not_drift_from_the_table(name):
     doc = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
     assert config.field_table_block(name) in doc, (
-        "regenerate: python -c 'from mineburial.systems.mine.config import write_field_tables; write_field_tables()'"
+        "regenerate: python -c "
+        "'from mineburial.systems.mine.config import write_field_tables; write_field_tables()'"
     )
 
 

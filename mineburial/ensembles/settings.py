@@ -2,8 +2,8 @@
 files a scenario reads (with the SHA-256 of their contents, for the run identity and the
 output), and the reasons why realizations were not run, added up over chunks.
 
-Used by :mod:`mineburial.ensembles.engine` (the falling mine) and
-:mod:`mineburial.systems.restraint.ensemble` (seed 004's restraining system).
+Used by the systems' ensembles (:mod:`mineburial.systems.mine.ensemble`, the falling mine;
+:mod:`mineburial.systems.restraint.ensemble`, seed 004's restraining system) and the run driver.
 """
 
 from __future__ import annotations
@@ -16,8 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from mineburial.ensembles import distributions as dist
-from mineburial.errors import unknown_name_message
-from mineburial.systems.mine import config as cfg
+from mineburial.errors import ScenarioError, unknown_name_message
 
 __all__ = ["check_ensemble_settings", "file_digest", "input_files_of", "merge_invalid_reasons"]
 
@@ -60,7 +59,7 @@ def check_ensemble_settings(ens: Mapping) -> None:
     the system does not have (``class_basis`` of a restraint ensemble) is not checked."""
 
     def bad(key, allowed):
-        raise cfg.ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range {allowed}")
+        raise ScenarioError(f"ensemble.{key} = {ens[key]!r} is outside the allowed range {allowed}")
 
     if not isinstance(ens["n"], (int, np.integer)) or isinstance(ens["n"], bool) or ens["n"] < 1:
         bad("n", "[1, inf) (an integer number of drops)")
@@ -71,7 +70,7 @@ def check_ensemble_settings(ens: Mapping) -> None:
     ):
         bad("seed", "[0, 2**64) (an integer)")
     if ens["sampling"] not in ("mc", "sobol"):
-        raise cfg.ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"], ("mc", "sobol")))
+        raise ScenarioError(unknown_name_message("ensemble.sampling", ens["sampling"], ("mc", "sobol")))
     if (
         not isinstance(ens["chunk_size"], (int, np.integer))
         or isinstance(ens["chunk_size"], bool)
@@ -88,9 +87,9 @@ def check_ensemble_settings(ens: Mapping) -> None:
             "default: ~15 % of the run's time, 8 to 230 drops)",
         )
     if not isinstance(ens["per_drop"], (bool, np.bool_)):
-        raise cfg.ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
+        raise ScenarioError(f"ensemble.per_drop = {ens['per_drop']!r} must be true or false")
     if "class_basis" in ens and ens["class_basis"] not in ("burial_volume", "burial_height", "burial_area"):
-        raise cfg.ScenarioError(
+        raise ScenarioError(
             unknown_name_message(
                 "ensemble.class_basis", ens["class_basis"], ("burial_volume", "burial_height", "burial_area")
             )

@@ -1744,7 +1744,9 @@ _FAMILY_HEADINGS = {
     "restraint_run": "Restraining-system time series (`mineburial restrain`)",
     "restraint_ensemble": "Restraining-system ensemble (`mineburial run` of a restraint scenario)",
     "sensitivity": "Sobol' sensitivity indices (`mineburial sensitivity`)",
-    "environment": "Synthetic environment grid (`python -m mineburial.analyses.synthetic`, the maps' input format)",
+    "environment": (
+        "Synthetic environment grid (`python -m mineburial.analyses.synthetic`, the maps' input format)"
+    ),
     "map": "Burial map (`mineburial map`; `y`, `x` and `grid_mapping` named as in the environment grid)",
     "comparison": "Comparison of variants (`mineburial compare`; the sampled inputs `input_<path>` once)",
 }

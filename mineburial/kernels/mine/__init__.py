@@ -6,5 +6,5 @@ kernels (docs/scour.md).
 They run on the generic integration core of :mod:`mineburial.kernels` (:mod:`~mineburial.kernels.core`,
 :mod:`~mineburial.kernels.integrators`, :mod:`~mineburial.kernels.methods`,
 :mod:`~mineburial.kernels.status`) and its generic math (:mod:`~mineburial.kernels.rotation`,
-:mod:`~mineburial.kernels.crossflow`); docs/design.md, "Where things are".
+:mod:`~mineburial.kernels.crossflow`); docs/design.md, "Layout".
 """

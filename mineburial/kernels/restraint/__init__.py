@@ -4,5 +4,5 @@ They run on the generic planar Kane core (:mod:`mineburial.kernels.multibody`), 
 seabed contact (:mod:`mineburial.kernels.seabed_contact`: elastic foundation and regularised
 Coulomb friction, for any body of a multibody system) and the integration core of
 :mod:`mineburial.kernels`; the system's schema, tables and setup are
-:mod:`mineburial.systems.restraint.model` (docs/restraint.md, docs/design.md "Where things are").
+:mod:`mineburial.systems.restraint.model` (docs/restraint.md, docs/design.md "Layout").
 """
