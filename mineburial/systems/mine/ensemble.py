@@ -142,7 +142,7 @@ class EnsembleSpec:
     recompute_inertia: bool
     angles_deg: tuple  # (roll, pitch, heading) of the base scenario
     input_files: tuple = ()  # ((path, SHA-256 of its contents), ...) of the files read
-    # ((section, spec), ...) of the post-impact processes the scenario has a section of (processes.py)
+    # ((section, spec), ...) of the post-impact processes the scenario has a section of (processes/)
     processes: tuple = ()
     accuracy_check: int | str = ENSEMBLE_DEFAULTS["accuracy_check"]  # the self-check's size (accuracy.py)
     posterior: posterior.Posterior | None = None  # the coefficient sets drawn per drop, if any
