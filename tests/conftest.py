@@ -82,9 +82,9 @@ def cheap_ensemble():
 
 @pytest.fixture(autouse=True)
 def _self_check_off_unless_asked(request, monkeypatch):
-    """The numerical self-check of ``mineburial run`` (8 reference drops, ~100 default drops'
-    worth) is off in the suite's in-process runs unless a scenario sets
-    ``ensemble.accuracy_check`` itself: it is tested in tests/test_accuracy_check.py, and
+    """The numerical self-check of ``mineburial run`` (by default about one reference drop per
+    255 drops, at least 8, each ~45 drops' worth) is off in the suite's in-process runs unless a
+    scenario sets ``ensemble.accuracy_check`` itself: it is tested in tests/test_accuracy_check.py, and
     paying it in every CLI test would cost minutes of the suite's budget."""
     if request.module.__name__ != "test_accuracy_check":
         monkeypatch.setitem(mine.ENSEMBLE_DEFAULTS, "accuracy_check", 0)

@@ -773,7 +773,7 @@ TABLE: tuple[Field, ...] = (
     _setup(
         "scour.burial_levels",
         "list",
-        "levels of B/D whose time to reach is reported",
+        "levels of B/D (a lying body; B/h for one standing on its base) whose time to reach is reported",
         "strictly increasing, in [0, 1]",
         units="1",
         low=0.0,
