@@ -615,13 +615,35 @@ def pit_equilibrium(theta, theta_cr, kc, ucw, diameter, a, b, aw, mw):
 
 
 @kernel
+def capped_target(p, s_eq, full, theta, theta_cr, ub, tb, kc):
+    """(S_eq, T) from an uncapped equilibrium ``s_eq`` [m]: capped by full burial ``full`` [m] (the
+    lying body's diameter, the standing body's height), the mobile layer and, in coarse sand, the
+    exposure limit above the ripples (:func:`exposure_limit` of ``full``), with the section's time
+    scale (:func:`scour_time_scale` of the diameter, KC ``kc``); no sediment moving: T = inf (no
+    scour; the infill has its own time scale)."""
+    d50 = p[S_D50]
+    s_eq = min(min(s_eq, full), p[S_MOBILE_LAYER])
+    w = coarse_weight(d50, p[S_RIPPLE_D50])
+    if w > 0.0:
+        eta = ripple_height(ub * tb / math.pi, d50)
+        if eta >= 0.0:
+            s_eq = min(s_eq, exposure_limit(full, eta, p[S_RIPPLE_EXPOSURE], w))
+    if not theta > theta_cr:
+        return s_eq, math.inf
+    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
+    t_scale = scour_time_scale(
+        theta, kc, p[S_DIAMETER], d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
+    )
+    return s_eq, t_scale
+
+
+@kernel
 def pit_target(p, theta, theta_cr, ub, tb, uc):
     """(S_eq, T) of the scour-and-settle law for one forcing sample: :func:`pit_equilibrium` with
     the caps of :func:`burial_target` (full burial D, the mobile layer, the coarse-sand exposure
     limit) and its time scale (:func:`scour_time_scale`, the section's T* law). A cohesive bed:
     (0, inf), no scour."""
     diameter = p[S_DIAMETER]
-    d50 = p[S_D50]
     if p[S_COHESIVE] != 0.0:
         return 0.0, math.inf
     kc = ub * tb / diameter
@@ -629,19 +651,7 @@ def pit_target(p, theta, theta_cr, ub, tb, uc):
     s_eq = pit_equilibrium(
         theta, theta_cr, kc, ucw, diameter, p[S_BEQ_A], p[S_BEQ_B], p[S_WAVE_A], p[S_WAVE_KC_EXP]
     )
-    s_eq = min(min(s_eq, diameter), p[S_MOBILE_LAYER])
-    w = coarse_weight(d50, p[S_RIPPLE_D50])
-    if w > 0.0:
-        eta = ripple_height(ub * tb / math.pi, d50)
-        if eta >= 0.0:
-            s_eq = min(s_eq, exposure_limit(diameter, eta, p[S_RIPPLE_EXPOSURE], w))
-    if not theta > theta_cr:
-        return s_eq, math.inf  # no sediment moves: no scour (the infill has its own time scale)
-    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
-    t_scale = scour_time_scale(
-        theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
-    )
-    return s_eq, t_scale
+    return capped_target(p, s_eq, diameter, theta, theta_cr, ub, tb, kc)
 
 
 # --- a short body standing on its base (issue 36: a Manta-like frustum; docs/scour.md, Standing body) ----
@@ -716,25 +726,12 @@ def standing_target(p, theta, theta_cr, ub, tb, uc, theta_c):
     cohesive bed: (0, inf)."""
     diameter = p[S_DIAMETER]
     height = p[S_HEIGHT]
-    d50 = p[S_D50]
     if p[S_COHESIVE] != 0.0:
         return 0.0, math.inf
     kc = ub * tb / diameter
     ucw = current_ratio(uc, ub)
     s_eq = standing_equilibrium(theta, theta_cr, kc, ucw, theta_c, diameter, p[S_FLANK_ANGLE])
-    s_eq = min(min(s_eq, height), p[S_MOBILE_LAYER])
-    w = coarse_weight(d50, p[S_RIPPLE_D50])
-    if w > 0.0:
-        eta = ripple_height(ub * tb / math.pi, d50)
-        if eta >= 0.0:
-            s_eq = min(s_eq, exposure_limit(height, eta, p[S_RIPPLE_EXPOSURE], w))
-    if not theta > theta_cr:
-        return s_eq, math.inf
-    s = p[S_RHO_GRAIN] / p[S_RHO_WATER]
-    t_scale = scour_time_scale(
-        theta, kc, diameter, d50, s, p[S_G], p[S_TSTAR_C], p[S_TSTAR_M], p[S_TSTAR_P], p[S_TSTAR_KC_MIN]
-    )
-    return s_eq, t_scale
+    return capped_target(p, s_eq, height, theta, theta_cr, ub, tb, kc)
 
 
 @kernel

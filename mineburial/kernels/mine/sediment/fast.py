@@ -216,7 +216,13 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
 @small_kernel
 def _quartic_angles(c0, ca1, cb1, ca2, cb2):
     """The arguments of :func:`_quartic_roots` (NaN when the quartic degenerates)."""
-    r0, r1, r2, r3 = _quartic_roots(c0, ca1, cb1, ca2, cb2)
+    return _arguments(_quartic_roots(c0, ca1, cb1, ca2, cb2))
+
+
+@small_kernel
+def _arguments(roots):
+    """The arguments of four complex numbers (NaN for NaN)."""
+    r0, r1, r2, r3 = roots
     return (
         math.atan2(r0.imag, r0.real),
         math.atan2(r1.imag, r1.real),
@@ -241,16 +247,10 @@ def _crossing_roots(a0, ac, as_, a1, bc, bs, k1c, k1s):
 def _crossing_angles(a0, ac, as_, a1, bc, bs, k1c, k1s):
     """Angles where the seabed line and the delta line cross (anywhere along x): the zeros of
     the degree-2 trigonometric polynomial (a0 + ac cos t + as sin t)(bc cos t + bs sin t)
-    - a1 (k1c cos t + k1s sin t) = 0, by :func:`_quartic_angles`. When the quartic degenerates
+    - a1 (k1c cos t + k1s sin t) = 0, the arguments of :func:`_crossing_roots`. When the quartic degenerates
     (no rotation across the axis: the delta line is then made of generators, whose angles are
     breakpoints already), the four angles are NaN."""
-    return _quartic_angles(
-        0.5 * (ac * bc + as_ * bs),
-        a0 * bc - a1 * k1c,
-        a0 * bs - a1 * k1s,
-        0.5 * (ac * bc - as_ * bs),
-        0.5 * (ac * bs + as_ * bc),
-    )
+    return _arguments(_crossing_roots(a0, ac, as_, a1, bc, bs, k1c, k1s))
 
 
 @small_kernel
