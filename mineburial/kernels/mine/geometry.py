@@ -83,23 +83,32 @@ def segment_area_unit(theta):
     """Area ``theta - sin(theta) cos(theta)`` of the unit-circle segment of
     half-angle ``theta`` (seed 000 eq. (25a) with ``R = 1``,
     ``1 - h/R = cos(theta)``); series for small ``theta`` avoids cancellation."""
-    return _segment_area_sin(theta, math.sin(theta) if theta >= 0.35 else 0.0)
+    if theta < 0.35:
+        return _segment_series(theta)
+    return theta - math.sin(theta) * math.cos(theta)  # one sincos call (LLVM pairs them)
+
+
+@small_kernel
+def _segment_series(theta):
+    """:func:`segment_area_unit` below ``theta = 0.35``: (u - sin u)/2 with u = 2 theta, summed
+    as sum_{k>=1} (-1)^(k+1) u^(2k+1)/(2k+1)!."""
+    u = 2.0 * theta
+    u2 = u * u
+    term = u * u2 / 6.0
+    total = term
+    for k in range(2, 10):
+        term = -term * u2 / ((2.0 * k) * (2.0 * k + 1.0))
+        total += term
+    return 0.5 * total
 
 
 @small_kernel
 def _segment_area_sin(theta, sin_theta):
     """:func:`segment_area_unit` given ``sin_theta = sin(theta)`` (read only when ``theta >=
-    0.35``): the same value, bit for bit, without a second sine where the caller has one."""
+    0.35``): the same value, bit for bit, without a second sine where the caller has one (the
+    Gauss rule's nodes, :func:`_partial_gauss`)."""
     if theta < 0.35:
-        # (u - sin u)/2 with u = 2 theta: sum_{k>=1} (-1)^(k+1) u^(2k+1)/(2k+1)!
-        u = 2.0 * theta
-        u2 = u * u
-        term = u * u2 / 6.0
-        total = term
-        for k in range(2, 10):
-            term = -term * u2 / ((2.0 * k) * (2.0 * k + 1.0))
-            total += term
-        return 0.5 * total
+        return _segment_series(theta)
     return theta - sin_theta * math.cos(theta)
 
 
