@@ -24,7 +24,7 @@ from mineburial.errors import ScenarioError
 from mineburial.kernels.mine import layout
 from mineburial.kernels.mine import overburden as ob
 from mineburial.kernels.mine.bodies.cylinder import Cylinder
-from mineburial.kernels.mine.geometry import vertical_extent
+from mineburial.kernels.mine.geometry import cut_cylinder, vertical_extent
 from mineburial.kernels.mine.sediment.laws import drop_bank, pack_law
 from mineburial.systems.mine.config import Scenario
 from mineburial.systems.mine.drop import run_params
@@ -81,7 +81,8 @@ def exact(p, bank, a_z, penetration):
     L, R, chi = p[layout.P_LENGTH], 0.5 * p[layout.P_DIAMETER], p[layout.P_CHI]
     z_lo, _ = vertical_extent(L, R, chi, a_z, 0.0)
     z_c = -penetration - z_lo
-    return np.array(ob._exact(Cylinder(L, R, chi), a_z, z_c, 0.0, penetration, RHO_W, G, p, bank))
+    below = cut_cylinder(L, R, chi, a_z, z_c, 0.0)[:3]  # the part below the seabed, its top cut
+    return np.array(ob._exact(Cylinder(L, R, chi), a_z, z_c, 0.0, penetration, RHO_W, G, p, bank, below))
 
 
 def geometry(p):

@@ -77,7 +77,7 @@ from mineburial.kernels.mine.layout import (
     PHASE_WATER,
     WC_VISCOUS_CROSSFLOW,
 )
-from mineburial.kernels.mine.overburden import overburden_force
+from mineburial.kernels.mine.overburden import overburden_below
 from mineburial.kernels.mine.sediment import RES_DELTA, sediment_tractions
 from mineburial.kernels.mine.sediment.laws import LAW_REFERENCE_PATHS
 from mineburial.kernels.rotation import quaternion_rate, rotation_matrix
@@ -381,6 +381,42 @@ def solve6(a, rhs, x):
         x[i] = t / a[i * n + i]
 
 
+@small_kernel
+def _solve_mass(mass, rhs, x, added_pore):
+    """:func:`solve6` of the generalised mass matrix of :func:`_mass_matrix` into ``x``: by its
+    blocks when there is no pore-pressure added mass, where the matrix couples only U2 with W3
+    and U3 with W2. The Cholesky factor's other entries below the diagonal are then zeros, and
+    this is :func:`solve6`'s arithmetic with the products of those zeros left out (the same
+    operations on the other entries, in its order): the same values (up to the sign of a zero
+    result), without its ~90 multiply-subtracts of zeros."""
+    if added_pore > 0.0:
+        solve6(mass, rhs, x)
+        return
+    l00 = math.sqrt(mass[0])
+    l11 = math.sqrt(mass[7])
+    l22 = math.sqrt(mass[14])
+    l33 = math.sqrt(mass[21])
+    l42 = mass[4 * 6 + 2] / l22
+    l44 = math.sqrt(mass[28] - l42 * l42)
+    l51 = mass[5 * 6 + 1] / l11
+    l55 = math.sqrt(mass[35] - l51 * l51)
+    # forward substitution, then back substitution (solve6's order)
+    y0 = rhs[0] / l00
+    y1 = rhs[1] / l11
+    y2 = rhs[2] / l22
+    y3 = rhs[3] / l33
+    y4 = (rhs[4] - l42 * y2) / l44
+    y5 = (rhs[5] - l51 * y1) / l55
+    x5 = y5 / l55
+    x4 = y4 / l44
+    x[5] = x5
+    x[4] = x4
+    x[3] = y3 / l33
+    x[2] = (y2 - l42 * x4) / l22
+    x[1] = (y1 - l51 * x5) / l11
+    x[0] = y0 / l00
+
+
 # ---------------------------------------------------------------------------------------------
 # the right-hand side, in pieces, each inlined into derivatives at numba's IR level (one call site
 # each). Measured (docs/design.md, "Developing kernels"): as kernels, 1,000 drops took ~8 % more
@@ -390,20 +426,22 @@ def solve6(a, rhs, x):
 def _immersed_parts(body, a_z, z, depth, z_lo, v_total):
     """The body cut by the two interfaces (seed 000 section 4): volume and first moments
     ``vs, xs, es`` of the part below the water surface (water and embedded parts together),
-    ``vb, xb`` of the part below the seabed, and the volumes ``va`` of the air part and ``vw``
+    ``vb, xb, eb`` of the part below the seabed (the overburden's top cut,
+    :func:`.overburden.overburden_below`), and the volumes ``va`` of the air part and ``vw``
     of the water part."""
     vs, xs, es, _, _, _ = bodies.cut(body, a_z, z, 0.0)
     vb = 0.0
     xb = 0.0
+    eb = 0.0
     if z_lo < -depth:
-        vb, xb, _, _, _, _ = bodies.cut(body, a_z, z, -depth)
+        vb, xb, eb, _, _, _ = bodies.cut(body, a_z, z, -depth)
     va = v_total - vs
     if va < 0.0:
         va = 0.0
     vw = vs - vb
     if vw < 0.0:
         vw = 0.0
-    return vs, xs, es, vb, xb, va, vw
+    return vs, xs, es, vb, xb, va, vw, eb
 
 
 @small_kernel
@@ -431,7 +469,7 @@ def _water_part_loads(body, p, current_bank, model, r, z, a_z, u, w, parts, v_to
     as its equivalent cylinder, seed 000 section 4.1) in the current at the height of the
     part's centre, added to ``loads``. Also returns the part's axial span ``(wa, wb)`` (for its
     added mass) and the current in the body frame (zero when no part is in the water)."""
-    vs, xs, _, vb, xb, _, vw = parts
+    vs, xs, _, vb, xb, _, vw, _ = parts
     wa = 0.0
     wb = 0.0
     cur = (0.0, 0.0, 0.0)
@@ -455,7 +493,7 @@ def _water_part_loads(body, p, current_bank, model, r, z, a_z, u, w, parts, v_to
 def _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads):
     """Drag, lift and roll damping of the part above the water surface (still air), added to
     ``loads``; also returns the part's axial span ``(aa, ab)``."""
-    vs, xs, _, _, _, va, _ = parts
+    vs, xs, _, _, _, va, _, _ = parts
     aa = 0.0
     ab = 0.0
     if va > 1e-15 * v_total and p[P_RHO_AIR] > 0.0:
@@ -468,9 +506,10 @@ def _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads):
 
 
 @small_kernel
-def _sediment_loads(body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, loads):
+def _sediment_loads(body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, parts, loads):
     """Sediment tractions (seed 000 section 6) and, unless the resistance is the delta law, the
-    geostatic effective overburden on every embedded element (closed form), added to ``loads``
+    geostatic effective overburden on every embedded element (closed form; its top cut is the
+    part below the seabed in ``parts``, :func:`_immersed_parts`), added to ``loads``
     (body frame). Also returns the sediment's force (E-frame), its torque (body frame) and the
     pore-pressure added mass; all zero when no part is below the seabed."""
     kb1, kb2, kb3 = kb
@@ -490,7 +529,10 @@ def _sediment_loads(body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2,
         )
         if int(p[P_SED_RESISTANCE]) != RES_DELTA:
             # geostatic effective overburden on every embedded element (closed form)
-            fo, fox, foe = overburden_force(body, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank, law)
+            below = (parts[3], parts[4], parts[7])  # bodies.cut(body, a_z, z, -depth)
+            fo, fox, foe = overburden_below(
+                body, a_z, z, -depth, z_lo, rho_w, g, p, sediment_bank, law, below
+            )
             sf3 += fo
             _, _, _, t1, t2, t3 = vertical_load(fo, fox, foe, dn2, dn3, kb1, kb2, kb3)
             sm1 += t1
@@ -767,7 +809,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     # unit vector e_down in the body frame: projection of -k normal to the axis
     _, dn2, dn3 = e_down_body(kb[0], kb[1], kb[2])
 
-    vs, xs, es, vb, _, va, _ = parts
+    vs, xs, es, vb, _, va, _, _ = parts
     loads = _buoyancy(
         p[P_RHO_WATER], p[P_RHO_AIR], g, vs, xs, es, va, v_total, x_total, dn2, dn3, kb[0], kb[1], kb[2]
     )
@@ -776,7 +818,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     )
     loads, aa, ab = _air_part_loads(body, p, model, u, w, parts, v_total, x_total, loads)
     loads, sed, added_pore = _sediment_loads(
-        body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, loads
+        body, p, law, sediment_bank, r, y, a_z, z, z_lo, depth, dn2, dn3, kb, parts, loads
     )
     fb1, fb2, fb3, mb1, mb2, mb3 = loads
     # gravity (E-frame -k), no torque about the COM
@@ -791,7 +833,7 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     dnu = work[42:48]  # dU/dt, dW/dt (body frame)
     _mass_matrix(mass, m, J1, J2, added, added_pore, kb)
     crb = _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, p[P_CROSSFLOW_MUNK], added, u, w, cur)
-    solve6(mass, rhs, dnu)
+    _solve_mass(mass, rhs, dnu, added_pore)
     _state_rates(dy, y, r, q, u, w, dnu)
     ft1, ft2, ft3 = _work_rates(dy, r, m, g, J1, J2, kb, u, w, dnu, crb, sed)
 

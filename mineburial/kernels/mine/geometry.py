@@ -84,16 +84,32 @@ def segment_area_unit(theta):
     half-angle ``theta`` (seed 000 eq. (25a) with ``R = 1``,
     ``1 - h/R = cos(theta)``); series for small ``theta`` avoids cancellation."""
     if theta < 0.35:
-        # (u - sin u)/2 with u = 2 theta: sum_{k>=1} (-1)^(k+1) u^(2k+1)/(2k+1)!
-        u = 2.0 * theta
-        u2 = u * u
-        term = u * u2 / 6.0
-        total = term
-        for k in range(2, 10):
-            term = -term * u2 / ((2.0 * k) * (2.0 * k + 1.0))
-            total += term
-        return 0.5 * total
-    return theta - math.sin(theta) * math.cos(theta)
+        return _segment_series(theta)
+    return theta - math.sin(theta) * math.cos(theta)  # one sincos call (LLVM pairs them)
+
+
+@small_kernel
+def _segment_series(theta):
+    """:func:`segment_area_unit` below ``theta = 0.35``: (u - sin u)/2 with u = 2 theta, summed
+    as sum_{k>=1} (-1)^(k+1) u^(2k+1)/(2k+1)!."""
+    u = 2.0 * theta
+    u2 = u * u
+    term = u * u2 / 6.0
+    total = term
+    for k in range(2, 10):
+        term = -term * u2 / ((2.0 * k) * (2.0 * k + 1.0))
+        total += term
+    return 0.5 * total
+
+
+@small_kernel
+def _segment_area_sin(theta, sin_theta):
+    """:func:`segment_area_unit` given ``sin_theta = sin(theta)`` (read only when ``theta >=
+    0.35``): the same value, bit for bit, without a second sine where the caller has one (the
+    Gauss rule's nodes, :func:`_partial_gauss`)."""
+    if theta < 0.35:
+        return _segment_series(theta)
+    return theta - sin_theta * math.cos(theta)
 
 
 @kernel
@@ -198,7 +214,8 @@ def _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm):
         th1 = math.acos(k1)
         th2 = math.acos(k2)
         thm = 0.5 * (th1 + th2)
-        sm = math.sin(thm)
+    sm = math.sin(thm)  # one sine each of thm and of every node's angle (the same values as before)
+    if not (tang1 or tang2):
         if sm > 0.0:
             r = dk / (2.0 * sm)
             if r > 1.0:
@@ -206,7 +223,6 @@ def _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm):
             dth = 2.0 * math.asin(r)  # cos th2 - cos th1 = 2 sin(thm) sin(dth/2)
         else:
             dth = th1 - th2
-    sm = math.sin(thm)
     den = sm * math.sin(0.5 * dth)  # = (k2 - k1)/2
     degenerate = not (den > 1e-280)
     sv = 0.0
@@ -216,6 +232,7 @@ def _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm):
     for i in range(N_GL):
         t = _GL_T[i]
         thk = thm - 0.5 * dth * t
+        sk = math.sin(thk)
         if degenerate:
             phi = 0.5 * (1.0 + t)
             jac = 0.5
@@ -223,10 +240,9 @@ def _partial_gauss(R, k1, k2, tang1, tang2, w, dk, pm):
             # fraction along x: (cos th1 - cos thk)/(cos th1 - cos th2)
             phi = (math.sin(thm + 0.25 * dth * (1.0 - t)) * math.sin(0.25 * dth * (1.0 + t))) / den
             # d(phi)/dt = sin(thk) (dth/2)/(cos th2 - cos th1)
-            jac = math.sin(thk) * 0.25 * dth / den
+            jac = sk * 0.25 * dth / den
         wk = _GL_W[i] * jac
-        ak = segment_area_unit(thk)
-        sk = math.sin(thk)
+        ak = _segment_area_sin(thk, sk)
         sv += wk * ak
         sx += wk * ak * (phi - 0.5)
         ss += wk * sk * sk * sk
@@ -342,6 +358,62 @@ def cut_cylinder(L, R, chi, a_z, z_c, level):
     if V > 0.0:
         return V, Mx / V, Ms / V, lat, cn, ct
     return 0.0, _empty_x(L, chi, a_z), 0.0, lat, cn, ct
+
+
+@kernel
+def cut_cylinder_sliver(L, R, chi, a_z, z_c, level):
+    """What :func:`cut_cylinder` (``L, R, chi, a_z, z_c, level``) returns, where that is known
+    without cutting: ``(kind, bound, x_empty)``.
+
+    * ``kind`` 0: the part below the plane is empty: :func:`cut_cylinder` returns volume 0.0,
+      ``x_c = x_empty`` and ``eta_c = 0.0`` exactly (the same tests on the same values as its
+      own: the whole body above the plane);
+    * ``kind`` 1: a sliver at the lowest rim, the plane within a kappa range under :data:`TAU`
+      of the tangency (the partial sections that :func:`_partial_gauss` integrates, with no full
+      section): its computed volume is at most ``bound`` (>= 0), its ``|x_c|`` at most ``L +
+      |chi|`` and its ``|eta_c|`` at most ``R``. The overburden's last slice ends at the body's
+      lowest point, where rounding leaves such a sliver of ~1e-37 m^3 in half its calls
+      (:func:`.overburden._exact`);
+    * ``kind`` 2: anything else (no bound; the caller cuts).
+
+    The bound: with kappa from k1 = d_t/(bR) to 1 over the axial length w = (bR - d_t)/a_z and
+    delta = 1 - k1 (< TAU), the Gauss rule's half-angles lie in [0, dth], dth = acos(k1) <=
+    (pi/sqrt 2) sqrt(delta); the segment area of half-angle theta is at most (2/3) theta^3
+    (its series alternates); the rule's weights times its Jacobian sum to 2 x at most 1.05
+    (theta/2 / sin(theta/2) squared at theta = acos(1 - TAU)); so |V| <= R^2 w x 2 x 1.05 x
+    (2/3) x 10.97 delta^1.5 = 15.4 R^2 w delta^1.5, and ``bound`` is twice that (rounding). A
+    centroid lies in the part: |x_c| <= |x_tail| + w <= L + |chi| and |eta_c| <= R (the
+    segment's centroid is inside the circle), each to rounding."""
+    c = z_c - level
+    a = a_z
+    ch = chi
+    if a_z < 0.0:  # _cut_raw's axis reversal
+        a = -a_z
+        ch = -chi
+    if a > 1.0:
+        a = 1.0
+    b = math.sqrt((1.0 - a) * (1.0 + a))
+    bR = b * R
+    xt = -0.5 * L - ch
+    xn = 0.5 * L - ch
+    dt = c + a * xt
+    dn = c + a * xn
+    if dt >= bR:  # _cut_raw_up's "whole body above the plane"
+        return 0, 0.0, _empty_x(L, chi, a_z)
+    # _cut_raw_up's partial sections from a tangency at kappa = 1 only (tang2, not tang1: no full
+    # section), kappa from k1 = dt/bR, the Gauss rule (dk < TAU): _partial_span's values
+    if not (dn > -bR and dt >= -bR and dn > bR and bR > 0.0):
+        return 2, math.inf, 0.0
+    k1 = dt / bR
+    if k1 < -1.0:
+        k1 = -1.0
+    dk = 1.0 - k1
+    if not (dk < TAU):
+        return 2, math.inf, 0.0
+    w = (bR - dt) / a
+    if w > xn - xt:
+        w = xn - xt
+    return 1, 32.0 * R * R * w * dk * math.sqrt(dk), 0.0
 
 
 @kernel

@@ -43,6 +43,7 @@ from numba.extending import overload
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine.environment import bracket, interpolate_row, last_point
+from mineburial.kernels.mine.geometry import cut_cylinder_sliver
 from mineburial.kernels.mine.layout import (
     N_PARAMS,
     P_OB_QUADRATURE,
@@ -106,10 +107,21 @@ def overburden_force(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank, law):
     the torque is (F*x i_M + F*eta e_down) x k. The rule: ``p[P_OB_QUADRATURE]``; ``law``
     (:func:`.laws.pack_law`): its ``LAW_REFERENCE_PATHS`` slot decides whether the bounded
     rule is compiled (:func:`with_long_tables`)."""
+    if seabed_z - z_lo <= 0.0:  # nothing embedded (overburden_below's test)
+        return 0.0, 0.0, 0.0
+    v, x, e, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z)
+    return overburden_below(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank, law, (v, x, e))
+
+
+@kernel
+def overburden_below(body, a_z, z_c, seabed_z, z_lo, rho_w, g, p, bank, law, below):
+    """:func:`overburden_force` given ``below = (V, x_c, eta_c)``, the body's part below the
+    seabed (``bodies.cut(body, a_z, z_c, seabed_z)``, which the right-hand side has cut
+    already): the top cut of the slices, not cut again (the same values, bit for bit)."""
     depth_max = seabed_z - z_lo  # deepest embedded point below the seabed
     if depth_max <= 0.0:
         return 0.0, 0.0, 0.0
-    return _rule(law[LAW_REFERENCE_PATHS], body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+    return _rule(law[LAW_REFERENCE_PATHS], body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below)
 
 
 def with_long_tables(paths, params, sediment_bank):
@@ -135,39 +147,41 @@ def with_long_tables(paths, params, sediment_bank):
     return None
 
 
-def _rule(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+def _rule(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
     """The overburden of a body embedded down to ``depth_max``: the reference rule, or the
     bounded one for a long table (see the module); compiled through the overload below, which
-    leaves the bounded rule out when ``paths`` is ``None``."""
+    leaves the bounded rule out when ``paths`` is ``None``. ``below``: the part below the
+    seabed (:func:`overburden_below`)."""
     raise NotImplementedError("compiled code only")
 
 
 @overload(_rule, jit_options=JIT_OPTIONS)
-def _rule_impl(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+def _rule_impl(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
     if isinstance(paths, (types.NoneType, types.Omitted)):
 
-        def reference_only(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+        def reference_only(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
             # no drop of the batch has a long table (with_long_tables): the fast rule is this
-            return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+            return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below)
 
         return reference_only
 
-    def by_table(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
+    def by_table(paths, body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
         row = int(p[P_SED_PROFILE])
         if row >= 0:
             ref = int(p[P_OB_QUADRATURE]) == OB_REFERENCE
             if depths_inside(bank, row, depth_max) > (REFERENCE_DEPTHS if ref else EXACT_DEPTHS):
                 # one call site: the bounded rule is compiled (inlined) once
                 slices = REFERENCE_SLICES if ref else SLICES
-                return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices)
-        return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank)
+                return _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices, below)
+        return _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below)
 
     return by_table
 
 
 @kernel
-def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
-    """The reference rule: one slice between consecutive table depths (see the module)."""
+def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
+    """The reference rule: one slice between consecutive table depths (see the module).
+    ``below``: the part below the seabed, the first slice's top cut."""
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
     f_tot = 0.0
     mx = 0.0
@@ -176,8 +190,9 @@ def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
     top = 0.0
     k = 1
     # the part below each slice boundary; a slice's bottom cut is the next slice's top cut
-    # (one cut per boundary: a tabulated profile has one boundary per depth in the body)
-    v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
+    # (one cut per boundary: a tabulated profile has one boundary per depth in the body); the
+    # first, at the seabed (seabed_z - 0.0 = seabed_z), is the caller's
+    v1, x1, e1 = below
     while top < depth_max:
         # next slice boundary: the next table depth, or the bottom of the body
         bottom = depth_max
@@ -188,7 +203,20 @@ def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
                         bottom = bank[row, 0, k]
                     break
                 k += 1
-        v2, x2, e2, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - bottom)
+        kind = 2
+        x_empty = 0.0
+        if bottom == depth_max:
+            # the last slice ends at the body's lowest point: what the cut there would give may be
+            # known, or too small to change a bit of v, xs or es (_negligible_below)
+            kind, bound, x_empty, reach_x, reach_e = _sliver(body, a_z, z_c, seabed_z - bottom)
+            if kind == 1 and not _negligible_below(bound, reach_x, reach_e, v1, x1, e1):
+                kind = 2
+        if kind == 0:  # the cut's exact values for an empty part
+            v2, x2, e2 = 0.0, x_empty, 0.0
+        elif kind == 1:  # a sliver: zeros give the same v, xs, es bit for bit
+            v2, x2, e2 = 0.0, 0.0, 0.0
+        else:
+            v2, x2, e2, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - bottom)
         v = v1 - v2  # the part between the two planes, its centroid (xs, es)
         if v > 0.0:
             xs = (v1 * x1 - v2 * x2) / v
@@ -202,6 +230,65 @@ def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank):
         top = bottom
         v1, x1, e1 = v2, x2, e2
     return f_tot, mx, me
+
+
+#: 2**-55: a term below this fraction of a float's magnitude leaves it unchanged when added
+#: (under half the spacing of the floats next to it, whatever the float: _negligible_below)
+_HALF_SPACING = 2.0**-55
+#: the smallest magnitude that _negligible_below takes for a normal float (well above 2**-1022)
+_NORMAL = 1e-290
+
+
+def _cylinder_class():
+    from mineburial.kernels.mine.bodies.cylinder import Cylinder
+
+    return Cylinder
+
+
+def _sliver(body, a_z, z_c, level):
+    """``(kind, bound, x_empty, reach_x, reach_e)``: the body's cut below ``level`` as far as it
+    is known without cutting (:func:`.geometry.cut_cylinder_sliver` for the cylinder), with the
+    bounds on its centroid's ``|x_c|``, ``|eta_c|`` (halved: twice the bound); kind 2 (unknown)
+    for every other shape. Compiled code only, chosen on the body's type."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_sliver, jit_options=JIT_OPTIONS, inline="always")
+def _sliver_impl(body, a_z, z_c, level):
+    if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class is _cylinder_class():
+
+        def cylinder(body, a_z, z_c, level):
+            L, R, chi = body
+            kind, bound, x_empty = cut_cylinder_sliver(L, R, chi, a_z, z_c, level)
+            return kind, bound, x_empty, 2.0 * (L + abs(chi)), 2.0 * R
+
+        return cylinder
+
+    def unknown(body, a_z, z_c, level):
+        return 2, math.inf, 0.0, 0.0, 0.0
+
+    return unknown
+
+
+@small_kernel
+def _negligible_below(bound, reach_x, reach_e, v1, x1, e1):
+    """Whether a cut below the slice (volume v2, centroid x2, e2) whose volume is at most
+    ``bound``, ``|x2|`` at most ``reach_x / 2`` and ``|e2|`` at most ``reach_e / 2``
+    (:func:`_sliver`) can be left out of the slice above it without changing a bit: v1 - v2 ==
+    v1, v1 x1 - v2 x2 == v1 x1 and v1 e1 - v2 e2 == v1 e1 in floating point, each subtracted term
+    under 2**-55 of a normal, non-zero float, less than half the spacing of the floats next to
+    it, so that the difference rounds back to it; v2, x2, e2 = 0, 0, 0 then give the slice's v,
+    xs and es bit for bit."""
+    px = abs(v1 * x1)
+    pe = abs(v1 * e1)
+    return (
+        v1 > _NORMAL
+        and px > _NORMAL
+        and pe > _NORMAL
+        and 2.0 * bound < v1 * _HALF_SPACING
+        and bound * reach_x < px * _HALF_SPACING
+        and bound * reach_e < pe * _HALF_SPACING
+    )
 
 
 @small_kernel
@@ -251,7 +338,7 @@ def _rate(x0, t0, x1, t1):
 
 
 @kernel
-def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices):
+def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices, below):
     """The bounded rule: :data:`SLICES` equal slices from the top of the embedded part
     (the seabed, or the body's top when it is buried) to ``depth_max``. A slice [a, b]
     of volume V and centroid (x_s, eta_s) at depth zeta_c carries
@@ -267,14 +354,18 @@ def _bounded(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, slices):
     F_i x_s + w' V var (d x_s / d zeta) (and the same for eta): with w linear in the
     slice, int w x dV = F_i x_s + w' V cov(zeta, x), the covariance taken as the depth's
     variance over the slice times the rate at which the slices' centroids move with
-    depth (central differences of the neighbours' centroids). Errors: docs/notes/sediment.md."""
+    depth (central differences of the neighbours' centroids). Errors: docs/notes/sediment.md.
+    ``below``: the part below the seabed, the first slice's top cut when the body crosses it."""
     c = math.sqrt(max(0.0, 1.0 - a_z * a_z))
     row = int(p[P_SED_PROFILE])
     last = last_point(bank, row)
     _, z_hi = bodies.extent(body, a_z, z_c)
     top = max(0.0, seabed_z - z_hi)
     h = (depth_max - top) / slices
-    v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
+    if top == 0.0:  # the body crosses the seabed: its part below it is the caller's cut
+        v1, x1, e1 = below
+    else:
+        v1, x1, e1, _, _, _ = bodies.cut(body, a_z, z_c, seabed_z - top)
     r1, s1 = _profile_at(top, p, bank, row, last, rho_w, g)
     # slice i is finished once slice i + 1 is known (its centroid's rate with depth); _slice
     # has one call site: it is inlined, and a second copy doubled this compile (docs/design.md)
