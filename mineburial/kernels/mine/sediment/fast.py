@@ -52,7 +52,9 @@ from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import (
     LAW_MU,
     LAW_VREG_N,
+    _depth_terms,
     _traction,
+    _traction_at,
     add_point_traction,
     add_weighted,
 )
@@ -83,6 +85,16 @@ CROSS_DEGENERATE = 1.0e-9
 #: converges too, and a double root, the birth of a pair, where it converges linearly, is
 #: followed further).
 CROSS_TOL2 = 1.0e-20
+#: A lateral panel narrower than this fraction of the embedded half-arc ``a_any`` carries no nodes, one
+#: twice as wide carries them at full weight, and its nodes' weights grow linearly in between
+#: (issue 34 item 4). Half the panels of the default ensemble's contact states are such slivers
+#: (widths 1e-16-1e-6 rad: breakpoints that coincide up to rounding, or nearly, for a drop that moves
+#: almost in one vertical plane: the delta-line and slip-reversal angles at the two ends and the
+#: quarter points), and their nodes were half the tractions of a call. What they carried is at most
+#: ``2 PANEL_SKIP`` of the arc's force (relative to the force scale, times the ratio of the
+#: largest to the mean line integral); the ramp keeps the force continuous in the state.
+#: ``_lateral(..., skip=0.0)`` is the rule without it (every panel; the bodies of revolution).
+PANEL_SKIP = 1.0e-6
 
 
 _PI = math.pi
@@ -345,8 +357,9 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
 
 
 @kernel
-def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
-    """Moments over the lateral surface."""
+def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=0.0):
+    """Moments over the lateral surface; ``skip`` the sliver panels' threshold (:data:`PANEL_SKIP`;
+    0: every panel carries its nodes)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
@@ -440,13 +453,20 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         dw = _PI
     delta = dc - tdeep
     delta -= _TWO_PI * math.floor(delta / _TWO_PI + 0.5)
+    # sliver panels (PANEL_SKIP): none at width <= wskip, full weight from 2 wskip, linear between
+    wskip = skip * a_any
     for shift in range(-1, 2):
         lo = max(-a_any, delta + _TWO_PI * shift - dw)
         hi = min(a_any, delta + _TWO_PI * shift + dw)
         cur = lo
         while cur < hi:
             nxt = _next_break(bps, cur, hi)
-            h = 0.5 * (nxt - cur)
+            width = nxt - cur
+            if not (width > wskip):
+                cur = nxt
+                continue
+            ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
+            h = 0.5 * width
             tm = tdeep + 0.5 * (nxt + cur)
             cm = math.cos(tm)
             sm = math.sin(tm)
@@ -458,7 +478,7 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
             for k in range(N_T):
                 i = k // 2
                 j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
-                wgt = R * h * _GL_WEIGHTS[N_T, j]
+                wgt = R * h * _GL_WEIGHTS[N_T, j] * ramp  # ramp 1.0 (exact) but on slivers
                 if i == j:
                     c = cm
                     s = sm
@@ -541,12 +561,13 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
             mt = 0.5 * (th + tl)
             wu = hu * _GL_WEIGHTS[N_U, i] * R * cu
             zeta = e0 + g * sv
+            depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
             for j in range(N_S):
                 t = mt + ht * _GL_NODES[N_S, j]
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
                 y = sv * dy + t * ty
                 z = sv * dz + t * tz
-                g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law, bank)
+                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law)
                 f1, f2, f3, m1, m2, m3 = add_point_traction(
                     (f1, f2, f3, m1, m2, m3), wgt, xc, y, z, g1, g2, g3
                 )
@@ -561,12 +582,26 @@ def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     Same arguments and result as :func:`.reference.reference_tractions`:
     ``(c20, c21, c22)`` the E-frame vertical in the body frame, ``d0`` the height of the
     seabed above the COM, ``vbody`` = (v1, v2, v3, w1, w2, w3), ``law`` from
-    :func:`.laws.pack_law`.
+    :func:`.laws.pack_law`. The lateral panels narrower than :data:`PANEL_SKIP` of the embedded
+    half-arc carry no nodes (issue 34 item 4; :func:`fast_tractions_every_panel`: without that).
     """
+    return _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, PANEL_SKIP)
+
+
+@small_kernel
+def fast_tractions_every_panel(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+    """:func:`fast_tractions` with every lateral panel carrying its nodes, slivers too: the rule of
+    main before issue 34 item 4's sliver skip (d09f682), kept for comparison (tests)."""
+    return _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, 0.0)
+
+
+@small_kernel
+def _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, skip):
+    """:func:`fast_tractions` with the sliver threshold ``skip`` (:data:`PANEL_SKIP` or 0)."""
     xa = -0.5 * L - chi
     xb = 0.5 * L - chi
     tangential = law[LAW_MU] != 0.0
-    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential)
+    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip)
     for k in range(2):
         xc = xb if k == 0 else xa
         sgn = 1.0 if k == 0 else -1.0
