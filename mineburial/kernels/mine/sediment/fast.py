@@ -93,7 +93,9 @@ CROSS_TOL2 = 1.0e-20
 #: quarter points), and their nodes were half the tractions of a call. What they carried is at most
 #: ``2 PANEL_SKIP`` of the arc's force (relative to the force scale, times the ratio of the
 #: largest to the mean line integral); the ramp keeps the force continuous in the state.
-#: ``_lateral(..., skip=0.0)`` is the rule without it (every panel; the bodies of revolution).
+#: The end caps' u-panels the same, as a fraction of the embedded u-range (a tenth of the u-panels,
+#: 15 % of the caps' tractions). ``_lateral``, ``_cap`` with ``skip=0.0`` (their default) are the rule
+#: without it (every panel; the bodies of revolution call them so).
 PANEL_SKIP = 1.0e-6
 
 
@@ -498,8 +500,9 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=0.
 
 
 @kernel
-def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
-    """Moments over the end cap x = xc with outward normal sgn i_M."""
+def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=0.0):
+    """Moments over the end cap x = xc with outward normal sgn i_M; ``skip`` the sliver u-panels'
+    threshold as a fraction of the embedded u-range (:data:`PANEL_SKIP`; 0: every panel)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
@@ -537,10 +540,16 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
     ua = min(max(ua, u0), _HALF_PI)
     ub = min(max(ub, u0), _HALF_PI)
     bps = (ua, ub)
+    wskip = skip * (_HALF_PI - u0)  # sliver u-panels, as on the lateral surface
     cur = u0
     while cur < _HALF_PI:
         nxt = _next_break(bps, cur, _HALF_PI)
-        hu = 0.5 * (nxt - cur)
+        width = nxt - cur
+        if not (width > wskip):
+            cur = nxt
+            continue
+        ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
+        hu = 0.5 * width
         mu = 0.5 * (nxt + cur)
         for i in range(N_U):
             u = mu + hu * _GL_NODES[N_U, i]
@@ -559,7 +568,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
                 continue
             ht = 0.5 * (th - tl)
             mt = 0.5 * (th + tl)
-            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu
+            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu * ramp
             zeta = e0 + g * sv
             depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
             for j in range(N_S):
@@ -582,8 +591,8 @@ def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     Same arguments and result as :func:`.reference.reference_tractions`:
     ``(c20, c21, c22)`` the E-frame vertical in the body frame, ``d0`` the height of the
     seabed above the COM, ``vbody`` = (v1, v2, v3, w1, w2, w3), ``law`` from
-    :func:`.laws.pack_law`. The lateral panels narrower than :data:`PANEL_SKIP` of the embedded
-    half-arc carry no nodes (issue 34 item 4; :func:`fast_tractions_every_panel`: without that).
+    :func:`.laws.pack_law`. The panels narrower than :data:`PANEL_SKIP` of the embedded arc (the
+    caps: u-range) carry no nodes (issue 34 item 4; :func:`fast_tractions_every_panel`: without that).
     """
     return _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, PANEL_SKIP)
 
@@ -605,7 +614,7 @@ def _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, skip):
     for k in range(2):
         xc = xb if k == 0 else xa
         sgn = 1.0 if k == 0 else -1.0
-        g1, g2, g3, h1, h2, h3 = _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank)
+        g1, g2, g3, h1, h2, h3 = _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip)
         f1 += g1
         f2 += g2
         f3 += g3
