@@ -28,7 +28,11 @@ between breakpoints that are continuous functions of the state, clamped into it:
 * phi = +-pi/2, so that no panel is wider than a quarter of the circle.
 
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
-breakpoints crossing each other or the ends change the result continuously. At each
+breakpoints crossing each other or the ends change the result continuously. A sliver panel
+(narrower than PANEL_SKIP of the embedded half-arc: breakpoints that coincide to rounding, as
+they do for a drop that moves in one vertical plane) carries none, with a linear weight ramp up
+to twice that width so that the force stays continuous (issue 34 item 4); the caps' u-panels
+the same. At each
 node the embedded and advancing x-interval of the generator is exact (both conditions
 are linear in x), with N_XR = 2 Gauss nodes whose weights are product weights for the
 advancing switch's ramp along the generator (:func:`_ramp_weights`: exact for the ramp
@@ -94,8 +98,9 @@ CROSS_TOL2 = 1.0e-20
 #: ``2 PANEL_SKIP`` of the arc's force (relative to the force scale, times the ratio of the
 #: largest to the mean line integral); the ramp keeps the force continuous in the state.
 #: The end caps' u-panels the same, as a fraction of the embedded u-range (a tenth of the u-panels,
-#: 15 % of the caps' tractions). ``_lateral``, ``_cap`` with ``skip=0.0`` (their default) are the rule
-#: without it (every panel; the bodies of revolution call them so).
+#: 15 % of the caps' tractions). ``_lateral``, ``_cap`` take it by default (so do the bodies of
+#: revolution's cylindrical segments and caps); with ``skip=0.0`` they are the rule without it (every
+#: panel, :func:`fast_tractions_every_panel`).
 PANEL_SKIP = 1.0e-6
 
 
@@ -359,9 +364,9 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
 
 
 @kernel
-def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=0.0):
-    """Moments over the lateral surface; ``skip`` the sliver panels' threshold (:data:`PANEL_SKIP`;
-    0: every panel carries its nodes)."""
+def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PANEL_SKIP):
+    """Moments over the lateral surface; ``skip`` the sliver panels' threshold (default
+    :data:`PANEL_SKIP`; 0: every panel carries its nodes)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
@@ -500,9 +505,9 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=0.
 
 
 @kernel
-def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=0.0):
+def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
     """Moments over the end cap x = xc with outward normal sgn i_M; ``skip`` the sliver u-panels'
-    threshold as a fraction of the embedded u-range (:data:`PANEL_SKIP`; 0: every panel)."""
+    threshold as a fraction of the embedded u-range (default :data:`PANEL_SKIP`; 0: every panel)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
