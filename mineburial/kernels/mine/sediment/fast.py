@@ -28,7 +28,11 @@ between breakpoints that are continuous functions of the state, clamped into it:
 * phi = +-pi/2, so that no panel is wider than a quarter of the circle.
 
 Each panel carries N_T Gauss nodes; a panel of zero length contributes nothing, so
-breakpoints crossing each other or the ends change the result continuously. At each
+breakpoints crossing each other or the ends change the result continuously. A sliver panel
+(narrower than PANEL_SKIP of the embedded half-arc: breakpoints that coincide to rounding, as
+they do for a drop that moves in one vertical plane) carries none, with a linear weight ramp up
+to twice that width so that the force stays continuous (issue 34 item 4); the caps' u-panels
+the same. At each
 node the embedded and advancing x-interval of the generator is exact (both conditions
 are linear in x), with N_XR = 2 Gauss nodes whose weights are product weights for the
 advancing switch's ramp along the generator (:func:`_ramp_weights`: exact for the ramp
@@ -52,7 +56,9 @@ from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import (
     LAW_MU,
     LAW_VREG_N,
+    _depth_terms,
     _traction,
+    _traction_at,
     add_point_traction,
     add_weighted,
 )
@@ -83,6 +89,19 @@ CROSS_DEGENERATE = 1.0e-9
 #: converges too, and a double root, the birth of a pair, where it converges linearly, is
 #: followed further).
 CROSS_TOL2 = 1.0e-20
+#: A lateral panel narrower than this fraction of the embedded half-arc ``a_any`` carries no nodes, one
+#: twice as wide carries them at full weight, and its nodes' weights grow linearly in between
+#: (issue 34 item 4). Half the panels of the default ensemble's contact states are such slivers
+#: (widths 1e-16-1e-6 rad: breakpoints that coincide up to rounding, or nearly, for a drop that moves
+#: almost in one vertical plane: the delta-line and slip-reversal angles at the two ends and the
+#: quarter points), and their nodes were half the tractions of a call. What they carried is at most
+#: ``2 PANEL_SKIP`` of the arc's force (relative to the force scale, times the ratio of the
+#: largest to the mean line integral); the ramp keeps the force continuous in the state.
+#: The end caps' u-panels the same, as a fraction of the embedded u-range (a tenth of the u-panels,
+#: 15 % of the caps' tractions). ``_lateral``, ``_cap`` take it by default (so do the bodies of
+#: revolution's cylindrical segments and caps); with ``skip=0.0`` they are the rule without it (every
+#: panel, :func:`fast_tractions_every_panel`).
+PANEL_SKIP = 1.0e-6
 
 
 _PI = math.pi
@@ -345,8 +364,9 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
 
 
 @kernel
-def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
-    """Moments over the lateral surface."""
+def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PANEL_SKIP):
+    """Moments over the lateral surface; ``skip`` the sliver panels' threshold (default
+    :data:`PANEL_SKIP`; 0: every panel carries its nodes)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
@@ -440,13 +460,20 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
         dw = _PI
     delta = dc - tdeep
     delta -= _TWO_PI * math.floor(delta / _TWO_PI + 0.5)
+    # sliver panels (PANEL_SKIP): none at width <= wskip, full weight from 2 wskip, linear between
+    wskip = skip * a_any
     for shift in range(-1, 2):
         lo = max(-a_any, delta + _TWO_PI * shift - dw)
         hi = min(a_any, delta + _TWO_PI * shift + dw)
         cur = lo
         while cur < hi:
             nxt = _next_break(bps, cur, hi)
-            h = 0.5 * (nxt - cur)
+            width = nxt - cur
+            if not (width > wskip):
+                cur = nxt
+                continue
+            ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
+            h = 0.5 * width
             tm = tdeep + 0.5 * (nxt + cur)
             cm = math.cos(tm)
             sm = math.sin(tm)
@@ -458,7 +485,7 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
             for k in range(N_T):
                 i = k // 2
                 j = N_T - 1 - i  # _GL_NODES[N_T, j] = -_GL_NODES[N_T, i] >= 0
-                wgt = R * h * _GL_WEIGHTS[N_T, j]
+                wgt = R * h * _GL_WEIGHTS[N_T, j] * ramp  # ramp 1.0 (exact) but on slivers
                 if i == j:
                     c = cm
                     s = sm
@@ -478,8 +505,9 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential):
 
 
 @kernel
-def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
-    """Moments over the end cap x = xc with outward normal sgn i_M."""
+def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
+    """Moments over the end cap x = xc with outward normal sgn i_M; ``skip`` the sliver u-panels'
+    threshold as a fraction of the embedded u-range (default :data:`PANEL_SKIP`; 0: every panel)."""
     v1, v2, v3, w1, w2, w3 = vbody
     f1 = 0.0
     f2 = 0.0
@@ -517,10 +545,16 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
     ua = min(max(ua, u0), _HALF_PI)
     ub = min(max(ub, u0), _HALF_PI)
     bps = (ua, ub)
+    wskip = skip * (_HALF_PI - u0)  # sliver u-panels, as on the lateral surface
     cur = u0
     while cur < _HALF_PI:
         nxt = _next_break(bps, cur, _HALF_PI)
-        hu = 0.5 * (nxt - cur)
+        width = nxt - cur
+        if not (width > wskip):
+            cur = nxt
+            continue
+        ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
+        hu = 0.5 * width
         mu = 0.5 * (nxt + cur)
         for i in range(N_U):
             u = mu + hu * _GL_NODES[N_U, i]
@@ -539,14 +573,15 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank):
                 continue
             ht = 0.5 * (th - tl)
             mt = 0.5 * (th + tl)
-            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu
+            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu * ramp
             zeta = e0 + g * sv
+            depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
             for j in range(N_S):
                 t = mt + ht * _GL_NODES[N_S, j]
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
                 y = sv * dy + t * ty
                 z = sv * dz + t * tz
-                g1, g2, g3 = _traction(xc, y, z, sgn, 0.0, 0.0, zeta, v1, v2, v3, w1, w2, w3, law, bank)
+                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law)
                 f1, f2, f3, m1, m2, m3 = add_point_traction(
                     (f1, f2, f3, m1, m2, m3), wgt, xc, y, z, g1, g2, g3
                 )
@@ -561,16 +596,30 @@ def fast_tractions(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
     Same arguments and result as :func:`.reference.reference_tractions`:
     ``(c20, c21, c22)`` the E-frame vertical in the body frame, ``d0`` the height of the
     seabed above the COM, ``vbody`` = (v1, v2, v3, w1, w2, w3), ``law`` from
-    :func:`.laws.pack_law`.
+    :func:`.laws.pack_law`. The panels narrower than :data:`PANEL_SKIP` of the embedded arc (the
+    caps: u-range) carry no nodes (issue 34 item 4; :func:`fast_tractions_every_panel`: without that).
     """
+    return _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, PANEL_SKIP)
+
+
+@small_kernel
+def fast_tractions_every_panel(L, R, chi, c20, c21, c22, d0, vbody, law, bank):
+    """:func:`fast_tractions` with every lateral panel carrying its nodes, slivers too: the rule of
+    main before issue 34 item 4's sliver skip (d09f682), kept for comparison (tests)."""
+    return _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, 0.0)
+
+
+@small_kernel
+def _fast(L, R, chi, c20, c21, c22, d0, vbody, law, bank, skip):
+    """:func:`fast_tractions` with the sliver threshold ``skip`` (:data:`PANEL_SKIP` or 0)."""
     xa = -0.5 * L - chi
     xb = 0.5 * L - chi
     tangential = law[LAW_MU] != 0.0
-    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential)
+    f1, f2, f3, m1, m2, m3 = _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip)
     for k in range(2):
         xc = xb if k == 0 else xa
         sgn = 1.0 if k == 0 else -1.0
-        g1, g2, g3, h1, h2, h3 = _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank)
+        g1, g2, g3, h1, h2, h3 = _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip)
         f1 += g1
         f2 += g2
         f3 += g3

@@ -307,6 +307,29 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     velocity in the body frame; (w1, w2, w3): angular velocity (body).
     ``law``: :func:`pack_law` (slots ``LAW_*``).
     """
+    return _traction_at(x, y, z, nx, ny, nz, _depth_terms(zeta, law, bank), v1, v2, v3, w1, w2, w3, law)
+
+
+@small_kernel
+def _depth_terms(zeta, law, bank):
+    """What :func:`_traction` needs of the depth zeta alone: (rho_s, S, sigma'_eff, N_c), N_c the
+    bearing law's factor with its depth factor (0 for the other laws). A rule whose points share
+    a depth (a cap's chord) computes them once (:func:`.fast._cap`); the same operations as
+    inside :func:`_traction`, so the tractions are the same to the bit."""
+    rho, s, sig = _law_properties(zeta, law, bank)
+    model = law[LAW_MODEL]
+    if model == RES_DELTA or model == RES_FRICTION:
+        nc = 0.0
+    else:
+        # Brinch Hansen (1970) depth factor 1 + f arctan(zeta/d), f = sediment.bearing_depth_factor
+        nc = law[LAW_N0] * (1.0 + law[LAW_DEPTH_FACTOR] * math.atan(zeta / law[LAW_DIAMETER]))
+    return rho, s, sig, nc
+
+
+@small_kernel
+def _traction_at(x, y, z, nx, ny, nz, depth, v1, v2, v3, w1, w2, w3, law):
+    """:func:`_traction` with the depth's terms given (:func:`_depth_terms`)."""
+    rho, s, sig, nc = depth
     model = law[LAW_MODEL]
     vx = v1 + w2 * z - w3 * y
     vy = v2 + w3 * x - w1 * z
@@ -317,7 +340,6 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
     tz = vz - vn * nz
     vt2 = tx * tx + ty * ty + tz * tz
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    rho, s, sig = _law_properties(zeta, law, bank)
     gfac = _rate(
         speed, law[LAW_RATE], law[LAW_A], law[LAW_VREST], law[LAW_BETA], law[LAW_RATE_REF], law[LAW_DIAMETER]
     )
@@ -338,9 +360,7 @@ def _traction(x, y, z, nx, ny, nz, zeta, v1, v2, v3, w1, w2, w3, law, bank):
         # closed form by the stepper (kernels/mine/overburden.py)
         pn = law[LAW_N0] * s * gfac * hn
         ft = mu * pn
-    else:
-        # Brinch Hansen (1970) depth factor 1 + f arctan(zeta/d), f = sediment.bearing_depth_factor
-        nc = law[LAW_N0] * (1.0 + law[LAW_DEPTH_FACTOR] * math.atan(zeta / law[LAW_DIAMETER]))
+    else:  # bearing: nc from _depth_terms
         pn = nc * s * gfac * hn
         ft = mu * s * gfac
     cd = law[LAW_INERTIAL_DRAG]
