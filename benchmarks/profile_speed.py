@@ -102,6 +102,18 @@ def function_map(dispatcher, stash):
     return names
 
 
+def _batch_paths(P, sediment_bank):
+    """``run_drop``'s ``reference_paths`` argument as the ensemble's batch passes it: the shape's
+    prototype body (a frustum runs as a frustum) and the bounded overburden rule of a long table
+    (``overburden.with_long_tables``); ``None`` on a tree older than those (the default paths)."""
+    try:
+        from mineburial.kernels.mine.overburden import with_long_tables
+        from mineburial.kernels.mine.stepper import reference_paths
+    except ImportError:
+        return None
+    return with_long_tables(reference_paths(P), P, sediment_bank)
+
+
 def worker(args):
     stash = _stash_object_code()
     import mineburial
@@ -116,10 +128,11 @@ def worker(args):
     sb = np.ascontiguousarray(spec.sediment_bank)
     cb = np.ascontiguousarray(spec.current_bank)
     S = np.empty((len(P), N_SUMMARY))
-    run_drop(P[0], sb, cb, S[0], None, 1.0, None)  # compiled or loaded before the marks
+    paths = _batch_paths(P, sb)
+    run_drop(P[0], sb, cb, S[0], None, 1.0, paths)  # compiled or loaded before the marks
     os.getpgrp()  # callgrind: --zero-before=getpgrp
     for i, p in enumerate(P):
-        run_drop(p, sb, cb, S[i], None, 1.0, None)
+        run_drop(p, sb, cb, S[i], None, 1.0, paths)
     os.getsid(0)  # callgrind: --dump-before=getsid
     fmap = function_map(run_drop, stash)
     np.savez(
