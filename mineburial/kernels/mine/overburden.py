@@ -240,6 +240,8 @@ _NORMAL = 1e-290
 
 
 def _cylinder_class():
+    # local import: the shape modules are imported by whoever builds a body (bodies/__init__: "this package
+    # imports no shape"), and the overburden is generic over shapes; only the overload asks for the class
     from mineburial.kernels.mine.bodies.cylinder import Cylinder
 
     return Cylinder
