@@ -25,9 +25,18 @@ MANTA = Frustum(0.38, 0.49, 0.2, 0.04)
 
 
 # the shape's functions compiled (the protocol compiles each into its caller as an overload's implementation)
-_cut, _extent, _burial, _volume, _ends, _reference_lengths, _lowest_offset, _deepest_point, _sizes = (
-    njit(cache=False)(getattr(frustum, name)) for name in frustum.GEOMETRY
-)
+(
+    _cut,
+    _extent,
+    _burial,
+    _volume,
+    _ends,
+    _reference_lengths,
+    _lowest_offset,
+    _deepest_point,
+    _sizes,
+    _cut_sliver,
+) = (njit(cache=False)(getattr(frustum, name)) for name in frustum.GEOMETRY)
 
 
 @njit(cache=False)

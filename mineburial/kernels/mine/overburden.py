@@ -43,7 +43,6 @@ from numba.extending import overload
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
 from mineburial.kernels.mine import bodies
 from mineburial.kernels.mine.environment import bracket, interpolate_row, last_point
-from mineburial.kernels.mine.geometry import cut_cylinder_sliver
 from mineburial.kernels.mine.layout import (
     N_PARAMS,
     P_OB_QUADRATURE,
@@ -208,7 +207,7 @@ def _exact(body, a_z, z_c, seabed_z, depth_max, rho_w, g, p, bank, below):
         if bottom == depth_max:
             # the last slice ends at the body's lowest point: what the cut there would give may be
             # known, or too small to change a bit of v, xs or es (_negligible_below)
-            kind, bound, x_empty, reach_x, reach_e = _sliver(body, a_z, z_c, seabed_z - bottom)
+            kind, bound, x_empty, reach_x, reach_e = bodies.cut_sliver(body, a_z, z_c, seabed_z - bottom)
             if kind == 1 and not _negligible_below(bound, reach_x, reach_e, v1, x1, e1):
                 kind = 2
         if kind == 0:  # the cut's exact values for an empty part
@@ -239,44 +238,11 @@ _HALF_SPACING = 2.0**-55
 _NORMAL = 1e-290
 
 
-def _cylinder_class():
-    # local import: the shape modules are imported by whoever builds a body (bodies/__init__: "this package
-    # imports no shape"), and the overburden is generic over shapes; only the overload asks for the class
-    from mineburial.kernels.mine.bodies.cylinder import Cylinder
-
-    return Cylinder
-
-
-def _sliver(body, a_z, z_c, level):
-    """``(kind, bound, x_empty, reach_x, reach_e)``: the body's cut below ``level`` as far as it
-    is known without cutting (:func:`.geometry.cut_cylinder_sliver` for the cylinder), with the
-    bounds on its centroid's ``|x_c|``, ``|eta_c|`` (halved: twice the bound); kind 2 (unknown)
-    for every other shape. Compiled code only, chosen on the body's type."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(_sliver, jit_options=JIT_OPTIONS, inline="always")
-def _sliver_impl(body, a_z, z_c, level):
-    if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class is _cylinder_class():
-
-        def cylinder(body, a_z, z_c, level):
-            L, R, chi = body
-            kind, bound, x_empty = cut_cylinder_sliver(L, R, chi, a_z, z_c, level)
-            return kind, bound, x_empty, 2.0 * (L + abs(chi)), 2.0 * R
-
-        return cylinder
-
-    def unknown(body, a_z, z_c, level):
-        return 2, math.inf, 0.0, 0.0, 0.0
-
-    return unknown
-
-
 @small_kernel
 def _negligible_below(bound, reach_x, reach_e, v1, x1, e1):
     """Whether a cut below the slice (volume v2, centroid x2, e2) whose volume is at most
     ``bound``, ``|x2|`` at most ``reach_x / 2`` and ``|e2|`` at most ``reach_e / 2``
-    (:func:`_sliver`) can be left out of the slice above it without changing a bit: v1 - v2 ==
+    (``bodies.cut_sliver``) can be left out of the slice above it without changing a bit: v1 - v2 ==
     v1, v1 x1 - v2 x2 == v1 x1 and v1 e1 - v2 e2 == v1 e1 in floating point, each subtracted term
     under 2**-55 of a normal, non-zero float, less than half the spacing of the floats next to
     it, so that the difference rounds back to it; v2, x2, e2 = 0, 0, 0 then give the slice's v,

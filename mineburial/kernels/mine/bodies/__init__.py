@@ -13,6 +13,11 @@ heights ``z`` are E-frame, ``a_z = i_M . k``, ``level`` a horizontal plane):
 
 * ``cut(body, a_z, z_c, level)`` -> ``(volume, x_c, eta_c, lateral, nose_end, tail_end)``: the part
   below the plane, its centroid ``x_c i_M + eta_c e_down`` about the COM and its wetted areas;
+* ``cut_sliver(body, a_z, z_c, level)`` -> ``(kind, bound, x_empty, reach_x, reach_e)``: the part
+  below a plane at or near the body's lowest point as far as it is known without cutting: kind 0
+  empty (``cut`` would give ``(0, x_empty, 0, ...)``), kind 1 a sliver of volume at most ``bound``
+  with ``|x_c| <= reach_x / 2`` and ``|eta_c| <= reach_e / 2``, kind 2 unknown (cut it); the
+  overburden leaves out a cut that cannot change a bit (kernels/mine/overburden.py);
 * ``extent(body, a_z, z_c)`` -> ``(z_min, z_max)``;
 * ``burial(body, a_z, z_c, level)`` -> ``(pct_volume, pct_height, pct_area, height_proud,
   penetration)`` (the results table's burial measures);
@@ -116,6 +121,7 @@ def _declare(name, arguments):
 
 
 cut = _declare("cut", "body, a_z, z_c, level")
+cut_sliver = _declare("cut_sliver", "body, a_z, z_c, level")
 extent = _declare("extent", "body, a_z, z_c")
 burial = _declare("burial", "body, a_z, z_c, level")
 equivalent_part = _declare("equivalent_part", "body, volume, x_c, eta")

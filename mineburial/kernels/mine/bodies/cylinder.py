@@ -23,6 +23,7 @@ from mineburial.kernels.mine.geometry import (
     PI,
     burial_measures,
     cut_cylinder,
+    cut_cylinder_sliver,
     e_down_body,
     equivalent_of_part,
     vertical_extent,
@@ -52,6 +53,15 @@ def from_params(p):
 def cut(body, a_z, z_c, level):
     """Seed 000 eqs. (25)-(33), re-derived (:func:`.geometry.cut_cylinder`)."""
     return cut_cylinder(body.length, body.radius, body.com_offset, a_z, z_c, level)
+
+
+def cut_sliver(body, a_z, z_c, level):
+    """The cut below a plane at or near the lowest point, without cutting
+    (:func:`.geometry.cut_cylinder_sliver`), with the reach of its centroid (twice the bounds on
+    ``|x_c|``, ``|eta_c|``)."""
+    L, R, chi = body.length, body.radius, body.com_offset
+    kind, bound, x_empty = cut_cylinder_sliver(L, R, chi, a_z, z_c, level)
+    return kind, bound, x_empty, 2.0 * (L + abs(chi)), 2.0 * R
 
 
 def extent(body, a_z, z_c):

@@ -112,6 +112,12 @@ def cut(body, a_z, z_c, level):
     return cut_profile(xs, rs, a_z, z_c, level)
 
 
+def cut_sliver(body, a_z, z_c, level):
+    """Unknown (kind 2: the overburden cuts the body, kernels/mine/overburden.py): no bound on a
+    frustum's sliver is written."""
+    return 2, math.inf, 0.0, 0.0, 0.0
+
+
 def extent(body, a_z, z_c):
     """Lowest and highest heights: at the end sections' rims (:func:`.revolution_geometry.extent_profile`)."""
     if body.radius_tail == body.radius_nose:
@@ -333,6 +339,7 @@ GEOMETRY = (
     "lowest_offset",
     "deepest_point",
     "sizes",
+    "cut_sliver",
 )
 #: the physics: with GEOMETRY, every function of the protocol (``bodies.PROTOCOL``)
 PHYSICS = (
