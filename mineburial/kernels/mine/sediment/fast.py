@@ -204,32 +204,84 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     if not (abs(lead) > CROSS_DEGENERATE * big):
         nan = complex(math.nan, math.nan)
         return nan, nan, nan, nan
-    q3 = complex(0.5 * ca1, -0.5 * cb1) / lead
-    q2 = complex(c0, 0.0) / lead
-    q1 = complex(0.5 * ca1, 0.5 * cb1) / lead
-    q0 = complex(0.5 * ca2, 0.5 * cb2) / lead
-    r0 = complex(1.0, 0.0)
-    r1 = complex(0.4, 0.9)
-    r2 = r1 * r1
-    r3 = r2 * r1
+    # in real arithmetic: the operations of numba's (CPython's) complex product and quotient, in
+    # their order, so the roots are those of the complex-typed sweeps to the bit, without their
+    # per-quotient exception path (issue 34 item 4)
+    lr = 0.5 * ca2
+    li = -0.5 * cb2
+    q3r, q3i = _cdiv(0.5 * ca1, -0.5 * cb1, lr, li)
+    q2r, q2i = _cdiv(c0, 0.0, lr, li)
+    q1r, q1i = _cdiv(0.5 * ca1, 0.5 * cb1, lr, li)
+    q0r, q0i = _cdiv(0.5 * ca2, 0.5 * cb2, lr, li)
+    q = (q3r, q3i, q2r, q2i, q1r, q1i, q0r, q0i)
+    r0r = 1.0
+    r0i = 0.0
+    r1r = 0.4
+    r1i = 0.9
+    r2r, r2i = _cmul(r1r, r1i, r1r, r1i)
+    r3r, r3i = _cmul(r2r, r2i, r1r, r1i)
     for _ in range(CROSS_ITERATIONS):
-        d0 = ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
-        r0 = r0 - d0
-        d1 = ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
-        r1 = r1 - d1
-        d2 = ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
-        r2 = r2 - d2
-        d3 = ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
-        r3 = r3 - d3
+        d0r, d0i = _dk_step(r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i, q)
+        r0r = r0r - d0r
+        r0i = r0i - d0i
+        d1r, d1i = _dk_step(r1r, r1i, r0r, r0i, r2r, r2i, r3r, r3i, q)
+        r1r = r1r - d1r
+        r1i = r1i - d1i
+        d2r, d2i = _dk_step(r2r, r2i, r0r, r0i, r1r, r1i, r3r, r3i, q)
+        r2r = r2r - d2r
+        r2i = r2i - d2i
+        d3r, d3i = _dk_step(r3r, r3i, r0r, r0i, r1r, r1i, r2r, r2i, q)
+        r3r = r3r - d3r
+        r3i = r3i - d3i
         # converged (a NaN moves on to the cap, as before)
         if (
-            _abs2(d0) <= CROSS_TOL2 * _abs2(r0)
-            and _abs2(d1) <= CROSS_TOL2 * _abs2(r1)
-            and _abs2(d2) <= CROSS_TOL2 * _abs2(r2)
-            and _abs2(d3) <= CROSS_TOL2 * _abs2(r3)
+            d0r * d0r + d0i * d0i <= CROSS_TOL2 * (r0r * r0r + r0i * r0i)
+            and d1r * d1r + d1i * d1i <= CROSS_TOL2 * (r1r * r1r + r1i * r1i)
+            and d2r * d2r + d2i * d2i <= CROSS_TOL2 * (r2r * r2r + r2i * r2i)
+            and d3r * d3r + d3i * d3i <= CROSS_TOL2 * (r3r * r3r + r3i * r3i)
         ):
             break
-    return r0, r1, r2, r3
+    return complex(r0r, r0i), complex(r1r, r1i), complex(r2r, r2i), complex(r3r, r3i)
+
+
+@small_kernel
+def _cmul(ar, ai, br, bi):
+    """(ar + i ai)(br + i bi) by the operations of numba's complex product (CPython's
+    ``_Py_c_prod``, without the infinities' recovery of Python >= 3.14, which numba adds only there)."""
+    return ar * br - ai * bi, ar * bi + ai * br
+
+
+@small_kernel
+def _cdiv(ar, ai, br, bi):
+    """(ar + i ai) / (br + i bi) by the operations of numba's complex quotient (CPython's
+    ``_Py_c_quot``: Smith's scaling); a zero divisor gives NaN (numba's would raise)."""
+    abr = abs(br)
+    abi = abs(bi)
+    if abr >= abi:
+        ratio = bi / br
+        denom = br + bi * ratio
+        return (ar + ai * ratio) / denom, (ai - ar * ratio) / denom
+    if abi >= abr:
+        ratio = br / bi
+        denom = br * ratio + bi
+        return (ar * ratio + ai) / denom, (ai * ratio - ar) / denom
+    return math.nan, math.nan
+
+
+@small_kernel
+def _dk_step(rr, ri, ar, ai, br, bi, cr, ci, q):
+    """Durand-Kerner correction p(r) / ((r - a)(r - b)(r - c)) of the monic quartic
+    p(r) = (((r + q3) r + q2) r + q1) r + q0, ``q`` = (q3, q2, q1, q0) as (real, imag) pairs,
+    by the complex operations of the sweep in that order."""
+    q3r, q3i, q2r, q2i, q1r, q1i, q0r, q0i = q
+    pr, pi = _cmul(rr + q3r, ri + q3i, rr, ri)
+    pr, pi = _cmul(pr + q2r, pi + q2i, rr, ri)
+    pr, pi = _cmul(pr + q1r, pi + q1i, rr, ri)
+    pr = pr + q0r
+    pi = pi + q0i
+    dr, di = _cmul(rr - ar, ri - ai, rr - br, ri - bi)
+    dr, di = _cmul(dr, di, rr - cr, ri - ci)
+    return _cdiv(pr, pi, dr, di)
 
 
 @small_kernel
