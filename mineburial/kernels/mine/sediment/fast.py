@@ -57,7 +57,6 @@ from mineburial.kernels.mine.sediment.laws import (
     LAW_MU,
     LAW_VREG_N,
     _depth_terms,
-    _traction,
     _traction_at,
     add_point_traction,
     add_weighted,
@@ -145,6 +144,16 @@ def _harmonic_roots(k, a, b):
     else:
         w = 0.0
     return psi - w, psi + w
+
+
+@small_kernel
+def _zero_roots(a, b):
+    """:func:`_harmonic_roots` with k = 0 (the delta line at a body end): there w = arccos(-0.0)
+    = pi/2 exactly, so no arccos (issue 34 item 4; the same values to the bit)."""
+    psi = math.atan2(b, a)
+    if math.sqrt(a * a + b * b) > 0.0:
+        return psi - _HALF_PI, psi + _HALF_PI
+    return psi, psi
 
 
 @small_kernel
@@ -410,7 +419,8 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         wgt = h * (wa if i == 0 else wb)
         if not (wgt != 0.0):
             continue
-        g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law, bank)
+        depth = _depth_terms(a0 + a1 * x, law, bank)
+        g1, g2, g3 = _traction_at(x, y, z, 0.0, c, s, depth, v1, v2, v3, w1, w2, w3, law, True)
         f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
 
@@ -444,8 +454,8 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
     # reaching a body end, the delta line crossing a body end (v.n at x = xa, xb is a pure
     # harmonic of t) and, with friction, the reversal of the circumferential slip
     # v_t = w1 R + (v3 - w2 x) cos t - (v2 + w3 x) sin t at a body end
-    pa0, pa1 = _harmonic_roots(0.0, v2 + w3 * xa, v3 - w2 * xa)
-    pb0, pb1 = _harmonic_roots(0.0, v2 + w3 * xb, v3 - w2 * xb)
+    pa0, pa1 = _zero_roots(v2 + w3 * xa, v3 - w2 * xa)
+    pb0, pb1 = _zero_roots(v2 + w3 * xb, v3 - w2 * xb)
     q0 = a_any
     q1 = a_any
     q2 = a_any
@@ -633,7 +643,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
                 y = sv * dy + t * ty
                 z = sv * dz + t * tz
-                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law)
+                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law, True)
                 f1, f2, f3, m1, m2, m3 = add_point_traction(
                     (f1, f2, f3, m1, m2, m3), wgt, xc, y, z, g1, g2, g3
                 )
