@@ -147,6 +147,12 @@ def _harmonic_roots(k, a, b):
 
 
 @small_kernel
+def _nonzero(a, b):
+    """``math.hypot(a, b) > 0.0`` for every a, b (infinities and NaN too) without computing hypot."""
+    return abs(a) + abs(b) > 0.0 or abs(a) == math.inf or abs(b) == math.inf
+
+
+@small_kernel
 def _zero_roots(a, b):
     """:func:`_harmonic_roots` with k = 0 (the delta line at a body end): there w = arccos(-0.0)
     = pi/2 exactly, so no arccos (issue 34 item 4; the same values to the bit)."""
@@ -361,9 +367,9 @@ def _ramp_weights(vm, dv, vrn):
         # h(u) = hm + h1 (du tau) + h3 (du tau)^3 / 6 + ..., h1 = S^-3, h3 = 3 (4 u^2 - 1) / S^7
         m1 = du * (2.0 / 3.0) / (sm * sm * sm) + du * du * du * 0.2 * (4.0 * um * um - 1.0) / sm**7
     else:
-        flo = 0.5 * (ulo * slo - math.asinh(ulo)) - um * slo
-        fhi = 0.5 * (uhi * shi - math.asinh(uhi)) - um * shi
-        m1 = (fhi - flo) / (du * du)
+        # asinh(uhi) - asinh(ulo) = asinh(uhi slo - ulo shi) (sinh of a difference): one call
+        dash = math.asinh(uhi * slo - ulo * shi)
+        m1 = (0.5 * (uhi * shi - ulo * slo - dash) - um * (shi - slo)) / (du * du)
     # product weights at -g, g: wa + wb = m0, g (wb - wa) = m1
     wa = 0.5 * (m0 - m1 / g)
     wb = 0.5 * (m0 + m1 / g)
@@ -503,18 +509,18 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
     )
     # advancing arc: union of the half-circles where v.n >= 0 at x = xa and at x = xb
     # (v.n is linear along a generator), centre dc, half-width dw
-    amp_a = math.hypot(v2 + w3 * xa, v3 - w2 * xa)
-    amp_b = math.hypot(v2 + w3 * xb, v3 - w2 * xb)
-    if amp_a > 0.0 and amp_b > 0.0:
+    amp_a = _nonzero(v2 + w3 * xa, v3 - w2 * xa)
+    amp_b = _nonzero(v2 + w3 * xb, v3 - w2 * xb)
+    if amp_a and amp_b:
         ca = 0.5 * (pa0 + pa1)
         dd = 0.5 * (pb0 + pb1) - ca
         dd -= _TWO_PI * math.floor(dd / _TWO_PI + 0.5)
         dc = ca + 0.5 * dd
         dw = _HALF_PI + 0.5 * abs(dd)
-    elif amp_a > 0.0:
+    elif amp_a:
         dc = 0.5 * (pa0 + pa1)
         dw = _HALF_PI
-    elif amp_b > 0.0:
+    elif amp_b:
         dc = 0.5 * (pb0 + pb1)
         dw = _HALF_PI
     else:
