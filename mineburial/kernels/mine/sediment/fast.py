@@ -1,7 +1,8 @@
 """Fast fixed-cost rule for the sediment tractions, smooth in the state.
 
 The default rule (``numerics.sediment_quadrature = "fast"``): the same traction law
-(:func:`.laws._traction`) and the same embedded, advancing surface as
+(:func:`.laws._traction`; its semilog rate law with ``log(ratio) / ln 10`` for ``log10(ratio)``, the same up
+to rounding, :func:`.laws._rate_ln`) and the same embedded, advancing surface as
 :mod:`.reference`, integrated with a fixed number of Gauss-Legendre nodes whose
 positions are continuous functions of the state (``docs/notes/sediment_fast.md``).
 
