@@ -13,6 +13,7 @@ from mineburial.kernels.mine.sediment.fast import (
     _harmonic_roots,
     _nonzero,
     _quartic_roots,
+    _sorted16,
     _zero_roots,
 )
 from mineburial.kernels.mine.sediment.laws import RATE_IMPACT35, RATE_NONE, RATE_SEMILOG, _rate, _rate_ln
@@ -111,3 +112,23 @@ def test_fast_rate_law_is_log10s_to_rounding(law):
         else:
             assert got == _rate(speed, law, 3.0, 0.5, beta, rate_ref, diameter)
     assert _rate_ln(1.0, RATE_SEMILOG, 3.0, 0.5, 0.1, 0.0, 1.0) == 1.0  # no reference rate: G = 1
+
+
+def test_sorted_breakpoints_are_pythons_sort():
+    """The 16 lateral breakpoints sorted by the compare-exchange network are Python's ``sorted`` of them
+    (NaN replaced by the fill value first), on random values with ties, signed zeros and NaN, and on
+    every 0-1 input of 16 (the 0-1 principle: then every input is sorted)."""
+    rng = np.random.default_rng(38)
+    for _ in range(3000):
+        b = (
+            rng.choice([-1.5, -0.0, 0.0, 0.3, 1.2, math.nan], size=16)
+            if rng.random() < 0.3
+            else rng.normal(size=16)
+        )
+        b = tuple(float(x) for x in b)
+        got = _sorted16(b, 2.0)
+        want = sorted(2.0 if math.isnan(x) else x for x in b)
+        assert list(got) == want, (b, got)
+    for bits in range(0, 1 << 16, 7):  # every 7th of the 65,536 0-1 inputs (all of them: 2 s more)
+        b = tuple(float((bits >> k) & 1) for k in range(16))
+        assert list(_sorted16(b, 0.0)) == sorted(b)
