@@ -1,7 +1,8 @@
 """Fast fixed-cost rule for the sediment tractions, smooth in the state.
 
 The default rule (``numerics.sediment_quadrature = "fast"``): the same traction law
-(:func:`.laws._traction`) and the same embedded, advancing surface as
+(:func:`.laws._traction`; its semilog rate law with ``log(ratio) / ln 10`` for ``log10(ratio)``, the same up
+to rounding, :func:`.laws._rate_ln`) and the same embedded, advancing surface as
 :mod:`.reference`, integrated with a fixed number of Gauss-Legendre nodes whose
 positions are continuous functions of the state (``docs/notes/sediment_fast.md``).
 
@@ -57,7 +58,6 @@ from mineburial.kernels.mine.sediment.laws import (
     LAW_MU,
     LAW_VREG_N,
     _depth_terms,
-    _traction,
     _traction_at,
     add_point_traction,
     add_weighted,
@@ -148,6 +148,22 @@ def _harmonic_roots(k, a, b):
 
 
 @small_kernel
+def _nonzero(a, b):
+    """``math.hypot(a, b) > 0.0`` for every a, b (infinities and NaN too) without computing hypot."""
+    return abs(a) + abs(b) > 0.0 or abs(a) == math.inf or abs(b) == math.inf
+
+
+@small_kernel
+def _zero_roots(a, b):
+    """:func:`_harmonic_roots` with k = 0 (the delta line at a body end): there w = arccos(-0.0)
+    = pi/2 exactly, so no arccos (issue 34 item 4; the same values to the bit)."""
+    psi = math.atan2(b, a)
+    if math.sqrt(a * a + b * b) > 0.0:
+        return psi - _HALF_PI, psi + _HALF_PI
+    return psi, psi
+
+
+@small_kernel
 def _on_body(w, tdeep, a_any, R, xa, xb, d0, c20, c21, c22, rp):
     """Crossing angle t = arg w (w a root of :func:`_crossing_roots`; cos t, sin t = w / |w|) of the
     seabed and delta lines as a breakpoint (offset from tdeep, clamped like the others): where the
@@ -181,6 +197,109 @@ def _next_break(bps, cur, end):
 
 
 @small_kernel
+def _cs(a, b):
+    """(min, max) of two numbers, neither NaN."""
+    if b < a:
+        return b, a
+    return a, b
+
+
+@small_kernel
+def _number(b, fill):
+    """b, or ``fill`` where b is NaN."""
+    return b if b == b else fill
+
+
+@small_kernel
+def _sorted16(bps, fill):
+    """The 16 breakpoints of :func:`_lateral` in increasing order, NaN replaced by ``fill`` (a value
+    that no panel ends at): Batcher's odd-even merge network, 63 compare-exchanges, no allocation.
+    The panel walk then reads each once (issue 34 item 4: :func:`_next_break`, a scan of all 16 a
+    panel, was 7 % of the rule's instructions)."""
+    b0, b1, b2, b3, b4, b5, b6, b7, b8, b9, b10, b11, b12, b13, b14, b15 = bps
+    b0 = _number(b0, fill)
+    b1 = _number(b1, fill)
+    b2 = _number(b2, fill)
+    b3 = _number(b3, fill)
+    b4 = _number(b4, fill)
+    b5 = _number(b5, fill)
+    b6 = _number(b6, fill)
+    b7 = _number(b7, fill)
+    b8 = _number(b8, fill)
+    b9 = _number(b9, fill)
+    b10 = _number(b10, fill)
+    b11 = _number(b11, fill)
+    b12 = _number(b12, fill)
+    b13 = _number(b13, fill)
+    b14 = _number(b14, fill)
+    b15 = _number(b15, fill)
+    b0, b1 = _cs(b0, b1)
+    b2, b3 = _cs(b2, b3)
+    b0, b2 = _cs(b0, b2)
+    b1, b3 = _cs(b1, b3)
+    b1, b2 = _cs(b1, b2)
+    b4, b5 = _cs(b4, b5)
+    b6, b7 = _cs(b6, b7)
+    b4, b6 = _cs(b4, b6)
+    b5, b7 = _cs(b5, b7)
+    b5, b6 = _cs(b5, b6)
+    b0, b4 = _cs(b0, b4)
+    b2, b6 = _cs(b2, b6)
+    b2, b4 = _cs(b2, b4)
+    b1, b5 = _cs(b1, b5)
+    b3, b7 = _cs(b3, b7)
+    b3, b5 = _cs(b3, b5)
+    b1, b2 = _cs(b1, b2)
+    b3, b4 = _cs(b3, b4)
+    b5, b6 = _cs(b5, b6)
+    b8, b9 = _cs(b8, b9)
+    b10, b11 = _cs(b10, b11)
+    b8, b10 = _cs(b8, b10)
+    b9, b11 = _cs(b9, b11)
+    b9, b10 = _cs(b9, b10)
+    b12, b13 = _cs(b12, b13)
+    b14, b15 = _cs(b14, b15)
+    b12, b14 = _cs(b12, b14)
+    b13, b15 = _cs(b13, b15)
+    b13, b14 = _cs(b13, b14)
+    b8, b12 = _cs(b8, b12)
+    b10, b14 = _cs(b10, b14)
+    b10, b12 = _cs(b10, b12)
+    b9, b13 = _cs(b9, b13)
+    b11, b15 = _cs(b11, b15)
+    b11, b13 = _cs(b11, b13)
+    b9, b10 = _cs(b9, b10)
+    b11, b12 = _cs(b11, b12)
+    b13, b14 = _cs(b13, b14)
+    b0, b8 = _cs(b0, b8)
+    b4, b12 = _cs(b4, b12)
+    b4, b8 = _cs(b4, b8)
+    b2, b10 = _cs(b2, b10)
+    b6, b14 = _cs(b6, b14)
+    b6, b10 = _cs(b6, b10)
+    b2, b4 = _cs(b2, b4)
+    b6, b8 = _cs(b6, b8)
+    b10, b12 = _cs(b10, b12)
+    b1, b9 = _cs(b1, b9)
+    b5, b13 = _cs(b5, b13)
+    b5, b9 = _cs(b5, b9)
+    b3, b11 = _cs(b3, b11)
+    b7, b15 = _cs(b7, b15)
+    b7, b11 = _cs(b7, b11)
+    b3, b5 = _cs(b3, b5)
+    b7, b9 = _cs(b7, b9)
+    b11, b13 = _cs(b11, b13)
+    b1, b2 = _cs(b1, b2)
+    b3, b4 = _cs(b3, b4)
+    b5, b6 = _cs(b5, b6)
+    b7, b8 = _cs(b7, b8)
+    b9, b10 = _cs(b9, b10)
+    b11, b12 = _cs(b11, b12)
+    b13, b14 = _cs(b13, b14)
+    return b0, b1, b2, b3, b4, b5, b6, b7, b8, b9, b10, b11, b12, b13, b14, b15
+
+
+@small_kernel
 def _abs2(z):
     """|z|^2."""
     return z.real * z.real + z.imag * z.imag
@@ -204,32 +323,84 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     if not (abs(lead) > CROSS_DEGENERATE * big):
         nan = complex(math.nan, math.nan)
         return nan, nan, nan, nan
-    q3 = complex(0.5 * ca1, -0.5 * cb1) / lead
-    q2 = complex(c0, 0.0) / lead
-    q1 = complex(0.5 * ca1, 0.5 * cb1) / lead
-    q0 = complex(0.5 * ca2, 0.5 * cb2) / lead
-    r0 = complex(1.0, 0.0)
-    r1 = complex(0.4, 0.9)
-    r2 = r1 * r1
-    r3 = r2 * r1
+    # in real arithmetic: the operations of numba's (CPython's) complex product and quotient, in
+    # their order, so the roots are those of the complex-typed sweeps to the bit, without their
+    # per-quotient exception path (issue 34 item 4)
+    lr = 0.5 * ca2
+    li = -0.5 * cb2
+    q3r, q3i = _cdiv(0.5 * ca1, -0.5 * cb1, lr, li)
+    q2r, q2i = _cdiv(c0, 0.0, lr, li)
+    q1r, q1i = _cdiv(0.5 * ca1, 0.5 * cb1, lr, li)
+    q0r, q0i = _cdiv(0.5 * ca2, 0.5 * cb2, lr, li)
+    q = (q3r, q3i, q2r, q2i, q1r, q1i, q0r, q0i)
+    r0r = 1.0
+    r0i = 0.0
+    r1r = 0.4
+    r1i = 0.9
+    r2r, r2i = _cmul(r1r, r1i, r1r, r1i)
+    r3r, r3i = _cmul(r2r, r2i, r1r, r1i)
     for _ in range(CROSS_ITERATIONS):
-        d0 = ((((r0 + q3) * r0 + q2) * r0 + q1) * r0 + q0) / ((r0 - r1) * (r0 - r2) * (r0 - r3))
-        r0 = r0 - d0
-        d1 = ((((r1 + q3) * r1 + q2) * r1 + q1) * r1 + q0) / ((r1 - r0) * (r1 - r2) * (r1 - r3))
-        r1 = r1 - d1
-        d2 = ((((r2 + q3) * r2 + q2) * r2 + q1) * r2 + q0) / ((r2 - r0) * (r2 - r1) * (r2 - r3))
-        r2 = r2 - d2
-        d3 = ((((r3 + q3) * r3 + q2) * r3 + q1) * r3 + q0) / ((r3 - r0) * (r3 - r1) * (r3 - r2))
-        r3 = r3 - d3
+        d0r, d0i = _dk_step(r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i, q)
+        r0r = r0r - d0r
+        r0i = r0i - d0i
+        d1r, d1i = _dk_step(r1r, r1i, r0r, r0i, r2r, r2i, r3r, r3i, q)
+        r1r = r1r - d1r
+        r1i = r1i - d1i
+        d2r, d2i = _dk_step(r2r, r2i, r0r, r0i, r1r, r1i, r3r, r3i, q)
+        r2r = r2r - d2r
+        r2i = r2i - d2i
+        d3r, d3i = _dk_step(r3r, r3i, r0r, r0i, r1r, r1i, r2r, r2i, q)
+        r3r = r3r - d3r
+        r3i = r3i - d3i
         # converged (a NaN moves on to the cap, as before)
         if (
-            _abs2(d0) <= CROSS_TOL2 * _abs2(r0)
-            and _abs2(d1) <= CROSS_TOL2 * _abs2(r1)
-            and _abs2(d2) <= CROSS_TOL2 * _abs2(r2)
-            and _abs2(d3) <= CROSS_TOL2 * _abs2(r3)
+            d0r * d0r + d0i * d0i <= CROSS_TOL2 * (r0r * r0r + r0i * r0i)
+            and d1r * d1r + d1i * d1i <= CROSS_TOL2 * (r1r * r1r + r1i * r1i)
+            and d2r * d2r + d2i * d2i <= CROSS_TOL2 * (r2r * r2r + r2i * r2i)
+            and d3r * d3r + d3i * d3i <= CROSS_TOL2 * (r3r * r3r + r3i * r3i)
         ):
             break
-    return r0, r1, r2, r3
+    return complex(r0r, r0i), complex(r1r, r1i), complex(r2r, r2i), complex(r3r, r3i)
+
+
+@small_kernel
+def _cmul(ar, ai, br, bi):
+    """(ar + i ai)(br + i bi) by the operations of numba's complex product (CPython's
+    ``_Py_c_prod``, without the infinities' recovery of Python >= 3.14, which numba adds only there)."""
+    return ar * br - ai * bi, ar * bi + ai * br
+
+
+@small_kernel
+def _cdiv(ar, ai, br, bi):
+    """(ar + i ai) / (br + i bi) by the operations of numba's complex quotient (CPython's
+    ``_Py_c_quot``: Smith's scaling); a zero divisor gives NaN (numba's would raise)."""
+    abr = abs(br)
+    abi = abs(bi)
+    if abr >= abi:
+        ratio = bi / br
+        denom = br + bi * ratio
+        return (ar + ai * ratio) / denom, (ai - ar * ratio) / denom
+    if abi >= abr:
+        ratio = br / bi
+        denom = br * ratio + bi
+        return (ar * ratio + ai) / denom, (ai * ratio - ar) / denom
+    return math.nan, math.nan
+
+
+@small_kernel
+def _dk_step(rr, ri, ar, ai, br, bi, cr, ci, q):
+    """Durand-Kerner correction p(r) / ((r - a)(r - b)(r - c)) of the monic quartic
+    p(r) = (((r + q3) r + q2) r + q1) r + q0, ``q`` = (q3, q2, q1, q0) as (real, imag) pairs,
+    by the complex operations of the sweep in that order."""
+    q3r, q3i, q2r, q2i, q1r, q1i, q0r, q0i = q
+    pr, pi = _cmul(rr + q3r, ri + q3i, rr, ri)
+    pr, pi = _cmul(pr + q2r, pi + q2i, rr, ri)
+    pr, pi = _cmul(pr + q1r, pi + q1i, rr, ri)
+    pr = pr + q0r
+    pi = pi + q0i
+    dr, di = _cmul(rr - ar, ri - ai, rr - br, ri - bi)
+    dr, di = _cmul(dr, di, rr - cr, ri - ci)
+    return _cdiv(pr, pi, dr, di)
 
 
 @small_kernel
@@ -358,7 +529,8 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         wgt = h * (wa if i == 0 else wb)
         if not (wgt != 0.0):
             continue
-        g1, g2, g3 = _traction(x, y, z, 0.0, c, s, a0 + a1 * x, v1, v2, v3, w1, w2, w3, law, bank)
+        depth = _depth_terms(a0 + a1 * x, law, bank)
+        g1, g2, g3 = _traction_at(x, y, z, 0.0, c, s, depth, v1, v2, v3, w1, w2, w3, law, True)
         f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
 
@@ -392,8 +564,8 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
     # reaching a body end, the delta line crossing a body end (v.n at x = xa, xb is a pure
     # harmonic of t) and, with friction, the reversal of the circumferential slip
     # v_t = w1 R + (v3 - w2 x) cos t - (v2 + w3 x) sin t at a body end
-    pa0, pa1 = _harmonic_roots(0.0, v2 + w3 * xa, v3 - w2 * xa)
-    pb0, pb1 = _harmonic_roots(0.0, v2 + w3 * xb, v3 - w2 * xb)
+    pa0, pa1 = _zero_roots(v2 + w3 * xa, v3 - w2 * xa)
+    pb0, pb1 = _zero_roots(v2 + w3 * xb, v3 - w2 * xb)
     q0 = a_any
     q1 = a_any
     q2 = a_any
@@ -441,18 +613,18 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
     )
     # advancing arc: union of the half-circles where v.n >= 0 at x = xa and at x = xb
     # (v.n is linear along a generator), centre dc, half-width dw
-    amp_a = math.hypot(v2 + w3 * xa, v3 - w2 * xa)
-    amp_b = math.hypot(v2 + w3 * xb, v3 - w2 * xb)
-    if amp_a > 0.0 and amp_b > 0.0:
+    amp_a = _nonzero(v2 + w3 * xa, v3 - w2 * xa)
+    amp_b = _nonzero(v2 + w3 * xb, v3 - w2 * xb)
+    if amp_a and amp_b:
         ca = 0.5 * (pa0 + pa1)
         dd = 0.5 * (pb0 + pb1) - ca
         dd -= _TWO_PI * math.floor(dd / _TWO_PI + 0.5)
         dc = ca + 0.5 * dd
         dw = _HALF_PI + 0.5 * abs(dd)
-    elif amp_a > 0.0:
+    elif amp_a:
         dc = 0.5 * (pa0 + pa1)
         dw = _HALF_PI
-    elif amp_b > 0.0:
+    elif amp_b:
         dc = 0.5 * (pb0 + pb1)
         dw = _HALF_PI
     else:
@@ -462,12 +634,18 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
     delta -= _TWO_PI * math.floor(delta / _TWO_PI + 0.5)
     # sliver panels (PANEL_SKIP): none at width <= wskip, full weight from 2 wskip, linear between
     wskip = skip * a_any
+    # the breakpoints sorted once; a NaN (never a panel's end) as a_any (none either: hi <= a_any)
+    srt = _sorted16(bps, a_any)
     for shift in range(-1, 2):
         lo = max(-a_any, delta + _TWO_PI * shift - dw)
         hi = min(a_any, delta + _TWO_PI * shift + dw)
         cur = lo
+        j = 0
         while cur < hi:
-            nxt = _next_break(bps, cur, hi)
+            # the smallest breakpoint above cur, at most hi (:func:`_next_break`); cur only grows
+            while j < 16 and srt[j] <= cur:
+                j += 1
+            nxt = srt[j] if j < 16 and srt[j] < hi else hi
             width = nxt - cur
             if not (width > wskip):
                 cur = nxt
@@ -581,7 +759,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
                 y = sv * dy + t * ty
                 z = sv * dz + t * tz
-                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law)
+                g1, g2, g3 = _traction_at(xc, y, z, sgn, 0.0, 0.0, depth, v1, v2, v3, w1, w2, w3, law, True)
                 f1, f2, f3, m1, m2, m3 = add_point_traction(
                     (f1, f2, f3, m1, m2, m3), wgt, xc, y, z, g1, g2, g3
                 )
