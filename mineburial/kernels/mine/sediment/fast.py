@@ -300,12 +300,6 @@ def _sorted16(bps, fill):
 
 
 @small_kernel
-def _abs2(z):
-    """|z|^2."""
-    return z.real * z.real + z.imag * z.imag
-
-
-@small_kernel
 def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2
     trigonometric polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of
