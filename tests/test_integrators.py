@@ -121,12 +121,12 @@ def _ros_step(f, y, h, jac, cols):
     piv = np.empty(m, dtype=np.int64)
     assert it.w_factor(jac, cols, c, wa, piv)
     kr = np.zeros((it.ROS_STAGES, n))
-    ys, fy, tmp, z = np.empty(n), np.empty(n), np.empty(n), np.empty(m)
+    ys, fy, z = np.empty(n), np.empty(n), np.empty(m)
     for s in range(it.ROS_STAGES):
         it.ros_stage_state(y, kr, s, ys)
         f(ys, fy)
-        it.ros_coupling(kr, s, tmp)
-        it.j_times(jac, cols, tmp, kr[s])
+        it.ros_coupling(kr, s, cols, z)
+        it.j_times(jac, z, kr[s])
         kr[s] = h * (fy + kr[s])
         it.w_solve(jac, cols, c, wa, piv, kr[s], z)
     out, err = np.empty(n), np.empty(n)
@@ -194,8 +194,13 @@ def test_reduced_w_solve_matches_the_dense_solve():
     np.testing.assert_allclose(x, np.linalg.solve(np.eye(n) - c * full, b), rtol=1e-12, atol=1e-12)
     v = rng.normal(size=n)
     out = np.empty(n)
-    it.j_times(jc, cols, v, out)
+    it.j_times(jc, v[cols], out)
     np.testing.assert_allclose(out, full @ v, rtol=1e-13, atol=1e-13)
+    # the coupling's entries in the columns: (sum_j GAMMA[s, j] k_j)[cols], against numpy
+    kr = rng.normal(size=(it.ROS_STAGES, n))
+    for s in range(it.ROS_STAGES):
+        it.ros_coupling(kr, s, cols, z)
+        np.testing.assert_allclose(z, (it.ROS_GAMMA[s, :s] @ kr[:s])[cols], rtol=1e-13, atol=1e-13)
 
 
 def test_illinois_finds_a_root():

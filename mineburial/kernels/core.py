@@ -304,8 +304,8 @@ def ros34pw2_step(system, t, y, h, params, f0, jc, cols, wa, piv, kr, ytmp, vtmp
         else:
             ros_stage_state(y, kr, s, ytmp)
             system_rhs(system, t + ROS_C[s] * h, ytmp, params, vtmp)
-        ros_coupling(kr, s, ytmp)
-        j_times(jc, cols, ytmp, kr[s])
+        ros_coupling(kr, s, cols, ztmp)
+        j_times(jc, ztmp, kr[s])
         for i in range(n):
             kr[s, i] = h * (vtmp[i] + kr[s, i])
         w_solve(jc, cols, c, wa, piv, kr[s], ztmp)

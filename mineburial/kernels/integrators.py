@@ -283,14 +283,16 @@ def ros_stage_state(y, kr, s, out):
 
 
 @small_kernel
-def ros_coupling(kr, s, out):
-    """out = sum_{j<s} GAMMA[s, j] k_j (multiplied by h J by the caller)."""
-    n = out.shape[0]
-    for i in range(n):
+def ros_coupling(kr, s, cols, z):
+    """z = (sum_{j<s} GAMMA[s, j] k_j)[cols]: the coupling's entries in the Jacobian's columns ``cols``,
+    the only ones that J, non-zero in those columns, reads (:func:`j_times`; issue 34 item 4: the other
+    entries were computed and never read)."""
+    m = cols.shape[0]
+    for r in range(m):
         acc = 0.0
         for j in range(s):
-            acc += ROS_GAMMA[s, j] * kr[j, i]
-        out[i] = acc
+            acc += ROS_GAMMA[s, j] * kr[j, cols[r]]
+        z[r] = acc
 
 
 @small_kernel
@@ -392,12 +394,13 @@ def w_solve(jc, cols, c, wa, piv, b, z):
 
 
 @small_kernel
-def j_times(jc, cols, v, out):
-    """out = J v for J non-zero in the columns ``cols`` only."""
+def j_times(jc, z, out):
+    """out = J v for J non-zero in the columns ``cols`` only, from z = v[cols] (as :func:`ros_coupling`
+    gives it): jc[:, j] = J[:, cols[j]]."""
     n = out.shape[0]
-    m = cols.shape[0]
+    m = jc.shape[1]
     for i in range(n):
         acc = 0.0
         for j in range(m):
-            acc += jc[i, j] * v[cols[j]]
+            acc += jc[i, j] * z[j]
         out[i] = acc
