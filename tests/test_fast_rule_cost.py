@@ -16,7 +16,7 @@ from mineburial.kernels.mine.sediment.fast import (
     _sorted16,
     _zero_roots,
 )
-from mineburial.kernels.mine.sediment.laws import RATE_IMPACT35, RATE_NONE, RATE_SEMILOG, _rate, _rate_ln
+from mineburial.kernels.mine.sediment.laws import RATE_IMPACT35, RATE_NONE, RATE_SEMILOG, _rate
 
 SPECIAL = (0.0, -0.0, 1e-300, -3e-310, 0.5, -2.0, 1e200, math.inf, -math.inf, math.nan)
 
@@ -104,14 +104,14 @@ def test_fast_rate_law_is_log10s_to_rounding(law):
         beta = rng.uniform(0.0, 0.5)
         rate_ref = 10.0 ** rng.uniform(-6, 0)
         diameter = rng.uniform(0.1, 1.0)
-        got = _rate_ln(speed, law, 3.0, 0.5, beta, rate_ref, diameter)
+        got = _rate(speed, law, 3.0, 0.5, beta, rate_ref, diameter, True)
         if law == RATE_SEMILOG:
             ratio = speed / (diameter * rate_ref)
             want = 1.0 + beta * math.log10(ratio) if ratio > 1.0 else 1.0
             assert abs(got - want) <= 1e-15 * want, (speed, beta, rate_ref, diameter, got, want)
         else:
             assert got == _rate(speed, law, 3.0, 0.5, beta, rate_ref, diameter)
-    assert _rate_ln(1.0, RATE_SEMILOG, 3.0, 0.5, 0.1, 0.0, 1.0) == 1.0  # no reference rate: G = 1
+    assert _rate(1.0, RATE_SEMILOG, 3.0, 0.5, 0.1, 0.0, 1.0, True) == 1.0  # no reference rate: G = 1
 
 
 def test_sorted_breakpoints_are_pythons_sort():

@@ -2,7 +2,7 @@
 
 The default rule (``numerics.sediment_quadrature = "fast"``): the same traction law
 (:func:`.laws._traction`; its semilog rate law with ``log(ratio) / ln 10`` for ``log10(ratio)``, the same up
-to rounding, :func:`.laws._rate_ln`) and the same embedded, advancing surface as
+to rounding, :func:`.laws._rate` with ``natural_log``) and the same embedded, advancing surface as
 :mod:`.reference`, integrated with a fixed number of Gauss-Legendre nodes whose
 positions are continuous functions of the state (``docs/notes/sediment_fast.md``).
 

@@ -267,8 +267,17 @@ def sediment_properties(zeta, p, bank):
 # =============================================================================
 # rate laws and bearing factor
 # =============================================================================
+#: 1 / ln 10 (:func:`_rate` with ``natural_log``)
+INV_LN10 = 1.0 / math.log(10.0)
+
+
 @kernel
-def _rate(speed, law, a, vrest, beta, rate_ref, diameter):
+def _rate(speed, law, a, vrest, beta, rate_ref, diameter, natural_log=False):
+    """Strain-rate factor G of law code ``law`` (:func:`rate_factor`). ``natural_log``: the semilog
+    law's log10 as ``log(ratio) / ln 10`` (a product by :data:`INV_LN10`): the same G up to rounding
+    (|change| <= 2 ulp of the logarithm), for a third of the instructions (glibc's log10 is its log plus
+    a reduction and a wrapper). The fast rule's tractions take it (:func:`.fast.fast_tractions`,
+    issue 34 item 4); the reference quadrature and :func:`rate_factor` keep log10."""
     if law == RATE_IMPACT35:
         # seed 000 eq. (70), written A - (A - 1) exp(-V/V_rest) (no division by A)
         if vrest > 0.0:
@@ -279,29 +288,11 @@ def _rate(speed, law, a, vrest, beta, rate_ref, diameter):
         if rate_ref > 0.0 and diameter > 0.0:
             ratio = speed / (diameter * rate_ref)
             if ratio > 1.0:
+                if natural_log:
+                    return 1.0 + beta * (math.log(ratio) * INV_LN10)
                 return 1.0 + beta * math.log10(ratio)
         return 1.0
     return 1.0
-
-
-#: 1 / ln 10 (:func:`_rate_ln`)
-INV_LN10 = 1.0 / math.log(10.0)
-
-
-@small_kernel
-def _rate_ln(speed, law, a, vrest, beta, rate_ref, diameter):
-    """:func:`_rate` with the semilog law's log10 as ``log(ratio) / ln 10`` (a product by
-    :data:`INV_LN10`): the same G up to rounding (|change| <= 2 ulp of the logarithm), for a third
-    of the instructions (glibc's log10 is its log plus a reduction and a wrapper). The fast rule's
-    tractions (:func:`.fast.fast_tractions`) use it (issue 34 item 4); the reference quadrature and
-    :func:`rate_factor` keep :func:`_rate`."""
-    if law == RATE_SEMILOG:
-        if rate_ref > 0.0 and diameter > 0.0:
-            ratio = speed / (diameter * rate_ref)
-            if ratio > 1.0:
-                return 1.0 + beta * (math.log(ratio) * INV_LN10)
-        return 1.0
-    return _rate(speed, law, a, vrest, beta, rate_ref, diameter)
 
 
 @kernel
@@ -349,7 +340,7 @@ def _depth_terms(zeta, law, bank):
 @small_kernel
 def _traction_at(x, y, z, nx, ny, nz, depth, v1, v2, v3, w1, w2, w3, law, lnrate=False):
     """:func:`_traction` with the depth's terms given (:func:`_depth_terms`); ``lnrate``: the rate
-    law by :func:`_rate_ln` (the fast rule's) instead of :func:`_rate`."""
+    law's logarithm by ``log / ln 10`` (:func:`_rate`'s ``natural_log``: the fast rule's)."""
     rho, s, sig, nc = depth
     model = law[LAW_MODEL]
     vx = v1 + w2 * z - w3 * y
@@ -367,10 +358,7 @@ def _traction_at(x, y, z, nx, ny, nz, depth, v1, v2, v3, w1, w2, w3, law, lnrate
     beta = law[LAW_BETA]
     rref = law[LAW_RATE_REF]
     dia = law[LAW_DIAMETER]
-    if lnrate:
-        gfac = _rate_ln(speed, rl, a, vrest, beta, rref, dia)
-    else:
-        gfac = _rate(speed, rl, a, vrest, beta, rref, dia)
+    gfac = _rate(speed, rl, a, vrest, beta, rref, dia, lnrate)
     mu = law[LAW_MU]
     # regularised advancing switch: the normal traction grows from 0 at v.n = 0 to its
     # full value over ~V_REG_N, so the force is continuous in the velocity (no
