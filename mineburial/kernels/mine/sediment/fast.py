@@ -465,9 +465,13 @@ def _ramp_weights(vm, dv, vrn):
         # h(u) = hm + h1 (du tau) + h3 (du tau)^3 / 6 + ..., h1 = S^-3, h3 = 3 (4 u^2 - 1) / S^7
         m1 = du * (2.0 / 3.0) / (sm * sm * sm) + du * du * du * 0.2 * (4.0 * um * um - 1.0) / sm**7
     else:
-        flo = 0.5 * (ulo * slo - math.asinh(ulo)) - um * slo
-        fhi = 0.5 * (uhi * shi - math.asinh(uhi)) - um * shi
-        m1 = (fhi - flo) / (du * du)
+        # asinh(uhi) - asinh(ulo) = asinh(uhi slo - ulo shi) (the sinh of a difference), the argument
+        # without cancellation: where uhi, ulo share a sign, (uhi - ulo)(uhi + ulo) / (uhi slo + ulo shi)
+        if uhi * ulo > 0.0:
+            arg = (uhi - ulo) * (uhi + ulo) / (uhi * slo + ulo * shi)
+        else:
+            arg = uhi * slo - ulo * shi
+        m1 = (0.5 * (uhi * shi - ulo * slo - math.asinh(arg)) - um * (shi - slo)) / (du * du)
     # product weights at -g, g: wa + wb = m0, g (wb - wa) = m1
     wa = 0.5 * (m0 - m1 / g)
     wb = 0.5 * (m0 + m1 / g)
