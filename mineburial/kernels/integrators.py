@@ -316,15 +316,23 @@ def ros_solution(y, kr, out, err):
 # x = b + c J[:, cols] z. ``jc`` holds J[:, cols] (n x m).
 
 
+#: the LU kernels index with unsigned integers (np.uint64) where a loop does not start at 0: numba wraps a
+#: negative signed index around (a[-1] is the last row), a compare-and-add at every access that LLVM
+#: removes only where it proves the index non-negative, as it does for range(m) but not for range(c + 1, m)
+#: nor a loop counting down (issue 34 item 4); unsigned indices have no wraparound. The arithmetic stays
+#: uint64 throughout (uint64 with int64 is float64 in numba, which does not index: a slip fails to compile).
+_U1 = np.uint64(1)
+
+
 @small_kernel
 def lu_factor_small(a, piv):
     """In-place LU factorisation with partial pivoting of the m x m matrix ``a``.
     Returns False when a pivot is zero or not finite (singular W: the caller shrinks h)."""
-    m = a.shape[0]
-    for c in range(m):
+    mu = np.uint64(a.shape[0])
+    for c in range(mu):
         p = c
         big = abs(a[c, c])
-        for r in range(c + 1, m):
+        for r in range(c + _U1, mu):
             if abs(a[r, c]) > big:
                 big = abs(a[r, c])
                 p = r
@@ -332,15 +340,15 @@ def lu_factor_small(a, piv):
             return False
         piv[c] = p
         if p != c:
-            for j in range(m):
+            for j in range(mu):
                 tmp = a[c, j]
                 a[c, j] = a[p, j]
                 a[p, j] = tmp
         inv = 1.0 / a[c, c]
-        for r in range(c + 1, m):
+        for r in range(c + _U1, mu):
             f = a[r, c] * inv
             a[r, c] = f
-            for j in range(c + 1, m):
+            for j in range(c + _U1, mu):
                 a[r, j] -= f * a[c, j]
     return True
 
@@ -349,8 +357,9 @@ def lu_factor_small(a, piv):
 def lu_solve_small(a, piv, b):
     """Solve in place with the factors of :func:`lu_factor_small`."""
     m = a.shape[0]
-    for c in range(m):
-        p = piv[c]
+    mu = np.uint64(m)
+    for c in range(mu):
+        p = np.uint64(piv[c])
         if p != c:
             tmp = b[c]
             b[c] = b[p]
@@ -360,9 +369,10 @@ def lu_solve_small(a, piv, b):
         for j in range(r):
             acc -= a[r, j] * b[j]
         b[r] = acc
-    for r in range(m - 1, -1, -1):
+    for k in range(mu):
+        r = mu - _U1 - k  # m - 1 down to 0
         acc = b[r]
-        for j in range(r + 1, m):
+        for j in range(r + _U1, mu):
             acc -= a[r, j] * b[j]
         b[r] = acc / a[r, r]
 
@@ -372,8 +382,9 @@ def w_factor(jc, cols, c, wa, piv):
     """Factor the reduced W: wa = I - c J[cols, cols]; returns lu_factor_small's flag."""
     m = cols.shape[0]
     for r in range(m):
+        row = np.uint64(cols[r])  # loaded once (not again after each store to wa), no wraparound
         for j in range(m):
-            wa[r, j] = -c * jc[cols[r], j]
+            wa[r, j] = -c * jc[row, j]
         wa[r, r] += 1.0
     return lu_factor_small(wa, piv)
 
@@ -385,8 +396,36 @@ def w_solve(jc, cols, c, wa, piv, b, z):
     for r in range(m):
         z[r] = b[cols[r]]
     lu_solve_small(wa, piv, z)
+    # b[i] += c (jc z)[i], four rows at a time, then two, then one (:func:`j_times`)
     n = b.shape[0]
-    for i in range(n):
+    i = 0
+    while i + 4 <= n:
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        for j in range(m):
+            zj = z[j]
+            a0 += jc[i, j] * zj
+            a1 += jc[i + 1, j] * zj
+            a2 += jc[i + 2, j] * zj
+            a3 += jc[i + 3, j] * zj
+        b[i] += c * a0
+        b[i + 1] += c * a1
+        b[i + 2] += c * a2
+        b[i + 3] += c * a3
+        i += 4
+    if i + 2 <= n:
+        a0 = 0.0
+        a1 = 0.0
+        for j in range(m):
+            zj = z[j]
+            a0 += jc[i, j] * zj
+            a1 += jc[i + 1, j] * zj
+        b[i] += c * a0
+        b[i + 1] += c * a1
+        i += 2
+    if i < n:
         acc = 0.0
         for j in range(m):
             acc += jc[i, j] * z[j]
@@ -396,10 +435,42 @@ def w_solve(jc, cols, c, wa, piv, b, z):
 @small_kernel
 def j_times(jc, z, out):
     """out = J v for J non-zero in the columns ``cols`` only, from z = v[cols] (as :func:`ros_coupling`
-    gives it): jc[:, j] = J[:, cols[j]]."""
+    gives it): jc[:, j] = J[:, cols[j]].
+
+    Four rows at a time (then two, then one): each row's sum is the same sum_j jc[i, j] z[j] from 0.0 in the same order (the
+    same floating-point operations), but z[j] is loaded once for four rows and the loop over the few
+    columns runs a quarter as often (issue 34 item 4: with m = 6 columns LLVM's unrolled loop never ran,
+    and each multiply-add paid a loop's increment, compare and branch)."""
     n = out.shape[0]
     m = jc.shape[1]
-    for i in range(n):
+    i = 0
+    while i + 4 <= n:
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        for j in range(m):
+            zj = z[j]
+            a0 += jc[i, j] * zj
+            a1 += jc[i + 1, j] * zj
+            a2 += jc[i + 2, j] * zj
+            a3 += jc[i + 3, j] * zj
+        out[i] = a0
+        out[i + 1] = a1
+        out[i + 2] = a2
+        out[i + 3] = a3
+        i += 4
+    if i + 2 <= n:
+        a0 = 0.0
+        a1 = 0.0
+        for j in range(m):
+            zj = z[j]
+            a0 += jc[i, j] * zj
+            a1 += jc[i + 1, j] * zj
+        out[i] = a0
+        out[i + 1] = a1
+        i += 2
+    if i < n:
         acc = 0.0
         for j in range(m):
             acc += jc[i, j] * z[j]
