@@ -437,10 +437,10 @@ def j_times(jc, z, out):
     """out = J v for J non-zero in the columns ``cols`` only, from z = v[cols] (as :func:`ros_coupling`
     gives it): jc[:, j] = J[:, cols[j]].
 
-    Four rows at a time (then two, then one): each row's sum is the same sum_j jc[i, j] z[j] from 0.0 in the same order (the
-    same floating-point operations), but z[j] is loaded once for four rows and the loop over the few
-    columns runs a quarter as often (issue 34 item 4: with m = 6 columns LLVM's unrolled loop never ran,
-    and each multiply-add paid a loop's increment, compare and branch)."""
+    Four rows at a time (then two, then one): each row's sum is the same sum_j jc[i, j] z[j] from 0.0 in
+    the same order (the same floating-point operations), but z[j] is loaded once for four rows and the
+    loop over the few columns runs a quarter as often (issue 34 item 4: with m = 6 columns LLVM's unrolled
+    loop never ran, and each multiply-add paid a loop's increment, compare and branch)."""
     n = out.shape[0]
     m = jc.shape[1]
     i = 0
