@@ -161,8 +161,9 @@ def _overload_drop_body(p, law=None):
 
 
 def _fluid_hook(body, name):
-    """The shape module's own fluid hook ``name`` (``strip_loads``, ``added_mass``), or None: the
-    cylinder's strip theory of ``bodies.strip_section``'s radius then."""
+    """The shape module's own hook ``name`` (``strip_loads``, ``added_mass``, ``cut_moments``), or
+    None: the cylinder's strip theory of ``bodies.strip_section``'s radius (or the protocol's
+    ``cut``) then."""
     if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class in bodies.SHAPES:
         return getattr(bodies.SHAPES[body.instance_class], name, None)
     return None
@@ -351,6 +352,26 @@ def _overload_body_strip_loads(body, model, rho, nu, a, b, ur1, ur2, ur3, w1, w2
     return one_radius
 
 
+def body_cut_moments(body, a_z, z_c, level):
+    """Volume and centroid ``(V, x_c, eta_c)`` of the body's part below the plane ``level``: the
+    shape's ``cut_moments`` hook (the cut without its wetted areas), or the first three values
+    of the protocol's ``bodies.cut``."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(body_cut_moments, jit_options=JIT_OPTIONS, inline="always")
+def _overload_body_cut_moments(body, a_z, z_c, level):
+    own = _fluid_hook(body, "cut_moments")
+    if own is not None:
+        return own
+
+    def by_cut(body, a_z, z_c, level):
+        v, x, e, _, _, _ = bodies.cut(body, a_z, z_c, level)
+        return v, x, e
+
+    return by_cut
+
+
 @kernel
 def solve6(a, rhs, x):
     """Solve the 6x6 symmetric positive definite system a x = rhs in place (Cholesky).
@@ -429,12 +450,12 @@ def _immersed_parts(body, a_z, z, depth, z_lo, v_total):
     ``vb, xb, eb`` of the part below the seabed (the overburden's top cut,
     :func:`.overburden.overburden_below`), and the volumes ``va`` of the air part and ``vw``
     of the water part."""
-    vs, xs, es, _, _, _ = bodies.cut(body, a_z, z, 0.0)
+    vs, xs, es = body_cut_moments(body, a_z, z, 0.0)
     vb = 0.0
     xb = 0.0
     eb = 0.0
     if z_lo < -depth:
-        vb, xb, eb, _, _, _ = bodies.cut(body, a_z, z, -depth)
+        vb, xb, eb = body_cut_moments(body, a_z, z, -depth)
     va = v_total - vs
     if va < 0.0:
         va = 0.0

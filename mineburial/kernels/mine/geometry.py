@@ -258,8 +258,19 @@ def _cut_raw_up(L, R, chi, a, c):
     Returns ``(V, Mx, Ms, lateral, nose_cap, tail_cap)``: volume, first
     moments along ``i_M`` (about the COM) and along ``e_down``, wetted areas:
     the full sections (d <= -bR) in closed form, the partial ones (:func:`_partial_span`)
-    by :func:`_partial_closed` or :func:`_partial_gauss`.
+    by :func:`_partial_closed` or :func:`_partial_gauss` (:func:`_moments_up`), the end caps
+    by :func:`_cap_area`.
     """
+    V, Mx, Ms, lat, dt, dn, bR = _moments_up(L, R, chi, a, c)
+    return V, Mx, Ms, lat, _cap_area(dn, bR, R), _cap_area(dt, bR, R)
+
+
+@kernel
+def _moments_up(L, R, chi, a, c):
+    """:func:`_cut_raw_up` without the end caps: ``(V, Mx, Ms, lateral, d_tail, d_nose, bR)``,
+    the tail and nose sections' centres above the plane and the rim's depth below them for the
+    caps (the right-hand side's cuts need the volume and its centroid only, and each cap that
+    the plane crosses costs an acos and a sincos)."""
     if a > 1.0:
         a = 1.0
     b = math.sqrt((1.0 - a) * (1.0 + a))
@@ -268,14 +279,12 @@ def _cut_raw_up(L, R, chi, a, c):
     xn = 0.5 * L - chi
     dt = c + a * xt  # tail section centre above the plane
     dn = c + a * xn  # nose section centre (dn >= dt since a >= 0)
-    cap_t = _cap_area(dt, bR, R)
-    cap_n = _cap_area(dn, bR, R)
     area = PI * R * R
 
     if dt >= bR:  # whole body above the plane
-        return 0.0, 0.0, 0.0, 0.0, cap_n, cap_t
+        return 0.0, 0.0, 0.0, 0.0, dt, dn, bR
     if dn <= -bR:  # whole body below the plane
-        return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, cap_n, cap_t
+        return area * L, area * L * (-chi), 0.0, 2.0 * PI * R * L, dt, dn, bR
 
     # -- full sections: x in [xt, xt + full_len] (d <= -bR) --------------
     tang1 = dt < -bR  # partial part starts at a tangency (kappa = -1)
@@ -292,10 +301,10 @@ def _cut_raw_up(L, R, chi, a, c):
 
     # -- partial sections: kappa from k1 to k2, x from p1 to p1 + w ---------
     if bR <= 0.0:
-        return V, Mx, Ms, lat, cap_n, cap_t
+        return V, Mx, Ms, lat, dt, dn, bR
     k1, k2, p1, w, dk = _partial_span(L, a, bR, xt, xn, dt, dn, tang1, tang2, full_len)
     if w <= 0.0:
-        return V, Mx, Ms, lat, cap_n, cap_t
+        return V, Mx, Ms, lat, dt, dn, bR
     pm = p1 + 0.5 * w
     if dk >= TAU:
         vp, mx, ms, dlat = _partial_closed(R, k1, k2, tang1, tang2, w, dk, pm)
@@ -305,7 +314,7 @@ def _cut_raw_up(L, R, chi, a, c):
     Mx += mx
     Ms += ms
     lat += dlat
-    return V, Mx, Ms, lat, cap_n, cap_t
+    return V, Mx, Ms, lat, dt, dn, bR
 
 
 @kernel
@@ -358,6 +367,21 @@ def cut_cylinder(L, R, chi, a_z, z_c, level):
     if V > 0.0:
         return V, Mx / V, Ms / V, lat, cn, ct
     return 0.0, _empty_x(L, chi, a_z), 0.0, lat, cn, ct
+
+
+@kernel
+def cut_cylinder_moments(L, R, chi, a_z, z_c, level):
+    """The first three values of :func:`cut_cylinder` (``volume, x_c, eta_c``), bit for bit,
+    without the wetted end caps (the right-hand side's cuts at the water surface and the seabed
+    use no areas)."""
+    if a_z < 0.0:  # _cut_raw's axis reversal
+        V, Mx, Ms, _, _, _, _ = _moments_up(L, R, -chi, -a_z, z_c - level)
+        Mx = -Mx
+    else:
+        V, Mx, Ms, _, _, _, _ = _moments_up(L, R, chi, a_z, z_c - level)
+    if V > 0.0:
+        return V, Mx / V, Ms / V
+    return 0.0, _empty_x(L, chi, a_z), 0.0
 
 
 @kernel
