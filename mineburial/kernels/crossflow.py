@@ -91,8 +91,13 @@ def _unit_interval(vy, vz, wy, wz):
 
     Inputs are O(1) (scaled by the caller). Returns ``(Fy, Fz, My, Mz)``.
     """
-    vv = math.hypot(vy, vz)
-    ww = math.hypot(wy, wz)
+    return _unit_interval_norms(vy, vz, wy, wz, math.hypot(vy, vz), math.hypot(wy, wz))
+
+
+@kernel
+def _unit_interval_norms(vy, vz, wy, wz, vv, ww):
+    """:func:`_unit_interval` given the norms ``vv = |(vy, vz)|`` and ``ww = |(wy, wz)|`` (the
+    caller has them from its scaling: :func:`quadratic_drag_integrals`)."""
     if ww == 0.0 and vv == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     if ww < LAMBDA_SWITCH * vv:
@@ -169,11 +174,15 @@ def quadratic_drag_integrals(a, b, vy0, vz0, wy, wz):
     vcy = vy0 + wy * c
     vcz = vz0 + wz * c
     ah = abs(h)
-    s = max(math.hypot(vcy, vcz), math.hypot(wy, wz) * ah)
+    vn = math.hypot(vcy, vcz)
+    wn = math.hypot(wy, wz)
+    s = max(vn, wn * ah)
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
-    # scaled problem on u in [-1, 1]: v = S (vc/S + (w h / S) u)
-    fy, fz, my, mz = _unit_interval(vcy / s, vcz / s, wy * (h / s), wz * (h / s))
+    # scaled problem on u in [-1, 1]: v = S (vc/S + (w h / S) u); the scaled vectors' norms from
+    # the norms above (scaled the same way: exact for a power-of-two scaling of the inputs), not
+    # two more hypot calls on the scaled components (they agree to rounding)
+    fy, fz, my, mz = _unit_interval_norms(vcy / s, vcz / s, wy * (h / s), wz * (h / s), vn / s, wn * (ah / s))
     kf = s * s * h
     km = kf * h
     fy *= kf

@@ -161,8 +161,9 @@ def _overload_drop_body(p, law=None):
 
 
 def _fluid_hook(body, name):
-    """The shape module's own fluid hook ``name`` (``strip_loads``, ``added_mass``), or None: the
-    cylinder's strip theory of ``bodies.strip_section``'s radius then."""
+    """The shape module's own hook ``name`` (``strip_loads``, ``added_mass``, ``cut_moments``), or
+    None: the cylinder's strip theory of ``bodies.strip_section``'s radius (or the protocol's
+    ``cut``) then."""
     if isinstance(body, (types.NamedUniTuple, types.NamedTuple)) and body.instance_class in bodies.SHAPES:
         return getattr(bodies.SHAPES[body.instance_class], name, None)
     return None
@@ -351,6 +352,26 @@ def _overload_body_strip_loads(body, model, rho, nu, a, b, ur1, ur2, ur3, w1, w2
     return one_radius
 
 
+def body_cut_moments(body, a_z, z_c, level):
+    """Volume and centroid ``(V, x_c, eta_c)`` of the body's part below the plane ``level``: the
+    shape's ``cut_moments`` hook (the cut without its wetted areas), or the first three values
+    of the protocol's ``bodies.cut``."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(body_cut_moments, jit_options=JIT_OPTIONS, inline="always")
+def _overload_body_cut_moments(body, a_z, z_c, level):
+    own = _fluid_hook(body, "cut_moments")
+    if own is not None:
+        return own
+
+    def by_cut(body, a_z, z_c, level):
+        v, x, e, _, _, _ = bodies.cut(body, a_z, z_c, level)
+        return v, x, e
+
+    return by_cut
+
+
 @kernel
 def solve6(a, rhs, x):
     """Solve the 6x6 symmetric positive definite system a x = rhs in place (Cholesky).
@@ -382,24 +403,20 @@ def solve6(a, rhs, x):
 
 
 @small_kernel
-def _solve_mass(mass, rhs, x, added_pore):
-    """:func:`solve6` of the generalised mass matrix of :func:`_mass_matrix` into ``x``: by its
-    blocks when there is no pore-pressure added mass, where the matrix couples only U2 with W3
-    and U3 with W2. The Cholesky factor's other entries below the diagonal are then zeros, and
-    this is :func:`solve6`'s arithmetic with the products of those zeros left out (the same
-    operations on the other entries, in its order): the same values (up to the sign of a zero
-    result), without its ~90 multiply-subtracts of zeros."""
-    if added_pore > 0.0:
-        solve6(mass, rhs, x)
-        return
-    l00 = math.sqrt(mass[0])
-    l11 = math.sqrt(mass[7])
-    l22 = math.sqrt(mass[14])
-    l33 = math.sqrt(mass[21])
-    l42 = mass[4 * 6 + 2] / l22
-    l44 = math.sqrt(mass[28] - l42 * l42)
-    l51 = mass[5 * 6 + 1] / l11
-    l55 = math.sqrt(mass[35] - l51 * l51)
+def _solve_blocks(m00, m11, m22, m33, m44, m55, m42, m51, rhs):
+    """The solution of the generalised mass matrix without pore-pressure added mass, given its
+    non-zero entries (the diagonal ``m00 .. m55`` and the U3-W2 and U2-W3 couplings ``m42 = M[4, 2]``,
+    ``m51 = M[5, 1]``) and ``rhs`` (6 values): :func:`solve6`'s Cholesky with the products of the
+    factor's zeros left out (the same operations on the other entries, in its order), so the same
+    values (up to the sign of a zero result), without its ~90 multiply-subtracts of zeros."""
+    l00 = math.sqrt(m00)
+    l11 = math.sqrt(m11)
+    l22 = math.sqrt(m22)
+    l33 = math.sqrt(m33)
+    l42 = m42 / l22
+    l44 = math.sqrt(m44 - l42 * l42)
+    l51 = m51 / l11
+    l55 = math.sqrt(m55 - l51 * l51)
     # forward substitution, then back substitution (solve6's order)
     y0 = rhs[0] / l00
     y1 = rhs[1] / l11
@@ -409,12 +426,26 @@ def _solve_mass(mass, rhs, x, added_pore):
     y5 = (rhs[5] - l51 * y1) / l55
     x5 = y5 / l55
     x4 = y4 / l44
-    x[5] = x5
+    return y0 / l00, (y1 - l51 * x5) / l11, (y2 - l42 * x4) / l22, y3 / l33, x4, x5
+
+
+@small_kernel
+def _solve_mass(mass, rhs, x, added_pore):
+    """:func:`solve6` of the generalised mass matrix of :func:`_mass_matrix` into ``x``: by its
+    blocks (:func:`_solve_blocks`) when there is no pore-pressure added mass, where the matrix
+    couples only U2 with W3 and U3 with W2."""
+    if added_pore > 0.0:
+        solve6(mass, rhs, x)
+        return
+    x0, x1, x2, x3, x4, x5 = _solve_blocks(
+        mass[0], mass[7], mass[14], mass[21], mass[28], mass[35], mass[4 * 6 + 2], mass[5 * 6 + 1], rhs
+    )
+    x[0] = x0
+    x[1] = x1
+    x[2] = x2
+    x[3] = x3
     x[4] = x4
-    x[3] = y3 / l33
-    x[2] = (y2 - l42 * x4) / l22
-    x[1] = (y1 - l51 * x5) / l11
-    x[0] = y0 / l00
+    x[5] = x5
 
 
 # ---------------------------------------------------------------------------------------------
@@ -429,12 +460,12 @@ def _immersed_parts(body, a_z, z, depth, z_lo, v_total):
     ``vb, xb, eb`` of the part below the seabed (the overburden's top cut,
     :func:`.overburden.overburden_below`), and the volumes ``va`` of the air part and ``vw``
     of the water part."""
-    vs, xs, es, _, _, _ = bodies.cut(body, a_z, z, 0.0)
+    vs, xs, es = body_cut_moments(body, a_z, z, 0.0)
     vb = 0.0
     xb = 0.0
     eb = 0.0
     if z_lo < -depth:
-        vb, xb, eb, _, _, _ = bodies.cut(body, a_z, z, -depth)
+        vb, xb, eb = body_cut_moments(body, a_z, z, -depth)
     va = v_total - vs
     if va < 0.0:
         va = 0.0
@@ -636,11 +667,11 @@ def _mass_matrix(mass, m, J1, J2, added, added_pore, kb):
 
 
 @small_kernel
-def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, munk_fraction, added, u, w, cur):
+def _momentum_rhs(loads, m, J1, J2, model, crossflow_model, munk_fraction, added, u, w, cur):
     """Right side of the Kirchhoff equations M dnu/dt = rhs (body frame): the loads less the
     rigid-body Coriolis/gyroscopic terms and the added mass's Kirchhoff terms, for the velocity
-    relative to a current steady in the E-frame. Returns the rigid-body terms C_RB(nu) nu (the
-    work rates need them)."""
+    relative to a current steady in the E-frame. Returns it (6 values) and the rigid-body terms
+    C_RB(nu) nu (the work rates need them)."""
     impact35 = model[0]
     a0, a1, a2, a11 = added
     u1, u2, u3 = u
@@ -699,13 +730,15 @@ def _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, munk_fraction, 
         cr4 = w2 * (J2 * w3) - w3 * (J2 * w2)
         cr5 = w3 * (J1 * w1) - w1 * (J2 * w3)
         cr6 = w1 * (J2 * w2) - w2 * (J1 * w1)
-    rhs[0] = fb1 - cr1 - ca1 + mdc1
-    rhs[1] = fb2 - cr2 - ca2 + mdc2
-    rhs[2] = fb3 - cr3 - ca3 + mdc3
-    rhs[3] = mb1 - cr4 - ca4
-    rhs[4] = mb2 - cr5 - ca5 + mdc5
-    rhs[5] = mb3 - cr6 - ca6 + mdc6
-    return cr1, cr2, cr3, cr4, cr5, cr6
+    rhs = (
+        fb1 - cr1 - ca1 + mdc1,
+        fb2 - cr2 - ca2 + mdc2,
+        fb3 - cr3 - ca3 + mdc3,
+        mb1 - cr4 - ca4,
+        mb2 - cr5 - ca5 + mdc5,
+        mb3 - cr6 - ca6 + mdc6,
+    )
+    return rhs, (cr1, cr2, cr3, cr4, cr5, cr6)
 
 
 @small_kernel
@@ -828,12 +861,25 @@ def derivatives(y, p, law, sediment_bank, current_bank, work, dy, diag):
     loads = (fb1, fb2, fb3, mb1, mb2, mb3)
 
     added = body_added_mass(body, p, model, crossflow_model, wa, wb, aa, ab)
-    mass = work[0:36]
-    rhs = work[36:42]
-    dnu = work[42:48]  # dU/dt, dW/dt (body frame)
-    _mass_matrix(mass, m, J1, J2, added, added_pore, kb)
-    crb = _momentum_rhs(rhs, loads, m, J1, J2, model, crossflow_model, p[P_CROSSFLOW_MUNK], added, u, w, cur)
-    _solve_mass(mass, rhs, dnu, added_pore)
+    rhs, crb = _momentum_rhs(loads, m, J1, J2, model, crossflow_model, p[P_CROSSFLOW_MUNK], added, u, w, cur)
+    if added_pore > 0.0:
+        # the full 6x6 solve in the work array (the vertical's pore-pressure mass couples all of U)
+        mass = work[0:36]
+        rhs_a = work[36:42]
+        dnu_a = work[42:48]
+        _mass_matrix(mass, m, J1, J2, added, added_pore, kb)
+        rhs_a[0] = rhs[0]
+        rhs_a[1] = rhs[1]
+        rhs_a[2] = rhs[2]
+        rhs_a[3] = rhs[3]
+        rhs_a[4] = rhs[4]
+        rhs_a[5] = rhs[5]
+        solve6(mass, rhs_a, dnu_a)
+        dnu = (dnu_a[0], dnu_a[1], dnu_a[2], dnu_a[3], dnu_a[4], dnu_a[5])  # dU/dt, dW/dt (body frame)
+    else:
+        # _mass_matrix's non-zero entries, the same sums, solved by its blocks (_solve_mass)
+        a0, a1, a2, a11 = added
+        dnu = _solve_blocks(m + a11, m + a0, m + a0, J1, J2 + a2, J2 + a2, -a1, a1, rhs)
     _state_rates(dy, y, r, q, u, w, dnu)
     ft1, ft2, ft3 = _work_rates(dy, r, m, g, J1, J2, kb, u, w, dnu, crb, sed)
 

@@ -23,6 +23,7 @@ from mineburial.kernels.mine.geometry import (
     PI,
     burial_measures,
     cut_cylinder,
+    cut_cylinder_moments,
     cut_cylinder_sliver,
     e_down_body,
     equivalent_of_part,
@@ -53,6 +54,13 @@ def from_params(p):
 def cut(body, a_z, z_c, level):
     """Seed 000 eqs. (25)-(33), re-derived (:func:`.geometry.cut_cylinder`)."""
     return cut_cylinder(body.length, body.radius, body.com_offset, a_z, z_c, level)
+
+
+def cut_moments(body, a_z, z_c, level):
+    """The first three values of :func:`cut` (volume and centroid), bit for bit, without the
+    wetted areas (:func:`.geometry.cut_cylinder_moments`): an optional hook of a shape that the
+    right-hand side takes where it has one (kernels/mine/dynamics.py, ``body_cut_moments``)."""
+    return cut_cylinder_moments(body.length, body.radius, body.com_offset, a_z, z_c, level)
 
 
 def cut_sliver(body, a_z, z_c, level):
