@@ -855,10 +855,25 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
         ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
         hu = 0.5 * width
         mu = 0.5 * (nxt + cur)
-        for i in range(N_U):
-            u = mu + hu * _GL_NODES[N_U, i]
-            cu = math.cos(u)
-            sv = R * math.sin(u)
+        cm = math.cos(mu)
+        sm = math.sin(mu)
+        # the nodes come in pairs mu -+ a: their cosines and sines by the addition theorem, two
+        # trigonometric calls a pair, as on the lateral surface (issue 34 item 4)
+        ca = 1.0
+        sa = 0.0
+        for k in range(N_U):
+            i = k // 2
+            jn = N_U - 1 - i  # _GL_NODES[N_U, jn] = -_GL_NODES[N_U, i] > 0 (N_U even)
+            if k % 2 == 0:
+                a = hu * _GL_NODES[N_U, jn]
+                ca = math.cos(a)
+                sa = math.sin(a)
+                cu = cm * ca + sm * sa
+                su = sm * ca - cm * sa
+            else:
+                cu = cm * ca - sm * sa
+                su = sm * ca + cm * sa
+            sv = R * su
             tl = -R * cu
             th = R * cu
             a0 = q0 + qs * sv
@@ -872,7 +887,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
                 continue
             ht = 0.5 * (th - tl)
             mt = 0.5 * (th + tl)
-            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu * ramp
+            wu = hu * _GL_WEIGHTS[N_U, jn] * R * cu * ramp
             zeta = e0 + g * sv
             depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
             for j in range(N_S):
