@@ -301,21 +301,21 @@ def _sorted16(bps, fill):
 
 @small_kernel
 def _quartic_roots(c0, ca1, cb1, ca2, cb2):
-    """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2
-    trigonometric polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of
-    the quartic w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit
-    circle, where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped
-    double zero where a pair of real zeros is born). Durand-Kerner sweeps (:func:`_dk_sweeps`) from
-    the closed form's roots (:func:`_quartic_starts`, Ferrari's; issue 34 item 4: 1-2 sweeps on the
-    default ensemble's contact states where the fixed starts took 5-16) until a sweep moves none by
-    more than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a continuous function of
-    the coefficients up to rounding (at simple roots the error after that sweep is of the order of the
+    """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2 trigonometric
+    polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of the quartic w^2
+    p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle, where they are
+    real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double zero where a pair of real
+    zeros is born). Durand-Kerner sweeps (:func:`_dk_sweeps`) from the closed form's roots
+    (:func:`_quartic_starts`, Ferrari's; issue 34 item 4: one sweep on each of 5,076 sampled contact
+    states of the default ensemble, where the fixed starts took 5-16) until a sweep moves none by more
+    than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a continuous function of the
+    coefficients up to rounding (at simple roots the error after that sweep is of the order of the
     square of that move; the roots the sweeps converge to do not depend on the starts but at rounding
     level, or at ~1e-16 / (the roots' separation) near a double root, where any method is as
-    ill-conditioned). NaN (all four) when the quartic degenerates
-    (its leading coefficient below CROSS_DEGENERATE of the largest). Shared by the cylinder
-    (:func:`_crossing_roots`, :func:`_crossing_angles`) and the tapered generators of the bodies of
-    revolution (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
+    ill-conditioned). NaN (all four) when the quartic degenerates (its leading coefficient below
+    CROSS_DEGENERATE of the largest). Shared by the cylinder (:func:`_crossing_roots`,
+    :func:`_crossing_angles`) and the tapered generators of the bodies of revolution
+    (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
     lead = complex(0.5 * ca2, -0.5 * cb2)
     big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
     if not (abs(lead) > CROSS_DEGENERATE * big):
@@ -444,8 +444,19 @@ def _quartic_starts(c0, ca1, cb1, ca2, cb2):
     else:
         z = 0.0
     m = z - k2 / 3.0
-    s = math.sqrt(max(2.0 * m - p, 0.0))
-    tq = math.copysign(math.sqrt(max(m * m - r, 0.0)), qq)
+    # s tq = qq / 2: the larger of s^2, |tq| from m, the other from that product (where qq ~ 0, as for
+    # a drop in one vertical plane, 2m - p cancels to ~eps, and its square root would be ~1e-8)
+    s2 = max(2.0 * m - p, 0.0)
+    t2 = max(m * m - r, 0.0)
+    if s2 * s2 >= t2 and s2 > 0.0:
+        s = math.sqrt(s2)
+        tq = 0.5 * qq / s
+    elif t2 > 0.0:
+        tq = math.copysign(math.sqrt(t2), qq)
+        s = 0.5 * qq / tq
+    else:
+        s = 0.0
+        tq = 0.0
     # the two quadratic factors y^2 + s y + m - tq and y^2 - s y + m + tq
     xs = -0.25 * a
     x0r, x0i, x1r, x1i = _quadratic_roots(s, m - tq, xs)
