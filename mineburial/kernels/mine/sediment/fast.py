@@ -333,13 +333,15 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     # the sweeps start at the closed form's roots (:func:`_quartic_starts`), so that one or two
     # sweeps polish them (issue 34 item 4); where that fails (a NaN: two starts that coincide
     # exactly, an overflow), from the fixed starts (0.4 + 0.9i)^k as before
-    roots = _dk_sweeps(_quartic_starts(c0, ca1, cb1, ca2, cb2), q)
-    r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i = roots
-    if not (r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i == r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i):
-        r2r, r2i = _cmul(0.4, 0.9, 0.4, 0.9)
-        r3r, r3i = _cmul(r2r, r2i, 0.4, 0.9)
-        roots = _dk_sweeps((1.0, 0.0, 0.4, 0.9, r2r, r2i, r3r, r3i), q)
-        r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i = roots
+    # (one call site of the inlined sweeps, so that they are compiled once: issue 34 item 1)
+    starts = _quartic_starts(c0, ca1, cb1, ca2, cb2)
+    for _attempt in range(2):
+        r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i = _dk_sweeps(starts, q)
+        if r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i == r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i:
+            break
+        f2r, f2i = _cmul(0.4, 0.9, 0.4, 0.9)
+        f3r, f3i = _cmul(f2r, f2i, 0.4, 0.9)
+        starts = (1.0, 0.0, 0.4, 0.9, f2r, f2i, f3r, f3i)
     return complex(r0r, r0i), complex(r1r, r1i), complex(r2r, r2i), complex(r3r, r3i)
 
 
