@@ -301,25 +301,28 @@ def _sorted16(bps, fill):
 
 @small_kernel
 def _quartic_roots(c0, ca1, cb1, ca2, cb2):
-    """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2
-    trigonometric polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of
-    the quartic w^2 p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit
-    circle, where they are real zeros, or in pairs w, 1/conj(w) with one argument, the clipped
-    double zero where a pair of real zeros is born). Durand-Kerner sweeps from fixed starts until a
-    sweep moves none by more than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a
-    continuous function of the coefficients up to rounding (at simple roots the error after that
-    sweep is of the order of the square of that move). NaN (all four) when the quartic degenerates
-    (its leading coefficient below CROSS_DEGENERATE of the largest). Shared by the cylinder
-    (:func:`_crossing_roots`, :func:`_crossing_angles`) and the tapered generators of the bodies of
-    revolution (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
+    """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2 trigonometric
+    polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of the quartic w^2
+    p(t) in w = exp(i t) (a self-inversive polynomial: its roots lie on the unit circle, where they are
+    real zeros, or in pairs w, 1/conj(w) with one argument, the clipped double zero where a pair of real
+    zeros is born). Durand-Kerner sweeps (:func:`_dk_sweeps`) from the closed form's roots
+    (:func:`_quartic_starts`, Ferrari's; issue 34 item 4: one sweep on each of 5,076 sampled contact
+    states of the default ensemble, where the fixed starts took 5-16) until a sweep moves none by more
+    than 1e-10 of its modulus (CROSS_TOL2; at most CROSS_ITERATIONS): a continuous function of the
+    coefficients up to rounding (at simple roots the error after that sweep is of the order of the
+    square of that move; the roots the sweeps converge to do not depend on the starts but at rounding
+    level, or at ~1e-16 / (the roots' separation) near a double root, where any method is as
+    ill-conditioned). NaN (all four) when the quartic degenerates (its leading coefficient below
+    CROSS_DEGENERATE of the largest). Shared by the cylinder (:func:`_crossing_roots`,
+    :func:`_crossing_angles`) and the tapered generators of the bodies of revolution
+    (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
     lead = complex(0.5 * ca2, -0.5 * cb2)
     big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
     if not (abs(lead) > CROSS_DEGENERATE * big):
         nan = complex(math.nan, math.nan)
         return nan, nan, nan, nan
     # in real arithmetic: the operations of numba's (CPython's) complex product and quotient, in
-    # their order, so the roots are those of the complex-typed sweeps to the bit, without their
-    # per-quotient exception path (issue 34 item 4)
+    # their order, without their per-quotient exception path (issue 34 item 4)
     lr = 0.5 * ca2
     li = -0.5 * cb2
     q3r, q3i = _cdiv(0.5 * ca1, -0.5 * cb1, lr, li)
@@ -327,12 +330,27 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     q1r, q1i = _cdiv(0.5 * ca1, 0.5 * cb1, lr, li)
     q0r, q0i = _cdiv(0.5 * ca2, 0.5 * cb2, lr, li)
     q = (q3r, q3i, q2r, q2i, q1r, q1i, q0r, q0i)
-    r0r = 1.0
-    r0i = 0.0
-    r1r = 0.4
-    r1i = 0.9
-    r2r, r2i = _cmul(r1r, r1i, r1r, r1i)
-    r3r, r3i = _cmul(r2r, r2i, r1r, r1i)
+    # the sweeps start at the closed form's roots (:func:`_quartic_starts`), so that one or two
+    # sweeps polish them (issue 34 item 4); where that fails (a NaN: two starts that coincide
+    # exactly, an overflow), from the fixed starts (0.4 + 0.9i)^k as before
+    # (one call site of the inlined sweeps, so that they are compiled once: issue 34 item 1)
+    starts = _quartic_starts(c0, ca1, cb1, ca2, cb2)
+    for _attempt in range(2):
+        r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i = _dk_sweeps(starts, q)
+        if r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i == r0r + r0i + r1r + r1i + r2r + r2i + r3r + r3i:
+            break
+        f2r, f2i = _cmul(0.4, 0.9, 0.4, 0.9)
+        f3r, f3i = _cmul(f2r, f2i, 0.4, 0.9)
+        starts = (1.0, 0.0, 0.4, 0.9, f2r, f2i, f3r, f3i)
+    return complex(r0r, r0i), complex(r1r, r1i), complex(r2r, r2i), complex(r3r, r3i)
+
+
+@small_kernel
+def _dk_sweeps(starts, q):
+    """Durand-Kerner sweeps of the monic quartic ``q`` (:func:`_dk_step`) from ``starts`` (four roots
+    as real, imaginary pairs) until a sweep moves none by more than 1e-10 of its modulus
+    (CROSS_TOL2), at most CROSS_ITERATIONS; a NaN ends them (the roots are then NaN)."""
+    r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i = starts
     for _ in range(CROSS_ITERATIONS):
         d0r, d0i = _dk_step(r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i, q)
         r0r = r0r - d0r
@@ -346,15 +364,133 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
         d3r, d3i = _dk_step(r3r, r3i, r0r, r0i, r1r, r1i, r2r, r2i, q)
         r3r = r3r - d3r
         r3i = r3i - d3i
-        # converged (a NaN moves on to the cap, as before)
+        m0 = d0r * d0r + d0i * d0i
+        m1 = d1r * d1r + d1i * d1i
+        m2 = d2r * d2r + d2i * d2i
+        m3 = d3r * d3r + d3i * d3i
         if (
-            d0r * d0r + d0i * d0i <= CROSS_TOL2 * (r0r * r0r + r0i * r0i)
-            and d1r * d1r + d1i * d1i <= CROSS_TOL2 * (r1r * r1r + r1i * r1i)
-            and d2r * d2r + d2i * d2i <= CROSS_TOL2 * (r2r * r2r + r2i * r2i)
-            and d3r * d3r + d3i * d3i <= CROSS_TOL2 * (r3r * r3r + r3i * r3i)
+            m0 <= CROSS_TOL2 * (r0r * r0r + r0i * r0i)
+            and m1 <= CROSS_TOL2 * (r1r * r1r + r1i * r1i)
+            and m2 <= CROSS_TOL2 * (r2r * r2r + r2i * r2i)
+            and m3 <= CROSS_TOL2 * (r3r * r3r + r3i * r3i)
         ):
             break
-    return complex(r0r, r0i), complex(r1r, r1i), complex(r2r, r2i), complex(r3r, r3i)
+        if not (m0 + m1 + m2 + m3 == m0 + m1 + m2 + m3):  # NaN (or infinite): give up
+            nan = math.nan
+            return nan, nan, nan, nan, nan, nan, nan, nan
+    return r0r, r0i, r1r, r1i, r2r, r2i, r3r, r3i
+
+
+@small_kernel
+def _quartic_starts(c0, ca1, cb1, ca2, cb2):
+    """Approximations of the four roots of :func:`_quartic_roots`'s quartic (real, imaginary pairs), by
+    Ferrari's closed form for the real quartic in x = tan(s / 2), t = t0 + s: ``(1 + x^2)^2 p(t0 + s)``.
+    t0 is the one of the 8 angles k pi / 4 + pi where |p| is largest (the point x = infinity, t = t0 +
+    pi, is then no root, and the quartic's leading coefficient p(t0 + pi) at least ~ the coefficients'
+    size). A real root x gives w = exp(i t0) (1 + i x) / (1 - i x) on the unit circle, a complex pair
+    x = al +- i be the pair w, 1 / conj(w) with one argument. Not exact (the resolvent cubic and the
+    quadratic factors lose digits near multiple roots): only starts for :func:`_dk_sweeps`."""
+    h = 0.7071067811865476  # sqrt(2) / 2 = cos(pi / 4)
+    # |p| at phi = k pi / 4; cos, sin of phi and of 2 phi where it is largest
+    best = abs(c0 + ca1 + ca2)
+    cf, sf, c2f, s2f = 1.0, 0.0, 1.0, 0.0
+    v = abs(c0 + h * (ca1 + cb1) + cb2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, h, h, 0.0, 1.0
+    v = abs(c0 + cb1 - ca2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, 0.0, 1.0, -1.0, 0.0
+    v = abs(c0 + h * (cb1 - ca1) - cb2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, -h, h, 0.0, -1.0
+    v = abs(c0 - ca1 + ca2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, -1.0, 0.0, 1.0, 0.0
+    v = abs(c0 - h * (ca1 + cb1) + cb2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, -h, -h, 0.0, 1.0
+    v = abs(c0 - cb1 - ca2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, 0.0, -1.0, -1.0, 0.0
+    v = abs(c0 + h * (ca1 - cb1) - cb2)
+    if v > best:
+        best, cf, sf, c2f, s2f = v, h, -h, 0.0, -1.0
+    # p(t0 + s) = c0 + a1 cos s + b1 sin s + a2 cos 2s + b2 sin 2s, t0 = phi + pi
+    a1 = -(ca1 * cf + cb1 * sf)
+    b1 = -(cb1 * cf - ca1 * sf)
+    a2 = ca2 * c2f + cb2 * s2f
+    b2 = cb2 * c2f - ca2 * s2f
+    # (1 + x^2)^2 p = e4 x^4 + e3 x^3 + e2 x^2 + e1 x + e0, made monic, then depressed (x = y - a / 4)
+    e4 = c0 - a1 + a2  # = p(phi), the largest of the 8
+    a = (2.0 * b1 - 4.0 * b2) / e4
+    b = (2.0 * c0 - 6.0 * a2) / e4
+    c = (2.0 * b1 + 4.0 * b2) / e4
+    d = (c0 + a1 + a2) / e4
+    aa = a * a
+    p = b - 0.375 * aa
+    qq = c - 0.5 * a * b + 0.125 * aa * a
+    r = d - 0.25 * a * c + 0.0625 * aa * b - 0.01171875 * aa * aa
+    # y^4 + p y^2 + qq y + r = (y^2 + m)^2 - (s y - tq)^2 with 2m - p = s^2, m^2 - r = tq^2: m the
+    # largest real root of the resolvent cubic m^3 - p/2 m^2 - r m + p r / 2 - qq^2 / 8 (>= p / 2)
+    k2 = -0.5 * p
+    pc = -r - k2 * k2 / 3.0
+    qc = 2.0 * k2 * k2 * k2 / 27.0 + k2 * r / 3.0 + 0.5 * p * r - 0.125 * qq * qq
+    disc = 0.25 * qc * qc + pc * pc * pc / 27.0
+    if disc > 0.0:
+        u = -0.5 * qc - math.copysign(math.sqrt(disc), qc)
+        u = math.copysign(abs(u) ** (1.0 / 3.0), u)
+        z = u - pc / (3.0 * u)
+    elif pc < 0.0:
+        rt = math.sqrt(-pc / 3.0)
+        z = 2.0 * rt * math.cos(math.acos(_clip1(-0.5 * qc / (rt * rt * rt))) / 3.0)
+    else:
+        z = 0.0
+    m = z - k2 / 3.0
+    # s tq = qq / 2: the larger of s^2, |tq| from m, the other from that product (where qq ~ 0, as for
+    # a drop in one vertical plane, 2m - p cancels to ~eps, and its square root would be ~1e-8)
+    s2 = max(2.0 * m - p, 0.0)
+    t2 = max(m * m - r, 0.0)
+    if s2 * s2 >= t2 and s2 > 0.0:
+        s = math.sqrt(s2)
+        tq = 0.5 * qq / s
+    elif t2 > 0.0:
+        tq = math.copysign(math.sqrt(t2), qq)
+        s = 0.5 * qq / tq
+    else:
+        s = 0.0
+        tq = 0.0
+    # the two quadratic factors y^2 + s y + m - tq and y^2 - s y + m + tq
+    xs = -0.25 * a
+    x0r, x0i, x1r, x1i = _quadratic_roots(s, m - tq, xs)
+    x2r, x2i, x3r, x3i = _quadratic_roots(-s, m + tq, xs)
+    w0r, w0i = _tan_half_root(x0r, x0i, cf, sf)
+    w1r, w1i = _tan_half_root(x1r, x1i, cf, sf)
+    w2r, w2i = _tan_half_root(x2r, x2i, cf, sf)
+    w3r, w3i = _tan_half_root(x3r, x3i, cf, sf)
+    return w0r, w0i, w1r, w1i, w2r, w2i, w3r, w3i
+
+
+@small_kernel
+def _quadratic_roots(bq, cq, xs):
+    """The two roots x = xs + y of y^2 + bq y + cq (real, imaginary pairs; a complex pair with the
+    positive imaginary part first)."""
+    dq = 0.25 * bq * bq - cq
+    mid = xs - 0.5 * bq
+    if dq >= 0.0:
+        e = math.sqrt(dq)
+        return mid - e, 0.0, mid + e, 0.0
+    e = math.sqrt(-dq)
+    return mid, e, mid, -e
+
+
+@small_kernel
+def _tan_half_root(xr, xi, cf, sf):
+    """w = exp(i t0) (1 + i x) / (1 - i x) for x = xr + i xi, exp(i t0) = -(cf + i sf): t0 + 2 atan(x)
+    for real x; a pair x, conj(x) gives w, 1 / conj(w), of one argument."""
+    nr = 1.0 - xr * xr - xi * xi
+    ni = 2.0 * xr
+    den = (1.0 + xi) * (1.0 + xi) + xr * xr
+    return (ni * sf - nr * cf) / den, -(nr * sf + ni * cf) / den
 
 
 @small_kernel
@@ -732,10 +868,25 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
         ramp = 1.0 if width >= 2.0 * wskip else width / wskip - 1.0
         hu = 0.5 * width
         mu = 0.5 * (nxt + cur)
-        for i in range(N_U):
-            u = mu + hu * _GL_NODES[N_U, i]
-            cu = math.cos(u)
-            sv = R * math.sin(u)
+        cm = math.cos(mu)
+        sm = math.sin(mu)
+        # the nodes come in pairs mu -+ a: their cosines and sines by the addition theorem, two
+        # trigonometric calls a pair, as on the lateral surface (issue 34 item 4)
+        ca = 1.0
+        sa = 0.0
+        for k in range(N_U):
+            i = k // 2
+            jn = N_U - 1 - i  # _GL_NODES[N_U, jn] = -_GL_NODES[N_U, i] > 0 (N_U even)
+            if k % 2 == 0:
+                a = hu * _GL_NODES[N_U, jn]
+                ca = math.cos(a)
+                sa = math.sin(a)
+                cu = cm * ca + sm * sa
+                su = sm * ca - cm * sa
+            else:
+                cu = cm * ca - sm * sa
+                su = sm * ca + cm * sa
+            sv = R * su
             tl = -R * cu
             th = R * cu
             a0 = q0 + qs * sv
@@ -749,7 +900,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
                 continue
             ht = 0.5 * (th - tl)
             mt = 0.5 * (th + tl)
-            wu = hu * _GL_WEIGHTS[N_U, i] * R * cu * ramp
+            wu = hu * _GL_WEIGHTS[N_U, jn] * R * cu * ramp
             zeta = e0 + g * sv
             depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
             for j in range(N_S):
