@@ -299,7 +299,7 @@ def _sorted16(bps, fill):
     return b0, b1, b2, b3, b4, b5, b6, b7, b8, b9, b10, b11, b12, b13, b14, b15
 
 
-@small_kernel
+@kernel
 def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     """The four roots w = |w| exp(i t) whose arguments t are the zeros of the degree-2 trigonometric
     polynomial ``c0 + ca1 cos t + cb1 sin t + ca2 cos 2t + cb2 sin 2t``: the roots of the quartic w^2
@@ -315,7 +315,10 @@ def _quartic_roots(c0, ca1, cb1, ca2, cb2):
     ill-conditioned). NaN (all four) when the quartic degenerates (its leading coefficient below
     CROSS_DEGENERATE of the largest). Shared by the cylinder (:func:`_crossing_roots`,
     :func:`_crossing_angles`) and the tapered generators of the bodies of revolution
-    (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`)."""
+    (:func:`mineburial.kernels.mine.bodies.revolution_sediment._trig2_angles`). A compile unit of its own
+    (``kernel``): inlined into each caller, the closed form and the sweeps added ~7 s of CPU to the default
+    path's cold compile (``benchmarks/compare_compile.py``, 49.6 -> 56.7 s median); compiled once, 3-6 s of
+    that is saved (issue 34 item 1), for a call a lateral call."""
     lead = complex(0.5 * ca2, -0.5 * cb2)
     big = max(abs(c0), max(math.hypot(ca1, cb1), math.hypot(ca2, cb2)))
     if not (abs(lead) > CROSS_DEGENERATE * big):
