@@ -390,52 +390,18 @@ def w_factor(jc, cols, c, wa, piv):
 
 
 @small_kernel
-def w_solve(jc, cols, c, wa, piv, b, z):
-    """Solve W x = b in place (b becomes x) with the factors of :func:`w_factor`."""
-    m = cols.shape[0]
-    for r in range(m):
-        z[r] = b[cols[r]]
-    lu_solve_small(wa, piv, z)
-    # b[i] += c (jc z)[i], four rows at a time, then two, then one (:func:`j_times`)
-    n = b.shape[0]
-    i = 0
-    while i + 4 <= n:
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        a3 = 0.0
-        for j in range(m):
-            zj = z[j]
-            a0 += jc[i, j] * zj
-            a1 += jc[i + 1, j] * zj
-            a2 += jc[i + 2, j] * zj
-            a3 += jc[i + 3, j] * zj
-        b[i] += c * a0
-        b[i + 1] += c * a1
-        b[i + 2] += c * a2
-        b[i + 3] += c * a3
-        i += 4
-    if i + 2 <= n:
-        a0 = 0.0
-        a1 = 0.0
-        for j in range(m):
-            zj = z[j]
-            a0 += jc[i, j] * zj
-            a1 += jc[i + 1, j] * zj
-        b[i] += c * a0
-        b[i + 1] += c * a1
-        i += 2
-    if i < n:
-        acc = 0.0
-        for j in range(m):
-            acc += jc[i, j] * z[j]
-        b[i] += c * acc
+def _put(out, i, acc, c, accumulate):
+    """out[i] += c acc (``accumulate``) or out[i] = acc."""
+    if accumulate:
+        out[i] += c * acc
+    else:
+        out[i] = acc
 
 
 @small_kernel
-def j_times(jc, z, out):
-    """out = J v for J non-zero in the columns ``cols`` only, from z = v[cols] (as :func:`ros_coupling`
-    gives it): jc[:, j] = J[:, cols[j]].
+def columns_product(jc, z, out, c, accumulate):
+    """The product of the Jacobian's columns jc (n x m) with z (m): out = jc z, or out += c jc z with
+    ``accumulate`` (what :func:`j_times` and :func:`w_solve` need).
 
     Four rows at a time (then two, then one): each row's sum is the same sum_j jc[i, j] z[j] from 0.0 in
     the same order (the same floating-point operations), but z[j] is loaded once for four rows and the
@@ -455,10 +421,10 @@ def j_times(jc, z, out):
             a1 += jc[i + 1, j] * zj
             a2 += jc[i + 2, j] * zj
             a3 += jc[i + 3, j] * zj
-        out[i] = a0
-        out[i + 1] = a1
-        out[i + 2] = a2
-        out[i + 3] = a3
+        _put(out, i, a0, c, accumulate)
+        _put(out, i + 1, a1, c, accumulate)
+        _put(out, i + 2, a2, c, accumulate)
+        _put(out, i + 3, a3, c, accumulate)
         i += 4
     if i + 2 <= n:
         a0 = 0.0
@@ -467,11 +433,28 @@ def j_times(jc, z, out):
             zj = z[j]
             a0 += jc[i, j] * zj
             a1 += jc[i + 1, j] * zj
-        out[i] = a0
-        out[i + 1] = a1
+        _put(out, i, a0, c, accumulate)
+        _put(out, i + 1, a1, c, accumulate)
         i += 2
     if i < n:
         acc = 0.0
         for j in range(m):
             acc += jc[i, j] * z[j]
-        out[i] = acc
+        _put(out, i, acc, c, accumulate)
+
+
+@small_kernel
+def w_solve(jc, cols, c, wa, piv, b, z):
+    """Solve W x = b in place (b becomes x) with the factors of :func:`w_factor`."""
+    m = cols.shape[0]
+    for r in range(m):
+        z[r] = b[cols[r]]
+    lu_solve_small(wa, piv, z)
+    columns_product(jc, z, b, c, True)  # b += c J[:, cols] z
+
+
+@small_kernel
+def j_times(jc, z, out):
+    """out = J v for J non-zero in the columns ``cols`` only, from z = v[cols] (as :func:`ros_coupling`
+    gives it): jc[:, j] = J[:, cols[j]] (:func:`columns_product`)."""
+    columns_product(jc, z, out, 1.0, False)
