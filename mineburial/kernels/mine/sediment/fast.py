@@ -625,6 +625,19 @@ def _ramp_weights(vm, dv, vrn):
 
 
 @small_kernel
+def _paired_node(k, a, cm, sm, ca, sa):
+    """Cosine and sine of node k of a panel whose Gauss nodes come in pairs mid -+ a (k even: mid - a, which
+    computes cos a, sin a; k odd: mid + a, from the (ca, sa) of the even node before it), by the addition
+    theorem from the middle's (cm, sm): two trigonometric calls a pair (issue 34 item 4; the lateral
+    panels and the caps' u-panels). Returns (cos, sin, ca, sa) to carry to the odd node."""
+    if k % 2 == 0:
+        ca = math.cos(a)
+        sa = math.sin(a)
+        return cm * ca + sm * sa, sm * ca - cm * sa, ca, sa
+    return cm * ca - sm * sa, sm * ca + cm * sa, ca, sa
+
+
+@small_kernel
 def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
     """Moments of the tractions along the generator at angle (c, s), per unit R dtheta."""
     v1, v2, v3, w1, w2, w3 = vbody
@@ -804,15 +817,8 @@ def _lateral(R, xa, xb, d0, c20, c21, c22, vbody, law, bank, tangential, skip=PA
                 if i == j:
                     c = cm
                     s = sm
-                elif k % 2 == 0:
-                    a = h * _GL_NODES[N_T, j]
-                    ca = math.cos(a)
-                    sa = math.sin(a)
-                    c = cm * ca + sm * sa
-                    s = sm * ca - cm * sa
                 else:
-                    c = cm * ca - sm * sa
-                    s = sm * ca + cm * sa
+                    c, s, ca, sa = _paired_node(k, h * _GL_NODES[N_T, j], cm, sm, ca, sa)
                 g1, g2, g3, h1, h2, h3 = _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank)
                 f1, f2, f3, m1, m2, m3 = add_weighted((f1, f2, f3, m1, m2, m3), wgt, (g1, g2, g3, h1, h2, h3))
             cur = nxt
@@ -880,15 +886,7 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
         for k in range(N_U):
             i = k // 2
             jn = N_U - 1 - i  # _GL_NODES[N_U, jn] = -_GL_NODES[N_U, i] > 0 (N_U even)
-            if k % 2 == 0:
-                a = hu * _GL_NODES[N_U, jn]
-                ca = math.cos(a)
-                sa = math.sin(a)
-                cu = cm * ca + sm * sa
-                su = sm * ca - cm * sa
-            else:
-                cu = cm * ca - sm * sa
-                su = sm * ca + cm * sa
+            cu, su, ca, sa = _paired_node(k, hu * _GL_NODES[N_U, jn], cm, sm, ca, sa)
             sv = R * su
             tl = -R * cu
             th = R * cu
