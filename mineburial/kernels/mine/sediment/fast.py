@@ -56,8 +56,10 @@ from mineburial.kernels.mine.sediment.laws import GL_NODES as _GL_NODES
 from mineburial.kernels.mine.sediment.laws import GL_WEIGHTS as _GL_WEIGHTS
 from mineburial.kernels.mine.sediment.laws import (
     LAW_MU,
+    LAW_ROW,
     LAW_VREG_N,
     _depth_terms,
+    _linear_depth_terms,
     _traction_at,
     add_point_traction,
     add_weighted,
@@ -679,7 +681,9 @@ def _generator(c, s, R, xa, xb, d0, c20, c21, c22, vbody, law, bank):
         wgt = h * (wa if i == 0 else wb)
         if not (wgt != 0.0):
             continue
-        depth = _depth_terms(a0 + a1 * x, law, bank)
+        # a linear profile without the bank (:func:`.laws._linear_depth_terms`: no reference counting a point)
+        zeta = a0 + a1 * x
+        depth = _linear_depth_terms(zeta, law) if law[LAW_ROW] < 0 else _depth_terms(zeta, law, bank)
         g1, g2, g3 = _traction_at(x, y, z, 0.0, c, s, depth, v1, v2, v3, w1, w2, w3, law, True)
         f1, f2, f3, m1, m2, m3 = add_point_traction((f1, f2, f3, m1, m2, m3), wgt, x, y, z, g1, g2, g3)
     return f1, f2, f3, m1, m2, m3
@@ -903,7 +907,9 @@ def _cap(xc, sgn, R, d0, c20, c21, c22, vbody, law, bank, skip=PANEL_SKIP):
             mt = 0.5 * (th + tl)
             wu = hu * _GL_WEIGHTS[N_U, jn] * R * cu * ramp
             zeta = e0 + g * sv
-            depth = _depth_terms(zeta, law, bank)  # the depth is constant along the chord: once a chord
+            # the depth is constant along the chord: once a chord (a linear profile without the bank, as in
+            # :func:`_generator`)
+            depth = _linear_depth_terms(zeta, law) if law[LAW_ROW] < 0 else _depth_terms(zeta, law, bank)
             for j in range(N_S):
                 t = mt + ht * _GL_NODES[N_S, j]
                 wgt = wu * ht * _GL_WEIGHTS[N_S, j]
