@@ -320,7 +320,15 @@ def mine_own_step(method, t, y, h, args, k, ytmp, out):
 #: over :func:`mine_rhs`, with the quaternion normalised after a fixed step and :func:`mine_own_step` as
 #: its own; its events, located by :func:`.core.locate_event`, take the parameters (p, law, e, gtmp)
 #: of :func:`event_component` (one component of :func:`event_values` at a time)
-MINE = System("mine", mine_rhs, event_component, project=_normalize_attitude, own_step=mine_own_step)
+#: (its sizes declared: the Rosenbrock-W step's loops unrolled, issue 34 item 4)
+MINE = System(
+    "mine",
+    mine_rhs,
+    event_component,
+    project=_normalize_attitude,
+    own_step=mine_own_step,
+    sizes=(N_EXT, N_VEL),
+)
 
 
 def reference_paths(params):
