@@ -162,8 +162,8 @@ def system_event(system, t, y, params):
 
 #: not inlined at numba's IR level: with ``inline="always"`` (-0.8 % instructions a default drop, issue 34)
 #: the restraint system's Rosenbrock-W run failed (numerical_failure, tests/test_integration_core.py's
-#: restraint_ros34pw2 test, after the mine's drops in the same process; the cause not pinned down: the
-#: impl's closure over each system's ``rhs`` is the suspect)
+#: restraint_ros34pw2 test; the cause not pinned down: the impl's closure over each system's ``rhs`` is the
+#: suspect)
 @overload(system_rhs, jit_options=JIT_OPTIONS)
 def _system_rhs_impl(system, t, y, params, dy):
     if isinstance(system, SystemType):
