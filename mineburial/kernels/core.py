@@ -274,6 +274,67 @@ def _with_shape(typingctx, a, shape):
     return a(a, shape), codegen
 
 
+def borrowed(a):
+    """The array ``a`` itself, seen without its reference count (meminfo NULL) in compiled code: for an
+    array whose owner outlives every use of the view (a driver's argument, held by its caller).
+
+    numba counts a reference up and down (``NRT_incref``/``NRT_decref``: an atomic ``lock add`` on the
+    array's meminfo) at each compiled callee's entry and exit for every array argument, at each inlined
+    kernel's array parameter and at each array taken out of a tuple, wherever its pruning pass cannot
+    pair them: ~68,000 atomics a default drop (issue 34 item 4). On a NULL meminfo they are a test and a
+    return, no atomic; and the rows of the ensemble (``P[i]``, ``S[i]``) and the sediment and current
+    banks share one meminfo between the batch's threads, whose cache line every count moved from core
+    to core. The data, and so every answer, are the same. In Python (``NUMBA_DISABLE_JIT``) it is ``a``."""
+    return a
+
+
+@intrinsic
+def _borrowed(typingctx, a):
+    if not isinstance(a, types.Array):
+        return None
+
+    def codegen(context, builder, sig, args):
+        aryty = sig.args[0]
+        ary = make_array(aryty)(context, builder, args[0])
+        out = make_array(aryty)(context, builder)
+        populate_array(
+            out,
+            data=ary.data,
+            shape=ary.shape,
+            strides=ary.strides,
+            itemsize=ary.itemsize,
+            meminfo=None,
+        )
+        return out._getvalue()
+
+    return a(a), codegen
+
+
+@overload(borrowed, jit_options=JIT_OPTIONS)
+def _borrowed_impl(a):
+    return lambda a: _borrowed(a)
+
+
+def keep_alive(owners):
+    """Nothing; in compiled code a call that numba keeps, so that ``owners`` (arrays, or tuples of them)
+    are released after it and not after their last other use: the arrays of which :func:`borrowed`
+    views are used up to that call. In Python it does nothing."""
+    return None
+
+
+@intrinsic
+def _keep_alive(typingctx, owners):
+    def codegen(context, builder, sig, args):
+        return context.get_dummy_value()
+
+    return types.none(owners), codegen
+
+
+@overload(keep_alive, jit_options=JIT_OPTIONS)
+def _keep_alive_impl(owners):
+    return lambda owners: _keep_alive(owners)
+
+
 @overload(sized, jit_options=JIT_OPTIONS)
 def _sized_impl(system, a, shape):
     if _declared_sizes(system) is None:

@@ -51,7 +51,7 @@ from numba.core import types
 from numba.extending import overload
 
 from mineburial._numba import JIT_OPTIONS, kernel, small_kernel
-from mineburial.kernels.core import GO_ON, System, all_finite, driver_loop, locate_event
+from mineburial.kernels.core import GO_ON, System, all_finite, borrowed, driver_loop, keep_alive, locate_event
 from mineburial.kernels.integrators import N_STAGES, ROS_STAGES, dense_state
 from mineburial.kernels.methods import ADAPTIVE, DOPRI5, METHOD_NAMES, OWN_METHOD, ROS34PW2
 from mineburial.kernels.mine import bodies
@@ -545,6 +545,16 @@ def _work_arrays():
     )
 
 
+@small_kernel
+def _borrowed_all(a):
+    """:func:`.core.borrowed` of each of :func:`_work_arrays`."""
+    return (
+        borrowed(a[0]), borrowed(a[1]), borrowed(a[2]), borrowed(a[3]), borrowed(a[4]), borrowed(a[5]),
+        borrowed(a[6]), borrowed(a[7]), borrowed(a[8]), borrowed(a[9]), borrowed(a[10]), borrowed(a[11]),
+        borrowed(a[12]), borrowed(a[13]), borrowed(a[14]), borrowed(a[15]), borrowed(a[16]),
+    )  # fmt: skip
+
+
 #: what the mine's hooks of the driver loop read: the right-hand side's arguments (:func:`mine_rhs`), the
 #: summary, the record interval, the work arrays, the integrator's code, whether it is adaptive and takes
 #: the Rosenbrock-W step in the sediment, and whether the mine is lighter than the water
@@ -685,6 +695,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     request, first event, recorder, cut, impact and end summaries) are inlined kernels
     (``small_kernel``): one compile unit.
     """
+    # the caller's arrays, which it holds while the drop runs, without their reference counts
+    # (core.borrowed): numba's counts on them were most of the drop's atomics, on meminfos that the
+    # batch's threads share (the ensemble's rows P[i] and S[i], the banks); same data, same answers
+    p, sed_bank, cur_bank, summary = borrowed(p), borrowed(sed_bank), borrowed(cur_bank), borrowed(summary)
     for i in range(N_SUMMARY):
         summary[i] = np.nan
     p, sed_bank = drop_bank(p, sed_bank)  # the drop's profile, searched by bisection
@@ -692,7 +706,10 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
     body = body_of(p, shape)
     # the law's width D; the law carries the shape to every kernel that builds the body (drop_body)
     law = with_shape(pack_law(p, bodies.reference_lengths(body)[0], paths), shape)
-    y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _work_arrays()
+    # the work arrays, borrowed (core.borrowed) from their owners, which keep_alive holds to the end: the
+    # hooks and the compiled callees counted references on them (thread-private, but one atomic each)
+    owners = _work_arrays()
+    y, ynew, err, k, ytmp, dy, r, work, diag, g0, g1, gtmp, jc, wa, piv, kr, ztmp = _borrowed_all(owners)
     ws = (k, ynew, err, r, ytmp, VELOCITY_SLOTS, jc, wa, piv, kr, ztmp)  # of the core's attempt_step
     args = (p, law, sed_bank, cur_bank, work, diag)  # of mine_rhs
     initial_state(p, y)
@@ -729,4 +746,5 @@ def run_drop(p, sed_bank, cur_bank, summary, traj, record_dt, reference_paths):
             _record(traj, row, t, y, p, law, sed_bank, cur_bank, work, dy, diag)
             row += 1
     _end_summary(summary, p, body, y, t, loop.max_decel, loop.hit_seabed, loop.n_steps)
+    keep_alive(owners)
     return status, row
