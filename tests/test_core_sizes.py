@@ -5,30 +5,14 @@ must give the same step bit for bit as the same system without them; arrays of o
 
 import numpy as np
 import pytest
-from numba import njit
+from linear_system import linear_rhs, no_event
 
 from mineburial.kernels import core
 from mineburial.kernels.core import System
 
-
-@njit
-def _linear_rhs(t, y, a, dy):
-    n = y.shape[0]
-    for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += a[i, j] * y[j]
-        dy[i] = acc
-
-
-@njit
-def _never(t, y, a):
-    return 1.0
-
-
 SIZES = [(1, 1), (3, 2), (7, 3), (15, 6), (16, 7)]
-PLAIN = System("test core sizes", _linear_rhs, _never)
-SIZED = {nm: System("test core sizes", _linear_rhs, _never, sizes=nm) for nm in SIZES}
+PLAIN = System("test core sizes", linear_rhs, no_event)
+SIZED = {nm: System("test core sizes", linear_rhs, no_event, sizes=nm) for nm in SIZES}
 
 
 def _problem(n, m, seed):
@@ -88,7 +72,7 @@ def test_arrays_of_other_sizes_are_refused():
 @pytest.mark.parametrize("sizes", [(0, 0), (3, 0), (3, 4), (3,), (3, 2, 1)])
 def test_sizes_that_cannot_be_are_an_error(sizes):
     with pytest.raises(ValueError, match="sizes of a System"):
-        System("test core sizes bad", _linear_rhs, _never, sizes=sizes)
+        System("test core sizes bad", linear_rhs, no_event, sizes=sizes)
 
 
 def test_sizes_are_part_of_the_systems_type():

@@ -15,7 +15,7 @@ item 4 rewrote their loops for fewer instructions and the same floating-point op
 
 import numpy as np
 import pytest
-from numba import njit
+from linear_system import linear_rhs, no_event
 
 from mineburial.kernels import core
 from mineburial.kernels import integrators as ig
@@ -84,22 +84,7 @@ def test_w_solve_matches_numpy_on_the_full_system(n, m):
     np.testing.assert_allclose(x, expected, rtol=1e-10, atol=1e-12)
 
 
-@njit
-def _linear_rhs(t, y, a, dy):
-    n = y.shape[0]
-    for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += a[i, j] * y[j]
-        dy[i] = acc
-
-
-@njit
-def _never(t, y, a):
-    return 1.0
-
-
-LINEAR = System("test ros linear algebra", _linear_rhs, _never)
+LINEAR = System("test ros linear algebra", linear_rhs, no_event)
 
 
 def _ros34pw2_by_hand(a, y, h):

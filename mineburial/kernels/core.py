@@ -267,11 +267,18 @@ def _with_shape(typingctx, a, shape):
         for d in reversed(dims):
             strides.insert(0, step)
             step = builder.mul(step, d)
-        out = make_array(aryty)(context, builder)
-        populate_array(out, data=ary.data, shape=dims, strides=strides, itemsize=ary.itemsize, meminfo=None)
-        return out._getvalue()
+        return _unowned_view(context, builder, aryty, ary, dims, strides)
 
     return a(a, shape), codegen
+
+
+def _unowned_view(context, builder, aryty, ary, shape, strides):
+    """Code of an array of type ``aryty`` over the data of ``ary`` with ``shape`` and ``strides`` and no
+    meminfo (NULL: numba's reference counts on it are a test, no atomic): what :func:`_with_shape` and
+    :func:`borrowed` return."""
+    out = make_array(aryty)(context, builder)
+    populate_array(out, data=ary.data, shape=shape, strides=strides, itemsize=ary.itemsize, meminfo=None)
+    return out._getvalue()
 
 
 def borrowed(a):
@@ -296,16 +303,7 @@ def _borrowed(typingctx, a):
     def codegen(context, builder, sig, args):
         aryty = sig.args[0]
         ary = make_array(aryty)(context, builder, args[0])
-        out = make_array(aryty)(context, builder)
-        populate_array(
-            out,
-            data=ary.data,
-            shape=ary.shape,
-            strides=ary.strides,
-            itemsize=ary.itemsize,
-            meminfo=None,
-        )
-        return out._getvalue()
+        return _unowned_view(context, builder, aryty, ary, ary.shape, ary.strides)
 
     return a(a), codegen
 
