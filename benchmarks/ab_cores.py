@@ -37,27 +37,10 @@ def worker(args):
     os.sched_setaffinity(0, {args.cpu})
     sys.path.insert(0, HERE)
     import numba
-    import numpy as np
-    from profile_speed import _batch_paths
+    from profile_speed import Drops
 
     numba.set_num_threads(1)
-    from mineburial.ensembles.engine import load_ensemble
-    from mineburial.kernels.mine.layout import N_SUMMARY, SUMMARY_INDEX
-    from mineburial.kernels.mine.stepper import run_drop
-
-    try:
-        from mineburial.systems.mine.ensemble import chunk_inputs
-    except ImportError:  # a tree before the systems package (issue 34's baseline d0a06f4)
-        from mineburial.ensembles.engine import chunk_inputs
-
-    spec = load_ensemble(args.scenario)
-    P, valid, _ = chunk_inputs(spec, 0, args.n)
-    P = P[valid.astype(bool)]
-    sb = np.ascontiguousarray(spec.sediment_bank)
-    cb = np.ascontiguousarray(spec.current_bank)
-    S = np.empty((len(P), N_SUMMARY))
-    paths = _batch_paths(P, sb)
-    run_drop(P[0], sb, cb, S[0], None, 1.0, paths)  # compiled or loaded before the timing
+    drops = Drops(args.scenario, args.n)  # compiled or loaded before the timing
     if args.barrier:
         open(f"{args.barrier}.{args.cpu}", "w").close()
         deadline = time.monotonic() + 600.0
@@ -68,11 +51,10 @@ def worker(args):
     rates = []
     for _ in range(args.reps):
         t = time.perf_counter()
-        for i, p in enumerate(P):
-            run_drop(p, sb, cb, S[i], None, 1.0, paths)
-        rates.append(len(P) / (time.perf_counter() - t))
-    pen = S[:, SUMMARY_INDEX["penetration_depth"]]
-    print(json.dumps({"rates": rates, "drops": len(P), "penetrations": float(np.nansum(pen))}))
+        for i in range(len(drops)):
+            drops.run(i)
+        rates.append(len(drops) / (time.perf_counter() - t))
+    print(json.dumps({"rates": rates, "drops": len(drops), "penetrations": drops.penetrations()}))
 
 
 def launch(tree, cpu, args, barrier):

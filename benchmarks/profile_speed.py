@@ -120,36 +120,60 @@ def _batch_paths(P, sediment_bank):
     return with_long_tables(reference_paths(P), P, sediment_bank)
 
 
+class Drops:
+    """The first ``n`` valid drops of a tree's ensemble, ready for its ``stepper.run_drop`` (the tree on
+    ``sys.path``): ``run(i)`` runs drop i into ``S[i]``; ``penetrations()`` their sum. The first drop runs
+    once on construction, so that the kernels are compiled or loaded from the cache before any measurement.
+    Shared by this script's worker and those of ``ab_cores.py`` and ``profile_time.py``; works on trees back
+    to issue 34's baseline d0a06f4."""
+
+    def __init__(self, scenario, n):
+        from mineburial.ensembles.engine import load_ensemble
+        from mineburial.kernels.mine.layout import N_SUMMARY, SUMMARY_INDEX
+        from mineburial.kernels.mine.stepper import run_drop
+
+        try:
+            from mineburial.systems.mine.ensemble import chunk_inputs
+        except ImportError:  # a tree before the systems package (d0a06f4)
+            from mineburial.ensembles.engine import chunk_inputs
+
+        spec = load_ensemble(scenario)
+        P, valid, _ = chunk_inputs(spec, 0, n)
+        self.P = P[valid.astype(bool)]
+        self.sb = np.ascontiguousarray(spec.sediment_bank)
+        self.cb = np.ascontiguousarray(spec.current_bank)
+        self.S = np.empty((len(self.P), N_SUMMARY))
+        self.names = list(SUMMARY_INDEX)
+        self.run_drop = run_drop
+        self.paths = _batch_paths(self.P, self.sb)
+        self.run(0)
+
+    def __len__(self):
+        return len(self.P)
+
+    def run(self, i):
+        self.run_drop(self.P[i], self.sb, self.cb, self.S[i], None, 1.0, self.paths)
+
+    def penetrations(self):
+        return float(np.nansum(self.S[:, self.names.index("penetration_depth")]))
+
+
 def worker(args):
-    stash = _stash_object_code()
+    stash = _stash_object_code()  # before the kernels load
     import mineburial
-    from mineburial.ensembles.engine import load_ensemble
-    from mineburial.kernels.mine.layout import N_SUMMARY, SUMMARY_INDEX
-    from mineburial.kernels.mine.stepper import run_drop
 
-    try:
-        from mineburial.systems.mine.ensemble import chunk_inputs
-    except ImportError:  # a tree before the systems package (issue 34's baseline d0a06f4)
-        from mineburial.ensembles.engine import chunk_inputs
-
-    spec = load_ensemble(args.scenario)
-    P, valid, _ = chunk_inputs(spec, 0, args.n)
-    P = P[valid.astype(bool)]
-    sb = np.ascontiguousarray(spec.sediment_bank)
-    cb = np.ascontiguousarray(spec.current_bank)
-    S = np.empty((len(P), N_SUMMARY))
-    paths = _batch_paths(P, sb)
-    run_drop(P[0], sb, cb, S[0], None, 1.0, paths)  # compiled or loaded before the marks
+    drops = Drops(args.scenario, args.n)
+    P, S, run_drop = drops.P, drops.S, drops.run_drop
     os.getpgrp()  # callgrind: --zero-before=getpgrp
-    for i, p in enumerate(P):
-        run_drop(p, sb, cb, S[i], None, 1.0, paths)
+    for i in range(len(drops)):
+        drops.run(i)
     os.getsid(0)  # callgrind: --dump-before=getsid
     fmap = function_map(run_drop, stash)
     np.savez(
         args.result,
         P=P,
         S=S,
-        names=np.array(list(SUMMARY_INDEX)),
+        names=np.array(drops.names),
         where=mineburial.__file__,
         faddr=np.array(list(fmap), dtype=np.uint64),
         fname=np.array(list(fmap.values())),

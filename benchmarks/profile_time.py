@@ -37,32 +37,15 @@ def worker(args):
     """Load the tree's drops, write the compiled functions' ranges, then run the drops ``reps`` times with
     perf's events enabled (control fifo) around them; print the drops and the seconds as JSON."""
     sys.path.insert(0, HERE)
-    from profile_speed import _batch_paths, _stash_object_code, function_ranges
+    from profile_speed import Drops, _stash_object_code, function_ranges
 
-    stash = _stash_object_code()
+    stash = _stash_object_code()  # before the kernels load
     import numba
-    import numpy as np
 
     numba.set_num_threads(1)
-    from mineburial.ensembles.engine import load_ensemble
-    from mineburial.kernels.mine.layout import N_SUMMARY, SUMMARY_INDEX
-    from mineburial.kernels.mine.stepper import run_drop
-
-    try:
-        from mineburial.systems.mine.ensemble import chunk_inputs
-    except ImportError:  # a tree before the systems package (issue 34's baseline d0a06f4)
-        from mineburial.ensembles.engine import chunk_inputs
-
-    spec = load_ensemble(args.scenario)
-    P, valid, _ = chunk_inputs(spec, 0, args.n)
-    P = P[valid.astype(bool)]
-    sb = np.ascontiguousarray(spec.sediment_bank)
-    cb = np.ascontiguousarray(spec.current_bank)
-    S = np.empty((len(P), N_SUMMARY))
-    paths = _batch_paths(P, sb)
-    run_drop(P[0], sb, cb, S[0], None, 1.0, paths)  # compiled or loaded before the samples
+    drops = Drops(args.scenario, args.n)  # compiled or loaded before the samples
     with open(args.ranges, "w") as fh:
-        json.dump(function_ranges(run_drop, stash), fh)
+        json.dump(function_ranges(drops.run_drop, stash), fh)
     ctl = open(args.ctl, "w") if args.ctl else None
     ack = open(args.ack) if args.ack else None
 
@@ -75,12 +58,15 @@ def worker(args):
     perf_control("enable")
     t = time.perf_counter()
     for _ in range(args.reps):
-        for i, p in enumerate(P):
-            run_drop(p, sb, cb, S[i], None, 1.0, paths)
+        for i in range(len(drops)):
+            drops.run(i)
     seconds = time.perf_counter() - t
     perf_control("disable")
-    pen = float(np.nansum(S[:, SUMMARY_INDEX["penetration_depth"]]))
-    print(json.dumps({"drops": len(P) * args.reps, "seconds": seconds, "penetrations": pen}))
+    print(
+        json.dumps(
+            {"drops": len(drops) * args.reps, "seconds": seconds, "penetrations": drops.penetrations()}
+        )
+    )
 
 
 def attribute(data, ranges):
